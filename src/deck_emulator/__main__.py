@@ -1,0 +1,3 @@
+from deck_emulator.cli import main
+
+raise SystemExit(main())
