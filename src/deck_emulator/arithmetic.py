@@ -20,6 +20,7 @@ statement.
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import ctypes.util
 import math
@@ -55,7 +56,11 @@ class Arithmetic:
         raise NotImplementedError
 
     def sign(self, x) -> int:
-        return (x > 0) - (x < 0)
+        return int(x > 0) - int(x < 0)
+
+    def trapping(self):
+        """Context in which the number type raises on division by zero, overflow, invalid."""
+        return contextlib.nullcontext()
 
     def isfinite(self, x) -> bool:
         return math.isfinite(x)
@@ -127,6 +132,10 @@ class SingleArithmetic(Arithmetic):
 
     def isfinite(self, x) -> bool:
         return bool(np.isfinite(x))
+
+    def trapping(self):
+        # as gfortran's -ffpe-trap=invalid,zero,overflow: underflow goes on quietly
+        return np.errstate(divide="raise", over="raise", invalid="raise", under="ignore")
 
 
 def get_arithmetic(name: str, **options) -> Arithmetic:

@@ -1,0 +1,446 @@
+"""The $DATA card deck of the 1967 program, read as FORTRAN IV on the IBM 7094 read it.
+
+MAIN begins with eight ``READ(5,n)`` statements, each with ``FORMAT(8F10.5)``: eight
+80-column cards, eight 10-column fields per card.  The input semantics reproduced here:
+
+* every field is ``F10.5``, converted by :mod:`fortranformat`'s ``FortranRecordReader``;
+* leading blanks are ignored, embedded and trailing blanks read as zeros (``-58.66    ``
+  is ``-58.660000``; ``1.5E2     `` is ``1.5E200000``), an all-blank field is 0.0;
+* a field without a decimal point gets the implied one: ``     12345`` reads 0.12345;
+* all 80 columns are data (the eighth field is columns 71-80, no sequence field);
+* a short line is a card padded with blanks;
+* ``$`` control cards (``$DATA``, ``$IBJOB`` ...) before the first data card are skipped;
+* LF or CRLF line ends, with or without a final newline.
+
+fortranformat's own blank-as-zero mode (BZ) also turns *leading* blanks into zeros, so
+``'    -58.66'`` would fail; the blanks are therefore mapped here and the field handed over
+without any blank in it.
+
+Anything else is an error: :class:`DeckError`, naming the card, the columns and the
+READ-list name where that applies.  No other exception escapes :func:`read_deck` or
+:func:`parse_deck` for bad input.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import unicodedata
+from dataclasses import dataclass, field as _dc_field
+from decimal import Decimal, localcontext
+
+from fortranformat import FortranRecordReader, FortranRecordWriter
+
+__all__ = [
+    "READ_LIST",
+    "NAMES",
+    "CARD_COLUMNS",
+    "FIELD_WIDTH",
+    "FIELDS_PER_CARD",
+    "field_columns",
+    "DeckError",
+    "Deck",
+    "read_deck",
+    "parse_deck",
+]
+
+#: The READ list of MAIN, card by card (``READ(5,1)`` ... ``READ(5,130)``).
+READ_LIST: tuple[tuple[str, ...], ...] = (
+    ("V1B", "V2B", "V3B", "VVB", "F1B", "F2B", "F3B", "PSIDB"),
+    ("THDB", "PHIDB", "W", "WV", "A", "B", "C", "G"),
+    ("XCMB", "YCMB", "ZCMB", "CK", "W1B", "W2B", "W3B", "HEIGHT"),
+    ("PSIB", "THB", "PHIB", "SVB", "XSO", "YYSO", "ZZSO", "FNA"),
+    ("XPO", "YYPO", "ZZPO", "XQO", "YYQO", "ZZQO", "SVO", "ALPHA"),
+    ("T1B", "T2B", "T3B", "HLEN", "TLEN", "DELTA", "YLFEN", "YRFEN"),
+    ("TRLEN", "HTRV", "FSB", "HTV", "HHV", "XRO", "YYRO", "ZZRO"),
+    ("XCO", "YYCO", "ZZCO", "XTO", "YYTO", "ZZTO", "CT", "FCONST"),
+)
+
+#: The 64 names, flat, in READ order.
+NAMES: tuple[str, ...] = tuple(name for card in READ_LIST for name in card)
+
+CARD_COLUMNS = 80
+FIELD_WIDTH = 10
+FIELDS_PER_CARD = 8
+N_CARDS = len(READ_LIST)
+
+# name -> (card number, field number), both 1-based
+_POSITION = {
+    name: (c + 1, f + 1) for c, card in enumerate(READ_LIST) for f, name in enumerate(card)
+}
+
+# Largest file read_deck accepts; a deck is 9 cards of 80 columns.
+_MAX_BYTES = 1 << 20
+
+_FORMAT = "(F10.5)"
+_DECIMALS = 5  # the .5 of F10.5: implied decimal places, and the minimum in `fields`
+
+# One number after the 1967 blank handling (no blank left in it).  This only decides
+# *whether* the text is a number FORTRAN IV accepts; the conversion is fortranformat's.
+# Exponent: E or D with an optional sign, or a bare sign (``1.5+2`` is 1.5E+2).
+_NUMBER_RE = re.compile(
+    r"(?P<mantissa>[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"
+    r"(?:(?:[ED](?P<esign1>[+-]?)|(?P<esign2>[+-]))(?P<exponent>[0-9]+))?"
+)
+
+
+def field_columns(index: int) -> tuple[int, int]:
+    """First and last column (1-based) of field ``index`` (1-based) on a card."""
+    first = (index - 1) * FIELD_WIDTH + 1
+    return first, first + FIELD_WIDTH - 1
+
+
+class DeckError(ValueError):
+    """Bad input in a card deck.
+
+    ``card`` is the 1-based number of the data card ($ control cards not counted) or
+    None, ``columns`` a (first, last) column range or None, ``field`` the READ-list name
+    or None, ``path`` the deck's path or None.  ``reason`` is the bare message.
+    """
+
+    def __init__(
+        self,
+        reason: str,
+        *,
+        card: int | None = None,
+        columns: tuple[int, int] | None = None,
+        field: str | None = None,
+        path: str | None = None,
+        line: int | None = None,
+    ) -> None:
+        self.reason = reason
+        self.card = card
+        self.columns = columns
+        self.field = field
+        self.path = path
+        self.line = line
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        where = []
+        if self.card is not None:
+            where.append(f"card {self.card}")
+        elif self.line is not None:
+            where.append(f"line {self.line}")
+        if self.columns is not None:
+            first, last = self.columns
+            where.append(f"column {first}" if first == last else f"columns {first}-{last}")
+        location = ", ".join(where)
+        if self.field is not None:
+            location = f"{location} ({self.field})" if location else f"({self.field})"
+        parts = [p for p in (self.path, location) if p]
+        return ": ".join(parts + [self.reason])
+
+    def __str__(self) -> str:  # keep the message right if attributes are changed later
+        return self._message()
+
+
+@dataclass(frozen=True)
+class Deck:
+    """The eight data cards of a deck and the 64 values the READ statements give.
+
+    ``values``: READ-list name -> value (a Python float, correctly rounded from the
+    decimal the card holds).  ``fields``: name -> that decimal as plain fixed-point text,
+    after the 1967 rules (blanks as zeros, implied decimal point, exponent applied),
+    with at least five decimals (``'-58.66000'``, ``'0.12345'``, ``'0.00000'``); it is
+    exactly the number the FORTRAN READ means, for arithmetics that convert decimals
+    themselves.  ``cards``: the eight data card images, 80 columns each.
+    """
+
+    path: str | None
+    values: dict[str, float]
+    fields: dict[str, str] = _dc_field(repr=False)
+    cards: tuple[str, ...] = _dc_field(repr=False)
+
+    def __getitem__(self, name: str) -> float:
+        return self.values[name]
+
+    def with_values(self, **changes: float) -> "Deck":
+        """A new deck with the named values replaced.
+
+        A changed field is punched right-justified in ``F10.5`` style (fewer or more
+        decimals, or an exponent, when the value needs them) and must read back to exactly
+        the value given; otherwise :class:`DeckError`.  Unchanged fields keep their text.
+        """
+        cards = [list(card) for card in self.cards]
+        for name, value in changes.items():
+            if name not in _POSITION:
+                raise DeckError(f"unknown READ-list name {name!r}", path=self.path)
+            card_no, field_no = _POSITION[name]
+            first, last = field_columns(field_no)
+            text = _punch(value, name=name, card=card_no, columns=(first, last), path=self.path)
+            cards[card_no - 1][first - 1 : last] = text
+        return _build(["".join(card) for card in cards], self.path)
+
+    def to_text(self) -> str:
+        """The deck file: a ``$DATA`` card and the eight data cards, 80 columns each."""
+        lines = ["$DATA".ljust(CARD_COLUMNS), *self.cards]
+        return "\n".join(lines) + "\n"
+
+
+# --------------------------------------------------------------------------------------
+# reading
+
+
+def read_deck(path: str | os.PathLike[str]) -> Deck:
+    """Read a deck file.  Raises :class:`DeckError` for any bad input."""
+    try:
+        shown = os.fsdecode(path)
+    except TypeError:
+        raise TypeError(f"read_deck needs a path, not {type(path).__name__}") from None
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(_MAX_BYTES + 1)
+    except FileNotFoundError:
+        raise DeckError("no such file", path=shown) from None
+    except IsADirectoryError:
+        raise DeckError("is a directory, not a deck file", path=shown) from None
+    except PermissionError:
+        raise DeckError("permission denied", path=shown) from None
+    except (OSError, ValueError) as exc:  # ValueError: e.g. a NUL byte in the path
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise DeckError(f"cannot read: {reason}", path=shown) from None
+    if len(data) > _MAX_BYTES:
+        raise DeckError(
+            f"file is larger than {_MAX_BYTES} bytes; a deck is 8 cards of 80 columns",
+            path=shown,
+        )
+    return parse_deck(data, path=shown)
+
+
+def parse_deck(text: str | bytes, path: str | None = None) -> Deck:
+    """Parse the text of a deck file (str, or bytes expected to be ASCII)."""
+    if isinstance(text, (bytes, bytearray)):
+        # undecodable bytes become lone surrogates U+DC80..U+DCFF, reported per column
+        text = bytes(text).decode("utf-8", errors="surrogateescape")
+    elif not isinstance(text, str):
+        raise TypeError(f"parse_deck needs str or bytes, not {type(text).__name__}")
+
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()  # the final newline ends the last card; it is not a card
+
+    data_cards: list[str] = []
+    for line_no, line in enumerate(lines, start=1):
+        if line.endswith("\r"):
+            line = line[:-1]
+        is_control = not data_cards and line.startswith("$")
+        card_no = None if is_control else len(data_cards) + 1
+        if card_no is not None and card_no > N_CARDS:
+            if line.strip(" \r\t") == "":
+                what = "a blank line"
+            else:
+                what = "a deck holds exactly 8 data cards"
+            raise DeckError(
+                f"extra card ({what}; the 8 READ statements take cards 1-8)",
+                card=card_no,
+                path=path,
+            )
+        _check_characters(line, card_no=card_no, line_no=line_no, control=is_control, path=path)
+        if not is_control:
+            data_cards.append(line)
+
+    if len(data_cards) < N_CARDS and not any(card.strip(" ") for card in data_cards):
+        if not data_cards:
+            detail = "no data cards" + (" (only $ control cards)" if lines else "")
+        else:
+            detail = "only blank lines"
+        raise DeckError(
+            f"empty deck: {detail}; expected 8 cards in FORMAT(8F10.5), "
+            f"card 1 holding {', '.join(READ_LIST[0])}",
+            path=path,
+        )
+    if len(data_cards) < N_CARDS:
+        missing = len(data_cards) + 1
+        have = len(data_cards)
+        raise DeckError(
+            f"missing card: it should hold {', '.join(READ_LIST[missing - 1])} "
+            f"(the deck has only {have} data card{'s' if have != 1 else ''}, 8 are read)",
+            card=missing,
+            path=path,
+        )
+    return _build([card.ljust(CARD_COLUMNS) for card in data_cards], path)
+
+
+def _describe_character(ch: str) -> str | None:
+    """Why ``ch`` cannot be on a card, or None if it can."""
+    code = ord(ch)
+    if ch == "\t":
+        return "tab character: cards have no tabs, pad with blanks to the column"
+    if ch == "\r":
+        return "carriage return inside a line (line ends must be LF or CRLF)"
+    if 0xDC80 <= code <= 0xDCFF:
+        return f"undecodable byte 0x{code - 0xDC00:02X} (not ASCII text)"
+    if code < 0x20 or code == 0x7F:
+        name = "NUL" if code == 0 else f"control character 0x{code:02X}"
+        return f"{name}: not a card character"
+    if code > 0x7E:
+        if ch == "\ufeff":
+            return "byte-order mark (U+FEFF): save the deck as plain ASCII"
+        try:
+            uname = unicodedata.name(ch)
+        except ValueError:
+            uname = "unnamed"
+        return f"non-ASCII character {ch!r} (U+{code:04X} {uname}): cards are ASCII"
+    return None
+
+
+def _check_characters(
+    line: str, *, card_no: int | None, line_no: int, control: bool, path: str | None
+) -> None:
+    where = dict(card=card_no, line=line_no, path=path)
+    kind = " of the $ control card" if control else ""
+    head = line[:CARD_COLUMNS]
+    fine = head.isascii() and head.isprintable()  # blank to '~' only: nothing to report
+    for index, ch in enumerate(() if fine else head):
+        reason = _describe_character(ch)
+        if reason is not None:
+            column = index + 1
+            name = None
+            if not control:
+                name = READ_LIST[card_no - 1][(column - 1) // FIELD_WIDTH]
+            raise DeckError(reason + kind, columns=(column, column), field=name, **where)
+    if len(line) > CARD_COLUMNS:
+        extra = line[CARD_COLUMNS:]
+        shown = extra if len(extra) <= 20 else extra[:20] + "..."
+        raise DeckError(
+            f"line is {len(line)} columns long; a card holds {CARD_COLUMNS} "
+            f"(beyond column {CARD_COLUMNS}: {shown!r})" + kind,
+            columns=(CARD_COLUMNS + 1, len(line)),
+            **where,
+        )
+
+
+def _build(cards: list[str], path: str | None) -> Deck:
+    values: dict[str, float] = {}
+    fields: dict[str, str] = {}
+    for card_no, (card, names) in enumerate(zip(cards, READ_LIST), start=1):
+        for field_no, name in enumerate(names, start=1):
+            first, last = field_columns(field_no)
+            raw = card[first - 1 : last]
+            value, decimal_text = _read_field(
+                raw, name=name, card=card_no, columns=(first, last), path=path
+            )
+            values[name] = value
+            fields[name] = decimal_text
+    return Deck(path=path, values=values, fields=fields, cards=tuple(cards))
+
+
+_READER = None
+
+
+def _reader() -> FortranRecordReader:
+    global _READER
+    if _READER is None:
+        _READER = FortranRecordReader(_FORMAT)
+    return _READER
+
+
+def _read_field(raw: str, *, name: str, card: int, columns, path) -> tuple[float, str]:
+    """Value and exact decimal text of one 10-column field, 1967 rules."""
+    where = dict(card=card, columns=columns, field=name, path=path)
+    text = raw.lstrip(" ").replace(" ", "0")  # leading blanks ignored, the rest are zeros
+    if text == "":
+        return 0.0, _fixed(Decimal(0))
+    match = _NUMBER_RE.fullmatch(text)
+    if match is None:
+        raise DeckError(f"not a number: {raw!r}", **where)
+
+    # the number FORTRAN means, exactly, as a decimal
+    mantissa = Decimal(match["mantissa"])
+    if "." not in match["mantissa"]:
+        mantissa = mantissa.scaleb(-_DECIMALS)
+    exponent_digits = match["exponent"]
+    if exponent_digits is not None and mantissa != 0:
+        exponent = int((match["esign1"] or match["esign2"] or "+") + exponent_digits)
+        # at most 10 digits in the mantissa: beyond 10**+-400 no double is left
+        if abs(exponent) > 400:
+            raise _out_of_range(raw, text, where)
+        mantissa = mantissa.scaleb(exponent)
+    exact = mantissa
+
+    try:
+        converted = _reader().read(text)[0]
+    except Exception:  # fortranformat raises ValueError, but be sure nothing else escapes
+        raise DeckError(f"not a number: {raw!r}", **where) from None
+    if converted is None or not math.isfinite(converted):
+        raise _out_of_range(raw, text, where)
+    if exact != 0 and converted == 0.0:
+        raise _out_of_range(raw, text, where)
+
+    # fortranformat applies the implied decimal point by dividing the converted number by
+    # 10**5, which can round twice; keep the correctly rounded value of the exact decimal.
+    correctly_rounded = float(exact)
+    value = converted if converted == correctly_rounded else correctly_rounded
+    if exact == 0 and exact.is_signed():
+        value = -0.0
+    return value, _fixed(exact)
+
+
+def _out_of_range(raw: str, text: str, where: dict) -> DeckError:
+    note = f" (blanks read as zeros: {text})" if text != raw.strip(" ") else ""
+    return DeckError(f"number out of range: {raw!r}{note}", **where)
+
+
+def _fixed(number: Decimal) -> str:
+    """Plain fixed-point text of ``number``, at least five decimals, no extra zeros."""
+    with localcontext() as ctx:
+        ctx.prec = 1000
+        text = format(number, "f")
+    whole, _, fraction = text.partition(".")
+    fraction = fraction.rstrip("0").ljust(_DECIMALS, "0")
+    return f"{whole}.{fraction}"
+
+
+# --------------------------------------------------------------------------------------
+# writing a changed field
+
+# Tried in this order; the first whose text reads back to exactly the value is punched.
+_PUNCH_FORMATS = (
+    "(F10.5)", "(F10.4)", "(F10.3)", "(F10.2)", "(F10.1)", "(F10.0)",
+    "(F10.6)", "(F10.7)", "(F10.8)", "(F10.9)",
+    "(E10.4)", "(E10.3)", "(E10.2)", "(E10.1)",
+)
+
+
+_WRITERS: dict[str, FortranRecordWriter] = {}
+
+
+def _writer(fmt: str) -> FortranRecordWriter:
+    if fmt not in _WRITERS:
+        _WRITERS[fmt] = FortranRecordWriter(fmt)
+    return _WRITERS[fmt]
+
+
+def _same(a: float, b: float) -> bool:
+    return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
+
+
+def _punch(value, *, name: str, card: int, columns, path) -> str:
+    where = dict(card=card, columns=columns, field=name, path=path)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise DeckError(f"value must be a number, not {type(value).__name__}", **where)
+    try:
+        value = float(value)
+    except OverflowError:
+        raise DeckError(f"value {value!r} is out of range", **where) from None
+    if not math.isfinite(value):
+        raise DeckError(f"value {value!r} cannot be punched", **where)
+    if value == 0.0:
+        return ("-0.00000" if math.copysign(1.0, value) < 0 else "0.00000").rjust(FIELD_WIDTH)
+    for fmt in _PUNCH_FORMATS:
+        text = _writer(fmt).write([value])
+        if len(text) != FIELD_WIDTH or "*" in text:
+            continue
+        try:
+            back, _ = _read_field(text, name=name, card=card, columns=columns, path=path)
+        except DeckError:
+            continue
+        if _same(back, value):
+            return text
+    raise DeckError(
+        f"value {value!r} cannot be punched exactly in a 10-column field "
+        f"(F10.5 gives {_writer(_FORMAT).write([value]).strip()!r})",
+        **where,
+    )

@@ -1,0 +1,984 @@
+"""The 1967 program, MAIN and SUBROUTINE ED of ``legacy/luminaire.f``, statement for statement.
+
+Fidelity, not beauty. The FORTRAN names are kept (``V1B``, ``THA``, ``PSIFA`` ...), each labelled
+statement starts a block of the label machine (:meth:`Program._dispatch` runs block after block,
+each returning the label it goes to: a ``GO TO``, an arithmetic IF's branch, or the label that
+follows), every arithmetic IF is a three-way branch on ``sign`` with the listing's targets, and
+integer variables (``I``, ``M``, ``N``, ``LL``, ``L``) stay Python ints. All real arithmetic goes
+through an :class:`~deck_emulator.arithmetic.Arithmetic`: its number type's operators, its
+``decimal`` for every literal and deck field, its ``sin``/``cos``; so the same text runs in
+binary64, binary32 or the IBM 7094's words.
+
+Departures from the listing are options, off by default:
+
+* ``errata``: ``"ed-direction"`` (legacy/errata/ed-direction.patch, see CORRECTIONS.md);
+* ``step_scale_k``: divide every literal that means "one step" by ``2**k`` (see STEP_LITERALS);
+* ``tha_start``: the start-up value of THA at label 123 (printed: 0.000022).
+
+Guards end what the 1967 program could not: ED's search without a root, label 108 halving for
+ever, a post that never lands, and any non-finite value (see :class:`Limits`); each raises
+:class:`EmulatorError` naming the label, the statement's variable, the step and the time.
+"""
+
+from __future__ import annotations
+
+import linecache
+import sys
+import traceback
+from dataclasses import dataclass, field
+
+from deck_emulator.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
+from deck_emulator.printer import Printer
+
+ERRATA = {
+    "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
+    "(labels 1 and 15: DH=D-H, DH=D-H/2.)",
+}
+
+#: The literals that mean "one step" (0.0004 s) and are divided by 2**k by ``step_scale_k``.
+#: The print intervals (0.0016 s in contact, 0.008 s in free flight) are times and stay.
+STEP_LITERALS = (
+    "HI=0.0004, H=0.0004 (initial values)",
+    "IF(Q-0.0004) at label 125 (first step: the start-up at label 123)",
+    "IF(Q-.0004) before label 83 (first step: FSA=1320.0)",
+    "E=E+.0004 (contact print counter: one step)",
+    "IF(LL-20) before label 501 (the FCONST cap after 20 steps = 8 ms: 20*2**k steps)",
+    "H=0.0004, HI=0.0004 at labels 354 and 42 (step reset)",
+    "E=E+0.0002 (free-flight print counter: one step)",
+)
+
+
+class EmulatorError(RuntimeError):
+    """The run cannot go on: a guard fired or the arithmetic trapped."""
+
+    def __init__(self, reason, *, label, variable=None, step=0, time=None, guard=None):
+        self.reason, self.label, self.variable = reason, label, variable
+        self.step, self.time, self.guard = step, time, guard
+        where = f"label {label}" + (f", assigning {variable}" if variable else "")
+        when = f"step {step}" + (f", t = {time:.6f} s" if time is not None else "")
+        super().__init__(f"{reason} at {where} ({when})")
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Bounds on what the 1967 program leaves unbounded."""
+
+    ed_iterations: int = 100_000  # per call of ED
+    halvings: int = 40  # consecutive halvings at label 108 without an accepted step
+    time_s: float = 5.0  # simulated time (the report needs about 1 s)
+
+
+@dataclass
+class Run:
+    """What one run of the program produced."""
+
+    records: list[str]
+    trace: list[dict] = field(default_factory=list)  # accepted steps, floats
+    events: list[tuple[str, float]] = field(default_factory=list)  # (message, time)
+    arithmetic: str = "double"
+    errata: tuple[str, ...] = ()
+    step_scale_k: int = 0
+    error: EmulatorError | None = None
+
+    def text(self) -> str:
+        return "".join(r + "\n" for r in self.records)
+
+
+class _Vars:
+    """The variables of one program unit. Every assignment of a real is checked: a NaN or an
+    infinity stops the run at that statement (as gfortran's trapping build does)."""
+
+    def __init__(self, isfinite):
+        object.__setattr__(self, "_isfinite", isfinite)
+        object.__setattr__(self, "_last", None)
+
+    def __setattr__(self, name, value):
+        if type(value) is not int and not self._isfinite(value):
+            raise _NonFinite(name)
+        object.__setattr__(self, name, value)
+
+
+class _NonFinite(ArithmeticError):
+    def __init__(self, name):
+        super().__init__(name)
+        self.name = name
+
+
+class ED:
+    """SUBROUTINE ED(W1A,W2A,W3A,THDB,PHIDB,PSIDB,HI,D,PSIB,THB): the implicit trapezoid step
+    for PSI by a root search on DF. ``L`` and ``DH`` are static and start at zero, as on IBSYS
+    (and gfortran with -fno-automatic -finit-local-zero). Returns D."""
+
+    def __init__(self, ar: Arithmetic, errata: tuple[str, ...], max_iterations: int):
+        self.ar = ar
+        self.L = 0
+        self.DH = ar.decimal("0.0")
+        self.H = ar.decimal("0.0")
+        self.towards_root = "ed-direction" in errata
+        self.max_iterations = max_iterations
+        self.iterations = 0
+        self.label = 0
+        k = ar.decimal
+        self.K2, self.K015, self.K001, self.K00001 = k("2."), k(".15"), k("0.01"), k(".0001")
+
+    def __call__(self, W1A, W2A, W3A, THDB, PHIDB, PSIDB, HI, PSIB, THB):
+        ar, K2 = self.ar, self.K2
+        sin, cos, sign = ar.sin, ar.cos, ar.sign
+
+        def DF(D):
+            return D-((HI/K2)*(W3A+(cos((HI/K2)*(W2A*cos(D)+W1A*sin(D)+THDB)+THB)/sin((HI/K2)*(W2A*cos(D)+W1A*sin(D)+THDB)+THB))*(W1A*cos(D)-W2A*sin(D))+PSIDB)+PSIB)  # noqa: E501
+
+        def IF(x, neg, zero, pos):
+            s = sign(x) if type(x) is not int else (x > 0) - (x < 0)
+            return neg if s < 0 else zero if s == 0 else pos
+
+        # +1 where the erratum makes labels 1 and 15 step towards the root
+        up = self.towards_root
+        self.iterations = 0
+        lab = 0  # entry
+        D = None
+        while True:
+            self.label = lab
+            self.iterations += 1
+            if self.iterations > self.max_iterations:
+                raise EmulatorError(
+                    f"ED's root search did not converge in {self.max_iterations} iterations "
+                    f"(D = {ar.to_float(D):.6g}, DH = {ar.to_float(self.DH):.6g}, H = {ar.to_float(self.H):.6g})",
+                    label=f"ED {lab}", guard="ed_iterations")
+            if lab == 0:
+                lab = IF(self.L - 25, 21, 21, 22)  # IF(L-25)21,21,22  (integer)
+            elif lab == 21:
+                D = self.K015  # 21 D=.15
+                self.H = -self.K001
+                lab = IF(DF(D), 1, 20, 10)
+            elif lab == 22:
+                D = PSIB  # 22 D=PSIB
+                self.H = -self.K001
+                lab = IF(DF(D), 1, 20, 10)
+            # ROOT GOES NEGATIVE TO POSITIVE
+            elif lab == 1:
+                self.DH = D - self.H if up else D + self.H  # 1 DH=D+H  (erratum: D-H)
+                lab = IF(DF(self.DH), 2, 20, 15)
+            elif lab == 2:
+                D = self.DH
+                lab = 1
+            elif lab == 15:
+                self.DH = D - self.H / K2 if up else D + self.H / K2  # 15 DH=D+H/2. (erratum: D-H/2.)
+                lab = IF(abs(DF(self.DH)) - self.K00001, 20, 20, 4)
+            elif lab == 4:
+                lab = IF(DF(self.DH), 5, 20, 3)
+            elif lab == 3:
+                self.H = self.H / K2
+                lab = 15
+            elif lab == 5:
+                D = self.DH
+                self.H = self.H / K2
+                lab = 15
+            # ROOT GOES POSITIVE TO NEGATIVE
+            elif lab == 10:
+                self.DH = D + self.H
+                lab = IF(DF(self.DH), 16, 20, 11)
+            elif lab == 11:
+                D = self.DH
+                lab = 10
+            elif lab == 16:
+                self.DH = D + self.H / K2
+                lab = IF(abs(DF(self.DH)) - self.K00001, 20, 20, 13)
+            elif lab == 13:
+                lab = IF(DF(self.DH), 12, 20, 14)
+            elif lab == 12:
+                self.H = self.H / K2
+                lab = 16
+            elif lab == 14:
+                D = self.DH
+                self.H = self.H / K2
+                lab = 16
+            elif lab == 20:
+                D = self.DH  # 20 D=DH
+                self.L = self.L + 1
+                return D
+            if not ar.isfinite(self.DH) or (D is not None and not ar.isfinite(D)):
+                raise _NonFinite("DH" if not ar.isfinite(self.DH) else "D")
+
+
+class Program:
+    """MAIN of the listing, over one arithmetic, for one deck."""
+
+    def __init__(self, deck, arithmetic: Arithmetic | str = "double", *, errata=(),
+                 step_scale_k: int = 0, tha_start: str | None = None, limits: Limits = Limits(),
+                 trace: bool = True):
+        self.ar = get_arithmetic(arithmetic) if isinstance(arithmetic, str) else arithmetic
+        unknown = set(errata) - set(ERRATA)
+        if unknown:
+            raise ValueError(f"unknown erratum {sorted(unknown)}: known are {sorted(ERRATA)}")
+        self.errata = tuple(errata)
+        self.k = int(step_scale_k)
+        if self.k < 0:
+            raise ValueError("step_scale_k must be >= 0")
+        self.tha_start = tha_start
+        self.limits = limits
+        self.deck = deck
+        self.keep_trace = trace
+        self._consts: dict[str, object] = {}
+        self.v = _Vars(self.ar.isfinite)
+        self.ed = ED(self.ar, self.errata, limits.ed_iterations)
+        rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
+        self.printer = Printer(self.ar.exact, rounding)
+        self.run_ = Run(records=self.printer.records, arithmetic=self.ar.describe(),
+                        errata=self.errata, step_scale_k=self.k)
+        self.label = "START"
+        self.step = 0
+        self.halvings = 0
+
+    # -- helpers -------------------------------------------------------------------------------
+    def K(self, text: str):
+        """A literal of the program text, converted by the arithmetic once."""
+        c = self._consts.get(text)
+        if c is None:
+            c = self._consts[text] = self.ar.decimal(text)
+        return c
+
+    def KSTEP(self, text: str):
+        """A literal that means one step: divided by 2**k under ``step_scale_k``."""
+        c = self.K(text)
+        for _ in range(self.k):
+            c = c / self.K("2.")
+        return c
+
+    def IF(self, x, neg, zero, pos):
+        """Arithmetic IF: three-way branch on the sign of x (a minus zero is zero)."""
+        s = self.ar.sign(x) if type(x) is not int else (x > 0) - (x < 0)
+        return neg if s < 0 else zero if s == 0 else pos
+
+    def P2(self, x):
+        """X**2."""
+        return self.ar.ipow(x, 2)
+
+    def time(self):
+        v = self.v
+        t = getattr(v, "T", None) if getattr(v, "M", 0) == 2 and hasattr(v, "TF") else getattr(v, "Q", None)
+        return None if t is None else self.ar.to_float(t)
+
+    def _record(self, phase: str):
+        if not self.keep_trace:
+            return
+        v, f = self.v, self.ar.to_float
+        if phase == "contact":
+            row = dict(phase=phase, t=f(v.Q), XCM=f(v.XCMA), YYCM=f(v.YYCMA), ZZCM=f(v.ZZCMA),
+                       VV=f(v.VVA), SV=f(v.SVA), FS=f(v.FSA),
+                       XP=f(v.XPA), YYP=f(v.YYPA), ZZP=f(v.ZZPA), XQ=f(v.XQA), YYQ=f(v.YYQA),
+                       ZZQ=f(v.ZZQA), XR=f(v.XRA), YYR=f(v.YYRA), ZZR=f(v.ZZRA),
+                       TH=f(v.THA), PHI=f(v.PHIA), PSI=f(v.PSIA))
+        else:
+            row = dict(phase=phase, t=f(v.T), XCM=f(v.XCMFA), YYCM=f(v.YYCMFA), ZZCM=f(v.ZZCMFA),
+                       VV=f(v.VVFA), SV=f(v.SVFA), FS=0.0,
+                       XP=f(v.XPFA), YYP=f(v.YYPFA), ZZP=f(v.ZZPFA), XQ=f(v.XQFA), YYQ=f(v.YYQFA),
+                       ZZQ=f(v.ZZQFA), XR=f(v.XRFA), YYR=f(v.YYRFA), ZZR=f(v.ZZRFA),
+                       XC=f(v.XCFA), YYC=f(v.YYCFA), ZZC=f(v.ZZCFA),
+                       TH=f(v.THFA), PHI=f(v.PHIFA), PSI=f(v.PSIFA))
+        self.run_.trace.append(row)
+
+    def _event(self, label: int, t):
+        text = self.printer.records[-1].strip()
+        self.run_.events.append((text, self.ar.to_float(t)))
+
+    # -- the label machine ---------------------------------------------------------------------
+    def run(self) -> Run:
+        """Run to STOP. Raises EmulatorError (with ``.run`` holding the records so far)."""
+        try:
+            with self.ar.trapping():
+                self._dispatch()
+        except EmulatorError as exc:
+            if exc.guard == "ed_iterations":  # raised inside ED, which knows no step or time
+                exc = EmulatorError(exc.reason, label=exc.label, step=self.step,
+                                    time=self.time(), guard=exc.guard)
+            self._fail(exc)
+        except (_NonFinite, ZeroDivisionError, FloatingPointError, ArithmeticFault, OverflowError,
+                ValueError) as exc:
+            if isinstance(exc, ValueError) and "math domain" not in str(exc):
+                raise
+            variable = exc.name if isinstance(exc, _NonFinite) else _assigned_variable(exc)
+            label = self.ed.label if variable in ("D", "DH") or _in_ed(exc) else self.label
+            label = f"ED {label}" if _in_ed(exc) or variable in ("D", "DH") else label
+            kind = {"_NonFinite": "non-finite value (NaN or infinity)",
+                    "ZeroDivisionError": "division by zero",
+                    "FloatingPointError": f"floating-point exception ({exc})",
+                    "ArithmeticFault": f"arithmetic fault ({exc})",
+                    "OverflowError": "overflow",
+                    "ValueError": "invalid argument to an intrinsic"}[type(exc).__name__]
+            self._fail(EmulatorError(kind, label=label, variable=variable, step=self.step,
+                                     time=self.time(), guard="arithmetic"))
+        return self.run_
+
+    def _fail(self, exc: EmulatorError):
+        self.run_.error = exc
+        exc.run = self.run_
+        raise exc
+
+    def _dispatch(self):
+        blocks = self._blocks()
+        checks = self._checks()
+        lab = "START"
+        while lab is not None:
+            self.label = lab
+            if lab in checks:
+                x, neg, zero, pos = checks[lab]
+                lab = self.IF(x(), neg, zero, pos)
+            else:
+                lab = blocks[lab]()
+
+    def _blocks(self):
+        return {
+            "START": self.L_start, 125: self.L125, 123: self.L123, 44: self.L44, 124: self.L124,
+            83: self.L83, 84: self.L84, 356: self.L356, 357: self.L357, 358: self.L358,
+            501: self.L501, 502: self.L502, 504: self.L504, 600: self.L600, 102: self.L102,
+            101: self.L101, 104: self.L104, 85: self.L85, 105: self.L105, 107: self.L107,
+            106: self.L106, 87: self.L87, 88: self.L88, 54: self.L54, 55: self.L55, 43: self.L43,
+            56: self.L56, 350: self.L350, 351: self.L351, 352: self.L352, 353: self.L353,
+            108: self.L108, 41: self.L41, 354: self.L354, 42: self.L42, 57: self.L57,
+            80: self.L80, 98: self.L98, 77: self.L77, 82: self.L82,
+            140: self.L140, 96: self.L96, 93: self.L93, 109: self.L109, 236: self.L236,
+            238: self.L238, 240: self.L240, 247: self.L247, 400: self.L400,
+        }
+
+    def L_start(self):
+        v, K, ar = self.v, self.K, self.ar
+        d = self.deck
+        for name in d.values:  # READ(5,1)...READ(5,130): the fields, converted by the arithmetic
+            setattr(v, name, ar.decimal(d.fields[name]))
+        sin, cos = ar.sin, ar.cos
+        v.HI = self.KSTEP("0.0004")
+        v.E = K("0.0")
+        v.I = 0
+        v.M = 0
+        v.H = self.KSTEP("0.0004")
+        v.Q = K("0.0")
+        v.LL = 0
+        v.N = 0
+        v.K = 0
+        v.YPO = v.YYPO*cos(v.DELTA)+v.ZZPO*sin(v.DELTA)
+        v.ZPO = -v.YYPO*sin(v.DELTA)+v.ZZPO*cos(v.DELTA)
+        v.YQO = v.YYQO*cos(v.DELTA)+v.ZZQO*sin(v.DELTA)
+        v.ZQO = -v.YYQO*sin(v.DELTA)+v.ZZQO*cos(v.DELTA)
+        v.YSO = v.YYSO*cos(v.DELTA)+v.ZZSO*sin(v.DELTA)
+        v.ZSO = -v.YYSO*sin(v.DELTA)+v.ZZSO*cos(v.DELTA)
+        v.YTO = v.YYTO*cos(v.DELTA)+v.ZZTO*sin(v.DELTA)
+        v.ZTO = -v.YYTO*sin(v.DELTA)+v.ZZTO*cos(v.DELTA)
+        v.YRO = v.YYRO*cos(v.DELTA)+v.ZZRO*sin(v.DELTA)
+        v.ZRO = -v.YYRO*sin(v.DELTA)+v.ZZRO*cos(v.DELTA)
+        v.YCO = v.YYCO*cos(v.DELTA)+v.ZZCO*sin(v.DELTA)
+        v.ZCO = -v.YYCO*sin(v.DELTA)+v.ZZCO*cos(v.DELTA)
+        v.XVSO = v.XSO*cos(v.ALPHA)-v.YYSO*sin(v.ALPHA)
+        v.XVTO = v.XTO*cos(v.ALPHA)-v.YYTO*sin(v.ALPHA)
+        return 125
+
+    def L125(self):  # 125 CONTINUE
+        self.step += 1
+        return self.IF(self.v.Q - self.KSTEP("0.0004"), 123, 44, 44)
+
+    def L123(self):  # 123: the start-up of the first step
+        v, K = self.v, self.K
+        v.W1A = K("0.0")
+        v.W2A = K("0.0545")
+        v.W3A = K("0.0")
+        v.FSB = K("10000.0")
+        v.F1B = -K("10000.0")
+        v.THDA = K("0.0545")
+        v.PHIDA = K("0.0")
+        v.PSIDA = K("0.0")
+        v.THA = K(self.tha_start) if self.tha_start is not None else K("0.000022")
+        v.PHIA = K("0.0")
+        v.PSIA = K("0.0")
+        return 124
+
+    def L44(self):  # 44: angular velocities 1,2,3; Euler angles; their rates
+        v, K, ar = self.v, self.K, self.ar
+        sin, cos = ar.sin, ar.cos
+        H, A, B, C = v.H, v.A, v.B, v.C
+        v.W1A = ((H*v.T1B)/A)+H*(((B-C)/A)*v.W2B*v.W3B)+v.W1B
+        v.W2A = (H/B)*v.T2B+H*(((C-A)/B)*v.W1B*v.W3B)+v.W2B
+        v.W3A = (H/C)*v.T3B+H*(((A-B)/C)*v.W1B*v.W2B)+v.W3B
+        # CALL ED(W1A,W2A,W3A,THDB,PHIDB,PSIDB,HI,D,PSIB,THB)
+        v.D = self.ed(v.W1A, v.W2A, v.W3A, v.THDB, v.PHIDB, v.PSIDB, v.HI, v.PSIB, v.THB)
+        v.PSIA = v.D
+        v.PSIAD = v.PSIA*K("57.3")
+        v.PFORK = (v.W1A*cos(v.PSIA))-(v.W2A*sin(v.PSIA))
+        v.THA = (H/K("2."))*(v.W2A*cos(v.PSIA)+v.W1A*sin(v.PSIA)+v.THDB)+v.THB
+        v.THAD = v.THA*K("57.3")
+        v.PHIA = (H/K("2."))*((((sin(v.THA))*v.PFORK)/((cos(v.THA))*cos(v.THA)-K("1.0")))+v.PHIDB)+v.PHIB
+        v.PHIAD = v.PHIA*K("57.3")
+        v.THDA = (v.W2A/cos(v.PSIA))+((sin(v.PSIA))/cos(v.PSIA))*v.PFORK
+        v.PHIDA = (-K("1.0")/sin(v.THA))*v.PFORK
+        v.PSIDA = v.W3A-(cos(v.THA))*v.PHIDA
+        return 124
+
+    def _point(self, XO, YO, ZO, CM, ROT):
+        """The three statements XxA=..., YxA=..., ZxA=... of a point of the post (eq. 3.21),
+        written once with the listing's grouping; ROT = (SQUIG, ETA, ZETA, CHI)."""
+        K2, P2 = self.K("2."), self.P2
+        SQ, ET, ZE, CH = ROT
+        XCM, YCM, ZCM = CM
+        X = XCM+(XO)*(P2(SQ)-P2(ET)-P2(ZE)+P2(CH))+(K2*YO)*((SQ*ET)-(ZE*CH))+(K2*ZO)*((SQ*ZE)+(ET*CH))
+        Y = YCM+(K2*XO)*((SQ*ET)+(ZE*CH))+(YO)*(-P2(SQ)+P2(ET)-P2(ZE)+P2(CH))+(K2*ZO)*((ET*ZE)-(SQ*CH))
+        Z = ZCM+(K2*XO)*((SQ*ZE)-(ET*CH))+(K2*YO)*((ET*ZE)+(SQ*CH))+(ZO)*(-P2(SQ)-P2(ET)+P2(ZE)+P2(CH))
+        return X, Y, Z
+
+    def L124(self):  # 124: velocities, translations, direction cosines, points, differences
+        v, K, ar = self.v, self.K, self.ar
+        sin, cos = ar.sin, ar.cos
+        H, W = v.H, v.W
+        K2 = K("2.")
+        v.V1A = H*((v.F1B/W)+v.V2B*v.W3B-v.V3B*v.W2B)+v.V1B
+        v.V2A = H*((v.F2B/W)+v.V3B*v.W1B-v.V1B*v.W3B)+v.V2B
+        v.V3A = H*((v.F3B/W)+v.V1B*v.W2B-v.V2B*v.W1B)+v.V3B
+        v.VVA = v.VVB+(H/v.WV)*v.FSB
+        v.S1A = (H/K2)*(v.V1A+v.V1B)
+        v.S2A = (H/K2)*(v.V2A+v.V2B)
+        v.S3A = (H/K2)*(v.V3A+v.V3B)
+        v.SVA = (H/K2)*(v.VVA+v.VVB)+v.SVB
+        THA, PHIA, PSIA = v.THA, v.PHIA, v.PSIA
+        v.DIRC1X = (((-sin(PHIA))*sin(PSIA))+((cos(THA))*cos(PHIA))*cos(PSIA))
+        v.DIRC1Y = (((cos(PHIA))*sin(PSIA))+((cos(THA))*sin(PHIA))*cos(PSIA))
+        v.DIRC1Z = ((-sin(THA))*cos(PSIA))
+        v.DIRC2X = (((-sin(PHIA))*cos(PSIA))-((cos(THA))*cos(PHIA))*sin(PSIA))
+        v.DIRC2Y = (((cos(PHIA))*cos(PSIA))-((cos(THA))*sin(PHIA))*sin(PSIA))
+        v.DIRC2Z = ((sin(THA))*sin(PSIA))
+        v.DIRC3X = ((sin(THA))*cos(PHIA))
+        v.DIRC3Y = ((sin(THA))*sin(PHIA))
+        v.DIRC3Z = cos(THA)
+        v.XCMA = v.S1A*v.DIRC1X+v.S2A*v.DIRC2X+v.S3A*v.DIRC3X+v.XCMB
+        v.YCMA = v.S1A*v.DIRC1Y+v.S2A*v.DIRC2Y+v.S3A*v.DIRC3Y+v.YCMB
+        v.ZCMA = v.S1A*v.DIRC1Z+v.S2A*v.DIRC2Z+v.S3A*v.DIRC3Z+v.ZCMB
+        DELTA, ALPHA = v.DELTA, v.ALPHA
+        v.YYCMA = v.YCMA*cos(DELTA)-v.ZCMA*sin(DELTA)
+        v.ZZCMA = v.YCMA*sin(DELTA)+v.ZCMA*cos(DELTA)
+        v.SQUIGA = sin(THA/K2)*sin((PSIA-PHIA)/K2)
+        v.ETAA = sin(THA/K2)*cos((PSIA-PHIA)/K2)
+        v.ZETAA = cos(THA/K2)*sin((PSIA+PHIA)/K2)
+        v.CHIA = cos(THA/K2)*cos((PSIA+PHIA)/K2)
+        rot, cm = (v.SQUIGA, v.ETAA, v.ZETAA, v.CHIA), (v.XCMA, v.YCMA, v.ZCMA)
+        v.XPA, v.YPA, v.ZPA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
+        v.YYPA = v.YPA*cos(DELTA)-v.ZPA*sin(DELTA)
+        v.ZZPA = v.YPA*sin(DELTA)+v.ZPA*cos(DELTA)
+        v.XQA, v.YQA, v.ZQA = self._point(v.XQO, v.YQO, v.ZQO, cm, rot)
+        v.YYQA = v.YQA*cos(DELTA)-v.ZQA*sin(DELTA)
+        v.ZZQA = v.YQA*sin(DELTA)+v.ZQA*cos(DELTA)
+        v.XSA, v.YSA, v.ZSA = self._point(v.XSO, v.YSO, v.ZSO, cm, rot)
+        v.YYSA = v.YSA*cos(DELTA)-v.ZSA*sin(DELTA)
+        v.ZZSA = v.YSA*sin(DELTA)+v.ZSA*cos(DELTA)
+        v.XVSA = v.XSA*cos(ALPHA)-v.YYSA*sin(ALPHA)
+        v.YVSA = v.XSA*sin(ALPHA)+v.YYSA*cos(ALPHA)
+        v.XRA, v.YRA, v.ZRA = self._point(v.XRO, v.YRO, v.ZRO, cm, rot)
+        v.YYRA = v.YRA*cos(DELTA)-v.ZRA*sin(DELTA)
+        v.ZZRA = v.YRA*sin(DELTA)+v.ZRA*cos(DELTA)
+        v.XVRA = v.XRA*cos(ALPHA)-v.YYRA*sin(ALPHA)
+        v.YVRA = v.XRA*sin(ALPHA)+v.YYRA*cos(ALPHA)
+        v.XTA, v.YTA, v.ZTA = self._point(v.XTO, v.YTO, v.ZTO, cm, rot)
+        v.YYTA = v.YTA*cos(DELTA)-v.ZTA*sin(DELTA)
+        v.ZZTA = v.YTA*sin(DELTA)+v.ZTA*cos(DELTA)
+        v.XVTA = v.XTA*cos(ALPHA)-v.YYTA*sin(ALPHA)
+        v.YVTA = v.XTA*sin(ALPHA)+v.YYTA*cos(ALPHA)
+        # DIFFERENCE CALCULATIONS
+        v.POSLEN = abs(v.XVSA-v.XVSO)
+        v.TDISP = abs(v.XVTA-v.XVTO)
+        v.CARLEN = abs(v.SVA-v.SVO)
+        v.DIFF = v.POSLEN-v.CARLEN
+        v.DIFFT = v.TDISP-v.CARLEN
+        # CALCULATION OF FORCES
+        return self.IF(v.Q-self.KSTEP(".0004"), 83, 84, 84)
+
+    def L83(self):
+        self.v.FSA = self.K("1320.0")
+        return 85
+
+    def L84(self):
+        return self.IF(self.v.DIFF-self.K("0.01"), 356, 356, 357)
+
+    def L356(self):
+        v = self.v
+        v.FSA = abs(v.CK*((v.SVO-v.SVA)-(v.XVSO-v.XVSA)))
+        v.FSA = self.K("0.8")*v.FSA
+        return 358
+
+    def L357(self):
+        v = self.v
+        v.FSA = abs(v.CT*((v.SVO-v.SVA)-(v.XVTO-v.XVTA)))
+        v.FSA = self.K("0.8")*v.FSA
+        v.ZSA = v.ZTA
+        v.XSA = v.XTA
+        v.YSA = v.YTA
+        return 358
+
+    def L358(self):
+        return self.IF(self.v.LL-20*2**self.k, 600, 501, 501)  # IF(LL-20)600,501,501
+
+    def L501(self):
+        return self.IF(self.v.DIFF-self.v.DIFFB, 600, 502, 502)
+
+    def L502(self):
+        return self.IF(self.v.FSA-self.v.FCONST, 600, 504, 504)
+
+    def L504(self):
+        self.v.FSA = self.v.FCONST
+        return 600
+
+    def L600(self):
+        return self.IF(self.v.XQA+self.K("0.083333"), 101, 101, 102)
+
+    def L102(self):
+        return self.IF(self.v.XQA+self.K("0.083333")-self.K("0.004"), 101, 101, 104)
+
+    def L101(self):
+        self.v.FFXA = self.K("0.0")
+        return 105
+
+    def L104(self):  # 104 CONTINUE
+        return 85
+
+    def L85(self):
+        v, K = self.v, self.K
+        v.CFA = K("0.25")
+        v.FNAC = K("635.0")
+        v.T = K("300.0")
+        v.FFXA = K("3.1")*v.T
+        return 105
+
+    def L105(self):
+        return self.IF(self.v.XQA+self.K("0.4166"), 107, 107, 106)
+
+    def L107(self):
+        self.v.FNA = self.K("0.0")
+        return 106
+
+    def L106(self):  # forces and torques, then the time step
+        v, K, ar = self.v, self.K, self.ar
+        sin, cos = ar.sin, ar.cos
+        DELTA, ALPHA, W, G = v.DELTA, v.ALPHA, v.W, v.G
+        v.FFYA = K("0.0")
+        v.FSXA = v.FSA*cos(ALPHA)
+        v.FSYA = v.FSA*sin(ALPHA)
+        FFXA, FSXA, FSYA, FNA, FFYA = v.FFXA, v.FSXA, v.FSYA, v.FNA, v.FFYA
+        v.F1A = (FFXA-FSXA)*(v.DIRC1X)+(FSYA*cos(DELTA)+FNA*sin(DELTA)-W*G*sin(DELTA)-FFYA*cos(DELTA))*(v.DIRC1Y)+(FFYA*sin(DELTA)+FNA*cos(DELTA)-W*G*cos(DELTA)-FSYA*sin(DELTA))*(v.DIRC1Z)  # noqa: E501
+        v.F2A = (FFXA-FSXA)*(v.DIRC2X)+(FSYA*cos(DELTA)+FNA*sin(DELTA)-W*G*sin(DELTA)-FFYA*cos(DELTA))*(v.DIRC2Y)+(FFYA*sin(DELTA)+FNA*cos(DELTA)-W*G*cos(DELTA)-FSYA*sin(DELTA))*(v.DIRC2Z)  # noqa: E501
+        v.F3A = (FFXA-FSXA)*(v.DIRC3X)+(FSYA*cos(DELTA)+FNA*sin(DELTA)-W*G*sin(DELTA)-FFYA*cos(DELTA))*(v.DIRC3Y)+(FFYA*sin(DELTA)+FNA*cos(DELTA)-W*G*cos(DELTA)-FSYA*sin(DELTA))*(v.DIRC3Z)  # noqa: E501
+        # CALCULATION OF TORQUES
+        XQA, YQA, ZQA, XSA, YSA, ZSA = v.XQA, v.YQA, v.ZQA, v.XSA, v.YSA, v.ZSA
+        XCMA, YCMA, ZCMA = v.XCMA, v.YCMA, v.ZCMA
+        v.TXA = (FFYA*cos(DELTA))*(ZQA-ZCMA)+(FNA*cos(DELTA))*(YQA-YCMA)-(FNA*sin(DELTA))*(ZQA-ZCMA)+(FFYA*sin(DELTA))*(YQA-YCMA)-(FSYA*cos(DELTA))*(ZSA-ZCMA)-(FSYA*sin(DELTA))*(YSA-YCMA)  # noqa: E501
+        v.TYA = FFXA*(ZQA-ZCMA)-(FNA*cos(DELTA))*(XQA-XCMA)-FSXA*(ZSA-ZCMA)-(FFYA*sin(DELTA))*(XQA-XCMA)+(FSYA*sin(DELTA))*(XSA-XCMA)  # noqa: E501
+        v.TZA = -FFXA*(YQA-YCMA)-(FFYA*cos(DELTA))*(XQA-XCMA)+FSXA*(YSA-YCMA)+(FSYA*cos(DELTA))*(XSA-XCMA)+(FNA*sin(DELTA))*(XQA-XCMA)  # noqa: E501
+        v.T1A = (v.TXA*v.DIRC1X)+(v.TYA*v.DIRC1Y)+(v.TZA*v.DIRC1Z)
+        v.T2A = (v.TXA*v.DIRC2X)+(v.TYA*v.DIRC2Y)+(v.TZA*v.DIRC2Z)
+        v.T3A = (v.TXA*v.DIRC3X)+(v.TYA*v.DIRC3Y)+(v.TZA*v.DIRC3Z)
+        # TIME CALCULATION
+        v.LL = v.LL+1
+        v.Q = v.Q+v.H
+        v.E = v.E+self.KSTEP(".0004")
+        if self.ar.to_float(v.Q) > self.limits.time_s:
+            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
+                                "in contact with the vehicle", label=106, step=self.step,
+                                time=self.ar.to_float(v.Q), guard="time_s")
+        return self.IF(v.E-K("0.0016"), 54, 87, 87)
+
+    def L87(self):
+        self.v.E = self.K("0.0")
+        return 88
+
+    def L88(self):  # 88: the contact-phase printout
+        v, w = self.v, self.printer.write
+        w(15, v.VVA)
+        w(19, v.SVA)
+        w(120, v.THAD)
+        w(121, v.PHIAD)
+        w(122, v.PSIAD)
+        w(20, v.XCMA)
+        w(27, v.XPA)
+        w(33, v.XSA)
+        w(30, v.XQA)
+        w(206, v.YYCMA)
+        w(200, v.YYPA, v.XRA)
+        w(202, v.YYSA, v.YYRA)
+        w(204, v.YYQA, v.ZZRA)
+        w(207, v.ZZCMA)
+        w(201, v.ZZPA)
+        w(203, v.ZZSA)
+        w(205, v.ZZQA)
+        w(39, v.FSA)
+        w(53, v.DIFF)
+        w(40, v.Q)
+        return 54
+
+    def L54(self):
+        return self.IF(self.v.M-1, 55, 354, 350)
+
+    def L55(self):
+        return self.IF(self.v.DIFF, 41, 354, 43)
+
+    def L43(self):
+        return self.IF(self.v.DIFF-self.K("0.01"), 56, 56, 108)
+
+    def L56(self):
+        self.v.M = 1
+        return 88
+
+    def L350(self):
+        return self.IF(self.v.N-1, 351, 42, 351)
+
+    def L351(self):
+        return self.IF(self.v.DIFFT, 41, 42, 352)
+
+    def L352(self):
+        return self.IF(self.v.DIFFT-self.K("0.01"), 353, 353, 108)
+
+    def L353(self):
+        self.v.N = 1
+        return 88
+
+    def L108(self):  # 108: back up and halve the step
+        v = self.v
+        self.halvings += 1
+        if self.halvings > self.limits.halvings:
+            raise EmulatorError(
+                f"step halved {self.limits.halvings} times in a row at label 108 "
+                f"(H = {self.ar.to_float(v.H):.3g} s, DIFF = {self.ar.to_float(v.DIFF):.3g} ft, "
+                f"DIFFT = {self.ar.to_float(v.DIFFT):.3g} ft)",
+                label=108, step=self.step, time=self.time(), guard="halvings")
+        v.Q = v.Q-v.H
+        v.H = v.H/self.K("2.")
+        v.HI = v.HI/self.K("2.")
+        return 44
+
+    def L41(self):  # 41: the step is accepted, A values become B values
+        v = self.v
+        self.halvings = 0
+        self._record("contact")
+        v.V1B = v.V1A
+        v.V2B = v.V2A
+        v.V3B = v.V3A
+        v.W1B = v.W1A
+        v.W2B = v.W2A
+        v.W3B = v.W3A
+        v.T1B = v.T1A
+        v.T2B = v.T2A
+        v.T3B = v.T3A
+        v.F1B = v.F1A
+        v.F2B = v.F2A
+        v.F3B = v.F3A
+        v.DIFFB = v.DIFF
+        v.VVB = v.VVA
+        v.THB = v.THA
+        v.PHIB = v.PHIA
+        v.PSIB = v.PSIA
+        v.THDB = v.THDA
+        v.PHIDB = v.PHIDA
+        v.PSIDB = v.PSIDA
+        v.FSB = v.FSA
+        v.SVB = v.SVA
+        v.XCMB = v.XCMA
+        v.YCMB = v.YCMA
+        v.ZCMB = v.ZCMA
+        return 125
+
+    def L354(self):  # POST LOSES CONTACT WITH FIRST SPRING
+        v = self.v
+        v.M = 2
+        v.H = self.KSTEP("0.0004")
+        v.HI = self.KSTEP("0.0004")
+        self.printer.write(355)
+        self._event(355, v.Q)
+        return 41
+
+    def L42(self):  # POST LOSES CONTACT WITH THE VEHICLE
+        v = self.v
+        self.printer.write(100)
+        self._event(100, v.Q)
+        self._record("contact")
+        v.H = self.KSTEP("0.0004")
+        v.HI = self.KSTEP("0.0004")
+        v.E = self.K("0.0")
+        v.XCMFB = v.XCMA
+        v.YCMFB = v.YCMA
+        v.ZCMFB = v.ZCMA
+        v.THDFB = v.THDA
+        v.PHIDFB = v.PHIDA
+        v.PSIDFB = v.PSIDA
+        v.THFB = v.THA
+        v.PHIFB = v.PHIA
+        v.PSIFB = v.PSIA
+        v.W1FB = v.W1A
+        v.W2FB = v.W2A
+        v.W3FB = v.W3A
+        v.V1FB = v.V1A
+        v.V2FB = v.V2A
+        v.V3FB = v.V3A
+        v.VVFB = v.VVA
+        v.TF = v.Q
+        v.SVFB = v.SVA
+        return 57
+
+    def L57(self):  # 57, 59: one free-flight step
+        v, K, ar = self.v, self.K, self.ar
+        sin, cos = ar.sin, ar.cos
+        self.step += 1
+        H, A, B, C = v.H, v.A, v.B, v.C
+        K2 = K("2.")
+        v.T = v.TF+H  # 59
+        if ar.to_float(v.T) > self.limits.time_s:
+            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
+                                "in free flight: the post has not landed", label=59,
+                                step=self.step, time=ar.to_float(v.T), guard="time_s")
+        v.W1FA = H*((B-C)/A)*v.W2FB*v.W3FB+v.W1FB
+        v.W2FA = H*((C-A)/B)*v.W1FB*v.W3FB+v.W2FB
+        v.W3FA = H*((A-B)/C)*v.W1FB*v.W2FB+v.W3FB
+        # CALL ED(W1FA,W2FA,W3FA,THDFB,PHIDFB,PSIDFB,HI,D,PSIFB,THFB)
+        v.D = self.ed(v.W1FA, v.W2FA, v.W3FA, v.THDFB, v.PHIDFB, v.PSIDFB, v.HI, v.PSIFB, v.THFB)
+        v.PSIFA = v.D
+        v.PSIFAD = v.PSIFA*K("57.3")
+        v.PFORKF = (v.W1FA*cos(v.PSIFA))-(v.W2FA*sin(v.PSIFA))
+        v.THFA = (H/K2)*(v.W2FA*cos(v.PSIFA)+v.W1FA*sin(v.PSIFA)+v.THDFB)+v.THFB
+        v.THFAD = v.THFA*K("57.3")
+        v.PHIFA = (H/K2)*((((sin(v.THFA))*v.PFORKF)/((cos(v.THFA))*cos(v.THFA)-K("1.0")))+v.PHIDFB)+v.PHIFB
+        v.PHIFAD = v.PHIFA*K("57.3")
+        v.THDFA = (v.W2FA/cos(v.PSIFA))+((sin(v.PSIFA))/cos(v.PSIFA))*v.PFORKF
+        v.PHIDFA = (-K("1.0")/sin(v.THFA))*v.PFORKF
+        v.PSIDFA = v.W3FA-(cos(v.THFA))*v.PHIDFA
+        # FORCE CALCULATIONS (FREE)
+        W, G, DELTA = v.W, v.G, v.DELTA
+        THFB, PHIFB, PSIFB = v.THFB, v.PHIFB, v.PSIFB
+        v.F1FB = W*G*cos(DELTA)*sin(THFB)*cos(PSIFB)-W*G*sin(DELTA)*(cos(PHIFB)*sin(PSIFB)+cos(THFB)*sin(PHIFB)*cos(PSIFB))  # noqa: E501
+        v.F2FB = -W*G*cos(DELTA)*sin(THFB)*sin(PSIFB)-W*G*sin(DELTA)*(cos(PHIFB)*cos(PSIFB)-cos(THFB)*sin(PHIFB)*sin(PSIFB))  # noqa: E501
+        v.F3FB = -W*G*cos(DELTA)*cos(THFB)-W*G*sin(DELTA)*sin(THFB)*sin(PHIFB)
+        # LINEAR VELOCITY CALCUALTIIONS (FREE)
+        v.V1FA = H*((v.F1FB/W)+v.V2FB*v.W3FB-v.V3FB*v.W2FB)+v.V1FB
+        v.V2FA = H*((v.F2FB/W)+v.V3FB*v.W1FB-v.V1FB*v.W3FB)+v.V2FB
+        v.V3FA = H*((v.F3FB/W)+v.V1FB*v.W2FB-v.V2FB*v.W1FB)+v.V3FB
+        v.VVFA = v.VVFB
+        v.S1FA = (H/K2)*(v.V1FA+v.V1FB)
+        v.S2FA = (H/K2)*(v.V2FA+v.V2FB)
+        v.S3FA = (H/K2)*(v.V3FA+v.V3FB)
+        v.SVFA = (H/K2)*(v.VVFA+v.VVFB)+v.SVFB
+        v.XBUMP = v.SVFA-v.HLEN
+        v.XENTOP = v.SVFA+v.TLEN
+        v.XTAIL = v.XENTOP+v.TRLEN
+        # X,Y,Z TRANSLATIONS OF MASS CENTER (FREE)
+        THFA, PHIFA, PSIFA = v.THFA, v.PHIFA, v.PSIFA
+        S1FA, S2FA, S3FA = v.S1FA, v.S2FA, v.S3FA
+        v.XCMFA = (S1FA)*((-sin(PHIFA))*(sin(PSIFA))+((cos(THFA))*(cos(PHIFA))*(cos(PSIFA))))+(S2FA)*((-sin(PHIFA))*(cos(PSIFA))-((cos(THFA))*(cos(PHIFA))*sin(PSIFA)))+(S3FA)*((sin(THFA))*cos(PHIFA))+v.XCMFB  # noqa: E501
+        v.YCMFA = (S1FA)*((cos(PHIFA))*(sin(PSIFA))+((cos(THFA))*(sin(PHIFA))*cos(PSIFA)))+(S2FA)*((cos(PHIFA))*(cos(PSIFA))-((cos(THFA))*(sin(PHIFA))*sin(PSIFA)))+(S3FA)*((sin(THFA))*sin(PHIFA))+v.YCMFB  # noqa: E501
+        v.ZCMFA = (S1FA)*(-sin(THFA))*(cos(PSIFA))+((S2FA)*(sin(THFA))*(sin(PSIFA)))+(S3FA)*(cos(THFA))+v.ZCMFB  # noqa: E501
+        v.YYCMFA = v.YCMFA*cos(DELTA)-v.ZCMFA*sin(DELTA)
+        v.ZZCMFA = v.YCMFA*sin(DELTA)+v.ZCMFA*cos(DELTA)
+        # CALCULATION OF ROTATION PARAMETERS (FREE)
+        v.SQUIFA = sin(THFA/K2)*sin((PSIFA-PHIFA)/K2)
+        v.ETAFA = sin(THFA/K2)*cos((PSIFA-PHIFA)/K2)
+        v.ZETAFA = cos(THFA/K2)*sin((PSIFA+PHIFA)/K2)
+        v.CHIFA = cos(THFA/K2)*cos((PSIFA+PHIFA)/K2)
+        rot, cm = (v.SQUIFA, v.ETAFA, v.ZETAFA, v.CHIFA), (v.XCMFA, v.YCMFA, v.ZCMFA)
+        ALPHA = v.ALPHA
+        v.XPFA, v.YPFA, v.ZPFA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
+        v.YYPFA = v.YPFA*cos(DELTA)-v.ZPFA*sin(DELTA)
+        v.ZZPFA = v.YPFA*sin(DELTA)+v.ZPFA*cos(DELTA)
+        v.XVPFA = v.XPFA*cos(ALPHA)-v.YYPFA*sin(ALPHA)
+        v.YVPFA = v.XPFA*sin(ALPHA)+v.YYPFA*cos(ALPHA)
+        v.XQFA, v.YQFA, v.ZQFA = self._point(v.XQO, v.YQO, v.ZQO, cm, rot)
+        v.YYQFA = v.YQFA*cos(DELTA)-v.ZQFA*sin(DELTA)
+        v.ZZQFA = v.YQFA*sin(DELTA)+v.ZQFA*cos(DELTA)
+        v.XRFA, v.YRFA, v.ZRFA = self._point(v.XRO, v.YRO, v.ZRO, cm, rot)
+        v.YYRFA = v.YRFA*cos(DELTA)-v.ZRFA*sin(DELTA)
+        v.ZZRFA = v.YRFA*sin(DELTA)+v.ZRFA*cos(DELTA)
+        v.XVRFA = v.XRFA*cos(ALPHA)-v.YYRFA*sin(ALPHA)
+        v.YVRFA = v.XRFA*sin(ALPHA)+v.YYRFA*cos(ALPHA)
+        v.XCFA, v.YCFA, v.ZCFA = self._point(v.XCO, v.YCO, v.ZCO, cm, rot)
+        v.YYCFA = v.YCFA*cos(DELTA)-v.ZCFA*sin(DELTA)
+        v.ZZCFA = v.YCFA*sin(DELTA)+v.ZCFA*cos(DELTA)
+        v.XVCFA = v.XCFA*cos(ALPHA)-v.YYCFA*sin(ALPHA)
+        v.YVCFA = v.XCFA*sin(ALPHA)+v.YYCFA*cos(ALPHA)
+        v.E = v.E+self.KSTEP("0.0002")
+        return self.IF(v.E-K("0.008"), 77, 80, 80)
+
+    def L80(self):
+        self.v.E = self.K("0.0")
+        return 98
+
+    def L98(self):  # 98: the free-flight printout
+        v, w = self.v, self.printer.write
+        w(60, v.THFAD)
+        w(61, v.PHIFAD)
+        w(62, v.PSIFAD)
+        w(63, v.XCMFA)
+        w(64, v.XPFA)
+        w(66, v.XQFA)
+        w(113, v.XRFA)
+        w(131, v.XCFA)
+        w(208, v.YYCMFA)
+        w(210, v.YYPFA)
+        w(212, v.YYQFA)
+        w(216, v.YYRFA)
+        w(132, v.YYCFA)
+        w(209, v.ZZCMFA)
+        w(211, v.ZZPFA)
+        w(213, v.ZZQFA)
+        w(217, v.ZZRFA)
+        w(133, v.ZZCFA)
+        w(75, v.SVFA)
+        w(76, v.T)
+        return 77
+
+    def L77(self):
+        return self.IF(self.v.I-1, 81, 82, 81)
+
+    def L82(self):  # STOP
+        self._record("free")
+        return None
+
+    def _hit(self, fmt: int):
+        self.v.I = 1
+        self.printer.write(fmt)
+        self._event(fmt, self.v.T)
+        return 98
+
+    def L140(self):
+        return self._hit(134)
+
+    def L96(self):
+        return self._hit(97)
+
+    def L93(self):
+        return self._hit(99)
+
+    def L109(self):
+        return self._hit(110)
+
+    def L236(self):
+        return self._hit(237)
+
+    def L238(self):
+        return self._hit(239)
+
+    def L240(self):
+        return self._hit(242)
+
+    def L247(self):
+        return self._hit(248)
+
+    def L400(self):  # 400: the free step is accepted
+        v = self.v
+        self._record("free")
+        v.TF = v.T
+        v.THFB = v.THFA
+        v.PHIFB = v.PHIFA
+        v.PSIFB = v.PSIFA
+        v.VVFB = v.VVFA
+        v.V1FB = v.V1FA
+        v.V2FB = v.V2FA
+        v.V3FB = v.V3FA
+        v.W1FB = v.W1FA
+        v.W2FB = v.W2FA
+        v.W3FB = v.W3FA
+        v.THDFB = v.THDFA
+        v.PHIDFB = v.PHIDFA
+        v.PSIDFB = v.PSIDFA
+        v.XCMFB = v.XCMFA
+        v.YCMFB = v.YCMFA
+        v.ZCMFB = v.ZCMFA
+        v.SVFB = v.SVFA
+        return 57
+
+    def _checks(self):
+        """Labels 81 to 462: the ground and vehicle checks, pure arithmetic IFs, as a table
+        label -> (expression, negative, zero, positive), in the listing's order."""
+        v, K = self.v, self.K
+        k01, k001 = K("0.1"), K("0.01")
+        return {
+            # ground: P, Q, R, C
+            81: (lambda: v.ZZPFA+v.HEIGHT, 91, 93, 91),
+            91: (lambda: abs(v.ZZPFA+v.HEIGHT)-k01, 93, 93, 94),
+            94: (lambda: v.ZZQFA+v.HEIGHT, 95, 96, 95),
+            95: (lambda: abs(v.ZZQFA+v.HEIGHT)-k001, 96, 96, 111),
+            111: (lambda: v.ZZRFA+v.HEIGHT, 103, 109, 103),
+            103: (lambda: abs(v.ZZRFA+v.HEIGHT)-k01, 109, 109, 230),
+            230: (lambda: v.ZZCFA+v.HEIGHT, 141, 140, 141),
+            141: (lambda: abs(v.ZZCFA+v.HEIGHT)-k01, 140, 140, 500),
+            # CHECK ON THE POINT P (500 CONTINUE)
+            500: (lambda: v.YVPFA-v.YLFEN, 112, 250, 249),
+            249: (lambda: v.YVPFA-v.YRFEN, 250, 250, 112),
+            250: (lambda: v.XVPFA-v.XBUMP, 112, 231, 232),
+            232: (lambda: v.XVPFA-v.SVFA, 231, 233, 234),
+            231: (lambda: v.ZZPFA-v.HHV, 235, 236, 235),
+            235: (lambda: abs(v.ZZPFA-v.HHV)-k01, 236, 236, 112),
+            233: (lambda: v.ZZPFA-v.HTV, 238, 240, 241),
+            241: (lambda: abs(v.ZZPFA-v.HTV)-k01, 240, 240, 112),
+            234: (lambda: v.XVPFA-v.SVFA-k01, 233, 233, 243),
+            243: (lambda: v.XVPFA-v.XENTOP, 233, 240, 244),
+            244: (lambda: v.XVPFA-v.XTAIL, 245, 245, 112),
+            245: (lambda: v.ZZPFA-v.HTRV, 246, 247, 246),
+            246: (lambda: abs(v.ZZPFA-v.HTRV)-k01, 247, 247, 112),
+            # CHECK ON THE POINT R (112 CONTINUE)
+            112: (lambda: v.YVRFA-v.YLFEN, 300, 251, 252),
+            252: (lambda: v.YVRFA-v.YRFEN, 251, 251, 300),
+            251: (lambda: v.XVRFA-v.XBUMP, 300, 253, 254),
+            254: (lambda: v.XVRFA-v.SVFA, 253, 255, 256),
+            253: (lambda: v.ZZRFA-v.HHV, 257, 236, 257),
+            257: (lambda: abs(v.ZZRFA-v.HHV)-k01, 236, 236, 300),
+            255: (lambda: v.ZZRFA-v.HTV, 238, 240, 258),
+            258: (lambda: abs(v.ZZRFA-v.HTV)-k01, 240, 240, 300),
+            256: (lambda: v.XVRFA-v.SVFA-k01, 255, 255, 259),
+            259: (lambda: v.XVRFA-v.XENTOP, 255, 240, 260),
+            260: (lambda: v.XVRFA-v.XTAIL, 261, 261, 300),
+            261: (lambda: v.ZZRFA-v.HTRV, 262, 247, 262),
+            262: (lambda: abs(v.ZZRFA-v.HTRV)-k01, 247, 247, 300),
+            # CHECK ON THE POINT C (300 CONTINUE); falling out of 462 goes to 400
+            300: (lambda: v.YVCFA-v.YLFEN, 400, 451, 452),
+            452: (lambda: v.YVCFA-v.YRFEN, 451, 451, 400),
+            451: (lambda: v.XVCFA-v.XBUMP, 400, 453, 454),
+            454: (lambda: v.XVCFA-v.SVFA, 453, 455, 456),
+            453: (lambda: v.ZZCFA-v.HHV, 457, 236, 457),
+            457: (lambda: abs(v.ZZCFA-v.HHV)-k01, 236, 236, 400),
+            455: (lambda: v.ZZCFA-v.HTV, 238, 240, 458),
+            458: (lambda: abs(v.ZZCFA-v.HTV)-k01, 240, 240, 400),
+            456: (lambda: v.XVCFA-v.SVFA-k01, 455, 455, 459),
+            459: (lambda: v.XVCFA-v.XENTOP, 455, 240, 460),
+            460: (lambda: v.XVCFA-v.XTAIL, 461, 461, 400),
+            461: (lambda: v.ZZCFA-v.HTRV, 462, 247, 462),
+            462: (lambda: abs(v.ZZCFA-v.HTRV)-k01, 247, 247, 400),
+        }
+
+
+def _frames(exc):
+    return [f for f in traceback.extract_tb(exc.__traceback__) if f.filename == __file__]
+
+
+def _in_ed(exc) -> bool:
+    frames = _frames(exc)
+    return any(f.name in ("__call__", "DF") for f in frames)
+
+
+def _assigned_variable(exc) -> str | None:
+    """The variable on the left of the statement that trapped (from the traceback's line)."""
+    for f in reversed(_frames(exc)):
+        line = (f.line or linecache.getline(f.filename, f.lineno)).strip()
+        if line.startswith("return D-"):
+            return "DF"
+        if "=" in line and not line.startswith(("return", "if ", "elif ")):
+            target = line.split("=", 1)[0].strip()
+            name = target.split(",")[0].strip()
+            for prefix in ("v.", "self."):
+                if name.startswith(prefix):
+                    name = name[len(prefix):]
+            if name.isidentifier():
+                return name
+    return None
+
+
+def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,
+             tha_start: str | None = None, limits: Limits = Limits(), trace: bool = True) -> Run:
+    """Run the 1967 program on a deck. Raises EmulatorError when a guard fires or the arithmetic
+    traps; the error's ``run`` holds the records printed up to then."""
+    return Program(deck, precision, errata=errata, step_scale_k=step_scale_k,
+                   tha_start=tha_start, limits=limits, trace=trace).run()
+
+
+if __name__ == "__main__":  # pragma: no cover
+    from deck_emulator.deck import read_deck
+
+    sys.stdout.write(run_deck(read_deck(sys.argv[1])).text())

@@ -1,0 +1,664 @@
+"""IBM 7094 single-precision floating point, as the 1967 program's REAL arithmetic ran.
+
+The word (IBM 7090 Reference Manual; open-simh ``I7094/i7094_defs.h``, ``FP_*`` macros)::
+
+     S  1-8             9-35
+    +-+--------------+---------------------------+
+    |s| characteristic|         fraction          |   36 bits, printed as 12 octal digits
+    +-+--------------+---------------------------+
+
+* sign-magnitude: ``s`` is 1 for minus; the magnitude is never complemented;
+* characteristic = binary exponent + 128 (excess 128, 0..255);
+* fraction: 27 bits, a binary fraction ``f / 2**27`` normalised to [1/2, 1) -- bit 9 is set
+  in every non-zero word; there is no hidden bit, so one unit in the last place at 1.0 is
+  2**-26 (IEEE binary32 has 2**-23);
+* value = (-1)**s * f * 2**(characteristic - 128 - 27);
+* the machine's normal zero is the all-zero word (characteristic 0 and fraction 0); a
+  "minus zero" (sign bit alone) also occurs and compares equal to zero.
+
+Because 27 octal-aligned fraction bits are exactly nine octal digits, the printed word reads
+as three digits of sign+characteristic and nine of fraction: 10.0 is ``204 500000000``.
+
+The word format is handled in one place, as open-simh's ``i7094_cpu1.c`` does it: the
+operators unpack into integers (the 54-bit AC:MQ fraction where the machine uses it), work
+exactly, normalise, and :func:`_pack` checks the characteristic and builds the result.  No
+binary64 arithmetic is used for any result.
+
+Sources, cited where used below:
+
+* [SIMH] open-simh ``I7094/i7094_cpu1.c`` (R. M. Supnik), ``op_fad``, ``op_fmp``, ``op_fdv``,
+  ``fp_norm``, ``fp_pack``; ``I7094/i7094_cpu.c``, the FAD/FSB/FMP/FDP dispatch and
+  ``fp_trap``; ``I7094/i7094_defs.h`` for the ``FP_*`` field masks.
+* [7090RM] IBM 7090 Data Processing System reference manual, section 5.3.13 "Floating Point
+  Trap": on an underflow or overflow in AC or MQ the machine traps to location 8 (octal 10)
+  with a spill code in location 0, when floating-trap mode is on (the reset state).
+
+Under/overflow, as modelled here
+--------------------------------
+The hardware does not saturate: ``fp_pack`` [SIMH] stores the characteristic modulo the
+register width (it wraps) and reports a *spill*; the CPU then takes the floating-point trap
+[7090RM], or with trap mode off sets the AC/MQ overflow indicators (``fp_trap`` [SIMH]).
+What happened next was up to the program's trap routine, which for FORTRAN IV under IBSYS
+was the library's; its source was not available to us, so the following is the usual
+account, **not verified against IBSYS code**:
+
+* characteristic < 0 (underflow): the trap routine zeroed the register and carried on.  Here
+  the result is the (signed) zero word and :data:`INDICATORS` ``.underflows`` is incremented;
+* characteristic > 255 (overflow): reported as an error.  Here :class:`ArithmeticFault` is
+  raised, which the emulator turns into an error naming the statement.
+
+Only the AC (the result the program keeps) is checked.  The machine also spills when the
+*MQ* (low-order part, characteristic 27 lower) underflows, e.g. after any FAD whose result is
+below 2**-101; FORTRAN never uses that MQ part, so such spills change nothing here.  The same
+holds for the FDP remainder left in the AC.
+
+Division by zero: FDP with a zero divisor is a *divide check* [SIMH ``op_fdv``]: the
+divide-check indicator is set, the machine does not stop, the AC is left alone and the MQ
+(the quotient) is left as a signed zero.  Whether IBFTC-compiled code tested the indicator is
+not known; here it raises :class:`ArithmeticFault`, as the emulator's interface requires.
+
+Zero results: a FAD/FSB that cancels exactly gives the all-zero word with the sign of the AC
+operand (the left operand of ``+``/``-``) [SIMH ``op_fad``: when the exponents are equal the
+operands are not swapped, and on equal magnitudes the result takes ``op1``'s sign, ``op1``
+being the AC]; so ``1.0 - 1.0`` is +0 and ``(-1.0) - (-1.0)`` is -0.  Both compare equal to
+zero and ``sign()`` gives 0 for either.  FMP/FDP with a zero operand give a zero with the
+exclusive-or of the signs.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import numbers
+import re
+from fractions import Fraction
+
+from deck_emulator.arithmetic import Arithmetic, ArithmeticFault
+
+__all__ = ["Word", "IBM7094Arithmetic", "INDICATORS", "ZERO", "ONE", "MAX_WORD", "MIN_WORD"]
+
+# --- field widths, as i7094_defs.h [SIMH] -----------------------------------------------------
+_N_FR = 27  # FP_N_FR: fraction bits
+_BIAS = 128  # FP_BIAS (0200): excess of the characteristic
+_M_CH = 255  # FP_M_CH (0377): largest characteristic a memory word holds
+_FNORM = 1 << (_N_FR - 1)  # the normalised bit of a 27-bit fraction (2**26)
+_FLIM = 1 << _N_FR  # 2**27
+_DNORM = 1 << 53  # FP_FNORM: normalised bit of the 54-bit AC:MQ fraction
+_DCRY = 1 << 54  # FP_FCRY: carry out of the 54-bit fraction
+_SCALE = _BIAS + _N_FR  # value = f * 2**(ch - _SCALE)
+
+
+class _Indicators:
+    """Spill counts since the last :meth:`reset` (module-wide: the operators of :class:`Word`
+    have no arithmetic object to report to).  ``underflows`` counts results set to zero by
+    the underflow rule above."""
+
+    __slots__ = ("underflows",)
+
+    def __init__(self):
+        self.underflows = 0
+
+    def reset(self):
+        self.underflows = 0
+
+    def __repr__(self):
+        return f"Indicators(underflows={self.underflows})"
+
+
+INDICATORS = _Indicators()
+
+
+class Word:
+    """One IBM 7094 single-precision floating-point word (immutable).
+
+    ``Word(sign, characteristic, fraction)``: ``sign`` 0 or 1, ``characteristic`` 0..255,
+    ``fraction`` a 27-bit integer, normalised (``2**26 <= fraction < 2**27``) or, with
+    characteristic 0, zero.  Usually made by :meth:`from_octal`, :meth:`from_fraction` or an
+    arithmetic's ``decimal()``.
+
+    ``+ - * /`` are FAD, FSB, FMP and FDP (left operand in the AC -- in the MQ for FMP);
+    mixing a Word with a Python or NumPy number raises ``TypeError``.
+    """
+
+    __slots__ = ("sign", "characteristic", "fraction")
+    __array_ufunc__ = None  # NumPy: refuse mixed operations instead of making object arrays
+
+    def __init__(self, sign: int, characteristic: int, fraction: int):
+        sign, characteristic, fraction = int(sign), int(characteristic), int(fraction)
+        if sign not in (0, 1):
+            raise ValueError(f"sign must be 0 or 1, not {sign}")
+        if not 0 <= characteristic <= _M_CH:
+            raise ValueError(f"characteristic {characteristic} outside 0..255")
+        if fraction == 0:
+            if characteristic != 0:
+                raise ValueError("a zero fraction needs characteristic 0 (the normal zero)")
+        elif not _FNORM <= fraction < _FLIM:
+            raise ValueError(f"fraction {fraction:o} (octal) is not a normalised 27-bit fraction")
+        _set_s(self, sign)
+        _set_ch(self, characteristic)
+        _set_f(self, fraction)
+
+    def __setattr__(self, name, value):
+        raise AttributeError("Word is immutable")
+
+    __delattr__ = __setattr__
+
+    def __reduce__(self):
+        return (Word, (self.sign, self.characteristic, self.fraction))
+
+    def __copy__(self):
+        return self
+
+    def __deepcopy__(self, memo):
+        return self
+
+    # --- octal: the word as IBM listings print it ------------------------------------------
+    def octal(self) -> str:
+        """The 36-bit word as 12 octal digits: sign bit first, then the characteristic, then
+        the fraction (the first three digits are sign+characteristic, the last nine the
+        fraction)."""
+        return f"{(self.sign << 8) | self.characteristic:03o}{self.fraction:09o}"
+
+    @classmethod
+    def from_octal(cls, text: str) -> "Word":
+        """The word whose 36 bits are the 12 octal digits ``text`` (blanks ignored).  Only
+        normalised words and the two zeros are accepted."""
+        digits = "".join(str(text).split())
+        if not re.fullmatch(r"[0-7]{12}", digits):
+            raise ValueError(f"{text!r} is not 12 octal digits")
+        bits = int(digits, 8)
+        return cls(bits >> 35, (bits >> _N_FR) & _M_CH, bits & (_FLIM - 1))
+
+    @classmethod
+    def from_fraction(cls, value, mode: str = "chop") -> "Word":
+        """The word for the exact rational ``value`` (int or Fraction), its magnitude chopped
+        (``mode="chop"``) or rounded to nearest, ties away from zero (``mode="round"``) to 27
+        bits.  Raises :class:`ArithmeticFault` above the largest word; below the smallest it
+        gives zero and counts an underflow."""
+        q = Fraction(value)
+        if q == 0:
+            return ZERO
+        return _from_ratio(abs(q.numerator), q.denominator, q < 0, mode == "round")
+
+    # --- conversions --------------------------------------------------------------------------
+    def __float__(self) -> float:
+        # exact: 27 significant bits and exponents -155..+100 fit in binary64
+        v = math.ldexp(self.fraction, self.characteristic - _SCALE)
+        return -v if self.sign else v
+
+    def exact(self) -> Fraction:
+        """The exact value (a minus zero gives 0)."""
+        e = self.characteristic - _SCALE
+        q = Fraction(self.fraction << e) if e >= 0 else Fraction(self.fraction, 1 << -e)
+        return -q if self.sign else q
+
+    def __repr__(self) -> str:
+        return f"Word({float(self)!r}, octal={self.octal()})"
+
+    def __format__(self, spec: str) -> str:
+        # float(self) is exact, so Python's formatting rounds the exact value (to nearest,
+        # ties to even, as gfortran's F and E editing do)
+        return format(float(self), spec)
+
+    def __bool__(self) -> bool:
+        return self.fraction != 0
+
+    # --- ordering: by value, minus zero equal to zero -----------------------------------------
+    def _key(self) -> int:
+        # normalised words order by (characteristic, fraction) within a sign
+        k = (self.characteristic << _N_FR) | self.fraction if self.fraction else 0
+        return -k if self.sign else k
+
+    def __eq__(self, other):
+        if type(other) is Word:
+            return self._key() == other._key()
+        if isinstance(other, numbers.Number):
+            raise TypeError(f"comparing a Word with {type(other).__name__}: convert explicitly")
+        return NotImplemented
+
+    def __ne__(self, other):
+        if type(other) is Word:
+            return self._key() != other._key()
+        if isinstance(other, numbers.Number):
+            raise TypeError(f"comparing a Word with {type(other).__name__}: convert explicitly")
+        return NotImplemented
+
+    def __lt__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        return self._key() < other._key()
+
+    def __le__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        return self._key() <= other._key()
+
+    def __gt__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        return self._key() > other._key()
+
+    def __ge__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        return self._key() >= other._key()
+
+    def __hash__(self):
+        return hash(self._key())
+
+    # --- sign operations: CHS/CLS and SSP only touch the sign bit [SIMH op_pse] ------------------
+    def __neg__(self):
+        return _make(self.sign ^ 1, self.characteristic, self.fraction)
+
+    def __pos__(self):
+        return self
+
+    def __abs__(self):
+        return _make(0, self.characteristic, self.fraction) if self.sign else self
+
+    # --- FAD / FSB -------------------------------------------------------------------------------
+    def __add__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        return _fad(self.sign, self.characteristic, self.fraction,
+                    other.sign, other.characteristic, other.fraction)
+
+    def __sub__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        # FSB is FAD with the storage operand's sign inverted [SIMH i7094_cpu.c, case 00302]
+        return _fad(self.sign, self.characteristic, self.fraction,
+                    other.sign ^ 1, other.characteristic, other.fraction)
+
+    # --- FMP -------------------------------------------------------------------------------------
+    def __mul__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        # [SIMH op_fmp] the MQ operand (self: LDQ A; FMP B) times the storage operand
+        s = self.sign ^ other.sign
+        f1, f2 = self.fraction, other.fraction
+        if not f1 or not f2:
+            # SR a normal zero: signed zero at once; MQ zero: the product's high part is
+            # zero and the characteristic is cleared -- no spill either way
+            return _ZEROS[s]
+        p = f1 * f2  # the exact 54-bit product of two fractions in [1/2, 1): in [1/4, 1)
+        ch = self.characteristic + other.characteristic - _BIAS
+        if p < _DNORM:  # at most one normalising shift
+            p <<= 1
+            ch -= 1
+        # AC keeps the high 27 bits: the exact product chopped (the MQ gets the rest)
+        return _pack(s, ch, p >> _N_FR)
+
+    # --- FDP -------------------------------------------------------------------------------------
+    def __truediv__(self, other):
+        if type(other) is not Word:
+            return NotImplemented
+        # [SIMH op_fdv] AC (self) divided by the storage operand; the quotient goes to the MQ
+        s = self.sign ^ other.sign
+        f2 = other.fraction
+        if not f2:
+            # |AC| >= 2|SR|: divide check.  The hardware sets the indicator and leaves a
+            # signed-zero quotient (see the module docstring); here it is a fault.
+            raise ArithmeticFault("IBM 7094 FDP divide check: division by zero")
+        f1 = self.fraction
+        if not f1:
+            return _ZEROS[s]  # MQ = sign only
+        ch = self.characteristic
+        if f1 >= f2:  # |AC| >= |SR|: AC fraction shifted right one place first
+            num = f1 << (_N_FR - 1)
+            ch += 1
+        else:
+            num = f1 << _N_FR
+        # fp_fracdiv: 54-bit dividend / 27-bit divisor; the quotient is the exact quotient
+        # chopped, already normalised because both fractions are
+        return _pack(s, ch - other.characteristic + _BIAS, num // f2)
+
+
+# Fast construction, bypassing the immutability guard: slot descriptors set the fields.
+_set_s = Word.__dict__["sign"].__set__
+_set_ch = Word.__dict__["characteristic"].__set__
+_set_f = Word.__dict__["fraction"].__set__
+_new = object.__new__
+
+
+def _make(s: int, ch: int, f: int) -> Word:
+    w = _new(Word)
+    _set_s(w, s)
+    _set_ch(w, ch)
+    _set_f(w, f)
+    return w
+
+
+ZERO = _make(0, 0, 0)  # the machine's normal zero
+_MZERO = _make(1, 0, 0)  # minus zero: sign bit alone
+_ZEROS = (ZERO, _MZERO)
+ONE = _make(0, _BIAS + 1, _FNORM)  # 201400000000
+MAX_WORD = _make(0, _M_CH, _FLIM - 1)  # 377777777777 = (1 - 2**-27) * 2**127, ~1.70e38
+MIN_WORD = _make(0, 0, _FNORM)  # 000400000000 = 2**-129, ~1.47e-39
+
+
+def _pack(s: int, ch: int, f: int) -> Word:
+    """Check the result characteristic and build the word (``fp_pack`` [SIMH]); ``f`` is a
+    normalised 27-bit fraction."""
+    if ch > _M_CH:
+        # overflow: the hardware wraps the characteristic and spills (floating-point trap
+        # with an overflow spill code [7090RM]); FORTRAN reported it as an error
+        raise ArithmeticFault(
+            f"IBM 7094 floating-point overflow: characteristic {ch} > 255 "
+            f"(magnitude {math.ldexp(f, ch - _SCALE):.3e} > 1.70e38)"
+        )
+    if ch < 0:
+        # underflow: the characteristic would wrap; the FORTRAN trap routine set the
+        # register to zero (see the module docstring)
+        INDICATORS.underflows += 1
+        return _ZEROS[s]
+    w = _new(Word)
+    _set_s(w, s)
+    _set_ch(w, ch)
+    _set_f(w, f)
+    return w
+
+
+def _fad(s1: int, c1: int, f1: int, s2: int, c2: int, f2: int) -> Word:
+    """FAD of the AC operand (s1, c1, f1) and the storage operand (s2, c2, f2), normalised --
+    ``op_fad`` [SIMH], step by step."""
+    # The operand with the smaller characteristic is the one shifted.  If the AC's is the
+    # larger they are swapped, so with equal characteristics op1 stays the AC.
+    if c1 > c2:
+        s1, c1, f1, s2, c2, f2 = s2, c2, f2, s1, c1, f1
+    # Both fractions sit in the 54-bit AC:MQ pair (MQ cleared first), the high 27 bits
+    # holding the fraction.  The smaller operand is shifted right through the pair; bits
+    # shifted past its low end are lost -- the one place FAD is not "exact then chop":
+    # when the operand is shifted wholly out (a gap of 54 or more) an opposite-signed
+    # subtraction leaves the larger operand untouched, one unit above the chopped exact
+    # difference.  For gaps up to 53 a non-zero bit survives in the MQ and acts as a sticky
+    # bit, so the high 27 bits equal the chopped exact result.  Shifts over 63 give zero.
+    d1 = f1 << _N_FR
+    d2 = f2 << _N_FR
+    diff = c2 - c1
+    if diff:
+        d1 = d1 >> diff if diff <= 0o77 else 0
+    if s1 != s2:
+        # magnitudes subtracted; on a tie (exact cancellation) the result keeps op1's sign,
+        # i.e. the AC's, because equal magnitudes mean equal characteristics and no swap
+        if d1 >= d2:
+            d = d1 - d2
+            s = s1
+        else:
+            d = d2 - d1
+            s = s2
+    else:
+        d = d1 + d2
+        s = s2
+        if d & _DCRY:  # carry out of the pair: shift right once
+            d >>= 1
+            c2 += 1
+    if not d:
+        return _ZEROS[s]  # "true zero": characteristic cleared, the sign kept
+    # fp_norm: shift the pair left until bit 1 of the AC fraction is set
+    sh = 54 - d.bit_length()
+    if sh:
+        d <<= sh
+        c2 -= sh
+    # the AC keeps the high 27 bits: chopped
+    return _pack(s, c2, d >> _N_FR)
+
+
+def _from_ratio(n: int, d: int, negative: bool, nearest: bool) -> Word:
+    """The word nearest below (``nearest`` false: magnitude chopped) or nearest to
+    (ties away from zero) the exact value n/d, n > 0, d > 0."""
+    e = n.bit_length() - d.bit_length()  # n/d in (2**(e-1), 2**(e+1))
+    if (n >= (d << e)) if e >= 0 else ((n << -e) >= d):  # n/d >= 2**e ?
+        e += 1  # now 2**(e-1) <= n/d < 2**e
+    sh = _N_FR - e  # fraction = n/d * 2**(27-e), in [2**26, 2**27)
+    if sh >= 0:
+        f, rem = divmod(n << sh, d)
+        den = d
+    else:
+        den = d << -sh
+        f, rem = divmod(n, den)
+    if nearest and 2 * rem >= den:
+        f += 1
+        if f == _FLIM:
+            f = _FNORM
+            e += 1
+    return _pack(1 if negative else 0, e + _BIAS, f)
+
+
+# --- SIN and COS: exact values, chopped or rounded to 27 bits --------------------------------
+#
+# How the IBSYS FORTRAN IV library computed SIN/COS is not known (reference-facts.md), so the
+# model is an assumption: the exact value chopped (default) or rounded.  The exact value is
+# computed in integer fixed point at W fractional bits with a rigorous error bound E (in units
+# of 2**-W); if the interval [V-E, V+E] does not chop (round) to a single word, W grows and it
+# is done again (Ziv's strategy).  For a non-zero argument sin and cos are irrational
+# (Lindemann), so the loop ends; the zero argument is taken apart.
+
+_pi_cache = [0, 0]  # [P, approximation of pi * 2**P with error <= 2 units]
+
+
+def _atan_inv(x: int, g: int) -> int:
+    """atan(1/x) * 2**g, error below one unit per term."""
+    term = (1 << g) // x
+    total = term
+    x2 = x * x
+    n = 1
+    neg = True
+    while term:
+        term //= x2
+        n += 2
+        total = total - term // n if neg else total + term // n
+        neg = not neg
+    return total
+
+
+def _pi_fixed(p: int) -> int:
+    """pi * 2**p, within 2 units (Machin's formula in integers, 24 guard bits)."""
+    have_p, have = _pi_cache
+    if p > have_p:
+        q = max(p, 2 * have_p, 512)
+        g = q + 24
+        approx = 16 * _atan_inv(5, g) - 4 * _atan_inv(239, g)  # error < g units of 2**-g
+        _pi_cache[:] = [q, approx >> 24]
+        have_p, have = _pi_cache
+    return have >> (have_p - p)
+
+
+def _sin_fixed(r: int, w: int) -> tuple[int, int]:
+    """sin(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
+    r2 = (r * r) >> w
+    t = s = r
+    n = 1
+    k = 0
+    while t:
+        n += 2
+        t = ((t * r2) >> w) // (n * (n - 1))
+        s = s - t if k % 2 == 0 else s + t
+        k += 1
+    return s, k
+
+
+def _cos_fixed(r: int, w: int) -> tuple[int, int]:
+    """cos(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
+    r2 = (r * r) >> w
+    t = s = 1 << w
+    n = 0
+    k = 0
+    while t:
+        n += 2
+        t = ((t * r2) >> w) // (n * (n - 1))
+        s = s - t if k % 2 == 0 else s + t
+        k += 1
+    return s, k
+
+
+def _sincos_scaled(f: int, ch: int, want_cos: bool, w: int) -> tuple[int, int]:
+    """(V, E): V / 2**w approximates sin or cos of f * 2**(ch-155) (the magnitude of the
+    argument) to within E / 2**w."""
+    e = ch - _SCALE
+    extra = max(0, ch - _BIAS) + 10  # bits of the quadrant count, plus guard bits
+    p = w + extra
+    xp = f << (e + p) if e + p >= 0 else f >> -(e + p)  # |X| * 2**p, error < 1
+    h = _pi_fixed(p - 1)  # pi/2 * 2**p, error <= 2
+    j = (xp + (h >> 1)) // h  # nearest multiple of pi/2
+    # r = X - j*pi/2, |r| <= pi/4 + tiny; error (1 + 2j) / 2**extra + 1 <= 2 units of 2**-w
+    r = (xp - j * h) >> extra
+    neg_r = r < 0
+    if neg_r:
+        r = -r
+    q = j & 3
+    use_cos = want_cos ^ (q & 1)  # odd quadrants swap sin and cos
+    if use_cos:
+        v, k = _cos_fixed(r, w)
+        neg = False
+    else:
+        v, k = _sin_fixed(r, w)
+        neg = neg_r
+    # quadrant signs: sin: +sin r, +cos r, -sin r, -cos r; cos: +cos r, -sin r, -cos r, +sin r
+    if want_cos:
+        if q in (1, 2):
+            neg = not neg
+    elif q >= 2:
+        neg = not neg
+    # error: 2 units from r (|sin'|, |cos'| <= 1) plus at most 3 units per series term
+    # (each term's truncations, plus the r**2 error scaled by a factor < 0.11) plus the tail
+    return (-v if neg else v), 4 * k + 8
+
+
+def _sincos_word(x: Word, want_cos: bool, nearest: bool) -> Word:
+    if not x.fraction:
+        return ONE if want_cos else x  # cos 0 = 1 and sin(+-0) = +-0 exactly
+    w = 64 + max(0, _BIAS - x.characteristic)  # ~64 significant bits even for tiny x
+    while True:
+        v, err = _sincos_scaled(x.fraction, x.characteristic, want_cos, w)
+        lo, hi = v - err, v + err
+        if (lo > 0) == (hi > 0) and lo != 0 and hi != 0:
+            a = _from_ratio(abs(lo), 1 << w, lo < 0, nearest)
+            b = _from_ratio(abs(hi), 1 << w, hi < 0, nearest)
+            if a.sign == b.sign and a.characteristic == b.characteristic \
+                    and a.fraction == b.fraction:
+                if x.sign and not want_cos:
+                    return -a  # sin is odd
+                return a
+        w *= 2
+
+
+@functools.lru_cache(maxsize=1 << 14)
+def _sin_cached(s: int, ch: int, f: int, nearest: bool) -> Word:
+    return _sincos_word(_make(s, ch, f), False, nearest)
+
+
+@functools.lru_cache(maxsize=1 << 14)
+def _cos_cached(ch: int, f: int, nearest: bool) -> Word:
+    return _sincos_word(_make(0, ch, f), True, nearest)
+
+
+# --- decimal text -> word ----------------------------------------------------------------------
+
+_DECIMAL_RE = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([ED][+-]?\d+)?", re.IGNORECASE)
+
+
+@functools.lru_cache(maxsize=1 << 12)
+def _decimal_word(text: str, nearest: bool) -> Word:
+    t = text.strip()
+    if not _DECIMAL_RE.fullmatch(t):
+        raise ValueError(f"not a decimal constant: {text!r}")
+    q = Fraction(t.upper().replace("D", "E"))
+    if q == 0:
+        return ZERO
+    return _from_ratio(abs(q.numerator), q.denominator, q < 0, nearest)
+
+
+_CHOICES = {
+    "sincos": ("chop", "round"),
+    "decimal": ("chop", "round"),
+    "output": ("nearest", "truncate"),
+}
+
+
+class IBM7094Arithmetic(Arithmetic):
+    """REAL as the IBM 7094 computed it: :class:`Word` values, FAD/FSB/FMP/FDP semantics.
+
+    What is not known about the 1967 software is a named assumption, chosen here and listed
+    in :attr:`assumptions` (printed with the run):
+
+    * ``sincos`` -- the FORTRAN IV library's SIN/COS: ``"chop"`` (default) the exact value
+      chopped to 27 bits, or ``"round"`` rounded to nearest;
+    * ``decimal`` -- conversion of decimal constants and deck fields to binary: ``"chop"``
+      (default) or ``"round"`` (nearest, ties away from zero);
+    * ``output`` -- F-format output: ``"nearest"`` (default, as gfortran: the exact value
+      rounded to nearest) or ``"truncate"``; the printer asks :meth:`format_rounding`.
+    """
+
+    name = "ibm7094"
+
+    def __init__(self, *, sincos: str = "chop", decimal: str = "chop", output: str = "nearest"):
+        chosen = {"sincos": sincos, "decimal": decimal, "output": output}
+        for key, value in chosen.items():
+            if value not in _CHOICES[key]:
+                raise ValueError(
+                    f"ibm7094 {key}={value!r}: choose one of {', '.join(_CHOICES[key])}"
+                )
+        self.assumptions = chosen
+        self._sin_nearest = sincos == "round"
+        self._dec_nearest = decimal == "round"
+        self.indicators = INDICATORS
+
+    # --- the interface -----------------------------------------------------------------------
+    def decimal(self, text: str) -> Word:
+        """The word for a decimal constant or card field (``"-58.66"``, ``"0.0004"``,
+        ``"4.4E-5"``), chopped or rounded as the ``decimal`` assumption says."""
+        return _decimal_word(text, self._dec_nearest)
+
+    def ipow(self, x: Word, n: int) -> Word:
+        """``X**n`` for a small integer constant: repeated FMP, ((x*x)*x)*..."""
+        if type(x) is not Word:
+            raise TypeError(f"ipow of {type(x).__name__}, not Word")
+        if n < 0:
+            raise ValueError("negative integer powers are not modelled")
+        if n == 0:
+            return ONE
+        r = x
+        for _ in range(n - 1):
+            r = r * x
+        return r
+
+    def sin(self, x: Word) -> Word:
+        if type(x) is not Word:
+            raise TypeError(f"sin of {type(x).__name__}, not Word")
+        return _sin_cached(x.sign, x.characteristic, x.fraction, self._sin_nearest)
+
+    def cos(self, x: Word) -> Word:
+        if type(x) is not Word:
+            raise TypeError(f"cos of {type(x).__name__}, not Word")
+        return _cos_cached(x.characteristic, x.fraction, self._sin_nearest)  # cos is even
+
+    def sign(self, x: Word) -> int:
+        if not x.fraction:
+            return 0  # either zero
+        return -1 if x.sign else 1
+
+    def isfinite(self, x) -> bool:
+        if type(x) is not Word:
+            raise TypeError(f"isfinite of {type(x).__name__}, not Word")
+        return True  # every word is a finite number; overflow raises instead
+
+    def exact(self, x: Word) -> Fraction:
+        return x.exact()
+
+    def to_float(self, x: Word) -> float:
+        return float(x)  # exact
+
+    def format_rounding(self) -> str:
+        """How F-format output rounds, per the ``output`` assumption: ``"nearest"`` or
+        ``"truncate"``."""
+        return self.assumptions["output"]
+
+    # --- spill indicators ----------------------------------------------------------------------
+    @property
+    def underflows(self) -> int:
+        """Results set to zero by the underflow rule since the last :meth:`reset_indicators`."""
+        return INDICATORS.underflows
+
+    def reset_indicators(self) -> None:
+        INDICATORS.reset()

@@ -1,0 +1,141 @@
+"""The line printer: every WRITE/FORMAT of the 1967 listing, as records with ASA carriage
+control in column 1 (exactly the lines gfortran writes to unit 6).
+
+Records are laid out by fortranformat from the FORMAT texts below, copied from
+``legacy/luminaire.f`` with their labels. One thing is done here rather than by fortranformat:
+where a value lies exactly half-way between two printable decimals, fortranformat rounds away
+from zero and gfortran to even; the value handed over is then the one gfortran prints (and an
+arithmetic may choose to truncate instead, see ``format_rounding``).
+"""
+
+from __future__ import annotations
+
+import re
+from fractions import Fraction
+
+import fortranformat
+
+#: FORMAT statements of the listing, by label, as they stand in legacy/luminaire.f.
+FORMATS: dict[int, str] = {
+    # contact phase, every 4 steps
+    15: "(1H1/5X,20HTHE VALUE OF VVA IS ,F15.5)",
+    19: "(/,5X,20HTHE VALUE OF SVA IS ,F15.5)",
+    120: "(/,5X,20HTHE VALUE OF THA IS ,F15.5)",
+    121: "(/,5X,21HTHE VALUE OF PHIA IS ,F15.5)",
+    122: "(/,5X,21HTHE VALUE OF PSIA IS ,F15.5)",
+    20: "(/,5X,21HTHE VALUE OF XCMA IS ,F15.5)",
+    27: "(/,5X,20HTHE VALUE OF XPA IS ,F15.5)",
+    33: "(/,5X,20HTHE VALUE OF XSA IS ,F15.5)",
+    30: "(/,5X,20HTHE VALUE OF XQA IS ,F15.5)",
+    206: "(/,5X,22HTHE VALUE OF YYCMA IS ,F15.5)",
+    200: "(/,5X,21HTHE VALUE OF YYPA IS ,F15.5,30X,20HTHE VALUE OF XRA IS ,F15.5)",
+    202: "(/,5X,21HTHE VALUE OF YYSA IS ,F15.5,30X,21HTHE VALUE OF YYRA IS ,F15.5)",
+    204: "(/,5X,21HTHE VALUE OF YYQA IS ,F15.5,30X,21HTHE VALUE OF ZZRA IS ,F15.5)",
+    207: "(/,5X,22HTHE VALUE OF ZXCMA IS ,F15.5)",
+    201: "(/,5X,21HTHE VALUE OF ZZPA IS ,F15.5)",
+    203: "(/,5X,21HTHE VALUE OF ZZSA IS ,F15.5)",
+    205: "(/,5X,21HTHE VALUE OF ZZQA IS ,F15.5)",
+    39: "(/,5X,20HTHE VALUE OF FSA IS ,F15.5)",
+    53: "(/,5X,21HTHE VALUE OF DIFF IS ,F15.5)",
+    40: "(/,5X,21HTHE VALUE OF TIME IS ,F10.6)",
+    # loss of contact
+    355: "(//,5X,43HTHE POST HAS LOST CONTACT WITH FIRST SPRING)",
+    100: "(//,5X,42HTHE POST HAS LOST CONTACT WITH THE VEHICLE)",
+    # free flight, every 40 steps
+    60: "(1H1/5X,21HTHE VALUE OF THFA IS ,F10.5)",
+    61: "(/,5X,22HTHE VALUE OF PHIFA IS ,F10.5)",
+    62: "(/,5X,22HTHE VALUE OF PSIFA IS ,F10.5)",
+    63: "(/,5X,22HTHE VALUE OF XCMFA IS ,F10.5)",
+    64: "(/,5X,21HTHE VALUE OF XPFA IS ,F10.5)",
+    66: "(/,5X,21HTHE VALUE OF XQFA IS ,F10.5)",
+    113: "(/,5X,21HTHE VALUE OF XRFA IS ,F10.5)",
+    131: "(/,5X,21HTHE VALUE OF XCFA IS ,F15.5)",
+    208: "(/,5X,23HTHE VALUE OF YYCMFA IS ,F15.5)",
+    210: "(/,5X,22HTHE VALUE OF YYPFA IS ,F15.5)",
+    212: "(/,5X,22HTHE VALUE OF YYQFA IS ,F15.5)",
+    216: "(/,5X,22HTHE VALUE OF YYRFA IS ,F15.5)",
+    132: "(/,5X,22HTHE VALUE OF YYCFA IS ,F15.5)",
+    209: "(/,5X,23HTHE VALUE OF ZZCMFA IS ,F15.5)",
+    211: "(/,5X,22HTHE VALUE OF ZZPFA IS ,F15.5)",
+    213: "(/,5X,22HTHE VALUE OF ZZQFA IS ,F15.5)",
+    217: "(/,5X,22HTHE VALUE OF ZZRFA IS ,F15.5)",
+    133: "(/,5X,22HTHE VALUE OF ZYCFA IS ,F15.5)",
+    75: "(/,5X,21HTHE VALUE OF SVFA IS ,F10.5)",
+    76: "(/,5X,21HTHE VALUE OF TIME IS ,F10.5)",
+    # the end
+    134: "(/,5X,40HTHE POST HAS HIT THE GROUND WITH POINT C)",
+    97: "(//,5X,40HTHE POST HAS HIT THE GROUND WITH POINT Q)",
+    99: "(//,5X,40HTHE POST HAS HIT THE GROUND WITH POINT P)",
+    110: "(//,5X,40HTHE POST HAS HIT THE GROUND WITH POINT R)",
+    237: "(//,5X,40HTHE POST HAS HIT THE HOOD OF THE VEHICLE)",
+    239: "(//,5X,46HTHE POST HAS HIT THE WINDSHIELD OF THE VEHICLE)",
+    242: "(//,5X,39HTHE POST HAS HIT THE TOP OF THE VEHICLE)",
+    248: "(//,5X,41HTHE POST HAS HIT THE TRUNK OF THE VEHICLE)",
+}
+
+_DECIMALS = {label: [int(d) for d in re.findall(r"F\d+\.(\d+)", text)] for label, text in FORMATS.items()}
+_WRITERS: dict[int, fortranformat.FortranRecordWriter] = {}
+
+
+def _writer(label: int) -> fortranformat.FortranRecordWriter:
+    if label not in _WRITERS:
+        _WRITERS[label] = fortranformat.FortranRecordWriter(FORMATS[label])
+    return _WRITERS[label]
+
+
+def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> float:
+    """The float to hand fortranformat so that it prints ``exact`` as gfortran would.
+
+    ``nearest``: round to nearest, exact ties to even (gfortran); fortranformat is right except
+    on exact ties, so only those are replaced. ``truncate``: chop towards zero.
+    """
+    scaled = exact * 10**decimals
+    whole, rest = divmod(abs(scaled), 1)
+    sign = -1 if exact < 0 else 1
+    if rounding == "nearest":
+        if rest != Fraction(1, 2):
+            return float(exact)
+        whole += whole % 2  # tie: to even
+    elif rounding != "truncate":
+        raise ValueError(f"unknown output rounding {rounding!r}")
+    if whole == 0:
+        return sign * 1e-300  # keeps gfortran's '-0.00000' for a small negative value
+    return float(sign * Fraction(int(whole), 10**decimals))
+
+
+class Printer:
+    """Collects the records one run writes to unit 6."""
+
+    def __init__(self, exact=Fraction, rounding: str = "nearest"):
+        self._exact = exact
+        self._rounding = rounding
+        self.records: list[str] = []
+
+    def write(self, label: int, *values) -> None:
+        """``WRITE(6,label) values``: append the records that FORMAT ``label`` makes."""
+        decimals = _DECIMALS[label]
+        if len(values) != len(decimals):
+            raise ValueError(f"FORMAT {label} takes {len(decimals)} values, got {len(values)}")
+        items = [printable(self._exact(v), d, self._rounding) for v, d in zip(values, decimals)]
+        self.records.extend(_writer(label).write(items).split("\n"))
+
+    def text(self) -> str:
+        return "".join(r + "\n" for r in self.records)
+
+
+def render_asa(records: list[str]) -> str:
+    """Render records for a screen or a PDF as the POSIX ``asa`` utility does: column 1 is
+    carriage control ('1' new page, '0' one blank line first, '+' overprint the previous line,
+    anything else a single space) and is not printed."""
+    out: list[str] = []
+    for rec in records:
+        cc, body = (rec[:1] or " "), rec[1:]
+        if cc == "1":
+            out.append("\f" + body)
+        elif cc == "+" and out:
+            out[-1] += "\r" + body
+        elif cc == "0":
+            out.append("\n" + body)
+        else:
+            out.append(body)
+    return "\n".join(out) + "\n"
