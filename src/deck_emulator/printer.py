@@ -3,9 +3,9 @@ control in column 1 (exactly the lines gfortran writes to unit 6).
 
 Records are laid out by fortranformat from the FORMAT texts below, copied from
 ``legacy/luminaire.f`` with their labels. One thing is done here rather than by fortranformat:
-where a value lies exactly half-way between two printable decimals, fortranformat rounds away
-from zero and gfortran to even; the value handed over is then the one gfortran prints (and an
-arithmetic may choose to truncate instead, see ``format_rounding``).
+the rounding of a value to the printed digits (see ``printable``): fortranformat rounds exact
+ties away from zero where gfortran rounds to even, and misrounds some values next to a tie;
+an arithmetic may also choose to truncate (``format_rounding``).
 """
 
 from __future__ import annotations
@@ -86,18 +86,21 @@ def _writer(label: int) -> fortranformat.FortranRecordWriter:
 def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> float:
     """The float to hand fortranformat so that it prints ``exact`` as gfortran would.
 
-    ``nearest``: round to nearest, exact ties to even (gfortran); fortranformat is right except
-    on exact ties, so only those are replaced. ``truncate``: chop towards zero.
+    The digits are decided here, from the exact value: ``nearest`` rounds to nearest with
+    exact ties to even (gfortran); ``truncate`` chops towards zero. fortranformat cannot be
+    left to round: it rounds exact ties away from zero, and it also misrounds values just
+    off a tie (binary64 5.0000000000000004e-06 as F15.5 gives 0.00000; gfortran 0.00001).
+    The float returned is the nearest binary64 to the chosen decimal, which fortranformat
+    prints as exactly those digits.
     """
-    scaled = exact * 10**decimals
-    whole, rest = divmod(abs(scaled), 1)
-    sign = -1 if exact < 0 else 1
+    scaled = abs(exact) * 10**decimals
+    whole, rest = divmod(scaled, 1)
     if rounding == "nearest":
-        if rest != Fraction(1, 2):
-            return float(exact)
-        whole += whole % 2  # tie: to even
+        if rest > Fraction(1, 2) or (rest == Fraction(1, 2) and whole % 2):
+            whole += 1
     elif rounding != "truncate":
         raise ValueError(f"unknown output rounding {rounding!r}")
+    sign = -1 if exact < 0 else 1
     if whole == 0:
         return sign * 1e-300  # keeps gfortran's '-0.00000' for a small negative value
     return float(sign * Fraction(int(whole), 10**decimals))
