@@ -1,0 +1,88 @@
+"""State layout, the contact mode, event specifications and point kinematics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
+
+from .rigid import N_POST, rotate, rotation_matrix
+
+if TYPE_CHECKING:
+    from .model import Model
+
+__all__ = ["IDX_SV", "IDX_VV", "N_STATE", "ContactMode", "EventSpec", "Kinematics"]
+
+IDX_SV = N_POST  # vehicle position along XV (ft)
+IDX_VV = N_POST + 1  # vehicle velocity along XV (ft/s)
+N_STATE = N_POST + 2
+
+
+@dataclass(frozen=True)
+class ContactMode:
+    """The discrete state of the contact phase; changed only by located events.
+
+    ``contact_point``: where the spring force acts ("S" or "T").  ``window``: the
+    start-up kick's windows ("kick", "first_step") or ``None``.
+    """
+
+    contact_point: str = "S"
+    first_spring_lost: bool = False
+    normal_on: bool = False
+    friction_on: bool = False
+    cap_armed: bool = False
+    cap_engaged: bool = False
+    window: str | None = None
+
+
+class EventSpec:
+    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``)."""
+
+    __slots__ = ("name", "function", "direction", "terminal")
+
+    def __init__(self, name: str, function: Callable, direction: float, terminal: bool = True):
+        self.name = name
+        self.function = function
+        self.direction = direction
+        self.terminal = terminal
+
+    def __call__(self, t, y):
+        return self.function(t, y)
+
+    def __repr__(self) -> str:
+        return f"EventSpec({self.name!r}, direction={self.direction}, terminal={self.terminal})"
+
+
+class Kinematics:
+    """Positions and velocities of the post's points at one state, computed on demand."""
+
+    __slots__ = ("model", "y", "R", "_pos")
+
+    def __init__(self, model: "Model", y):
+        if not isinstance(y, list):
+            y = y.tolist()
+        self.model = model
+        self.y = y
+        self.R = rotation_matrix((y[6], y[7], y[8], y[9]))
+        self._pos: dict[str, tuple] = {}
+
+    def arm(self, letter: str):
+        """Point minus mass centre, road axes (ft)."""
+        return rotate(self.R, self.model.body_points[letter])
+
+    def point(self, letter: str):
+        """Point position, road axes XX, YY, ZZ (ft)."""
+        p = self._pos.get(letter)
+        if p is None:
+            p = self.model.point_position(self, letter)
+            self._pos[letter] = p
+        return p
+
+    def point_velocity(self, letter: str):
+        """Point velocity, road axes (ft/s): ``R (V + omega x r_body)``."""
+        y = self.y
+        bx, by, bz = self.model.body_points[letter]
+        w1, w2, w3 = y[10], y[11], y[12]
+        return rotate(
+            self.R,
+            (y[3] + w2 * bz - w3 * by, y[4] + w3 * bx - w1 * bz, y[5] + w1 * by - w2 * bx),
+        )

@@ -1,0 +1,178 @@
+"""What a core run returns: events, the hit, the report's summary numbers, the trajectory."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..scene import ModelOptions, Scene
+
+__all__ = ["CoreEvent", "Hit", "Segment", "Trajectory", "CoreResult", "MPH_PER_FT_S"]
+
+#: 3600 / 5280
+MPH_PER_FT_S = 3600.0 / 5280.0
+
+
+@dataclass(frozen=True)
+class CoreEvent:
+    """A located event: ``name`` (the core's), ``time_s``, and the listing's ``message``
+    where the listing prints one (else "")."""
+
+    name: str
+    time_s: float
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class Hit:
+    """The run's end: ``surface`` GROUND, HOOD, WINDSHIELD, TOP, TRUNK (or the core's
+    FRONT, SIDE), the post ``point`` that touched it, and the listing's ``message``."""
+
+    message: str
+    time_s: float
+    point: str
+    surface: str
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A stretch of trajectory between two events: ``solution(t)`` -> states (15, n)."""
+
+    t0: float
+    t1: float
+    phase: str  # "contact" or "free flight"
+    solution: object = field(repr=False)
+    mode: object = None
+
+
+class Trajectory:
+    """Dense trajectory of a run, in the road axes XX, YY, ZZ (ft) -- vectorised over ``t``.
+
+    State columns: 0-2 mass centre, 3-5 body velocity, 6-9 attitude quaternion (w, x, y,
+    z; body -> road), 10-12 body angular velocity, 13 car position SV, 14 car velocity VV.
+    """
+
+    def __init__(self, segments: list[Segment], model):
+        self.segments = [s for s in segments if s.t1 > s.t0]
+        self._model = model
+        self.t_start = segments[0].t0 if segments else 0.0
+        self.t_end = segments[-1].t1 if segments else 0.0
+        self.point_names = tuple(model.body_points)
+
+    def state(self, t) -> np.ndarray:
+        """State(s) at ``t`` (scalar -> (15,), array -> (15, n)); quaternion normalised."""
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        if ts.size and (ts.min() < self.t_start - 1e-12 or ts.max() > self.t_end + 1e-12):
+            raise ValueError(f"t outside the run [{self.t_start}, {self.t_end}] s")
+        out = np.empty((15, ts.size))
+        done = np.zeros(ts.size, dtype=bool)
+        for seg in self.segments:
+            m = (~done) & (ts <= seg.t1 + 1e-15)
+            if m.any():
+                out[:, m] = seg.solution(np.clip(ts[m], seg.t0, seg.t1))
+                done |= m
+        q = out[6:10]
+        out[6:10] = q / np.linalg.norm(q, axis=0)
+        return out[:, 0] if np.ndim(t) == 0 else out
+
+    def mass_centre(self, t) -> np.ndarray:
+        """Mass-centre position (XX, YY, ZZ), ft: shape (3,) or (3, n)."""
+        return self.state(t)[0:3]
+
+    def rotation(self, t) -> np.ndarray:
+        """Body -> road rotation matrices, (3, 3) or (n, 3, 3)."""
+        q = self.state(t)[6:10]
+        w, x, y, z = q
+        R = np.array(
+            [
+                [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+                [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
+            ]
+        )
+        return np.moveaxis(R, -1, 0) if R.ndim == 3 else R
+
+    def point(self, name: str, t) -> np.ndarray:
+        """Position of post point ``name`` (P, Q, S, T, R, C) in XX, YY, ZZ, ft."""
+        body = np.asarray(self._model.body_points[name])
+        s = self.state(t)
+        R = self.rotation(t)
+        return s[0:3] + (R @ body if R.ndim == 2 else (R @ body).T)
+
+    def points(self, t) -> dict[str, np.ndarray]:
+        """All the post's points at ``t``, by name."""
+        return {k: self.point(k, t) for k in self.point_names}
+
+    def vehicle(self, t) -> np.ndarray:
+        """Car position SV (ft) and velocity VV (ft/s) along XV: shape (2,) or (2, n)."""
+        return self.state(t)[13:15]
+
+
+@dataclass(frozen=True)
+class CoreResult:
+    """One core run.
+
+    * ``events`` -- located events in time order (:class:`CoreEvent`).
+    * ``hit`` -- :class:`Hit` or ``None`` (nothing hit before ``t_max_s``).
+    * ``first_spring_lost_s``, ``vehicle_contact_lost_s`` -- the listing's two messages.
+    * ``delta_v_mph`` -- speed the car lost during contact (positive: slowed down), mph.
+    * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact.
+    * ``terminal_points_ft`` -- P, Q, R at the hit in the report's XL, YL, ZL axes (origin
+      at the base of the support: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``;
+      ``None`` for a point the scene lacks).
+    * ``planar`` -- the scene's motion stays in the XX-ZZ plane (``Scene.is_planar``).
+    * ``trajectory`` -- :class:`Trajectory`.
+    """
+
+    scene: Scene
+    options: ModelOptions
+    method: str
+    rtol: float
+    atol: float
+    events: tuple[CoreEvent, ...]
+    hit: Hit | None
+    first_spring_lost_s: float | None
+    vehicle_contact_lost_s: float | None
+    delta_v_mph: float | None
+    max_decel_g: float | None
+    max_decel_time_s: float | None
+    terminal_points_ft: dict[str, tuple[float, float, float] | None]
+    planar: bool
+    end_time_s: float
+    nfev: int
+    run_time_s: float
+    trajectory: Trajectory = field(repr=False)
+
+    @property
+    def hit_message(self) -> str | None:
+        return self.hit.message if self.hit else None
+
+    @property
+    def hit_time_s(self) -> float | None:
+        return self.hit.time_s if self.hit else None
+
+    def summary(self) -> dict:
+        """The run's numbers as plain JSON-able values."""
+        return {
+            "preset": self.options.name,
+            "method": self.method,
+            "hit": self.hit_message,
+            "hit_point": self.hit.point if self.hit else None,
+            "hit_surface": self.hit.surface if self.hit else None,
+            "hit_time_s": self.hit_time_s,
+            "first_spring_lost_s": self.first_spring_lost_s,
+            "vehicle_contact_lost_s": self.vehicle_contact_lost_s,
+            "delta_v_mph": self.delta_v_mph,
+            "max_decel_g": self.max_decel_g,
+            "max_decel_time_s": self.max_decel_time_s,
+            "terminal_points_xl_yl_zl_ft": {
+                k: (list(v) if v is not None else None) for k, v in self.terminal_points_ft.items()
+            },
+            "planar": self.planar,
+            "events": [
+                {"name": e.name, "time_s": e.time_s, "message": e.message} for e in self.events
+            ],
+            "nfev": self.nfev,
+            "run_time_s": self.run_time_s,
+        }

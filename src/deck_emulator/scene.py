@@ -1,0 +1,698 @@
+"""One crash scene, described in the report's terms, and the named model options.
+
+A :class:`Scene` is what the 1967 program simulates -- a rigid break-away post struck
+by a car -- written as frozen, typed dataclasses with descriptive names and the report's
+units (ft, lb, slug, s, rad).  It is built from a card deck with :meth:`Scene.from_deck`
+or from a TOML file with :meth:`Scene.from_toml`, and written with :meth:`Scene.to_toml`.
+
+Axes (TTI Research Report 75-9, section 3.1; origin at the post's mass centre at t = 0):
+
+* ``XX, YY, ZZ`` -- the road axes: ``XX`` along the highway, ``ZZ`` up.  Every position in
+  a scene is given in these axes (the deck's ``XSO, YYSO, ZZSO`` ...).
+* ``X, Y, Z`` -- the principal axes 1, 2, 3 of the post at t = 0, obtained by turning
+  ``XX, YY, ZZ`` by the tilt delta about ``XX`` (``3`` is the post axis).
+* ``XV, YV, ZV`` -- the vehicle axes: ``XX, YY, ZZ`` turned by the approach angle alpha
+  about ``-ZZ``; the car travels along ``XV`` (towards ``-XV``: its speed is negative).
+
+A component a scene does not have is ``None`` (no luminaire arm R, no point C, no second
+crush spring T, no base friction, no car body outline, no vehicle at all); the core then
+builds no force, no point and no check for it.
+
+Deck names (the READ list) map to fields as written in each docstring; the mapping in
+one place is :data:`DECK_NAMES`.  The deck carries no base friction and no normal-force
+release distance: those are constants of the listing (``FFXA=3.1*T`` with ``T=300.0``,
+the 1 in. slot ``0.083333`` ft, the release at ``XQA <= -0.4166`` ft) and
+:meth:`Scene.from_deck` fills them in as :data:`LISTING_BASE_FRICTION` and
+:data:`LISTING_NORMAL_RELEASE_FT`.
+
+:class:`ModelOptions` (with the presets :data:`LEGACY` and :data:`PHYSICAL`) says how the
+core treats the listing's quirks -- each one a named flag, so every difference between the
+emulator and the core can be traced to one option.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, is_dataclass
+from typing import Any
+
+__all__ = [
+    "Vec3",
+    "PostPoint",
+    "Post",
+    "PostInitialState",
+    "CrushSpring",
+    "VehicleBody",
+    "Vehicle",
+    "BaseFriction",
+    "BreakawayBase",
+    "Environment",
+    "Scene",
+    "StartupKick",
+    "ModelOptions",
+    "LEGACY",
+    "PHYSICAL",
+    "PRESETS",
+    "LISTING_BASE_FRICTION",
+    "LISTING_NORMAL_RELEASE_FT",
+    "DECK_NAMES",
+    "SceneError",
+]
+
+Vec3 = tuple[float, float, float]
+
+
+class SceneError(ValueError):
+    """A scene that cannot be built (missing value, inconsistent components)."""
+
+
+# --------------------------------------------------------------------------------------
+# the post
+
+
+@dataclass(frozen=True)
+class PostPoint:
+    """A point fixed on the post, relative to its mass centre, in the road axes at t = 0.
+
+    ``xx_ft, yy_ft, zz_ft``: coordinates in ft along ``XX, YY, ZZ`` (the deck gives
+    ``XPO, YYPO, ZZPO`` for P; the ``X`` coordinate is the same in both frames).
+    """
+
+    xx_ft: float
+    yy_ft: float
+    zz_ft: float
+
+    def principal_coordinates(self, principal_tilt_rad: float) -> Vec3:
+        """The point in the principal axes X, Y, Z (ft) -- the listing's ``XPO, YPO, ZPO``.
+
+        ``YPO = YYPO*COS(DELTA) + ZZPO*SIN(DELTA)``, ``ZPO = -YYPO*SIN(DELTA) + ZZPO*COS(DELTA)``.
+        """
+        c, s = math.cos(principal_tilt_rad), math.sin(principal_tilt_rad)
+        return (self.xx_ft, self.yy_ft * c + self.zz_ft * s, -self.yy_ft * s + self.zz_ft * c)
+
+    def as_tuple(self) -> Vec3:
+        return (self.xx_ft, self.yy_ft, self.zz_ft)
+
+
+@dataclass(frozen=True)
+class Post:
+    """The rigid post assembly (post, base plate, luminaire arm).
+
+    * ``mass_slug`` -- the deck's ``W`` (a mass in slugs, although the name says weight).
+    * ``inertia_1_slug_ft2``, ``inertia_2_slug_ft2``, ``inertia_3_slug_ft2`` -- the principal
+      moments of inertia ``A``, ``B``, ``C`` about axes 1, 2, 3 (3 is the post axis).
+    * ``principal_tilt_rad`` -- ``DELTA``: the principal axes X, Y, Z are the road axes
+      turned by this angle about ``XX``.
+    * Named points (see :class:`PostPoint`): ``top`` P, ``base`` Q (where the base forces
+      act), ``first_impact`` S (first crush spring), ``second_impact`` T (second crush
+      spring), ``luminaire_end`` R, ``point_c`` C.  P and Q are always there; the others
+      are ``None`` when the scene has no such point.
+    """
+
+    mass_slug: float
+    inertia_1_slug_ft2: float
+    inertia_2_slug_ft2: float
+    inertia_3_slug_ft2: float
+    top: PostPoint
+    base: PostPoint
+    principal_tilt_rad: float = 0.0
+    first_impact: PostPoint | None = None
+    second_impact: PostPoint | None = None
+    luminaire_end: PostPoint | None = None
+    point_c: PostPoint | None = None
+
+    #: listing letter -> field name, in the listing's checking order P, Q, R, C, then S, T
+    POINT_FIELDS = {
+        "P": "top",
+        "Q": "base",
+        "R": "luminaire_end",
+        "C": "point_c",
+        "S": "first_impact",
+        "T": "second_impact",
+    }
+
+    @property
+    def principal_inertia_slug_ft2(self) -> Vec3:
+        return (self.inertia_1_slug_ft2, self.inertia_2_slug_ft2, self.inertia_3_slug_ft2)
+
+    def points(self) -> dict[str, PostPoint]:
+        """The points this post has, by listing letter (absent points are left out)."""
+        out = {}
+        for letter, name in self.POINT_FIELDS.items():
+            point = getattr(self, name)
+            if point is not None:
+                out[letter] = point
+        return out
+
+
+@dataclass(frozen=True)
+class PostInitialState:
+    """The post's motion at t = 0 (the deck's B values of the first step).
+
+    * ``mass_centre_ft`` -- mass-centre position in ``XX, YY, ZZ`` (the deck gives
+      ``XCMB, YCMB, ZCMB`` in ``X, Y, Z``; :meth:`Scene.from_deck` turns them).
+    * ``velocity_body_ft_s`` -- ``V1B, V2B, V3B``: mass-centre velocity along axes 1, 2, 3.
+    * ``angular_velocity_body_rad_s`` -- ``W1B, W2B, W3B``.
+    * ``attitude_wxyz`` -- the rotation of the principal axes from ``X, Y, Z`` as a unit
+      quaternion ``(w, x, y, z)``; equal to the report's rotation parameters
+      ``(chi, xi, eta, zeta)`` (eq. 2.51).  :meth:`from_euler` converts the listing's
+      ``PSIB, THB, PHIB``.
+    """
+
+    mass_centre_ft: Vec3 = (0.0, 0.0, 0.0)
+    velocity_body_ft_s: Vec3 = (0.0, 0.0, 0.0)
+    angular_velocity_body_rad_s: Vec3 = (0.0, 0.0, 0.0)
+    attitude_wxyz: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+    @staticmethod
+    def quaternion_from_euler(psi_rad: float, theta_rad: float, phi_rad: float):
+        """Eq. 2.51: ``(chi, xi, eta, zeta)`` of the Euler angles psi, theta, phi.
+
+        The report's rotation is ``Rz(phi) Ry(theta) Rz(psi)`` (its direction cosines,
+        eq. 3.22-3.24, are the columns of that matrix).
+        """
+        st, ct = math.sin(theta_rad / 2), math.cos(theta_rad / 2)
+        dm, dp = (psi_rad - phi_rad) / 2, (psi_rad + phi_rad) / 2
+        return (ct * math.cos(dp), st * math.sin(dm), st * math.cos(dm), ct * math.sin(dp))
+
+    @classmethod
+    def from_euler(
+        cls,
+        psi_rad: float = 0.0,
+        theta_rad: float = 0.0,
+        phi_rad: float = 0.0,
+        **kwargs: Any,
+    ) -> "PostInitialState":
+        return cls(attitude_wxyz=cls.quaternion_from_euler(psi_rad, theta_rad, phi_rad), **kwargs)
+
+
+# --------------------------------------------------------------------------------------
+# the vehicle
+
+
+@dataclass(frozen=True)
+class CrushSpring:
+    """A massless crush spring of the car (eq. 3.15), incapable of restitution.
+
+    ``stiffness_lb_per_ft``: ``CK`` (acting at the post's first impact point S) or ``CT``
+    (acting at the second impact point T once S has separated).
+    """
+
+    stiffness_lb_per_ft: float
+
+
+@dataclass(frozen=True)
+class VehicleBody:
+    """The car's outline for the free-flight checks (Figures 11-12, eq. 3.36-3.38).
+
+    Lengths along ``XV`` (ft): ``hood_length_ft`` HLEN (the hood runs from the bumper
+    ``XBUMP = SV - HLEN`` to the windshield at ``SV``), ``top_length_ft`` TLEN (top from ``SV``
+    to ``XENTOP = SV + TLEN``), ``trunk_length_ft`` TRLEN (trunk to ``XTAIL = XENTOP + TRLEN``).
+    Heights are ``ZZ`` coordinates measured from the post's initial mass centre (ft):
+    ``hood_height_ft`` HHV, ``top_height_ft`` HTV, ``trunk_height_ft`` HTRV.  Fenders are
+    ``YV`` coordinates (ft): ``left_fender_ft`` YLFEN <= YV <= ``right_fender_ft`` YRFEN.
+    """
+
+    hood_length_ft: float
+    top_length_ft: float
+    trunk_length_ft: float
+    hood_height_ft: float
+    top_height_ft: float
+    trunk_height_ft: float
+    left_fender_ft: float
+    right_fender_ft: float
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """The single-degree-of-freedom car (section 3.2, eq. 3.18).
+
+    * ``mass_slug`` -- ``WV``.
+    * ``initial_velocity_ft_s`` -- ``VVB``: velocity along ``XV``; negative, the car moves
+      towards ``-XV`` (58.66 ft/s is 40 mph).
+    * ``approach_angle_rad`` -- ``ALPHA``: angle of the path to ``XX``.
+    * ``initial_position_ft`` -- ``SVB``: the car's reference point on ``XV`` at t = 0.
+    * ``contact_position_ft`` -- ``SVO``: the car's position when the spring starts to
+      crush (eq. 3.15: ``FS = K*((SVO - SV) - (XVSO - XVS))``).
+    * ``first_spring`` (``CK``, at S); ``second_spring`` (``CT``, at T) or ``None``.
+    * ``force_cap_lb`` -- ``FCONST``, the listing's cap on the spring force (used only by
+      the ``force_cap`` option), or ``None``.
+    * ``body`` -- the outline checked in free flight, or ``None`` (no vehicle checks).
+    """
+
+    mass_slug: float
+    initial_velocity_ft_s: float
+    first_spring: CrushSpring
+    approach_angle_rad: float = 0.0
+    initial_position_ft: float = 0.0
+    contact_position_ft: float = 0.0
+    second_spring: CrushSpring | None = None
+    force_cap_lb: float | None = None
+    body: VehicleBody | None = None
+
+
+# --------------------------------------------------------------------------------------
+# the base, the environment
+
+
+@dataclass(frozen=True)
+class BaseFriction:
+    """Friction of the slip base at Q (section 3.3), acting in ``+XX``.
+
+    ``force_lb`` acts while the base has moved less than ``slip_window_ft`` along ``-XX``
+    (the bolts are still in their slots).
+    """
+
+    force_lb: float
+    slip_window_ft: float
+
+
+@dataclass(frozen=True)
+class BreakawayBase:
+    """The break-away base at Q.
+
+    ``normal_force_lb`` -- ``FNA``: upward force on the post at Q, released for good once
+    the base has moved ``normal_release_ft`` along ``-XX`` (the listing's ``XQA <= -0.4166``).
+    ``friction`` -- :class:`BaseFriction` or ``None``.
+    """
+
+    normal_force_lb: float
+    normal_release_ft: float
+    friction: BaseFriction | None = None
+
+
+@dataclass(frozen=True)
+class Environment:
+    """``gravity_ft_s2`` -- ``G``; the ground is the plane ``ZZ = -ground_depth_ft`` (``HEIGHT``:
+    the depth of the ground below the post's initial mass centre, ft)."""
+
+    ground_depth_ft: float
+    gravity_ft_s2: float = 32.174
+
+
+#: The listing's base friction: ``FFXA=3.1*T`` with ``T=300.0`` lb, over the 1 in. slot
+#: (``XQA+0.083333``).  The listing's extra ``-0.004`` ft is a tolerance, not a slot: it
+#: belongs to the ``listing_friction`` option.
+LISTING_BASE_FRICTION = BaseFriction(force_lb=3.1 * 300.0, slip_window_ft=0.083333)
+#: The listing's release of the normal force: ``IF(XQA+0.4166)107,107,106`` (5 in.).
+LISTING_NORMAL_RELEASE_FT = 0.4166
+
+#: dataclass field -> deck (READ-list) names
+DECK_NAMES: dict[str, str] = {
+    "post.mass_slug": "W",
+    "post.inertia_1_slug_ft2": "A",
+    "post.inertia_2_slug_ft2": "B",
+    "post.inertia_3_slug_ft2": "C",
+    "post.principal_tilt_rad": "DELTA",
+    "post.top": "XPO, YYPO, ZZPO",
+    "post.base": "XQO, YYQO, ZZQO",
+    "post.first_impact": "XSO, YYSO, ZZSO",
+    "post.second_impact": "XTO, YYTO, ZZTO",
+    "post.luminaire_end": "XRO, YYRO, ZZRO",
+    "post.point_c": "XCO, YYCO, ZZCO",
+    "initial.mass_centre_ft": "XCMB, YCMB, ZCMB (given in X, Y, Z)",
+    "initial.velocity_body_ft_s": "V1B, V2B, V3B",
+    "initial.angular_velocity_body_rad_s": "W1B, W2B, W3B",
+    "initial.attitude_wxyz": "PSIB, THB, PHIB (eq. 2.51)",
+    "vehicle.mass_slug": "WV",
+    "vehicle.initial_velocity_ft_s": "VVB",
+    "vehicle.approach_angle_rad": "ALPHA",
+    "vehicle.initial_position_ft": "SVB",
+    "vehicle.contact_position_ft": "SVO",
+    "vehicle.first_spring.stiffness_lb_per_ft": "CK",
+    "vehicle.second_spring.stiffness_lb_per_ft": "CT",
+    "vehicle.force_cap_lb": "FCONST",
+    "vehicle.body.hood_length_ft": "HLEN",
+    "vehicle.body.top_length_ft": "TLEN",
+    "vehicle.body.trunk_length_ft": "TRLEN",
+    "vehicle.body.hood_height_ft": "HHV",
+    "vehicle.body.top_height_ft": "HTV",
+    "vehicle.body.trunk_height_ft": "HTRV",
+    "vehicle.body.left_fender_ft": "YLFEN",
+    "vehicle.body.right_fender_ft": "YRFEN",
+    "base.normal_force_lb": "FNA",
+    "environment.ground_depth_ft": "HEIGHT",
+    "environment.gravity_ft_s2": "G",
+}
+
+# READ-list values the scene does not use: the listing's previous-step forces and Euler
+# rates are start values of its difference scheme, overwritten by the first step.
+_SCHEME_ONLY = ("F1B", "F2B", "F3B", "T1B", "T2B", "T3B", "FSB", "PSIDB", "THDB", "PHIDB")
+
+
+# --------------------------------------------------------------------------------------
+# the scene
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One crash scene.  ``vehicle`` and ``base`` may be ``None`` (a post dropped or thrown
+    with nothing else: the core starts it in free flight)."""
+
+    post: Post
+    environment: Environment
+    initial: PostInitialState = field(default_factory=PostInitialState)
+    vehicle: Vehicle | None = None
+    base: BreakawayBase | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if self.vehicle is not None and self.post.first_impact is None:
+            raise SceneError("a scene with a vehicle needs the post's first impact point S")
+        if (
+            self.vehicle is not None
+            and self.vehicle.second_spring is not None
+            and self.post.second_impact is None
+        ):
+            raise SceneError("a second crush spring needs the post's second impact point T")
+        for value, what in (
+            (self.post.mass_slug, "post mass"),
+            (self.post.inertia_1_slug_ft2, "inertia A"),
+            (self.post.inertia_2_slug_ft2, "inertia B"),
+            (self.post.inertia_3_slug_ft2, "inertia C"),
+        ):
+            if not value > 0.0:
+                raise SceneError(f"{what} must be positive, got {value!r}")
+        if self.vehicle is not None and not self.vehicle.mass_slug > 0.0:
+            raise SceneError(f"vehicle mass must be positive, got {self.vehicle.mass_slug!r}")
+
+    # ---- planar test ---------------------------------------------------------------
+
+    @property
+    def is_planar(self) -> bool:
+        """True when the motion stays in the ``XX-ZZ`` plane through the mass centre.
+
+        That holds when the principal axes are not tilted (delta = 0, so axis 2 is ``YY``),
+        the car comes straight (alpha = 0), every point of the post lies in the plane
+        ``YY = 0``, and the initial motion is in the plane (velocity without a ``YY``
+        component, rotation about axis 2 only, attitude a turn about axis 2).
+        """
+        if self.post.principal_tilt_rad != 0.0:
+            return False
+        if self.vehicle is not None and self.vehicle.approach_angle_rad != 0.0:
+            return False
+        if any(p.yy_ft != 0.0 for p in self.post.points().values()):
+            return False
+        ini = self.initial
+        w, x, y, z = ini.attitude_wxyz
+        return (
+            ini.mass_centre_ft[1] == 0.0
+            and ini.velocity_body_ft_s[1] == 0.0
+            and ini.angular_velocity_body_rad_s[0] == 0.0
+            and ini.angular_velocity_body_rad_s[2] == 0.0
+            and x == 0.0
+            and z == 0.0
+        )
+
+    # ---- from a deck -----------------------------------------------------------------
+
+    @classmethod
+    def from_deck(cls, deck: Any, *, name: str = "") -> "Scene":
+        """Build the scene of a card deck (a :class:`deck_emulator.deck.Deck` or a mapping
+        READ-list name -> value).
+
+        A point at the mass centre (all three coordinates 0), a zero spring constant
+        ``CT``, a zero ``FCONST`` and an all-zero car outline mean "absent".  Missing
+        names read as 0.0.  Base friction and the normal-force release distance are the
+        listing's constants (:data:`LISTING_BASE_FRICTION`, :data:`LISTING_NORMAL_RELEASE_FT`).
+        """
+        values = deck if isinstance(deck, Mapping) else deck.values
+        if not name and not isinstance(deck, Mapping):
+            path = getattr(deck, "path", None)
+            if path:
+                name = str(path).replace("\\", "/").rsplit("/", 1)[-1]
+
+        def v(key: str) -> float:
+            return float(values.get(key, 0.0))
+
+        def point(x: str, yy: str, zz: str) -> PostPoint | None:
+            p = PostPoint(v(x), v(yy), v(zz))
+            return None if p.as_tuple() == (0.0, 0.0, 0.0) else p
+
+        delta = v("DELTA")
+        top = point("XPO", "YYPO", "ZZPO")
+        base = point("XQO", "YYQO", "ZZQO")
+        if top is None or base is None:
+            raise SceneError("the deck must give the top P and the base Q of the post")
+        ck, ct, fconst = v("CK"), v("CT"), v("FCONST")
+        post = Post(
+            mass_slug=v("W"),
+            inertia_1_slug_ft2=v("A"),
+            inertia_2_slug_ft2=v("B"),
+            inertia_3_slug_ft2=v("C"),
+            principal_tilt_rad=delta,
+            top=top,
+            base=base,
+            first_impact=point("XSO", "YYSO", "ZZSO"),
+            second_impact=point("XTO", "YYTO", "ZZTO") if ct != 0.0 else None,
+            luminaire_end=point("XRO", "YYRO", "ZZRO"),
+            point_c=point("XCO", "YYCO", "ZZCO"),
+        )
+        outline = (v("HLEN"), v("TLEN"), v("TRLEN"), v("HHV"), v("HTV"), v("HTRV"))
+        body = None
+        if any(outline):
+            body = VehicleBody(*outline, left_fender_ft=v("YLFEN"), right_fender_ft=v("YRFEN"))
+        vehicle = Vehicle(
+            mass_slug=v("WV"),
+            initial_velocity_ft_s=v("VVB"),
+            approach_angle_rad=v("ALPHA"),
+            initial_position_ft=v("SVB"),
+            contact_position_ft=v("SVO"),
+            first_spring=CrushSpring(ck),
+            second_spring=CrushSpring(ct) if ct != 0.0 else None,
+            force_cap_lb=fconst if fconst != 0.0 else None,
+            body=body,
+        )
+        # XCMB, YCMB, ZCMB are in X, Y, Z: turn them into XX, YY, ZZ (Table 6)
+        c, s = math.cos(delta), math.sin(delta)
+        xcm, ycm, zcm = v("XCMB"), v("YCMB"), v("ZCMB")
+        initial = PostInitialState.from_euler(
+            v("PSIB"),
+            v("THB"),
+            v("PHIB"),
+            mass_centre_ft=(xcm, ycm * c - zcm * s, ycm * s + zcm * c),
+            velocity_body_ft_s=(v("V1B"), v("V2B"), v("V3B")),
+            angular_velocity_body_rad_s=(v("W1B"), v("W2B"), v("W3B")),
+        )
+        return cls(
+            post=post,
+            environment=Environment(ground_depth_ft=v("HEIGHT"), gravity_ft_s2=v("G")),
+            initial=initial,
+            vehicle=vehicle,
+            base=BreakawayBase(
+                normal_force_lb=v("FNA"),
+                normal_release_ft=LISTING_NORMAL_RELEASE_FT,
+                friction=LISTING_BASE_FRICTION,
+            ),
+            name=name,
+        )
+
+    # ---- TOML ------------------------------------------------------------------------
+
+    def to_toml(self) -> str:
+        """The scene as TOML text (tables ``[post]``, ``[post.top]`` ...; absent components
+        are absent tables).  :meth:`from_toml` reads it back to an equal scene."""
+        lines = [
+            "# deck_emulator scene: ft, lb, slug, s, rad; positions relative to the post's",
+            "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.scene).",
+        ]
+        if self.name:
+            lines.append(f"name = {_toml_string(self.name)}")
+        _emit_table(lines, "", self, skip=("name",))
+        return "\n".join(lines) + "\n"
+
+    @classmethod
+    def from_toml(cls, text: str) -> "Scene":
+        """Read a scene from TOML text (the layout :meth:`to_toml` writes)."""
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise SceneError(f"not valid TOML: {exc}") from exc
+        return _build_dataclass(cls, data, "")
+
+
+def _toml_string(text: str) -> str:
+    out = text.replace("\\", "\\\\").replace('"', '\\"')
+    out = "".join(ch if ch >= " " else f"\\u{ord(ch):04x}" for ch in out)
+    return f'"{out}"'
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)  # shortest round-trip repr; always has '.' or 'e'
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, str):
+        return _toml_string(value)
+    if isinstance(value, tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    raise TypeError(f"cannot write {value!r} as TOML")
+
+
+def _emit_table(lines: list[str], prefix: str, obj: Any, skip: tuple[str, ...] = ()) -> None:
+    scalars, tables = [], []
+    for f in fields(obj):
+        if f.name in skip:
+            continue
+        value = getattr(obj, f.name)
+        if value is None:
+            continue
+        (tables if is_dataclass(value) else scalars).append((f.name, value))
+    if prefix and (scalars or not tables):
+        lines.append("")
+        lines.append(f"[{prefix}]")
+    for key, value in scalars:
+        lines.append(f"{key} = {_toml_value(value)}")
+    for key, value in tables:
+        _emit_table(lines, f"{prefix}.{key}" if prefix else key, value)
+
+
+def _field_types(cls: type) -> dict[str, Any]:
+    import typing
+
+    return typing.get_type_hints(cls)
+
+
+def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
+    import types
+    import typing
+
+    hints = _field_types(cls)
+    known = {f.name for f in fields(cls)}
+    unknown = set(data) - known
+    if unknown:
+        raise SceneError(
+            f"unknown key(s) in [{where or 'top level'}]: {', '.join(sorted(unknown))}"
+        )
+    kwargs = {}
+    for f in fields(cls):
+        if f.name not in data:
+            continue  # default (required fields fail below with a clear message)
+        value = data[f.name]
+        tp = hints[f.name]
+        args = typing.get_args(tp)
+        if typing.get_origin(tp) in (typing.Union, types.UnionType):
+            tp = next(a for a in args if a is not type(None))
+            args = typing.get_args(tp)
+        path = f"{where}.{f.name}" if where else f.name
+        if is_dataclass(tp):
+            if not isinstance(value, Mapping):
+                raise SceneError(f"{path} must be a table")
+            kwargs[f.name] = _build_dataclass(tp, value, path)
+        elif typing.get_origin(tp) is tuple:
+            if not isinstance(value, list) or len(value) != len(args):
+                raise SceneError(f"{path} must be a list of {len(args)} numbers")
+            kwargs[f.name] = tuple(_number(x, path) for x in value)
+        elif tp is float:
+            kwargs[f.name] = _number(value, path)
+        elif tp is str:
+            if not isinstance(value, str):
+                raise SceneError(f"{path} must be a string")
+            kwargs[f.name] = value
+        else:  # pragma: no cover - no other field types
+            raise SceneError(f"{path}: unsupported type {tp!r}")
+    try:
+        return cls(**kwargs)
+    except TypeError as exc:
+        raise SceneError(f"[{where or 'top level'}]: {exc}") from exc
+
+
+def _number(value: Any, path: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(f"{path} must be a number, got {value!r}")
+    return float(value)
+
+
+# --------------------------------------------------------------------------------------
+# model options
+
+
+@dataclass(frozen=True)
+class StartupKick:
+    """The listing's first step (labels 123, 124 and 83), as forces over two windows.
+
+    At t = 0 the listing sets ``W2A=0.0545`` (``pitch_rate_rad_s``) and, for its first
+    step of ``step_s`` = 0.0004 s, drives the post with ``F1B=-10000.0`` lb along body
+    axis 1 alone (no gravity, no base forces, no torque; ``body_force_1_lb``) and the car
+    with ``FSB=10000.0`` lb (``vehicle_force_lb``); at the end of that step the attitude
+    is ``THA=0.000022`` rad about axis 2 (``tilt_at_step_rad``: the core adds the missing
+    ``0.000022 - 0.0545*0.0004`` rad to the attitude at t = 0).  Over the second step
+    the spring force is ``FSA=1320.0`` lb (``first_step_spring_force_lb``), the other forces
+    as usual.
+    """
+
+    pitch_rate_rad_s: float = 0.0545
+    tilt_at_step_rad: float = 0.000022
+    step_s: float = 0.0004
+    body_force_1_lb: float = -10000.0
+    vehicle_force_lb: float = 10000.0
+    first_step_spring_force_lb: float = 1320.0
+
+
+@dataclass(frozen=True)
+class ModelOptions:
+    """How the core treats each quirk of the listing; one flag per quirk.
+
+    * ``startup_kick`` -- :class:`StartupKick` or ``None``.
+    * ``spring_factor`` -- the listing's ``FSA=0.8*FSA`` (1.0: eq. 3.15 as printed).
+    * ``spring_absolute`` -- the listing's ``FSA=ABS(CK*(...))``: a stretched spring
+      pushes as hard as a crushed one.  False: the spring only pushes (``max(0, K x)``).
+    * ``spring_switch_ft`` -- the force moves from S (``CK``) to T (``CT``) when ``DIFF``
+      exceeds this (the listing's ``IF(DIFF-0.01)356,356,357``); 0.0: when S separates.
+    * ``force_cap_from_s`` -- the ``FCONST`` cap: from this time on (the listing's
+      ``IF(LL-20)``: 20 steps of 0.0004 s), while ``DIFF`` does not decrease, the spring
+      force is at most ``FCONST``.  ``None``: no cap.
+    * ``listing_diff`` -- contact ends when the listing's ``DIFF = |XVS-XVSO| - |SV-SVO|``
+      (``DIFFT`` for T) turns positive; False: when the spring's compression (eq. 3.15)
+      falls to zero.  The two agree while post and car both move towards ``-XV``.
+    * ``listing_friction`` -- base friction ``3.1*300`` lb while ``XQ > -0.083333+0.004``
+      whatever the scene says; False: the scene's :class:`BaseFriction` (none if absent).
+    * ``listing_hit_tolerances`` -- the listing's hit tests as event definitions: a point
+      hits the ground when within 0.1 ft of it (0.01 ft for Q), a car surface when within
+      0.1 ft of it inside the outline; the windshield when inside the top's outline below
+      ``HTV``.  False: the exact surfaces (ground plane; the car as three solid boxes).
+    """
+
+    startup_kick: StartupKick | None = None
+    spring_factor: float = 1.0
+    spring_absolute: bool = False
+    spring_switch_ft: float = 0.0
+    force_cap_from_s: float | None = None
+    listing_diff: bool = False
+    listing_friction: bool = False
+    listing_hit_tolerances: bool = False
+    name: str = "custom"
+
+    def replace(self, **changes: Any) -> "ModelOptions":
+        import dataclasses
+
+        if "name" not in changes:
+            changes["name"] = "custom"
+        return dataclasses.replace(self, **changes)
+
+
+#: The listing's behaviour, quirk for quirk.
+LEGACY = ModelOptions(
+    startup_kick=StartupKick(),
+    spring_factor=0.8,
+    spring_absolute=True,
+    spring_switch_ft=0.01,
+    force_cap_from_s=20 * 0.0004,
+    listing_diff=True,
+    listing_friction=True,
+    listing_hit_tolerances=True,
+    name="legacy",
+)
+
+#: The model of chapter III without the listing's quirks.
+PHYSICAL = ModelOptions(name="physical")
+
+PRESETS: dict[str, ModelOptions] = {"legacy": LEGACY, "physical": PHYSICAL}
