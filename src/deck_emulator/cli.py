@@ -21,6 +21,7 @@ from pathlib import Path
 from deck_emulator.arithmetic import ARITHMETICS, get_arithmetic
 from deck_emulator.deck import READ_LIST, DeckError, field_columns, read_deck
 from deck_emulator.emulator import ERRATA, EmulatorError, Limits, Program
+from deck_emulator.extract import extract
 from deck_emulator.printer import render_asa
 
 PROG = "deck-emulator"
@@ -29,6 +30,10 @@ EXIT_BAD_INPUT = 2
 
 class CLIError(Exception):
     """A user-facing error that is not about a deck's contents."""
+
+
+class RunFailed(CLIError):
+    """The program (emulated or core) could not run to its end: exit status 3."""
 
 
 # Functions that add one subcommand's parser; main() calls each of them in order.
@@ -119,7 +124,7 @@ def _run_emulator(args, deck):
     limits = Limits(ed_iterations=args.max_ed_iterations, halvings=args.max_halvings,
                     time_s=args.max_time)
     return Program(deck, _arithmetic(args), errata=tuple(args.erratum), step_scale_k=args.step_scale,
-                   tha_start=args.tha_start, limits=limits).run()
+                   tha_start=args.tha_start, ed_tolerance=args.ed_tolerance, limits=limits).run()
 
 
 def _describe(run) -> str:
@@ -155,6 +160,8 @@ def _add_emulator_options(p: argparse.ArgumentParser) -> None:
                    help="divide every literal that means one step (0.0004 s) by 2**K")
     p.add_argument("--tha-start", metavar="VALUE",
                    help="start-up THA at label 123 instead of the printed 0.000022")
+    p.add_argument("--ed-tolerance", metavar="RAD", default=".0001",
+                   help="ED's |DF| tolerance at labels 15 and 16 (printed: .0001)")
     p.add_argument("--max-time", type=float, default=Limits.time_s, metavar="S",
                    help="stop when simulated time passes S seconds (default %(default)s)")
     p.add_argument("--max-ed-iterations", type=int, default=Limits.ed_iterations, metavar="N",
@@ -186,6 +193,146 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_cmd_run)
 
 
+# --------------------------------------------------------------------------- summary
+
+
+def _cmd_summary(args: argparse.Namespace) -> int:
+    deck = read_deck(args.deck)
+    try:
+        run = _run_emulator(args, deck)
+    except EmulatorError as exc:
+        raise RunFailed(f"{exc}{_hint(exc)}") from None
+    outcome = extract(run.records, deck)
+    data = {"deck": str(deck.path), "arithmetic": run.arithmetic, "errata": list(run.errata),
+            "assumptions": dict(getattr(_arithmetic(args), "assumptions", {}) or {}),
+            **outcome.summary_dict()}
+    if args.json:
+        _emit(args, json.dumps(data, indent=2) + "\n")
+    else:
+        lines = [f"{k}: {v}" for k, v in data.items()]
+        _emit(args, "\n".join(lines) + "\n")
+    return 0
+
+
+def _hint(exc: EmulatorError) -> str:
+    if exc.guard == "ed_iterations":
+        return " -- as printed, ED walks away from its root on this deck; try --erratum ed-direction"
+    return ""
+
+
+@_subcommand
+def _add_summary(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "summary",
+        help="run a deck and print its outcomes (events, hit, delta-V, deceleration, P/Q/R)",
+        description="Run the emulated program and extract from its printout what the report's "
+        "Tables 11 and 12 give: events with times, the hit message, the vehicle's speed change "
+        "in mph, the largest printed deceleration in g, terminal P, Q, R in XL, YL, ZL.",
+    )
+    _add_emulator_options(p)
+    p.add_argument("--json", action="store_true", help="one JSON object")
+    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    p.set_defaults(func=_cmd_summary)
+
+
+# --------------------------------------------------------------------------- diff, core, scene
+
+
+def _cmd_diff(args: argparse.Namespace) -> int:
+    from deck_emulator.diff import diff_deck, format_diff
+
+    deck = read_deck(args.deck)
+    progress = (lambda m: print(f"{PROG}: {m}", file=sys.stderr)) if sys.stderr.isatty() else None
+    try:
+        data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
+                         ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
+                         tighten_ed=not args.as_printed_ed, progress=progress)
+    except EmulatorError as exc:
+        raise RunFailed(f"{exc}{_hint(exc)}") from None
+    _emit(args, json.dumps(data, indent=2) + "\n" if args.json else format_diff(data))
+    return 0
+
+
+@_subcommand
+def _add_diff(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "diff",
+        help="run the emulator and the modern core on a deck and compare them",
+        description="Side by side: the emulator (the listing as printed, or with errata) and the "
+        "core's legacy preset; then both again as the step is halved k = 0..K times, with the "
+        "observed order of convergence.",
+    )
+    p.add_argument("deck", metavar="DECK")
+    p.add_argument("--precision", default="double", choices=ARITHMETICS,
+                   help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
+    p.add_argument("--erratum", action="append", default=[], choices=sorted(ERRATA))
+    p.add_argument("--max-k", type=int, default=4, help="halve the step up to K times (default 4)")
+    p.add_argument("--rtol", type=float, default=1e-10, help="core tolerance (rtol = atol)")
+    p.add_argument("--as-printed-ed", action="store_true",
+                   help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
+    p.add_argument("--json", action="store_true", help="one JSON object")
+    p.add_argument("--out", metavar="FILE")
+    p.set_defaults(func=_cmd_diff)
+
+
+def _load_scene(path: str):
+    from deck_emulator.scene import Scene
+
+    if path.endswith(".toml"):
+        try:
+            return Scene.from_toml(Path(path).read_text())
+        except (ValueError, KeyError, TypeError) as exc:
+            raise CLIError(f"{path}: not a scene: {exc}") from None
+    return Scene.from_deck(read_deck(path), name=Path(path).stem)
+
+
+def _cmd_core(args: argparse.Namespace) -> int:
+    from deck_emulator.core import PRESETS, CoreError, simulate
+
+    scene = _load_scene(args.scene)
+    try:
+        result = simulate(scene, PRESETS[args.preset], method=args.method, rtol=args.rtol,
+                          atol=args.atol)
+    except CoreError as exc:
+        raise RunFailed(str(exc)) from None
+    data = result.summary()
+    text = json.dumps(data, indent=2) + "\n" if args.json else "".join(
+        f"{k}: {v}\n" for k, v in data.items() if k != "events") + "".join(
+        f"  {e['time_s']:.9f} s  {e['name']}  {e['message']}\n" for e in data["events"])
+    _emit(args, text)
+    return 0
+
+
+@_subcommand
+def _add_core(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.core import PRESETS
+
+    p = sub.add_parser("core", help="solve a deck or a scene (.toml) with the modern core",
+                       description="The same model solved with quaternions, solve_ivp and located "
+                       "events. Presets: legacy (the listing's quirks) or physical (none).")
+    p.add_argument("scene", metavar="DECK_OR_TOML")
+    p.add_argument("--preset", choices=sorted(PRESETS), default="legacy")
+    p.add_argument("--method", default="DOP853", choices=("DOP853", "RK45", "Radau", "LSODA"))
+    p.add_argument("--rtol", type=float, default=1e-10)
+    p.add_argument("--atol", type=float, default=1e-10)
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--out", metavar="FILE")
+    p.set_defaults(func=_cmd_core)
+
+
+def _cmd_scene(args: argparse.Namespace) -> int:
+    _emit(args, _load_scene(args.deck).to_toml())
+    return 0
+
+
+@_subcommand
+def _add_scene(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("scene", help="write a deck's scene as TOML (to edit by hand, then `core`)")
+    p.add_argument("deck", metavar="DECK")
+    p.add_argument("--out", metavar="FILE")
+    p.set_defaults(func=_cmd_scene)
+
+
 # --------------------------------------------------------------------------- main
 
 
@@ -210,7 +357,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return args.func(args)
     except (DeckError, CLIError, OSError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+        return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":

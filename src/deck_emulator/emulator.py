@@ -13,7 +13,10 @@ Departures from the listing are options, off by default:
 
 * ``errata``: ``"ed-direction"`` (legacy/errata/ed-direction.patch, see CORRECTIONS.md);
 * ``step_scale_k``: divide every literal that means "one step" by ``2**k`` (see STEP_LITERALS);
-* ``tha_start``: the start-up value of THA at label 123 (printed: 0.000022).
+* ``tha_start``: the start-up value of THA at label 123 (printed: 0.000022);
+* ``ed_tolerance``: ED's |DF| tolerance at labels 15 and 16 (printed: .0001 rad). It does not
+  shrink with the step, so the listing's scheme stops converging as H is halved (measured by
+  ``deck-emulator diff``); tightening it with H restores first order.
 
 Guards end what the 1967 program could not: ED's search without a root, label 108 halving for
 ever, a post that never lands, and any non-finite value (see :class:`Limits`); each raises
@@ -109,7 +112,8 @@ class ED:
     for PSI by a root search on DF. ``L`` and ``DH`` are static and start at zero, as on IBSYS
     (and gfortran with -fno-automatic -finit-local-zero). Returns D."""
 
-    def __init__(self, ar: Arithmetic, errata: tuple[str, ...], max_iterations: int):
+    def __init__(self, ar: Arithmetic, errata: tuple[str, ...], max_iterations: int,
+                 tolerance: str = ".0001"):
         self.ar = ar
         self.L = 0
         self.DH = ar.decimal("0.0")
@@ -119,7 +123,8 @@ class ED:
         self.iterations = 0
         self.label = 0
         k = ar.decimal
-        self.K2, self.K015, self.K001, self.K00001 = k("2."), k(".15"), k("0.01"), k(".0001")
+        # .0001 is the listing's |DF| tolerance (labels 15, 16); ``tolerance`` replaces it
+        self.K2, self.K015, self.K001, self.K00001 = k("2."), k(".15"), k("0.01"), k(tolerance)
 
     def __call__(self, W1A, W2A, W3A, THDB, PHIDB, PSIDB, HI, PSIB, THB):
         ar, K2 = self.ar, self.K2
@@ -205,8 +210,8 @@ class Program:
     """MAIN of the listing, over one arithmetic, for one deck."""
 
     def __init__(self, deck, arithmetic: Arithmetic | str = "double", *, errata=(),
-                 step_scale_k: int = 0, tha_start: str | None = None, limits: Limits = Limits(),
-                 trace: bool = True):
+                 step_scale_k: int = 0, tha_start: str | None = None, ed_tolerance: str = ".0001",
+                 limits: Limits = Limits(), trace: bool = True):
         self.ar = get_arithmetic(arithmetic) if isinstance(arithmetic, str) else arithmetic
         unknown = set(errata) - set(ERRATA)
         if unknown:
@@ -221,7 +226,8 @@ class Program:
         self.keep_trace = trace
         self._consts: dict[str, object] = {}
         self.v = _Vars(self.ar.isfinite)
-        self.ed = ED(self.ar, self.errata, limits.ed_iterations)
+        self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
+        self.ed_tolerance = ed_tolerance
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
         self.printer = Printer(self.ar.exact, rounding)
         self.run_ = Run(records=self.printer.records, arithmetic=self.ar.describe(),
@@ -971,11 +977,12 @@ def _assigned_variable(exc) -> str | None:
 
 
 def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,
-             tha_start: str | None = None, limits: Limits = Limits(), trace: bool = True) -> Run:
+             tha_start: str | None = None, ed_tolerance: str = ".0001", limits: Limits = Limits(),
+             trace: bool = True) -> Run:
     """Run the 1967 program on a deck. Raises EmulatorError when a guard fires or the arithmetic
     traps; the error's ``run`` holds the records printed up to then."""
-    return Program(deck, precision, errata=errata, step_scale_k=step_scale_k,
-                   tha_start=tha_start, limits=limits, trace=trace).run()
+    return Program(deck, precision, errata=errata, step_scale_k=step_scale_k, tha_start=tha_start,
+                   ed_tolerance=ed_tolerance, limits=limits, trace=trace).run()
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,72 @@
+"""The command line: run, summary, core, scene; files written whole or not at all."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from deck_emulator.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def test_run_writes_the_golden_to_a_file(tmp_path, capsys):
+    out = tmp_path / "steel40.txt"
+    assert main(["run", "decks/steel40.dat", "--out", str(out)]) == 0
+    assert out.read_text() == (ROOT / "golden" / "steel40.r8.txt").read_text()
+    err = capsys.readouterr().err
+    assert "arithmetic double" in err and "errata: none" in err
+
+
+def test_run_single_writes_up_to_the_trap_and_fails(tmp_path, capsys):
+    out = tmp_path / "x.txt"
+    assert main(["run", "decks/steel40.dat", "--precision", "single", "--out", str(out)]) == 3
+    assert out.read_text() == ""  # gfortran's r4 run printed nothing before its trap either
+    assert "assigning PHIA" in capsys.readouterr().err
+    assert not list(tmp_path.glob(".x.txt*"))  # no temporary left behind
+
+
+def test_failed_write_leaves_no_file(tmp_path, capsys):
+    target = tmp_path / "missing-dir" / "out.txt"
+    assert main(["run", "decks/steel40.dat", "--out", str(target)]) == 2
+    assert not target.exists()
+    assert "error" in capsys.readouterr().err
+
+
+def test_render_turns_carriage_control_into_page_layout(capsys):
+    assert main(["run", "decks/steel40.dat", "--render"]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("\f\n    THE VALUE OF VVA IS")  # 1H1 is a record of its own
+    assert text.count("\f") == (ROOT / "golden" / "steel40.r8.txt").read_text().splitlines().count("1")
+
+
+def test_summary_json_names_the_errata_and_outcomes(capsys):
+    assert main(["summary", "decks/steel40_a15.dat", "--erratum", "ed-direction", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["errata"] == ["ed-direction"]
+    assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    assert [e["message"] for e in data["events"]] == [
+        "THE POST HAS LOST CONTACT WITH FIRST SPRING", "THE POST HAS LOST CONTACT WITH THE VEHICLE"]
+
+
+def test_summary_without_needed_erratum_fails_with_a_hint(capsys):
+    assert main(["summary", "decks/steel40_a30.dat", "--max-ed-iterations", "2000"]) == 3
+    err = capsys.readouterr().err
+    assert "ED's root search did not converge" in err and "--erratum ed-direction" in err
+
+
+def test_scene_toml_round_trips_through_core(tmp_path, capsys):
+    toml = tmp_path / "steel40.toml"
+    assert main(["scene", "decks/steel40.dat", "--out", str(toml)]) == 0
+    assert main(["core", str(toml), "--json"]) == 0
+    from_toml = json.loads(capsys.readouterr().out)
+    assert main(["core", "decks/steel40.dat", "--json"]) == 0
+    from_deck = json.loads(capsys.readouterr().out)
+    assert from_toml["hit"] == from_deck["hit"]
+    assert from_toml["hit_time_s"] == from_deck["hit_time_s"]
+
+
+def test_module_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "deck_emulator", "parse", "decks/steel40.dat", "--json"],
+                          capture_output=True, text=True, cwd=ROOT, check=True)
+    assert json.loads(proc.stdout)["FCONST"] == 1200.0

@@ -1,0 +1,53 @@
+"""The emulator against the modern core on the original deck (deck-emulator diff)."""
+
+import json
+
+import pytest
+
+from deck_emulator.cli import main
+from deck_emulator.deck import read_deck
+from deck_emulator.diff import diff_deck
+
+DECK = "decks/steel40.dat"
+
+
+@pytest.fixture(scope="module")
+def tightened():
+    return diff_deck(read_deck(DECK), ks=range(4))
+
+
+def test_difference_shrinks_at_first_order_when_ed_is_solved_with_the_step(tightened):
+    rows = tightened["convergence"]
+    traj = [r["max_trajectory_diff_ft"] for r in rows]
+    term = [r["terminal_points_diff_ft"] for r in rows]
+    assert all(a > b for a, b in zip(traj, traj[1:])), traj
+    assert all(a > b for a, b in zip(term, term[1:])), term
+    # explicit Euler velocities: first order; measured 1.30, 1.01, 0.89 (trajectory)
+    assert all(0.7 < o < 1.6 for o in tightened["observed_order"]["max_trajectory_diff_ft"])
+    assert rows[-1]["hit_time_diff_s"] < 2 * rows[-1]["h_s"]  # the hit is found to the step
+    assert all(r["same_hit"] for r in rows)
+
+
+def test_side_by_side_is_the_printed_run(tightened):
+    e, c = tightened["emulator"], tightened["core"]
+    assert e["hit"] == c["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    assert e["hit_time_s"] == pytest.approx(0.8216, abs=1e-9)  # the golden's last TIME
+    assert abs(e["hit_time_s"] - c["hit_time_s"]) < 0.005  # s
+    assert abs(e["delta_v_mph"] - c["delta_v_mph"]) < 0.05  # mph
+    assert 0 < tightened["max_trajectory_diff_ft"] < 0.5  # ft, with ED's .0001 as printed
+
+
+def test_as_printed_ed_tolerance_does_not_converge():
+    """ED's .0001 rad does not shrink with the step: the difference stops falling."""
+    d = diff_deck(read_deck(DECK), ks=range(3), tighten_ed=False)
+    traj = [r["max_trajectory_diff_ft"] for r in d["convergence"]]
+    assert traj[2] > traj[0], traj  # measured 0.27, 0.22, 1.01 ft
+
+
+def test_diff_cli_json(capsys):
+    assert main(["diff", DECK, "--json", "--max-k", "1"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for side in ("emulator", "core"):
+        assert {"hit", "hit_time_s", "delta_v_mph", "max_decel_g"} <= set(data[side])
+    assert [r["k"] for r in data["convergence"]] == [0, 1]
+    assert {"k", "h_s", "hit_time_diff_s", "max_trajectory_diff_ft"} <= set(data["convergence"][0])
