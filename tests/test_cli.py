@@ -70,3 +70,18 @@ def test_module_entry_point():
     proc = subprocess.run([sys.executable, "-m", "deck_emulator", "parse", "decks/steel40.dat", "--json"],
                           capture_output=True, text=True, cwd=ROOT, check=True)
     assert json.loads(proc.stdout)["FCONST"] == 1200.0
+
+
+def test_ibm7094_run_ends_and_names_its_assumptions(capsys):
+    """The archival run: the original deck as printed, in the 1967 machine's arithmetic."""
+    assert main(["summary", "decks/steel40.dat", "--precision", "ibm7094", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["assumptions"] == {"sincos": "chop", "decimal": "chop", "output": "nearest"}
+    assert data["arithmetic"].startswith("ibm7094 (sincos=chop")
+    assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    assert data["errata"] == []
+
+
+def test_machine_assumptions_belong_to_ibm7094(capsys):
+    assert main(["run", "decks/steel40.dat", "--sincos", "round"]) == 2
+    assert "assumptions of --precision ibm7094" in capsys.readouterr().err
