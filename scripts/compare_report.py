@@ -28,7 +28,6 @@ import math
 import os
 import platform
 import sys
-import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 from fractions import Fraction
@@ -37,6 +36,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
 
+from deck_emulator.atomic import write_atomic
 from deck_emulator.arithmetic import get_arithmetic
 from deck_emulator.deck import read_deck
 from deck_emulator.emulator import EmulatorError, run_deck
@@ -704,19 +704,6 @@ def _closer_count(rows):
     return nearer, farther, same
 
 
-def write_atomic(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default=str(ROOT / "docs" / "comparison.md"))
@@ -725,6 +712,7 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     runs = all_runs(max(1, args.jobs))
     text = build(runs, time.perf_counter() - t0, max(1, args.jobs))
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     write_atomic(Path(args.out), text)
     print(f"wrote {args.out} in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return 0

@@ -10,15 +10,13 @@ builds its whole output before writing it, so an error leaves stdout empty.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import json
-import os
 import sys
-import tempfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from deck_emulator.arithmetic import ARITHMETICS, get_arithmetic
+from deck_emulator.atomic import write_atomic
 from deck_emulator.deck import READ_LIST, DeckError, field_columns, read_deck
 from deck_emulator.emulator import ERRATA, EmulatorError, Limits, Program
 from deck_emulator.extract import extract
@@ -88,20 +86,6 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
 
 
 EXIT_RUN_FAILED = 3
-
-
-def write_atomic(path: str, text: str) -> None:
-    """Write a file whole or not at all: a temporary file beside it, then a rename."""
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=target.parent or ".", prefix=f".{target.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
 
 
 def _emit(args, text: str) -> None:
@@ -206,6 +190,9 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     data = {"deck": str(deck.path), "arithmetic": run.arithmetic, "errata": list(run.errata),
             "assumptions": dict(getattr(_arithmetic(args), "assumptions", {}) or {}),
             **outcome.summary_dict()}
+    from deck_emulator.sweep import emulator_result, safety_summary
+
+    data["safety"] = safety_summary(emulator_result(run, deck))
     if args.json:
         _emit(args, json.dumps(data, indent=2) + "\n")
     else:
@@ -331,6 +318,23 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
     p.add_argument("deck", metavar="DECK")
     p.add_argument("--out", metavar="FILE")
     p.set_defaults(func=_cmd_scene)
+
+
+# --------------------------------------------------------------------------- plot, sweep, study
+
+
+@_subcommand
+def _add_plot(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.plot import add_parser
+
+    add_parser(sub)
+
+
+@_subcommand
+def _add_sweep(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.sweep import add_parser
+
+    add_parser(sub)
 
 
 # --------------------------------------------------------------------------- main

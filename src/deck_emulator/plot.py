@@ -1,0 +1,879 @@
+"""Pictures of the crash: ``deck-emulator plot``.
+
+* Trajectory pictures in the style of the report's Figures 18-29: the post drawn as a line
+  through its named points (base Q, top P, luminaire end R; C where it differs from Q) at
+  regular instants, in the report's XL, YL, ZL axes (origin on the ground under the base of
+  the support): side view XL-ZL, plan view XL-YL, a 3-d view, or all three with a summary.
+  The ground, the car's outline at the moment of the hit (bumper, hood, windshield, top and
+  trunk from the deck's HLEN, TLEN, TRLEN, HHV, HTV, HTRV, YLFEN, YRFEN) and the hit point
+  are drawn; the legend names the deck, speed, approach angle, outcome and engine.
+* ``--animate FILE.gif``: the fall, frame by frame (matplotlib's animation with Pillow).
+* ``--pulse``: the car's deceleration (g) and speed (mph) over the contact phase, both
+  engines on one pair of axes.
+
+Only matplotlib's object API with the Agg canvas is used (no pyplot, no display, no global
+backend switch). Image sizes are fixed by ``FIGSIZE`` and ``DPI`` (no tight bounding box).
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import math
+import sys
+import types
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from deck_emulator import safety
+from deck_emulator.sweep import ENGINES, ERRATUM, MPH, EngineResult, run_engine
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "VIEWS",
+    "FIGSIZE",
+    "DPI",
+    "figure_trajectory",
+    "figure_pulse",
+    "save_trajectory",
+    "save_pulse",
+    "save_animation",
+    "instants",
+    "add_parser",
+]
+
+VIEWS = ("side", "plan", "3d", "all")
+#: Figure size (inches) per view; at DPI the PNG is exactly FIGSIZE * DPI pixels.
+FIGSIZE = {
+    "side": (13.0, 6.5),
+    "plan": (13.0, 6.5),
+    "3d": (10.0, 8.0),
+    "all": (16.0, 11.0),
+    "pulse": (11.0, 6.0),
+    "animate": (9.0, 4.5),
+}
+DPI = 100
+ENGINE_COLOUR = {"emulator": "tab:blue", "core": "tab:orange"}
+CMAP = "viridis"
+HIT_COLOUR = "crimson"
+CAR_COLOUR = "0.35"
+
+
+@functools.cache
+def _mpl():
+    """matplotlib, imported on first use (so that registering the command costs nothing)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, Polygon
+
+    return types.SimpleNamespace(
+        FigureCanvasAgg=FigureCanvasAgg,
+        Normalize=Normalize,
+        Figure=Figure,
+        Line2D=Line2D,
+        Patch=Patch,
+        Polygon=Polygon,
+    )
+
+
+# ====================================================================== geometry helpers
+
+
+def instants(res: EngineResult, every: float | None = None) -> list[int]:
+    """Sample indices at regular instants from t = 0 to the end (the end included)."""
+    end = res.end_time_s
+    if every is None:
+        every = next((s for s in (0.01, 0.02, 0.025, 0.05, 0.1, 0.2) if end / s <= 20), 0.5)
+    ts = np.arange(0.0, end + 1e-9, every)
+    idx = sorted({res.at(t) for t in ts} | {len(res.t) - 1})
+    return idx
+
+
+def _post_chain(res: EngineResult) -> list[str]:
+    chain = ["Q", "P", "R"]
+    c, q = res.points.get("C"), res.points.get("Q")
+    if c is not None and not np.allclose(c[0], q[0], equal_nan=True):
+        chain = ["C"] + chain
+    return [k for k in chain if k in res.points]
+
+
+def _post_l(res: EngineResult, i: int) -> np.ndarray:
+    """(k, 3) XL, YL, ZL of the post's chain at sample i (NaN rows dropped)."""
+    pts = np.array([res.points[k][i] for k in _post_chain(res)])
+    pts = pts[~np.isnan(pts).any(axis=1)]
+    return res.to_l(pts)
+
+
+def _car_xy_l(res: EngineResult, sv: float, xv: np.ndarray, yv: np.ndarray):
+    """XV, YV of the car -> XL, YL."""
+    a = res.values["ALPHA"]
+    ca, sa = math.cos(a), math.sin(a)
+    xx = xv * ca + yv * sa
+    yy = -xv * sa + yv * ca
+    return xx - res.values["XQO"], yy - res.values["YYQO"]
+
+
+def _profile(res: EngineResult, sv: float, yv: float):
+    """The car's side profile at YV = yv: XL and ZL arrays (bumper at the ground round to tail)."""
+    d = res.values
+    o = safety.body_outline_xv(sv, d)
+    h = d["HEIGHT"]
+    xv = np.array(
+        [o["XBUMP"], o["XBUMP"], o["SV"], o["SV"], o["XENTOP"], o["XENTOP"], o["XTAIL"], o["XTAIL"]]
+    )
+    zz = np.array([-h, d["HHV"], d["HHV"], d["HTV"], d["HTV"], d["HTRV"], d["HTRV"], -h])
+    xl, _ = _car_xy_l(res, sv, xv, np.full_like(xv, yv))
+    return xl, zz + h
+
+
+def _hit_index(res: EngineResult) -> int:
+    return res.at(res.hit_time_s) if res.hit_time_s is not None else len(res.t) - 1
+
+
+def _hit_point_l(res: EngineResult):
+    if res.hit_point is None or res.hit_point not in res.points:
+        return None
+    p = res.points[res.hit_point][_hit_index(res)]
+    return None if np.isnan(p).any() else res.to_l(p)
+
+
+def _legend_title(res: EngineResult) -> str:
+    if res.hit:
+        t = f"{_comment_case(res)} at {1000 * res.hit_time_s:.1f} ms"
+    else:
+        t = f"no hit by {1000 * res.end_time_s:.0f} ms" + (" (run stopped)" if res.error else "")
+    eng = res.engine + (
+        f", {'+'.join(res.errata)} erratum"
+        if res.errata
+        else (", listing as printed" if res.engine == "emulator" else "")
+    )
+    if res.engine == "core":
+        eng = f"core, {res.note}"
+    return f"{res.name}: {res.speed_mph:.3g} mph, α = {res.angle_deg:.3g}°\n{t}\nengine: {eng}"
+
+
+def _comment_case(res: EngineResult) -> str:
+    """'POST HITS GROUND WITH POINT R' -> 'Post hits ground with point R'."""
+    text = res.outcome().capitalize()
+    return text[:-1] + text[-1].upper() if " point " in text else text
+
+
+def _every_label(res: EngineResult, idx: list[int]) -> str:
+    if len(idx) > 2:
+        step = 1000 * (res.t[idx[1]] - res.t[idx[0]])
+        return f"post every {step:.0f} ms (colour: time)"
+    return "post (colour: time)"
+
+
+# ============================================================================= views
+
+
+def _norm(res):
+    return _mpl().Normalize(0.0, max(res.end_time_s, 1e-6))
+
+
+def _draw_side(ax, res: EngineResult, idx: list[int]):
+    import matplotlib
+
+    cmap = matplotlib.colormaps[CMAP]
+    norm = _norm(res)
+    hi = _hit_index(res)
+    for i in idx:
+        p = _post_l(res, i)
+        ax.plot(
+            p[:, 0], p[:, 2], "-", color=cmap(norm(res.t[i])), lw=1.6, marker="o", ms=2.5, zorder=3
+        )
+    p = _post_l(res, hi)
+    ax.plot(p[:, 0], p[:, 2], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
+    _name_points(ax, res, 0, (0, 2))
+    _name_points(ax, res, hi, (0, 2))
+    # car at the hit (near and far fender for an angled approach)
+    sv = res.sv[hi]
+    d = res.values
+    sides = [d["YLFEN"], d["YRFEN"]] if d["ALPHA"] != 0 else [0.5 * (d["YLFEN"] + d["YRFEN"])]
+    for k, yv in enumerate(sides):
+        xl, zl = _profile(res, sv, yv)
+        ax.add_patch(
+            _mpl().Polygon(
+                np.c_[xl, zl],
+                closed=True,
+                fc="0.85" if k == 0 else "none",
+                ec=CAR_COLOUR,
+                lw=1.4,
+                ls="-" if k == 0 else "--",
+                zorder=2,
+            )
+        )
+    o = safety.body_outline_xv(sv, d)
+    wx, _ = _car_xy_l(res, sv, np.array([o["SV"]]), np.array([sides[0]]))
+    ax.plot(
+        [wx[0], wx[0]],
+        [d["HHV"] + d["HEIGHT"], d["HTV"] + d["HEIGHT"]],
+        color="tab:cyan",
+        lw=3,
+        zorder=2.5,
+    )
+    # ground
+    ax.axhline(0.0, color="saddlebrown", lw=1.5, zorder=1)
+    hp = _hit_point_l(res)
+    if hp is not None:
+        ax.plot(hp[0], hp[2], marker="*", ms=18, color="gold", mec="k", zorder=6)
+    # direction of travel
+    xb, _ = _car_xy_l(res, sv, np.array([o["XBUMP"]]), np.array([sides[0]]))
+    ax.annotate(
+        "",
+        xy=(xb[0] - 4, 1.0),
+        xytext=(xb[0] - 0.3, 1.0),
+        arrowprops=dict(arrowstyle="->", color=CAR_COLOUR, lw=1.5),
+    )
+    ax.update_datalim([(xb[0] - 5, 1.0)])  # keep the arrow in view
+    ax.set_xlabel("XL (ft): along the highway from the base of the support; car travels to −XL")
+    ax.set_ylabel("ZL (ft): height above the ground")
+    ax.set_aspect("equal", adjustable="datalim")
+    ylo = min(-1.0, float(np.nanmin([_post_l(res, i)[:, 2].min() for i in idx])) - 1)
+    ax.update_datalim([(0.0, ylo)])  # a strip of ground below the lowest point
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_title("Side view (XL–ZL)")
+
+
+def _draw_plan(ax, res: EngineResult, idx: list[int]):
+    import matplotlib
+
+    cmap = matplotlib.colormaps[CMAP]
+    norm = _norm(res)
+    hi = _hit_index(res)
+    d = res.values
+    sv = res.sv[hi]
+    o = safety.body_outline_xv(sv, d)
+    yl, yr = d["YLFEN"], d["YRFEN"]
+
+    def rect(x0, x1, **kw):
+        xv = np.array([x0, x1, x1, x0])
+        yv = np.array([yl, yl, yr, yr])
+        x, y = _car_xy_l(res, sv, xv, yv)
+        ax.add_patch(_mpl().Polygon(np.c_[x, y], closed=True, **kw))
+
+    rect(o["XBUMP"], o["SV"], fc="0.88", ec=CAR_COLOUR, lw=1.2, zorder=1)
+    rect(o["SV"], o["XENTOP"], fc="0.72", ec=CAR_COLOUR, lw=1.2, zorder=1)
+    rect(o["XENTOP"], o["XTAIL"], fc="0.88", ec=CAR_COLOUR, lw=1.2, zorder=1)
+    wx, wy = _car_xy_l(res, sv, np.array([o["SV"], o["SV"]]), np.array([yl, yr]))
+    ax.plot(wx, wy, color="tab:cyan", lw=3, zorder=1.5)
+    for i in idx:
+        p = _post_l(res, i)
+        ax.plot(
+            p[:, 0], p[:, 1], "-", color=cmap(norm(res.t[i])), lw=1.6, marker="o", ms=2.5, zorder=3
+        )
+    p = _post_l(res, hi)
+    ax.plot(p[:, 0], p[:, 1], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
+    _name_points(ax, res, 0, (0, 1))
+    _name_points(ax, res, hi, (0, 1))
+    hp = _hit_point_l(res)
+    if hp is not None:
+        ax.plot(hp[0], hp[1], marker="*", ms=18, color="gold", mec="k", zorder=6)
+    # direction of travel along -XV
+    a = d["ALPHA"]
+    bx, by = _car_xy_l(res, sv, np.array([o["XBUMP"]]), np.array([0.5 * (yl + yr)]))
+    tip = (bx[0] - 4 * math.cos(a), by[0] + 4 * math.sin(a))
+    ax.annotate(
+        "",
+        xy=tip,
+        xytext=(bx[0], by[0]),
+        arrowprops=dict(arrowstyle="->", color=CAR_COLOUR, lw=1.5),
+    )
+    ax.update_datalim([(tip[0] - math.cos(a), tip[1] + math.sin(a))])  # keep the arrow in view
+    ax.set_xlabel("XL (ft): along the highway from the base of the support")
+    ax.set_ylabel("YL (ft): across the highway")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_title("Plan view (XL–YL)")
+
+
+def _name_points(ax, res, i, axes):
+    """Name the post's points at sample i (a point on top of one already named is skipped)."""
+    done = []
+    left = i != 0  # the end state is named on the left, t = 0 on the right
+    chain = _post_chain(res)
+    c_on_q = "C" not in chain and "C" in res.points and not np.isnan(res.points["C"][0]).any()
+    for k in chain:
+        p = res.points[k][i]
+        if np.isnan(p).any():
+            continue
+        name = "Q=C" if k == "Q" and c_on_q else k
+        q = res.to_l(p)
+        xy = np.array([q[axes[0]], q[axes[1]]])
+        if any(np.hypot(*(xy - o)) < 0.8 for o in done):
+            continue
+        done.append(xy)
+        ax.annotate(
+            name,
+            tuple(xy),
+            xytext=(-10 if left else 5, 5),
+            textcoords="offset points",
+            fontsize=9,
+            fontweight="bold",
+            zorder=7,
+        )
+
+
+def _box_faces(x0, x1, y0, y1, z0, z1):
+    c = np.array(
+        [
+            [x0, y0, z0],
+            [x1, y0, z0],
+            [x1, y1, z0],
+            [x0, y1, z0],
+            [x0, y0, z1],
+            [x1, y0, z1],
+            [x1, y1, z1],
+            [x0, y1, z1],
+        ]
+    )
+    f = [[0, 1, 2, 3], [4, 5, 6, 7], [0, 1, 5, 4], [2, 3, 7, 6], [1, 2, 6, 5], [0, 3, 7, 4]]
+    return c, f
+
+
+def _draw_3d(ax, res: EngineResult, idx: list[int]):
+    import matplotlib
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    cmap = matplotlib.colormaps[CMAP]
+    norm = _norm(res)
+    hi = _hit_index(res)
+    d = res.values
+    h = d["HEIGHT"]
+    sv = res.sv[hi]
+    o = safety.body_outline_xv(sv, d)
+    faces = []
+    for x0, x1, ztop in (
+        (o["XBUMP"], o["SV"], d["HHV"]),
+        (o["SV"], o["XENTOP"], d["HTV"]),
+        (o["XENTOP"], o["XTAIL"], d["HTRV"]),
+    ):
+        corners, fidx = _box_faces(x0, x1, d["YLFEN"], d["YRFEN"], -h, ztop)
+        xl, yl = _car_xy_l(res, sv, corners[:, 0], corners[:, 1])
+        cl = np.c_[xl, yl, corners[:, 2] + h]
+        faces += [cl[f] for f in fidx]
+    ax.add_collection3d(
+        Poly3DCollection(faces, facecolor="0.8", edgecolor=CAR_COLOUR, lw=0.6, alpha=0.35)
+    )
+    allp = np.vstack([_post_l(res, i) for i in idx] + [np.vstack(faces)])
+    lo, hi_ = allp.min(axis=0), allp.max(axis=0)
+    pad = 2.0
+    gx = [lo[0] - pad, hi_[0] + pad]
+    gy = [lo[1] - pad, hi_[1] + pad]
+    ax.add_collection3d(
+        Poly3DCollection(
+            [[(gx[0], gy[0], 0), (gx[1], gy[0], 0), (gx[1], gy[1], 0), (gx[0], gy[1], 0)]],
+            facecolor="tan",
+            alpha=0.25,
+            edgecolor="saddlebrown",
+        )
+    )
+    for i in idx:
+        p = _post_l(res, i)
+        ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=cmap(norm(res.t[i])), lw=1.5)
+    p = _post_l(res, hi)
+    ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=HIT_COLOUR, lw=2.6)
+    hp = _hit_point_l(res)
+    if hp is not None:
+        ax.scatter(
+            [hp[0]],
+            [hp[1]],
+            [hp[2]],
+            marker="*",
+            s=250,
+            color="gold",
+            edgecolor="k",
+            depthshade=False,
+        )
+    for k in _post_chain(res):
+        q = res.to_l(res.points[k][hi])
+        if not np.isnan(q).any():
+            ax.text(q[0], q[1], q[2], f" {k}", fontsize=9, fontweight="bold")
+    ax.set_xlim(gx)
+    ax.set_ylim(gy)
+    ax.set_zlim(0, max(hi_[2], 1.0) + 1)
+    dx, dy, dz = gx[1] - gx[0], gy[1] - gy[0], max(hi_[2], 1.0) + 1
+    ax.set_box_aspect((dx, max(dy, 0.45 * dx), max(dz, 0.3 * dx)))  # not to scale across
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(5))
+    ax.set_xlabel("XL (ft)")
+    ax.set_ylabel("YL (ft)")
+    ax.set_zlabel("ZL (ft)")
+    ax.view_init(elev=22, azim=-60)
+    ax.set_title("3-d view")
+
+
+def _legend_handles(res: EngineResult, idx):
+    import matplotlib
+
+    cmap = matplotlib.colormaps[CMAP]
+    h = [
+        _mpl().Line2D(
+            [], [], color=cmap(0.5), lw=1.6, marker="o", ms=2.5, label=_every_label(res, idx)
+        ),
+        _mpl().Line2D(
+            [],
+            [],
+            color=HIT_COLOUR,
+            lw=2.6,
+            marker="o",
+            ms=4,
+            label=f"post at the {'hit' if res.hit else 'end'}"
+            f" (t = {1000 * float(res.t[_hit_index(res)]):.1f} ms)",
+        ),
+    ]
+    if _hit_point_l(res) is not None:
+        h.append(
+            _mpl().Line2D(
+                [],
+                [],
+                color="gold",
+                marker="*",
+                ms=14,
+                mec="k",
+                ls="none",
+                label=f"hit point ({res.hit_point} on the {res.hit_surface.lower()})",
+            )
+        )
+    h += [
+        _mpl().Patch(fc="0.85", ec=CAR_COLOUR, label="car at the hit (listing's outline)"),
+        _mpl().Line2D([], [], color="tab:cyan", lw=3, label="windshield (at SV)"),
+        _mpl().Line2D([], [], color="saddlebrown", lw=1.5, label="ground"),
+    ]
+    return h
+
+
+def _colorbar(fig, ax, res):
+    import matplotlib
+    from matplotlib.cm import ScalarMappable
+
+    sm = ScalarMappable(norm=_norm(res), cmap=matplotlib.colormaps[CMAP])
+    cb = fig.colorbar(sm, ax=ax, shrink=0.8, pad=0.01)
+    cb.set_label("time (s)")
+
+
+def _summary_text(res: EngineResult) -> str:
+    lines = _legend_title(res).split("\n") + [""]
+    for msg, t in res.events:
+        lines.append(f"{1000 * t:7.1f} ms  {_sentence(msg)}")
+    m = res.safety()
+    if m is not None:
+        lines += ["", "Occupant risk (flail-space model):"] + ["  " + s for s in m.lines()]
+    c = res.clearance()
+    if c is not None:
+        lines.append("")
+        if c.body_ft is None:
+            lines.append("The post never passes over the car in free flight.")
+        else:
+            lines.append(
+                f"Least clearance over the car: {c.body_ft:.2f} ft over the "
+                f"{c.body_surface} at {1000 * c.body_time_s:.0f} ms ({c.body_where})"
+            )
+            lines.append(
+                "Least clearance over roof/windshield: "
+                + (
+                    "never over it"
+                    if c.roof_ft is None
+                    else f"{c.roof_ft:.2f} ft at {1000 * c.roof_time_s:.0f} ms ({c.roof_where})"
+                )
+            )
+            if c.touch_time_s is not None:
+                lines.append(
+                    f"The post's line Q-P-R is first inside the car's outline at "
+                    f"{1000 * c.touch_time_s:.1f} ms ({c.touch_surface}); the listing "
+                    "checks only P, R and C."
+                )
+    if res.error:
+        lines += ["", f"Run stopped: {res.error}"]
+    return "\n".join(_wrap(s, 92) for s in lines)
+
+
+def _sentence(msg: str) -> str:
+    """'THE POST HAS HIT THE GROUND WITH POINT R' -> 'The post has hit the ground with point R'."""
+    text = msg.capitalize()
+    return text[:-1] + text[-1].upper() if " point " in text else text
+
+
+def _wrap(s: str, width: int) -> str:
+    import textwrap
+
+    return "\n".join(textwrap.wrap(s, width, subsequent_indent="    ")) if len(s) > width else s
+
+
+def figure_trajectory(res: EngineResult, view: str = "side", every: float | None = None) -> Figure:
+    """The trajectory picture of one run."""
+    if view not in VIEWS:
+        raise ValueError(f"view must be one of {VIEWS}")
+    if not res.t.size:
+        raise ValueError(f"{res.name}: the {res.engine} gave no trajectory ({res.error})")
+    idx = instants(res, every)
+    fig = _mpl().Figure(figsize=FIGSIZE[view], dpi=DPI, layout="constrained")
+    _mpl().FigureCanvasAgg(fig)
+    handles = _legend_handles(res, idx)
+    title = _legend_title(res)
+    if view in ("side", "plan"):
+        ax = fig.add_subplot()
+        (_draw_side if view == "side" else _draw_plan)(ax, res, idx)
+        _colorbar(fig, ax, res)
+        if view == "plan":
+            handles = [h for h in handles if h.get_label() != "ground"]
+            handles.insert(
+                4, _mpl().Patch(fc="0.72", ec=CAR_COLOUR, label="roof (passenger compartment)")
+            )
+        fig.legend(
+            handles=handles,
+            title=title,
+            loc="outside right upper",
+            fontsize=9,
+            title_fontsize=9,
+            alignment="left",
+        )
+    elif view == "3d":
+        ax = fig.add_subplot(projection="3d")
+        _draw_3d(ax, res, idx)
+        handles = [h for h in handles if not h.get_label().startswith("windshield")]
+        fig.legend(
+            handles=handles,
+            title=title,
+            loc="outside lower center",
+            ncols=3,
+            fontsize=9,
+            title_fontsize=9,
+            alignment="left",
+        )
+    else:
+        gs = fig.add_gridspec(2, 2)
+        ax1 = fig.add_subplot(gs[0, 0])
+        _draw_side(ax1, res, idx)
+        ax2 = fig.add_subplot(gs[0, 1])
+        _draw_plan(ax2, res, idx)
+        _colorbar(fig, ax2, res)
+        ax3 = fig.add_subplot(gs[1, 0], projection="3d")
+        _draw_3d(ax3, res, idx)
+        ax4 = fig.add_subplot(gs[1, 1])
+        ax4.axis("off")
+        ax4.legend(handles=handles, loc="upper left", fontsize=9, framealpha=0.9)
+        ax4.text(
+            0.0,
+            0.55,
+            _summary_text(res),
+            transform=ax4.transAxes,
+            va="top",
+            ha="left",
+            fontsize=9,
+            family="monospace",
+        )
+    return fig
+
+
+def save_trajectory(res: EngineResult, out, view: str = "side", every: float | None = None) -> None:
+    fig = figure_trajectory(res, view, every)
+    fig.savefig(out, dpi=DPI)
+
+
+# ============================================================================= pulse
+
+
+def figure_pulse(results: list[EngineResult]) -> Figure:
+    """Deceleration (g, left) and speed (mph, right) over the contact, every engine given."""
+    fig = _mpl().Figure(figsize=FIGSIZE["pulse"], dpi=DPI, layout="constrained")
+    _mpl().FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    ax2 = ax.twinx()
+    handles = []
+    t_max = 0.0
+    first = results[0]
+    notes = []
+    for res in results:
+        col = ENGINE_COLOUR.get(res.engine, "k")
+        label = res.engine + (f" ({'+'.join(res.errata)})" if res.errata else "")
+        if res.engine == "core":
+            label = f"core ({res.note})"
+        if res.pulse_t.size:
+            tms = 1000 * res.pulse_t
+            if res.engine == "emulator":  # per step: the value over the step ending at t
+                ax.step(tms, res.pulse_g, where="pre", color=col, lw=1.0)
+            else:
+                ax.plot(tms, res.pulse_g, color=col, lw=1.3)
+            handles.append(
+                _mpl().Line2D([], [], color=col, lw=1.3, label=f"{label}: deceleration (g)")
+            )
+        t, vv = res.contact_history()
+        if t.size:
+            ax2.plot(1000 * t, np.abs(vv) / MPH, color=col, lw=1.6, ls="--")
+            handles.append(
+                _mpl().Line2D([], [], color=col, lw=1.6, ls="--", label=f"{label}: speed (mph)")
+            )
+            t_max = max(t_max, float(t[-1]))
+        for msg, te in res.events:
+            if "LOST CONTACT" in msg or "lost" in msg:
+                ax.axvline(1000 * te, color=col, lw=0.8, ls=":")
+        m = res.safety()
+        if m is not None:
+            crush = (
+                ""
+                if res.delta_v_mph is None
+                else f" (to the end of the crush pulse, the report's ΔV: {res.delta_v_mph:.2f} mph)"
+            )
+            notes.append(
+                f"{res.engine}: ΔV over the contact {m.delta_v_mph:.2f} mph"
+                f" ({m.delta_v_m_s:.2f} m/s){crush},\n    "
+                f"max {m.max_decel_g:.2f} g, 10 ms avg {m.max_decel_10ms_g:.2f} g, "
+                f"OIV {m.oiv_m_s:.2f} m/s ({m.oiv_rating}), ORA {m.ora_g:.1f} g"
+            )
+        if res.error:
+            notes.append(f"{res.engine}: run stopped: {res.error}")
+    handles.append(
+        _mpl().Line2D(
+            [], [], color="0.3", lw=0.8, ls=":", label="lost contact: first spring, then the car"
+        )
+    )
+    fc = first.values.get("FCONST") or 0.0
+    if fc > 0 and t_max > 0:
+        g_cap = fc / (first.values["WV"] * first.values["G"])
+        ax.annotate(
+            f"force capped at FCONST = {fc:g} lb ({g_cap:.2f} g)",
+            xy=(1000 * t_max * 0.45, g_cap),
+            xytext=(1000 * t_max * 0.45, g_cap + 0.6),
+            ha="center",
+            fontsize=8,
+            arrowprops=dict(arrowstyle="->", color="0.3"),
+        )
+    ax.set_xlim(0, 1000 * t_max * 1.03 if t_max else None)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("time after impact (ms)")
+    ax.set_ylabel("vehicle deceleration (g)")
+    ax2.set_ylabel("vehicle speed (mph)")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_title(
+        f"{first.name}: vehicle pulse over the contact with the post — "
+        f"{first.speed_mph:.3g} mph, α = {first.angle_deg:.3g}°"
+    )
+    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    if notes:
+        oiv, ora = safety.CRITERIA["oiv"], safety.CRITERIA["ora"]
+        notes.append(f"limits (breakaway supports): OIV {oiv.label()}; ORA {ora.label()}")
+        ax.text(
+            0.22,
+            0.62,
+            "\n".join(notes),
+            transform=ax.transAxes,
+            fontsize=8,
+            va="center",
+            ha="left",
+            bbox=dict(fc="white", ec="0.7", alpha=0.9),
+        )
+    return fig
+
+
+def save_pulse(results: list[EngineResult], out) -> None:
+    figure_pulse(results).savefig(out, dpi=DPI)
+
+
+# ============================================================================= animation
+
+
+def save_animation(
+    res: EngineResult, out, view: str = "side", frame_s: float = 0.01, fps: int = 20, dpi: int = 80
+) -> int:
+    """Write the fall as an animated GIF; returns the number of frames."""
+    import matplotlib
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    if view not in ("side", "plan"):
+        view = "side"
+    cmap = matplotlib.colormaps[CMAP]
+    norm = _norm(res)
+    fig = _mpl().Figure(figsize=FIGSIZE["animate"], dpi=dpi)  # fixed layout: fast frames
+    _mpl().FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.12, top=0.9)
+    comp = (0, 2) if view == "side" else (0, 1)
+    d = res.values
+    # fixed limits from the whole run and the car's path
+    allp = np.vstack(
+        [_post_l(res, i) for i in range(0, len(res.t), 5)] + [_post_l(res, len(res.t) - 1)]
+    )
+    car_x = []
+    for i in (0, len(res.t) - 1):
+        o = safety.body_outline_xv(res.sv[i], d)
+        xs, _ = _car_xy_l(
+            res, res.sv[i], np.array([o["XBUMP"], o["XTAIL"]]), np.array([d["YLFEN"], d["YRFEN"]])
+        )
+        car_x += list(xs)
+    x0 = min(allp[:, 0].min(), min(car_x)) - 2
+    x1 = max(allp[:, 0].max(), 12.0) + 2
+    frames = sorted(
+        {res.at(t) for t in np.arange(0, res.end_time_s + 1e-9, frame_s)} | {len(res.t) - 1}
+    )
+    (trail_lines) = []
+    (post,) = ax.plot([], [], "-o", color=HIT_COLOUR, lw=2.5, ms=3, zorder=5)
+    car = _mpl().Polygon(np.zeros((4, 2)), closed=True, fc="0.85", ec=CAR_COLOUR, zorder=2)
+    ax.add_patch(car)
+    label = ax.text(0.99, 0.97, "", transform=ax.transAxes, ha="right", va="top", fontsize=9)
+    if view == "side":
+        ax.axhline(0.0, color="saddlebrown", lw=1.5)
+        ax.set_ylim(min(-1.0, allp[:, 2].min() - 1), max(allp[:, 2].max(), 6) + 1)
+        ax.set_ylabel("ZL (ft)")
+    else:
+        ylo = min(allp[:, 1].min(), d["YLFEN"] - d["YYQO"] - 2)
+        yhi = max(allp[:, 1].max(), d["YRFEN"] - d["YYQO"] + 2)
+        ax.set_ylim(ylo - 1, yhi + 1)
+        ax.set_ylabel("YL (ft)")
+    ax.set_xlim(x0, x1)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("XL (ft)")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_title(_legend_title(res).replace("\n", " — "), fontsize=8)
+
+    def car_shape(i):
+        sv = res.sv[i]
+        if view == "side":
+            yv = 0.5 * (d["YLFEN"] + d["YRFEN"])
+            xl, zl = _profile(res, sv, yv)
+            return np.c_[xl, zl]
+        o = safety.body_outline_xv(sv, d)
+        xv = np.array([o["XBUMP"], o["XTAIL"], o["XTAIL"], o["XBUMP"]])
+        yv = np.array([d["YLFEN"], d["YLFEN"], d["YRFEN"], d["YRFEN"]])
+        x, y = _car_xy_l(res, sv, xv, yv)
+        return np.c_[x, y]
+
+    def update(k):
+        i = frames[k]
+        p = _post_l(res, i)
+        post.set_data(p[:, comp[0]], p[:, comp[1]])
+        if k and k % 5 == 0:
+            j = frames[k - 5]
+            q = _post_l(res, j)
+            (ln,) = ax.plot(
+                q[:, comp[0]],
+                q[:, comp[1]],
+                "-",
+                color=cmap(norm(res.t[j])),
+                lw=1,
+                alpha=0.6,
+                zorder=3,
+            )
+            trail_lines.append(ln)
+        car.set_xy(car_shape(i))
+        label.set_text(
+            f"t = {1000 * res.t[i]:.0f} ms"
+            + ("\n" + res.outcome() if i == len(res.t) - 1 and res.hit else "")
+        )
+        return [post, car, label, *trail_lines]
+
+    anim = FuncAnimation(fig, update, frames=len(frames), blit=False)
+    anim.save(str(out), writer=PillowWriter(fps=fps), dpi=dpi)
+    return len(frames)
+
+
+# ================================================================================== CLI
+
+
+def _run_for_plot(deck, engine, args) -> EngineResult:
+    errata = args.erratum or None
+    res = run_engine(deck, engine, errata=errata, preset=args.preset)
+    if engine == "emulator" and res.errata and not args.erratum:
+        print(f"deck-emulator: {deck.path}: {res.note}", file=sys.stderr)
+    if res.error:
+        print(
+            f"deck-emulator: {deck.path}: the {engine} stopped early: {res.error}", file=sys.stderr
+        )
+    return res
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from deck_emulator.cli import CLIError
+    from deck_emulator.deck import read_deck
+
+    deck = read_deck(args.deck)
+    out = Path(args.out)
+    if out.suffix.lower() != ".png":
+        raise CLIError("--out must name a .png file")
+    if args.every is not None and args.every <= 0:
+        raise CLIError("--every must be positive (ms)")
+    every = None if args.every is None else args.every / 1000.0
+    status = 0
+    if args.pulse:
+        results = []
+        for engine in ENGINES:
+            try:
+                results.append(_run_for_plot(deck, engine, args))
+            except ImportError as exc:  # the core not installed: the emulator alone
+                print(f"deck-emulator: the {engine} is not available ({exc})", file=sys.stderr)
+        results = [r for r in results if r.t.size]
+        if not results:
+            raise CLIError("no engine produced a velocity history")
+        save_pulse(results, out)
+        main = next((r for r in results if r.engine == args.engine), results[0])
+        status = 3 if any(r.error for r in results) else 0
+    else:
+        main = _run_for_plot(deck, args.engine, args)
+        if not main.t.size:
+            raise CLIError(f"the {args.engine} produced no trajectory: {main.error}")
+        save_trajectory(main, out, args.view, every)
+        status = 3 if main.error else 0
+    written = [str(out)]
+    if args.animate:
+        gif = Path(args.animate)
+        if gif.suffix.lower() != ".gif":
+            raise CLIError("--animate must name a .gif file")
+        save_animation(main, gif, "plan" if args.view == "plan" else "side")
+        written.append(str(gif))
+    print(f"deck-emulator: wrote {', '.join(written)}", file=sys.stderr)
+    return status
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Register ``deck-emulator plot``."""
+    from deck_emulator.emulator import ERRATA
+
+    p = sub.add_parser(
+        "plot",
+        help="draw the post's fall (side, plan, 3-d), the vehicle pulse, or an animation",
+        description="Draw the post as a line through its named points at regular instants in "
+        "the report's XL, YL, ZL axes, with the ground, the car at the hit and the hit point "
+        "(--view side|plan|3d|all); or, with --pulse, the car's deceleration and speed over the "
+        "contact for both engines. The emulator gets the ed-direction erratum automatically for "
+        "a deck with ALPHA != 0 (said on stderr); --erratum overrides that choice. Exit status 3 "
+        "if a run stopped early (the picture shows what it computed).",
+    )
+    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    p.add_argument("--out", required=True, metavar="FILE.png", help="the picture to write")
+    p.add_argument("--engine", choices=ENGINES, default="emulator")
+    p.add_argument("--view", choices=VIEWS, default="side")
+    p.add_argument(
+        "--pulse",
+        action="store_true",
+        help="draw the vehicle pulse (both engines) instead of the trajectory",
+    )
+    p.add_argument("--animate", metavar="FILE.gif", help="also write an animated GIF of the fall")
+    p.add_argument(
+        "--erratum",
+        action="append",
+        default=[],
+        choices=sorted(ERRATA),
+        help=f"emulator errata (default: {ERRATUM} where ALPHA != 0, else none)",
+    )
+    p.add_argument(
+        "--preset",
+        choices=("legacy", "physical"),
+        default="legacy",
+        help="core model options (default legacy: the listing's quirks)",
+    )
+    p.add_argument(
+        "--every",
+        type=float,
+        metavar="MS",
+        help="draw the post every MS milliseconds (default: about 20 instants)",
+    )
+    p.set_defaults(func=_cmd_plot)

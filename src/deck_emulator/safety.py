@@ -1,0 +1,472 @@
+"""Occupant-risk numbers a modern reviewer asks for, from the car's velocity history.
+
+Everything here works on plain arrays, so either engine (the emulator's accepted steps,
+the core's dense trajectory) or a hand-made pulse can be judged the same way.
+
+Inputs
+------
+``t`` (s, strictly increasing) and ``vv`` (ft/s): the car's velocity along its path at those
+instants, with the sign the deck uses (VVB < 0: the car moves towards -XV) -- only the
+direction of the first sample matters; the forward speed is ``u = |vv[0]|``-signed. The
+history is taken as **piecewise linear** between samples (the emulator's explicit step
+``VVA = VVB + (H/WV)*FSB`` is exactly that) and **constant after its last sample** (once
+contact with the post is over nothing slows the car: the listing's ``VVFA = VVFB``).
+
+Definitions (numbers in ft, s, ft/s unless the name says otherwise)
+-------------------------------------------------------------------
+* ``delta_v``: ``u(t0) - u(t_end)``, the speed the car lost, in ft/s, m/s and mph.
+* ``max_decel_g``: the largest deceleration between two samples, ``-(du/dt)/G``.
+* ``max_decel_10ms_g``: the largest average deceleration over any 10 ms window,
+  ``(u(t) - u(t + 0.010)) / 0.010 / G`` -- exact for a piecewise-linear history (the
+  maximum of that piecewise-linear function of ``t`` lies on a breakpoint).
+* Flail space (Michie 1981; NCHRP Report 230, kept unchanged in NCHRP Report 350 and
+  MASH): the occupant is a free mass that keeps the car's initial speed ``u0``; it moves
+  forward relative to the car by ``x(t) = integral (u0 - u) dt`` and strikes the interior
+  when ``x`` reaches ``flail_distance`` (0.6 m, the standards' value; 2 ft in the issue's
+  round figure: pass ``flail_distance_ft=2.0`` for that). ``oiv`` is the relative speed
+  ``u0 - u`` then. If the history (the contact) ends before that, the relative speed stays
+  at the car's speed change from then on: that is the OIV, and the strike comes at
+  ``t_end + (D - x_end) / delta_v``. If the car lost no speed, the occupant never strikes:
+  ``oiv = 0`` and no strike time.
+* ``ora_g`` (occupant ridedown acceleration): the largest 10 ms average deceleration of the
+  car over windows that start at or after the strike (0 if the car is no longer slowing).
+
+Limits (see docs/safety.md for where each comes from and how sure it is): :data:`CRITERIA`.
+
+The post's margin to the car body is :func:`body_clearance`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+__all__ = [
+    "G_FT_S2",
+    "FT_PER_M",
+    "MPH_FT_S",
+    "FLAIL_DISTANCE_M",
+    "WINDOW_S",
+    "Criterion",
+    "CRITERIA",
+    "rate",
+    "PulseMetrics",
+    "assess",
+    "delta_v",
+    "max_deceleration",
+    "max_window_average",
+    "flail_space",
+    "Clearance",
+    "body_clearance",
+    "body_outline_xv",
+]
+
+#: Standard gravity in ft/s^2, the deck's G (32.174).
+G_FT_S2 = 32.174
+#: 1 m in ft.
+FT_PER_M = 1.0 / 0.3048
+#: 1 mph in ft/s.
+MPH_FT_S = 88.0 / 60.0
+#: The flail-space model's longitudinal travel, m (NCHRP 350 / MASH: 0.6 m, "2.0 ft").
+FLAIL_DISTANCE_M = 0.6
+#: The averaging window of the 10 ms average deceleration and of the ridedown acceleration, s.
+WINDOW_S = 0.010
+
+
+# ----------------------------------------------------------------------------------- criteria
+
+
+@dataclass(frozen=True)
+class Criterion:
+    """A limit: ``preferred`` and ``maximum`` in ``unit``; ``source`` says where it is from."""
+
+    name: str
+    quantity: str
+    unit: str
+    preferred: float | None
+    maximum: float
+    source: str
+
+    def label(self) -> str:
+        pref = f"≤ {self.preferred:g} preferred, " if self.preferred is not None else ""
+        return f"{pref}≤ {self.maximum:g} {self.unit} max"
+
+
+#: The limits the numbers are judged by (breakaway supports; see docs/safety.md).
+CRITERIA: Mapping[str, Criterion] = {
+    "oiv": Criterion(
+        "OIV",
+        "longitudinal occupant impact velocity",
+        "m/s",
+        3.0,
+        5.0,
+        "NCHRP Report 350 (1993) and MASH, breakaway supports: 3.0 m/s (10 ft/s) preferred, "
+        "5.0 m/s (16 ft/s) acceptable",
+    ),
+    "ora": Criterion(
+        "ORA",
+        "longitudinal occupant ridedown acceleration",
+        "g",
+        15.0,
+        20.0,
+        "NCHRP Report 350 / MASH occupant-risk criterion: 15 g preferred, 20 g maximum "
+        "(20 g checked; 15 g from memory, not found in a source here)",
+    ),
+    "delta_v_1985": Criterion(
+        "ΔV (1985)",
+        "vehicle velocity change",
+        "ft/s",
+        10.0,
+        15.0,
+        "1985 AASHTO structural-supports specification (from memory, unverified): "
+        "10 ft/s desirable, about 15 ft/s at most",
+    ),
+}
+
+
+def rate(value: float | None, criterion: Criterion) -> str:
+    """'preferred', 'acceptable' or 'exceeds' (or '' when there is no value)."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    if criterion.preferred is not None and value <= criterion.preferred:
+        return "preferred"
+    return "acceptable" if value <= criterion.maximum else "exceeds"
+
+
+# ------------------------------------------------------------------------------- the history
+
+
+def _history(t, vv):
+    t = np.asarray(t, dtype=float)
+    vv = np.asarray(vv, dtype=float)
+    if t.ndim != 1 or t.shape != vv.shape:
+        raise ValueError("t and vv must be 1-d arrays of the same length")
+    if t.size < 2:
+        raise ValueError("a velocity history needs at least two samples")
+    if not np.all(np.isfinite(t)) or not np.all(np.isfinite(vv)):
+        raise ValueError("t and vv must be finite")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("t must be strictly increasing")
+    sign = -1.0 if vv[0] < 0 else 1.0
+    return t, sign * vv  # forward speed u
+
+
+def _speed_at(t, u, x):
+    """u at times x: linear between samples, constant outside."""
+    return np.interp(x, t, u)
+
+
+def delta_v(t, vv) -> float:
+    """Speed lost over the history, ft/s."""
+    t, u = _history(t, vv)
+    return float(u[0] - u[-1])
+
+
+def max_deceleration(t, vv) -> tuple[float, float]:
+    """Largest deceleration between two samples: (ft/s^2, time at the middle of the interval)."""
+    t, u = _history(t, vv)
+    a = -np.diff(u) / np.diff(t)
+    k = int(np.argmax(a))
+    return float(a[k]), float(0.5 * (t[k] + t[k + 1]))
+
+
+def max_window_average(
+    t, vv, window: float = WINDOW_S, start: float | None = None
+) -> tuple[float, float | None]:
+    """Largest average deceleration over ``window`` seconds, for windows starting at or after
+    ``start`` (default: the first sample): (ft/s^2, window start). The history is constant
+    after its end, so late windows count the quiet tail. Returns (0.0, None) when no window
+    decelerates."""
+    t, u = _history(t, vv)
+    lo = t[0] if start is None else max(float(start), t[0])
+    if lo >= t[-1]:
+        return 0.0, None
+    cand = np.concatenate([t, t - window, [lo]])
+    cand = np.unique(cand[(cand >= lo) & (cand <= t[-1])])
+    avg = (_speed_at(t, u, cand) - _speed_at(t, u, cand + window)) / window
+    k = int(np.argmax(avg))
+    if avg[k] <= 0:
+        return 0.0, None
+    return float(avg[k]), float(cand[k])
+
+
+@dataclass(frozen=True)
+class FlailSpace:
+    oiv_ft_s: float
+    strike_time_s: float | None  # None: the occupant never strikes (no speed change)
+    strike_after_contact: bool  # the history ended before the occupant had moved D
+    ora_ft_s2: float
+    ora_window_start_s: float | None
+    distance_ft: float
+
+
+def flail_space(
+    t, vv, *, flail_distance_ft: float = FLAIL_DISTANCE_M * FT_PER_M, window: float = WINDOW_S
+) -> FlailSpace:
+    """The flail-space model on a piecewise-linear history (see the module docstring)."""
+    t, u = _history(t, vv)
+    D = float(flail_distance_ft)
+    if D <= 0:
+        raise ValueError("flail distance must be positive")
+    u0 = u[0]
+    rel = u0 - u  # relative speed of the occupant, at the samples
+    dt = np.diff(t)
+    x = np.concatenate([[0.0], np.cumsum(0.5 * (rel[:-1] + rel[1:]) * dt)])
+    hit = np.nonzero(x >= D)[0]
+    if hit.size:
+        k = int(hit[0]) - 1  # strike inside [t_k, t_k+1]
+        # x(s) = x_k + r_k s + (r_k1 - r_k) s^2 / (2 h) = D on 0 < s <= h
+        h, rk, rk1 = dt[k], rel[k], rel[k + 1]
+        a, b, c = (rk1 - rk) / (2 * h), rk, x[k] - D
+        if abs(a) < 1e-15 * max(abs(b), 1.0):
+            s = -c / b
+        else:
+            disc = max(b * b - 4 * a * c, 0.0)
+            roots = [(-b + sq) / (2 * a) for sq in (math.sqrt(disc), -math.sqrt(disc))]
+            inside = [r for r in roots if -1e-12 <= r <= h * (1 + 1e-12)]
+            s = min(inside) if inside else h
+        ts = float(t[k] + s)
+        oiv = float(rk + (rk1 - rk) * s / h)
+        after = False
+    else:
+        dv = float(rel[-1])
+        if dv <= 0:
+            return FlailSpace(0.0, None, True, 0.0, None, D)
+        ts = float(t[-1] + (D - x[-1]) / dv)
+        oiv = dv
+        after = True
+    ora, start = max_window_average(t, u, window, start=ts)
+    return FlailSpace(oiv, ts, after, ora, start, D)
+
+
+# ------------------------------------------------------------------------------------ assess
+
+
+@dataclass(frozen=True)
+class PulseMetrics:
+    """The occupant-risk numbers of one velocity history (see the module docstring)."""
+
+    delta_v_ft_s: float
+    delta_v_m_s: float
+    delta_v_mph: float
+    max_decel_g: float
+    max_decel_time_s: float
+    max_decel_10ms_g: float
+    max_decel_10ms_start_s: float | None
+    oiv_ft_s: float
+    oiv_m_s: float
+    occupant_strike_time_s: float | None
+    strike_after_contact: bool
+    ora_g: float
+    ora_window_start_s: float | None
+    flail_distance_ft: float
+    oiv_rating: str
+    ora_rating: str
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+    def lines(self) -> list[str]:
+        """Human-readable lines, with the limits of the criteria."""
+        ms = lambda s: "never" if s is None else f"{1000 * s:.1f} ms"
+        oiv, ora = CRITERIA["oiv"], CRITERIA["ora"]
+        when = " (after contact ended: relative speed = ΔV)" if self.strike_after_contact else ""
+        return [
+            f"ΔV {self.delta_v_ft_s:.3f} ft/s = {self.delta_v_m_s:.3f} m/s = {self.delta_v_mph:.3f} mph",
+            f"max deceleration {self.max_decel_g:.2f} g at {ms(self.max_decel_time_s)}; "
+            f"max 10 ms average {self.max_decel_10ms_g:.2f} g",
+            f"OIV {self.oiv_m_s:.2f} m/s ({self.oiv_ft_s:.2f} ft/s), occupant strikes at "
+            f"{ms(self.occupant_strike_time_s)}{when}: {self.oiv_rating} ({oiv.label()})",
+            f"ORA {self.ora_g:.2f} g: {self.ora_rating} ({ora.label()})",
+        ]
+
+
+def assess(
+    t,
+    vv,
+    *,
+    g: float = G_FT_S2,
+    flail_distance_ft: float = FLAIL_DISTANCE_M * FT_PER_M,
+    window: float = WINDOW_S,
+) -> PulseMetrics:
+    """All the pulse numbers of a velocity history ``(t s, vv ft/s)``."""
+    t, u = _history(t, vv)
+    dv = float(u[0] - u[-1])
+    amax, tmax = max_deceleration(t, u)
+    a10, t10 = max_window_average(t, u, window)
+    fs = flail_space(t, u, flail_distance_ft=flail_distance_ft, window=window)
+    oiv_m_s = fs.oiv_ft_s / FT_PER_M
+    ora_g = fs.ora_ft_s2 / g
+    return PulseMetrics(
+        delta_v_ft_s=dv,
+        delta_v_m_s=dv / FT_PER_M,
+        delta_v_mph=dv / MPH_FT_S,
+        max_decel_g=amax / g,
+        max_decel_time_s=tmax,
+        max_decel_10ms_g=a10 / g,
+        max_decel_10ms_start_s=t10,
+        oiv_ft_s=fs.oiv_ft_s,
+        oiv_m_s=oiv_m_s,
+        occupant_strike_time_s=fs.strike_time_s,
+        strike_after_contact=fs.strike_after_contact,
+        ora_g=ora_g,
+        ora_window_start_s=fs.ora_window_start_s,
+        flail_distance_ft=fs.distance_ft,
+        oiv_rating=rate(oiv_m_s, CRITERIA["oiv"]),
+        ora_rating=rate(ora_g, CRITERIA["ora"]),
+    )
+
+
+# ---------------------------------------------------------------------- the post over the car
+
+#: Names of the deck values the car body needs.
+BODY_NAMES = ("HLEN", "TLEN", "TRLEN", "HHV", "HTV", "HTRV", "YLFEN", "YRFEN", "ALPHA")
+
+
+def body_outline_xv(sv: float, d: Mapping[str, float]) -> dict[str, float]:
+    """The car's profile along XV at car position ``sv`` (deck names, eq. 3.36-3.38):
+    bumper, windshield (= hood end, SV), end of top, tail."""
+    xbump = sv - d["HLEN"]
+    xentop = sv + d["TLEN"]
+    return {"XBUMP": xbump, "SV": sv, "XENTOP": xentop, "XTAIL": xentop + d["TRLEN"]}
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """Least vertical clearance of the post above the car body while over it (ft).
+
+    ``body_ft``: over the whole outline (hood, roof, trunk); ``roof_ft``: over the passenger
+    compartment only (windshield base SV to the end of the top XENTOP: the roof line HTV,
+    below which the listing calls it the windshield). ``None``: the post was never over
+    that part of the car. Negative: the post's line is inside the outline (a hit, or a
+    pass through the body the listing does not see because it tests only P, R and C).
+    ``*_time_s`` when, ``*_surface`` over what (hood, roof, trunk), ``*_where`` the place
+    on the post (``Q-P 0.73``: 73 % of the way from Q to P). ``touch_time_s``: the first
+    instant any place on the post's line is inside the outline (None: never) -- when the post
+    would meet the car if the whole line were checked, not just P, R and C as the listing does;
+    ``touch_surface`` what it meets first.
+    """
+
+    body_ft: float | None
+    body_time_s: float | None
+    body_surface: str | None
+    body_where: str | None
+    roof_ft: float | None
+    roof_time_s: float | None
+    roof_where: str | None
+    instants: int
+    touch_time_s: float | None = None
+    touch_surface: str | None = None
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def _segments(points: Mapping[str, np.ndarray]):
+    """The post as segments (label, A (n,3), B (n,3)): Q-P, P-R, and C as a point if it is
+    not on them."""
+    out = []
+    chain = [k for k in ("Q", "P", "R") if k in points]
+    for a, b in zip(chain, chain[1:]):
+        out.append((f"{a}-{b}", np.asarray(points[a], float), np.asarray(points[b], float)))
+    if "C" in points:
+        c = np.asarray(points["C"], float)
+        if not any(np.allclose(c, np.asarray(points[k], float)) for k in chain):
+            out.append(("C", c, c))
+    return out
+
+
+def _clip(ax, ay, dx, dy, x0, x1, y0, y1):
+    """Liang-Barsky: the parameter interval [lo, hi] of A + s*(B - A), s in [0, 1], inside the
+    rectangle x0 <= x <= x1, y0 <= y <= y1 (vectorised); ok where it is not empty."""
+    lo = np.zeros_like(ax)
+    hi = np.ones_like(ax)
+    ok = np.ones(ax.shape, dtype=bool)
+    for p, q in ((-dx, ax - x0), (dx, x1 - ax), (-dy, ay - y0), (dy, y1 - ay)):
+        zero = p == 0
+        ok &= ~(zero & (q < 0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = np.where(zero, 0.0, q / np.where(zero, 1.0, p))
+        lo = np.where(~zero & (p < 0), np.maximum(lo, r), lo)
+        hi = np.where(~zero & (p > 0), np.minimum(hi, r), hi)
+    return lo, hi, ok & (lo <= hi)
+
+
+def body_clearance(
+    times, points: Mapping[str, np.ndarray], sv, d: Mapping[str, float], *, free=None
+) -> Clearance:
+    """The post's least clearance above the car body (see :class:`Clearance`).
+
+    ``times`` (n,) s; ``points`` name -> (n, 3) positions in XX, YY, ZZ (ft) of Q, P, R
+    (and C); ``sv`` (n,) the car's position; ``d`` the deck values (:data:`BODY_NAMES`);
+    ``free`` (n,) bool, the free-flight instants (default: all).
+
+    Exact for straight segments: each segment Q-P, P-R is clipped to the footprint of the
+    hood, the top and the trunk (in XV, YV), and its height above that part's surface is
+    least at an end of the clipped piece. A (segment, part) pair counts only from the first
+    free-flight instant at which the segment is not inside that part: right after separation
+    the foot of the post can still be inside the *undeformed* outline (the crush the car
+    took), which is not a post falling on the car.
+    """
+    times = np.asarray(times, dtype=float)
+    sv = np.asarray(sv, dtype=float)
+    n = times.size
+    free = np.ones(n, dtype=bool) if free is None else np.asarray(free, dtype=bool)
+    idx = np.nonzero(free)[0]
+    ca, sa = math.cos(d["ALPHA"]), math.sin(d["ALPHA"])
+    o = body_outline_xv(sv[idx], d)
+    parts = (
+        ("hood", o["XBUMP"], o["SV"], d["HHV"]),
+        ("roof", o["SV"], o["XENTOP"], d["HTV"]),
+        ("trunk", o["XENTOP"], o["XTAIL"], d["HTRV"]),
+    )
+    t = times[idx]
+    body = roof = touch = None  # (clearance, time, surface, where) / (time, surface)
+    for label, A, B in _segments(points):
+        A, B = A[idx], B[idx]
+        axv, ayv = A[:, 0] * ca - A[:, 1] * sa, A[:, 0] * sa + A[:, 1] * ca
+        bxv, byv = B[:, 0] * ca - B[:, 1] * sa, B[:, 0] * sa + B[:, 1] * ca
+        dx, dy, dz = bxv - axv, byv - ayv, B[:, 2] - A[:, 2]
+        for surface, x0, x1, top in parts:
+            lo, hi, ok = _clip(axv, ayv, dx, dy, x0, x1, d["YLFEN"], d["YRFEN"])
+            z_lo, z_hi = A[:, 2] + lo * dz, A[:, 2] + hi * dz
+            clear = np.minimum(z_lo, z_hi) - top
+            at = np.where(z_lo <= z_hi, lo, hi)
+            outside = ~ok | (clear >= 0)
+            if not outside.any():
+                continue
+            first = int(np.argmax(outside))
+            count = ok.copy()
+            count[:first] = False
+            if not count.any():
+                continue
+            k = int(np.argmin(np.where(count, clear, np.inf)))
+            c = float(clear[k])
+            where = label if label == "C" else f"{label} {at[k]:.2f}"
+            if body is None or c < body[0]:
+                body = (c, float(t[k]), surface, where)
+            if surface == "roof" and (roof is None or c < roof[0]):
+                roof = (c, float(t[k]), where)
+            inside = count & (clear < 0)
+            if inside.any():
+                j = int(np.argmax(inside))
+                if touch is None or t[j] < touch[0]:
+                    touch = (float(t[j]), surface)
+    b = body or (None,) * 4
+    r = roof or (None,) * 3
+    tt = touch or (None, None)
+    return Clearance(
+        body_ft=b[0],
+        body_time_s=b[1],
+        body_surface=b[2],
+        body_where=b[3],
+        roof_ft=r[0],
+        roof_time_s=r[1],
+        roof_where=r[2],
+        instants=int(idx.size),
+        touch_time_s=tt[0],
+        touch_surface=tt[1],
+    )
