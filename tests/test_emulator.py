@@ -144,3 +144,15 @@ def test_trace_and_events_follow_the_printout():
     assert run.events[-1][1] == pytest.approx(printed_times[-1], abs=5e-6)
     assert run.trace[-1]["t"] == pytest.approx(run.events[-1][1])
     assert [r["phase"] for r in run.trace].count("contact") > 100
+
+
+def test_variables_read_before_assignment_are_zero():
+    """As on the 7094 (and gfortran -fno-automatic -finit-local-zero): the first printout after
+    a start-up step reads THAD, which only label 44 sets; it must print 0, not fail."""
+    from deck_emulator.emulator import Program
+
+    for precision in ("double", "single"):
+        program = Program(read_deck(ROOT / "decks" / "steel40.dat"), precision)
+        assert program.v.THAD == 0 and program.v.DIFFB == 0
+        assert type(program.v.LL) is int and program.v.LL == 0  # I-N: INTEGER
+        assert type(program.v.THAD) is not int

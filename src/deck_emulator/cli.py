@@ -337,6 +337,13 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
     add_parser(sub)
 
 
+@_subcommand
+def _add_study(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.study import add_parser
+
+    add_parser(sub)
+
+
 # --------------------------------------------------------------------------- main
 
 

@@ -62,9 +62,13 @@ def core_summary(result) -> dict:
 
 
 def legacy_options(h: float):
-    """The core's legacy preset for an emulator step h."""
-    return replace(LEGACY, startup_kick=replace(LEGACY.startup_kick or StartupKick(), step_s=h),
-                   force_cap_from_s=20 * h)
+    """The core's legacy preset matched to the emulator at step h = H0/2**k: the start-up kick
+    lasts one step h and tilts the post by 0.000022*h/H0 (both one-step literals of the
+    emulator), and the FCONST cap is armed where the emulator arms it at every k: its label 358
+    tests LL-20*2**k, so the first capped force is that of step 20*2**k + 1, at 20*H0 + h."""
+    kick = LEGACY.startup_kick or StartupKick()
+    kick = replace(kick, step_s=h, tilt_at_step_rad=kick.tilt_at_step_rad * h / H0)
+    return replace(LEGACY, startup_kick=kick, force_cap_from_s=20 * H0 + h)
 
 
 def max_trajectory_distance(run: Run, result) -> float:

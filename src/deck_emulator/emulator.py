@@ -44,6 +44,7 @@ STEP_LITERALS = (
     "HI=0.0004, H=0.0004 (initial values)",
     "IF(Q-0.0004) at label 125 (first step: the start-up at label 123)",
     "IF(Q-.0004) before label 83 (first step: FSA=1320.0)",
+    "THA=0.000022 at label 123 (the tilt after the first step: 0.0545 rad/s * 0.0004 s, rounded)",
     "E=E+.0004 (contact print counter: one step)",
     "IF(LL-20) before label 501 (the FCONST cap after 20 steps = 8 ms: 20*2**k steps)",
     "H=0.0004, HI=0.0004 at labels 354 and 42 (step reset)",
@@ -89,11 +90,18 @@ class Run:
 
 class _Vars:
     """The variables of one program unit. Every assignment of a real is checked: a NaN or an
-    infinity stops the run at that statement (as gfortran's trapping build does)."""
+    infinity stops the run at that statement (as gfortran's trapping build does). A variable
+    read before any assignment is zero, as in the 7094's cleared core (and gfortran's
+    -fno-automatic -finit-local-zero): INTEGER by FORTRAN's implicit rule (I-N) or REAL."""
 
-    def __init__(self, isfinite):
+    def __init__(self, isfinite, zero):
         object.__setattr__(self, "_isfinite", isfinite)
-        object.__setattr__(self, "_last", None)
+        object.__setattr__(self, "_zero", zero)
+
+    def __getattr__(self, name):  # only for names never assigned
+        if name.startswith("_"):
+            raise AttributeError(name)
+        return 0 if name[0] in "IJKLMN" else self._zero
 
     def __setattr__(self, name, value):
         if type(value) is not int and not self._isfinite(value):
@@ -225,7 +233,8 @@ class Program:
         self.deck = deck
         self.keep_trace = trace
         self._consts: dict[str, object] = {}
-        self.v = _Vars(self.ar.isfinite)
+        self.v = _Vars(self.ar.isfinite, self.ar.decimal("0.0"))
+        self.free_flight = False
         self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
         self.ed_tolerance = ed_tolerance
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
@@ -261,9 +270,8 @@ class Program:
         return self.ar.ipow(x, 2)
 
     def time(self):
-        v = self.v
-        t = getattr(v, "T", None) if getattr(v, "M", 0) == 2 and hasattr(v, "TF") else getattr(v, "Q", None)
-        return None if t is None else self.ar.to_float(t)
+        """Simulated time: Q in contact, T in free flight."""
+        return self.ar.to_float(self.v.T if self.free_flight else self.v.Q)
 
     def _record(self, phase: str):
         if not self.keep_trace:
@@ -274,14 +282,16 @@ class Program:
                        VV=f(v.VVA), SV=f(v.SVA), FS=f(v.FSA),
                        XP=f(v.XPA), YYP=f(v.YYPA), ZZP=f(v.ZZPA), XQ=f(v.XQA), YYQ=f(v.YYQA),
                        ZZQ=f(v.ZZQA), XR=f(v.XRA), YYR=f(v.YYRA), ZZR=f(v.ZZRA),
-                       TH=f(v.THA), PHI=f(v.PHIA), PSI=f(v.PSIA))
+                       TH=f(v.THA), PHI=f(v.PHIA), PSI=f(v.PSIA),
+                       V1=f(v.V1A), V2=f(v.V2A), V3=f(v.V3A), W1=f(v.W1A), W2=f(v.W2A), W3=f(v.W3A))
         else:
             row = dict(phase=phase, t=f(v.T), XCM=f(v.XCMFA), YYCM=f(v.YYCMFA), ZZCM=f(v.ZZCMFA),
                        VV=f(v.VVFA), SV=f(v.SVFA), FS=0.0,
                        XP=f(v.XPFA), YYP=f(v.YYPFA), ZZP=f(v.ZZPFA), XQ=f(v.XQFA), YYQ=f(v.YYQFA),
                        ZZQ=f(v.ZZQFA), XR=f(v.XRFA), YYR=f(v.YYRFA), ZZR=f(v.ZZRFA),
                        XC=f(v.XCFA), YYC=f(v.YYCFA), ZZC=f(v.ZZCFA),
-                       TH=f(v.THFA), PHI=f(v.PHIFA), PSI=f(v.PSIFA))
+                       TH=f(v.THFA), PHI=f(v.PHIFA), PSI=f(v.PSIFA),
+                       V1=f(v.V1FA), V2=f(v.V2FA), V3=f(v.V3FA), W1=f(v.W1FA), W2=f(v.W2FA), W3=f(v.W3FA))
         self.run_.trace.append(row)
 
     def _event(self, label: int, t):
@@ -392,7 +402,7 @@ class Program:
         v.THDA = K("0.0545")
         v.PHIDA = K("0.0")
         v.PSIDA = K("0.0")
-        v.THA = K(self.tha_start) if self.tha_start is not None else K("0.000022")
+        v.THA = K(self.tha_start) if self.tha_start is not None else self.KSTEP("0.000022")
         v.PHIA = K("0.0")
         v.PSIA = K("0.0")
         return 124
@@ -696,6 +706,7 @@ class Program:
 
     def L42(self):  # POST LOSES CONTACT WITH THE VEHICLE
         v = self.v
+        self.free_flight = True
         self.printer.write(100)
         self._event(100, v.Q)
         self._record("contact")

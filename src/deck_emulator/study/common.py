@@ -1,0 +1,289 @@
+"""What both studies share: one emulator run, one core run, energies, the machine, the files.
+
+An emulator run here is :class:`~deck_emulator.emulator.Program` with its trace rows extended by
+the body velocities ``V1, V2, V3`` and angular velocities ``W1, W2, W3`` of the step (the
+listing's ``V1A ...`` in contact, ``V1FA ...`` in free flight), so that the kinetic energy of
+every accepted step is known.  Every failure is caught and described: a guard of the emulator
+(:class:`~deck_emulator.emulator.EmulatorError` with its ``guard``) or any other exception (an
+emulator defect: ``guard = "crash"``).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import csv
+import datetime
+import math
+import os
+import platform
+import statistics
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from deck_emulator.diff import legacy_options
+from deck_emulator.core import kinetic_energy, simulate
+from deck_emulator.emulator import EmulatorError, Limits, Program
+
+H0 = 0.0004  # the listing's step, s
+HIT = "HIT"
+VEHICLE_LOST = "THE POST HAS LOST CONTACT WITH THE VEHICLE"
+#: the emulator's errata in every study run: ED steps towards its root (no effect at alpha = 0
+#: on steel40, needed by every angled deck)
+ERRATA = ("ed-direction",)
+_BODY_RATES = ("V1", "V2", "V3", "W1", "W2", "W3")
+
+
+matched_options = legacy_options  # one definition: deck_emulator.diff.legacy_options
+
+
+def default_deck() -> Path:
+    """The repository's ``decks/steel40.dat`` (the studies' base scene)."""
+    return Path(__file__).resolve().parents[3] / "decks" / "steel40.dat"
+
+
+# --------------------------------------------------------------------------- the emulator
+
+
+_DEFAULT_LIMITS = Limits()
+
+
+def run_emulator(deck, *, precision="double", k=0, tha_start=None, ed_tolerance=".0001",
+                 limits=_DEFAULT_LIMITS, errata=ERRATA) -> dict:
+    """One emulator run -> {status, guard, error, run, wall_s}.
+
+    ``status``: ``"hit"`` (ended by a hit message), ``"guard"`` (a guard of the emulator fired:
+    ``guard`` is its name), ``"crash"`` (any other exception: a defect), ``"stop"`` (ended
+    without a hit message)."""
+    prog = Program(deck, precision, errata=errata, step_scale_k=k, tha_start=tha_start,
+                          ed_tolerance=ed_tolerance, limits=limits)
+    started = time.perf_counter()
+    status, guard, error = "stop", "", ""
+    try:
+        run = prog.run()
+    except EmulatorError as exc:
+        run, status, guard = prog.run_, "guard", exc.guard or "?"
+        error = str(exc)
+    except Exception as exc:  # noqa: BLE001 - an emulator defect, recorded as such
+        run, status, guard = prog.run_, "crash", "crash"
+        error = f"{type(exc).__name__}: {exc} (label {prog.label}, step {prog.step})"
+    wall = time.perf_counter() - started
+    if status == "stop" and run.events and HIT in run.events[-1][0]:
+        status = "hit"
+    return {"status": status, "guard": guard, "error": error, "run": run, "wall_s": wall}
+
+
+def emulator_hit(run) -> tuple[str, float | None]:
+    if run.events and HIT in run.events[-1][0]:
+        return run.events[-1][0], run.events[-1][1]
+    return "", None
+
+
+def emulator_trajectory(run) -> tuple[np.ndarray, np.ndarray]:
+    """Times (n,) and mass centres (3, n) of the accepted steps."""
+    t = np.array([r["t"] for r in run.trace], dtype=float)
+    xyz = np.array([[r["XCM"], r["YYCM"], r["ZZCM"]] for r in run.trace], dtype=float).T
+    return t, xyz.reshape(3, -1)
+
+
+def emulator_energies(run, deck) -> dict:
+    """Kinetic energy of the post when the car lets go, and the free-flight energy drift.
+
+    ``launch_ke_ftlb``: kinetic energy at the last contact step.  ``free_drift``: (E_end -
+    E_start) / E_start over the free-flight steps, E = kinetic + W G (ZZ + HEIGHT)."""
+    d = deck.values
+    mass, g, depth = d["W"], d["G"], d["HEIGHT"]
+    inertia = (d["A"], d["B"], d["C"])
+
+    def energy(row, potential=True):
+        ke = 0.5 * mass * (row["V1"] ** 2 + row["V2"] ** 2 + row["V3"] ** 2) + 0.5 * (
+            inertia[0] * row["W1"] ** 2 + inertia[1] * row["W2"] ** 2 + inertia[2] * row["W3"] ** 2)
+        return ke + (mass * g * (row["ZZCM"] + depth) if potential else 0.0)
+
+    contact = [r for r in run.trace if r["phase"] == "contact"]
+    free = [r for r in run.trace if r["phase"] != "contact"]
+    out = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
+    if contact and free:
+        out["launch_ke_ftlb"] = energy(contact[-1], potential=False)
+    if len(free) >= 2:
+        e0, e1 = energy(free[0]), energy(free[-1])
+        out["free_drift"] = (e1 - e0) / e0 if e0 else math.nan
+    return out
+
+
+# --------------------------------------------------------------------------- the core
+
+
+def run_core(scene, options, *, method="DOP853", rtol=1e-9, atol=None, t_max_s=10.0) -> dict:
+    """One core run -> {status, error, result, wall_s}; ``status`` "hit", "no hit" (t_max
+    reached) or "error" (CoreError or any exception, in ``error``)."""
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            result = simulate(scene, options, method=method, rtol=rtol,
+                              atol=rtol if atol is None else atol, t_max_s=t_max_s)
+        except Exception as exc:  # noqa: BLE001 - CoreError or a defect: recorded
+            return {"status": "error", "error": f"{type(exc).__name__}: {exc}", "result": None,
+                    "wall_s": time.perf_counter() - started, "warnings": _warnings(caught)}
+    wall = time.perf_counter() - started
+    return {"status": "hit" if result.hit else "no hit", "error": "", "result": result,
+            "wall_s": wall, "warnings": _warnings(caught)}
+
+
+def _warnings(caught) -> str:
+    """The distinct warnings of a run (scipy's, e.g. a NaN in an error estimate it recovered from)."""
+    seen = []
+    for w in caught:
+        text = f"{w.category.__name__}: {w.message}"
+        if text not in seen:
+            seen.append(text)
+    return "; ".join(seen)
+
+
+def core_energies(result) -> dict:
+    """As :func:`emulator_energies`, for a core run (the car lets go at
+    ``vehicle_contact_lost_s``; free flight ends at the hit or at the end of the run)."""
+    out = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
+    t0 = result.vehicle_contact_lost_s
+    if t0 is None:
+        return out
+    post = result.scene.post
+    mass, inertia = post.mass_slug, post.principal_inertia_slug_ft2
+    g, depth = result.scene.environment.gravity_ft_s2, result.scene.environment.ground_depth_ft
+    traj = result.trajectory
+    t1 = min(result.end_time_s, traj.t_end)
+
+    def energy(t, potential=True):
+        y = traj.state(t)
+        ke = float(kinetic_energy(y[:13], mass, inertia))
+        return ke + (mass * g * float(y[2] + depth) if potential else 0.0)
+
+    out["launch_ke_ftlb"] = energy(t0, potential=False)
+    if t1 > t0:
+        e0 = energy(t0)
+        out["free_drift"] = (energy(t1) - e0) / e0 if e0 else math.nan
+    return out
+
+
+# --------------------------------------------------------------------------- timing, processes
+
+
+def median_wall(fn, reps: int) -> tuple[float, list[float], object]:
+    """Run ``fn`` ``reps`` times: (median wall time, all times, the first run's value).
+    ``fn`` returns (value, wall seconds)."""
+    times, first = [], None
+    for i in range(max(1, reps)):
+        value, wall = fn()
+        times.append(wall)
+        if i == 0:
+            first = value
+    return statistics.median(times), times, first
+
+
+def parallel_map(fn, tasks: list, jobs: int | None, progress=None) -> list:
+    """``[fn(t) for t in tasks]`` over ``jobs`` processes (in order); ``jobs=1``: in this process."""
+    jobs = jobs or os.cpu_count() or 1
+    if jobs <= 1 or len(tasks) <= 1:
+        out = []
+        for i, t in enumerate(tasks):
+            out.append(fn(t))
+            if progress:
+                progress(i + 1, len(tasks))
+        return out
+    results: list = [None] * len(tasks)
+    with concurrent.futures.ProcessPoolExecutor(max_workers=jobs) as pool:
+        futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
+        for done, fut in enumerate(concurrent.futures.as_completed(futures), start=1):
+            results[futures[fut]] = fut.result()
+            if progress:
+                progress(done, len(tasks))
+    return results
+
+
+def stderr_progress(name: str):
+    def report(done, total):
+        if done == total or done % max(1, total // 10) == 0:
+            print(f"{name}: {done}/{total} runs", file=sys.stderr, flush=True)
+
+    return report
+
+
+# --------------------------------------------------------------------------- files
+
+
+def machine() -> dict:
+    import matplotlib
+    import scipy
+
+    return {
+        "date": datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "matplotlib": matplotlib.__version__,
+        "platform": platform.platform(),
+        "load": " / ".join(f"{x:.2f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "?",
+    }
+
+
+def machine_line(m: dict, jobs: int, wall_s: float) -> str:
+    return (f"Run on {m['date']} on a machine with **{m['cores']} cores** (`os.cpu_count()`), "
+            f"{jobs} worker process(es), load average {m['load']} at the start; Python "
+            f"{m['python']}, NumPy {m['numpy']}, SciPy "
+            f"{m['scipy']}, Matplotlib {m['matplotlib']} ({m['platform']}). The whole study took "
+            f"{wall_s:.0f} s.")
+
+
+def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
+        w.writeheader()
+        for row in rows:
+            w.writerow({c: fmt_csv(row.get(c)) for c in columns})
+
+
+def fmt_csv(v):
+    if v is None:
+        return ""
+    if isinstance(v, (float, np.floating)):
+        return "" if math.isnan(v) else repr(float(v))
+    if isinstance(v, np.integer):
+        return int(v)
+    return v
+
+
+def fmt(v, spec=".3g", none="–") -> str:
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return none
+    if isinstance(v, float):
+        return format(v, spec)
+    return str(v)
+
+
+def md_table(header: list[str], rows: list[list]) -> str:
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(out)
+
+
+def fit_slope(x, y) -> float:
+    """Least-squares slope of log10(y) against log10(x) over the finite positive points."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    keep = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
+    if keep.sum() < 2:
+        return math.nan
+    return float(np.polyfit(np.log10(x[keep]), np.log10(y[keep]), 1)[0])
+
+
+def agg_backend():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt

@@ -1,0 +1,746 @@
+"""Stability study: the emulator and the core on stiff and extreme scenes derived from steel40.
+
+Every scene is run by the emulator (double precision, erratum ``ed-direction``, the guards of
+:data:`LIMITS`) and by the core (``legacy`` preset with the start-up kick and the 20-step
+``FCONST`` arming of the emulator's step, DOP853, rtol = atol = 1e-9, ``t_max_s = 3``).  What
+is recorded for each: how the run ended (the hit message and time, or the guard that fired, or
+the exception), when the car let go, the post's kinetic energy then (the "launch" energy), and
+the drift of the post's total energy over the free flight (in free flight only gravity acts,
+so it should stay constant).
+
+The emulator's end is then classed against the core's: ``agrees`` (same hit, hit times within
+:data:`AGREE_HIT_S`, launch energies within :data:`AGREE_KE`), ``same hit, off`` (same hit,
+further apart), ``other hit`` (it ends cleanly, with another answer), ``no hit`` (time limit),
+``guard: NAME``, ``crash`` (an exception the emulator does not expect), ``n/a`` (the scene's
+change is not a deck input), ``hit (core failed)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from deck_emulator.deck import read_deck
+from deck_emulator.diff import ed_tolerance as tight_ed_tolerance
+from deck_emulator.emulator import Limits
+from deck_emulator.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
+
+from .common import (
+    ERRATA,
+    H0,
+    VEHICLE_LOST,
+    agg_backend,
+    core_energies,
+    default_deck,
+    emulator_energies,
+    emulator_hit,
+    emulator_trajectory,
+    fmt,
+    machine,
+    machine_line,
+    matched_options,
+    md_table,
+    parallel_map,
+    run_core,
+    run_emulator,
+    stderr_progress,
+    write_csv,
+)
+
+LIMITS = Limits(ed_iterations=20000, halvings=30, time_s=3.0)
+CORE_RTOL = 1e-9
+CORE_T_MAX_S = 3.0
+AGREE_HIT_S = 0.01
+AGREE_KE = 0.10
+FT_S_PER_MPH = 5280.0 / 3600.0
+
+COLUMNS = [
+    "scene", "group", "description", "CK_lb_ft", "k", "H_s", "h_omega", "speed_mph", "alpha_deg",
+    "emulator_class", "emulator_status", "emulator_guard", "emulator_error", "emulator_hit",
+    "emulator_hit_s", "emulator_release_s", "emulator_launch_ke_ftlb", "emulator_free_drift",
+    "emulator_wall_s", "emulator_steps",
+    "core_status", "core_error", "core_hit", "core_hit_s", "core_release_s", "core_launch_ke_ftlb",
+    "core_free_drift", "core_wall_s", "core_nfev",
+    "core_warnings", "core_lowest_at_release_ft", "core_base_travel_ft", "hit_diff_s", "launch_ke_rel_diff", "traj_diff_ft",
+    "ed_tolerance",
+]
+
+
+# --------------------------------------------------------------------------- the scenes
+
+
+def _scene(sid, group, description, deck=None, *, k=0, tha=None, friction="listing",
+           emulator=True, ed=".0001", **params):
+    return {"scene": sid, "group": group, "description": description, "deck": deck or {},
+            "k": k, "tha": tha, "friction": friction, "emulator": emulator, "ed_tolerance": ed,
+            **params}
+
+
+def scenes(base: dict, quick: bool) -> list[dict]:
+    """The grid.  ``base``: the steel40 deck's values (for the scaled fields)."""
+    out = []
+    cks = (3.3e4, 1e7, 1e9) if quick else (3.3e4, 1e5, 3.3e5, 1e6, 3.3e6, 1e7, 3.3e7, 1e8,
+                                            3.3e8, 1e9, 3.3e9, 1e10)
+    ks = (0, 1) if quick else (0, 1, 2, 3, 4)
+    for ck in cks:
+        for k in ks:
+            h = H0 / 2**k
+            out.append(_scene(
+                f"stiff-{ck:.2g}-k{k}", "stiff", f"CK = CT = {ck:.3g} lb/ft, H = {h:.3g} s",
+                {"CK": ck, "CT": ck}, k=k, ed=tight_ed_tolerance(k), CK_lb_ft=ck, H_s=h,
+                h_omega=h * math.sqrt(ck / base["W"])))
+    out.append(_scene("base", "extreme", "steel40 as it is (40 mph, alpha 0, delta 0.1463)"))
+    speeds = (5, 120) if quick else (5, 10, 20, 30, 60, 80, 100, 120)
+    for mph in speeds:
+        out.append(_scene(f"speed-{mph}", "speed", f"{mph} mph",
+                          {"VVB": round(-mph * FT_S_PER_MPH, 4)}, speed_mph=mph))
+    angles = (90,) if quick else (15, 30, 45, 60, 75, 90)
+    for deg in angles:
+        out.append(_scene(f"angle-{deg}", "approach angle", f"alpha = {deg} deg",
+                          {"ALPHA": round(math.radians(deg), 5)}, alpha_deg=deg))
+    if not quick:
+        out.append(_scene("delta-0", "extreme", "untilted post: DELTA = 0", {"DELTA": 0.0}))
+    thas = ("0.0", "1.5") if quick else ("0.0", "0.000001", "0.001", "0.01", "0.1", "0.5", "1.0",
+                                         "1.5")
+    for tha in thas:
+        out.append(_scene(f"tha-{tha}", "start-up THA",
+                          f"start-up THA = {tha} rad (printed 0.000022)",
+                          tha=tha))
+    a = base["A"]
+    out.append(_scene("abc-equal", "extreme", f"A = B = C = {a:g} slug ft^2",
+                      {"A": a, "B": a, "C": a}))
+    for f, name in ((10.0, "heavy"), (0.1, "light")):
+        if quick and f == 10.0:
+            continue
+        changes = {n: round(base[n] * f, 5) for n in ("W", "A", "B", "C", "FNA")}
+        out.append(_scene(f"{name}-post", "extreme",
+                          f"{name} post: W, A, B, C and FNA (its weight) x {f:g}", changes))
+    frictions = ((93000.0, "large"),) if quick else ((0.0, "zero"), (93000.0, "large"))
+    for force, name in frictions:
+        out.append(_scene(f"friction-{name}", "base friction",
+                          f"base friction {force:g} lb (listing: 930 lb)",
+                          friction=force, emulator=False))
+    thbs = (1.5,) if quick else (1.0, 1.5, 1.5707)
+    for thb in thbs:
+        out.append(_scene(f"thb-{thb}", "theta near 90 deg",
+                          f"deck THB = {thb} rad ({math.degrees(thb):.1f} deg)", {"THB": thb}))
+    return out
+
+
+# --------------------------------------------------------------------------- the runs
+
+
+def _task(spec: dict) -> dict:
+    deck = read_deck(spec["deck_path"]).with_values(**spec["deck"])
+    if spec["engine"] == "emulator":
+        return _task_emulator(spec, deck)
+    return _task_core(spec, deck)
+
+
+def _task_emulator(spec, deck) -> dict:
+    out = run_emulator(deck, k=spec["k"], tha_start=spec["tha"], limits=LIMITS, errata=ERRATA,
+                       ed_tolerance=spec["ed_tolerance"])
+    run = out["run"]
+    t, xyz = emulator_trajectory(run)
+    message, hit_time = emulator_hit(run)
+    release = next((t for m, t in run.events if m == VEHICLE_LOST), None)
+    row = {"emulator_status": out["status"], "emulator_guard": out["guard"],
+           "emulator_error": out["error"], "emulator_hit": message, "emulator_hit_s": hit_time,
+           "emulator_release_s": release, "emulator_wall_s": out["wall_s"],
+           "emulator_steps": len(run.trace), "_t": t, "_xyz": xyz}
+    try:
+        e = emulator_energies(run, deck)
+    except (KeyError, ZeroDivisionError):  # pragma: no cover - partial trace
+        e = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
+    row["emulator_launch_ke_ftlb"], row["emulator_free_drift"] = e["launch_ke_ftlb"], e["free_drift"]
+    return row
+
+
+def _task_core(spec, deck) -> dict:
+    scene = Scene.from_deck(deck)
+    options = matched_options(H0 / 2 ** spec["k"])
+    if spec["tha"] is not None:
+        options = dataclasses.replace(options, startup_kick=dataclasses.replace(
+            options.startup_kick, tilt_at_step_rad=float(spec["tha"])))
+    if spec["friction"] != "listing":
+        friction = (None if spec["friction"] == 0.0 else
+                    BaseFriction(spec["friction"], LISTING_BASE_FRICTION.slip_window_ft))
+        scene = dataclasses.replace(scene, base=dataclasses.replace(scene.base, friction=friction))
+        options = dataclasses.replace(options, listing_friction=False)
+    out = run_core(scene, options, rtol=CORE_RTOL, t_max_s=CORE_T_MAX_S)
+    res = out["result"]
+    row = {"core_status": out["status"], "core_error": out["error"], "core_wall_s": out["wall_s"],
+           "core_warnings": out["warnings"]}
+    if res is not None:
+        e = core_energies(res)
+        row.update(core_hit=res.hit_message or "", core_hit_s=res.hit_time_s,
+                   core_release_s=res.vehicle_contact_lost_s, core_nfev=res.nfev,
+                   core_launch_ke_ftlb=e["launch_ke_ftlb"], core_free_drift=e["free_drift"])
+        traj = res.trajectory
+        if res.vehicle_contact_lost_s is not None:
+            depth = res.scene.environment.ground_depth_ft
+            row["core_lowest_at_release_ft"] = min(
+                float(traj.point(p, res.vehicle_contact_lost_s)[2]) + depth for p in traj.point_names)
+        t_end = min(res.end_time_s, traj.t_end)
+        row["core_base_travel_ft"] = float(traj.point("Q", t_end)[0] - traj.point("Q", traj.t_start)[0])
+        # the core's mass centre on a fine grid, for the distance to the emulator's steps
+        grid = np.linspace(traj.t_start, traj.t_end, 4001)
+        row["_grid"], row["_cm"] = grid, traj.mass_centre(grid)
+    return row
+
+
+def classify(row: dict) -> str:
+    if not row["emulator"]:
+        return "n/a"
+    status = row.get("emulator_status")
+    if status == "guard":
+        return f"guard: {row['emulator_guard']}"
+    if status == "crash":
+        return "crash"
+    if status != "hit":
+        return "no hit"
+    if row.get("core_status") != "hit":
+        return "hit (core failed)"
+    dt = abs(row["emulator_hit_s"] - row["core_hit_s"])
+    dke = row.get("launch_ke_rel_diff", math.nan)
+    if row["emulator_hit"].strip() != row["core_hit"].strip():
+        return "other hit"
+    if dt <= AGREE_HIT_S and (not np.isfinite(dke) or abs(dke) <= AGREE_KE):
+        return "agrees"
+    return "same hit, off"
+
+
+def _merge(spec, emu, core) -> dict:
+    row = {k: v for k, v in spec.items() if k not in ("deck", "deck_path", "engine")}
+    row["H_s"] = spec.get("H_s", H0 / 2 ** spec["k"])
+    row.update(emu or {})
+    row.update(core or {})
+    if emu and core and "_grid" in core and len(emu["_t"]):
+        t, xyz, grid = emu["_t"], emu["_xyz"], core["_grid"]
+        keep = t <= grid[-1]
+        if keep.any():
+            cm = np.array([np.interp(t[keep], grid, core["_cm"][i]) for i in range(3)])
+            row["traj_diff_ft"] = float(np.max(np.linalg.norm(xyz[:, keep] - cm, axis=0)))
+    for key in ("_t", "_xyz", "_grid", "_cm"):
+        row.pop(key, None)
+    if emu and core and emu.get("emulator_hit_s") is not None and core.get("core_hit_s") is not None:
+        row["hit_diff_s"] = emu["emulator_hit_s"] - core["core_hit_s"]
+    ke_e, ke_c = row.get("emulator_launch_ke_ftlb"), row.get("core_launch_ke_ftlb")
+    if ke_e is not None and ke_c and np.isfinite(ke_e) and np.isfinite(ke_c):
+        row["launch_ke_rel_diff"] = ke_e / ke_c - 1.0
+    row["emulator_class"] = classify(row)
+    return row
+
+
+def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_path=None,
+                    command: str | None = None, progress=None) -> dict:
+    """Run the stability grid; write ``stability_study.csv``, ``stability_map.png``,
+    ``extreme_scenes.png`` and ``README.md`` into ``out_dir``.  Returns the summary."""
+    started = time.perf_counter()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    deck_path = str(deck_path or default_deck())
+    shown = os.path.relpath(deck_path) if not os.path.relpath(deck_path).startswith("..") else deck_path
+    base = read_deck(deck_path).values
+    jobs = jobs or _cpu_count()
+    grid = scenes(base, quick)
+    tasks = []
+    for i, s in enumerate(grid):
+        for engine in ("emulator", "core") if s["emulator"] else ("core",):
+            cost = (0.4 * 2 ** s["k"]) if engine == "emulator" else 0.3
+            tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
+    order = sorted(range(len(tasks)), key=lambda i: -tasks[i]["cost"])
+    done = parallel_map(_task, [tasks[i] for i in order], jobs,
+                        progress if progress is not None else stderr_progress("study stability"))
+    results: dict = {}
+    for i, r in zip(order, done):
+        results[(tasks[i]["index"], tasks[i]["engine"])] = r
+    rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
+            for i, s in enumerate(grid)]
+    summary = _summarise(rows)
+    write_csv(out / "stability_study.csv", rows, COLUMNS)
+    _plot_map(rows, summary, out / "stability_map.png")
+    _plot_extremes(rows, out / "extreme_scenes.png")
+    wall = time.perf_counter() - started
+    cmd = command or (f"deck-emulator study stability --out {out_dir}" + (" --quick" if quick else "")
+                      + f" --jobs {jobs}")
+    (out / "README.md").write_text(_report(rows, summary, shown, cmd, jobs, wall, quick))
+    summary["wall_s"] = wall
+    return summary
+
+
+def _cpu_count():
+    return os.cpu_count() or 1
+
+
+# --------------------------------------------------------------------------- analysis
+
+
+CLEAN = ("agrees", "same hit, off", "other hit")
+
+
+def _stiff(rows):
+    return [r for r in rows if r["group"] == "stiff"]
+
+
+def _finite(x) -> bool:
+    return x is not None and isinstance(x, float) and math.isfinite(x)
+
+
+def _summarise(rows) -> dict:
+    s: dict = {"classes": {}}
+    for r in rows:
+        s["classes"][r["emulator_class"]] = s["classes"].get(r["emulator_class"], 0) + 1
+    st = [r for r in _stiff(rows) if r["emulator_class"] in CLEAN]
+    if st:
+        bad = sorted((r for r in st if r["emulator_class"] == "other hit"), key=lambda r: r["h_omega"])
+        ke = sorted((r for r in st if abs(r.get("launch_ke_rel_diff", 0.0)) > AGREE_KE),
+                    key=lambda r: r["h_omega"])
+        small = [r for r in st if r["h_omega"] < 0.3 and _finite(r.get("launch_ke_rel_diff"))]
+        s["stiff"] = {
+            "first_differs": bad[0]["scene"] if bad else "",
+            "first_differs_h_omega": bad[0]["h_omega"] if bad else math.nan,
+            "last_agrees_h_omega": max((r["h_omega"] for r in st if r["emulator_class"] == "agrees"),
+                                       default=math.nan),
+            "n_beyond": sum(1 for r in st if bad and r["h_omega"] >= bad[0]["h_omega"]),
+            "n_other_beyond": len(bad),
+            "first_ke10": ke[0]["scene"] if ke else "",
+            "first_ke10_h_omega": ke[0]["h_omega"] if ke else math.nan,
+            "slope": _ke_slope(st),
+            "ke_per_h_omega": float(np.median([abs(r["launch_ke_rel_diff"]) / r["h_omega"]
+                                               for r in small])) if small else math.nan,
+            "failed": sorted({r["emulator_class"] for r in _stiff(rows)
+                              if r["emulator_class"] not in CLEAN}),
+            "max_h_omega": max(r["h_omega"] for r in _stiff(rows)),
+        }
+    return s
+
+
+def _ke_slope(rows) -> float:
+    """Least-squares slope of log |launch-energy error| against log h*omega, h*omega < 1."""
+    x = np.array([r["h_omega"] for r in rows])
+    y = np.array([abs(r.get("launch_ke_rel_diff", math.nan)) for r in rows])
+    keep = np.isfinite(y) & (y > 1e-3) & (x < 1.0)
+    if keep.sum() < 3:
+        return math.nan
+    return float(np.polyfit(np.log10(x[keep]), np.log10(y[keep]), 1)[0])
+
+
+# --------------------------------------------------------------------------- figures
+
+_CLASS_COLOURS = {
+    "agrees": "#2ca02c",
+    "same hit, off": "#ffd92f",
+    "other hit": "#ff7f0e",
+    "no hit": "#9467bd",
+    "guard: halvings": "#d62728",
+    "guard: ed_iterations": "#8c564b",
+    "guard: arithmetic": "#e377c2",
+    "guard: time_s": "#9467bd",
+    "crash": "#555555",
+    "hit (core failed)": "#bcbd22",
+    "n/a": "#dddddd",
+}
+
+
+CORE_FAILED = "#b15928"
+
+
+def _colour(cls):
+    return _CLASS_COLOURS.get(cls, "#17becf")
+
+
+def _plot_map(rows, summary, path: Path) -> None:
+    plt = agg_backend()
+    st = _stiff(rows)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(15, 6.8), gridspec_kw={"width_ratios": [1.25, 1]})
+    ck = np.array([r["CK_lb_ft"] for r in st])
+    h = np.array([r["H_s"] for r in st])
+    for r in st:
+        ax.scatter(r["CK_lb_ft"], r["H_s"], s=520, marker="s", color=_colour(r["emulator_class"]),
+                   edgecolor="black", linewidth=0.5, zorder=3)
+        dke = r.get("launch_ke_rel_diff")
+        if _finite(dke):
+            ax.annotate(f"{100 * dke:+.0f}", (r["CK_lb_ft"], r["H_s"]), ha="center", va="center",
+                        fontsize=7, zorder=4)
+        if r.get("core_status") != "hit":
+            ax.scatter(r["CK_lb_ft"], r["H_s"], s=120, marker="x", color="black", zorder=5)
+    kk = np.logspace(np.log10(ck.min()) - 0.25, np.log10(ck.max()) + 0.25, 50)
+    inv_sqrt_m = st[0]["h_omega"] / (st[0]["H_s"] * math.sqrt(st[0]["CK_lb_ft"]))
+    top = h.max() * 1.45
+    for hw, ls in ((0.1, ":"), (1.0, "--"), (2.0, "-")):
+        ax.plot(kk, hw / (inv_sqrt_m * np.sqrt(kk)), ls, color="grey", lw=1.2)
+        x_lab = (hw / (inv_sqrt_m * top)) ** 2
+        if kk.min() < x_lab < kk.max():
+            ax.annotate(f"h\u03c9 = {hw:g}", (x_lab, top), fontsize=9, color="dimgrey",
+                        ha="left", va="bottom", xytext=(3, 0), textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_yscale("log", base=2)
+    ax.set_ylim(h.min() / 1.6, h.max() * 1.9)
+    ax.set_xlim(kk.min(), kk.max())
+    ax.set_yticks(sorted(set(h)))
+    ax.set_yticklabels([f"{v * 1e6:.0f} \u00b5s (k={round(math.log2(H0 / v))})"
+                        for v in sorted(set(h))])
+    ax.minorticks_off()
+    ax.set_xlabel("crush springs CK = CT, lb/ft")
+    ax.set_ylabel("emulator step H")
+    ax.set_title("Emulator against the core on stiff springs\n(numbers: launch kinetic energy, "
+                 "% above the core's)", fontsize=11)
+    ax.grid(True, which="major", alpha=0.3)
+    handles = [plt.Line2D([], [], marker="s", ls="", color=_colour(c), markeredgecolor="black",
+                          markersize=11, label=c) for c in sorted({r["emulator_class"] for r in st})]
+    if any(r.get("core_status") != "hit" for r in st):
+        handles.append(plt.Line2D([], [], marker="x", ls="", color="black", label="core failed"))
+    ax.legend(handles=handles, fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.11),
+              ncol=len(handles), frameon=False)
+
+    colours = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd")
+    for k in sorted({r["k"] for r in st}):
+        sel = [r for r in st if r["k"] == k and _finite(r.get("launch_ke_rel_diff"))]
+        if sel:
+            bx.loglog([r["h_omega"] for r in sel], [abs(r["launch_ke_rel_diff"]) for r in sel],
+                      marker="o", ls="-", color=colours[k % 5], label=f"H = {H0 / 2**k * 1e6:.0f} \u00b5s")
+    xs = np.logspace(-3, 1.2, 20)
+    bx.loglog(xs, xs, color="grey", lw=1, ls="--", label="|error| = h\u03c9")
+    bx.axvline(2.0, color="grey", lw=1)
+    bx.annotate("h\u03c9 = 2", (2.0, 2e-3), xytext=(4, 0), textcoords="offset points", fontsize=9,
+                color="dimgrey")
+    bx.axhline(AGREE_KE, color="grey", lw=0.8, ls=":")
+    bx.annotate(f"{100 * AGREE_KE:.0f} %", (1.2e-3, AGREE_KE), xytext=(0, 3), textcoords="offset points",
+                fontsize=9, color="dimgrey")
+    bx.set_xlim(1e-3, 20)
+    bx.set_ylim(1e-3, 5)
+    bx.set_xlabel("h\u03c9,   \u03c9 = \u221a(CK / W),  W = post mass")
+    bx.set_ylabel("|launch kinetic energy, emulator / core \u2212 1|")
+    bx.set_title("Energy the explicit scheme adds during the contact", fontsize=11)
+    bx.grid(True, which="major", alpha=0.3)
+    bx.legend(fontsize=9, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _short(msg: str) -> str:
+    msg = (msg or "").replace("THE POST HAS HIT THE ", "")
+    if msg.startswith("GROUND WITH POINT "):
+        return "ground, point " + msg.rsplit(" ", 1)[-1]
+    return msg.replace(" OF THE VEHICLE", "").lower()
+
+
+def _cell_text(r, engine):
+    if engine == "emulator":
+        cls = r["emulator_class"]
+        if cls == "n/a":
+            return "not a deck input"
+        if r.get("emulator_status") == "hit":
+            return f"{_short(r['emulator_hit'])} at {r['emulator_hit_s']:.3f} s"
+        when = _time_of(r.get("emulator_error", ""))
+        reason = (r.get("emulator_error") or "").split(" at label", 1)[0]
+        if r.get("emulator_guard") == "arithmetic":
+            cls = reason.split(" (", 1)[0]
+        elif r.get("emulator_guard"):
+            cls = f"{r['emulator_guard']} guard"
+        return cls + (f", t = {float(when):.3g} s" if when else "")
+    if r.get("core_status") == "hit":
+        return f"{_short(r['core_hit'])} at {r['core_hit_s']:.3f} s"
+    if r.get("core_status") == "no hit":
+        return f"no hit in {CORE_T_MAX_S:g} s"
+    err = r.get("core_error") or "?"
+    return err.split(":", 1)[0] + (" (events chatter)" if "chatter" in err else "")
+
+
+def _time_of(error: str) -> str:
+    if error and "t = " in error:
+        return error.split("t = ", 1)[1].split(" ", 1)[0].rstrip(")s")
+    return ""
+
+
+def _plot_extremes(rows, path: Path) -> None:
+    plt = agg_backend()
+    ext = [r for r in rows if r["group"] != "stiff"]
+    n = len(ext)
+    height = 0.36 * n + 1.9
+    fig, ax = plt.subplots(figsize=(13, height))
+    for i, r in enumerate(ext):
+        y = n - 1 - i
+        ax.text(-0.01, y, f"{r['description']}  [{r['scene']}]", ha="right", va="center", fontsize=8.5)
+        core_ok = r.get("core_status") == "hit"
+        colours = (_colour(r["emulator_class"]), "#a6d96a" if core_ok else CORE_FAILED)
+        for j, engine in enumerate(("emulator", "core")):
+            ax.add_patch(plt.Rectangle((j * 0.5, y - 0.42), 0.49, 0.84, color=colours[j], alpha=0.85))
+            ax.text(j * 0.5 + 0.245, y, _cell_text(r, engine), ha="center", va="center", fontsize=8)
+        drift = r.get("emulator_free_drift")
+        if _finite(drift):
+            ax.text(1.005, y, f"{100 * drift:+.2g} %", ha="left", va="center", fontsize=8)
+    ax.text(0.245, n - 0.2, "emulator (k = 0, as printed)", ha="center", fontsize=9.5, weight="bold")
+    ax.text(0.745, n - 0.2, "core (legacy preset, DOP853)", ha="center", fontsize=9.5, weight="bold")
+    ax.text(1.005, n - 0.2, "emulator's free-\nflight energy drift", ha="left", fontsize=8.5,
+            weight="bold")
+    ax.set_xlim(0, 1.12)
+    ax.set_ylim(-0.6, n + 0.7)
+    ax.axis("off")
+    handles = [plt.Rectangle((0, 0), 1, 1, color=_colour(c), alpha=0.85, label=c)
+               for c in sorted({r["emulator_class"] for r in ext})]
+    handles.append(plt.Rectangle((0, 0), 1, 1, color=CORE_FAILED, alpha=0.85, label="core failed"))
+    ax.legend(handles=handles, fontsize=8.5, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=4,
+              title="emulator against the core (core column: light green = hit)", title_fontsize=8.5,
+              frameon=False)
+    fig.subplots_adjust(left=0.40, right=0.95, top=0.98, bottom=1.0 / height)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# --------------------------------------------------------------------------- the report
+
+
+def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
+    m = machine()
+    lines = [
+        "# Stability study: stiff and extreme scenes",
+        "",
+        f"Command: `{cmd}`",
+        "",
+        machine_line(m, jobs, wall),
+        "",
+        f"Every scene is derived from `{deck_path}`. The emulator runs the listing in double "
+        "precision with the erratum `ed-direction` and the guards "
+        f"`Limits(ed_iterations={LIMITS.ed_iterations}, halvings={LIMITS.halvings}, "
+        f"time_s={LIMITS.time_s:g})`; the extreme scenes as printed (k = 0, ED's tolerance "
+        ".0001), the stiff grid with its step literals divided by 2**k and ED's tolerance "
+        "tightened with the step (1e-6 rad / 4**k: with the printed one the scheme stops "
+        "converging as H shrinks, see the error study, which would hide the stiffness). The core "
+        "runs the `legacy` preset with the emulator's start-up step (`StartupKick(step_s=H)`, the "
+        f"`FCONST` cap armed at 8 ms), DOP853 at rtol = atol = {CORE_RTOL:g}, up to "
+        f"{CORE_T_MAX_S:g} s. An emulator run **agrees** when it reports the same hit as the "
+        f"core, within {AGREE_HIT_S:g} s, with the post's kinetic energy when the car lets go "
+        f"(the *launch energy*) within {100 * AGREE_KE:.0f} %; **same hit, off** when the hit "
+        "is the same but further off; **other hit** when it ends cleanly with another hit. "
+        "Energy drift: (E_end - E_start) / E_start over the free "
+        "flight, E = kinetic + W G (ZZ + HEIGHT).",
+        "",
+        "![stability map](stability_map.png)",
+        "",
+        "![extreme scenes](extreme_scenes.png)",
+        "",
+        "## Failure modes found",
+        "",
+    ]
+    lines += [f"* {s}" for s in failure_modes(rows, summary)]
+    lines += ["", "## What else happens", ""]
+    lines += [f"* {s}" for s in other_findings(rows)]
+    lines += ["", "## Outcomes", "",
+              "Counts of the emulator's classes: "
+              + ", ".join(f"{k} {v}" for k, v in sorted(summary["classes"].items())) + ".", ""]
+    table = []
+    for r in rows:
+        table.append([
+            f"`{r['scene']}`", r["description"],
+            f"{r['h_omega']:.3g}" if _finite(r.get("h_omega")) else "",
+            r["emulator_class"], _cell_text(r, "emulator"), _cell_text(r, "core"),
+            fmt(r.get("launch_ke_rel_diff"), "+.1%"), fmt(r.get("traj_diff_ft"), ".2g"),
+            fmt(r.get("emulator_free_drift"), "+.2e"), fmt(r.get("core_free_drift"), "+.1e"),
+        ])
+    lines += [md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
+                        "launch energy, emulator vs core", "largest mass-centre distance (ft)",
+                        "emulator free-flight drift", "core free-flight drift"], table), ""]
+    errors = [r for r in rows if r.get("emulator_error") or r.get("core_error")]
+    if errors:
+        lines += ["## Messages of the runs that failed", ""]
+        for r in errors:
+            if r.get("emulator_error"):
+                lines.append(f"* `{r['scene']}`, emulator: {r['emulator_error']}")
+            if r.get("core_error"):
+                lines.append(f"* `{r['scene']}`, core: {r['core_error']}")
+        lines.append("")
+    lines += ["Every number is in `stability_study.csv` (one row per scene; `k` is the step "
+              "scaling, `h_omega` = H sqrt(CK / W)).", ""]
+    return "\n".join(lines)
+
+
+MAP, EXT = "[map](stability_map.png)", "[scenes](extreme_scenes.png)"
+
+
+def failure_modes(rows, summary) -> list[str]:
+    """One sentence per failure mode found, naming a scene that shows it."""
+    out = []
+    by = {r["scene"]: r for r in rows}
+    s = summary.get("stiff")
+    if s and s["first_ke10"]:
+        r = by[s["first_ke10"]]
+        out.append(
+            "**Energy gain in a stiff contact.** The explicit scheme (Euler velocities, trapezoid "
+            "displacements; per step an amplification \u221a(1 + (h\u03c9)\u00b2/2) on an undamped "
+            "spring) launches the post with more kinetic energy than the core: about "
+            f"{s['ke_per_h_omega']:.2f} h\u03c9 (relative; slope {s['slope']:.2f} in log-log below "
+            f"h\u03c9 = 1), more than {100 * AGREE_KE:.0f} % from h\u03c9 = "
+            f"{s['first_ke10_h_omega']:.2g} on (`{r['scene']}`: "
+            f"{100 * r['launch_ke_rel_diff']:+.0f} %). Figure: {MAP}.")
+    if s and s["first_differs"]:
+        r = by[s["first_differs"]]
+        out.append(
+            "**A clean end with a wrong answer.** On the stiff grid the emulator "
+            + ("never trips a guard" if not s["failed"] else f"trips {', '.join(s['failed'])} only "
+               "in places")
+            + f"; it ends with another hit than the core's from h\u03c9 = "
+            f"{s['first_differs_h_omega']:.2g} on (`{r['scene']}`: emulator "
+            f"{_cell_text(r, 'emulator')}, core {_cell_text(r, 'core')}); of the "
+            f"{s['n_beyond']} runs at h\u03c9 >= {s['first_differs_h_omega']:.2g}, "
+            f"{s['n_other_beyond']} end with another hit and the others with the same hit but a "
+            "hit time or launch energy further off; the last run that agrees in hit, hit time "
+            f"and launch energy is at h\u03c9 = {s['last_agrees_h_omega']:.2g}. Figure: {MAP}.")
+    if s and not s["failed"]:
+        top = max(_stiff(rows), key=lambda r: r["h_omega"])
+        hi = [r["launch_ke_rel_diff"] for r in _stiff(rows)
+              if r["h_omega"] > 1 and _finite(r.get("launch_ke_rel_diff"))]
+        out.append(
+            f"**No divergence, even at h\u03c9 = {s['max_h_omega']:.3g}** (`{top['scene']}`: "
+            f"{_cell_text(top, 'emulator')}, launch energy "
+            f"{100 * top.get('launch_ke_rel_diff', math.nan):+.0f} %). The contact lasts about "
+            "\u03c0/\u03c9, only a step or two once h\u03c9 > 1, and label 108 halves the step "
+            "whenever the post runs 0.01 ft ahead of the car, so the scheme's growth (eigenvalues "
+            "real and one above 1 past h\u03c9 = 4 on a spring) acts for too few steps to "
+            "overflow: the classical limit h\u03c9 \u2248 2 shows as a wrong launch energy"
+            + (f" ({100 * min(hi):+.0f} to {100 * max(hi):+.0f} % beyond h\u03c9 = 1)" if hi else "")
+            + f", not as a blow-up. Figure: {MAP}.")
+    for r in rows:
+        if r.get("emulator_guard") == "halvings" and "DIFFT" in r.get("emulator_error", ""):
+            difft = r["emulator_error"].split("DIFFT = ", 1)[1].split(" ", 1)[0]
+            out.append(
+                f"**Endless halving at label 108** (`{r['scene']}`, {r['description']}): the listing "
+                "tests DIFFT, the lead of point T over the car, only after the first spring has "
+                f"let go; by then T is already {difft} ft ahead, and label 352 sends every retry "
+                "(DIFFT > 0.01) back to 108, which cannot undo a lead the last accepted step "
+                f"already had: the step is halved {LIMITS.halvings} times in a row at t = "
+                f"{_time_of(r['emulator_error'])} s (the 1967 program would loop). "
+                f"The core ends: {_cell_text(r, 'core')}. Figure: {EXT}.")
+            break
+    tha_fail = [r for r in rows if r["group"] == "start-up THA"
+                and r.get("emulator_guard") == "arithmetic" and "ED" in r.get("emulator_error", "")]
+    if tha_fail:
+        ok = [float(r["tha"]) for r in rows if r["group"] == "start-up THA"
+              and r["emulator_class"] == "agrees"]
+        r = min(tha_fail, key=lambda r: float(r["tha"]))
+        out.append(
+            f"**Division by zero in ED from a large start-up THA** (from `{r['scene']}` on"
+            + (f"; THA = {', '.join(f'{x:g}' for x in sorted(ok))} pass" if ok else "")
+            + "): the start-up step tilts the "
+            "post by THA, point S (18.8 ft below the mass centre) moves more than 0.01 ft ahead "
+            "of the car, label 108 rejects the first step and retries it through label 44, whose "
+            "ED then divides by sin \u03b8 with the deck's THB = 0 and zero rates -- the "
+            "sin \u03b8 = 0 the printed 0.000022 exists to dodge "
+            f"(`{r['emulator_error']}`). The core, with a quaternion, runs them all. Figure: {EXT}.")
+    for r in rows:
+        if r.get("core_status") == "no hit":
+            low = r.get("core_lowest_at_release_ft")
+            below = _finite(low) and low < 0
+            out.append(
+                f"**Core: no hit** (`{r['scene']}`, {r['description']}): the car lets go only at "
+                f"{r.get('core_release_s') or math.nan:.3g} s"
+                + (f", when the post is already {-low:.1f} ft through the ground (neither program "
+                   "checks the ground during the contact), so free flight starts below the "
+                   "ground and nothing is ever hit" if below else "")
+                + f"; the emulator ends: {_cell_text(r, 'emulator')}. Figure: {EXT}.")
+    for r in rows:
+        err = r.get("core_error") or ""
+        if "chatter" in err:
+            out.append(
+                f"**Core: chattering force cap** (`{r['scene']}`, {r['description']}): the `FCONST` "
+                "cap is on while DIFF does not decrease; here the capped spring holds DIFF "
+                "stationary (a sliding mode), the cap's on/off events repeat at one instant and "
+                f"the core stops with `{err.split(' (mode')[0]}`; the emulator, which decides once "
+                f"per step, ends: {_cell_text(r, 'emulator')}. Figure: {EXT}.")
+        elif r.get("core_status") == "error":
+            out.append(f"**Core error** (`{r['scene']}`, {r['description']}): {err}. Figure: {EXT}.")
+    warned = [r for r in rows if r.get("core_warnings")]
+    if warned:
+        r = warned[0]
+        ended = all(x.get("core_status") == "hit" for x in warned)
+        out.append(
+            f"**Core: SciPy warnings** in {len(warned)} run(s), e.g. `{r['scene']}` "
+            f"({r['description']}): `{r['core_warnings']}` -- "
+            + ("DOP853 rejected the steps whose error estimate was not finite and every one of "
+               "these runs still ended with a hit." if ended else "see the CSV.")
+            + f" Figure: {MAP if r['group'] == 'stiff' else EXT}.")
+    fric = [r for r in rows if r["group"] == "base friction"]
+    base = by.get("base")
+    for r in fric:
+        if base and r.get("core_hit") != base.get("core_hit"):
+            out.append(
+                f"**Friction as a driving force** (`{r['scene']}`, {r['description']}; core only, "
+                "since the deck has no friction field: the listing's 3.1 x 300 lb is a constant of "
+                "the program): the model applies base friction as a constant force along +XX "
+                "while XQ > -0.083 ft (the slot), not as a reaction bounded by what would hold the "
+                "base still, so a large value drives the base towards the car "
+                f"({r.get('core_base_travel_ft', math.nan):+.1f} ft along XX by the end) and the "
+                "friction never ends, since a base moving along +XX never leaves the slot: "
+                f"{_cell_text(r, 'core')} (as printed: {_cell_text(base, 'core')}). Figure: {EXT}.")
+    thb = [r for r in rows if r["group"] == "theta near 90 deg" and base
+           and r.get("emulator_hit") == base.get("emulator_hit")
+           and r.get("emulator_hit_s") == base.get("emulator_hit_s")]
+    if thb:
+        r = thb[-1]
+        others = ", ".join("`" + x["scene"] + "`" for x in thb[:-1])
+        others = f"; so do {others}" if others else ""
+        out.append(
+            f"**The emulator ignores the deck's THB** (`{r['scene']}` ends exactly as `base`, "
+            f"{_cell_text(r, 'emulator')}{others}): "
+            "label 123 sets THA, PHIA and PSIA at the first step, so a post cannot start "
+            f"tilted; the core turns the post by THB ({_cell_text(r, 'core')}). Figure: {EXT}.")
+    for r in rows:
+        if r["group"] in ("stiff", "theta near 90 deg") or r["emulator_class"] != "other hit":
+            continue
+        out.append(
+            f"**Different answer** (`{r['scene']}`, {r['description']}): emulator "
+            f"{_cell_text(r, 'emulator')}, core {_cell_text(r, 'core')}; launch energy "
+            f"{fmt(r.get('launch_ke_rel_diff'), '+.1%')}, mass centres up to "
+            f"{fmt(r.get('traj_diff_ft'), '.2g')} ft apart. Figure: {EXT}.")
+    drifts = [r for r in rows if _finite(r.get("emulator_free_drift"))]
+    if drifts:
+        r = max(drifts, key=lambda r: abs(r["emulator_free_drift"]))
+        c = [abs(x["core_free_drift"]) for x in rows if _finite(x.get("core_free_drift"))]
+        b = f" (`base`: {100 * base['emulator_free_drift']:+.2g} %)" if base and _finite(
+            base.get("emulator_free_drift")) else ""
+        out.append(
+            "**Energy drift in free flight.** With gravity alone the post's energy should stay "
+            f"constant; the emulator's explicit steps add energy{b}, most in `{r['scene']}` "
+            f"({100 * r['emulator_free_drift']:+.2g} %); the core's largest relative drift is "
+            f"{max(c, default=math.nan):.1e}. Figure: {EXT} (last column).")
+    return out
+
+
+def other_findings(rows) -> list[str]:
+    out = []
+    groups = {}
+    for r in rows:
+        if r["group"] != "stiff":
+            groups.setdefault(r["group"], []).append(r)
+    for group, rs in groups.items():
+        ok = [r for r in rs if r["emulator_class"] == "agrees"]
+        if ok:
+            out.append(f"{group}: " + ", ".join(f"`{r['scene']}`" for r in ok)
+                       + " end as the core does (same hit within "
+                       f"{AGREE_HIT_S:g} s, launch energy within {100 * AGREE_KE:.0f} %).")
+    for r in rows:
+        if r["group"] not in ("stiff", "theta near 90 deg") and r["emulator_class"] == "same hit, off":
+            out.append(
+                f"`{r['scene']}` ({r['description']}): the same hit, "
+                f"{abs(r['hit_diff_s']):.3f} s {'later' if r['hit_diff_s'] > 0 else 'earlier'} "
+                f"than the core's (emulator {_cell_text(r, 'emulator')}, core "
+                f"{_cell_text(r, 'core')}; mass centres up to {fmt(r.get('traj_diff_ft'), '.2g')} ft "
+                "apart, of the order of the listing's own accuracy at H = 0.0004 s, see the error "
+                "study).")
+    for r in rows:
+        if r["emulator_class"] == "n/a":
+            out.append(f"`{r['scene']}` ({r['description']}; core only): {_cell_text(r, 'core')}.")
+    tha0 = next((r for r in rows if r["scene"] == "tha-0.0"), None)
+    if tha0 and tha0["emulator_class"] in CLEAN:
+        out.append(
+            "`tha-0.0`: THA = 0 at the start-up does not fail: the first step's rates (THDA = "
+            "0.0545) make the next THA nonzero before anything divides by sin \u03b8; "
+            f"{_cell_text(tha0, 'emulator')}.")
+    return out
