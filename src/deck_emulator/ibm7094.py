@@ -464,11 +464,11 @@ def _pi_fixed(p: int) -> int:
     return have >> (have_p - p)
 
 
-def _sin_fixed(r: int, w: int) -> tuple[int, int]:
-    """sin(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
+def _taylor_fixed(r: int, w: int, first: int, n: int) -> tuple[int, int]:
+    """The alternating Taylor series of sin (first term r, n = 1) or cos (first term 1, n = 0)
+    at x = r / 2**w, 0 <= x < 0.8, in fixed point with w fraction bits; and its term count."""
     r2 = (r * r) >> w
-    t = s = r
-    n = 1
+    t = s = first
     k = 0
     while t:
         n += 2
@@ -476,20 +476,16 @@ def _sin_fixed(r: int, w: int) -> tuple[int, int]:
         s = s - t if k % 2 == 0 else s + t
         k += 1
     return s, k
+
+
+def _sin_fixed(r: int, w: int) -> tuple[int, int]:
+    """sin(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
+    return _taylor_fixed(r, w, r, 1)
 
 
 def _cos_fixed(r: int, w: int) -> tuple[int, int]:
     """cos(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
-    r2 = (r * r) >> w
-    t = s = 1 << w
-    n = 0
-    k = 0
-    while t:
-        n += 2
-        t = ((t * r2) >> w) // (n * (n - 1))
-        s = s - t if k % 2 == 0 else s + t
-        k += 1
-    return s, k
+    return _taylor_fixed(r, w, 1 << w, 0)
 
 
 def _sincos_scaled(f: int, ch: int, want_cos: bool, w: int) -> tuple[int, int]:

@@ -178,21 +178,29 @@ def _norm(res):
     return _mpl().Normalize(0.0, max(res.end_time_s, 1e-6))
 
 
-def _draw_side(ax, res: EngineResult, idx: list[int]):
+def _draw_post(ax, res: EngineResult, idx: list[int], axes: tuple[int, int]):
+    """The post through its named points at the instants ``idx`` (coloured by time) and at the
+    hit (red), projected on the coordinate pair ``axes`` of XL, YL, ZL."""
     import matplotlib
 
     cmap = matplotlib.colormaps[CMAP]
     norm = _norm(res)
-    hi = _hit_index(res)
+    a, b = axes
     for i in idx:
         p = _post_l(res, i)
         ax.plot(
-            p[:, 0], p[:, 2], "-", color=cmap(norm(res.t[i])), lw=1.6, marker="o", ms=2.5, zorder=3
+            p[:, a], p[:, b], "-", color=cmap(norm(res.t[i])), lw=1.6, marker="o", ms=2.5, zorder=3
         )
+    hi = _hit_index(res)
     p = _post_l(res, hi)
-    ax.plot(p[:, 0], p[:, 2], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
-    _name_points(ax, res, 0, (0, 2))
-    _name_points(ax, res, hi, (0, 2))
+    ax.plot(p[:, a], p[:, b], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
+    _name_points(ax, res, 0, axes)
+    _name_points(ax, res, hi, axes)
+
+
+def _draw_side(ax, res: EngineResult, idx: list[int]):
+    hi = _hit_index(res)
+    _draw_post(ax, res, idx, (0, 2))
     # car at the hit (near and far fender for an angled approach)
     sv = res.sv[hi]
     d = res.values
@@ -243,10 +251,6 @@ def _draw_side(ax, res: EngineResult, idx: list[int]):
 
 
 def _draw_plan(ax, res: EngineResult, idx: list[int]):
-    import matplotlib
-
-    cmap = matplotlib.colormaps[CMAP]
-    norm = _norm(res)
     hi = _hit_index(res)
     d = res.values
     sv = res.sv[hi]
@@ -264,15 +268,7 @@ def _draw_plan(ax, res: EngineResult, idx: list[int]):
     rect(o["XENTOP"], o["XTAIL"], fc="0.88", ec=CAR_COLOUR, lw=1.2, zorder=1)
     wx, wy = _car_xy_l(res, sv, np.array([o["SV"], o["SV"]]), np.array([yl, yr]))
     ax.plot(wx, wy, color="tab:cyan", lw=3, zorder=1.5)
-    for i in idx:
-        p = _post_l(res, i)
-        ax.plot(
-            p[:, 0], p[:, 1], "-", color=cmap(norm(res.t[i])), lw=1.6, marker="o", ms=2.5, zorder=3
-        )
-    p = _post_l(res, hi)
-    ax.plot(p[:, 0], p[:, 1], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
-    _name_points(ax, res, 0, (0, 1))
-    _name_points(ax, res, hi, (0, 1))
+    _draw_post(ax, res, idx, (0, 1))
     hp = _hit_point_l(res)
     if hp is not None:
         ax.plot(hp[0], hp[1], marker="*", ms=18, color="gold", mec="k", zorder=6)
