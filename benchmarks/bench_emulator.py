@@ -19,8 +19,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from deck_emulator.deck import read_deck
-from deck_emulator.emulator import EmulatorError, run_deck
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.legacy.emulator import EmulatorError, run_deck
 
 ROOT = Path(__file__).resolve().parent.parent
 

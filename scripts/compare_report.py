@@ -7,9 +7,9 @@
 
 For every deck in decks/ it takes
 
-* the report's values (``deck_emulator.report_tables``, the only copy of them);
+* the report's values (``deck_emulator.studies.report_tables``, the only copy of them);
 * the gfortran REAL*8 golden ``golden/<deck>[.<erratum>].r8.txt``, read with
-  ``deck_emulator.extract``;
+  ``deck_emulator.legacy.extract``;
 * the emulator in ``double`` with the errata the golden's name gives (it must equal the golden);
 * the emulator in ``ibm7094`` (the 1967 machine's arithmetic, default assumptions) with the same
   errata, and, for the angle decks, ``ibm7094`` and ``double`` *as printed* (no erratum), where
@@ -36,11 +36,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
 
-from deck_emulator.atomic import write_atomic
-from deck_emulator.arithmetic import get_arithmetic
-from deck_emulator.deck import read_deck
-from deck_emulator.emulator import EmulatorError, run_deck
-from deck_emulator.extract import (
+from deck_emulator.files import write_atomic
+from deck_emulator.legacy.arithmetic import get_arithmetic
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.legacy.emulator import EmulatorError, run_deck
+from deck_emulator.legacy.extract import (
     DELTA_V_CANDIDATES,
     DELTA_V_DEFINITION,
     MPH,
@@ -48,7 +48,7 @@ from deck_emulator.extract import (
     extract,
     parse_printout,
 )
-from deck_emulator.report_tables import CASES, REPORT, SEED, report_time_ms
+from deck_emulator.studies.report_tables import CASES, REPORT, SEED, report_time_ms
 
 DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30")
 COMMAND = "python scripts/compare_report.py"
@@ -262,7 +262,7 @@ def free_counter_steps(precision):
 
 
 def cos2_minus_1(precision, tha: float):
-    from deck_emulator.ibm7094 import Word
+    from deck_emulator.legacy.arithmetic.ibm7094 import Word
     ar = get_arithmetic(precision)
     x = Word.from_fraction(Fraction(tha)) if precision == "ibm7094" else tha
     c = ar.cos(x)
@@ -303,7 +303,7 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
     w(f"* **report** — TTI Research Report 75-9, Table 11 (20 mph) and Table 12 (40 mph), "
       f"STEEL POST columns (`{SEED}`, lines 1748-1794), kept in `src/deck_emulator/report_tables.py`;")
     w("* **gfortran r8** — `golden/<deck>[.ed-direction].r8.txt`, the listing compiled with "
-      "gfortran `-fdefault-real-8` (see `golden/MANIFEST.txt`), read by `deck_emulator.extract`;")
+      "gfortran `-fdefault-real-8` (see `golden/MANIFEST.txt`), read by `deck_emulator.legacy.extract`;")
     w("* **double** — `run_deck(deck, 'double', errata=...)`, the emulator in IEEE binary64, "
       "with the errata the golden's name gives;")
     w(f"* **ibm7094** — `run_deck(deck, 'ibm7094', errata=...)`: {arith_7094}; same errata.")

@@ -13,10 +13,10 @@ import time
 from pathlib import Path
 
 from deck_emulator.core import LEGACY, simulate
-from deck_emulator.deck import read_deck
-from deck_emulator.diff import diff_deck, format_diff
-from deck_emulator.emulator import STEP_LITERALS, run_deck
-from deck_emulator.scene import Scene
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.diff import diff_deck, format_diff
+from deck_emulator.legacy.emulator import STEP_LITERALS, run_deck
+from deck_emulator.core.scene import Scene
 
 ROOT = Path(__file__).resolve().parent.parent
 DECKS = ["steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30"]

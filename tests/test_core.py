@@ -30,7 +30,7 @@ from deck_emulator.core import (
 from deck_emulator.core import model as core_model
 from deck_emulator.core.model import Kinematics
 from deck_emulator.core.rigid import quat_about_axis, quat_multiply, rotation_matrix
-from deck_emulator.scene import (
+from deck_emulator.core.scene import (
     CrushSpring,
     Environment,
     Post,

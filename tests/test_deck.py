@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from deck_emulator.cli import main
-from deck_emulator.deck import NAMES, READ_LIST, Deck, DeckError, parse_deck, read_deck
+from deck_emulator.legacy.deck import NAMES, READ_LIST, Deck, DeckError, parse_deck, read_deck
 
 ROOT = Path(__file__).resolve().parents[1]
 STEEL40 = ROOT / "decks" / "steel40.dat"

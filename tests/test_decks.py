@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator.deck import NAMES, read_deck
+from deck_emulator.legacy.deck import NAMES, read_deck
 
 DECKS = Path(__file__).resolve().parents[1] / "decks"
 

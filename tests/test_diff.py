@@ -5,8 +5,8 @@ import json
 import pytest
 
 from deck_emulator.cli import main
-from deck_emulator.deck import read_deck
-from deck_emulator.diff import diff_deck
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.diff import diff_deck
 
 DECK = "decks/steel40.dat"
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator.deck import read_deck
-from deck_emulator.emulator import EmulatorError, Limits, run_deck
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.legacy.emulator import EmulatorError, Limits, run_deck
 
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = ROOT / "golden"
@@ -149,7 +149,7 @@ def test_trace_and_events_follow_the_printout():
 def test_variables_read_before_assignment_are_zero():
     """As on the 7094 (and gfortran -fno-automatic -finit-local-zero): the first printout after
     a start-up step reads THAD, which only label 44 sets; it must print 0, not fail."""
-    from deck_emulator.emulator import Program
+    from deck_emulator.legacy.emulator import Program
 
     for precision in ("double", "single"):
         program = Program(read_deck(ROOT / "decks" / "steel40.dat"), precision)

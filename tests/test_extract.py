@@ -1,5 +1,5 @@
-"""deck_emulator.extract on the gfortran golden, checked against the golden's own text parsed
-here independently; and deck_emulator.report_tables checked against the report's scanned text."""
+"""deck_emulator.legacy.extract on the gfortran golden, checked against the golden's own text parsed
+here independently; and deck_emulator.studies.report_tables checked against the report's scanned text."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator.deck import read_deck
-from deck_emulator.extract import (
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.legacy.extract import (
     DELTA_V_CANDIDATES,
     MPH,
     ExtractError,
@@ -18,7 +18,7 @@ from deck_emulator.extract import (
     extract,
     parse_printout,
 )
-from deck_emulator.report_tables import CASES, REPORT, ROW_LABELS
+from deck_emulator.studies.report_tables import CASES, REPORT, ROW_LABELS
 
 ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = ROOT / "golden" / "steel40.r8.txt"
@@ -167,7 +167,7 @@ def test_cut_printout_and_empty_printout(text, deck):
 
 
 def test_emulator_double_gives_the_golden_outcome(deck, outcome):
-    from deck_emulator.emulator import run_deck
+    from deck_emulator.legacy.emulator import run_deck
 
     run = run_deck(deck, "double")
     assert extract(run, deck) == outcome

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator.printer import Printer
+from deck_emulator.legacy.printer import Printer
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -1,4 +1,4 @@
-"""Unit tests of the IBM 7094 single-precision arithmetic (deck_emulator.ibm7094).
+"""Unit tests of the IBM 7094 single-precision arithmetic (deck_emulator.legacy.arithmetic.ibm7094).
 
 Expected words are worked out by hand from the word format, written as IBM prints them: 12
 octal digits, the first three being sign (400) + characteristic (exponent + 128, octal), the
@@ -14,8 +14,8 @@ from fractions import Fraction
 
 import pytest
 
-from deck_emulator.arithmetic import ArithmeticFault, get_arithmetic
-from deck_emulator.ibm7094 import (
+from deck_emulator.legacy.arithmetic import ArithmeticFault, get_arithmetic
+from deck_emulator.legacy.arithmetic.ibm7094 import (
     INDICATORS,
     MAX_WORD,
     MIN_WORD,

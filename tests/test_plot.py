@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from deck_emulator import plot
-from deck_emulator.deck import read_deck
-from deck_emulator.sweep import run_engine
+from deck_emulator.present import plot
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.sweep import run_engine
 
 ROOT = Path(__file__).resolve().parent.parent
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

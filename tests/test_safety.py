@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from deck_emulator.safety import (
+from deck_emulator.studies.safety import (
     CRITERIA,
     FT_PER_M,
     G_FT_S2,
@@ -207,9 +207,9 @@ def test_clearance_counts_only_free_flight():
 
 @pytest.fixture(scope="module")
 def steel40():
-    from deck_emulator.deck import read_deck
-    from deck_emulator.emulator import run_deck
-    from deck_emulator.extract import extract
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.legacy.emulator import run_deck
+    from deck_emulator.legacy.extract import extract
 
     deck = read_deck(ROOT / "decks" / "steel40.dat")
     run = run_deck(deck, "double", trace=True)
@@ -217,7 +217,7 @@ def steel40():
 
 
 def test_delta_v_over_the_contact_is_extracts_vehicle_contact_lost(steel40):
-    from deck_emulator.sweep import run_emulator
+    from deck_emulator.studies.sweep import run_emulator
 
     deck, run, out = steel40
     res = run_emulator(deck)
@@ -236,7 +236,7 @@ def test_delta_v_over_the_contact_is_extracts_vehicle_contact_lost(steel40):
 def test_summary_block_from_a_plain_emulator_run(steel40):
     import json
 
-    from deck_emulator.sweep import emulator_result, run_emulator, safety_summary
+    from deck_emulator.studies.sweep import emulator_result, run_emulator, safety_summary
 
     deck, run, _ = steel40
     block = safety_summary(emulator_result(run, deck))

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator.scene import (
+from deck_emulator.core.scene import (
     LEGACY,
     LISTING_BASE_FRICTION,
     PHYSICAL,
@@ -82,7 +82,7 @@ def test_principal_coordinates_are_the_listings():
 
 
 def test_from_deck_file_matches_mapping():
-    deck_mod = pytest.importorskip("deck_emulator.deck")
+    deck_mod = pytest.importorskip("deck_emulator.legacy.deck")
     deck = deck_mod.read_deck(DECKS / "steel40.dat")
     s = Scene.from_deck(deck)
     assert s.name == "steel40.dat"

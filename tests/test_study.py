@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from deck_emulator import study
-from deck_emulator.study.error import COLUMNS as ERROR_COLUMNS
-from deck_emulator.study.stability import COLUMNS as STABILITY_COLUMNS
+from deck_emulator.studies import study_cli as study
+from deck_emulator.studies.error import COLUMNS as ERROR_COLUMNS
+from deck_emulator.studies.stability import COLUMNS as STABILITY_COLUMNS
 
 DECK = Path(__file__).resolve().parents[1] / "decks" / "steel40.dat"
 
@@ -156,8 +156,8 @@ def test_jobs_must_be_positive():
 
 
 def test_energy_helpers_on_a_plain_run():
-    from deck_emulator.deck import read_deck
-    from deck_emulator.study.common import emulator_energies, run_emulator
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.studies.common import emulator_energies, run_emulator
 
     deck = read_deck(DECK)
     out = run_emulator(deck)

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator import sweep
-from deck_emulator.deck import read_deck
-from deck_emulator.report_tables import REPORT
+from deck_emulator.studies import sweep
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.report_tables import REPORT
 
 ROOT = Path(__file__).resolve().parent.parent
 

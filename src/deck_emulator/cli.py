@@ -2,7 +2,7 @@
 
 Each subcommand is a function ``_cmd_<name>(args) -> int`` plus a small function that
 adds its subparser, registered with ``@_subcommand``.  A command reports bad input by
-raising :class:`~deck_emulator.deck.DeckError` (or another ``CLIError``); ``main`` turns
+raising :class:`~deck_emulator.legacy.deck.DeckError` (or another ``CLIError``); ``main`` turns
 that into ``deck-emulator: error: <message>`` on stderr and exit status 2.  A command
 builds its whole output before writing it, so an error leaves stdout empty.
 """
@@ -15,12 +15,12 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from deck_emulator.arithmetic import ARITHMETICS, get_arithmetic
-from deck_emulator.atomic import write_atomic
-from deck_emulator.deck import READ_LIST, DeckError, field_columns, read_deck
-from deck_emulator.emulator import ERRATA, EmulatorError, Limits, Program
-from deck_emulator.extract import extract
-from deck_emulator.printer import render_asa
+from deck_emulator.legacy.arithmetic import ARITHMETICS, get_arithmetic
+from deck_emulator.files import write_atomic
+from deck_emulator.legacy.deck import READ_LIST, DeckError, field_columns, read_deck
+from deck_emulator.legacy.emulator import ERRATA, EmulatorError, Limits, Program
+from deck_emulator.legacy.extract import extract
+from deck_emulator.legacy.printer import render_asa
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -190,7 +190,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     data = {"deck": str(deck.path), "arithmetic": run.arithmetic, "errata": list(run.errata),
             "assumptions": dict(getattr(_arithmetic(args), "assumptions", {}) or {}),
             **outcome.summary_dict()}
-    from deck_emulator.sweep import emulator_result, safety_summary
+    from deck_emulator.studies.sweep import emulator_result, safety_summary
 
     data["safety"] = safety_summary(emulator_result(run, deck))
     if args.json:
@@ -226,7 +226,7 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_diff(args: argparse.Namespace) -> int:
-    from deck_emulator.diff import diff_deck, format_diff
+    from deck_emulator.studies.diff import diff_deck, format_diff
 
     deck = read_deck(args.deck)
     progress = (lambda m: print(f"{PROG}: {m}", file=sys.stderr)) if sys.stderr.isatty() else None
@@ -263,7 +263,7 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
 
 
 def _load_scene(path: str):
-    from deck_emulator.scene import Scene
+    from deck_emulator.core.scene import Scene
 
     if path.endswith(".toml"):
         try:
@@ -325,21 +325,21 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
 
 @_subcommand
 def _add_plot(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.plot import add_parser
+    from deck_emulator.present.plot import add_parser
 
     add_parser(sub)
 
 
 @_subcommand
 def _add_sweep(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.sweep import add_parser
+    from deck_emulator.studies.sweep import add_parser
 
     add_parser(sub)
 
 
 @_subcommand
 def _add_study(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.study import add_parser
+    from deck_emulator.studies.study_cli import add_parser
 
     add_parser(sub)
 

@@ -4,14 +4,14 @@ Newton-Euler equations of the rigid post in its principal axes (eq. 3.16-3.17), 
 single degree of freedom (eq. 3.18), attitude as a unit quaternion, ``solve_ivp`` with
 located events.  The model is assembled from the components the scene has.
 
-    >>> from deck_emulator.deck import read_deck
-    >>> from deck_emulator.scene import Scene, LEGACY
+    >>> from deck_emulator.legacy.deck import read_deck
+    >>> from deck_emulator.core.scene import Scene, LEGACY
     >>> from deck_emulator.core import simulate
     >>> result = simulate(Scene.from_deck(read_deck("decks/steel40.dat")), LEGACY)
     >>> result.hit.message                                       # doctest: +SKIP
 """
 
-from ..scene import LEGACY, PHYSICAL, PRESETS, ModelOptions, StartupKick
+from .scene import LEGACY, PHYSICAL, PRESETS, ModelOptions, StartupKick
 from .model import ContactMode, Model, assemble
 from .regions import HIT_MESSAGES
 from .result import CoreEvent, CoreResult, Hit, Trajectory

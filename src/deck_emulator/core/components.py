@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from ..scene import ModelOptions, Scene
+from .scene import ModelOptions, Scene
 from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
 from .rigid import rotate
 
@@ -105,7 +105,7 @@ class BaseFriction:
 
 
 class StartupKickLoad:
-    """The listing's first step (:class:`~deck_emulator.scene.StartupKick`): during the
+    """The listing's first step (:class:`~deck_emulator.core.scene.StartupKick`): during the
     'kick' window the post feels only ``body_force_1_lb`` along body axis 1, the car
     ``vehicle_force_lb``."""
 

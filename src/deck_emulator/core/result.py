@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..scene import ModelOptions, Scene
+from .scene import ModelOptions, Scene
 
 __all__ = ["CoreEvent", "Hit", "Segment", "Trajectory", "CoreResult", "MPH_PER_FT_S"]
 

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from ..scene import PHYSICAL, ModelOptions, Scene
+from .scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE
 from .model import Model, assemble
 from .regions import hit_message

@@ -73,7 +73,7 @@ import numbers
 import re
 from fractions import Fraction
 
-from deck_emulator.arithmetic import Arithmetic, ArithmeticFault
+from .base import Arithmetic, ArithmeticFault, register
 
 __all__ = ["Word", "IBM7094Arithmetic", "INDICATORS", "ZERO", "ONE", "MAX_WORD", "MIN_WORD"]
 
@@ -658,3 +658,6 @@ class IBM7094Arithmetic(Arithmetic):
 
     def reset_indicators(self) -> None:
         INDICATORS.reset()
+
+
+register("ibm7094", IBM7094Arithmetic)

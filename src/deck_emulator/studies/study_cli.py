@@ -39,7 +39,7 @@ def _command(args) -> str:
 
 
 def _cmd_study(args: argparse.Namespace) -> int:
-    from deck_emulator.deck import read_deck
+    from deck_emulator.legacy.deck import read_deck
 
     args.jobs = args.jobs or os.cpu_count() or 1
     cmd = _command(args)

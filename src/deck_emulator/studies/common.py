@@ -1,10 +1,10 @@
 """What both studies share: one emulator run, one core run, energies, the machine, the files.
 
-An emulator run here is :class:`~deck_emulator.emulator.Program` with its trace rows extended by
+An emulator run here is :class:`~deck_emulator.legacy.emulator.Program` with its trace rows extended by
 the body velocities ``V1, V2, V3`` and angular velocities ``W1, W2, W3`` of the step (the
 listing's ``V1A ...`` in contact, ``V1FA ...`` in free flight), so that the kinetic energy of
 every accepted step is known.  Every failure is caught and described: a guard of the emulator
-(:class:`~deck_emulator.emulator.EmulatorError` with its ``guard``) or any other exception (an
+(:class:`~deck_emulator.legacy.emulator.EmulatorError` with its ``guard``) or any other exception (an
 emulator defect: ``guard = "crash"``).
 """
 
@@ -24,9 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.diff import legacy_options
+from deck_emulator.studies.diff import legacy_options
 from deck_emulator.core import kinetic_energy, simulate
-from deck_emulator.emulator import EmulatorError, Limits, Program
+from deck_emulator.legacy.emulator import EmulatorError, Limits, Program
 
 H0 = 0.0004  # the listing's step, s
 HIT = "HIT"
@@ -37,12 +37,14 @@ ERRATA = ("ed-direction",)
 _BODY_RATES = ("V1", "V2", "V3", "W1", "W2", "W3")
 
 
-matched_options = legacy_options  # one definition: deck_emulator.diff.legacy_options
+matched_options = legacy_options  # one definition: deck_emulator.studies.diff.legacy_options
 
 
 def default_deck() -> Path:
-    """The repository's ``decks/steel40.dat`` (the studies' base scene)."""
-    return Path(__file__).resolve().parents[3] / "decks" / "steel40.dat"
+    """The report's deck, steel40 (the studies' base scene), as shipped with the package."""
+    from deck_emulator import decks
+
+    return decks.path(decks.REPORT_DECK)
 
 
 # --------------------------------------------------------------------------- the emulator

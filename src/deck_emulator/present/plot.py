@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from deck_emulator import safety
-from deck_emulator.sweep import ENGINES, ERRATUM, MPH, EngineResult, run_engine
+from deck_emulator.studies import safety
+from deck_emulator.studies.sweep import ENGINES, ERRATUM, MPH, EngineResult, run_engine
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -789,7 +789,7 @@ def _run_for_plot(deck, engine, args) -> EngineResult:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.cli import CLIError
-    from deck_emulator.deck import read_deck
+    from deck_emulator.legacy.deck import read_deck
 
     deck = read_deck(args.deck)
     out = Path(args.out)
@@ -831,7 +831,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``deck-emulator plot``."""
-    from deck_emulator.emulator import ERRATA
+    from deck_emulator.legacy.emulator import ERRATA
 
     p = sub.add_parser(
         "plot",

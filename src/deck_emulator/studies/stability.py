@@ -25,10 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.deck import read_deck
-from deck_emulator.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.emulator import Limits
-from deck_emulator.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
+from deck_emulator.legacy.emulator import Limits
+from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
 
 from .common import (
     ERRATA,

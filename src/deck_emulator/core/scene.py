@@ -410,7 +410,7 @@ class Scene:
 
     @classmethod
     def from_deck(cls, deck: Any, *, name: str = "") -> "Scene":
-        """Build the scene of a card deck (a :class:`deck_emulator.deck.Deck` or a mapping
+        """Build the scene of a card deck (a :class:`deck_emulator.legacy.deck.Deck` or a mapping
         READ-list name -> value).
 
         A point at the mass centre (all three coordinates 0), a zero spring constant
@@ -496,7 +496,7 @@ class Scene:
         are absent tables).  :meth:`from_toml` reads it back to an equal scene."""
         lines = [
             "# deck_emulator scene: ft, lb, slug, s, rad; positions relative to the post's",
-            "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.scene).",
+            "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.core.scene).",
         ]
         if self.name:
             lines.append(f"name = {_toml_string(self.name)}")

@@ -5,7 +5,7 @@ statement starts a block of the label machine (:meth:`Program._dispatch` runs bl
 each returning the label it goes to: a ``GO TO``, an arithmetic IF's branch, or the label that
 follows), every arithmetic IF is a three-way branch on ``sign`` with the listing's targets, and
 integer variables (``I``, ``M``, ``N``, ``LL``, ``L``) stay Python ints. All real arithmetic goes
-through an :class:`~deck_emulator.arithmetic.Arithmetic`: its number type's operators, its
+through an :class:`~deck_emulator.legacy.arithmetic.Arithmetic`: its number type's operators, its
 ``decimal`` for every literal and deck field, its ``sin``/``cos``; so the same text runs in
 binary64, binary32 or the IBM 7094's words.
 
@@ -30,8 +30,8 @@ import sys
 import traceback
 from dataclasses import dataclass, field
 
-from deck_emulator.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
-from deck_emulator.printer import Printer
+from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
+from deck_emulator.legacy.printer import Printer
 
 ERRATA = {
     "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
@@ -997,6 +997,6 @@ def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_sc
 
 
 if __name__ == "__main__":  # pragma: no cover
-    from deck_emulator.deck import read_deck
+    from deck_emulator.legacy.deck import read_deck
 
     sys.stdout.write(run_deck(read_deck(sys.argv[1])).text())

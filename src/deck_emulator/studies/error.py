@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator.core import LEGACY
-from deck_emulator.deck import read_deck
-from deck_emulator.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.scene import Scene
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
+from deck_emulator.core.scene import Scene
 
 from .common import (
     H0,

@@ -4,14 +4,14 @@ Every (speed, angle) of a grid is one scene: the base deck with VVB and ALPHA ch
 scene is run by one engine, in parallel over worker processes, and written as
 
 * ``sweep.csv`` -- one row per scene: every output (events, hit, the report's quantities, the
-  occupant-risk numbers of :mod:`deck_emulator.safety`, the post's margin above the car) and,
+  occupant-risk numbers of :mod:`deck_emulator.studies.safety`, the post's margin above the car) and,
   where the report has the case, the report's value and our difference;
 * ``sweep.md`` -- laid out like Tables 11 and 12 of the report: one table per speed, a column
   per approach angle, each cell ``ours (report, diff)``.
 
 This module also holds the small engine layer the pictures use (:func:`run_engine`): either
 engine's run as an :class:`EngineResult` -- times, the post's named points, the car's position
-and velocity, the contact pulse, the events and the hit -- so :mod:`deck_emulator.plot` and the
+and velocity, the contact pulse, the events and the hit -- so :mod:`deck_emulator.present.plot` and the
 sweep treat the 1967 program and the modern core alike.
 
 Rules (stated once, here)
@@ -51,9 +51,10 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator import safety
-from deck_emulator.atomic import write_atomic
-from deck_emulator.deck import Deck, read_deck
+from deck_emulator.studies import safety
+from deck_emulator import decks
+from deck_emulator.files import write_atomic
+from deck_emulator.legacy.deck import Deck, read_deck
 
 __all__ = [
     "ENGINES",
@@ -75,10 +76,8 @@ __all__ = [
     "add_parser",
 ]
 
-ROOT = Path(__file__).resolve().parents[2]
-DECKS = ROOT / "decks"
 #: --post -> base deck (the report's steel post, 40 mph, 0 deg).
-POSTS = {"steel": DECKS / "steel40.dat"}
+POSTS = {"steel": decks.path(decks.REPORT_DECK)}
 ENGINES = ("emulator", "core")
 ERRATUM = "ed-direction"
 MPH = 88.0 / 60.0
@@ -252,7 +251,7 @@ def run_emulator(
     deck: Deck, *, errata: Sequence[str] | None = None, name: str = ""
 ) -> EngineResult:
     """The 1967 program in binary64 with a trace; errata as :func:`errata_for` decides."""
-    from deck_emulator.emulator import EmulatorError, run_deck
+    from deck_emulator.legacy.emulator import EmulatorError, run_deck
 
     d = dict(deck.values)
     chosen, note = errata_for(d, errata)
@@ -281,9 +280,9 @@ def run_emulator(
 def emulator_result(
     run, deck: Deck, *, errata=(), note: str = "", error: str | None = None, name: str = ""
 ) -> EngineResult:
-    """An emulator :class:`~deck_emulator.emulator.Run` (made with ``trace=True``) of ``deck``
+    """An emulator :class:`~deck_emulator.legacy.emulator.Run` (made with ``trace=True``) of ``deck``
     as an :class:`EngineResult` (what ``summary`` needs for :func:`safety_summary`)."""
-    from deck_emulator.extract import ExtractError, extract
+    from deck_emulator.legacy.extract import ExtractError, extract
 
     d = dict(deck.values)
     errata = tuple(errata or getattr(run, "errata", ()) or ())
@@ -384,7 +383,7 @@ def run_core(
 ) -> EngineResult:
     """The modern core (:func:`deck_emulator.core.simulate`) sampled on a regular grid."""
     from deck_emulator.core import CoreError, simulate
-    from deck_emulator.scene import PRESETS, Scene
+    from deck_emulator.core.scene import PRESETS, Scene
 
     d = dict(deck.values)
     options = PRESETS[preset]
@@ -549,13 +548,12 @@ def parse_grid(text: str) -> list[float]:
 
 def _report_for(name: str, deck: Deck):
     """The report's values for this scene, if it is one of the report's cases (same deck)."""
-    from deck_emulator.report_tables import REPORT
+    from deck_emulator.studies.report_tables import REPORT
 
     if name not in REPORT:
         return None
-    path = DECKS / f"{name}.dat"
-    if path.exists():
-        ref = read_deck(path)
+    if name in decks.names():
+        ref = read_deck(decks.path(name))
         if any(ref.values[k] != deck.values[k] for k in ref.values):
             return None
     return REPORT[name]
@@ -793,11 +791,11 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
     eng = rows[0]["errata_note"] if rows and engine == "core" else ""
     lines += [
         f"Engine: **{engine}**{' (' + eng + ')' if eng else ''}. Base deck: the report's steel post "
-        "(`decks/steel40.dat`), VVB and ALPHA changed (rules in `deck_emulator.sweep`).",
+        "(`decks/steel40.dat`), VVB and ALPHA changed (rules in `deck_emulator.studies.sweep`).",
         "",
         "Each cell: **ours (report, ours − report)** where the report's Tables 11 (20 mph) and "
         "12 (40 mph), steel-post columns, have the case; otherwise ours alone. The report's "
-        "numbers come from `deck_emulator.report_tables`.",
+        "numbers come from `deck_emulator.studies.report_tables`.",
         "",
         f"- ΔV (the report's row): {rows[0]['delta_v_definition'] if rows else ''}; the "
         "maximum deceleration is "
@@ -808,7 +806,7 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         ),
         "- Terminal coordinates in the report's XL, YL, ZL axes (origin on the ground under the "
         "base of the support), at the hit.",
-        f"- Occupant risk (flail-space model, `deck_emulator.safety`, docs/safety.md): OIV "
+        f"- Occupant risk (flail-space model, `deck_emulator.studies.safety`, docs/safety.md): OIV "
         f"limit {oiv.label()}; ORA limit {ora.label()} (breakaway supports, NCHRP Report 350 "
         "/ MASH).",
         "- Margin: the least vertical clearance (ft) between the post (the line Q–P–R) and the "

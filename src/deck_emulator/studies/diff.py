@@ -23,8 +23,8 @@ import numpy as np
 
 from deck_emulator.core import LEGACY, StartupKick, simulate
 from deck_emulator.core.result import MPH_PER_FT_S
-from deck_emulator.emulator import EmulatorError, Run, run_deck
-from deck_emulator.scene import Scene
+from deck_emulator.legacy.emulator import EmulatorError, Run, run_deck
+from deck_emulator.core.scene import Scene
 
 H0 = 0.0004  # the listing's step, s
 POINTS = ("P", "Q", "R")

@@ -1,0 +1,76 @@
+"""IEEE binary64 and binary32, as gfortran's REAL*8 and REAL builds of the listing."""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import math
+from fractions import Fraction
+
+import numpy as np
+
+from .base import Arithmetic, register
+
+
+class DoubleArithmetic(Arithmetic):
+    """IEEE binary64, as gfortran's REAL with ``-fdefault-real-8``: Python floats and the C
+    library's ``sin``/``cos`` (the same calls gfortran's code makes)."""
+
+    name = "double"
+
+    def decimal(self, text: str) -> float:
+        return float(text)  # correctly rounded, as gfortran's compile-time conversion
+
+    def sin(self, x):
+        return math.sin(x)
+
+    def cos(self, x):
+        return math.cos(x)
+
+
+def _libm():
+    path = ctypes.util.find_library("m")
+    lib = ctypes.CDLL(path)
+    for fn in ("sinf", "cosf"):
+        getattr(lib, fn).restype = ctypes.c_float
+        getattr(lib, fn).argtypes = [ctypes.c_float]
+    return lib
+
+
+class SingleArithmetic(Arithmetic):
+    """IEEE binary32, as gfortran's default REAL: every operation and constant rounded to
+    binary32 (numpy ``float32`` scalars, with floating-point exceptions raised, as the
+    trapping build stops), ``SIN``/``COS`` from the C library's ``sinf``/``cosf``, the very
+    functions gfortran's REAL*4 intrinsics call."""
+
+    name = "single"
+
+    def __init__(self):
+        self._m = _libm()
+
+    def decimal(self, text: str) -> np.float32:
+        exact = Fraction(text)
+        c = np.float32(float(exact))
+        # decimal -> binary64 -> binary32 can round twice; pick the truly nearest binary32
+        best = min(
+            (np.nextafter(c, np.float32(-np.inf)), c, np.nextafter(c, np.float32(np.inf))),
+            key=lambda v: (abs(Fraction(float(v)) - exact), int(np.float32(v).view(np.int32)) & 1),
+        )
+        return np.float32(best)
+
+    def sin(self, x):
+        return np.float32(self._m.sinf(float(x)))
+
+    def cos(self, x):
+        return np.float32(self._m.cosf(float(x)))
+
+    def isfinite(self, x) -> bool:
+        return bool(np.isfinite(x))
+
+    def trapping(self):
+        # as gfortran's -ffpe-trap=invalid,zero,overflow: underflow goes on quietly
+        return np.errstate(divide="raise", over="raise", invalid="raise", under="ignore")
+
+
+register("double", DoubleArithmetic)
+register("single", SingleArithmetic)
