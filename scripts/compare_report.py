@@ -48,7 +48,7 @@ from deck_emulator.legacy.extract import (
     extract,
     parse_printout,
 )
-from deck_emulator.studies.report_tables import CASES, REPORT, SEED, report_time_ms
+from deck_emulator.studies.report_tables import CASES, REPORT, SOURCE, report_time_ms
 
 DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30")
 COMMAND = "python scripts/compare_report.py"
@@ -137,7 +137,7 @@ def rows_for(outcome):
     t = outcome.terminal
     ms = (lambda s: None if s is None else 1000.0 * s)
     out = {
-        "delta_v_mph": outcome.delta_v_mph,
+        "delta_v_crush_mph": outcome.delta_v_crush_mph,
         "max_decel_g": outcome.max_decel_g,
     }
     for p in ("P", "R", "Q", "C"):
@@ -152,7 +152,7 @@ def rows_for(outcome):
 
 
 ROWS = [  # (key, label, decimals, report key)
-    ("delta_v_mph", f"ΔV, mph ({DELTA_V_DEFINITION})", 3, "delta_v_mph"),
+    ("delta_v_crush_mph", f"ΔV, mph ({DELTA_V_DEFINITION})", 3, "delta_v_crush_mph"),
     ("max_decel_g", "max deceleration, g (printed FSA/(WV·G))", 3, "max_decel_g"),
     ("XPL", "XPL, ft", 2, "XPL"), ("YPL", "YPL, ft", 2, "YPL"), ("ZPL", "ZPL, ft", 2, "ZPL"),
     ("XRL", "XRL, ft", 2, "XRL"), ("YRL", "YRL, ft", 2, "YRL"), ("ZRL", "ZRL, ft", 2, "ZRL"),
@@ -301,7 +301,7 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
     w("")
     w("Sources:")
     w(f"* **report** — TTI Research Report 75-9, Table 11 (20 mph) and Table 12 (40 mph), "
-      f"STEEL POST columns (`{SEED}`, lines 1748-1794), kept in `src/deck_emulator/report_tables.py`;")
+      f"STEEL POST columns ({SOURCE}, lines 1748-1794), kept in `deck_emulator.studies.report_tables`;")
     w("* **gfortran r8** — `golden/<deck>[.ed-direction].r8.txt`, the listing compiled with "
       "gfortran `-fdefault-real-8` (see `golden/MANIFEST.txt`), read by `deck_emulator.legacy.extract`;")
     w("* **double** — `run_deck(deck, 'double', errata=...)`, the emulator in IEEE binary64, "
@@ -371,7 +371,7 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
     step_dv = {}
     for n in DECKS:
         d = decks[n].values
-        rv = REPORT[n]["delta_v_mph"]
+        rv = REPORT[n]["delta_v_crush_mph"]
         og, oi = outcomes[n]["golden"], outcomes[n]["ibm7094"]
         cg = og.delta_v_candidates_mph
         for c in DELTA_V_CANDIDATES:
@@ -426,11 +426,11 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
         return f"{min(vals):+.3f} to {max(vals):+.3f}"
 
     def errs(c, names):
-        return [outcomes[n]["golden"].delta_v_candidates_mph[c] - REPORT[n]["delta_v_mph"]
+        return [outcomes[n]["golden"].delta_v_candidates_mph[c] - REPORT[n]["delta_v_crush_mph"]
                 for n in names]
 
     rest = [outcomes[n]["golden"].delta_v_candidates_mph["vehicle_contact_lost"]
-            - outcomes[n]["golden"].delta_v_mph for n in DECKS]
+            - outcomes[n]["golden"].delta_v_crush_mph for n in DECKS]
     w("The speed the vehicle has lost when the post leaves it (`vehicle_contact_lost`, which the "
       "free flight keeps unchanged to the end of the run, `end_of_run`) is far above the "
       f"report's figure: by {rng(errs('vehicle_contact_lost', s40))} mph at 40 mph and "
@@ -439,29 +439,29 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
       "The speed lost by the end of the crush pulse — the first ~22 ms, until label 504 caps the "
       "spring force at FCONST = 1200 lb — is within "
       f"{rng(errs('crush_pulse_end', s40))} mph of the report at 40 mph "
-      f"(steel40: {f(outcomes['steel40']['golden'].delta_v_mph, 3)} against "
-      f"{f(REPORT['steel40']['delta_v_mph'])}), the only "
+      f"(steel40: {f(outcomes['steel40']['golden'].delta_v_crush_mph, 3)} against "
+      f"{f(REPORT['steel40']['delta_v_crush_mph'])}), the only "
       "candidate of the four that comes near. It is what the car loses to the post's impact "
       "proper; the report's figure would then leave out what follows, the constant 1200 lb "
       "FCONST drag and the second spring (another "
       f"{min(rest):.2f}-{max(rest):.2f} mph up to the loss of the vehicle). At 20 mph the same "
       f"definition falls {min(-x for x in errs('crush_pulse_end', s20)):.3f} to "
       f"{max(-x for x in errs('crush_pulse_end', s20)):.3f} mph short of the report ("
-      + ", ".join(f(REPORT[n]['delta_v_mph']) for n in s20) + "), and the report's rise with α "
-      f"at 20 mph ({REPORT['steel20_a30']['delta_v_mph'] - REPORT['steel20']['delta_v_mph']:+.2f} mph "
+      + ", ".join(f(REPORT[n]['delta_v_crush_mph']) for n in s20) + "), and the report's rise with α "
+      f"at 20 mph ({REPORT['steel20_a30']['delta_v_crush_mph'] - REPORT['steel20']['delta_v_crush_mph']:+.2f} mph "
       "from 0° to 30°) is larger than the listing's "
-      f"({outcomes['steel20_a30']['golden'].delta_v_mph - outcomes['steel20']['golden'].delta_v_mph:+.3f}). "
+      f"({outcomes['steel20_a30']['golden'].delta_v_crush_mph - outcomes['steel20']['golden'].delta_v_crush_mph:+.3f}). "
       "Taking the step at which FSA first equals FCONST from every step instead of every "
       f"printed 4th moves it by at most "
-      f"{max(abs(step_dv[n][0] - outcomes[n]['golden'].delta_v_mph) for n in DECKS):.3f} mph, "
+      f"{max(abs(step_dv[n][0] - outcomes[n]['golden'].delta_v_crush_mph) for n in DECKS):.3f} mph, "
       "and the 7094's arithmetic by "
-      f"{max(abs(outcomes[n]['ibm7094'].delta_v_mph - outcomes[n]['golden'].delta_v_mph) for n in DECKS):.3f} mph: "
+      f"{max(abs(outcomes[n]['ibm7094'].delta_v_crush_mph - outcomes[n]['golden'].delta_v_crush_mph) for n in DECKS):.3f} mph: "
       "neither closes the 20 mph gap. So the crush-pulse reading fits 40 mph to "
       f"{max(abs(x) for x in errs('crush_pulse_end', s40)):.2f} mph and is "
       "the best of the four at 20 mph, but it does not reproduce the report's 20 mph column; "
       "the report does not say how it measured ΔV, and the listing reaches the report's "
-      f"{f(REPORT['steel20']['delta_v_mph'])} mph for steel20 at no distinguished instant (it is "
-      f"passed at {f(1000 * _dv_crossing(runs[('steel20', 'double', ())]['trace'], decks['steel20'].values['VVB'], REPORT['steel20']['delta_v_mph']), 1)} ms, "
+      f"{f(REPORT['steel20']['delta_v_crush_mph'])} mph for steel20 at no distinguished instant (it is "
+      f"passed at {f(1000 * _dv_crossing(runs[('steel20', 'double', ())]['trace'], decks['steel20'].values['VVB'], REPORT['steel20']['delta_v_crush_mph']), 1)} ms, "
       "in the middle of the FCONST phase).")
     w("")
 
@@ -680,7 +680,7 @@ def _dv_crossing(trace, vv0, target_mph):
     return None
 
 
-NUM_KEYS = ("delta_v_mph", "max_decel_g", "XPL", "YPL", "ZPL", "XRL", "YRL", "ZRL", "XQL",
+NUM_KEYS = ("delta_v_crush_mph", "max_decel_g", "XPL", "YPL", "ZPL", "XRL", "YRL", "ZRL", "XQL",
             "YQL", "ZQL", "terminal_ms")
 
 
@@ -695,7 +695,7 @@ def _closer_count(rows):
     for n in DECKS:
         for k in NUM_KEYS:
             rv = report_time_ms(n) if k == "terminal_ms" else REPORT[n][k]
-            nd = 1 if k == "terminal_ms" else (3 if k in ("delta_v_mph", "max_decel_g") else 2)
+            nd = 1 if k == "terminal_ms" else (3 if k in ("delta_v_crush_mph", "max_decel_g") else 2)
             a = round(abs(rows[n]["golden"][k] - rv), nd)
             b = round(abs(rows[n]["ibm7094"][k] - rv), nd)
             nearer += b < a

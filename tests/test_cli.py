@@ -45,8 +45,12 @@ def test_summary_json_names_the_errata_and_outcomes(capsys):
     data = json.loads(capsys.readouterr().out)
     assert data["errata"] == ["ed-direction"]
     assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
-    assert [e["message"] for e in data["events"]] == [
-        "THE POST HAS LOST CONTACT WITH FIRST SPRING", "THE POST HAS LOST CONTACT WITH THE VEHICLE"]
+    # the events as objects, in time order; the hit agrees with the printed message
+    assert [e["kind"] for e in data["events"]] == ["lost_first_spring", "lost_vehicle", "hit"]
+    assert data["events"][-1]["surface"] == "ground" and data["events"][-1]["point"] == "R"
+    assert data["events"][0]["sentence"].startswith("post lost contact with the first spring at")
+    # two ΔVs, two names: the report's (crush-pulse end) is reached before contact ends
+    assert 0 < data["delta_v_crush_mph"] < data["delta_v_contact_mph"]
 
 
 def test_summary_without_needed_erratum_fails_with_a_hint(capsys):

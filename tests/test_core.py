@@ -99,7 +99,7 @@ def test_steel40_runs_end_with_a_listing_message(runs):
             < names.index("hit")
         )
         assert r.first_spring_lost_s <= r.vehicle_contact_lost_s < r.hit.time_s
-        assert 0.0 < r.delta_v_mph < 58.66 * 3600 / 5280
+        assert 0.0 < r.delta_v_contact_mph < 58.66 * 3600 / 5280
         assert r.max_decel_g > 0.0
         assert set(r.terminal_points_ft) == {"P", "Q", "R"}
         assert not r.planar
@@ -264,7 +264,7 @@ def test_dropped_post_falls_as_a_parabola():
     )
     s = post_only(tilt=0.1463, initial=ini, depth=20.27)
     r = simulate(s, PHYSICAL)
-    assert r.vehicle_contact_lost_s is None and r.delta_v_mph is None
+    assert r.vehicle_contact_lost_s is None and r.delta_v_contact_mph is None
     v0 = np.array(rotation_matrix(assemble(s, PHYSICAL).y0[6:10])).reshape(3, 3) @ v0_body
     t = np.linspace(0.0, r.hit.time_s, 101)
     expect = (

@@ -9,11 +9,13 @@ from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import diff_deck
 
 DECK = "decks/steel40.dat"
+#: as printed, ED walks away from its root on steel40 once the step is halved (k >= 1)
+ERRATA = ("ed-direction",)
 
 
 @pytest.fixture(scope="module")
 def tightened():
-    return diff_deck(read_deck(DECK), ks=range(4))
+    return diff_deck(read_deck(DECK), ks=range(4), errata=ERRATA)
 
 
 def test_difference_shrinks_at_first_order_when_ed_is_solved_with_the_step(tightened):
@@ -30,24 +32,31 @@ def test_difference_shrinks_at_first_order_when_ed_is_solved_with_the_step(tight
 
 def test_side_by_side_is_the_printed_run(tightened):
     e, c = tightened["emulator"], tightened["core"]
-    assert e["hit"] == c["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    assert e["hit"] == c["hit"] == "hit ground (R)"  # the golden: ...HIT THE GROUND WITH POINT R
     assert e["hit_time_s"] == pytest.approx(0.8216, abs=1e-9)  # the golden's last TIME
     assert abs(e["hit_time_s"] - c["hit_time_s"]) < 0.005  # s
-    assert abs(e["delta_v_mph"] - c["delta_v_mph"]) < 0.05  # mph
+    assert abs(e["delta_v_contact_mph"] - c["delta_v_contact_mph"]) < 0.05  # mph
     assert 0 < tightened["max_trajectory_diff_ft"] < 0.5  # ft, with ED's .0001 as printed
 
 
 def test_as_printed_ed_tolerance_does_not_converge():
     """ED's .0001 rad does not shrink with the step: the difference stops falling."""
-    d = diff_deck(read_deck(DECK), ks=range(3), tighten_ed=False)
+    d = diff_deck(read_deck(DECK), ks=range(3), tighten_ed=False, errata=ERRATA)
     traj = [r["max_trajectory_diff_ft"] for r in d["convergence"]]
     assert traj[2] > traj[0], traj  # measured 0.27, 0.22, 1.01 ft
 
 
 def test_diff_cli_json(capsys):
-    assert main(["diff", DECK, "--json", "--max-k", "1"]) == 0
+    assert main(["diff", DECK, "--json", "--max-k", "1", "--erratum", "ed-direction"]) == 0
     data = json.loads(capsys.readouterr().out)
+    assert data["errata"] == ["ed-direction"]
     for side in ("emulator", "core"):
-        assert {"hit", "hit_time_s", "delta_v_mph", "max_decel_g"} <= set(data[side])
+        assert {"hit", "hit_time_s", "delta_v_contact_mph", "max_decel_g"} <= set(data[side])
     assert [r["k"] for r in data["convergence"]] == [0, 1]
     assert {"k", "h_s", "hit_time_diff_s", "max_trajectory_diff_ft"} <= set(data["convergence"][0])
+
+
+def test_diff_as_printed_stops_at_the_first_halved_step_and_names_the_erratum(capsys):
+    assert main(["diff", DECK, "--max-k", "1"]) == 3
+    err = capsys.readouterr().err
+    assert "k = 1" in err and "--erratum ed-direction" in err

@@ -133,16 +133,23 @@ def test_non_finite_value_names_the_statement():
 
 
 def test_trace_and_events_follow_the_printout():
+    from deck_emulator.events import EventKind, Surface
+    from deck_emulator.legacy.printer import event_message
+
     run = run_deck(read_deck(ROOT / "decks" / "steel40.dat"))
-    messages = [m for m, _ in run.events]
-    assert messages == [
+    # each event's text is the message the line printer wrote, in the printout's order
+    printed = [r.strip() for r in run.records if "THE POST HAS" in r]
+    assert [event_message(e) for e in run.events] == printed == [
         "THE POST HAS LOST CONTACT WITH FIRST SPRING",
         "THE POST HAS LOST CONTACT WITH THE VEHICLE",
         "THE POST HAS HIT THE GROUND WITH POINT R",
     ]
+    assert [e.label for e in run.events] == [355, 100, 110]  # the FORMATs that printed them
+    hit = run.events[-1]
+    assert hit.kind is EventKind.HIT and hit.surface is Surface.GROUND and hit.point == "R"
     printed_times = [float(x) for x in re.findall(r"TIME IS\s+(\S+)", run.text())]
-    assert run.events[-1][1] == pytest.approx(printed_times[-1], abs=5e-6)
-    assert run.trace[-1]["t"] == pytest.approx(run.events[-1][1])
+    assert hit.time_s == pytest.approx(printed_times[-1], abs=5e-6)
+    assert run.trace[-1]["t"] == pytest.approx(hit.time_s)
     assert [r["phase"] for r in run.trace].count("contact") > 100
 
 

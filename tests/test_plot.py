@@ -12,7 +12,7 @@ from PIL import Image
 
 from deck_emulator.present import plot
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.studies.sweep import run_engine
+from deck_emulator.engine import run_engine
 
 ROOT = Path(__file__).resolve().parent.parent
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -76,7 +76,7 @@ def test_side_view_axes_and_legend(steel40_emulator):
     assert ax.get_xlabel().startswith("XL (ft)") and ax.get_ylabel().startswith("ZL (ft)")
     title = fig.legends[0].get_title().get_text()
     assert "steel40" in title and "40 mph" in title and "α = 0°" in title
-    assert "Post hits ground with point R" in title
+    assert "Post hit the ground with the luminaire end R" in title
 
 
 def test_instants_are_regular_and_end_at_the_hit(steel40_emulator):
@@ -98,25 +98,34 @@ def test_animation_is_a_gif_with_frames(tmp_path, steel40_emulator):
 
 
 def _parser():
-    parser = argparse.ArgumentParser(prog="deck-emulator")
-    sub = parser.add_subparsers(dest="command", required=True)
-    plot.add_parser(sub)
+    from deck_emulator.cli import build_parser
+
+    parser = build_parser()
     return parser
 
 
-def test_command_applies_the_erratum_to_an_angle_deck_and_says_so(tmp_path, capsys):
+def test_command_runs_an_angle_deck_with_the_erratum_requested(tmp_path, capsys):
     out = tmp_path / "a15_plan.png"
     args = _parser().parse_args(
-        ["plot", str(ROOT / "decks" / "steel40_a15.dat"), "--out", str(out), "--view", "plan"]
+        ["plot", str(ROOT / "decks" / "steel40_a15.dat"), "--out", str(out), "--view", "plan",
+         "--erratum", "ed-direction"]
     )
     assert args.func(args) == 0
-    err = capsys.readouterr().err
-    assert "ed-direction applied" in err and "ALPHA != 0" in err
     check_png(out, "plan")
 
 
+def test_command_as_printed_on_an_angle_deck_names_the_erratum(tmp_path, capsys):
+    out = tmp_path / "a15_side.png"
+    args = _parser().parse_args(
+        ["plot", str(ROOT / "decks" / "steel40_a15.dat"), "--out", str(out)]
+    )
+    assert args.func(args) == 3  # ED stops it as printed; the picture shows what it computed
+    err = capsys.readouterr().err
+    assert "stopped early" in err and "--erratum ed-direction" in err
+
+
 def test_command_refuses_a_non_png_output(tmp_path):
-    from deck_emulator.cli import CLIError
+    from deck_emulator.errors import UsageError as CLIError
 
     args = _parser().parse_args(
         ["plot", str(ROOT / "decks" / "steel40.dat"), "--out", str(tmp_path / "x.jpg")]

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from deck_emulator.units import G_FT_S2
 from deck_emulator.studies.safety import (
     CRITERIA,
     FT_PER_M,
-    G_FT_S2,
     assess,
     body_clearance,
     flail_space,
@@ -43,8 +43,8 @@ def test_constant_deceleration_oiv_and_strike_time_closed_form():
     assert m.ora_g == pytest.approx(10.0, rel=1e-12)  # still decelerating 10 ms after the strike
     assert m.max_decel_g == pytest.approx(10.0, rel=1e-12)
     assert m.max_decel_10ms_g == pytest.approx(10.0, rel=1e-12)
-    assert m.delta_v_ft_s == pytest.approx(a * 0.3, rel=1e-12)
-    assert m.delta_v_mph == pytest.approx(a * 0.3 * 60 / 88, rel=1e-12)
+    assert m.delta_v_contact_ft_s == pytest.approx(a * 0.3, rel=1e-12)
+    assert m.delta_v_contact_mph == pytest.approx(a * 0.3 * 60 / 88, rel=1e-12)
     assert m.oiv_rating == "exceeds" and m.ora_rating == "preferred"
 
 
@@ -217,12 +217,12 @@ def steel40():
 
 
 def test_delta_v_over_the_contact_is_extracts_vehicle_contact_lost(steel40):
-    from deck_emulator.studies.sweep import run_emulator
+    from deck_emulator.engine import EmulatorEngine
+    from deck_emulator.studies.safety import assess_outcome
 
     deck, run, out = steel40
-    res = run_emulator(deck)
-    m = res.safety()
-    assert m.delta_v_mph == pytest.approx(
+    m = assess_outcome(EmulatorEngine().run(deck))
+    assert m.delta_v_contact_mph == pytest.approx(
         out.delta_v_candidates_mph["vehicle_contact_lost"], abs=1e-4
     )  # printed to 5 decimals
     # VVA = VVB + (H/WV)*FSB: the steepest step of the velocity is the largest force
@@ -236,11 +236,13 @@ def test_delta_v_over_the_contact_is_extracts_vehicle_contact_lost(steel40):
 def test_summary_block_from_a_plain_emulator_run(steel40):
     import json
 
-    from deck_emulator.studies.sweep import emulator_result, run_emulator, safety_summary
+    from deck_emulator.engine import EmulatorEngine
+    from deck_emulator.studies.safety import assess_outcome, summary
 
     deck, run, _ = steel40
-    block = safety_summary(emulator_result(run, deck))
+    engine = EmulatorEngine()
+    block = summary(engine.outcome(run, deck))
     json.dumps(block)  # plain values only
-    assert block["pulse"] == run_emulator(deck).safety().as_dict()
+    assert block["pulse"] == assess_outcome(engine.run(deck)).as_dict()
     assert block["limits"]["oiv"]["maximum"] == 5.0
     assert block["clearance_ft"]["roof_ft"] > 5.0  # 40 mph: the post passes high over the roof

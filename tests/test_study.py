@@ -18,9 +18,9 @@ DECK = Path(__file__).resolve().parents[1] / "decks" / "steel40.dat"
 
 
 def _run(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(prog="deck-emulator")
-    sub = parser.add_subparsers(dest="command", required=True)
-    study.add_parser(sub)
+    from deck_emulator.cli import build_parser
+
+    parser = build_parser()
     args = parser.parse_args(argv)
     return args.func(args)
 

@@ -53,9 +53,9 @@ def test_the_report_cases_are_exactly_the_decks(name):
 
 
 def _parser():
-    parser = argparse.ArgumentParser(prog="deck-emulator")
-    sub = parser.add_subparsers(dest="command", required=True)
-    sweep.add_parser(sub)
+    from deck_emulator.cli import build_parser
+
+    parser = build_parser()
     return parser
 
 
@@ -73,6 +73,8 @@ def small_sweep(tmp_path_factory):
             "0,15",
             "--jobs",
             "2",
+            "--erratum",
+            "ed-direction",
             "--out",
             str(out),
         ]
@@ -94,7 +96,8 @@ def test_csv_has_a_row_per_scene_and_every_column(small_sweep):
     ]
     for col in (
         "hit",
-        "delta_v_mph",
+        "delta_v_crush_mph",
+        "delta_v_contact_mph",
         "max_decel_g",
         "XPL",
         "ZQL",
@@ -109,12 +112,12 @@ def test_csv_has_a_row_per_scene_and_every_column(small_sweep):
         assert col in rows[0]
     for r in rows:
         assert r["engine"] == "emulator" and r["error"] == ""
-        assert r["hit"].startswith("THE POST HAS HIT")
+        assert r["hit"].startswith("hit ")
         assert float(r["VVB_ft_s"]) == sweep.vvb_for(float(r["speed_mph"]))
         assert math.isclose(float(r["ALPHA_rad"]), sweep.alpha_for(float(r["angle_deg"])))
-        # the erratum where ALPHA != 0, and the listing as printed where ALPHA = 0
-        assert r["errata"] == ("ed-direction" if float(r["angle_deg"]) else "none")
-        assert ("ALPHA != 0" in r["errata_note"]) == bool(float(r["angle_deg"]))
+        # the erratum as requested on the command line, for every scene
+        assert r["errata"] == "ed-direction"
+        assert "errata: ed-direction" in r["settings"]
         assert 0 < float(r["oiv_m_s"]) < 3.0
     by = {r["scene"]: r for r in rows}
     # the report has 40 mph / 0 and 15 degrees, not 30 mph
@@ -146,35 +149,28 @@ def test_markdown_is_laid_out_like_tables_11_and_12(small_sweep):
     # 40 mph, 0 degrees: "ours (report, diff)"
     row = next(l for l in md.splitlines() if l.startswith("| XQL (FT)") and "(-40.60" in l)
     assert "(-40.60, " in row
-    assert "ed-direction¹" in md and "¹ ed-direction applied" in md
+    assert "ed-direction¹" in md and "¹ errata applied as requested" in md
 
 
 def test_core_engine_row(tmp_path):
-    rows = sweep.sweep([40], [0], engine="core", jobs=1, progress=False)
+    rows = sweep.sweep([40], [0], engine="core", jobs=1, quiet=True)
     (r,) = rows
     assert r["engine"] == "core" and r["error"] == ""
-    assert r["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    assert r["hit"] == "hit ground (R)" and r["comment"] == "POST HITS GROUND WITH POINT R"
     assert r["report_XQL"] == REPORT["steel40"]["XQL"]
     assert abs(r["diff_XQL"]) < 1.0
-    assert "force cap" in r["delta_v_definition"]
+    # the report's ΔV (crush-pulse end) is the smaller of the two: the car slows on after it
+    assert 0 < r["delta_v_crush_mph"] < r["delta_v_contact_mph"]
 
 
-def test_progress_bar_only_on_request():
-    buf = io.StringIO()
-    bar = sweep._Progress(2, stream=buf, enabled=True)
-    bar.step()
-    bar.step()
-    bar.close()
-    assert "2/2 scenes" in buf.getvalue() and buf.getvalue().endswith("\n")
-    quiet = io.StringIO()
-    bar = sweep._Progress(2, stream=quiet)  # a StringIO is not a terminal
-    bar.step()
-    bar.close()
-    assert quiet.getvalue() == ""
+def test_angled_scene_as_printed_stops_and_names_the_erratum():
+    (r,) = sweep.sweep([40], [15], engine="emulator", jobs=1, quiet=True)
+    assert r["errata"] == "none" and r["hit"] == ""
+    assert "ED" in r["error"]
 
 
 def test_bad_grid_is_refused_before_any_run(tmp_path):
-    from deck_emulator.cli import CLIError
+    from deck_emulator.errors import UsageError as CLIError
 
     args = _parser().parse_args(
         ["sweep", "--speeds", "0,40", "--angles", "0", "--out", str(tmp_path / "x")]

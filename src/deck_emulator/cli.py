@@ -1,38 +1,38 @@
-"""Command line: ``deck-emulator COMMAND ...``.
+"""Command line: ``deck-emulator COMMAND ...`` -- all of the argument parsing, and nothing else.
 
-Each subcommand is a function ``_cmd_<name>(args) -> int`` plus a small function that
-adds its subparser, registered with ``@_subcommand``.  A command reports bad input by
-raising :class:`~deck_emulator.legacy.deck.DeckError` (or another ``CLIError``); ``main`` turns
-that into ``deck-emulator: error: <message>`` on stderr and exit status 2.  A command
-builds its whole output before writing it, so an error leaves stdout empty.
+Each subcommand is a function ``_cmd_<name>(args) -> int`` plus a small function that adds its
+subparser, registered with ``@_subcommand``.  The work is done by the layers below (the engine
+layer, the studies, the pictures); nothing imports this module.  Commands import what they
+need inside their function, so ``parse`` and ``run`` start without scipy or matplotlib.
+
+A command reports bad input by raising :class:`~deck_emulator.legacy.deck.DeckError` or a
+:class:`~deck_emulator.errors.UsageError`; ``main`` turns that into ``deck-emulator: error:
+<message>`` on stderr and exit status 2 (3 for :class:`~deck_emulator.errors.RunFailed`).  A
+command builds its whole output before writing it, so an error leaves stdout empty.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from deck_emulator.legacy.arithmetic import ARITHMETICS, get_arithmetic
-from deck_emulator.files import write_atomic
-from deck_emulator.legacy.deck import READ_LIST, DeckError, field_columns, read_deck
-from deck_emulator.legacy.emulator import ERRATA, EmulatorError, Limits, Program
-from deck_emulator.legacy.extract import extract
-from deck_emulator.legacy.printer import render_asa
+from deck_emulator import __version__
+from deck_emulator.errors import RunFailed, UsageError
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
-
-
-class CLIError(Exception):
-    """A user-facing error that is not about a deck's contents."""
-
-
-class RunFailed(CLIError):
-    """The program (emulated or core) could not run to its end: exit status 3."""
-
+EXIT_RUN_FAILED = 3
+#: The arithmetics and errata, named here so that building the parser imports nothing heavy
+#: (tests check that these agree with the registry and with the emulator's ERRATA).
+PRECISIONS = ("double", "single", "ibm7094")
+ERRATA_NAMES = ("ed-direction",)
+PRESETS = ("legacy", "physical")
+VIEWS = ("side", "plan", "3d", "all")
+CLIError = UsageError  # the name the commands below use
 
 # Functions that add one subcommand's parser; main() calls each of them in order.
 _SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = []
@@ -43,20 +43,44 @@ def _subcommand(add: Callable[[argparse._SubParsersAction], None]):
     return add
 
 
+def _say(message: str) -> None:
+    print(f"{PROG}: {message}", file=sys.stderr)
+
+
+def _emit(args, text: str) -> None:
+    if getattr(args, "out", None):
+        from deck_emulator.files import write_file
+
+        write_file(args.out, text)
+    else:
+        sys.stdout.write(text)
+
+
+def _check_out(args) -> None:
+    """The output file's folder must exist and be writable: checked before any work."""
+    if getattr(args, "out", None):
+        from deck_emulator.files import check_output_file
+
+        check_output_file(args.out)
+
+
+def _positive_int(text: str) -> int:
+    n = int(text)
+    if n < 1:
+        raise argparse.ArgumentTypeError("must be at least 1")
+    return n
+
+
 # --------------------------------------------------------------------------- parse
 
 
 def _cmd_parse(args: argparse.Namespace) -> int:
+    from deck_emulator.legacy.deck import READ_LIST, field_columns, read_deck
+
     deck = read_deck(args.deck)
     if args.json:
-        text = json.dumps(deck.values) + "\n"
-    else:
-        text = _deck_table(deck)
-    sys.stdout.write(text)
-    return 0
-
-
-def _deck_table(deck) -> str:
+        sys.stdout.write(json.dumps(deck.values) + "\n")
+        return 0
     lines = [f"{deck.path}: 8 cards, FORMAT(8F10.5)"]
     for card_no, names in enumerate(READ_LIST, start=1):
         lines.append("")
@@ -64,7 +88,8 @@ def _deck_table(deck) -> str:
         for field_no, name in enumerate(names, start=1):
             first, last = field_columns(field_no)
             lines.append(f"         {first:2d}-{last:<2d}    {name:<8s} {deck[name]!r:>12s}")
-    return "\n".join(lines) + "\n"
+    sys.stdout.write("\n".join(lines) + "\n")
+    return 0
 
 
 @_subcommand
@@ -85,61 +110,61 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------- run
 
 
-EXIT_RUN_FAILED = 3
+def _emulator(args, *, trace: bool = True):
+    """The emulator engine the options ask for."""
+    from deck_emulator.engine import EmulatorEngine
+    from deck_emulator.legacy.emulator import Limits
 
-
-def _emit(args, text: str) -> None:
-    if getattr(args, "out", None):
-        write_atomic(args.out, text)
-    else:
-        sys.stdout.write(text)
-
-
-def _arithmetic(args):
     options = {}
     if args.precision == "ibm7094":
-        options = dict(sincos=args.sincos, decimal=args.decimal, output=args.output_rounding)
+        options = {k: v for k, v in dict(sincos=args.sincos, decimal=args.decimal,
+                                         output=args.output_rounding).items() if v is not None}
     elif any(x is not None for x in (args.sincos, args.decimal, args.output_rounding)):
-        raise CLIError("--sincos, --decimal and --output-rounding are assumptions of --precision ibm7094")
-    return get_arithmetic(args.precision, **{k: v for k, v in options.items() if v is not None})
-
-
-def _run_emulator(args, deck):
+        raise CLIError("--sincos, --decimal and --output-rounding are assumptions of "
+                       "--precision ibm7094")
     limits = Limits(ed_iterations=args.max_ed_iterations, halvings=args.max_halvings,
                     time_s=args.max_time)
-    return Program(deck, _arithmetic(args), errata=tuple(args.erratum), step_scale_k=args.step_scale,
-                   tha_start=args.tha_start, ed_tolerance=args.ed_tolerance, limits=limits).run()
+    return EmulatorEngine(precision=args.precision, errata=tuple(args.erratum),
+                          step_scale_k=args.step_scale, tha_start=args.tha_start,
+                          ed_tolerance=args.ed_tolerance, limits=limits,
+                          arithmetic_options=options, trace=trace)
+
+
+def _stopped(out) -> str:
+    return f"{out.error}" + (f" -- {out.hint}" if out.hint else "")
 
 
 def _describe(run) -> str:
-    errata = ", ".join(run.errata) or "none (the listing as printed)"
+    from deck_emulator.engine import errata
+
     scale = f"; step literals / 2**{run.step_scale_k}" if run.step_scale_k else ""
-    return f"arithmetic {run.arithmetic}; errata: {errata}{scale}"
+    return f"arithmetic {run.arithmetic}; errata: {errata.describe(run.errata)}{scale}"
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.legacy.printer import render_asa
+
     deck = read_deck(args.deck)
-    try:
-        run = _run_emulator(args, deck)
-        error = None
-    except EmulatorError as exc:
-        run, error = exc.run, exc
-    text = render_asa(run.records) if args.render else run.text()
-    _emit(args, text)
-    print(f"{PROG}: {deck.path}: {_describe(run)}", file=sys.stderr)
-    if error is not None:
-        print(f"{PROG}: error: {error}", file=sys.stderr)
+    _check_out(args)
+    out = _emulator(args, trace=False).run(deck)
+    run = out.raw
+    _emit(args, render_asa(run.records) if args.render else run.text())
+    _say(f"{deck.path}: {_describe(run)}")
+    if out.error is not None:
+        _say(f"error: {_stopped(out)}")
         return EXIT_RUN_FAILED
     return 0
 
 
 def _add_emulator_options(p: argparse.ArgumentParser) -> None:
+    from deck_emulator.legacy.emulator import Limits
+
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    p.add_argument("--precision", choices=ARITHMETICS, default="double",
+    p.add_argument("--precision", choices=PRECISIONS, default="double",
                    help="arithmetic: double (IEEE binary64, as the r8 goldens), single (IEEE "
                    "binary32, as the r4 goldens, trapping), ibm7094 (the 1967 machine's 36-bit words)")
-    p.add_argument("--erratum", action="append", default=[], choices=sorted(ERRATA),
-                   help="apply a named erratum to the listing (default: none, as printed)")
+    _add_erratum_option(p)
     p.add_argument("--step-scale", type=int, default=0, metavar="K",
                    help="divide every literal that means one step (0.0004 s) by 2**K")
     p.add_argument("--tha-start", metavar="VALUE",
@@ -157,6 +182,18 @@ def _add_emulator_options(p: argparse.ArgumentParser) -> None:
                    help="ibm7094: how decimal constants and deck fields were converted")
     p.add_argument("--output-rounding", choices=("nearest", "truncate"),
                    help="ibm7094: how F-format output rounded")
+
+
+def _add_erratum_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--erratum", action="append", default=[], choices=ERRATA_NAMES,
+                   help="apply a named erratum to the listing (default: none, the listing as "
+                   "printed; ed-direction lets ED's root search end on the angled decks)")
+
+
+def _add_preset_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--preset", choices=PRESETS, default="legacy",
+                   help="core model options: legacy (the listing's quirks, the default) or "
+                   "physical (none)")
 
 
 @_subcommand
@@ -181,30 +218,30 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
-    deck = read_deck(args.deck)
-    try:
-        run = _run_emulator(args, deck)
-    except EmulatorError as exc:
-        raise RunFailed(f"{exc}{_hint(exc)}") from None
-    outcome = extract(run.records, deck)
-    data = {"deck": str(deck.path), "arithmetic": run.arithmetic, "errata": list(run.errata),
-            "assumptions": dict(getattr(_arithmetic(args), "assumptions", {}) or {}),
-            **outcome.summary_dict()}
-    from deck_emulator.studies.sweep import emulator_result, safety_summary
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.legacy.extract import extract
+    from deck_emulator.studies import safety
 
-    data["safety"] = safety_summary(emulator_result(run, deck))
+    deck = read_deck(args.deck)
+    _check_out(args)
+    engine = _emulator(args)
+    out = engine.run(deck)
+    if out.error is not None:
+        raise RunFailed(_stopped(out))
+    printed = extract(out.raw.records, deck).summary_dict()
+    printed.pop("events")
+    data = {"deck": str(deck.path), "arithmetic": out.raw.arithmetic,
+            "errata": list(out.errata),
+            "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
+            "events": [e.as_dict() for e in out.events],
+            **printed,
+            "delta_v_contact_mph": out.delta_v_contact_mph,
+            "safety": safety.summary(out)}
     if args.json:
         _emit(args, json.dumps(data, indent=2) + "\n")
     else:
-        lines = [f"{k}: {v}" for k, v in data.items()]
-        _emit(args, "\n".join(lines) + "\n")
+        _emit(args, "".join(f"{k}: {v}\n" for k, v in data.items()))
     return 0
-
-
-def _hint(exc: EmulatorError) -> str:
-    if exc.guard == "ed_iterations":
-        return " -- as printed, ED walks away from its root on this deck; try --erratum ed-direction"
-    return ""
 
 
 @_subcommand
@@ -213,8 +250,10 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
         "summary",
         help="run a deck and print its outcomes (events, hit, delta-V, deceleration, P/Q/R)",
         description="Run the emulated program and extract from its printout what the report's "
-        "Tables 11 and 12 give: events with times, the hit message, the vehicle's speed change "
-        "in mph, the largest printed deceleration in g, terminal P, Q, R in XL, YL, ZL.",
+        "Tables 11 and 12 give: events with times, the hit, the vehicle's speed change in mph "
+        "(delta_v_crush_mph: by the end of the crush pulse, as the report tabulates it; "
+        "delta_v_contact_mph: by the end of contact), the largest printed deceleration in g, "
+        "terminal P, Q, R in XL, YL, ZL.",
     )
     _add_emulator_options(p)
     p.add_argument("--json", action="store_true", help="one JSON object")
@@ -226,16 +265,18 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_diff(args: argparse.Namespace) -> int:
-    from deck_emulator.studies.diff import diff_deck, format_diff
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
 
     deck = read_deck(args.deck)
-    progress = (lambda m: print(f"{PROG}: {m}", file=sys.stderr)) if sys.stderr.isatty() else None
+    _check_out(args)
+    progress = (lambda m: _say(m)) if sys.stderr.isatty() else None
     try:
         data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
                          ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
                          tighten_ed=not args.as_printed_ed, progress=progress)
-    except EmulatorError as exc:
-        raise RunFailed(f"{exc}{_hint(exc)}") from None
+    except DiffStopped as exc:
+        raise RunFailed(str(exc)) from None
     _emit(args, json.dumps(data, indent=2) + "\n" if args.json else format_diff(data))
     return 0
 
@@ -249,37 +290,43 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
         "core's legacy preset; then both again as the step is halved k = 0..K times, with the "
         "observed order of convergence.",
     )
-    p.add_argument("deck", metavar="DECK")
-    p.add_argument("--precision", default="double", choices=ARITHMETICS,
+    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    p.add_argument("--precision", default="double", choices=PRECISIONS,
                    help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
-    p.add_argument("--erratum", action="append", default=[], choices=sorted(ERRATA))
+    _add_erratum_option(p)
     p.add_argument("--max-k", type=int, default=4, help="halve the step up to K times (default 4)")
     p.add_argument("--rtol", type=float, default=1e-10, help="core tolerance (rtol = atol)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
     p.add_argument("--json", action="store_true", help="one JSON object")
-    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
     p.set_defaults(func=_cmd_diff)
 
 
 def _load_scene(path: str):
-    from deck_emulator.core.scene import Scene
+    from deck_emulator.core.scene import Scene, SceneError
+    from deck_emulator.legacy.deck import read_deck
 
-    if path.endswith(".toml"):
-        try:
-            return Scene.from_toml(Path(path).read_text())
-        except (ValueError, KeyError, TypeError) as exc:
-            raise CLIError(f"{path}: not a scene: {exc}") from None
-    return Scene.from_deck(read_deck(path), name=Path(path).stem)
+    try:
+        if path.endswith(".toml"):
+            try:
+                return Scene.from_toml(Path(path).read_text())
+            except (ValueError, KeyError, TypeError) as exc:
+                raise CLIError(f"{path}: not a scene: {exc}") from None
+        return Scene.from_deck(read_deck(path), name=Path(path).stem)
+    except SceneError as exc:
+        raise CLIError(f"{path}: {exc}") from None
 
 
 def _cmd_core(args: argparse.Namespace) -> int:
-    from deck_emulator.core import PRESETS, CoreError, simulate
+    from deck_emulator.core import CoreError
+    from deck_emulator.engine import CoreEngine
 
     scene = _load_scene(args.scene)
+    _check_out(args)
+    engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol)
     try:
-        result = simulate(scene, PRESETS[args.preset], method=args.method, rtol=args.rtol,
-                          atol=args.atol)
+        result = engine.simulate(scene)
     except CoreError as exc:
         raise RunFailed(str(exc)) from None
     data = result.summary()
@@ -292,56 +339,194 @@ def _cmd_core(args: argparse.Namespace) -> int:
 
 @_subcommand
 def _add_core(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.core import PRESETS
-
     p = sub.add_parser("core", help="solve a deck or a scene (.toml) with the modern core",
                        description="The same model solved with quaternions, solve_ivp and located "
                        "events. Presets: legacy (the listing's quirks) or physical (none).")
-    p.add_argument("scene", metavar="DECK_OR_TOML")
-    p.add_argument("--preset", choices=sorted(PRESETS), default="legacy")
-    p.add_argument("--method", default="DOP853", choices=("DOP853", "RK45", "Radau", "LSODA"))
-    p.add_argument("--rtol", type=float, default=1e-10)
-    p.add_argument("--atol", type=float, default=1e-10)
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--out", metavar="FILE")
+    p.add_argument("scene", metavar="DECK_OR_TOML", help="a card deck or a scene file (.toml)")
+    _add_preset_option(p)
+    p.add_argument("--method", default="DOP853", choices=("DOP853", "RK45", "Radau", "LSODA"),
+                   help="solve_ivp's method (default DOP853)")
+    p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (default 1e-10)")
+    p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (default 1e-10)")
+    p.add_argument("--json", action="store_true", help="one JSON object")
+    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
     p.set_defaults(func=_cmd_core)
 
 
 def _cmd_scene(args: argparse.Namespace) -> int:
-    _emit(args, _load_scene(args.deck).to_toml())
+    scene = _load_scene(args.deck)
+    _check_out(args)
+    _emit(args, scene.to_toml())
     return 0
 
 
 @_subcommand
 def _add_scene(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("scene", help="write a deck's scene as TOML (to edit by hand, then `core`)")
-    p.add_argument("deck", metavar="DECK")
-    p.add_argument("--out", metavar="FILE")
+    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
     p.set_defaults(func=_cmd_scene)
 
 
-# --------------------------------------------------------------------------- plot, sweep, study
+# --------------------------------------------------------------------------- plot
 
 
 @_subcommand
 def _add_plot(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.present.plot import add_parser
+    p = sub.add_parser(
+        "plot",
+        help="draw the post's fall (side, plan, 3-d), the vehicle pulse, or an animation",
+        description="Draw the post as a line through its named points at regular instants in "
+        "the report's XL, YL, ZL axes, with the ground, the car at the hit and the hit point "
+        "(--view side|plan|3d|all); or, with --pulse, the car's deceleration and speed over the "
+        "contact for both engines. The emulator runs the listing as printed unless --erratum "
+        "names an erratum. Exit status 3 if a run stopped early (the picture shows what it "
+        "computed).",
+    )
+    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    p.add_argument("--out", required=True, metavar="FILE.png", help="the picture to write")
+    p.add_argument("--engine", choices=("emulator", "core"), default="emulator",
+                   help="which engine's run to draw (default emulator)")
+    p.add_argument("--view", choices=VIEWS, default="side", help="which view (default side)")
+    p.add_argument("--pulse", action="store_true",
+                   help="draw the vehicle pulse (both engines) instead of the trajectory")
+    p.add_argument("--animate", metavar="FILE.gif", help="also write an animated GIF of the fall")
+    _add_erratum_option(p)
+    _add_preset_option(p)
+    p.add_argument("--every", type=float, metavar="MS",
+                   help="draw the post every MS milliseconds (default: about 20 instants)")
 
-    add_parser(sub)
+    def run(args):
+        from deck_emulator.present.plot import _cmd_plot
+
+        return _cmd_plot(args)
+
+    p.set_defaults(func=run)
+
+
+# --------------------------------------------------------------------------- sweep
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    import time
+
+    from deck_emulator.files import OutputSet, check_output_dir
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.studies.sweep import (POSTS, parse_grid, render_markdown, scene_deck,
+                                             sweep, write_csv)
+
+    try:
+        speeds = parse_grid(args.speeds)
+        angles = parse_grid(args.angles)
+    except ValueError as exc:
+        raise CLIError(f"--speeds/--angles: {exc}") from None
+    if any(s <= 0 for s in speeds):
+        raise CLIError("--speeds must be positive (mph)")
+    if any(not (0 <= a < 90) for a in angles):
+        raise CLIError("--angles must be in [0, 90) degrees")
+    if not 0 <= args.vvb_decimals <= 5:
+        raise CLIError("--vvb-decimals must be 0 to 5")
+    base = Path(args.base_deck) if args.base_deck else POSTS[args.post]
+    base_deck = read_deck(base)  # bad deck -> DeckError, before any work
+    for s in speeds:  # every VVB/ALPHA must punch: fail before running anything
+        for a in angles:
+            scene_deck(base_deck, s, a, args.vvb_decimals)
+    check_output_dir(args.out)
+    options = (dict(errata=tuple(args.erratum)) if args.engine == "emulator"
+               else dict(preset=args.preset))
+    started = time.perf_counter()
+    rows = sweep(speeds, angles, engine=args.engine, options=options, post=args.post,
+                 base=base, jobs=args.jobs, vvb_decimals=args.vvb_decimals, quiet=args.quiet)
+    wall = time.perf_counter() - started
+    command = "deck-emulator sweep " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["sweep"] else ""
+    with OutputSet(directory=args.out) as outputs:
+        outputs.write("sweep.csv", write_csv(rows))
+        outputs.write("sweep.md", render_markdown(rows, command=command, engine=args.engine))
+    failed = sum(bool(r["error"]) for r in rows)
+    _say(f"{len(rows)} scenes ({args.engine}) in {wall:.1f} s on "
+         f"{args.jobs or os.cpu_count()} job(s); {failed} stopped early; wrote "
+         f"{Path(args.out) / 'sweep.csv'} and {Path(args.out) / 'sweep.md'}")
+    return 0
 
 
 @_subcommand
 def _add_sweep(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.studies.sweep import add_parser
+    p = sub.add_parser(
+        "sweep",
+        help="run a grid of speeds and approach angles and tabulate it like Tables 11 and 12",
+        description="Regenerate the report's parameter study: every speed x angle of the grid "
+        "is the base deck with VVB and ALPHA changed, run in parallel. Writes DIR/sweep.csv (one "
+        "row per scene, every output, the report's value and the difference) and DIR/sweep.md "
+        "(one table per speed, laid out like Tables 11 and 12). The emulator runs the listing as "
+        "printed unless --erratum names an erratum (the angled scenes need ed-direction).",
+    )
+    p.add_argument("--post", choices=("steel",), default="steel",
+                   help="the post (the report's steel post: its deck steel40, shipped with the "
+                   "package)")
+    p.add_argument("--base-deck", metavar="DECK", help="another base deck instead of --post's")
+    p.add_argument("--speeds", required=True, metavar="MPH,...",
+                   help="vehicle speeds in mph: 20,40 or 10:60:10 (stop included)")
+    p.add_argument("--angles", required=True, metavar="DEG,...",
+                   help="approach angles in degrees: 0,15,30 or 0:45:5")
+    p.add_argument("--engine", choices=("emulator", "core"), default="emulator",
+                   help="which engine runs the scenes (default emulator)")
+    _add_erratum_option(p)
+    _add_preset_option(p)
+    p.add_argument("--jobs", type=_positive_int, metavar="N",
+                   help="worker processes (default: all cores, %d here)" % (os.cpu_count() or 1))
+    p.add_argument("--vvb-decimals", type=int, default=2, metavar="N",
+                   help="decimals VVB is cut to (default 2, as the report's deck: -58.66)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="directory for sweep.csv and sweep.md")
+    p.set_defaults(func=_cmd_sweep)
 
-    add_parser(sub)
+
+# --------------------------------------------------------------------------- study
 
 
 @_subcommand
 def _add_study(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.studies.study_cli import add_parser
+    p = sub.add_parser(
+        "study",
+        help="work-precision and stability studies (CSV, PNG and Markdown into --out)",
+        description="Numerical studies of the 1967 scheme (the emulator) and the modern core. "
+        "Each writes a CSV of every run, PNG figures and a README.md report into --out.",
+    )
+    studies = p.add_subparsers(dest="study", metavar="STUDY", required=True)
 
-    add_parser(sub)
+    def run(args):
+        from deck_emulator.studies.study_cli import _cmd_study
+
+        return _cmd_study(args)
+
+    def common(q):
+        q.add_argument("--out", required=True, metavar="DIR", help="directory for the outputs")
+        q.add_argument("--quick", action="store_true",
+                       help="a small grid (seconds, for tests) instead of the full study")
+        q.add_argument("--jobs", type=_positive_int, default=None, metavar="N",
+                       help="worker processes (default: os.cpu_count())")
+        q.set_defaults(func=run)
+
+    e = studies.add_parser(
+        "error", help="error against run time: the emulator at H = 0.0004/2**k, the core at "
+        "rtol 1e-3 ... 1e-11, against a 1e-12 reference",
+        description="Work-precision study on DECK: the emulator in double precision at H = "
+        "0.0004/2**k (k = 0..6; the listing's ED tolerance and a tightened one), in the IBM 7094 "
+        "arithmetic at k = 0, and the core with DOP853, RK45 and Radau at rtol 1e-3 ... 1e-11, "
+        "all against the core at rtol 1e-12 (itself checked with Radau and LSODA at 1e-13).")
+    e.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    common(e)
+    s = studies.add_parser(
+        "stability", help="stiff springs against H, and extreme scenes, for the emulator and "
+        "the core",
+        description="Stability study: a grid of scenes derived from steel40 (CK = CT from "
+        "3.3e4 to 1e10 lb/ft against H; speeds 5-120 mph; approach angles to 90 deg; delta = 0; "
+        "the start-up THA; A = B = C; light and heavy posts; base friction; THB near 90 deg), "
+        "each run by the emulator and the core, with how it ended.")
+    s.add_argument("--deck", metavar="DECK", default=None,
+                   help="base deck (default: the report's deck steel40, shipped with the package)")
+    common(s)
 
 
 # --------------------------------------------------------------------------- main
@@ -352,6 +537,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog=PROG,
         description="Emulator of the 1967 TTI luminaire-support impact program (Report 75-9).",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for add in _SUBCOMMANDS:
         add(sub)
@@ -359,6 +545,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from deck_emulator.legacy.deck import DeckError
+
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -366,7 +554,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.code if isinstance(exc.code, int) else 2
     try:
         return args.func(args)
-    except (DeckError, CLIError, OSError) as exc:
+    except (DeckError, UsageError, OSError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT
 

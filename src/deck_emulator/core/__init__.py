@@ -11,12 +11,34 @@ located events.  The model is assembled from the components the scene has.
     >>> result.hit.message                                       # doctest: +SKIP
 """
 
-from .scene import LEGACY, PHYSICAL, PRESETS, ModelOptions, StartupKick
-from .model import ContactMode, Model, assemble
-from .regions import HIT_MESSAGES
-from .result import CoreEvent, CoreResult, Hit, Trajectory
-from .rigid import angular_momentum_world, attitude_angle_between, kinetic_energy
-from .solve import DEFAULT_ATOL, DEFAULT_RTOL, CoreError, free_flight, simulate
+import importlib
+
+#: public name -> the submodule that defines it.  Imported on first use, so that
+#: ``deck_emulator.core.scene`` (plain dataclasses) costs no scipy.
+_WHERE = {
+    "LEGACY": "scene", "PHYSICAL": "scene", "PRESETS": "scene", "ModelOptions": "scene",
+    "StartupKick": "scene", "Scene": "scene", "SceneError": "scene",
+    "ContactMode": "model", "Model": "model", "assemble": "model",
+    "HIT_MESSAGES": "regions",
+    "CoreEvent": "result", "CoreResult": "result", "Hit": "result", "Trajectory": "result",
+    "angular_momentum_world": "rigid", "attitude_angle_between": "rigid",
+    "kinetic_energy": "rigid",
+    "DEFAULT_ATOL": "solve", "DEFAULT_RTOL": "solve", "CoreError": "solve",
+    "free_flight": "solve", "simulate": "solve",
+}
+
+
+def __getattr__(name: str):
+    try:
+        module = _WHERE[name]
+    except KeyError:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_WHERE))
+
 
 __all__ = [
     "simulate",

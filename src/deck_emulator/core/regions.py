@@ -190,7 +190,9 @@ def build_checks(scene, options, model) -> FreeFlightChecks:
             checks.add_region(p, "ground", [((0, 0, -1, 0), -depth, "GROUND")])
 
     if body is not None:
-        hl, tl, trl = body.hood_length_ft, body.top_length_ft, body.trunk_length_ft
+        # the outline relative to the car's reference point SV (the one outline, scene.py)
+        o = body.outline_xv(0.0)
+        hl, tl, trl = -o["XBUMP"], o["XENTOP"], o["XTAIL"] - o["XENTOP"]
         hh, ht, htr = body.hood_height_ft, body.top_height_ft, body.trunk_height_ft
         yl, yr = body.left_fender_ft, body.right_fender_ft
         for p in vpoints:

@@ -116,7 +116,7 @@ class CoreResult:
     * ``events`` -- located events in time order (:class:`CoreEvent`).
     * ``hit`` -- :class:`Hit` or ``None`` (nothing hit before ``t_max_s``).
     * ``first_spring_lost_s``, ``vehicle_contact_lost_s`` -- the listing's two messages.
-    * ``delta_v_mph`` -- speed the car lost during contact (positive: slowed down), mph.
+    * ``delta_v_contact_mph`` -- speed the car lost during contact (positive: slowed down), mph.
     * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact.
     * ``terminal_points_ft`` -- P, Q, R at the hit in the report's XL, YL, ZL axes (origin
       at the base of the support: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``;
@@ -134,7 +134,7 @@ class CoreResult:
     hit: Hit | None
     first_spring_lost_s: float | None
     vehicle_contact_lost_s: float | None
-    delta_v_mph: float | None
+    delta_v_contact_mph: float | None
     max_decel_g: float | None
     max_decel_time_s: float | None
     terminal_points_ft: dict[str, tuple[float, float, float] | None]
@@ -163,7 +163,7 @@ class CoreResult:
             "hit_time_s": self.hit_time_s,
             "first_spring_lost_s": self.first_spring_lost_s,
             "vehicle_contact_lost_s": self.vehicle_contact_lost_s,
-            "delta_v_mph": self.delta_v_mph,
+            "delta_v_contact_mph": self.delta_v_contact_mph,
             "max_decel_g": self.max_decel_g,
             "max_decel_time_s": self.max_decel_time_s,
             "terminal_points_xl_yl_zl_ft": {

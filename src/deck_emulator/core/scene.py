@@ -224,6 +224,25 @@ class VehicleBody:
     left_fender_ft: float
     right_fender_ft: float
 
+    def outline_xv(self, sv_ft: float) -> dict[str, float]:
+        """The car's profile along ``XV`` with its reference point at ``sv_ft`` (eq.
+        3.36-3.38): ``XBUMP`` the bumper, ``SV`` the windshield's foot (the hood's end),
+        ``XENTOP`` the end of the top, ``XTAIL`` the tail.  The one outline: the core's
+        checks, the clearances and the pictures all use it."""
+        xentop = sv_ft + self.top_length_ft
+        return {"XBUMP": sv_ft - self.hood_length_ft, "SV": sv_ft, "XENTOP": xentop,
+                "XTAIL": xentop + self.trunk_length_ft}
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, float]) -> "VehicleBody | None":
+        """The outline from the deck's names (HLEN ... YRFEN); ``None`` if all are zero."""
+        outline = tuple(float(values.get(k, 0.0)) for k in
+                        ("HLEN", "TLEN", "TRLEN", "HHV", "HTV", "HTRV"))
+        if not any(outline):
+            return None
+        return cls(*outline, left_fender_ft=float(values.get("YLFEN", 0.0)),
+                   right_fender_ft=float(values.get("YRFEN", 0.0)))
+
 
 @dataclass(frozen=True)
 class Vehicle:
@@ -450,10 +469,7 @@ class Scene:
             luminaire_end=point("XRO", "YYRO", "ZZRO"),
             point_c=point("XCO", "YYCO", "ZZCO"),
         )
-        outline = (v("HLEN"), v("TLEN"), v("TRLEN"), v("HHV"), v("HTV"), v("HTRV"))
-        body = None
-        if any(outline):
-            body = VehicleBody(*outline, left_fender_ft=v("YLFEN"), right_fender_ft=v("YRFEN"))
+        body = VehicleBody.from_values(values)
         vehicle = Vehicle(
             mass_slug=v("WV"),
             initial_velocity_ft_s=v("VVB"),

@@ -223,7 +223,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         hit=run.hit,
         first_spring_lost_s=run.first_lost,
         vehicle_contact_lost_s=run.vehicle_lost,
-        delta_v_mph=delta_v,
+        delta_v_contact_mph=delta_v,
         max_decel_g=max_g,
         max_decel_time_s=max_t,
         terminal_points_ft=terminal,

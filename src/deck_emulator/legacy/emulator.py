@@ -31,7 +31,8 @@ import traceback
 from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
-from deck_emulator.legacy.printer import Printer
+from deck_emulator.events import Event
+from deck_emulator.legacy.printer import Printer, event_for
 
 ERRATA = {
     "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
@@ -78,7 +79,7 @@ class Run:
 
     records: list[str]
     trace: list[dict] = field(default_factory=list)  # accepted steps, floats
-    events: list[tuple[str, float]] = field(default_factory=list)  # (message, time)
+    events: list[Event] = field(default_factory=list)  # what FORMATs 355, 100, 97-248 reported
     arithmetic: str = "double"
     errata: tuple[str, ...] = ()
     step_scale_k: int = 0
@@ -244,6 +245,7 @@ class Program:
         self.label = "START"
         self.step = 0
         self.halvings = 0
+        self.checking = None  # the point the free-flight checks are on: P, R or C
 
     # -- helpers -------------------------------------------------------------------------------
     def K(self, text: str):
@@ -295,8 +297,7 @@ class Program:
         self.run_.trace.append(row)
 
     def _event(self, label: int, t):
-        text = self.printer.records[-1].strip()
-        self.run_.events.append((text, self.ar.to_float(t)))
+        self.run_.events.append(event_for(label, self.ar.to_float(t), self.checking))
 
     # -- the label machine ---------------------------------------------------------------------
     def run(self) -> Run:
@@ -338,6 +339,8 @@ class Program:
         while lab is not None:
             self.label = lab
             if lab in checks:
+                if lab in _CHECK_STARTS:
+                    self.checking = _CHECK_STARTS[lab]
                 x, neg, zero, pos = checks[lab]
                 lab = self.IF(x(), neg, zero, pos)
             else:
@@ -959,6 +962,11 @@ class Program:
             461: (lambda: v.ZZCFA-v.HTRV, 462, 247, 462),
             462: (lambda: abs(v.ZZCFA-v.HTRV)-k01, 247, 247, 400),
         }
+
+
+#: The labels where the listing starts checking a point against the car: 500 CONTINUE (P),
+#: 112 CONTINUE (R), 300 CONTINUE (C).
+_CHECK_STARTS = {500: "P", 112: "R", 300: "C"}
 
 
 def _frames(exc):

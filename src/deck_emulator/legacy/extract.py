@@ -42,7 +42,7 @@ Definitions
 
   - ``crush_pulse_end``: VVA of the first contact block whose printed FSA equals FCONST after a
     block with FSA > FCONST, i.e. where the first spring's crush pulse has been cut to the
-    FCONST cap (label 504). This is the one reported as ``delta_v_mph``: of the four it alone
+    FCONST cap (label 504). This is the one reported as ``delta_v_crush_mph``: of the four it alone
     comes near the report (steel40 golden 2.059 mph against 2.05; 40 mph decks within 0.07 mph;
     20 mph decks 0.05-0.12 mph *below* the report, where the other three are 0.3-0.8 mph above);
     docs/comparison.md has the numbers;
@@ -91,7 +91,7 @@ MPH = 88.0 / 60.0
 DELTA_V_CANDIDATES = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost",
                       "end_of_run")
 
-#: The candidate reported as ``Outcome.delta_v_mph`` (see the module docstring).
+#: The candidate reported as ``Outcome.delta_v_crush_mph`` (see the module docstring).
 DELTA_V_DEFINITION = "crush_pulse_end"
 
 #: Printed Hollerith label -> the variable the WRITE statement prints, where they differ.
@@ -172,7 +172,7 @@ class Outcome:
     hit: str | None  # the final THE POST HAS HIT ... message, None if the printout has none
     hit_time_s: float | None  # TIME of the block printed after the hit message
     final_time_s: float | None  # last TIME printed
-    delta_v_mph: float | None  # the candidate named by delta_v_definition
+    delta_v_crush_mph: float | None  # the candidate named by delta_v_definition
     delta_v_definition: str
     delta_v_candidates_mph: Mapping[str, float | None]
     max_decel_g: float | None  # over the printed contact blocks
@@ -191,7 +191,7 @@ class Outcome:
             "hit": self.hit,
             "hit_time_s": self.hit_time_s,
             "final_time_s": self.final_time_s,
-            "delta_v_mph": self.delta_v_mph,
+            "delta_v_crush_mph": self.delta_v_crush_mph,
             "delta_v_definition": self.delta_v_definition,
             "delta_v_candidates_mph": dict(self.delta_v_candidates_mph),
             "max_decel_g": self.max_decel_g,
@@ -366,7 +366,7 @@ def extract(printout, deck) -> Outcome:
 
     return Outcome(
         events=tuple(events), hit=hit, hit_time_s=hit_time, final_time_s=final_time,
-        delta_v_mph=cands[DELTA_V_DEFINITION], delta_v_definition=DELTA_V_DEFINITION,
+        delta_v_crush_mph=cands[DELTA_V_DEFINITION], delta_v_definition=DELTA_V_DEFINITION,
         delta_v_candidates_mph=MappingProxyType(cands),
         max_decel_g=max_decel, max_decel_time_s=max_t, max_fsa_lb=max_fsa,
         terminal=MappingProxyType(terminal),

@@ -15,6 +15,8 @@ from fractions import Fraction
 
 import fortranformat
 
+from deck_emulator.events import Event, EventKind, Surface
+
 #: FORMAT statements of the listing, by label, as they stand in legacy/luminaire.f.
 FORMATS: dict[int, str] = {
     # contact phase, every 4 steps
@@ -72,6 +74,41 @@ FORMATS: dict[int, str] = {
     242: "(//,5X,39HTHE POST HAS HIT THE TOP OF THE VEHICLE)",
     248: "(//,5X,41HTHE POST HAS HIT THE TRUNK OF THE VEHICLE)",
 }
+
+#: The FORMATs that report an event, and what each one reports: label -> (kind, surface, point).
+#: The line printer's text comes from FORMATS; the event is this row (never parsed back).
+#: The listing's car messages do not name the point: the program knows it from the check it
+#: was in (P at labels 500-246, R at 112-262, C at 300-462) and passes it on.
+EVENT_FORMATS: dict[int, tuple[EventKind, Surface | None, str | None]] = {
+    355: (EventKind.LOST_FIRST_SPRING, None, None),
+    100: (EventKind.LOST_VEHICLE, None, None),
+    134: (EventKind.HIT, Surface.GROUND, "C"),
+    97: (EventKind.HIT, Surface.GROUND, "Q"),
+    99: (EventKind.HIT, Surface.GROUND, "P"),
+    110: (EventKind.HIT, Surface.GROUND, "R"),
+    237: (EventKind.HIT, Surface.HOOD, None),
+    239: (EventKind.HIT, Surface.WINDSHIELD, None),
+    242: (EventKind.HIT, Surface.TOP, None),
+    248: (EventKind.HIT, Surface.TRUNK, None),
+}
+
+
+def event_for(label: int, time_s: float, point: str | None = None) -> Event:
+    """The event FORMAT ``label`` reports at ``time_s`` (``point``: the car hit's point)."""
+    kind, surface, fixed = EVENT_FORMATS[label]
+    if kind is not EventKind.HIT:
+        return Event(kind, time_s, None, None, label)
+    return Event(kind, time_s, surface, fixed or point, label)
+
+
+def event_message(event: Event) -> str | None:
+    """The line printer's text for ``event`` (None for an event the listing never prints)."""
+    for label, (kind, surface, point) in EVENT_FORMATS.items():
+        if kind is event.kind and surface is event.surface and (
+                point is None or point == event.point):
+            return re.search(r"\d+H(.*)\)$", FORMATS[label]).group(1)
+    return None
+
 
 _DECIMALS = {label: [int(d) for d in re.findall(r"F\d+\.(\d+)", text)] for label, text in FORMATS.items()}
 _WRITERS: dict[int, fortranformat.FortranRecordWriter] = {}

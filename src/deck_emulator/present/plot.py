@@ -28,7 +28,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from deck_emulator.studies import safety
-from deck_emulator.studies.sweep import ENGINES, ERRATUM, MPH, EngineResult, run_engine
+from deck_emulator.engine import ENGINES, Outcome, engine_for
+from deck_emulator.events import EventKind
+from deck_emulator.units import ft_s_to_mph
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -85,7 +87,7 @@ def _mpl():
 # ====================================================================== geometry helpers
 
 
-def instants(res: EngineResult, every: float | None = None) -> list[int]:
+def instants(res: Outcome, every: float | None = None) -> list[int]:
     """Sample indices at regular instants from t = 0 to the end (the end included)."""
     end = res.end_time_s
     if every is None:
@@ -95,7 +97,7 @@ def instants(res: EngineResult, every: float | None = None) -> list[int]:
     return idx
 
 
-def _post_chain(res: EngineResult) -> list[str]:
+def _post_chain(res: Outcome) -> list[str]:
     chain = ["Q", "P", "R"]
     c, q = res.points.get("C"), res.points.get("Q")
     if c is not None and not np.allclose(c[0], q[0], equal_nan=True):
@@ -103,14 +105,14 @@ def _post_chain(res: EngineResult) -> list[str]:
     return [k for k in chain if k in res.points]
 
 
-def _post_l(res: EngineResult, i: int) -> np.ndarray:
+def _post_l(res: Outcome, i: int) -> np.ndarray:
     """(k, 3) XL, YL, ZL of the post's chain at sample i (NaN rows dropped)."""
     pts = np.array([res.points[k][i] for k in _post_chain(res)])
     pts = pts[~np.isnan(pts).any(axis=1)]
     return res.to_l(pts)
 
 
-def _car_xy_l(res: EngineResult, sv: float, xv: np.ndarray, yv: np.ndarray):
+def _car_xy_l(res: Outcome, sv: float, xv: np.ndarray, yv: np.ndarray):
     """XV, YV of the car -> XL, YL."""
     a = res.values["ALPHA"]
     ca, sa = math.cos(a), math.sin(a)
@@ -119,7 +121,7 @@ def _car_xy_l(res: EngineResult, sv: float, xv: np.ndarray, yv: np.ndarray):
     return xx - res.values["XQO"], yy - res.values["YYQO"]
 
 
-def _profile(res: EngineResult, sv: float, yv: float):
+def _profile(res: Outcome, sv: float, yv: float):
     """The car's side profile at YV = yv: XL and ZL arrays (bumper at the ground round to tail)."""
     d = res.values
     o = safety.body_outline_xv(sv, d)
@@ -132,20 +134,22 @@ def _profile(res: EngineResult, sv: float, yv: float):
     return xl, zz + h
 
 
-def _hit_index(res: EngineResult) -> int:
+def _hit_index(res: Outcome) -> int:
     return res.at(res.hit_time_s) if res.hit_time_s is not None else len(res.t) - 1
 
 
-def _hit_point_l(res: EngineResult):
-    if res.hit_point is None or res.hit_point not in res.points:
+def _hit_point_l(res: Outcome):
+    point = res.hit.point if res.hit else None
+    if point is None or point not in res.points:
         return None
-    p = res.points[res.hit_point][_hit_index(res)]
+    p = res.points[point][_hit_index(res)]
     return None if np.isnan(p).any() else res.to_l(p)
 
 
-def _legend_title(res: EngineResult) -> str:
+def _legend_title(res: Outcome) -> str:
     if res.hit:
-        t = f"{_comment_case(res)} at {1000 * res.hit_time_s:.1f} ms"
+        t = res.hit.sentence()
+        t = t[:1].upper() + t[1:]
     else:
         t = f"no hit by {1000 * res.end_time_s:.0f} ms" + (" (run stopped)" if res.error else "")
     eng = res.engine + (
@@ -154,17 +158,11 @@ def _legend_title(res: EngineResult) -> str:
         else (", listing as printed" if res.engine == "emulator" else "")
     )
     if res.engine == "core":
-        eng = f"core, {res.note}"
+        eng = f"core, {res.settings}"
     return f"{res.name}: {res.speed_mph:.3g} mph, α = {res.angle_deg:.3g}°\n{t}\nengine: {eng}"
 
 
-def _comment_case(res: EngineResult) -> str:
-    """'POST HITS GROUND WITH POINT R' -> 'Post hits ground with point R'."""
-    text = res.outcome().capitalize()
-    return text[:-1] + text[-1].upper() if " point " in text else text
-
-
-def _every_label(res: EngineResult, idx: list[int]) -> str:
+def _every_label(res: Outcome, idx: list[int]) -> str:
     if len(idx) > 2:
         step = 1000 * (res.t[idx[1]] - res.t[idx[0]])
         return f"post every {step:.0f} ms (colour: time)"
@@ -178,7 +176,7 @@ def _norm(res):
     return _mpl().Normalize(0.0, max(res.end_time_s, 1e-6))
 
 
-def _draw_post(ax, res: EngineResult, idx: list[int], axes: tuple[int, int]):
+def _draw_post(ax, res: Outcome, idx: list[int], axes: tuple[int, int]):
     """The post through its named points at the instants ``idx`` (coloured by time) and at the
     hit (red), projected on the coordinate pair ``axes`` of XL, YL, ZL."""
     import matplotlib
@@ -198,7 +196,7 @@ def _draw_post(ax, res: EngineResult, idx: list[int], axes: tuple[int, int]):
     _name_points(ax, res, hi, axes)
 
 
-def _draw_side(ax, res: EngineResult, idx: list[int]):
+def _draw_side(ax, res: Outcome, idx: list[int]):
     hi = _hit_index(res)
     _draw_post(ax, res, idx, (0, 2))
     # car at the hit (near and far fender for an angled approach)
@@ -250,7 +248,7 @@ def _draw_side(ax, res: EngineResult, idx: list[int]):
     ax.set_title("Side view (XL–ZL)")
 
 
-def _draw_plan(ax, res: EngineResult, idx: list[int]):
+def _draw_plan(ax, res: Outcome, idx: list[int]):
     hi = _hit_index(res)
     d = res.values
     sv = res.sv[hi]
@@ -334,7 +332,7 @@ def _box_faces(x0, x1, y0, y1, z0, z1):
     return c, f
 
 
-def _draw_3d(ax, res: EngineResult, idx: list[int]):
+def _draw_3d(ax, res: Outcome, idx: list[int]):
     import matplotlib
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
@@ -408,7 +406,7 @@ def _draw_3d(ax, res: EngineResult, idx: list[int]):
     ax.set_title("3-d view")
 
 
-def _legend_handles(res: EngineResult, idx):
+def _legend_handles(res: Outcome, idx):
     import matplotlib
 
     cmap = matplotlib.colormaps[CMAP]
@@ -437,7 +435,7 @@ def _legend_handles(res: EngineResult, idx):
                 ms=14,
                 mec="k",
                 ls="none",
-                label=f"hit point ({res.hit_point} on the {res.hit_surface.lower()})",
+                label=f"hit point ({res.hit.point} on the {res.hit.surface.value})",
             )
         )
     h += [
@@ -457,14 +455,14 @@ def _colorbar(fig, ax, res):
     cb.set_label("time (s)")
 
 
-def _summary_text(res: EngineResult) -> str:
+def _summary_text(res: Outcome) -> str:
     lines = _legend_title(res).split("\n") + [""]
-    for msg, t in res.events:
-        lines.append(f"{1000 * t:7.1f} ms  {_sentence(msg)}")
-    m = res.safety()
+    for e in res.events:
+        lines.append(f"{1000 * e.time_s:7.1f} ms  {e.sentence()}")
+    m = safety.assess_outcome(res)
     if m is not None:
         lines += ["", "Occupant risk (flail-space model):"] + ["  " + s for s in m.lines()]
-    c = res.clearance()
+    c = safety.clearance_of(res)
     if c is not None:
         lines.append("")
         if c.body_ft is None:
@@ -493,19 +491,13 @@ def _summary_text(res: EngineResult) -> str:
     return "\n".join(_wrap(s, 92) for s in lines)
 
 
-def _sentence(msg: str) -> str:
-    """'THE POST HAS HIT THE GROUND WITH POINT R' -> 'The post has hit the ground with point R'."""
-    text = msg.capitalize()
-    return text[:-1] + text[-1].upper() if " point " in text else text
-
-
 def _wrap(s: str, width: int) -> str:
     import textwrap
 
     return "\n".join(textwrap.wrap(s, width, subsequent_indent="    ")) if len(s) > width else s
 
 
-def figure_trajectory(res: EngineResult, view: str = "side", every: float | None = None) -> Figure:
+def figure_trajectory(res: Outcome, view: str = "side", every: float | None = None) -> Figure:
     """The trajectory picture of one run."""
     if view not in VIEWS:
         raise ValueError(f"view must be one of {VIEWS}")
@@ -571,7 +563,7 @@ def figure_trajectory(res: EngineResult, view: str = "side", every: float | None
     return fig
 
 
-def save_trajectory(res: EngineResult, out, view: str = "side", every: float | None = None) -> None:
+def save_trajectory(res: Outcome, out, view: str = "side", every: float | None = None) -> None:
     fig = figure_trajectory(res, view, every)
     fig.savefig(out, dpi=DPI)
 
@@ -579,7 +571,7 @@ def save_trajectory(res: EngineResult, out, view: str = "side", every: float | N
 # ============================================================================= pulse
 
 
-def figure_pulse(results: list[EngineResult]) -> Figure:
+def figure_pulse(results: list[Outcome]) -> Figure:
     """Deceleration (g, left) and speed (mph, right) over the contact, every engine given."""
     fig = _mpl().Figure(figsize=FIGSIZE["pulse"], dpi=DPI, layout="constrained")
     _mpl().FigureCanvasAgg(fig)
@@ -593,7 +585,7 @@ def figure_pulse(results: list[EngineResult]) -> Figure:
         col = ENGINE_COLOUR.get(res.engine, "k")
         label = res.engine + (f" ({'+'.join(res.errata)})" if res.errata else "")
         if res.engine == "core":
-            label = f"core ({res.note})"
+            label = f"core ({res.settings})"
         if res.pulse_t.size:
             tms = 1000 * res.pulse_t
             if res.engine == "emulator":  # per step: the value over the step ending at t
@@ -605,24 +597,24 @@ def figure_pulse(results: list[EngineResult]) -> Figure:
             )
         t, vv = res.contact_history()
         if t.size:
-            ax2.plot(1000 * t, np.abs(vv) / MPH, color=col, lw=1.6, ls="--")
+            ax2.plot(1000 * t, ft_s_to_mph(np.abs(vv)), color=col, lw=1.6, ls="--")
             handles.append(
                 _mpl().Line2D([], [], color=col, lw=1.6, ls="--", label=f"{label}: speed (mph)")
             )
             t_max = max(t_max, float(t[-1]))
-        for msg, te in res.events:
-            if "LOST CONTACT" in msg or "lost" in msg:
-                ax.axvline(1000 * te, color=col, lw=0.8, ls=":")
-        m = res.safety()
+        for e in res.events:
+            if e.kind in (EventKind.LOST_FIRST_SPRING, EventKind.LOST_VEHICLE):
+                ax.axvline(1000 * e.time_s, color=col, lw=0.8, ls=":")
+        m = safety.assess_outcome(res)
         if m is not None:
             crush = (
                 ""
-                if res.delta_v_mph is None
-                else f" (to the end of the crush pulse, the report's ΔV: {res.delta_v_mph:.2f} mph)"
+                if res.delta_v_crush_mph is None
+                else f" (to the end of the crush pulse, the report's ΔV: {res.delta_v_crush_mph:.2f} mph)"
             )
             notes.append(
-                f"{res.engine}: ΔV over the contact {m.delta_v_mph:.2f} mph"
-                f" ({m.delta_v_m_s:.2f} m/s){crush},\n    "
+                f"{res.engine}: ΔV to the end of contact {m.delta_v_contact_mph:.2f} mph"
+                f" ({m.delta_v_contact_m_s:.2f} m/s){crush},\n    "
                 f"max {m.max_decel_g:.2f} g, 10 ms avg {m.max_decel_10ms_g:.2f} g, "
                 f"OIV {m.oiv_m_s:.2f} m/s ({m.oiv_rating}), ORA {m.ora_g:.1f} g"
             )
@@ -671,7 +663,7 @@ def figure_pulse(results: list[EngineResult]) -> Figure:
     return fig
 
 
-def save_pulse(results: list[EngineResult], out) -> None:
+def save_pulse(results: list[Outcome], out) -> None:
     figure_pulse(results).savefig(out, dpi=DPI)
 
 
@@ -679,7 +671,7 @@ def save_pulse(results: list[EngineResult], out) -> None:
 
 
 def save_animation(
-    res: EngineResult, out, view: str = "side", frame_s: float = 0.01, fps: int = 20, dpi: int = 80
+    res: Outcome, out, view: str = "side", frame_s: float = 0.01, fps: int = 20, dpi: int = 80
 ) -> int:
     """Write the fall as an animated GIF; returns the number of frames."""
     import matplotlib
@@ -763,7 +755,7 @@ def save_animation(
         car.set_xy(car_shape(i))
         label.set_text(
             f"t = {1000 * res.t[i]:.0f} ms"
-            + ("\n" + res.outcome() if i == len(res.t) - 1 and res.hit else "")
+            + ("\n" + res.hit.sentence() if i == len(res.t) - 1 and res.hit else "")
         )
         return [post, car, label, *trail_lines]
 
@@ -775,20 +767,18 @@ def save_animation(
 # ================================================================================== CLI
 
 
-def _run_for_plot(deck, engine, args) -> EngineResult:
-    errata = args.erratum or None
-    res = run_engine(deck, engine, errata=errata, preset=args.preset)
-    if engine == "emulator" and res.errata and not args.erratum:
-        print(f"deck-emulator: {deck.path}: {res.note}", file=sys.stderr)
+def _run_for_plot(deck, engine, args) -> Outcome:
+    options = (dict(errata=tuple(args.erratum)) if engine == "emulator"
+               else dict(preset=args.preset))
+    res = engine_for(engine, **options).run(deck)
     if res.error:
-        print(
-            f"deck-emulator: {deck.path}: the {engine} stopped early: {res.error}", file=sys.stderr
-        )
+        print(f"deck-emulator: {deck.path}: the {engine} stopped early: {res.error}"
+              + (f"; {res.hint}" if res.hint else ""), file=sys.stderr)
     return res
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from deck_emulator.cli import CLIError
+    from deck_emulator.errors import UsageError as CLIError
     from deck_emulator.legacy.deck import read_deck
 
     deck = read_deck(args.deck)
@@ -827,49 +817,3 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         written.append(str(gif))
     print(f"deck-emulator: wrote {', '.join(written)}", file=sys.stderr)
     return status
-
-
-def add_parser(sub: argparse._SubParsersAction) -> None:
-    """Register ``deck-emulator plot``."""
-    from deck_emulator.legacy.emulator import ERRATA
-
-    p = sub.add_parser(
-        "plot",
-        help="draw the post's fall (side, plan, 3-d), the vehicle pulse, or an animation",
-        description="Draw the post as a line through its named points at regular instants in "
-        "the report's XL, YL, ZL axes, with the ground, the car at the hit and the hit point "
-        "(--view side|plan|3d|all); or, with --pulse, the car's deceleration and speed over the "
-        "contact for both engines. The emulator gets the ed-direction erratum automatically for "
-        "a deck with ALPHA != 0 (said on stderr); --erratum overrides that choice. Exit status 3 "
-        "if a run stopped early (the picture shows what it computed).",
-    )
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    p.add_argument("--out", required=True, metavar="FILE.png", help="the picture to write")
-    p.add_argument("--engine", choices=ENGINES, default="emulator")
-    p.add_argument("--view", choices=VIEWS, default="side")
-    p.add_argument(
-        "--pulse",
-        action="store_true",
-        help="draw the vehicle pulse (both engines) instead of the trajectory",
-    )
-    p.add_argument("--animate", metavar="FILE.gif", help="also write an animated GIF of the fall")
-    p.add_argument(
-        "--erratum",
-        action="append",
-        default=[],
-        choices=sorted(ERRATA),
-        help=f"emulator errata (default: {ERRATUM} where ALPHA != 0, else none)",
-    )
-    p.add_argument(
-        "--preset",
-        choices=("legacy", "physical"),
-        default="legacy",
-        help="core model options (default legacy: the listing's quirks)",
-    )
-    p.add_argument(
-        "--every",
-        type=float,
-        metavar="MS",
-        help="draw the post every MS milliseconds (default: about 20 instants)",
-    )
-    p.set_defaults(func=_cmd_plot)

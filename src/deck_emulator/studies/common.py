@@ -24,16 +24,16 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.engine import errata as errata_policy
 from deck_emulator.studies.diff import legacy_options
 from deck_emulator.core import kinetic_energy, simulate
 from deck_emulator.legacy.emulator import EmulatorError, Limits, Program
+from deck_emulator.legacy.printer import event_message
 
 H0 = 0.0004  # the listing's step, s
-HIT = "HIT"
-VEHICLE_LOST = "THE POST HAS LOST CONTACT WITH THE VEHICLE"
-#: the emulator's errata in every study run: ED steps towards its root (no effect at alpha = 0
-#: on steel40, needed by every angled deck)
-ERRATA = ("ed-direction",)
+#: the emulator's errata in every study run, by the studies' design: ED steps towards its root
+#: (no effect at alpha = 0 on steel40, needed by every angled deck); said in each README
+ERRATA = (errata_policy.ED_DIRECTION,)
 _BODY_RATES = ("V1", "V2", "V3", "W1", "W2", "W3")
 
 
@@ -73,14 +73,15 @@ def run_emulator(deck, *, precision="double", k=0, tha_start=None, ed_tolerance=
         run, status, guard = prog.run_, "crash", "crash"
         error = f"{type(exc).__name__}: {exc} (label {prog.label}, step {prog.step})"
     wall = time.perf_counter() - started
-    if status == "stop" and run.events and HIT in run.events[-1][0]:
+    if status == "stop" and run.events and run.events[-1].is_hit:
         status = "hit"
     return {"status": status, "guard": guard, "error": error, "run": run, "wall_s": wall}
 
 
 def emulator_hit(run) -> tuple[str, float | None]:
-    if run.events and HIT in run.events[-1][0]:
-        return run.events[-1][0], run.events[-1][1]
+    """The hit as the line printer wrote it, and its time ('', None without a hit)."""
+    if run.events and run.events[-1].is_hit:
+        return event_message(run.events[-1]), run.events[-1].time_s
     return "", None
 
 

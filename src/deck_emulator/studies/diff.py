@@ -4,8 +4,11 @@ Both give the same quantities under the same definitions:
 
 * loss of contact with the first spring and with the vehicle (s);
 * the hit message and time;
-* ``delta_v_mph``: the speed the car lost up to loss of contact with the vehicle;
-* ``max_decel_g``: the largest spring force over the car's weight, over the contact phase;
+* ``delta_v_contact_mph``: the speed the car lost up to loss of contact with the vehicle
+  (the report's tables give ``delta_v_crush_mph``, by the end of the crush pulse: see
+  ``deck-emulator summary``);
+* ``max_decel_g``: the largest spring force over the car's weight, over every step of the
+  contact phase (the emulator's every accepted step, not only the printed ones);
 * terminal P, Q, R in the report's XL, YL, ZL axes (origin at the base of the support);
 * the largest distance between the two mass-centre trajectories, at the emulator's steps.
 
@@ -21,44 +24,59 @@ from dataclasses import replace
 
 import numpy as np
 
-from deck_emulator.core import LEGACY, StartupKick, simulate
-from deck_emulator.core.result import MPH_PER_FT_S
-from deck_emulator.legacy.emulator import EmulatorError, Run, run_deck
-from deck_emulator.core.scene import Scene
+from deck_emulator.core.scene import LEGACY, StartupKick
+from deck_emulator.engine import CoreEngine, EmulatorEngine, core_events, errata as errata_policy
+from deck_emulator.events import EventKind
+from deck_emulator.units import ft_s_to_mph
+
+
+class DiffStopped(RuntimeError):
+    """One of the runs the diff needs did not end (the message says which, and why)."""
 
 H0 = 0.0004  # the listing's step, s
 POINTS = ("P", "Q", "R")
 
 
-def emulator_summary(run: Run, deck) -> dict:
+def _times(events) -> dict:
+    return {e.kind: e.time_s for e in reversed(events)}
+
+
+def emulator_summary(run, deck) -> dict:
     """The diff's quantities from one emulator run (its trace and events)."""
     d = deck.values
     contact = [r for r in run.trace if r["phase"] == "contact"]
-    events = dict((m, t) for m, t in run.events)
+    times = _times(run.events)
     last = run.trace[-1]
-    hit = run.events[-1][0] if run.events and "HIT" in run.events[-1][0] else None
+    hit = next((e for e in run.events if e.kind is EventKind.HIT), None)
     terminal = {
         p: (last[f"X{p}"] - d["XQO"], last[f"YY{p}"] - d["YYQO"], last[f"ZZ{p}"] + d["HEIGHT"])
         for p in POINTS
     }
     return {
-        "hit": hit,
-        "hit_time_s": run.events[-1][1] if hit else None,
-        "first_spring_lost_s": events.get("THE POST HAS LOST CONTACT WITH FIRST SPRING"),
-        "vehicle_contact_lost_s": events.get("THE POST HAS LOST CONTACT WITH THE VEHICLE"),
-        "delta_v_mph": (abs(d["VVB"]) - abs(contact[-1]["VV"])) * MPH_PER_FT_S,
+        "hit": hit.short() if hit else None,
+        "hit_time_s": hit.time_s if hit else None,
+        "first_spring_lost_s": times.get(EventKind.LOST_FIRST_SPRING),
+        "vehicle_contact_lost_s": times.get(EventKind.LOST_VEHICLE),
+        "delta_v_contact_mph": ft_s_to_mph(abs(d["VVB"]) - abs(contact[-1]["VV"])),
         "max_decel_g": max(r["FS"] for r in contact) / (d["WV"] * d["G"]),
         "terminal_points_xl_yl_zl_ft": terminal,
     }
 
 
 def core_summary(result) -> dict:
-    s = result.summary()
-    keep = ("hit", "hit_time_s", "first_spring_lost_s", "vehicle_contact_lost_s", "delta_v_mph",
-            "max_decel_g", "terminal_points_xl_yl_zl_ft")
-    out = {k: s[k] for k in keep}
-    out["terminal_points_xl_yl_zl_ft"] = {p: tuple(out["terminal_points_xl_yl_zl_ft"][p]) for p in POINTS}
-    return out
+    """The same quantities from one core run."""
+    events = core_events(result)
+    hit = next((e for e in events if e.kind is EventKind.HIT), None)
+    times = _times(events)
+    return {
+        "hit": hit.short() if hit else None,
+        "hit_time_s": hit.time_s if hit else None,
+        "first_spring_lost_s": times.get(EventKind.LOST_FIRST_SPRING),
+        "vehicle_contact_lost_s": times.get(EventKind.LOST_VEHICLE),
+        "delta_v_contact_mph": result.delta_v_contact_mph,
+        "max_decel_g": result.max_decel_g,
+        "terminal_points_xl_yl_zl_ft": {p: tuple(result.terminal_points_ft[p]) for p in POINTS},
+    }
 
 
 def legacy_options(h: float):
@@ -71,7 +89,7 @@ def legacy_options(h: float):
     return replace(LEGACY, startup_kick=kick, force_cap_from_s=20 * H0 + h)
 
 
-def max_trajectory_distance(run: Run, result) -> float:
+def max_trajectory_distance(run, result) -> float:
     """Largest distance (ft) between the mass centres at the emulator's accepted steps that lie
     in the core's run."""
     t = np.array([r["t"] for r in run.trace])
@@ -99,44 +117,51 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
     The side-by-side values are the listing's run as printed (k = 0, ED tolerance .0001). The
     convergence rows from k = 1 on shrink ED's tolerance with the step (``tighten_ed``): with
     the printed .0001 rad the scheme does not converge (see ``as_printed_ed`` in the CLI)."""
-    scene = Scene.from_deck(deck)
+    chosen = errata_policy.resolve(errata)
+    core = CoreEngine(rtol=rtol, atol=atol)
+    scene = core.scene(deck)
     convergence = []
     first = None
+
+    def emulate(k, precision, tol):
+        out = EmulatorEngine(precision=precision, errata=chosen, step_scale_k=k,
+                             ed_tolerance=tol, trace=True).run(deck)
+        if out.error:
+            hint = f" -- {out.hint}" if out.hint else ""
+            raise DiffStopped(f"the emulator stopped at k = {k}: {out.error}{hint}")
+        return out.raw
+
     for k in ks:
         h = H0 / 2**k
         if progress:
             progress(f"k = {k}: emulator with H = {h:g} s, core legacy preset with a {h:g} s start-up")
-        row_errata = tuple(errata)
         tol = ed_tolerance(k) if tighten_ed else ".0001"
-        kw = dict(step_scale_k=k, ed_tolerance=tol)
+        run = emulate(k, precision if k == 0 else "double", tol)
         try:
-            run = run_deck(deck, precision if k == 0 else "double", errata=row_errata, **kw)
-        except EmulatorError as exc:
-            if exc.guard != "ed_iterations" or "ed-direction" in row_errata:
-                raise
-            # as printed, ED walks away from its root at this step size: say so, apply the erratum
-            row_errata += ("ed-direction",)
-            run = run_deck(deck, precision if k == 0 else "double", errata=row_errata, **kw)
-        result = simulate(scene, legacy_options(h), rtol=rtol, atol=atol)
-        emu, core = emulator_summary(run, deck), core_summary(result)
+            result = CoreEngine(options=legacy_options(h), rtol=rtol, atol=atol).simulate(scene)
+        except Exception as exc:  # CoreError and the like: one line, not a traceback
+            raise DiffStopped(f"the core stopped at k = {k}: {type(exc).__name__}: {exc}") from None
+        emu, core_row = emulator_summary(run, deck), core_summary(result)
         row = {
             "k": k,
             "h_s": h,
-            "hit_time_diff_s": abs(emu["hit_time_s"] - core["hit_time_s"]),
-            "terminal_points_diff_ft": _terminal_distance(emu, core),
+            "hit_time_diff_s": abs(emu["hit_time_s"] - core_row["hit_time_s"]),
+            "terminal_points_diff_ft": _terminal_distance(emu, core_row),
             "max_trajectory_diff_ft": max_trajectory_distance(run, result),
-            "same_hit": emu["hit"] == core["hit"],
-            "errata": list(row_errata),
+            "same_hit": emu["hit"] == core_row["hit"],
+            "errata": list(chosen),
             "ed_tolerance_rad": float(tol),
         }
         convergence.append(row)
         if first is None:
-            first = (emu, core, row)
+            first = (emu, core_row, row)
             if tighten_ed:  # the side by side is the printed run: redo k = 0 with .0001
-                run0 = run_deck(deck, precision, errata=row_errata, step_scale_k=0)
-                first = (emulator_summary(run0, deck), core, dict(
+                run0 = emulate(0, precision, ".0001")
+                first = (emulator_summary(run0, deck), core_row, dict(
                     row, max_trajectory_diff_ft=max_trajectory_distance(run0, result)))
-    emu, core, row0 = first
+    if first is None:
+        raise DiffStopped("no step size to compare: give --max-k 0 or more")
+    emu, core_row, row0 = first
     orders = {}
     for key in ("hit_time_diff_s", "terminal_points_diff_ft", "max_trajectory_diff_ft"):
         pairs = [(a[key], b[key]) for a, b in zip(convergence, convergence[1:]) if a[key] > 0 and b[key] > 0]
@@ -144,11 +169,11 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
     return {
         "deck": str(deck.path),
         "precision": precision,
-        "errata": list(errata),
+        "errata": list(chosen),
         "core_method": "DOP853",
         "core_rtol": rtol,
         "emulator": emu,
-        "core": core,
+        "core": core_row,
         "max_trajectory_diff_ft": row0["max_trajectory_diff_ft"],
         "convergence": convergence,
         "observed_order": orders,
@@ -175,7 +200,8 @@ def format_diff(d: dict) -> str:
     row("lost first spring (s)", e["first_spring_lost_s"], c["first_spring_lost_s"])
     row("lost the vehicle (s)", e["vehicle_contact_lost_s"], c["vehicle_contact_lost_s"])
     row("hit time (s)", e["hit_time_s"], c["hit_time_s"])
-    row("delta-V (mph)", e["delta_v_mph"], c["delta_v_mph"], "{:.4f}")
+    row("delta-V to end of contact (mph)", e["delta_v_contact_mph"], c["delta_v_contact_mph"],
+        "{:.4f}")
     row("max deceleration (g)", e["max_decel_g"], c["max_decel_g"], "{:.4f}")
     for p in POINTS:
         for axis, a, b in zip(("XL", "YL", "ZL"), e["terminal_points_xl_yl_zl_ft"][p],
@@ -191,8 +217,7 @@ def format_diff(d: dict) -> str:
     for r in d["convergence"]:
         lines.append(f"{r['k']:>2}{r['h_s']:>12.3e}{r['hit_time_diff_s']:>20.3e}"
                      f"{r['terminal_points_diff_ft']:>20.3e}{r['max_trajectory_diff_ft']:>22.3e}"
-                     + ("" if r["same_hit"] else "   (different hit)")
-                     + (f"   (erratum {', '.join(r['errata'])})" if r["errata"] != d["errata"] else ""))
+                     + ("" if r["same_hit"] else "   (different hit)"))
     for key, label in (("hit_time_diff_s", "hit time"), ("terminal_points_diff_ft", "terminal points"),
                        ("max_trajectory_diff_ft", "trajectory")):
         ords = d["observed_order"][key]

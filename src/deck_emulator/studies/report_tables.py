@@ -4,14 +4,14 @@ This is the one place in the project that holds the report's numbers. They are t
 columns (the middle three of nine: aluminium post, steel post, twin-luminaire steel post) of
 
 * Table 11, "A COMPARISON OF MODEL RESULTS FOR A VEHICULAR VELOCITY OF 20 MPH"
-  (``../shared/seed/000_527dfe033c64384d.txt``, rows at lines 1752-1768), and
+  (rows at lines 1752-1768 of the OCR text, see :data:`SOURCE`), and
 * Table 12, the same for 40 MPH (lines 1776-1792),
 
 each for approach angles alpha = 0, 15, 30 degrees, keyed here by the name of the deck in
 ``decks/`` that reproduces that case. Values are copied as printed (text, then ``float``); a
 dash or an empty cell is ``None``. The weight of the assembly is 485.07 lb in every column.
 
-Row meanings (the report's Chapter VI): ``delta_v_mph`` "DECREASE IN VEHICLE VELOCITY (MPH)";
+Row meanings (the report's Chapter VI): ``delta_v_crush_mph`` "DECREASE IN VEHICLE VELOCITY (MPH)";
 ``max_decel_g`` "MAXIMUM VEHICLE DECELERATION (g's)"; ``XPL`` ... ``ZQL`` the coordinates (ft)
 of points P (top of the post), R (luminaire end of the arm) and Q (base of the post) in the
 XL, YL, ZL axes, "origin at the base of the support ... determined by translating the XX, YY,
@@ -23,8 +23,10 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-#: Where the numbers come from, relative to the repository root.
-SEED = "../shared/seed/000_527dfe033c64384d.txt"
+#: Where the numbers come from: the report, and the text the line numbers below refer to.
+SOURCE = ("J. E. Martinez, An Analytical Solution of the Impact Behavior of Luminaire Support "
+          "Assemblies, Texas Transportation Institute Research Report 75-9 (1967), Chapter VI, "
+          "Tables 11 and 12; line numbers of the project's OCR text of the report")
 
 #: Seed line (1-based) of each row label, for Table 11 (20 mph) and Table 12 (40 mph).
 SEED_LINES = MappingProxyType({
@@ -46,7 +48,7 @@ SEED_LINES = MappingProxyType({
 
 #: Field name here -> row label in the seed (the label text up to its first tab).
 ROW_LABELS = MappingProxyType({
-    "delta_v_mph": "DECREASE IN VEHICLE VELOCITY (MPH)",
+    "delta_v_crush_mph": "DECREASE IN VEHICLE VELOCITY (MPH)",
     "max_decel_g": "MAXIMUM VEHICLE DECELERATION",
     "XPL": "XPL (FT)", "YPL": "YPL (FT)", "ZPL": "ZPL (FT)",
     "XRL": "XRL (FT)", "YRL": "YRL (FT)", "ZRL": "ZRL (FT)",
@@ -57,12 +59,12 @@ ROW_LABELS = MappingProxyType({
 })
 
 #: The numeric fields, in the order of the report's rows.
-NUMERIC_FIELDS = ("delta_v_mph", "max_decel_g", "XPL", "YPL", "ZPL", "XRL", "YRL", "ZRL",
+NUMERIC_FIELDS = ("delta_v_crush_mph", "max_decel_g", "XPL", "YPL", "ZPL", "XRL", "YRL", "ZRL",
                   "XQL", "YQL", "ZQL", "time_to_hit_car_ms", "time_to_hit_ground_ms")
 
 #: Steel-post columns as printed (text), row -> (alpha 0, 15, 30); "" is an empty or dashed cell.
 _TABLE11_STEEL = {  # 20 mph
-    "delta_v_mph": ("1.15", "1.17", "1.24"),
+    "delta_v_crush_mph": ("1.15", "1.17", "1.24"),
     "max_decel_g": ("3.31", "3.33", "3.37"),
     "XPL": ("3.39", "2.43", "1.65"),
     "YPL": ("-6.96", "-7.15", "-6.34"),
@@ -78,7 +80,7 @@ _TABLE11_STEEL = {  # 20 mph
     "comment": ("POST HITS FRONT OF CAR",) * 3,
 }
 _TABLE12_STEEL = {  # 40 mph
-    "delta_v_mph": ("2.05", "2.05", "2.06"),
+    "delta_v_crush_mph": ("2.05", "2.05", "2.06"),
     "max_decel_g": ("6.58", "6.61", "6.70"),
     "XPL": ("-4.31", "-3.52", "-5.13"),
     "YPL": ("0.06", "-0.97", "-2.05"),
@@ -132,3 +134,12 @@ def report_time_ms(deck: str) -> float | None:
     row = REPORT[deck]
     return row["time_to_hit_car_ms"] if row["time_to_hit_car_ms"] is not None \
         else row["time_to_hit_ground_ms"]
+
+
+def report_comment(hit) -> str:
+    """A hit :class:`~deck_emulator.events.Event` in the words of the tables' COMMENTS row:
+    'POST HITS GROUND WITH POINT R', 'POST HITS TOP OF CAR'."""
+    surface = hit.surface.value.upper() if hit.surface else "?"
+    if surface == "GROUND":
+        return f"POST HITS GROUND WITH POINT {hit.point}"
+    return f"POST HITS {surface} OF CAR"

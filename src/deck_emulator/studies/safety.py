@@ -44,10 +44,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from deck_emulator.core.scene import VehicleBody
+from deck_emulator.units import FT_S_PER_MPH, G_FT_S2, M_PER_FT
+
 __all__ = [
-    "G_FT_S2",
-    "FT_PER_M",
-    "MPH_FT_S",
     "FLAIL_DISTANCE_M",
     "WINDOW_S",
     "Criterion",
@@ -64,12 +64,7 @@ __all__ = [
     "body_outline_xv",
 ]
 
-#: Standard gravity in ft/s^2, the deck's G (32.174).
-G_FT_S2 = 32.174
-#: 1 m in ft.
-FT_PER_M = 1.0 / 0.3048
-#: 1 mph in ft/s.
-MPH_FT_S = 88.0 / 60.0
+FT_PER_M = 1.0 / M_PER_FT
 #: The flail-space model's longitudinal travel, m (NCHRP 350 / MASH: 0.6 m, "2.0 ft").
 FLAIL_DISTANCE_M = 0.6
 #: The averaging window of the 10 ms average deceleration and of the ridedown acceleration, s.
@@ -249,9 +244,9 @@ def flail_space(
 class PulseMetrics:
     """The occupant-risk numbers of one velocity history (see the module docstring)."""
 
-    delta_v_ft_s: float
-    delta_v_m_s: float
-    delta_v_mph: float
+    delta_v_contact_ft_s: float
+    delta_v_contact_m_s: float
+    delta_v_contact_mph: float
     max_decel_g: float
     max_decel_time_s: float
     max_decel_10ms_g: float
@@ -275,7 +270,7 @@ class PulseMetrics:
         oiv, ora = CRITERIA["oiv"], CRITERIA["ora"]
         when = " (after contact ended: relative speed = ΔV)" if self.strike_after_contact else ""
         return [
-            f"ΔV {self.delta_v_ft_s:.3f} ft/s = {self.delta_v_m_s:.3f} m/s = {self.delta_v_mph:.3f} mph",
+            f"ΔV {self.delta_v_contact_ft_s:.3f} ft/s = {self.delta_v_contact_m_s:.3f} m/s = {self.delta_v_contact_mph:.3f} mph",
             f"max deceleration {self.max_decel_g:.2f} g at {ms(self.max_decel_time_s)}; "
             f"max 10 ms average {self.max_decel_10ms_g:.2f} g",
             f"OIV {self.oiv_m_s:.2f} m/s ({self.oiv_ft_s:.2f} ft/s), occupant strikes at "
@@ -301,9 +296,9 @@ def assess(
     oiv_m_s = fs.oiv_ft_s / FT_PER_M
     ora_g = fs.ora_ft_s2 / g
     return PulseMetrics(
-        delta_v_ft_s=dv,
-        delta_v_m_s=dv / FT_PER_M,
-        delta_v_mph=dv / MPH_FT_S,
+        delta_v_contact_ft_s=dv,
+        delta_v_contact_m_s=dv / FT_PER_M,
+        delta_v_contact_mph=dv / FT_S_PER_MPH,
         max_decel_g=amax / g,
         max_decel_time_s=tmax,
         max_decel_10ms_g=a10 / g,
@@ -327,11 +322,10 @@ BODY_NAMES = ("HLEN", "TLEN", "TRLEN", "HHV", "HTV", "HTRV", "YLFEN", "YRFEN", "
 
 
 def body_outline_xv(sv: float, d: Mapping[str, float]) -> dict[str, float]:
-    """The car's profile along XV at car position ``sv`` (deck names, eq. 3.36-3.38):
-    bumper, windshield (= hood end, SV), end of top, tail."""
-    xbump = sv - d["HLEN"]
-    xentop = sv + d["TLEN"]
-    return {"XBUMP": xbump, "SV": sv, "XENTOP": xentop, "XTAIL": xentop + d["TRLEN"]}
+    """The car's profile along XV at car position ``sv`` (the core's one outline,
+    :meth:`deck_emulator.core.scene.VehicleBody.outline_xv`, of the deck values ``d``)."""
+    body = VehicleBody.from_values(d) or VehicleBody(0, 0, 0, 0, 0, 0, 0, 0)
+    return body.outline_xv(sv)
 
 
 @dataclass(frozen=True)
@@ -470,3 +464,41 @@ def body_clearance(
         touch_time_s=tt[0],
         touch_surface=tt[1],
     )
+
+
+# ------------------------------------------------------------------------- of an engine's run
+
+
+def assess_outcome(out) -> PulseMetrics | None:
+    """The pulse numbers of an :class:`~deck_emulator.engine.Outcome` over its contact."""
+    t, vv = out.contact_history()
+    if t.size < 2:
+        return None
+    return assess(t, vv, g=out.values.get("G") or G_FT_S2)
+
+
+def clearance_of(out) -> Clearance | None:
+    """The post's least clearance above the car in an outcome's free flight."""
+    if not out.t.size or not out.free.any():
+        return None
+    pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C")}
+    if "C" in pts and np.isnan(pts["C"][out.free]).any():
+        pts.pop("C")
+    return body_clearance(out.t, pts, out.sv, out.values, free=out.free)
+
+
+def summary(out) -> dict:
+    """The occupant-risk numbers, the limits they are judged by, and the post's margin above
+    the car, as plain JSON-able values (for ``deck-emulator summary``)."""
+    m = assess_outcome(out)
+    c = clearance_of(out)
+    return {
+        "basis": "vehicle velocity over the contact phase; flail-space model (0.6 m); "
+        "see docs/safety.md",
+        "pulse": None if m is None else m.as_dict(),
+        "limits": {
+            k: {"preferred": v.preferred, "maximum": v.maximum, "unit": v.unit, "source": v.source}
+            for k, v in CRITERIA.items()
+        },
+        "clearance_ft": None if c is None else c.as_dict(),
+    }

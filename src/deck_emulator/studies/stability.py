@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.events import EventKind
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.legacy.emulator import Limits
@@ -33,7 +34,6 @@ from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
 from .common import (
     ERRATA,
     H0,
-    VEHICLE_LOST,
     agg_backend,
     core_energies,
     default_deck,
@@ -148,7 +148,7 @@ def _task_emulator(spec, deck) -> dict:
     run = out["run"]
     t, xyz = emulator_trajectory(run)
     message, hit_time = emulator_hit(run)
-    release = next((t for m, t in run.events if m == VEHICLE_LOST), None)
+    release = next((e.time_s for e in run.events if e.kind is EventKind.LOST_VEHICLE), None)
     row = {"emulator_status": out["status"], "emulator_guard": out["guard"],
            "emulator_error": out["error"], "emulator_hit": message, "emulator_hit_s": hit_time,
            "emulator_release_s": release, "emulator_wall_s": out["wall_s"],

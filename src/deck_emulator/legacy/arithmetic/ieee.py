@@ -7,9 +7,9 @@ import ctypes.util
 import math
 from fractions import Fraction
 
-import numpy as np
-
 from .base import Arithmetic, register
+
+np = None  # numpy, bound by SingleArithmetic() (see there)
 
 
 class DoubleArithmetic(Arithmetic):
@@ -46,9 +46,12 @@ class SingleArithmetic(Arithmetic):
     name = "single"
 
     def __init__(self):
+        global np
+        import numpy as np  # binary32 scalars; imported here so that double costs no numpy
+
         self._m = _libm()
 
-    def decimal(self, text: str) -> np.float32:
+    def decimal(self, text: str):
         exact = Fraction(text)
         c = np.float32(float(exact))
         # decimal -> binary64 -> binary32 can round twice; pick the truly nearest binary32

@@ -1,0 +1,312 @@
+"""The two engines behind one interface: ``engine.run(source) -> Outcome``.
+
+* :class:`EmulatorEngine` -- the 1967 program (``deck_emulator.legacy``) on a card deck, in
+  one of its arithmetics, with the errata the user named (:mod:`.errata`);
+* :class:`CoreEngine` -- the modern core (``deck_emulator.core``) on a deck or a typed scene.
+
+This is the only module that knows both paths.  An engine never raises for a run that
+cannot end: the :class:`~deck_emulator.engine.outcome.Outcome` says why (``error``) and keeps
+what was computed up to then.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from deck_emulator.events import Event, EventKind, Surface
+from deck_emulator.units import ft_s_to_mph
+
+from . import errata as errata_policy
+from .outcome import Outcome
+
+ENGINES = ("emulator", "core")
+
+
+def source_name(source) -> str:
+    """'steel40' for decks/steel40.dat; a scene's own name; else 'scene'."""
+    path = getattr(source, "path", None)
+    if path:
+        return Path(str(path)).stem
+    return getattr(source, "name", "") or "scene"
+
+
+# ============================================================================ the emulator
+
+
+def _initial_points(d) -> dict:
+    return {
+        "P": (d["XPO"], d["YYPO"], d["ZZPO"]),
+        "Q": (d["XQO"], d["YYQO"], d["ZZQO"]),
+        "R": (d["XRO"], d["YYRO"], d["ZZRO"]),
+        "C": (d["XCO"], d["YYCO"], d["ZZCO"]),
+        "CM": (0.0, 0.0, 0.0),
+    }
+
+
+@dataclass(frozen=True)
+class EmulatorEngine:
+    """The 1967 program. ``precision``: ``double``, ``single`` or ``ibm7094`` (with the
+    7094's ``arithmetic_options``); ``errata`` as requested (default: as printed); the
+    options of :class:`deck_emulator.legacy.emulator.Program` (``step_scale_k``,
+    ``ed_tolerance``, ``tha_start``, ``limits``); ``trace``: build the trajectory arrays."""
+
+    precision: str = "double"
+    errata: tuple[str, ...] = ()
+    step_scale_k: int = 0
+    ed_tolerance: str = ".0001"
+    tha_start: str | None = None
+    limits: object = None
+    arithmetic_options: dict = field(default_factory=dict)
+    trace: bool = True
+    name = "emulator"
+
+    def arithmetic(self):
+        from deck_emulator.legacy.arithmetic import get_arithmetic
+
+        return get_arithmetic(self.precision, **self.arithmetic_options)
+
+    def program(self, deck):
+        from deck_emulator.legacy.emulator import Limits, Program
+
+        return Program(deck, self.arithmetic(), errata=errata_policy.resolve(self.errata),
+                       step_scale_k=self.step_scale_k, tha_start=self.tha_start,
+                       ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
+                       trace=self.trace)
+
+    def run(self, deck, *, name: str = "") -> Outcome:
+        from deck_emulator.legacy.emulator import EmulatorError
+
+        started = time.perf_counter()
+        program = self.program(deck)
+        error = None
+        try:
+            run = program.run()
+        except EmulatorError as exc:
+            run, error = exc.run, exc
+        out = self.outcome(run, deck, name=name)
+        out.run_s = time.perf_counter() - started
+        if error is not None:
+            out.error, out.guard = str(error), error.guard
+            out.hint = errata_policy.hint(error.guard, run.errata)
+        return out
+
+    def outcome(self, run, deck, *, name: str = "") -> Outcome:
+        """An emulator ``Run`` of ``deck`` as an :class:`Outcome`."""
+        d = dict(deck.values)
+        out = Outcome("emulator", name or source_name(deck), d, errata=tuple(run.errata),
+                      settings=f"arithmetic {run.arithmetic}; errata: "
+                      f"{errata_policy.describe(run.errata)}", raw=run)
+        out.events = list(run.events)
+        if self.trace and run.trace:
+            _emulator_arrays(out, run.trace, d)
+        _printed_quantities(out, run, deck)
+        return out
+
+
+def _emulator_arrays(out: Outcome, rows, d) -> None:
+    init = _initial_points(d)
+    n = len(rows) + 1
+    t = np.empty(n)
+    t[0] = 0.0
+    pts = {k: np.full((n, 3), np.nan) for k in init}
+    for k, p in init.items():
+        pts[k][0] = p
+    sv, vv = np.empty(n), np.empty(n)
+    sv[0], vv[0] = d["SVB"], d["VVB"]
+    free = np.zeros(n, dtype=bool)
+    c_is_q = init["C"] == init["Q"]
+    for i, r in enumerate(rows, start=1):
+        t[i] = r["t"]
+        sv[i], vv[i] = r["SV"], r["VV"]
+        free[i] = r["phase"] == "free"
+        pts["CM"][i] = (r["XCM"], r["YYCM"], r["ZZCM"])
+        for k in ("P", "Q", "R"):
+            pts[k][i] = (r[f"X{k}"], r[f"YY{k}"], r[f"ZZ{k}"])
+        if "XC" in r:
+            pts["C"][i] = (r["XC"], r["YYC"], r["ZZC"])
+        elif c_is_q:
+            pts["C"][i] = pts["Q"][i]
+    # the contact-to-free handover is recorded twice (label 42 and the first free step):
+    # keep times strictly increasing
+    keep = np.concatenate([[True], np.diff(t) > 0])
+    out.t, out.sv, out.vv, out.free = t[keep], sv[keep], vv[keep], free[keep]
+    out.points = {k: v[keep] for k, v in pts.items()}
+    contact = ~out.free
+    tc, vc = out.t[contact], out.vv[contact]
+    if tc.size >= 2:  # the deceleration over each accepted contact step; |VV| falling = +
+        out.pulse_t = tc[1:]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out.pulse_g = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
+        out.delta_v_contact_mph = ft_s_to_mph(abs(d["VVB"]) - abs(float(vc[-1])))
+
+
+def _printed_quantities(out: Outcome, run, deck) -> None:
+    """What the report read off the printout: ΔV at the end of the crush pulse, the largest
+    printed deceleration, the terminal points (``extract`` reads the records, as the
+    report's authors read the paper)."""
+    from deck_emulator.legacy.extract import ExtractError, extract
+
+    try:
+        printed = extract(run.records, deck)
+    except (ExtractError, ZeroDivisionError):
+        return
+    out.delta_v_crush_mph = printed.delta_v_crush_mph
+    out.max_decel_g = printed.max_decel_g
+    out.terminal = {k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()}
+
+
+# ================================================================================= the core
+
+
+_CORE_EVENTS = {
+    "first spring lost": EventKind.LOST_FIRST_SPRING,
+    "vehicle contact lost": EventKind.LOST_VEHICLE,
+    "force cap engaged": EventKind.FORCE_CAP,
+}
+
+
+def core_events(result) -> list[Event]:
+    """The core's located events as :class:`Event` (the core's other events -- normal force
+    released and the like -- are its own business and stay in ``result.events``)."""
+    events = []
+    for e in result.events:
+        kind = _CORE_EVENTS.get(e.name)
+        if kind is not None and not any(x.kind is kind for x in events):
+            events.append(Event(kind, e.time_s))
+    if result.hit:
+        events.append(Event(EventKind.HIT, result.hit.time_s,
+                            Surface[result.hit.surface], result.hit.point))
+    return sorted(events, key=lambda e: e.time_s)
+
+
+@dataclass(frozen=True)
+class CoreEngine:
+    """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
+    ``options``: a :class:`~deck_emulator.core.scene.ModelOptions` instead of a preset;
+    ``method``, ``rtol``, ``atol``: solve_ivp's; ``sample_contact_s``, ``sample_free_s``: the
+    grid the outcome's arrays are sampled on."""
+
+    preset: str = "legacy"
+    options: object = None
+    method: str = "DOP853"
+    rtol: float | None = None
+    atol: float | None = None
+    sample_contact_s: float = 0.0002
+    sample_free_s: float = 0.001
+    trace: bool = True
+    name = "core"
+
+    def model_options(self):
+        from deck_emulator.core.scene import PRESETS
+
+        return self.options if self.options is not None else PRESETS[self.preset]
+
+    def scene(self, source):
+        from deck_emulator.core.scene import Scene
+
+        if isinstance(source, Scene):
+            return source
+        return Scene.from_deck(source, name=source_name(source))
+
+    def simulate(self, source):
+        """The core's own :class:`~deck_emulator.core.CoreResult` (raises CoreError)."""
+        from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, simulate
+
+        return simulate(self.scene(source), self.model_options(), method=self.method,
+                        rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL)
+
+    def settings(self) -> str:
+        opts = self.model_options()
+        tol = f"rtol {self.rtol:g}" if self.rtol else "default tolerances"
+        return f"preset {opts.name}; {self.method}, {tol}"
+
+    def run(self, source, *, name: str = "") -> Outcome:
+        from deck_emulator.core import CoreError
+
+        values = dict(getattr(source, "values", {}) or {})
+        out = Outcome("core", name or source_name(source), values, settings=self.settings())
+        started = time.perf_counter()
+        try:
+            r = self.simulate(source)
+        except (CoreError, ValueError, ArithmeticError) as exc:
+            out.error = f"{type(exc).__name__}: {exc}"
+            out.run_s = time.perf_counter() - started
+            return out
+        out.run_s = time.perf_counter() - started
+        out.raw = r
+        out.events = core_events(r)
+        out.delta_v_contact_mph = r.delta_v_contact_mph
+        out.max_decel_g = r.max_decel_g
+        out.terminal = {k: v for k, v in r.terminal_points_ft.items() if v is not None}
+        cap = next((e.time_s for e in out.events if e.kind is EventKind.FORCE_CAP), None)
+        if cap is not None:  # the report's ΔV: at the force cap (extract's crush_pulse_end)
+            vv_cap = float(r.trajectory.vehicle(cap)[1])
+            out.delta_v_crush_mph = ft_s_to_mph(
+                abs(r.scene.vehicle.initial_velocity_ft_s) - abs(vv_cap))
+        if self.trace and values:
+            self._arrays(out, r)
+        return out
+
+    def _arrays(self, out: Outcome, r) -> None:
+        traj = r.trajectory
+        t_end = float(traj.t_end)
+        lost = out.vehicle_contact_lost_s
+        t_c = lost if lost is not None else t_end
+        edges = [s.t0 for s in traj.segments] + [s.t1 for s in traj.segments]
+        grid = np.concatenate([np.arange(0.0, t_c, self.sample_contact_s),
+                               np.arange(t_c, t_end, self.sample_free_s), edges, [t_c, t_end]])
+        t = np.unique(np.clip(grid, 0.0, t_end))
+        out.t = t
+        allp = traj.points(t)
+        out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C") if k in allp}
+        out.points["CM"] = np.asarray(traj.mass_centre(t)).T
+        veh = traj.vehicle(t)
+        out.sv, out.vv = np.asarray(veh[0]), np.asarray(veh[1])
+        out.free = t > t_c + 1e-12
+        if "C" in out.points and out.hit_time_s is not None:
+            c = out.to_l(traj.point("C", min(out.hit_time_s, t_end)))
+            out.terminal["C"] = tuple(float(x) for x in c)
+        out.pulse_t, out.pulse_g = _core_pulse(traj, out.values, t_c, self.sample_contact_s)
+
+
+def _core_pulse(traj, d, t_c, step):
+    """The car's deceleration (g) over the contact, from the model's force."""
+    model = traj._model
+    ts, gs = [], []
+    for seg in traj.segments:
+        if seg.phase != "contact" or seg.t1 <= seg.t0:
+            continue
+        n = max(math.ceil((seg.t1 - seg.t0) / (step / 2)), 2)
+        tt = np.linspace(seg.t0, seg.t1, n + 1)
+        ys = seg.solution(tt)
+        f = [model.vehicle_force(tk, ys[:, k], seg.mode) for k, tk in enumerate(tt)]
+        ts.append(tt)
+        # force on the car along +XV; the car moves towards -XV when VVB < 0
+        gs.append(np.asarray(f) / (d["WV"] * d["G"]) * (1.0 if d["VVB"] < 0 else -1.0))
+    if not ts:
+        return np.zeros(0), np.zeros(0)
+    return np.concatenate(ts), np.concatenate(gs)
+
+
+def engine_for(name: str, **options):
+    """``engine_for("emulator", errata=(...))`` or ``engine_for("core", preset=...)``."""
+    if name == "emulator":
+        return EmulatorEngine(**options)
+    if name == "core":
+        return CoreEngine(**options)
+    raise ValueError(f"unknown engine {name!r}: {ENGINES}")
+
+
+def run_engine(source, engine: str = "emulator", *, name: str = "", **options) -> Outcome:
+    """One run of the named engine on a deck (or, for the core, a scene)."""
+    return engine_for(engine, **options).run(source, name=name)
+
+
+def with_options(engine, **changes):
+    """A copy of ``engine`` with some settings changed."""
+    return replace(engine, **changes)

@@ -1,0 +1,122 @@
+"""What an engine returns: one :class:`Outcome`, whichever engine ran."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from deck_emulator.events import Event, EventKind
+from deck_emulator.units import ft_s_to_mph
+
+
+@dataclass
+class Outcome:
+    """One run of either engine, as arrays over time (road axes XX, YY, ZZ; ft, s).
+
+    * ``engine``: ``"emulator"`` or ``"core"``; ``settings``: what was run, in words (the
+      arithmetic and its assumptions, the errata; or the preset, method and tolerances);
+      ``errata``: the errata the emulator applied.
+    * ``values``: the scene as the report's 64 named quantities (the READ list).
+    * ``t``; ``points``: name -> (n, 3) for the post's points ``P``, ``Q``, ``R``, ``C`` and
+      the mass centre ``CM`` (NaN where an engine does not give a point); ``sv``, ``vv``: the
+      car's position and velocity along XV; ``free``: the free-flight samples.
+    * ``pulse_t``, ``pulse_g``: the car's deceleration (g) over the contact phase.
+    * ``events``: :class:`~deck_emulator.events.Event` in time order; ``hit``: the last one
+      if it is a hit.
+    * ``delta_v_crush_mph``: the speed the car lost by the end of the crush pulse (the spring
+      force first capped at FCONST), the report's "DECREASE IN VEHICLE VELOCITY";
+      ``delta_v_contact_mph``: the speed lost by the end of contact with the post.
+    * ``max_decel_g``: the report's maximum deceleration (emulator: the largest *printed*
+      FSA/(WV*G), as the report read it; core: its continuous maximum).
+    * ``terminal``: P, Q, R, C at the hit in the report's XL, YL, ZL axes (ft).
+    * ``error``: why the run stopped early (one line), ``None`` if it ended; ``guard``: the
+      emulator's guard that stopped it; ``hint``: what would let it run.
+    * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
+    """
+
+    engine: str
+    name: str
+    values: dict
+    settings: str = ""
+    errata: tuple[str, ...] = ()
+    t: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    points: dict = field(default_factory=dict)
+    sv: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    vv: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    free: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    pulse_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    pulse_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    events: list[Event] = field(default_factory=list)
+    delta_v_crush_mph: float | None = None
+    delta_v_contact_mph: float | None = None
+    max_decel_g: float | None = None
+    terminal: dict = field(default_factory=dict)
+    error: str | None = None
+    guard: str | None = None
+    hint: str = ""
+    run_s: float = 0.0
+    raw: object = field(default=None, repr=False)
+
+    # -- events ---------------------------------------------------------------------------
+
+    def _first(self, kind: EventKind) -> Event | None:
+        return next((e for e in self.events if e.kind is kind), None)
+
+    @property
+    def hit(self) -> Event | None:
+        return self._first(EventKind.HIT)
+
+    @property
+    def hit_time_s(self) -> float | None:
+        return self.hit.time_s if self.hit else None
+
+    @property
+    def first_spring_lost_s(self) -> float | None:
+        e = self._first(EventKind.LOST_FIRST_SPRING)
+        return e.time_s if e else None
+
+    @property
+    def vehicle_contact_lost_s(self) -> float | None:
+        e = self._first(EventKind.LOST_VEHICLE)
+        return e.time_s if e else None
+
+    # -- the scene ------------------------------------------------------------------------
+
+    @property
+    def speed_mph(self) -> float:
+        return ft_s_to_mph(abs(self.values["VVB"]))
+
+    @property
+    def angle_deg(self) -> float:
+        return math.degrees(self.values["ALPHA"])
+
+    @property
+    def end_time_s(self) -> float:
+        return float(self.t[-1]) if self.t.size else 0.0
+
+    def at(self, t: float) -> int:
+        """Index of the sample nearest to ``t``."""
+        return int(np.argmin(np.abs(self.t - t)))
+
+    def to_l(self, p):
+        """XX, YY, ZZ -> the report's XL, YL, ZL (origin on the ground under the base)."""
+        d = self.values
+        p = np.asarray(p, dtype=float)
+        return p - np.array([d["XQO"], d["YYQO"], -d["HEIGHT"]])
+
+    def contact_history(self):
+        """(t, vv) up to the end of the contact with the car (the whole run if it never ends)."""
+        lost = self.vehicle_contact_lost_s
+        if lost is None or not self.t.size:
+            return self.t, self.vv
+        k = int(np.searchsorted(self.t, lost + 1e-9, side="right"))
+        k = max(k, 2)
+        return self.t[:k], self.vv[:k]
+
+    def verdict(self) -> str:
+        """'hit ground (R)' or 'no hit (why)'."""
+        if self.hit:
+            return self.hit.short()
+        return f"no hit ({self.error})" if self.error else "no hit"

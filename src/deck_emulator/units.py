@@ -1,0 +1,34 @@
+"""Units and the conversions between them: the one place for each factor.
+
+The report works in ft, lb, slug, s and rad; speeds in the tables are mph; the crash-safety
+criteria are in m/s and g.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: ft in a mile, s in an hour
+FT_PER_MILE, S_PER_HOUR = 5280, 3600
+#: ft/s in one mph (88/60)
+FT_S_PER_MPH = FT_PER_MILE / S_PER_HOUR
+#: m in one ft (exact, by the 1959 international yard)
+M_PER_FT = 0.3048
+#: the report's acceleration of gravity, ft/s^2 (the deck's G; standard gravity is 32.1740)
+G_FT_S2 = 32.174
+
+
+def mph_to_ft_s(mph: float) -> float:
+    return mph * FT_S_PER_MPH
+
+
+def ft_s_to_mph(ft_s: float) -> float:
+    return ft_s / FT_S_PER_MPH
+
+
+def ft_to_m(ft: float) -> float:
+    return ft * M_PER_FT
+
+
+def rad_to_deg(rad: float) -> float:
+    return math.degrees(rad)
