@@ -510,14 +510,11 @@ class Scene:
     def to_toml(self) -> str:
         """The scene as TOML text (tables ``[post]``, ``[post.top]`` ...; absent components
         are absent tables).  :meth:`from_toml` reads it back to an equal scene."""
-        lines = [
-            "# deck_emulator scene: ft, lb, slug, s, rad; positions relative to the post's",
-            "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.core.scene).",
-        ]
-        if self.name:
-            lines.append(f"name = {_toml_string(self.name)}")
-        _emit_table(lines, "", self, skip=("name",))
-        return "\n".join(lines) + "\n"
+        import tomli_w
+
+        header = ("# deck_emulator scene: ft, lb, slug, s, rad; positions relative to the post's\n"
+                  "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.core.scene).\n")
+        return header + tomli_w.dumps(_plain(self))
 
     @classmethod
     def from_toml(cls, text: str) -> "Scene":
@@ -529,46 +526,20 @@ class Scene:
         return _build_dataclass(cls, data, "")
 
 
-def _toml_string(text: str) -> str:
-    out = text.replace("\\", "\\\\").replace('"', '\\"')
-    out = "".join(ch if ch >= " " else f"\\u{ord(ch):04x}" for ch in out)
-    return f'"{out}"'
-
-
-def _toml_value(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        if math.isnan(value):
-            return "nan"
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        return repr(value)  # shortest round-trip repr; always has '.' or 'e'
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, str):
-        return _toml_string(value)
-    if isinstance(value, tuple):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    raise TypeError(f"cannot write {value!r} as TOML")
-
-
-def _emit_table(lines: list[str], prefix: str, obj: Any, skip: tuple[str, ...] = ()) -> None:
-    scalars, tables = [], []
+def _plain(obj: Any) -> dict:
+    """A dataclass as nested plain dicts for tomli-w: ``None`` (an absent component) left
+    out, tuples as lists, the name first."""
+    out: dict[str, Any] = {}
     for f in fields(obj):
-        if f.name in skip:
-            continue
         value = getattr(obj, f.name)
-        if value is None:
+        if value is None or (f.name == "name" and value == ""):
             continue
-        (tables if is_dataclass(value) else scalars).append((f.name, value))
-    if prefix and (scalars or not tables):
-        lines.append("")
-        lines.append(f"[{prefix}]")
-    for key, value in scalars:
-        lines.append(f"{key} = {_toml_value(value)}")
-    for key, value in tables:
-        _emit_table(lines, f"{prefix}.{key}" if prefix else key, value)
+        if is_dataclass(value):
+            value = _plain(value)
+        elif isinstance(value, tuple):
+            value = list(value)
+        out[f.name] = value
+    return out
 
 
 def _field_types(cls: type) -> dict[str, Any]:

@@ -1,0 +1,81 @@
+"""The layering, as import-linter contracts (pyproject.toml), and what it buys: quick start-up."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+LINT = shutil.which("lint-imports")
+pytestmark = pytest.mark.skipif(LINT is None, reason="import-linter is not installed")
+
+
+def _lint(config: Path | None = None) -> subprocess.CompletedProcess:
+    argv = [LINT] + (["--config", str(config)] if config else [])
+    return subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, timeout=300)
+
+
+def test_the_import_contracts_hold():
+    proc = _lint()
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "0 broken" in proc.stdout
+    for name in ("CLI > pictures > studies > engine", "Nothing imports the CLI",
+                 "does not import its implementations", "No import cycles"):
+        assert name in proc.stdout
+
+
+def test_a_broken_contract_fails_the_linter(tmp_path):
+    """The contracts are live: one the code breaks (the engine layer does import the 1967
+    path) is reported as broken, with the import that breaks it."""
+    config = tmp_path / "broken.toml"
+    config.write_text(textwrap.dedent("""
+        [tool.importlinter]
+        root_package = "deck_emulator"
+
+        [[tool.importlinter.contracts]]
+        name = "The engine layer never imports the 1967 path (false on purpose)"
+        type = "forbidden"
+        source_modules = ["deck_emulator.engine"]
+        forbidden_modules = ["deck_emulator.legacy"]
+    """))
+    proc = _lint(config)
+    assert proc.returncode != 0
+    assert "BROKEN" in proc.stdout and "deck_emulator.engine" in proc.stdout
+
+
+@pytest.mark.parametrize("command", [
+    ["parse", "decks/steel40.dat"],
+    ["run", "decks/steel40.dat", "--out", "{tmp}/steel40.txt"],
+])
+def test_parse_and_run_start_without_scipy_or_matplotlib(command, tmp_path):
+    argv = [a.format(tmp=tmp_path) for a in command]
+    code = textwrap.dedent(f"""
+        import sys
+        from deck_emulator.cli import main
+        status = main({argv!r})
+        heavy = sorted(m for m in ("scipy", "matplotlib") if m in sys.modules)
+        print("HEAVY", heavy, "STATUS", status)
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                          text=True, timeout=120)
+    assert "HEAVY [] STATUS 0" in proc.stdout, proc.stdout + proc.stderr
+
+
+def test_cli_names_agree_with_the_layers_below():
+    """The CLI names its choices itself so that building the parser imports nothing heavy;
+    they must be the registry's, the emulator's errata and the pictures' views."""
+    from deck_emulator import cli
+    from deck_emulator.core.scene import PRESETS
+    from deck_emulator.legacy.arithmetic import ARITHMETICS
+    from deck_emulator.legacy.emulator import ERRATA
+    from deck_emulator.present.plot import VIEWS
+
+    assert cli.PRECISIONS == ARITHMETICS
+    assert set(cli.ERRATA_NAMES) == set(ERRATA)
+    assert set(cli.PRESETS) == set(PRESETS)
+    assert cli.VIEWS == VIEWS
