@@ -184,6 +184,11 @@ def _add_emulator_options(p: argparse.ArgumentParser) -> None:
                    help="ibm7094: how F-format output rounded")
 
 
+def _add_answer_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", action="store_true", help="one JSON object")
+    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+
+
 def _add_erratum_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--erratum", action="append", default=[], choices=ERRATA_NAMES,
                    help="apply a named erratum to the listing (default: none, the listing as "
@@ -256,8 +261,7 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
         "terminal P, Q, R in XL, YL, ZL.",
     )
     _add_emulator_options(p)
-    p.add_argument("--json", action="store_true", help="one JSON object")
-    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    _add_answer_options(p)
     p.set_defaults(func=_cmd_summary)
 
 
@@ -298,8 +302,7 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rtol", type=float, default=1e-10, help="core tolerance (rtol = atol)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
-    p.add_argument("--json", action="store_true", help="one JSON object")
-    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    _add_answer_options(p)
     p.set_defaults(func=_cmd_diff)
 
 
@@ -348,8 +351,7 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
                    help="solve_ivp's method (default DOP853)")
     p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (default 1e-10)")
     p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (default 1e-10)")
-    p.add_argument("--json", action="store_true", help="one JSON object")
-    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    _add_answer_options(p)
     p.set_defaults(func=_cmd_core)
 
 
