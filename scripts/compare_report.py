@@ -39,7 +39,8 @@ sys.path.insert(0, str(ROOT / "src"))
 from deck_emulator.files import write_atomic
 from deck_emulator.legacy.arithmetic import get_arithmetic
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.legacy.emulator import EmulatorError, run_deck
+from deck_emulator.engine import EmulatorEngine
+from deck_emulator.legacy.printer import event_message
 from deck_emulator.legacy.extract import (
     DELTA_V_CANDIDATES,
     DELTA_V_DEFINITION,
@@ -74,11 +75,10 @@ def _run(job):
     deck_name, precision, errata = job
     deck = read_deck(ROOT / "decks" / f"{deck_name}.dat")
     t0 = time.perf_counter()
-    try:
-        run = run_deck(deck, precision, errata=errata)
-        error = None
-    except EmulatorError as exc:
-        run = exc.run
+    out = EmulatorEngine(precision=precision, errata=errata, trace=True).run(deck)
+    run, error = out.raw, None
+    if run.error is not None:
+        exc = run.error
         error = dict(message=str(exc), label=str(exc.label), step=exc.step, time=exc.time,
                      guard=exc.guard)
     seconds = time.perf_counter() - t0
@@ -408,7 +408,7 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
             r = runs[(n, prec, ())]
             steps = contact_steps(r["trace"])
             psi = steps[-1]["PSI"] if steps else None
-            outcome = "finished: " + r["events"][-1][0] if r["error"] is None else \
+            outcome = "finished: " + event_message(r["events"][-1]) if r["error"] is None else \
                 "`EmulatorError`: " + r["error"]["message"]
             w(f"| `{n}` | {prec} | {outcome} | {len(steps)} | {f(psi, 5)} | {r['seconds']:.1f} |")
     w("")

@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.engine import errata as errata_policy
+from deck_emulator.engine import EmulatorEngine, errata as errata_policy
 from deck_emulator.studies.diff import legacy_options
 from deck_emulator.core import kinetic_energy, simulate
-from deck_emulator.legacy.emulator import EmulatorError, Limits, Program
+from deck_emulator.legacy.emulator import EmulatorError, Limits
 from deck_emulator.legacy.printer import event_message
 
 H0 = 0.0004  # the listing's step, s
@@ -60,8 +60,8 @@ def run_emulator(deck, *, precision="double", k=0, tha_start=None, ed_tolerance=
     ``status``: ``"hit"`` (ended by a hit message), ``"guard"`` (a guard of the emulator fired:
     ``guard`` is its name), ``"crash"`` (any other exception: a defect), ``"stop"`` (ended
     without a hit message)."""
-    prog = Program(deck, precision, errata=errata, step_scale_k=k, tha_start=tha_start,
-                          ed_tolerance=ed_tolerance, limits=limits)
+    prog = EmulatorEngine(precision=precision, errata=errata, step_scale_k=k, tha_start=tha_start,
+                          ed_tolerance=ed_tolerance, limits=limits).program(deck)
     started = time.perf_counter()
     status, guard, error = "stop", "", ""
     try:
@@ -128,7 +128,8 @@ def run_core(scene, options, *, method="DOP853", rtol=1e-9, atol=None, t_max_s=1
         warnings.simplefilter("always")
         try:
             result = simulate(scene, options, method=method, rtol=rtol,
-                              atol=rtol if atol is None else atol, t_max_s=t_max_s)
+                              atol=rtol if atol is None else atol, t_max_s=t_max_s)  # the core's
+            # own call: the studies need its t_max_s and its warnings, not an Outcome
         except Exception as exc:  # noqa: BLE001 - CoreError or a defect: recorded
             return {"status": "error", "error": f"{type(exc).__name__}: {exc}", "result": None,
                     "wall_s": time.perf_counter() - started, "warnings": _warnings(caught)}
