@@ -122,6 +122,9 @@ class Post:
     second_impact: PostPoint | None = None
     luminaire_end: PostPoint | None = None
     point_c: PostPoint | None = None
+    #: U, the end of a second luminaire arm (the twin-luminaire post of Chapter VI); the
+    #: listing has no such point (the core checks it against ground and car like R)
+    second_luminaire_end: PostPoint | None = None
 
     #: listing letter -> field name, in the listing's checking order P, Q, R, C, then S, T
     POINT_FIELDS = {
@@ -131,6 +134,7 @@ class Post:
         "C": "point_c",
         "S": "first_impact",
         "T": "second_impact",
+        "U": "second_luminaire_end",
     }
 
     @property
@@ -312,6 +316,7 @@ DECK_NAMES: dict[str, str] = {
     "post.second_impact": "XTO, YYTO, ZZTO",
     "post.luminaire_end": "XRO, YYRO, ZZRO",
     "post.point_c": "XCO, YYCO, ZZCO",
+    "post.second_luminaire_end": "(none: the listing has no point U)",
     "initial.mass_centre_ft": "XCMB, YCMB, ZCMB (given in X, Y, Z)",
     "initial.velocity_body_ft_s": "V1B, V2B, V3B",
     "initial.angular_velocity_body_rad_s": "W1B, W2B, W3B",
