@@ -44,6 +44,7 @@ __all__ = [
     "Post",
     "PostInitialState",
     "CrushSpring",
+    "LeafSpring",
     "VehicleBody",
     "Vehicle",
     "BaseFriction",
@@ -208,6 +209,25 @@ class CrushSpring:
 
 
 @dataclass(frozen=True)
+class LeafSpring:
+    """A hysteretic leaf spring on the car's front (the crash test of Chapter V).
+
+    Loading (compression ``x`` ft, force lb): ``loading_stiffness_lb_per_ft[0]`` up to
+    ``knee_ft``, then ``[1]`` up to ``stop_ft``, then the force at ``stop_ft`` for any
+    larger ``x`` (the U-bolts on the I-beam).  Unloading from the largest compression
+    reached, ``x_m``: ``unloading_stiffness_lb_per_ft[0]`` down to ``unloading_knee_ft``,
+    then ``[1]``, until the force is zero; re-loading retraces the unloading line up to
+    ``x_m`` and continues on the loading curve.  The force law is
+    :func:`deck_emulator.core.leaf_spring.leaf_force`."""
+
+    loading_stiffness_lb_per_ft: tuple[float, float] = (12000.0, 26400.0)
+    knee_ft: float = 0.25
+    stop_ft: float = 0.375
+    unloading_stiffness_lb_per_ft: tuple[float, float] = (38400.0, 12000.0)
+    unloading_knee_ft: float = 0.25
+
+
+@dataclass(frozen=True)
 class VehicleBody:
     """The car's outline for the free-flight checks (Figures 11-12, eq. 3.36-3.38).
 
@@ -255,6 +275,8 @@ class Vehicle:
     second_spring: CrushSpring | None = None
     force_cap_lb: float | None = None
     body: VehicleBody | None = None
+    #: a hysteretic spring at S in place of ``first_spring`` (only scenes that have one)
+    leaf_spring: LeafSpring | None = None
 
 
 # --------------------------------------------------------------------------------------
@@ -329,6 +351,7 @@ DECK_NAMES: dict[str, str] = {
     "vehicle.first_spring.stiffness_lb_per_ft": "CK",
     "vehicle.second_spring.stiffness_lb_per_ft": "CT",
     "vehicle.force_cap_lb": "FCONST",
+    "vehicle.leaf_spring": "(none: the listing's springs are linear)",
     "vehicle.body.hood_length_ft": "HLEN",
     "vehicle.body.top_length_ft": "TLEN",
     "vehicle.body.trunk_length_ft": "TRLEN",
