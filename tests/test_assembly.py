@@ -171,9 +171,9 @@ def test_deck_of_the_aluminium_post_reads_back():
     assert len(lines) == 9 and all(len(x) == 80 for x in lines)
     deck = parse_deck(text)
     for k in ("A", "B", "C", "DELTA", "ZZPO", "ZZRO", "FNA", "HEIGHT"):
-        assert deck[k] == pytest.approx(v[k], abs=1e-5)
+        assert deck[k] == pytest.approx(v[k], abs=5e-5)  # at least 4 decimals
     # the car meets every post at the same heights above the ground
-    assert deck["HHV"] + deck["HEIGHT"] == pytest.approx(-16.27 + 20.27, abs=1e-5)
+    assert deck["HHV"] + deck["HEIGHT"] == pytest.approx(-16.27 + 20.27, abs=1e-4)
 
 
 def test_twin_is_refused_by_the_listing_in_one_line():

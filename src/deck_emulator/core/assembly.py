@@ -505,10 +505,12 @@ def to_deck_values(
 
 
 def _field(x: float) -> str:
-    """A value in 10 columns, readable by F10.5: explicit point, left-justified."""
+    """A value in 10 columns, readable by F10.5: explicit point, left-justified, at most
+    nine characters (a blank column between fields, as the report's deck), with as many
+    of F10.5's five decimals as fit."""
     for nd in (5, 4, 3, 2, 1):
         s = f"{x:.{nd}f}"
-        if len(s) <= 10:
+        if len(s) <= 9:
             if float(s) == 0.0:
                 s = "0.0"
             return s.ljust(10)
