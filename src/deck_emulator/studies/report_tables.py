@@ -306,10 +306,11 @@ CRASH_TEST = MappingProxyType({
     "post_inertia_slug_ft2": 62.0,      # line 1612 (about the mass centre, transverse)
     "post_cm_from_base_ft": 4.63,       # line 1612 (from the triangular-plate end)
     "post_length_ft": 9.0,              # line 1608
+    "impact_point": "middle of the spring",  # line 1600 (its height is not given)
     "vehicle_weight_lb": 2800.0,        # line 1604
     "vehicle_speed_ft_s": 40.0,         # line 1606
     "loading_lb_per_ft": (12000.0, 26400.0),    # lines 1638-1642
     "unloading_lb_per_ft": (38400.0, 12000.0),  # lines 1644-1648
-    "knee_in": 3.0,                     # line 1600 (second leaves engage)
-    "stop_in": 4.5,                     # lines 1600, 1650 (U-bolts meet the I-beam)
+    "knee_in": 3.0,                     # line 1602 (second set of leaves engaged)
+    "stop_in": 4.5,                     # lines 1602, 1650 (U-bolts meet the I-beam)
 })
