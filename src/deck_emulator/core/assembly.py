@@ -564,6 +564,12 @@ def scene_runs_on_listing(scene) -> str | None:
         return "the listing always has a car; this scene has none"
     if scene.base is None:
         return "the listing always has the break-away base; this scene has none"
+    from .scene import LISTING_BASE_FRICTION, LISTING_NORMAL_RELEASE_FT
+
+    if scene.base.friction != LISTING_BASE_FRICTION:
+        return "the listing's base friction is fixed (930 lb over 1 in); this scene's differs"
+    if scene.base.normal_release_ft != LISTING_NORMAL_RELEASE_FT:
+        return "the listing releases the normal force at 5 in; this scene elsewhere"
     return None
 
 

@@ -108,8 +108,9 @@ class Post:
       turned by this angle about ``XX``.
     * Named points (see :class:`PostPoint`): ``top`` P, ``base`` Q (where the base forces
       act), ``first_impact`` S (first crush spring), ``second_impact`` T (second crush
-      spring), ``luminaire_end`` R, ``point_c`` C.  P and Q are always there; the others
-      are ``None`` when the scene has no such point.
+      spring), ``luminaire_end`` R, ``point_c`` C, ``second_luminaire_end`` U (a second
+      arm, which the listing cannot carry).  P and Q are always there; the others are
+      ``None`` when the scene has no such point.
     """
 
     mass_slug: float
