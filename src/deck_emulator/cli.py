@@ -370,6 +370,101 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_cmd_scene)
 
 
+# --------------------------------------------------------------------------- assembly
+
+
+def _cmd_assembly(args: argparse.Namespace) -> int:
+    """Build a support assembly (or the crash test) from a description file and print its
+    mass properties, its deck, its scene, or run it."""
+    import math as _m
+
+    from deck_emulator.core import LEGACY, PHYSICAL, simulate
+    from deck_emulator.core import assembly as asm
+    from deck_emulator.engine import assemblies as bridge
+
+    try:
+        a, extra, _ = asm.load_assembly(args.description)
+    except (asm.AssemblyError, OSError) as exc:
+        raise CLIError(str(exc)) from None
+    if a is None:  # the crash test
+        from deck_emulator.studies import crash_test as ct
+
+        scene = ct.crash_scene()
+        if args.what == "scene":
+            _emit(args, scene.to_toml())
+            return 0
+        if args.what in ("deck", "emulator"):
+            raise CLIError(f"cannot run on the listing: {asm.scene_runs_on_listing(scene)}")
+        res, loss, r70 = ct.table10(scene)
+        rows = [f"{k}: at loss of contact {loss[k]:.4f}, at 70 ms {r70[k]:.4f}" for k in loss]
+        _emit(args, f"hit: {res.hit_message} at {res.hit_time_s}\n" + "\n".join(rows) + "\n")
+        return 0
+    template = (f"steel{args.speed_mph}" + ("" if args.alpha_deg == 0 else f"_a{args.alpha_deg}"))
+    mp = asm.mass_properties(a)
+    if args.what == "props":
+        lines = [f"{a.name}: weight {mp.weight_lb:.2f} lb, W {mp.mass_slug:.5f} slug, wall "
+                 f"{mp.wall_in:.4f} in, A {mp.A:.2f}, B {mp.B:.2f}, C {mp.C:.3f} slug ft^2, "
+                 f"delta {mp.delta_rad:.5f} rad ({_m.degrees(mp.delta_rad):.3f} deg), mass centre "
+                 f"{mp.cm_height_ft:.3f} ft above Q, {mp.cm_offset_ft:.3f} ft in YY from the axis"]
+        lines += [f"  {k}: ({p[0]:.4f}, {p[1]:.4f}, {p[2]:.4f}) ft" for k, p in mp.points.items()]
+        _emit(args, "\n".join(lines) + "\n")
+        return 0
+    scene = bridge.to_scene(a, mp, template=template)
+    if args.what == "scene":
+        _emit(args, scene.to_toml())
+        return 0
+    reason = asm.scene_runs_on_listing(scene)
+    if args.what in ("deck", "emulator") and reason is not None:
+        raise CLIError(f"cannot run on the listing: {reason}")
+    if args.what == "deck":
+        _emit(args, bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template)))
+        return 0
+    if args.what == "emulator":
+        from deck_emulator.engine import EmulatorEngine
+        from deck_emulator.legacy.deck import parse_deck
+
+        deck = parse_deck(bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template)))
+        out = EmulatorEngine(errata=tuple(args.erratum), trace=False).run(deck)
+        _emit(args, out.raw.text())
+        if out.error:
+            _say(f"error: {_stopped(out)}")
+            return EXIT_RUN_FAILED
+        return 0
+    from deck_emulator.core.pair_hits import joint_ground_hit, terminal_points_xl
+
+    res = joint_ground_hit(simulate(scene, LEGACY if args.preset == "legacy" else PHYSICAL))
+    pts = terminal_points_xl(res)
+    lines = [f"hit: {res.hit_message} at {res.hit_time_s} s"]
+    lines += [f"  {k}L: ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) ft" for k, p in pts.items()]
+    _emit(args, "\n".join(lines) + "\n")
+    return 0
+
+
+@_subcommand
+def _add_assembly(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "assembly", help="build, print or run a support assembly from a description file",
+        description="NAME is a shipped description (steel, aluminium, twin, crash_test) or a "
+        ".toml file. WHAT: props (mass properties and points), deck (the 8-card deck; one "
+        "arm only), scene (TOML), core (run the core), emulator (run the listing).")
+    p.add_argument("description", metavar="NAME_OR_TOML",
+                   help="steel, aluminium, twin, crash_test, or a description file (.toml)")
+    p.add_argument("what", nargs="?", default="props",
+                   choices=("props", "deck", "scene", "core", "emulator"),
+                   help="what to print or run (default props)")
+    p.add_argument("--speed-mph", type=int, choices=(20, 40), default=40,
+                   help="the car's speed: one of the report's two (default 40)")
+    p.add_argument("--alpha-deg", type=int, choices=(0, 15, 30), default=0,
+                   help="the approach angle: one of the report's three (default 0)")
+    _add_erratum_option(p)
+    _add_preset_option(p)
+    p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    p.set_defaults(func=_cmd_assembly)
+
+
+# --------------------------------------------------------------------------- plot, sweep, study
+
+
 # --------------------------------------------------------------------------- plot
 
 

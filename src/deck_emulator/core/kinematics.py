@@ -32,6 +32,8 @@ class ContactMode:
     cap_armed: bool = False
     cap_engaged: bool = False
     window: str | None = None
+    #: a leaf spring's largest compression so far while it unloads (ft); None: loading
+    spring_peak_ft: float | None = None
 
 
 class EventSpec:

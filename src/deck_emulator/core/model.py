@@ -103,7 +103,11 @@ class Model:
                 comps["base friction"] = BaseFriction(
                     base.friction.force_lb, base.friction.slip_window_ft
                 )
-        if vehicle is not None:
+        if vehicle is not None and getattr(vehicle, "leaf_spring", None) is not None:
+            from .leaf_spring import LeafSpringContact
+
+            comps["vehicle contact"] = LeafSpringContact(scene, options, self)
+        elif vehicle is not None:
             comps["vehicle contact"] = VehicleContact(scene, options, self)
             if options.startup_kick is not None:
                 self.kick_load = StartupKickLoad(options.startup_kick)
@@ -229,6 +233,9 @@ class Model:
     def transition(self, mode: ContactMode, name: str, y) -> tuple[ContactMode, bool]:
         """The mode after event ``name``; second item: the car has left the post."""
         contact = self.components.get("vehicle contact")
+        own = getattr(contact, "transition", None)
+        if own is not None and name in getattr(contact, "EVENT_NAMES", ()):
+            return own(self, mode, name, y)
         if name == "first spring lost":
             mode = replace(mode, first_spring_lost=True)
             if contact is None or not contact.has_t:

@@ -21,7 +21,7 @@ Two sets of regions, chosen by ``ModelOptions.listing_hit_tolerances``:
   (two words the listing has not got).
 
 Points checked, as in the listing: P, Q, R, C against the ground, P, R, C against the
-car -- only those the scene has.
+car -- only those the scene has; a scene's second luminaire U is checked like R.
 """
 
 from __future__ import annotations
@@ -45,10 +45,11 @@ HIT_MESSAGES = {
     "SIDE": "THE POST HAS HIT THE SIDE OF THE VEHICLE",
 }
 
-GROUND_POINTS = ("P", "Q", "R", "C")
-VEHICLE_POINTS = ("P", "R", "C")
-#: the listing's ground tolerances, ft (labels 91, 95, 103, 141)
-LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1}
+GROUND_POINTS = ("P", "Q", "R", "C", "U")
+VEHICLE_POINTS = ("P", "R", "C", "U")
+#: the listing's ground tolerances, ft (labels 91, 95, 103, 141); U (a second luminaire,
+#: which the listing has not got) is given R's
+LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 #: the listing's car-surface tolerance, ft (labels 235, 241, 246 ...)
 LISTING_SURFACE_TOLERANCE_FT = 0.1
 #: how far outside its other half-spaces a point may be and still count as inside (ft)

@@ -44,6 +44,7 @@ __all__ = [
     "Post",
     "PostInitialState",
     "CrushSpring",
+    "LeafSpring",
     "VehicleBody",
     "Vehicle",
     "BaseFriction",
@@ -107,8 +108,9 @@ class Post:
       turned by this angle about ``XX``.
     * Named points (see :class:`PostPoint`): ``top`` P, ``base`` Q (where the base forces
       act), ``first_impact`` S (first crush spring), ``second_impact`` T (second crush
-      spring), ``luminaire_end`` R, ``point_c`` C.  P and Q are always there; the others
-      are ``None`` when the scene has no such point.
+      spring), ``luminaire_end`` R, ``point_c`` C, ``second_luminaire_end`` U (a second
+      arm, which the listing cannot carry).  P and Q are always there; the others are
+      ``None`` when the scene has no such point.
     """
 
     mass_slug: float
@@ -122,6 +124,9 @@ class Post:
     second_impact: PostPoint | None = None
     luminaire_end: PostPoint | None = None
     point_c: PostPoint | None = None
+    #: U, the end of a second luminaire arm (the twin-luminaire post of Chapter VI); the
+    #: listing has no such point (the core checks it against ground and car like R)
+    second_luminaire_end: PostPoint | None = None
 
     #: listing letter -> field name, in the listing's checking order P, Q, R, C, then S, T
     POINT_FIELDS = {
@@ -131,6 +136,7 @@ class Post:
         "C": "point_c",
         "S": "first_impact",
         "T": "second_impact",
+        "U": "second_luminaire_end",
     }
 
     @property
@@ -204,6 +210,25 @@ class CrushSpring:
 
 
 @dataclass(frozen=True)
+class LeafSpring:
+    """A hysteretic leaf spring on the car's front (the crash test of Chapter V).
+
+    Loading (compression ``x`` ft, force lb): ``loading_stiffness_lb_per_ft[0]`` up to
+    ``knee_ft``, then ``[1]`` up to ``stop_ft``, then the force at ``stop_ft`` for any
+    larger ``x`` (the U-bolts on the I-beam).  Unloading from the largest compression
+    reached, ``x_m``: ``unloading_stiffness_lb_per_ft[0]`` down to ``unloading_knee_ft``,
+    then ``[1]``, until the force is zero; re-loading retraces the unloading line up to
+    ``x_m`` and continues on the loading curve.  The force law is
+    :func:`deck_emulator.core.leaf_spring.leaf_force`."""
+
+    loading_stiffness_lb_per_ft: tuple[float, float] = (12000.0, 26400.0)
+    knee_ft: float = 0.25
+    stop_ft: float = 0.375
+    unloading_stiffness_lb_per_ft: tuple[float, float] = (38400.0, 12000.0)
+    unloading_knee_ft: float = 0.25
+
+
+@dataclass(frozen=True)
 class VehicleBody:
     """The car's outline for the free-flight checks (Figures 11-12, eq. 3.36-3.38).
 
@@ -270,6 +295,8 @@ class Vehicle:
     second_spring: CrushSpring | None = None
     force_cap_lb: float | None = None
     body: VehicleBody | None = None
+    #: a hysteretic spring at S in place of ``first_spring`` (only scenes that have one)
+    leaf_spring: LeafSpring | None = None
 
 
 # --------------------------------------------------------------------------------------
@@ -331,6 +358,7 @@ DECK_NAMES: dict[str, str] = {
     "post.second_impact": "XTO, YYTO, ZZTO",
     "post.luminaire_end": "XRO, YYRO, ZZRO",
     "post.point_c": "XCO, YYCO, ZZCO",
+    "post.second_luminaire_end": "(none: the listing has no point U)",
     "initial.mass_centre_ft": "XCMB, YCMB, ZCMB (given in X, Y, Z)",
     "initial.velocity_body_ft_s": "V1B, V2B, V3B",
     "initial.angular_velocity_body_rad_s": "W1B, W2B, W3B",
@@ -343,6 +371,7 @@ DECK_NAMES: dict[str, str] = {
     "vehicle.first_spring.stiffness_lb_per_ft": "CK",
     "vehicle.second_spring.stiffness_lb_per_ft": "CT",
     "vehicle.force_cap_lb": "FCONST",
+    "vehicle.leaf_spring": "(none: the listing's springs are linear)",
     "vehicle.body.hood_length_ft": "HLEN",
     "vehicle.body.top_length_ft": "TLEN",
     "vehicle.body.trunk_length_ft": "TRLEN",

@@ -1,0 +1,547 @@
+"""Post-assembly builder: from a description of a luminaire support (as the report gives
+one: shaft, base, arm(s), luminaire(s)) to mass properties, named points, a typed
+:class:`~deck_emulator.core.scene.Scene` and -- for one arm -- an 8-card deck.
+
+Frame of the builder
+--------------------
+``y`` horizontal (the road's ``YY``), ``z`` up, ``x`` (the road's ``XX``) normal to the
+plane of the arms.  The shaft axis is the line ``x = y = 0``; the base point Q is at
+``z = 0`` (the bottom of the shaft), the top P at ``z = L``.  Everything is summed about
+this origin first, then moved to the mass centre.
+
+Formulas and why they hold
+--------------------------
+Units: lengths in ft, weights in lb (a weight ``W`` lb is a mass ``W/g`` slug; the report
+writes "lbs_m"), inertias in slug ft^2.
+
+1. **Thin-wall tapered tube (the shaft).**  Outside diameter ``D(s) = Db + (Dt - Db) s/L``
+   at height ``s``; wall ``t`` (constant).  The wall's mid-surface has diameter
+   ``Dm(s) = D(s) - t`` and radius ``r(s) = Dm/2``.  Treating the wall as thin, a slice
+   ``ds`` is a ring of mass ``dm = rho * pi * Dm(s) * t * ds`` (circumference x wall x
+   length).  A ring of radius ``r`` has ``I = dm r^2`` about its own axis and
+   ``dm r^2 / 2`` about any diameter (perpendicular-axis theorem: the two diameters share
+   ``dm r^2``).  So, with ``lambda(s) = rho pi Dm(s) t``:
+
+   * mass ``m = int lambda ds``; mass centre ``s_c = int lambda s ds / m``;
+   * about the shaft axis ``I_zz = int lambda r^2 ds``;
+   * about a transverse axis through the origin ``I_xx = I_yy = int lambda (r^2/2 + s^2) ds``
+     (ring about its diameter + parallel-axis shift by ``s``).
+
+   ``lambda`` is linear and ``r^2`` quadratic in ``s``, so every integrand is a polynomial
+   of degree <= 3 and a 4-point Gauss-Legendre rule is exact (8 points are used).  Given a
+   total weight instead of the wall, ``t`` is found from ``m(t) = weight`` (monotone in
+   ``t``; solved by bisection).  For ``Db = Dt`` this is the uniform thin tube
+   ``I_axis = m r^2``, ``I_transverse(centre) = m r^2/2 + m L^2/12`` (tested).
+
+2. **Rod (the luminaire arm).**  The arm is a thin rod of uniform mass per length along a
+   quadratic Bezier curve from its root (on the shaft axis, ``attach_below_top_ft`` below
+   P) to the luminaire point R, through a control point; ``shape = "straight"`` puts the
+   control point on the chord (a straight rod).  The curve is cut into ``n`` straight
+   pieces; a straight piece of mass ``m``, length ``l``, direction ``u`` has about its own
+   centre ``I = m l^2/12 (1 - u u^T)`` (slender rod: nothing about its own axis), shifted
+   to the origin by the parallel-axis theorem.  For a straight arm this sum is exact for
+   every ``n`` (tested against ``m l^2/12`` and ``m l^2/3``).
+
+3. **Point masses** (luminaire at R, base plate or transformer base on the axis at
+   ``height_ft`` above Q): ``I = m (|d|^2 1 - d d^T)`` about the origin, nothing about
+   their own centre (the luminaire's own size is neglected -- a stated assumption).
+
+4. **Parallel-axis theorem** (tensor form).  For a body of mass ``m`` whose tensor about
+   its own centre is ``I_c``, the tensor about a point at ``-d`` from that centre is
+   ``I_c + m (|d|^2 1 - d d^T)``.  All parts are summed about the builder's origin, then
+   moved to the assembly's mass centre ``c`` with the theorem backwards:
+   ``I_G = I_O - M (|c|^2 1 - c c^T)``.
+
+5. **Principal axes.**  ``I_G`` is real symmetric, so ``numpy.linalg.eigh`` gives its
+   eigenvalues (the principal moments) and orthonormal eigenvectors (the principal axes).
+   The report's axis 3 is the one nearest the shaft (largest ``|e_z|``), axis 1 the one
+   nearest ``XX``, axis 2 the third; ``A, B, C`` are their moments.  All parts lie in
+   (or are symmetric about) the plane ``x = 0``, so ``XX`` is itself principal and
+   axes 2, 3 are ``YY, ZZ`` turned by delta about ``XX``: axis 3 is ``(0, -sin delta,
+   cos delta)`` (the scene's convention, ``ZPO = -YYPO sin delta + ZZPO cos delta``),
+   ``delta = atan2(-e3_y, e3_z)``.
+
+Named points (road axes, origin at the mass centre): P top of the shaft, Q base, R end of
+the first arm (the luminaire), U end of the second arm, S and T the car's two impact
+points on the shaft at the heights given, C (the listing's extra ground point; the
+report's deck puts it on Q).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "G_FT_S2",
+    "Shaft",
+    "BaseMass",
+    "Arm",
+    "Assembly",
+    "MassProperties",
+    "AssemblyError",
+    "tube_properties",
+    "rod_tensor",
+    "point_tensor",
+    "principal_axes",
+    "mass_properties",
+    "assembly_from_toml",
+    "load_assembly",
+    "assembly_names",
+    "scene_runs_on_listing",
+    "inferred_geometry",
+    "STEEL_DECK_TARGET",
+    "steel_deck_residuals",
+    "calibrate_on_steel_deck",
+    "CALIBRATION_SCALES",
+    "arm_properties",
+]
+
+G_FT_S2 = 32.174
+IN = 1.0 / 12.0
+
+
+class AssemblyError(ValueError):
+    """A description that cannot be built."""
+
+
+# --------------------------------------------------------------------------------------
+# description
+
+
+@dataclass(frozen=True)
+class Shaft:
+    """Tapered tube.  Give ``wall_in`` or leave it ``None`` to solve it from the total
+    weight of the assembly (:attr:`Assembly.total_weight_lb`)."""
+
+    density_lb_ft3: float
+    base_od_in: float
+    top_od_in: float
+    length_ft: float
+    wall_in: float | None = None
+
+
+@dataclass(frozen=True)
+class BaseMass:
+    """Base plate or transformer base: a point mass on the shaft axis ``height_ft`` above Q."""
+
+    weight_lb: float = 0.0
+    height_ft: float = 0.0
+
+
+@dataclass(frozen=True)
+class Arm:
+    """A luminaire arm and its luminaire.
+
+    ``reach_ft`` horizontal distance from the shaft axis to R, ``rise_ft`` height of R
+    above P, ``side`` = -1 (towards ``-YY``, as the report's deck) or +1.  ``shape``:
+    "straight" or "bezier" (``control`` = (fraction of reach, fraction of rise) of the
+    control point, measured from the root).  ``attach_below_top_ft``: the root's depth
+    below P."""
+
+    reach_ft: float
+    rise_ft: float
+    weight_lb: float
+    luminaire_weight_lb: float
+    side: float = -1.0
+    shape: str = "straight"
+    control: tuple[float, float] = (0.5, 0.5)
+    attach_below_top_ft: float = 0.0
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A luminaire support assembly, and where the car's springs meet it.
+
+    ``s_height_ft``, ``t_height_ft``: heights of the impact points S, T above Q;
+    ``c_height_ft``: height of point C above Q (the report's deck: on Q).
+    ``pedestal_ft``: the ground is this far below Q (the report's deck: 0.5 ft)."""
+
+    name: str
+    shaft: Shaft
+    arms: tuple[Arm, ...] = ()
+    base: BaseMass = BaseMass()
+    total_weight_lb: float | None = None
+    s_height_ft: float = 1.0
+    t_height_ft: float = 2.27
+    c_height_ft: float = 0.0
+    pedestal_ft: float = 0.5
+    gravity_ft_s2: float = G_FT_S2
+    notes: str = ""
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """What the builder gives.  Points are (XX, YY, ZZ) in ft from the mass centre."""
+
+    weight_lb: float
+    mass_slug: float
+    A: float
+    B: float
+    C: float
+    delta_rad: float
+    cm_height_ft: float  # above Q
+    cm_offset_ft: float  # YY of the mass centre from the shaft axis
+    wall_in: float
+    shaft_weight_lb: float
+    points: dict[str, tuple[float, float, float]] = field(default_factory=dict)
+    inertia_tensor: np.ndarray | None = field(default=None, repr=False)
+    axes: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def delta_deg(self) -> float:
+        return math.degrees(self.delta_rad)
+
+
+# --------------------------------------------------------------------------------------
+# the pieces
+
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
+
+
+def tube_properties(shaft: Shaft, wall_in: float, g: float = G_FT_S2):
+    """(mass slug, mass-centre height ft, tensor about Q (3x3)) of the thin-wall tube."""
+    L = shaft.length_ft
+    t = wall_in * IN
+    s = 0.5 * L * (_GL_X + 1.0)
+    w = 0.5 * L * _GL_W
+    D = (shaft.base_od_in + (shaft.top_od_in - shaft.base_od_in) * s / L) * IN
+    Dm = D - t
+    r = Dm / 2.0
+    lam = (shaft.density_lb_ft3 / g) * math.pi * Dm * t  # slug/ft
+    m = float(np.sum(w * lam))
+    sc = float(np.sum(w * lam * s)) / m
+    izz = float(np.sum(w * lam * r * r))
+    ixx = float(np.sum(w * lam * (r * r / 2.0 + s * s)))
+    return m, sc, np.diag([ixx, ixx, izz])
+
+
+def point_tensor(m: float, d) -> np.ndarray:
+    """Tensor of a point mass ``m`` at ``d`` about the origin: ``m (|d|^2 1 - d d^T)``."""
+    d = np.asarray(d, dtype=float)
+    return m * (float(d @ d) * np.eye(3) - np.outer(d, d))
+
+
+def rod_tensor(m: float, a, b) -> tuple[np.ndarray, np.ndarray]:
+    """(tensor about the origin, centre) of a slender straight rod of mass ``m`` from a to b."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    v = b - a
+    l = float(np.linalg.norm(v))
+    u = v / l if l > 0 else v
+    c = 0.5 * (a + b)
+    own = m * l * l / 12.0 * (np.eye(3) - np.outer(u, u))
+    return own + point_tensor(m, c), c
+
+
+def _arm_curve(arm: Arm, top_ft: float, n: int) -> np.ndarray:
+    root = np.array([0.0, 0.0, top_ft - arm.attach_below_top_ft])
+    end = np.array([0.0, arm.side * arm.reach_ft, top_ft + arm.rise_ft])
+    if arm.shape == "straight":
+        ctrl = 0.5 * (root + end)
+    elif arm.shape == "bezier":
+        fy, fz = arm.control
+        ctrl = root + np.array([0.0, fy * (end[1] - root[1]), fz * (end[2] - root[2])])
+    else:
+        raise AssemblyError(f"unknown arm shape {arm.shape!r} (straight or bezier)")
+    u = np.linspace(0.0, 1.0, n + 1)[:, None]
+    return (1 - u) ** 2 * root + 2 * u * (1 - u) * ctrl + u**2 * end
+
+
+def arm_properties(arm: Arm, top_ft: float, g: float = G_FT_S2, n: int = 400):
+    """(mass slug, first moment (3,), tensor about Q) of an arm's rod, mass uniform along
+    its length."""
+    pts = _arm_curve(arm, top_ft, n)
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    total = float(seg.sum())
+    m = arm.weight_lb / g
+    I = np.zeros((3, 3))
+    first = np.zeros(3)
+    for k in range(n):
+        mk = m * seg[k] / total
+        Ik, ck = rod_tensor(mk, pts[k], pts[k + 1])
+        I += Ik
+        first += mk * ck
+    return m, first, I
+
+
+def principal_axes(I: np.ndarray):
+    """(A, B, C, axes as columns 1, 2, 3, delta) of a tensor whose axis 3 is near ZZ."""
+    vals, vecs = np.linalg.eigh(I)
+    k3 = int(np.argmax(np.abs(vecs[2])))
+    rest = [k for k in range(3) if k != k3]
+    k1 = max(rest, key=lambda k: abs(vecs[0, k]))
+    k2 = next(k for k in rest if k != k1)
+    e1, e2, e3 = vecs[:, k1].copy(), vecs[:, k2].copy(), vecs[:, k3].copy()
+    if e3[2] < 0:
+        e3 = -e3
+    if e1[0] < 0:
+        e1 = -e1
+    e2 = np.cross(e3, e1)
+    delta = math.atan2(-e3[1], e3[2])
+    if abs(delta) < 1e-12:  # a symmetric assembly: no tilt (and no -0.0)
+        delta = 0.0
+    return float(vals[k1]), float(vals[k2]), float(vals[k3]), np.column_stack([e1, e2, e3]), delta
+
+
+def _solve_wall(a: Assembly) -> float:
+    if a.shaft.wall_in is not None:
+        return a.shaft.wall_in
+    if a.total_weight_lb is None:
+        raise AssemblyError(f"{a.name}: give the shaft's wall_in or the total weight")
+    target = (
+        a.total_weight_lb
+        - a.base.weight_lb
+        - sum(arm.weight_lb + arm.luminaire_weight_lb for arm in a.arms)
+    ) / a.gravity_ft_s2
+    if target <= 0:
+        raise AssemblyError(f"{a.name}: the parts weigh more than the total")
+    lo, hi = 0.0, min(a.shaft.base_od_in, a.shaft.top_od_in) / 2.0
+    if tube_properties(a.shaft, hi, a.gravity_ft_s2)[0] < target:
+        raise AssemblyError(f"{a.name}: no wall of this tube reaches the total weight")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if tube_properties(a.shaft, mid, a.gravity_ft_s2)[0] < target:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def mass_properties(a: Assembly) -> MassProperties:
+    """Mass, principal moments, tilt delta and named points of an assembly."""
+    g = a.gravity_ft_s2
+    wall = _solve_wall(a)
+    L = a.shaft.length_ft
+    m_s, sc, I = tube_properties(a.shaft, wall, g)
+    mass = m_s
+    first = np.array([0.0, 0.0, m_s * sc])
+    I = I.copy()
+    if a.base.weight_lb:
+        mb = a.base.weight_lb / g
+        d = np.array([0.0, 0.0, a.base.height_ft])
+        I += point_tensor(mb, d)
+        first += mb * d
+        mass += mb
+    ends = []
+    for arm in a.arms:
+        ma, fa, Ia = arm_properties(arm, L, g)
+        I += Ia
+        first += fa
+        mass += ma
+        end = np.array([0.0, arm.side * arm.reach_ft, L + arm.rise_ft])
+        ends.append(end)
+        ml = arm.luminaire_weight_lb / g
+        I += point_tensor(ml, end)
+        first += ml * end
+        mass += ml
+    c = first / mass
+    IG = I - point_tensor(mass, c)
+    A, B, C, axes, delta = principal_axes(IG)
+
+    def rel(p):
+        q = np.asarray(p, float) - c
+        return (float(q[0]), float(q[1]), float(q[2]))
+
+    points = {
+        "P": rel((0, 0, L)),
+        "Q": rel((0, 0, 0)),
+        "S": rel((0, 0, a.s_height_ft)),
+        "T": rel((0, 0, a.t_height_ft)),
+        "C": rel((0, 0, a.c_height_ft)),
+    }
+    for letter, end in zip(("R", "U"), ends):
+        points[letter] = rel(end)
+    return MassProperties(
+        weight_lb=mass * g,
+        mass_slug=mass,
+        A=A,
+        B=B,
+        C=C,
+        delta_rad=delta,
+        cm_height_ft=float(c[2]),
+        cm_offset_ft=float(c[1]),
+        wall_in=wall,
+        shaft_weight_lb=m_s * g,
+        points=points,
+        inertia_tensor=IG,
+        axes=axes,
+    )
+
+
+# --------------------------------------------------------------------------------------
+# description files (TOML)
+
+
+def _take(cls, data: dict, where: str):
+    known = set(cls.__dataclass_fields__)
+    unknown = set(data) - known
+    if unknown:
+        raise AssemblyError(f"unknown key(s) in [{where}]: {', '.join(sorted(unknown))}")
+    kw = {}
+    for k, v in data.items():
+        if isinstance(v, list):
+            v = tuple(float(x) for x in v)
+        elif isinstance(v, int) and not isinstance(v, bool):
+            v = float(v)
+        kw[k] = v
+    try:
+        return cls(**kw)
+    except TypeError as exc:
+        raise AssemblyError(f"[{where}]: {exc}") from None
+
+
+def assembly_from_toml(text: str) -> tuple[Assembly, dict[str, Any]]:
+    """(assembly, the file's other tables: ``[run]``, ``[crash_test]`` ...) of a description."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise AssemblyError(f"not valid TOML: {exc}") from None
+    if "shaft" not in data:
+        return None, data  # not a support assembly (e.g. the crash test's description)
+    arms = tuple(_take(Arm, x, "arm") for x in data.get("arm", []))
+    top = {k: v for k, v in data.items() if k not in ("shaft", "arm", "base", "run", "source")}
+    asm = _take(
+        Assembly,
+        {
+            **top,
+            "shaft": _take(Shaft, data["shaft"], "shaft"),
+            "base": _take(BaseMass, data.get("base", {}), "base"),
+        },
+        "top level",
+    )
+    asm = Assembly(**{**asm.__dict__, "arms": arms})
+    extra = {k: data[k] for k in ("run", "source") if k in data}
+    return asm, extra
+
+
+def assembly_names() -> list[str]:
+    """Names of the shipped description files."""
+    import importlib.resources
+
+    files = importlib.resources.files("deck_emulator.assemblies")
+    return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
+
+
+def load_assembly(name_or_path: str):
+    """(assembly or None, extra tables, text) of a shipped description (by name) or a file."""
+    import importlib.resources
+    from pathlib import Path
+
+    if name_or_path.endswith(".toml"):
+        text = Path(name_or_path).read_text()
+    else:
+        f = importlib.resources.files("deck_emulator.assemblies") / f"{name_or_path}.toml"
+        if not f.is_file():
+            raise AssemblyError(f"no shipped description {name_or_path!r}")
+        text = f.read_text()
+    asm, extra = assembly_from_toml(text)
+    return asm, extra, text
+
+
+# --------------------------------------------------------------------------------------
+# deck and scene
+
+#: The report's steel deck's mass properties (decks/steel40.dat), for the calibration.
+STEEL_DECK_TARGET = {
+    "W": 15.1, "A": 3351.41, "B": 3282.6, "C": 69.68, "DELTA": 0.1463,
+    "cm_height_ft": 19.77, "cm_offset_ft": -1.53, "FNA": 485.07,
+}
+
+def scene_runs_on_listing(scene) -> str | None:
+    """``None`` when the 1967 listing can run the scene, else the reason (one line)."""
+    post = scene.post
+    if getattr(post, "second_luminaire_end", None) is not None:
+        return "the listing carries one luminaire arm (point R); this scene has a second (U)"
+    if getattr(scene.vehicle, "leaf_spring", None) is not None if scene.vehicle else False:
+        return "the listing's car has linear crush springs; this scene has a hysteretic leaf spring"
+    if scene.vehicle is None:
+        return "the listing always has a car; this scene has none"
+    if scene.base is None:
+        return "the listing always has the break-away base; this scene has none"
+    from .scene import LISTING_BASE_FRICTION, LISTING_NORMAL_RELEASE_FT
+
+    if scene.base.friction != LISTING_BASE_FRICTION:
+        return "the listing's base friction is fixed (930 lb over 1 in); this scene's differs"
+    if scene.base.normal_release_ft != LISTING_NORMAL_RELEASE_FT:
+        return "the listing releases the normal force at 5 in; this scene elsewhere"
+    return None
+
+
+# --------------------------------------------------------------------------------------
+# geometry the report's tables imply
+
+
+def inferred_geometry(cells: dict[str, list[tuple[float, float, float]]]) -> dict[str, Any]:
+    """Distances between points that a rigid body keeps, from terminal coordinates.
+
+    ``cells``: letter -> list of (XL, YL, ZL) over the columns of one post.  Returns, per
+    pair, the list of distances and their mean and sample standard deviation, and (when P,
+    Q, R are given) the arm's rise above P and reach from the axis that the means imply
+    (law of cosines: ``|QR|^2 = |PQ|^2 + |PR|^2 + 2 |PQ| rise``)."""
+    letters = [k for k in "PQRU" if k in cells]
+    out: dict[str, Any] = {}
+    for i, a in enumerate(letters):
+        for b in letters[i + 1:]:
+            d = [math.dist(p, q) for p, q in zip(cells[a], cells[b])]
+            out[a + b] = {
+                "values": d,
+                "mean": float(np.mean(d)),
+                "sd": float(np.std(d, ddof=1)) if len(d) > 1 else 0.0,
+            }
+    if all(k in out for k in ("PQ", "PR", "QR")):
+        pq, pr, qr = out["PQ"]["mean"], out["PR"]["mean"], out["QR"]["mean"]
+        rise = (qr * qr - pq * pq - pr * pr) / (2 * pq)
+        out["rise_ft"] = rise
+        out["reach_ft"] = math.sqrt(max(pr * pr - rise * rise, 0.0))
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# calibration of the unknowns on the report's steel deck
+
+#: scale of each residual of :func:`calibrate_on_steel_deck` (what counts as "one unit")
+CALIBRATION_SCALES = {
+    "cm_height_ft": 0.01, "cm_offset_ft": 0.01, "A": 0.01, "B": 0.01, "C": 0.01, "DELTA": 0.0017,
+}
+
+
+def steel_deck_residuals(mp: MassProperties) -> dict[str, float]:
+    """Builder minus the report's steel deck: ft for the mass centre, relative for A, B, C,
+    rad for delta."""
+    T = STEEL_DECK_TARGET
+    return {
+        "cm_height_ft": mp.cm_height_ft - T["cm_height_ft"],
+        "cm_offset_ft": mp.cm_offset_ft - T["cm_offset_ft"],
+        "A": mp.A / T["A"] - 1.0,
+        "B": mp.B / T["B"] - 1.0,
+        "C": mp.C / T["C"] - 1.0,
+        "DELTA": mp.delta_rad - T["DELTA"],
+    }
+
+
+def calibrate_on_steel_deck(a: Assembly) -> tuple[Assembly, dict[str, float]]:
+    """Fit the two unknowns Figure 21 would have given -- the base's weight (a point on
+    the axis at Q) and the arm's shape (the Bezier control point, kept inside the
+    chord's box: fractions in [0, 1], an up-swept arm) -- to the steel deck's mass centre,
+    A, B, C and delta by weighted least squares (:data:`CALIBRATION_SCALES`).  Returns the
+    calibrated assembly and its residuals (:func:`steel_deck_residuals`)."""
+    import dataclasses
+
+    from scipy.optimize import least_squares
+
+    def build(p):
+        arm = dataclasses.replace(a.arms[0], shape="bezier", control=(float(p[1]), float(p[2])))
+        return dataclasses.replace(a, arms=(arm,), base=BaseMass(float(p[0]), a.base.height_ft))
+
+    def res(p):
+        r = steel_deck_residuals(mass_properties(build(p)))
+        return [r[k] / CALIBRATION_SCALES[k] for k in CALIBRATION_SCALES]
+
+    fit = least_squares(res, [50.0, 0.5, 0.5], bounds=([0.0, 0.0, 0.0], [300.0, 1.0, 1.0]),
+                        xtol=1e-12, ftol=1e-12)
+    out = build(fit.x)
+    return out, steel_deck_residuals(mass_properties(out))

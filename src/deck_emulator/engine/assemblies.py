@@ -1,0 +1,113 @@
+"""Assemblies as the two paths take them: the typed scene of a described support and, where
+the listing can carry it (one arm), its 8-card deck.
+
+The builder (:mod:`deck_emulator.core.assembly`) knows masses and points; a deck also needs
+the report's car, springs and start values, which come from a template deck read by the 1967
+path's reader.  This bridge between the two paths is why these functions live in the engine
+layer.
+"""
+
+from __future__ import annotations
+
+from deck_emulator.core.assembly import AssemblyError, mass_properties
+
+__all__ = ["to_deck_values", "to_deck_text", "to_scene"]
+
+
+#: vehicle values of the report's deck that are heights above the ground (ft) or YV
+#: offsets from the shaft axis, so that one car meets every post the same way.
+_HEIGHTS = ("HTRV", "HTV", "HHV")
+
+
+def to_deck_values(
+    a: Assembly,
+    mp: MassProperties | None = None,
+    *,
+    template: str = "steel40",
+    speed_ft_s: float | None = None,
+    alpha_rad: float | None = None,
+) -> dict[str, float]:
+    """READ-list values of the assembly's deck: the post from the builder, the car, the
+    springs and everything else from the ``template`` deck, with the car's heights kept
+    above the ground and its fenders kept about the shaft axis.  One arm at most."""
+    from deck_emulator.decks import path as deck_path
+    from deck_emulator.legacy.deck import read_deck
+
+    if len(a.arms) > 1:
+        raise AssemblyError(f"{a.name}: the listing carries one arm (point R); this has {len(a.arms)}")
+    mp = mp or mass_properties(a)
+    t = read_deck(deck_path(template))
+    v = dict(t.values)
+    old_depth = v["HEIGHT"]  # ground below the template's mass centre
+    old_axis = v["YYPO"]  # template shaft axis YY
+    depth = mp.cm_height_ft + a.pedestal_ft
+    axis = -mp.cm_offset_ft
+    for k in _HEIGHTS:
+        v[k] = v[k] + old_depth - depth
+    for k in ("YLFEN", "YRFEN"):
+        v[k] = v[k] - old_axis + axis
+    v.update(W=round(mp.mass_slug, 5), A=mp.A, B=mp.B, C=mp.C, DELTA=mp.delta_rad,
+             HEIGHT=depth, FNA=mp.weight_lb)
+    pts = mp.points
+    for letter, (xn, yn, zn) in {
+        "P": ("XPO", "YYPO", "ZZPO"), "Q": ("XQO", "YYQO", "ZZQO"), "S": ("XSO", "YYSO", "ZZSO"),
+        "T": ("XTO", "YYTO", "ZZTO"), "C": ("XCO", "YYCO", "ZZCO"), "R": ("XRO", "YYRO", "ZZRO"),
+    }.items():
+        if letter in pts:
+            v[xn], v[yn], v[zn] = pts[letter]
+        else:
+            v[xn] = v[yn] = v[zn] = 0.0
+    if speed_ft_s is not None:
+        v["VVB"] = -abs(speed_ft_s)
+    if alpha_rad is not None:
+        v["ALPHA"] = alpha_rad
+    return v
+
+
+def _field(x: float) -> str:
+    """A value in 10 columns, readable by F10.5: explicit point, left-justified, at most
+    nine characters (a blank column between fields, as the report's deck), with as many
+    of F10.5's five decimals as fit."""
+    for nd in (5, 4, 3, 2, 1):
+        s = f"{x:.{nd}f}"
+        if len(s) <= 9:
+            if float(s) == 0.0:
+                s = "0.0"
+            return s.ljust(10)
+    raise AssemblyError(f"{x!r} does not fit a 10-column field")
+
+
+def to_deck_text(values: dict[str, float]) -> str:
+    """The deck (``$DATA`` and 8 cards of 8 fields in 8F10.5 columns) of READ-list values."""
+    from deck_emulator.legacy.deck import READ_LIST
+
+    lines = ["$DATA".ljust(80)]
+    for card in READ_LIST:
+        lines.append("".join(_field(values.get(n, 0.0)) for n in card))
+    return "\n".join(lines) + "\n"
+
+
+def to_scene(
+    a: Assembly,
+    mp: MassProperties | None = None,
+    *,
+    template: str = "steel40",
+    speed_ft_s: float | None = None,
+    alpha_rad: float | None = None,
+):
+    """The typed scene of the assembly (any number of arms up to two: R, and U)."""
+    import dataclasses
+
+    from deck_emulator.core.scene import PostPoint, Scene
+
+    if len(a.arms) > 2:
+        raise AssemblyError(f"{a.name}: at most two arms (R and U)")
+    mp = mp or mass_properties(a)
+    one = dataclasses.replace(a, arms=a.arms[:1])
+    mp1 = dataclasses.replace(mp, points={k: p for k, p in mp.points.items() if k != "U"})
+    values = to_deck_values(one, mp1, template=template, speed_ft_s=speed_ft_s, alpha_rad=alpha_rad)
+    scene = Scene.from_deck(values, name=a.name)
+    if "U" in mp.points:
+        post = dataclasses.replace(scene.post, second_luminaire_end=PostPoint(*mp.points["U"]))
+        scene = dataclasses.replace(scene, post=post)
+    return scene
