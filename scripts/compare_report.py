@@ -309,7 +309,7 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
     w(f"* **ibm7094** — `run_deck(deck, 'ibm7094', errata=...)`: {arith_7094}; same errata.")
     w("")
     w("How each value is read from a printout (details in the docstring of "
-      "`src/deck_emulator/extract.py`):")
+      "`src/deck_emulator/legacy/extract.py`):")
     w("* coordinates: the block printed after `THE POST HAS HIT ...` (label 98), turned into the "
       "report's axes by XL = XX − XQO, YL = YY − YYQO, ZL = ZZ + HEIGHT (origin on the ground "
       "under the base of the post; the printout's origin is the post's initial mass centre, the "
