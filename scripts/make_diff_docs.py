@@ -9,6 +9,7 @@ from __future__ import annotations
 import datetime
 import os
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -17,6 +18,8 @@ from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import diff_deck, format_diff
 from deck_emulator.legacy.emulator import STEP_LITERALS, run_deck
 from deck_emulator.core.scene import Scene
+from deck_emulator.files import OutputError, check_output_file, write_file
+from deck_emulator.signals import run as run_guarded
 
 ROOT = Path(__file__).resolve().parent.parent
 DECKS = ["steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30"]
@@ -33,6 +36,7 @@ def median_time(fn, n=3):
 
 def main() -> int:
     os.chdir(ROOT)  # decks are named relative to the repository in the page
+    check_output_file(ROOT / "docs" / "diff.md")  # before minutes of runs
     parts = [
         "# The emulator against the modern core",
         "",
@@ -72,10 +76,15 @@ def main() -> int:
     parts += ["", "## steel40 with ED's printed tolerance at every step size", "",
               "`deck-emulator diff decks/steel40.dat --as-printed-ed`", "", "```",
               format_diff(diff_deck(deck, tighten_ed=False)).rstrip(), "```", ""]
-    (ROOT / "docs" / "diff.md").write_text("\n".join(parts))
+    write_file(ROOT / "docs" / "diff.md", "\n".join(parts))
     print("wrote docs/diff.md")
     return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    try:
+        code = run_guarded(main)
+    except OutputError as exc:  # one line, no traceback: the path and why
+        print(f"make_diff_docs: error: {exc}", file=sys.stderr)
+        code = 2
+    sys.exit(code)
