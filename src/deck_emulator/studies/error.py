@@ -31,6 +31,9 @@ from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.core.scene import Scene
 
+from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.parallel import parallel_map
+
 from .common import (
     H0,
     agg_backend,

@@ -30,6 +30,9 @@ from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.legacy.emulator import Limits
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
 
+from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.parallel import parallel_map
+
 from .common import (
     ERRATA,
     H0,
