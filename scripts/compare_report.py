@@ -29,14 +29,15 @@ import os
 import platform
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from fractions import Fraction
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
 
-from deck_emulator.files import write_atomic
+from deck_emulator.files import OutputError, check_output_file, write_file
+from deck_emulator.parallel import parallel_map
+from deck_emulator.signals import run as run_guarded
 from deck_emulator.legacy.arithmetic import get_arithmetic
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.engine import EmulatorEngine
@@ -95,11 +96,7 @@ def all_runs(jobs: int) -> dict:
         if errata:
             todo += [(deck, "ibm7094", ()), (deck, "double", ())]
     todo.sort(key=lambda j: j[1] != "ibm7094")  # long runs first
-    if jobs > 1:
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            results = list(pool.map(_run, todo))
-    else:
-        results = [_run(j) for j in todo]
+    results = parallel_map(_run, todo, jobs=jobs, desc="compare_report", unit="run")
     return {(r["deck"], r["precision"], r["errata"]): r for r in results}
 
 
@@ -709,14 +706,19 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=str(ROOT / "docs" / "comparison.md"))
     ap.add_argument("--jobs", type=int, default=min(4, os.cpu_count() or 1))
     args = ap.parse_args(argv)
+    check_output_file(args.out)  # a missing or read-only folder fails before the runs
     t0 = time.perf_counter()
     runs = all_runs(max(1, args.jobs))
     text = build(runs, time.perf_counter() - t0, max(1, args.jobs))
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    write_atomic(Path(args.out), text)
+    write_file(args.out, text)
     print(f"wrote {args.out} in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        code = run_guarded(main)
+    except OutputError as exc:  # one line, no traceback: the path and why
+        print(f"compare_report: error: {exc}", file=sys.stderr)
+        code = 2
+    sys.exit(code)

@@ -9,12 +9,14 @@ from __future__ import annotations
 import datetime
 import os
 import statistics
+import sys
 import time
 from pathlib import Path
 
 from deck_emulator.engine import CoreEngine, EmulatorEngine
 from deck_emulator.engine.errata import ED_DIRECTION
-from deck_emulator.files import write_file
+from deck_emulator.files import OutputError, check_output_file, write_file
+from deck_emulator.signals import run as run_guarded
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.legacy.emulator import STEP_LITERALS
 from deck_emulator.studies.diff import diff_deck, format_diff
@@ -34,6 +36,7 @@ def median_time(fn, n=3):
 
 def main() -> int:
     os.chdir(ROOT)  # decks are named relative to the repository in the page
+    check_output_file(ROOT / "docs" / "diff.md")  # before minutes of runs
     parts = [
         "# The emulator against the modern core",
         "",
@@ -83,4 +86,9 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    try:
+        code = run_guarded(main)
+    except OutputError as exc:  # one line, no traceback: the path and why
+        print(f"make_diff_docs: error: {exc}", file=sys.stderr)
+        code = 2
+    sys.exit(code)

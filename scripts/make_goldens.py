@@ -30,6 +30,10 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "src"))
+
+from deck_emulator.files import OutputError, OutputSet, check_output_dir  # noqa: E402
+from deck_emulator.signals import run as run_guarded  # noqa: E402
 LEGACY = ROOT / "legacy"
 SOURCE = "luminaire.f"
 ERRATA = {"ed-direction": LEGACY / "errata" / "ed-direction.patch"}
@@ -114,10 +118,7 @@ def main(argv=None) -> int:
     if shutil.which("gfortran") is None:
         print("make_goldens: gfortran is not installed (apt-get install -y gfortran)", file=sys.stderr)
         return 2
-    args.out.mkdir(parents=True, exist_ok=True)
-    for old in args.out.glob("*"):
-        if old.is_file():
-            old.unlink()
+    check_output_dir(args.out)  # a missing or read-only folder fails before any compilation
     source_lines = (LEGACY / SOURCE).read_text().splitlines()
     version = subprocess.run(["gfortran", "--version"], capture_output=True, text=True).stdout.splitlines()[0]
     manifest = [
@@ -129,7 +130,8 @@ def main(argv=None) -> int:
         "",
     ]
     decks = sorted((ROOT / "decks").glob("*.dat"))
-    with tempfile.TemporaryDirectory() as tmp:
+    written: set[str] = set()
+    with tempfile.TemporaryDirectory() as tmp, OutputSet(directory=args.out) as files:
         build = Path(tmp)
         for precision in PRECISIONS:
             for deck in decks:
@@ -143,18 +145,30 @@ def main(argv=None) -> int:
                     if ending == "hang":
                         raise RuntimeError(f"{deck.name} {precision} hangs even with the erratum")
                 stem = deck.stem + (f".{erratum}" if erratum else "")
-                (args.out / f"{stem}.{precision}.txt").write_text(out)
+                files.write(f"{stem}.{precision}.txt", out)
+                written.add(f"{stem}.{precision}.txt")
                 if ending == "trap":
-                    (args.out / f"{stem}.{precision}.trap").write_text(trap_record(err, source_lines))
+                    files.write(f"{stem}.{precision}.trap", trap_record(err, source_lines))
+                    written.add(f"{stem}.{precision}.trap")
                 line = re.search(r"line: (\d+)", trap_record(err, source_lines)) if ending == "trap" else None
                 manifest.append(
                     f"{stem}.{precision}: {note}{'erratum ' + erratum + ': ' if erratum else ''}"
                     f"{ending}{' at line ' + line.group(1) if line else ''}, {len(out.splitlines())} records"
                 )
-    (args.out / "MANIFEST.txt").write_text("\n".join(manifest) + "\n")
+        files.write("MANIFEST.txt", "\n".join(manifest) + "\n")
+    # the new set is in place: goldens of decks or precisions that no longer exist go
+    for old in args.out.glob("*"):
+        if old.suffix in (".txt", ".trap") and old.name not in written | {"MANIFEST.txt"} \
+                and old.is_file() and not old.is_symlink():
+            old.unlink()
     print("\n".join(manifest))
     return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    try:
+        code = run_guarded(main)
+    except OutputError as exc:  # one line, no traceback: the path and why
+        print(f"make_goldens: error: {exc}", file=sys.stderr)
+        code = 2
+    sys.exit(code)

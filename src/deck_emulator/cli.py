@@ -642,6 +642,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """The command line; SIGINT and SIGTERM end it with 130 and 143 after every temporary
+    file is removed and every worker stopped (:mod:`deck_emulator.signals`)."""
+    from deck_emulator import signals
+
+    return signals.run(_main, argv)
+
+
+def _main(argv: Sequence[str] | None = None) -> int:
     from deck_emulator.legacy.deck import DeckError
 
     parser = build_parser()

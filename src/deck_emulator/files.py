@@ -1,109 +1,528 @@
-"""Files written whole or not at all: the one writer of the package."""
+"""The one writer for every file the package and its scripts write: whole or not at all, and
+never at the cost of something that is not ours.
+
+* :func:`check_output_file` / :func:`check_output_dir`: called before any work, so that a
+  missing or read-only folder fails at once, naming the user's path.
+* :func:`write_file`: one file.  A regular file (or a new path) is written to a temporary file
+  beside it, flushed and fsynced, renamed over the target, and the folder fsynced: a reader,
+  a crash or a kill sees the old file or the new one, never part of one.  An existing path that
+  is not a regular file (a character device such as ``/dev/null`` or ``/dev/stdout``, a FIFO,
+  a socket) is written as a stream and never replaced: it is not ours to replace.
+* :class:`OutputSet`: several files committed as one unit (a picture and its animation; a
+  study's CSV, figures and report), optionally as a directory.
+
+Symbolic links: a link given as the output is written *through*: the file it points to is
+written (atomically, via its resolved path, in the resolved file's folder) and the link stays
+a link.  That is what the shell's ``>`` and ``open(path, "w")`` do, so a user who keeps a link
+to a results file gets what they expect; replacing the link with a regular file would destroy
+something that is not ours, and refusing would break the common "latest -> run-42.txt" habit.
+
+Permissions are those ``open(path, "w")`` would give: an existing file keeps its mode (and, if
+we may, its owner and group); a new file gets ``0o666 & ~umask``.
+
+Temporary names are hidden (``.NAME.~PID.XXXX.part...``) and carry the writer's process id:
+a later writer into the same folder removes those left by a process that no longer exists
+(a SIGKILL leaves them; SIGINT and SIGTERM do not, see :mod:`deck_emulator.signals`).
+"""
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import re
 import shutil
+import signal
 import stat
 import tempfile
 from pathlib import Path
 
+__all__ = [
+    "OutputError",
+    "OutputSet",
+    "check_output_dir",
+    "check_output_file",
+    "write_file",
+    "write_atomic",
+]
+
+_MARK = ".~"  # between a hidden name and the writer's pid in temporary names
+_STALE = re.compile(r"^\..*\.~(\d+)\.[A-Za-z0-9_]+\.part")
+
 
 class OutputError(OSError):
-    """An output that cannot be written; the message names the user's path."""
+    """An output cannot be written; the message names the user's path, never a temporary."""
+
+    def __init__(self, path, reason: str, errno_: int | None = None):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(errno_ or 0, f"cannot write {path}: {reason}")
+        self.filename = str(path)
+
+    def __str__(self) -> str:
+        return f"cannot write {self.path}: {self.reason}"
+
+
+def _reason(exc: OSError) -> str:
+    return exc.strerror or str(exc)
+
+
+# --------------------------------------------------------------------------- checks
+
+
+def _is_stream(st: os.stat_result) -> bool:
+    """Existing outputs written as a stream, never replaced: anything but a regular file or a
+    folder (character and block devices, FIFOs, sockets)."""
+    return not stat.S_ISREG(st.st_mode) and not stat.S_ISDIR(st.st_mode)
+
+
+def _resolve(path: Path) -> Path:
+    """The path a write lands on: a symbolic link is followed to its target."""
+    if path.is_symlink():
+        return Path(os.path.realpath(path))
+    return path
+
+
+def _check_folder(folder: Path, user_path) -> None:
+    if not folder.exists():
+        raise OutputError(user_path, f"the folder {folder} does not exist", errno.ENOENT)
+    if not folder.is_dir():
+        raise OutputError(user_path, f"{folder} is not a folder", errno.ENOTDIR)
+    if not os.access(folder, os.W_OK | os.X_OK):
+        # access(2) answers for this user and for a read-only file system (EROFS, even for root)
+        raise OutputError(user_path, f"the folder {folder} is not writable", errno.EACCES)
 
 
 def check_output_file(path) -> None:
-    """Before any work: ``path``'s folder exists and is writable, and ``path`` is no folder."""
-    target = Path(path)
-    parent = target.parent if str(target.parent) else Path(".")
-    if target.is_dir():
-        raise OutputError(f"{path}: is a directory")
-    if not parent.is_dir():
-        raise OutputError(f"{path}: no such directory: {parent}")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise OutputError(f"{path}: directory not writable: {parent}")
+    """Fail now (:class:`OutputError`) if ``path`` cannot be written later: its folder must
+    exist and be writable and it must not be a folder.  An existing special file (character
+    device, FIFO) is fine if writable; a symbolic link is checked at its target."""
+    user = path
+    target = _resolve(Path(path))
+    try:
+        st = os.stat(target)
+    except FileNotFoundError:
+        st = None
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise OutputError(user, "it is a folder", errno.EISDIR)
+    if st is not None and _is_stream(st):
+        if not os.access(target, os.W_OK):
+            raise OutputError(user, "permission denied", errno.EACCES)
+        return
+    _check_folder(target.parent if str(target.parent) else Path("."), user)
 
 
 def check_output_dir(path) -> None:
-    """Before any work: ``path`` is a writable folder, or can be made in a writable one."""
-    target = Path(path)
-    if target.exists():
-        if not target.is_dir():
-            raise OutputError(f"{path}: not a directory")
-        if not os.access(target, os.W_OK | os.X_OK):
-            raise OutputError(f"{path}: directory not writable")
+    """Fail now (:class:`OutputError`) unless ``path`` is a writable folder, or does not exist
+    and its parent is a writable folder (it will be created)."""
+    p = Path(path)
+    if p.exists():
+        if not p.is_dir():
+            raise OutputError(path, "it exists and is not a folder", errno.ENOTDIR)
+        if not os.access(p, os.W_OK | os.X_OK):
+            raise OutputError(path, "the folder is not writable", errno.EACCES)
         return
-    check_output_file(target)
+    _check_folder(p.absolute().parent, path)
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _umask() -> int:
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _remove_stale(folder: Path) -> None:
+    """Remove temporaries (files or staging folders) left in ``folder`` by a writer of ours
+    that no longer runs (killed with SIGKILL).  Only our own naming pattern is touched."""
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return
+    for name in names:
+        m = _STALE.match(name)
+        if not m or _alive(int(m.group(1))):
+            continue
+        p = folder / name
+        with contextlib.suppress(OSError):
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p)
+            else:
+                p.unlink()
+
+
+def _temp_prefix(name: str) -> str:
+    return f".{name}{_MARK}{os.getpid()}."
+
+
+def _fsync_dir(folder: Path) -> None:
+    try:
+        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass  # some file systems cannot fsync a folder; the rename itself is still atomic
+    finally:
+        os.close(fd)
+
+
+def _fsync_file(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _mode_as_open(tmp: Path, existing: os.stat_result | None) -> None:
+    """Give ``tmp`` the permissions (and owner) that ``open(target, "w")`` would have left."""
+    if existing is not None:
+        os.chmod(tmp, stat.S_IMODE(existing.st_mode))
+        if existing.st_uid != os.geteuid() or existing.st_gid != os.getegid():
+            with contextlib.suppress(OSError):
+                os.chown(tmp, existing.st_uid, existing.st_gid)
+    else:
+        os.chmod(tmp, 0o666 & ~_umask())
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT/SIGTERM/SIGHUP over a commit (a few renames): a Ctrl-C arriving there is
+    delivered just after, so the commit is never cut in half by a catchable signal."""
+    sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    except (AttributeError, ValueError, OSError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _stream_write(target: Path, user, data: bytes) -> None:
+    """Write ``data`` into an existing special file (device, FIFO) without replacing it."""
+    try:
+        fd = os.open(target, os.O_WRONLY | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    try:
+        view = memoryview(data)
+        while view:
+            n = os.write(fd, view)
+            view = view[n:]
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    finally:
+        os.close(fd)
+
+
+def _stream_copy(src: Path, target: Path, user) -> None:
+    try:
+        fd = os.open(target, os.O_WRONLY | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    try:
+        with open(src, "rb") as fh, os.fdopen(fd, "wb", closefd=False) as out:
+            shutil.copyfileobj(fh, out, 1 << 20)
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    finally:
+        os.close(fd)
+
+
+def _existing(target: Path, user) -> os.stat_result | None:
+    try:
+        st = os.stat(target)
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    if stat.S_ISDIR(st.st_mode):
+        raise OutputError(user, "it is a folder", errno.EISDIR)
+    return st
+
+
+def _as_bytes(data: str | bytes) -> bytes:
+    return data.encode() if isinstance(data, str) else bytes(data)
+
+
+# --------------------------------------------------------------------------- one file
 
 
 def write_file(path, data: str | bytes) -> None:
-    """Write ``data`` to ``path``: a regular file (or a new path) through a temporary file in
-    the same folder and a rename; an existing special file (a device, a FIFO) as a stream,
-    never replaced."""
-    target = Path(path)
-    raw = data.encode() if isinstance(data, str) else data
-    with contextlib.suppress(FileNotFoundError):
-        mode = os.stat(target).st_mode
-        if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
-            with open(target, "wb") as fh:
-                fh.write(raw)
-            return
-    check_output_file(target)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+    """Write ``data`` (text is UTF-8 encoded) to ``path``, whole or not at all.
+
+    A regular file or a new path: through a temporary file beside it, flushed, fsynced and
+    renamed over the target; the folder is fsynced.  An existing non-regular file (``/dev/null``,
+    ``/dev/stdout``, a FIFO): written as a stream, never replaced.  A symbolic link: its target
+    is written (see the module's notes).  Errors raise :class:`OutputError` naming ``path``."""
+    user = path
+    target = _resolve(Path(path))
+    raw = _as_bytes(data)
+    st = _existing(target, user)
+    if st is not None and _is_stream(st):
+        _stream_write(target, user, raw)
+        return
+    folder = target.parent
+    _remove_stale(folder)
+    try:
+        fd, tmp_name = tempfile.mkstemp(dir=folder, prefix=_temp_prefix(target.name), suffix=".part")
+    except OSError as exc:
+        raise OutputError(user, _reason(exc), exc.errno) from None
+    tmp = Path(tmp_name)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(raw)
             fh.flush()
             os.fsync(fh.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, target.resolve() if target.is_symlink() else target)
+        _mode_as_open(tmp, st)
+        with _signals_held():
+            os.replace(tmp, target)
+        _fsync_dir(folder)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise OutputError(user, _reason(exc), exc.errno) from None
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+        with contextlib.suppress(OSError):
+            tmp.unlink()
         raise
 
 
-write_atomic = write_file
+def write_atomic(path, text: str | bytes) -> None:
+    """The former name of :func:`write_file` (kept until every caller has moved)."""
+    write_file(path, text)
+
+
+# --------------------------------------------------------------------------- a set of files
 
 
 class OutputSet:
-    """A set of output files moved into place together when the block ends without error."""
+    """Several outputs committed as one unit.
+
+    ::
+
+        with OutputSet() as out:                       # files anywhere
+            fig.savefig(out.path("fall.png"))          # a staging path for a library
+            out.write("fall.txt", text)
+        # here both are in place; after an exception neither was touched
+
+        with OutputSet(directory="results") as out:    # a study's folder
+            out.write("study.csv", csv_text)           # names relative to the folder
+            fig.savefig(out.path("map.png"))
+
+    Staging paths keep the target's suffix (matplotlib and Pillow choose the format from it).
+
+    * Files anywhere (no ``directory``): each regular target is staged beside itself and, at the
+      end of the ``with``, renamed over it as :func:`write_file` does; a special file (device,
+      FIFO) target is staged in the system's temporary folder and streamed into it.
+    * A **new** ``directory``: the files are staged in a hidden sibling folder which is
+      renamed to ``directory`` at the end: the folder appears only with all its contents, and an
+      interrupted run leaves no folder.
+    * An **existing** ``directory``: the files are staged in a hidden folder inside it and
+      renamed over their targets one after the other; files of the folder that the set does
+      not name are left alone.  Each file is always old-whole or new-whole.  The set as a whole
+      is old or new except in one window: the few ``rename()`` calls at the commit (micro-
+      seconds).  SIGINT, SIGTERM and SIGHUP are held over that window, so only a SIGKILL or a
+      power cut inside it can leave a mix of whole old and whole new files.  Closing it would
+      take swapping the folder itself (``renameat2(RENAME_EXCHANGE)``), which would move files
+      that are not ours and change the folder under anyone inside it; we do not do that.
+
+    On an exception (including KeyboardInterrupt and :class:`deck_emulator.signals.Terminated`)
+    nothing is moved and everything staged is removed.
+    """
 
     def __init__(self, directory=None):
-        self.directory = Path(directory) if directory is not None else None
-        self._staged: dict[Path, Path] = {}
-        self._tmp = None
+        self.directory = None if directory is None else Path(directory)
+        self._staged: dict[Path, tuple[Path, object]] = {}  # staging path -> (target, user)
+        self._order: list[Path] = []
+        self._stage_dir: Path | None = None
+        self._new_dir = False
+        self._open = False
 
-    def __enter__(self):
-        base = self.directory.parent if self.directory is not None else Path(".")
-        self._tmp = Path(tempfile.mkdtemp(dir=base if base.is_dir() else None, prefix=".staging."))
+    # -- context manager
+
+    def __enter__(self) -> OutputSet:
+        if self.directory is not None:
+            check_output_dir(self.directory)
+            d = self.directory
+            self._new_dir = not d.exists()
+            home = d.absolute().parent if self._new_dir else d
+            _remove_stale(home)
+            try:
+                self._stage_dir = Path(tempfile.mkdtemp(dir=home, prefix=_temp_prefix(d.absolute().name),
+                                                        suffix=".part"))
+            except OSError as exc:
+                raise OutputError(self.directory, _reason(exc), exc.errno) from None
+        self._open = True
         return self
 
-    def _target(self, name) -> Path:
-        p = Path(name)
-        return self.directory / p if self.directory is not None and not p.is_absolute() else p
-
-    def path(self, name) -> Path:
-        target = self._target(name)
-        staged = self._tmp / f"{len(self._staged)}-{target.name}"
-        self._staged[target] = staged
-        return staged
-
-    def write(self, name, data: str | bytes) -> None:
-        raw = data.encode() if isinstance(data, str) else data
-        self.path(name).write_bytes(raw)
-
-    def __exit__(self, exc_type, exc, tb):
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        self._open = False
+        if exc_type is not None:
+            self._discard()
+            return False
         try:
-            if exc_type is None:
-                if self.directory is not None:
-                    self.directory.mkdir(parents=True, exist_ok=True)
-                for target, staged in self._staged.items():
-                    write_file(target, staged.read_bytes())
-        finally:
-            shutil.rmtree(self._tmp, ignore_errors=True)
+            self._commit()
+        except BaseException:
+            self._discard()
+            raise
         return False
+
+    # -- staging
+
+    def _relative(self, target) -> Path:
+        t = Path(target)
+        if t.is_absolute():
+            try:
+                t = t.relative_to(self.directory.absolute())
+            except ValueError:
+                raise ValueError(f"{target} is not inside {self.directory}") from None
+        if ".." in t.parts or not t.parts:
+            raise ValueError(f"{target}: a name inside the output folder is needed")
+        return t
+
+    def path(self, target) -> Path:
+        """A staging path for ``target`` (which a library may write to, with the same suffix);
+        it is moved to ``target`` when the set commits."""
+        if not self._open:
+            raise RuntimeError("OutputSet.path() outside its with block")
+        if self.directory is not None:
+            rel = self._relative(target)
+            stage = self._stage_dir / rel
+            if stage in self._staged:
+                return stage
+            stage.parent.mkdir(parents=True, exist_ok=True)
+            self._staged[stage] = (self.directory / rel, self.directory / rel)
+            self._order.append(stage)
+            return stage
+        user = target
+        real = _resolve(Path(target))
+        for stage, (t, _) in self._staged.items():
+            if t == real:
+                return stage
+        st = _existing(real, user)
+        suffix = "".join(real.suffixes[-1:])
+        if st is not None and _is_stream(st):
+            fd, name = tempfile.mkstemp(prefix=_temp_prefix(real.name), suffix=f".part{suffix}")
+        else:
+            _check_folder(real.parent, user)
+            _remove_stale(real.parent)
+            try:
+                fd, name = tempfile.mkstemp(dir=real.parent, prefix=_temp_prefix(real.name),
+                                            suffix=f".part{suffix}")
+            except OSError as exc:
+                raise OutputError(user, _reason(exc), exc.errno) from None
+        os.close(fd)
+        stage = Path(name)
+        self._staged[stage] = (real, user)
+        self._order.append(stage)
+        return stage
+
+    def write(self, target, data: str | bytes) -> None:
+        """Stage ``data`` (text is UTF-8 encoded) for ``target``."""
+        stage = self.path(target)
+        try:
+            with open(stage, "wb") as fh:
+                fh.write(_as_bytes(data))
+        except OSError as exc:
+            raise OutputError(target, _reason(exc), exc.errno) from None
+
+    # -- commit / discard
+
+    def _commit(self) -> None:
+        for stage in self._order:  # everything on disk before anything is renamed
+            if not stage.exists():
+                target = self._staged[stage][1]
+                raise OutputError(target, "nothing was written to it")
+            _fsync_file(stage)
+        if self.directory is not None and self._new_dir:
+            self._commit_new_dir()
+            return
+        plans = []
+        for stage in self._order:
+            real, user = self._staged[stage]
+            real = _resolve(real)  # a link named in a folder is written through, as write_file
+            st = _existing(real, user)
+            plans.append((stage, real, user, st))
+            if st is None or not _is_stream(st):
+                _mode_as_open(stage, st)
+        folders = set()
+        with _signals_held():
+            for stage, real, user, st in plans:
+                if st is not None and _is_stream(st):
+                    continue
+                try:
+                    os.replace(stage, real)
+                except OSError as exc:
+                    if exc.errno != errno.EXDEV:  # EXDEV: a link to another file system
+                        raise OutputError(user, _reason(exc), exc.errno) from None
+                    write_file(real, stage.read_bytes())
+                folders.add(real.parent)
+        for folder in folders:
+            _fsync_dir(folder)
+        for stage, real, user, st in plans:  # devices and FIFOs last: they may block
+            if st is not None and _is_stream(st):
+                _stream_copy(stage, real, user)
+                with contextlib.suppress(OSError):
+                    stage.unlink()
+        self._remove_stage_dir()
+
+    def _commit_new_dir(self) -> None:
+        umask = _umask()
+        for stage in self._order:
+            _mode_as_open(stage, None)
+        for sub in [p for p in self._stage_dir.rglob("*") if p.is_dir()] + [self._stage_dir]:
+            os.chmod(sub, 0o777 & ~umask)
+        _fsync_dir(self._stage_dir)
+        with _signals_held():
+            if self.directory.exists():
+                raise OutputError(self.directory, "it appeared while the outputs were being made",
+                                  errno.EEXIST)
+            try:
+                os.rename(self._stage_dir, self.directory)
+            except OSError as exc:
+                raise OutputError(self.directory, _reason(exc), exc.errno) from None
+        self._stage_dir = None
+        _fsync_dir(self.directory.absolute().parent)
+
+    def _remove_stage_dir(self) -> None:
+        if self._stage_dir is not None:
+            with contextlib.suppress(OSError):
+                shutil.rmtree(self._stage_dir)
+            self._stage_dir = None
+
+    def _discard(self) -> None:
+        for stage in self._order:
+            with contextlib.suppress(OSError):
+                stage.unlink()
+        self._remove_stage_dir()
+        self._staged.clear()
+        self._order.clear()

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.studies import safety
 from deck_emulator.engine import ENGINES, Outcome, engine_for
 from deck_emulator.events import EventKind
@@ -564,8 +565,13 @@ def figure_trajectory(res: Outcome, view: str = "side", every: float | None = No
 
 
 def save_trajectory(res: Outcome, out, view: str = "side", every: float | None = None) -> None:
-    fig = figure_trajectory(res, view, every)
-    fig.savefig(out, dpi=DPI)
+    """Write the trajectory picture to ``out`` (whole or not at all)."""
+    with OutputSet() as files:
+        _savefig(figure_trajectory(res, view, every), files.path(out))
+
+
+def _savefig(fig, path) -> None:
+    fig.savefig(path, dpi=DPI, format="png")
 
 
 # ============================================================================= pulse
@@ -664,7 +670,9 @@ def figure_pulse(results: list[Outcome]) -> Figure:
 
 
 def save_pulse(results: list[Outcome], out) -> None:
-    figure_pulse(results).savefig(out, dpi=DPI)
+    """Write the pulse picture to ``out`` (whole or not at all)."""
+    with OutputSet() as files:
+        _savefig(figure_pulse(results), files.path(out))
 
 
 # ============================================================================= animation
@@ -673,7 +681,13 @@ def save_pulse(results: list[Outcome], out) -> None:
 def save_animation(
     res: Outcome, out, view: str = "side", frame_s: float = 0.01, fps: int = 20, dpi: int = 80
 ) -> int:
-    """Write the fall as an animated GIF; returns the number of frames."""
+    """Write the fall as an animated GIF to ``out`` (whole or not at all); returns the number
+    of frames."""
+    with OutputSet() as files:
+        return _save_animation(res, files.path(out), view, frame_s, fps, dpi)
+
+
+def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi: int) -> int:
     import matplotlib
     from matplotlib.animation import FuncAnimation, PillowWriter
 
@@ -785,10 +799,29 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.suffix.lower() != ".png":
         raise CLIError("--out must name a .png file")
+    gif = Path(args.animate) if args.animate else None
+    if gif is not None and gif.suffix.lower() != ".gif":
+        raise CLIError("--animate must name a .gif file")
     if args.every is not None and args.every <= 0:
         raise CLIError("--every must be positive (ms)")
+    for path in (out, gif):  # a missing or read-only folder fails before any run
+        if path is not None:
+            check_output_file(path)
     every = None if args.every is None else args.every / 1000.0
-    status = 0
+    with OutputSet() as files:  # the picture and the animation: both written, or neither
+        status, main = _draw_plot(args, deck, out, every, files)
+        if gif is not None:
+            _save_animation(main, files.path(gif), "plan" if args.view == "plan" else "side",
+                            0.01, 20, 80)
+    written = [str(out)] + ([str(gif)] if gif is not None else [])
+    print(f"deck-emulator: wrote {', '.join(written)}", file=sys.stderr)
+    return status
+
+
+def _draw_plot(args, deck, out, every, files):
+    """Run the engine(s) and stage the picture in ``files``: (exit status, the main result)."""
+    from deck_emulator.errors import UsageError as CLIError
+
     if args.pulse:
         results = []
         for engine in ENGINES:
@@ -799,21 +832,14 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         results = [r for r in results if r.t.size]
         if not results:
             raise CLIError("no engine produced a velocity history")
-        save_pulse(results, out)
+        _savefig(figure_pulse(results), files.path(out))
         main = next((r for r in results if r.engine == args.engine), results[0])
         status = 3 if any(r.error for r in results) else 0
     else:
         main = _run_for_plot(deck, args.engine, args)
         if not main.t.size:
             raise CLIError(f"the {args.engine} produced no trajectory: {main.error}")
-        save_trajectory(main, out, args.view, every)
+        _savefig(figure_trajectory(main, args.view, every), files.path(out))
         status = 3 if main.error else 0
-    written = [str(out)]
-    if args.animate:
-        gif = Path(args.animate)
-        if gif.suffix.lower() != ".gif":
-            raise CLIError("--animate must name a .gif file")
-        save_animation(main, gif, "plan" if args.view == "plan" else "side")
-        written.append(str(gif))
-    print(f"deck-emulator: wrote {', '.join(written)}", file=sys.stderr)
-    return status
+    return status, main
+

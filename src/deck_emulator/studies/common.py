@@ -10,9 +10,9 @@ emulator defect: ``guard = "crash"``).
 
 from __future__ import annotations
 
-import concurrent.futures
 import csv
 import datetime
+import io
 import math
 import os
 import platform
@@ -27,6 +27,7 @@ import numpy as np
 from deck_emulator.engine import EmulatorEngine, errata as errata_policy
 from deck_emulator.studies.diff import legacy_options
 from deck_emulator.core import kinetic_energy, simulate
+from deck_emulator.files import write_file
 from deck_emulator.legacy.emulator import EmulatorError, Limits
 from deck_emulator.legacy.printer import event_message
 
@@ -188,34 +189,6 @@ def median_wall(fn, reps: int) -> tuple[float, list[float], object]:
     return statistics.median(times), times, first
 
 
-def parallel_map(fn, tasks: list, jobs: int | None, progress=None) -> list:
-    """``[fn(t) for t in tasks]`` over ``jobs`` processes (in order); ``jobs=1``: in this process."""
-    jobs = jobs or os.cpu_count() or 1
-    if jobs <= 1 or len(tasks) <= 1:
-        out = []
-        for i, t in enumerate(tasks):
-            out.append(fn(t))
-            if progress:
-                progress(i + 1, len(tasks))
-        return out
-    results: list = [None] * len(tasks)
-    with concurrent.futures.ProcessPoolExecutor(max_workers=jobs) as pool:
-        futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
-        for done, fut in enumerate(concurrent.futures.as_completed(futures), start=1):
-            results[futures[fut]] = fut.result()
-            if progress:
-                progress(done, len(tasks))
-    return results
-
-
-def stderr_progress(name: str):
-    def report(done, total):
-        if done == total or done % max(1, total // 10) == 0:
-            print(f"{name}: {done}/{total} runs", file=sys.stderr, flush=True)
-
-    return report
-
-
 # --------------------------------------------------------------------------- files
 
 
@@ -243,12 +216,19 @@ def machine_line(m: dict, jobs: int, wall_s: float) -> str:
             f"{wall_s:.0f} s.")
 
 
+def csv_text(rows: list[dict], columns: list[str]) -> str:
+    """The CSV of ``rows`` (one line per row, ``columns`` in order) as text."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
+    w.writeheader()
+    for row in rows:
+        w.writerow({c: fmt_csv(row.get(c)) for c in columns})
+    return buf.getvalue()
+
+
 def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
-        w.writeheader()
-        for row in rows:
-            w.writerow({c: fmt_csv(row.get(c)) for c in columns})
+    """Write :func:`csv_text` to ``path`` whole or not at all."""
+    write_file(path, csv_text(rows, columns))
 
 
 def fmt_csv(v):

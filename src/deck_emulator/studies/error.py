@@ -31,6 +31,9 @@ from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.core.scene import Scene
 
+from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.parallel import parallel_map
+
 from .common import (
     H0,
     agg_backend,
@@ -43,11 +46,9 @@ from .common import (
     matched_options,
     md_table,
     median_wall,
-    parallel_map,
     run_core,
     run_emulator,
-    stderr_progress,
-    write_csv,
+    csv_text,
 )
 
 REF_RTOL = 1e-12
@@ -246,30 +247,31 @@ def _tasks(deck_path: str, p: dict) -> list[dict]:
 
 
 def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None,
-                command: str | None = None, progress=None) -> dict:
+                command: str | None = None, quiet: bool = False) -> dict:
     """Run the work-precision study on ``deck_path``; write ``error_study.csv``,
     ``work_precision.png`` and ``README.md`` into ``out_dir``.  Returns the summary."""
     started = time.perf_counter()
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    check_output_dir(out)  # a missing or read-only folder fails before any run
     deck_path = str(deck_path)
     read_deck(deck_path)  # a bad deck fails here, before any process starts
     p = plan(quick)
     jobs = jobs or _cpu_count()
     tasks = _tasks(deck_path, p)
     order = sorted(range(len(tasks)), key=lambda i: -tasks[i]["cost"])  # longest first
-    done = parallel_map(_task, [tasks[i] for i in order], jobs,
-                        progress if progress is not None else stderr_progress("study error"))
+    done = parallel_map(_task, [tasks[i] for i in order], jobs=jobs, desc="study error",
+                        unit="run", quiet=quiet)
     rows = [None] * len(tasks)
     for i, r in zip(order, done):
         rows[i] = r
     summary = _summarise(rows, p)
-    write_csv(out / "error_study.csv", rows, COLUMNS)
-    _plot(rows, summary, out / "work_precision.png", Path(deck_path).stem)
-    wall = time.perf_counter() - started
-    cmd = command or (f"deck-emulator study error {deck_path} --out {out_dir}"
-                      + (" --quick" if quick else "") + f" --jobs {jobs}")
-    (out / "README.md").write_text(_report(rows, summary, p, deck_path, cmd, jobs, wall))
+    with OutputSet(directory=out) as files:  # the three files appear together or not at all
+        files.write("error_study.csv", csv_text(rows, COLUMNS))
+        _plot(rows, summary, files.path("work_precision.png"), Path(deck_path).stem)
+        wall = time.perf_counter() - started
+        cmd = command or (f"deck-emulator study error {deck_path} --out {out_dir}"
+                          + (" --quick" if quick else "") + f" --jobs {jobs}")
+        files.write("README.md", _report(rows, summary, p, deck_path, cmd, jobs, wall))
     summary["wall_s"] = wall
     return summary
 

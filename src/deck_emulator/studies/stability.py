@@ -31,6 +31,9 @@ from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.legacy.emulator import Limits
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
 
+from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.parallel import parallel_map
+
 from .common import (
     ERRATA,
     H0,
@@ -45,11 +48,9 @@ from .common import (
     machine_line,
     matched_options,
     md_table,
-    parallel_map,
     run_core,
     run_emulator,
-    stderr_progress,
-    write_csv,
+    csv_text,
 )
 
 LIMITS = Limits(ed_iterations=20000, halvings=30, time_s=3.0)
@@ -238,12 +239,12 @@ def _merge(spec, emu, core) -> dict:
 
 
 def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_path=None,
-                    command: str | None = None, progress=None) -> dict:
+                    command: str | None = None, quiet: bool = False) -> dict:
     """Run the stability grid; write ``stability_study.csv``, ``stability_map.png``,
     ``extreme_scenes.png`` and ``README.md`` into ``out_dir``.  Returns the summary."""
     started = time.perf_counter()
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    check_output_dir(out)  # a missing or read-only folder fails before any run
     deck_path = str(deck_path or default_deck())
     shown = os.path.relpath(deck_path) if not os.path.relpath(deck_path).startswith("..") else deck_path
     base = read_deck(deck_path).values
@@ -255,21 +256,22 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
             cost = (0.4 * 2 ** s["k"]) if engine == "emulator" else 0.3
             tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
     order = sorted(range(len(tasks)), key=lambda i: -tasks[i]["cost"])
-    done = parallel_map(_task, [tasks[i] for i in order], jobs,
-                        progress if progress is not None else stderr_progress("study stability"))
+    done = parallel_map(_task, [tasks[i] for i in order], jobs=jobs, desc="study stability",
+                        unit="run", quiet=quiet)
     results: dict = {}
     for i, r in zip(order, done):
         results[(tasks[i]["index"], tasks[i]["engine"])] = r
     rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
             for i, s in enumerate(grid)]
     summary = _summarise(rows)
-    write_csv(out / "stability_study.csv", rows, COLUMNS)
-    _plot_map(rows, summary, out / "stability_map.png")
-    _plot_extremes(rows, out / "extreme_scenes.png")
-    wall = time.perf_counter() - started
-    cmd = command or (f"deck-emulator study stability --out {out_dir}" + (" --quick" if quick else "")
-                      + f" --jobs {jobs}")
-    (out / "README.md").write_text(_report(rows, summary, shown, cmd, jobs, wall, quick))
+    with OutputSet(directory=out) as files:  # the four files appear together or not at all
+        files.write("stability_study.csv", csv_text(rows, COLUMNS))
+        _plot_map(rows, summary, files.path("stability_map.png"))
+        _plot_extremes(rows, files.path("extreme_scenes.png"))
+        wall = time.perf_counter() - started
+        cmd = command or (f"deck-emulator study stability --out {out_dir}"
+                          + (" --quick" if quick else "") + f" --jobs {jobs}")
+        files.write("README.md", _report(rows, summary, shown, cmd, jobs, wall, quick))
     summary["wall_s"] = wall
     return summary
 
