@@ -21,6 +21,8 @@ from deck_emulator.legacy.deck import READ_LIST, DeckError, field_columns, read_
 from deck_emulator.legacy.emulator import ERRATA, EmulatorError, Limits, Program
 from deck_emulator.legacy.extract import extract
 from deck_emulator.legacy.printer import render_asa
+from deck_emulator.legacy.cardcli import (add_card_options, add_pages_options, add_punch_parser,
+                                          load_job, load_one_deck, write_pages)
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -118,15 +120,19 @@ def _describe(run) -> str:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    deck = read_deck(args.deck)
-    try:
-        run = _run_emulator(args, deck)
-        error = None
-    except EmulatorError as exc:
-        run, error = exc.run, exc
-    text = render_asa(run.records) if args.render else run.text()
+    records, text, error = [], "", None
+    for deck in load_job(args).decks:  # a job deck's $DATA sections, in turn
+        try:
+            run = _run_emulator(args, deck)
+        except EmulatorError as exc:
+            run, error = exc.run, exc
+        records += run.records
+        text += render_asa(run.records) if args.render else run.text()
+        print(f"{PROG}: {deck.path}: {_describe(run)}", file=sys.stderr)
+        if error is not None:
+            break
     _emit(args, text)
-    print(f"{PROG}: {deck.path}: {_describe(run)}", file=sys.stderr)
+    write_pages(args, records)
     if error is not None:
         print(f"{PROG}: error: {error}", file=sys.stderr)
         return EXIT_RUN_FAILED
@@ -135,6 +141,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 def _add_emulator_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    add_card_options(p)
     p.add_argument("--precision", choices=ARITHMETICS, default="double",
                    help="arithmetic: double (IEEE binary64, as the r8 goldens), single (IEEE "
                    "binary32, as the r4 goldens, trapping), ibm7094 (the 1967 machine's 36-bit words)")
@@ -171,6 +178,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     )
     _add_emulator_options(p)
     p.add_argument("--out", metavar="FILE", help="write the printout to FILE")
+    add_pages_options(p)
     p.add_argument("--render", action="store_true",
                    help="render ASA carriage control (1 = form feed, 0 = blank line, + = "
                    "overprint) as the POSIX asa utility does, instead of the raw records")
@@ -181,7 +189,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
-    deck = read_deck(args.deck)
+    deck = load_one_deck(args)
     try:
         run = _run_emulator(args, deck)
     except EmulatorError as exc:
@@ -342,6 +350,9 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     from deck_emulator.studies.study_cli import add_parser
 
     add_parser(sub)
+
+
+_subcommand(add_punch_parser)
 
 
 # --------------------------------------------------------------------------- main

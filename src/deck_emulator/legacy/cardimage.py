@@ -6,7 +6,8 @@ by Richard Cornwell, in the simh repository; its header comment and the routines
 
 ``text``
     One card a line, LF or CRLF; a short line is a card padded with blanks, blanks after
-    column 80 are tolerated; a line holding ``~`` alone (blanks after it allowed) is the end
+    column 80 are tolerated (characters are checked by the deck reader, which names the
+    card and column of anything a card cannot hold); a line holding ``~`` alone (blanks after it allowed) is the end
     of the file; ``~eor``, ``~eof``, ``~eoi`` stand for the 7-8-9, 6-7-9 and 6-7-8-9 end
     cards.  The characters are the card's as they stand (no keypunch code applies).
 ``binary``
@@ -113,7 +114,7 @@ def _err(reason: str, path, card=None, column=None) -> DeckError:
 
 
 def _read_text(data: bytes, path) -> list[str]:
-    text = data.decode("latin-1")
+    text = data.decode("utf-8", errors="surrogateescape")
     lines = text.split("\n")
     if lines and lines[-1] == "":
         lines.pop()
@@ -125,15 +126,16 @@ def _read_text(data: bytes, path) -> list[str]:
             break  # end of file
         if len(line) > CARD_COLUMNS and line[CARD_COLUMNS:].strip(" ") == "":
             line = line[:CARD_COLUMNS]
-        for index, ch in enumerate(line[:CARD_COLUMNS]):
-            if not (" " <= ch <= "~"):
-                raise _err(f"byte 0x{ord(ch):02X} is not a card character (text cards are "
-                           "printable ASCII)", path, number, index + 1)
-        if len(line) > CARD_COLUMNS:
-            raise _err(f"line is {len(line)} columns long; a card holds {CARD_COLUMNS}",
-                       path, number, CARD_COLUMNS + 1)
         cards.append(line)
     return cards
+
+
+def _looks_text(data: bytes, path) -> None:
+    """Raise DeckError unless every byte is printable ASCII, a line end or a tab."""
+    for offset, byte in enumerate(data):
+        if not (0x20 <= byte <= 0x7E or byte in (0x0A, 0x0D, 0x09)):
+            raise _err(f"byte 0x{byte:02X} at offset {offset} is not text", path,
+                       data.count(b"\n", 0, offset) + 1)
 
 
 def _read_binary(data: bytes, path) -> list[tuple[int, ...]]:
@@ -247,7 +249,7 @@ def detect_format(data: bytes, path=None) -> str:
     fits = []
     for name in FORMATS:
         try:
-            _READERS[name](data, path)
+            (_looks_text if name == "text" else _READERS[name])(data, path)
         except DeckError:
             continue
         fits.append(name)
@@ -266,14 +268,7 @@ def read_images(data: bytes, card_format: str = "auto", path=None) -> CardFile:
     if card_format not in _READERS:
         raise DeckError(f"unknown card format {card_format!r} (one of {', '.join(FORMATS)})",
                         path=path)
-    try:
-        cards = _READERS[card_format](data, path)
-    except DeckError as err:
-        if card_format != "text" or not err.reason.startswith("byte"):
-            raise
-        raise DeckError(err.reason + f"; if this is a binary card file, name its format "
-                        "with --card-format", file_card=err.file_card, columns=err.columns,
-                        path=path) from None
+    cards = _READERS[card_format](data, path)
     return CardFile(card_format, tuple(cards))
 
 
