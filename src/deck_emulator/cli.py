@@ -49,7 +49,7 @@ def _subcommand(add: Callable[[argparse._SubParsersAction], None]):
 
 
 def _cmd_parse(args: argparse.Namespace) -> int:
-    deck = read_deck(args.deck)
+    deck = load_one_deck(args)
     if args.json:
         text = json.dumps(deck.values) + "\n"
     else:
@@ -78,6 +78,7 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
         "rules and print the values under their READ-list names.",
     )
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    add_card_options(p)
     p.add_argument(
         "--json", action="store_true", help="print one JSON object, name -> value, in READ order"
     )

@@ -46,9 +46,15 @@ def holes(*rows: str) -> int:
 
 
 def rows_text(column: int) -> str:
-    """The rows punched in a column, top to bottom, as keypunch operators wrote them
-    (``12-8-4``); ``no punch`` for a blank column."""
+    """The rows punched in a column as the code charts write them: zone rows first, then
+    the digit rows top to bottom, except that 8 goes before one other digit (``12-8-4``,
+    ``7-8-9``); ``no punch`` for a blank column."""
     names = [name for name, bit in ROWS if column & (1 << bit)]
+    zones = [n for n in names if n in ("12", "11", "0")]
+    digits = [n for n in names if n not in zones]
+    if len(digits) == 2 and "8" in digits and "9" not in digits:
+        digits = ["8"] + [d for d in digits if d != "8"]  # 12-8-4, not 12-4-8
+    names = zones + digits
     return "-".join(names) if names else "no punch"
 
 

@@ -19,7 +19,7 @@ The 7094's printer (an IBM 1403 on the 1401 or the 7094's own channel; facts fro
 
 Each printed line's baseline sits 1/6 inch below the previous one; line ``n`` of a form
 (1-based) has its baseline ``BASELINE_DROP`` above the bottom of its 1/6-inch band.  The face
-is DejaVu Sans Mono at the size that makes its advance exactly 1/10 inch.  ``striped`` paper
+is PDF's standard Courier at 12 points, whose advance is exactly 1/10 inch.  ``striped`` paper
 has green bars three lines (half an inch) deep, starting with a bar on lines 1-3.
 """
 
@@ -38,9 +38,11 @@ PAGE_WIDTH_IN = 14.875
 PAGE_HEIGHT_IN = LINES_PER_FORM / LINES_PER_INCH  # 11
 LEFT_MARGIN_IN = (PAGE_WIDTH_IN - PRINT_POSITIONS / CHARS_PER_INCH) / 2
 BASELINE_DROP = 0.04  # inch, baseline above the bottom of the line's band
-_FONT = "DejaVu Sans Mono"
-_ADVANCE_EM = 1233 / 2048  # DejaVu Sans Mono's advance width, in ems
-FONT_SIZE_PT = 72 / CHARS_PER_INCH / _ADVANCE_EM
+# PDF's standard Courier (not embedded; every reader has it): 600/1000 em a character,
+# so at 12 points exactly 7.2 points, 1/10 inch -- the 1403's pitch.
+_FONT = "Courier"
+_ADVANCE_EM = 600 / 1000
+FONT_SIZE_PT = 72 / CHARS_PER_INCH / _ADVANCE_EM  # 12
 
 
 def layout(records: list[str]) -> list[list[tuple[int, str]]]:
@@ -104,7 +106,8 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain")
     if paper not in ("plain", "striped"):
         raise ValueError(f"paper must be plain or striped, not {paper!r}")
     forms = layout(records)
-    with rc_context({"pdf.fonttype": 42}), PdfPages(path) as pdf:
+    rc = {"pdf.use14corefonts": True, "font.family": "monospace", "font.monospace": [_FONT]}
+    with rc_context(rc), PdfPages(path) as pdf:
         for form in forms:
             fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
             _paper(fig, paper)
@@ -114,7 +117,8 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain")
                     continue
                 first = len(text) - len(stripped) + 1
                 fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
-                         stripped.rstrip(" "), family=_FONT, size=FONT_SIZE_PT,
+                         stripped.rstrip(" "), family="monospace", weight="medium",
+                         size=FONT_SIZE_PT,
                          ha="left", va="baseline")
             pdf.savefig(fig)
     return len(forms)
