@@ -28,7 +28,7 @@ from __future__ import annotations
 import os
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
-           "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "write_pdf"]
+           "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "form_figure", "write_pdf"]
 
 LINES_PER_FORM = 66
 LINES_PER_INCH = 6
@@ -94,31 +94,35 @@ def _paper(fig, paper: str) -> None:
                                   fill=False, color="#b0b0b0", lw=0.6))
 
 
+_RC = {"pdf.use14corefonts": True, "font.family": "monospace", "font.monospace": [_FONT]}
+
+
+def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
+    """One form as a matplotlib Figure, 14 7/8 by 11 inches."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
+    _paper(fig, paper)
+    for line, text in form:
+        stripped = text.lstrip(" ")
+        if not stripped.strip():
+            continue
+        first = len(text) - len(stripped) + 1
+        fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
+                 stripped.rstrip(" "), family="monospace", weight="medium", size=FONT_SIZE_PT,
+                 ha="left", va="baseline")
+    return fig
+
+
 def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain") -> int:
     """Write the printout's forms to ``path`` as PDF; return the number of pages."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
     from matplotlib import rc_context
     from matplotlib.backends.backend_pdf import PdfPages
-    from matplotlib.figure import Figure
 
     if paper not in ("plain", "striped"):
         raise ValueError(f"paper must be plain or striped, not {paper!r}")
     forms = layout(records)
-    rc = {"pdf.use14corefonts": True, "font.family": "monospace", "font.monospace": [_FONT]}
-    with rc_context(rc), PdfPages(path) as pdf:
+    with rc_context(_RC), PdfPages(path) as pdf:
         for form in forms:
-            fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
-            _paper(fig, paper)
-            for line, text in form:
-                stripped = text.lstrip(" ")
-                if not stripped.strip():
-                    continue
-                first = len(text) - len(stripped) + 1
-                fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
-                         stripped.rstrip(" "), family="monospace", weight="medium",
-                         size=FONT_SIZE_PT,
-                         ha="left", va="baseline")
-            pdf.savefig(fig)
+            pdf.savefig(form_figure(form, paper))
     return len(forms)
