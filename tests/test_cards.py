@@ -415,3 +415,56 @@ def test_readme_archive_commands_run(tmp_path):
         proc = subprocess.run([sys.executable, "-m", "deck_emulator", *argv], cwd=tmp_path,
                               capture_output=True, text=True, env=env, timeout=120)
         assert proc.returncode == 0, (command, proc.stderr)
+
+
+# ------------------------------------------------------------------------- the CLI
+
+
+def malformed_files(tmp_path) -> dict[str, tuple[Path, str]]:
+    texts = steel40_texts()
+    cases = {}
+
+    def put(name, data, needle):
+        path = tmp_path / name
+        path.write_bytes(data)
+        cases[name] = (path, needle)
+
+    put("odd.bin", encode(texts, "binary", "026")[:-3], "not a multiple of 160")
+    cbn = bytearray(encode(texts, "cbn", "026"))
+    cbn[5] ^= 0x40
+    put("parity.cbn", bytes(cbn), "card 1 of the file, column 3: parity error")
+    bcd = bytearray(encode(texts, "bcd", "026"))
+    bcd[80 * 8 + 79] ^= 0x40
+    put("parity.bcd", bytes(bcd), "card 9 of the file, column 80: parity error")
+    bad = bytearray(encode(texts, "binary", "026"))
+    bad[160 * 2 + 10: 160 * 2 + 12] = bytes([0x30, 0x00])  # column 6: rows 8-9
+    put("rows.bin", bytes(bad), "card 3 of the file, column 6: rows 8-9 punched")
+    return cases
+
+
+def test_malformed_images_end_in_one_line_with_status_2(tmp_path, capsys):
+    for name, (path, needle) in malformed_files(tmp_path).items():
+        for command in ("parse", "run"):
+            assert main([command, str(path)]) == 2, name
+            captured = capsys.readouterr()
+            assert captured.out == "" and captured.err.count("\n") == 1, (name, captured.err)
+            assert captured.err.startswith("deck-emulator: error: ") and needle in captured.err
+
+
+def test_a_blank_card_is_said_on_stderr(tmp_path, capsys):
+    path = tmp_path / "blank8.dat"
+    path.write_text("\n".join(steel40_texts()[:8]) + "\n\n")
+    assert main(["parse", str(path), "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: card 8 was blank" in err
+
+
+def test_several_data_sections_run_in_turn(tmp_path, capsys):
+    path = tmp_path / "twice.dat"
+    path.write_text(STEEL40.read_text() * 2)  # two $DATA sections
+    out = tmp_path / "out.txt"
+    assert main(["run", str(path), "--out", str(out)]) == 0
+    assert out.read_text() == GOLDEN.read_text() * 2
+    err = capsys.readouterr().err
+    assert "$DATA section 1 (card 1 of the file)" in err
+    assert "$DATA section 2 (card 10 of the file)" in err

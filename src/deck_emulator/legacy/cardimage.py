@@ -32,8 +32,9 @@ the count of *odd* bytes with 80, which can never hold for even-parity bytes; th
 intent is followed), 160 bytes with all even bytes' low nibbles zero mean binary, anything
 else text.  A file is taken as detected only if it reads whole in exactly one format (the
 one the simulator picks, when it picks one); if it reads in several, the error says which
-and ``--card-format`` decides; if in none, it is read in the simulator's pick, so that the
-error names the card and column where that format breaks.
+and ``--card-format`` decides; if in none, it is read in the format it most resembles (the
+simulator's pick, or, after a record mark, CBN or BCD by the parity of most bytes), so that
+the error names the card and column where that format breaks.
 
 Binary images hold holes, not characters: :func:`card_texts` turns them into text with a
 keypunch code (:mod:`deck_emulator.legacy.keypunch`).
@@ -258,7 +259,18 @@ def detect_format(data: bytes, path=None) -> str:
     if len(fits) > 1:
         raise DeckError(f"the card format is ambiguous: the file reads as {' and as '.join(fits)}"
                         "; say which with --card-format", path=path)
-    return _simulator_guess(data)  # reading it in that format names the error
+    return _nearest_format(data)  # reading it in that format names the error
+
+
+def _nearest_format(data: bytes) -> str:
+    """The format a file that reads in none most resembles: the simulator's pick, except
+    that a first byte with a record mark means CBN or BCD by the parity most of the first
+    record's bytes have (a parity error then names its card and column)."""
+    if data[0] & RECORD_MARK:
+        end = next((i for i in range(1, len(data)) if data[i] & RECORD_MARK), len(data))
+        odd = sum(1 for b in data[:end] if parity_bit(b & 0o77) != (b & 0o100))
+        return "cbn" if 2 * odd > end else "bcd"
+    return _simulator_guess(data)
 
 
 def read_images(data: bytes, card_format: str = "auto", path=None) -> CardFile:

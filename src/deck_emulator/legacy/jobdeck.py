@@ -200,10 +200,7 @@ def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
     decks = []
     for index, (number, cards) in enumerate(sections, start=1):
         where = f"{path + ': ' if path else ''}$DATA section {index} (card {number} of the file)"
-        try:
-            decks.append(parse_deck("\n".join(cards) + ("\n" if cards else ""), path=where))
-        except DeckError as err:
-            raise err from None
+        decks.append(parse_deck("\n".join(cards) + ("\n" if cards else ""), path=where))
     verdict = compare_source(source) if source else None
     return Job(path, images.format, tuple(decks), verdict, tuple(controls))
 
