@@ -9,7 +9,9 @@ by Richard Cornwell, in the simh repository; its header comment and the routines
     column 80 are tolerated (characters are checked by the deck reader, which names the
     card and column of anything a card cannot hold); a line holding ``~`` alone (blanks after it allowed) is the end
     of the file; ``~eor``, ``~eof``, ``~eoi`` stand for the 7-8-9, 6-7-9 and 6-7-8-9 end
-    cards.  The characters are the card's as they stand (no keypunch code applies).
+    cards.  The characters are the card's as they stand (no keypunch code applies).  One
+    departure: the simulator expands a tab to the next multiple of 8 columns; the deck
+    reader refuses tabs, naming the card and column, since a data card's columns matter.
 ``binary``
     160 bytes a card, two a column: column ``c`` is ``((b[2c] >> 4) & 0xF) | (b[2c+1] << 4)``,
     rows 12, 11, 0, 1 ... 9 in bits 11 ... 0; the low four bits of every even byte are 0.

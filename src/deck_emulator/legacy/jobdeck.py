@@ -225,7 +225,9 @@ def _punchable(line: str) -> str:
 
 def job_deck_texts(decks: list[Deck], job_name: str = "LUMIN") -> list[str]:
     """Card texts of a whole IBSYS job deck: control cards, the listing's source (its
-    ``C$`` comment lines as the control cards they stand for), and each deck's data."""
+    ``C$`` comment lines as the control cards they stand for; its comment cards in capitals
+    with the characters no keypunch had, such as ``;``, left blank), ``$ENTRY``, and each
+    deck's ``$DATA`` section."""
     texts = [f"$JOB           {job_name}", "$EXECUTE       IBJOB", "$IBJOB"]
     for line in listing_lines():
         line = line.rstrip()
