@@ -233,7 +233,6 @@ def test_error_message_format():
         ("1.0Q3", 6, 6, "DELTA", (51, 60)),
         ("++1", 3, 1, "XCMB", (1, 10)),
         ("1e5", 5, 8, "ALPHA", (71, 80)),  # no lower case on a 1967 card
-        ("$DATA", 4, 1, "PSIB", (1, 10)),  # a control card among the data cards
         ("     1.00E", 7, 2, "HTRV", (11, 20)),  # exponent without digits (column 20)
     ],
 )
@@ -243,6 +242,38 @@ def test_not_a_number(field, card_no, field_no, name, columns):
     msg = str(err)
     assert f"card {card_no}" in msg and f"columns {columns[0]}-{columns[1]}" in msg
     assert f"({name})" in msg and "not a number" in msg and repr(field.ljust(10)[:10]) in msg
+
+
+@pytest.mark.parametrize("position", [4, 9])
+def test_control_card_among_or_after_the_data_cards_is_named(position):
+    lines = good_cards()
+    lines.insert(position - 1, "$DATA")
+    err = bad(deck_text(lines))
+    assert err.card == position and err.columns is None
+    assert f": card {position}: $DATA control card " in str(err)
+    assert "not a number" not in str(err) and "extra card" not in str(err)
+
+
+def test_blanks_after_column_80_are_tolerated():
+    lines = good_cards()
+    lines[2] = lines[2] + "   "
+    assert parse_deck(deck_text(lines)).cards == parse_deck(deck_text(good_cards())).cards
+
+
+def test_implied_decimal_point_applies_before_the_range_check():
+    # F10.5: '     1E309' means 1 x 10**-5 x 10**309 = 1E304, a finite REAL*8
+    assert value_of("     1E309") == 1e304
+    # and 1E314 means 1E309, which no double holds
+    assert "out of range" in str(bad(with_field("     1E314")))
+
+
+def test_a_blank_card_is_read_as_zeros_with_a_warning():
+    # the last line of the file is empty: card 8 is a blank card
+    text = deck_text(good_cards()[:7]) + "\n"
+    deck = parse_deck(text)
+    assert all(deck[name] == 0.0 for name in READ_LIST[7])
+    assert len(deck.warnings) == 1 and deck.warnings[0].startswith("card 8 was blank")
+    assert parse_deck(deck_text(good_cards())).warnings == ()
 
 
 def test_missing_card():

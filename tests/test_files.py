@@ -262,7 +262,7 @@ def test_plot_checks_its_outputs_before_the_run(tmp_path, monkeypatch):
     def no_run(*a, **k):
         raise AssertionError("the engine ran before the output was checked")
 
-    monkeypatch.setattr(plot, "run_engine", no_run)
+    monkeypatch.setattr(plot, "engine_for", no_run)
     assert main(["plot", "decks/steel40.dat", "--out", str(tmp_path / "p.png"),
                  "--animate", str(tmp_path / "missing" / "a.gif")]) == 2
     assert main(["plot", "decks/steel40.dat", "--out", str(tmp_path / "p.png"),

@@ -71,13 +71,100 @@ def _positive_int(text: str) -> int:
     return n
 
 
+# --------------------------------------------------------------------------- decks
+
+
+def _add_card_options(p: argparse.ArgumentParser) -> None:
+    """--card-format and --keypunch, for a command that reads a deck."""
+    from deck_emulator.legacy.cardimage import FORMATS
+    from deck_emulator.legacy.keypunch import CODES
+
+    p.add_argument("--card-format", choices=("auto", *FORMATS), default="auto",
+                   help="the deck file's card image format (default: detected when the file "
+                   "is unambiguous)")
+    p.add_argument("--keypunch", choices=sorted(CODES), default=None,
+                   help="the code holes are read in: 026 (the 7090/7094 FORTRAN code, the "
+                   "default for binary images) or 029; text cards are taken as they stand")
+
+
+def _load_job(args):
+    """``args.deck`` as a plain or a job deck; says on stderr what the source is and what the
+    deck reader warns of."""
+    from deck_emulator.legacy.jobdeck import read_job
+
+    job = read_job(args.deck, getattr(args, "card_format", "auto"),
+                   getattr(args, "keypunch", None))
+    if job.source_verdict:
+        _say(f"{job.path}: {job.source_verdict}")
+    for deck in job.decks:
+        for warning in deck.warnings:
+            _say(f"{deck.path}: warning: {warning}")
+    return job
+
+
+def _load_one_deck(args):
+    """The one data deck of ``args.deck``; DeckError if it holds several $DATA sections."""
+    from deck_emulator.legacy.deck import DeckError
+
+    job = _load_job(args)
+    if len(job.decks) != 1:
+        raise DeckError(f"this command takes one $DATA section and the deck holds "
+                        f"{len(job.decks)}; `run` runs each in turn", path=job.path)
+    return job.decks[0]
+
+
+def _cmd_punch(args: argparse.Namespace) -> int:
+    from deck_emulator.legacy.cardimage import write_images
+    from deck_emulator.legacy.deck import DeckError
+    from deck_emulator.legacy.jobdeck import data_deck_texts, job_deck_texts
+
+    job = _load_job(args)
+    _check_out(args)
+    texts = (job_deck_texts(list(job.decks)) if args.job else data_deck_texts(list(job.decks)))
+    try:
+        data = write_images(texts, args.to, args.code)
+    except DeckError as err:
+        raise DeckError(f"cannot punch in the {args.code} code: {err}") from None
+    if args.out:
+        from deck_emulator.files import write_file
+
+        write_file(args.out, data)
+    else:
+        sys.stdout.buffer.write(data)
+        sys.stdout.flush()
+    return 0
+
+
+@_subcommand
+def _add_punch(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.legacy.cardimage import FORMATS
+    from deck_emulator.legacy.keypunch import CODES
+
+    p = sub.add_parser(
+        "punch",
+        help="punch a deck's data cards (or a whole job deck) in a card image format",
+        description="Read a deck (any card format) and punch its data cards, in the report's "
+        "layout (8F10.5, a $DATA card first), as text, binary, column binary (cbn) or BCD "
+        "card images, in the 026 or 029 keypunch code.  --job punches a whole IBSYS job "
+        "deck: control cards, the listing's FORTRAN source and the data.",
+    )
+    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    _add_card_options(p)
+    p.add_argument("--to", choices=FORMATS, default="text", help="card format to punch")
+    p.add_argument("--code", choices=sorted(CODES), default="026",
+                   help="keypunch code of the punched holes (default 026)")
+    p.add_argument("--job", action="store_true", help="punch a whole IBSYS job deck")
+    p.add_argument("--out", metavar="FILE", help="write to FILE (default: stdout)")
+    p.set_defaults(func=_cmd_punch)
+
+
 # --------------------------------------------------------------------------- parse
 
 
 def _cmd_parse(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.deck import READ_LIST, field_columns, read_deck
+    from deck_emulator.legacy.deck import READ_LIST, field_columns
 
-    deck = read_deck(args.deck)
+    deck = _load_one_deck(args)
     if args.json:
         sys.stdout.write(json.dumps(deck.values) + "\n")
         return 0
@@ -101,6 +188,7 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
         "rules and print the values under their READ-list names.",
     )
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    _add_card_options(p)
     p.add_argument(
         "--json", action="store_true", help="print one JSON object, name -> value, in READ order"
     )
@@ -142,17 +230,32 @@ def _describe(run) -> str:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.deck import read_deck
     from deck_emulator.legacy.printer import render_asa
 
-    deck = read_deck(args.deck)
+    job = _load_job(args)
     _check_out(args)
-    out = _emulator(args, trace=False).run(deck)
-    run = out.raw
-    _emit(args, render_asa(run.records) if args.render else run.text())
-    _say(f"{deck.path}: {_describe(run)}")
-    if out.error is not None:
-        _say(f"error: {_stopped(out)}")
+    if args.pages:
+        from deck_emulator.files import check_output_file
+
+        check_output_file(args.pages)
+    engine = _emulator(args, trace=False)
+    records, text, failed = [], "", None
+    for deck in job.decks:  # a job deck's $DATA sections, in turn
+        out = engine.run(deck)
+        run = out.raw
+        records += run.records
+        text += render_asa(run.records) if args.render else run.text()
+        _say(f"{deck.path}: {_describe(run)}")
+        if out.error is not None:
+            failed = out
+            break
+    _emit(args, text)
+    if args.pages:
+        from deck_emulator.legacy.pages import write_pdf
+
+        write_pdf(records, args.pages, paper=args.paper)
+    if failed is not None:
+        _say(f"error: {_stopped(failed)}")
         return EXIT_RUN_FAILED
     return 0
 
@@ -161,6 +264,7 @@ def _add_emulator_options(p: argparse.ArgumentParser) -> None:
     from deck_emulator.legacy.emulator import Limits
 
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    _add_card_options(p)
     p.add_argument("--precision", choices=PRECISIONS, default="double",
                    help="arithmetic: double (IEEE binary64, as the r8 goldens), single (IEEE "
                    "binary32, as the r4 goldens, trapping), ibm7094 (the 1967 machine's 36-bit words)")
@@ -213,6 +317,10 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     )
     _add_emulator_options(p)
     p.add_argument("--out", metavar="FILE", help="write the printout to FILE")
+    p.add_argument("--pages", metavar="FILE.pdf",
+                   help="also lay the printout out as the line printer's pages, as PDF")
+    p.add_argument("--paper", choices=("plain", "striped"), default="plain",
+                   help="the fan-fold paper of --pages (default plain)")
     p.add_argument("--render", action="store_true",
                    help="render ASA carriage control (1 = form feed, 0 = blank line, + = "
                    "overprint) as the POSIX asa utility does, instead of the raw records")
@@ -223,11 +331,10 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.deck import read_deck
     from deck_emulator.legacy.extract import extract
     from deck_emulator.studies import safety
 
-    deck = read_deck(args.deck)
+    deck = _load_one_deck(args)
     _check_out(args)
     engine = _emulator(args)
     out = engine.run(deck)
@@ -624,6 +731,8 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--deck", metavar="DECK", default=None,
                    help="base deck (default: the report's deck steel40, shipped with the package)")
     common(s)
+
+
 
 
 # --------------------------------------------------------------------------- main

@@ -95,7 +95,8 @@ class DeckError(ValueError):
     """Bad input in a card deck.
 
     ``card`` is the 1-based number of the data card ($ control cards not counted) or
-    None, ``columns`` a (first, last) column range or None, ``field`` the READ-list name
+    None, ``file_card`` the 1-based number of a card counting every card of the file,
+    ``columns`` a (first, last) column range or None, ``field`` the READ-list name
     or None, ``path`` the deck's path or None.  ``reason`` is the bare message.
     """
 
@@ -108,6 +109,7 @@ class DeckError(ValueError):
         field: str | None = None,
         path: str | None = None,
         line: int | None = None,
+        file_card: int | None = None,
     ) -> None:
         self.reason = reason
         self.card = card
@@ -115,12 +117,15 @@ class DeckError(ValueError):
         self.field = field
         self.path = path
         self.line = line
+        self.file_card = file_card
         super().__init__(self._message())
 
     def _message(self) -> str:
         where = []
         if self.card is not None:
             where.append(f"card {self.card}")
+        elif self.file_card is not None:
+            where.append(f"card {self.file_card} of the file")
         elif self.line is not None:
             where.append(f"line {self.line}")
         if self.columns is not None:
@@ -145,13 +150,15 @@ class Deck:
     after the 1967 rules (blanks as zeros, implied decimal point, exponent applied),
     with at least five decimals (``'-58.66000'``, ``'0.12345'``, ``'0.00000'``); it is
     exactly the number the FORTRAN READ means, for arithmetics that convert decimals
-    themselves.  ``cards``: the eight data card images, 80 columns each.
+    themselves.  ``cards``: the eight data card images, 80 columns each.  ``warnings``:
+    what is legal but worth saying (a blank card: all its fields read as 0.0).
     """
 
     path: str | None
     values: dict[str, float]
     fields: dict[str, str] = _dc_field(repr=False)
     cards: tuple[str, ...] = _dc_field(repr=False)
+    warnings: tuple[str, ...] = _dc_field(default=(), repr=False, compare=False)
 
     def __getitem__(self, name: str) -> float:
         return self.values[name]
@@ -227,6 +234,20 @@ def parse_deck(text: str | bytes, path: str | None = None) -> Deck:
             line = line[:-1]
         is_control = not data_cards and line.startswith("$")
         card_no = None if is_control else len(data_cards) + 1
+        if len(line) > CARD_COLUMNS and line[CARD_COLUMNS:].strip(" ") == "":
+            line = line[:CARD_COLUMNS]  # blanks after column 80 are no holes
+        if card_no is not None and line.startswith("$"):
+            word = line.split()[0]
+            where = (
+                "after the 8 data cards" if card_no > N_CARDS
+                else f"among the data cards, where READ takes data card {card_no}"
+            )
+            raise DeckError(
+                f"{word} control card {where} (a deck with several $DATA sections is a job deck: each section is run "
+                "in turn by `deck-emulator run`)",
+                card=card_no,
+                path=path,
+            )
         if card_no is not None and card_no > N_CARDS:
             if line.strip(" \r\t") == "":
                 what = "a blank line"
@@ -324,7 +345,11 @@ def _build(cards: list[str], path: str | None) -> Deck:
             )
             values[name] = value
             fields[name] = decimal_text
-    return Deck(path=path, values=values, fields=fields, cards=tuple(cards))
+    warnings = tuple(
+        f"card {n} was blank: its 8 fields ({', '.join(READ_LIST[n - 1])}) read as 0.0"
+        for n, card in enumerate(cards, start=1) if not card.strip(" ")
+    )
+    return Deck(path=path, values=values, fields=fields, cards=tuple(cards), warnings=warnings)
 
 
 _READER = None
@@ -364,15 +389,16 @@ def _read_field(raw: str, *, name: str, card: int, columns, path) -> tuple[float
         converted = _reader().read(text)[0]
     except Exception:  # fortranformat raises ValueError, but be sure nothing else escapes
         raise DeckError(f"not a number: {raw!r}", **where) from None
-    if converted is None or not math.isfinite(converted):
-        raise _out_of_range(raw, text, where)
-    if exact != 0 and converted == 0.0:
-        raise _out_of_range(raw, text, where)
+    if converted is None:
+        raise DeckError(f"not a number: {raw!r}", **where)
 
-    # fortranformat applies the implied decimal point by dividing the converted number by
-    # 10**5, which can round twice; keep the correctly rounded value of the exact decimal.
-    correctly_rounded = float(exact)
-    value = converted if converted == correctly_rounded else correctly_rounded
+    # The range is that of the number the field means, the implied decimal point applied
+    # first, as gfortran's REAL*8 read does: '     1E309' is 1E304, in range.  fortranformat
+    # converts first and divides by 10**5 after (overflowing on 1E309, and rounding twice),
+    # so the value is the correctly rounded one of the exact decimal.
+    value = float(exact)
+    if not math.isfinite(value) or (exact != 0 and value == 0.0):
+        raise _out_of_range(raw, text, where)
     if exact == 0 and exact.is_signed():
         value = -0.0
     return value, _fixed(exact)

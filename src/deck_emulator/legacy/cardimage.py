@@ -1,0 +1,371 @@
+"""Card image files: the formats archives keep punched cards in, read and written.
+
+Each format is the one open-simh's generic card reader and punch define (``sim_card.c``,
+by Richard Cornwell, in the simh repository; its header comment and the routines
+``_sim_parse_card``, ``sim_punch_card``, ``sim_bcd_to_hol`` and ``sim_hol_to_bcd``):
+
+``text``
+    One card a line, LF or CRLF; a short line is a card padded with blanks, blanks after
+    column 80 are tolerated (characters are checked by the deck reader, which names the
+    card and column of anything a card cannot hold); a line holding ``~`` alone (blanks after it allowed) is the end
+    of the file; ``~eor``, ``~eof``, ``~eoi`` stand for the 7-8-9, 6-7-9 and 6-7-8-9 end
+    cards.  The characters are the card's as they stand (no keypunch code applies).  One
+    departure: the simulator expands a tab to the next multiple of 8 columns; the deck
+    reader refuses tabs, naming the card and column, since a data card's columns matter.
+``binary``
+    160 bytes a card, two a column: column ``c`` is ``((b[2c] >> 4) & 0xF) | (b[2c+1] << 4)``,
+    rows 12, 11, 0, 1 ... 9 in bits 11 ... 0; the low four bits of every even byte are 0.
+``cbn`` (column binary)
+    160 bytes a card: byte ``2c`` holds rows 12-3 of column ``c`` (bits 11-6 of the column),
+    byte ``2c+1`` rows 4-9 (bits 5-0); bit 6 of every byte is odd parity over the byte's
+    seven low bits; bit 7 is set on the first byte of each card only.  A record of one byte
+    0x8F (octal 217) is a tape mark, the end of the file.
+``bcd``
+    One record a card, at most 80 bytes, one 6-bit BCD character a byte with even parity in
+    bit 6, bit 7 set on the first byte of each card (the record mark); a short record is a
+    card with blanks after it.  Characters become holes as ``sim_bcd_to_hol`` has it: 020 is
+    a blank column, 012 the digit 0, 000 an 8-2 punch.  ``sim_hol_to_bcd`` (the simulator's
+    punch) writes a blank column as 000, which its own reader takes for 8-2; this module
+    writes a blank as 020, the inverse of the reader, so that a card it punches reads back.
+
+Autodetection follows the simulator: a record mark in the first byte and odd parity
+throughout the first card mean CBN, even parity BCD (the simulator's test for BCD compares
+the count of *odd* bytes with 80, which can never hold for even-parity bytes; the evident
+intent is followed), 160 bytes with all even bytes' low nibbles zero mean binary, anything
+else text.  A file is taken as detected only if it reads whole in exactly one format (the
+one the simulator picks, when it picks one); if it reads in several, the error says which
+and ``--card-format`` decides; if in none, it is read in the format it most resembles (the
+simulator's pick, or, after a record mark, CBN or BCD by the parity of most bytes), so that
+the error names the card and column where that format breaks.
+
+Binary images hold holes, not characters: :func:`card_texts` turns them into text with a
+keypunch code (:mod:`deck_emulator.legacy.keypunch`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from deck_emulator.legacy.deck import CARD_COLUMNS, DeckError
+from deck_emulator.legacy.keypunch import rows_text, to_char, to_holes
+
+__all__ = [
+    "FORMATS", "CardFile", "detect_format", "read_images", "card_texts", "write_images",
+    "bcd_to_holes", "holes_to_bcd", "parity_bit",
+]
+
+FORMATS = ("text", "binary", "cbn", "bcd")
+BINARY_CARD_BYTES = 160
+BCD_CARD_BYTES = 80
+RECORD_MARK = 0x80
+TAPE_MARK = 0o217
+
+# The simulator's special end cards: one punched column, column 1.
+END_CARDS = {"~eor": 0o7, "~eof": 0o15, "~eoi": 0o17}
+_END_BY_HOLES = {v: k for k, v in END_CARDS.items()}
+
+
+def parity_bit(six: int) -> int:
+    """0o100 if the six-bit value has an odd number of ones (the bit that makes the
+    seven-bit byte even), else 0: ``sim_parity_table``."""
+    return 0o100 if bin(six & 0o77).count("1") % 2 else 0
+
+
+def bcd_to_holes(bcd: int) -> int:
+    """The 12-bit column of a six-bit BCD character (``sim_bcd_to_hol``)."""
+    bcd &= 0o77
+    if bcd == 0:
+        return 0x82  # 8-2
+    if bcd == 0o20:
+        return 0  # blank
+    hol = {0o00: 0x000, 0o20: 0x200, 0o40: 0x400, 0o60: 0x800}[bcd & 0o60]
+    if (bcd & 0o17) == 10 and (bcd & 0o60) != 0o20:
+        return hol | (1 << 9)
+    low = bcd & 0o17
+    if low > 9:
+        hol |= 0x2  # row 8
+        low -= 8
+    if low != 0:
+        hol |= 1 << (9 - low)
+    return hol
+
+
+_HOLES_TO_BCD = {bcd_to_holes(b): b for b in range(64)}
+assert len(_HOLES_TO_BCD) == 64
+
+
+def holes_to_bcd(column: int) -> int | None:
+    """The BCD character that reads back as ``column``, or None if none does."""
+    return _HOLES_TO_BCD.get(column)
+
+
+@dataclass(frozen=True)
+class CardFile:
+    """A card file read: its format and its cards.  A card is a ``str`` (text format, the
+    line as it stands, at most 80 columns) or a tuple of 80 twelve-bit columns."""
+
+    format: str
+    cards: tuple[str | tuple[int, ...], ...]
+
+
+def _err(reason: str, path, card=None, column=None) -> DeckError:
+    return DeckError(reason, file_card=card, columns=(column, column) if column else None,
+                     path=path)
+
+
+# ------------------------------------------------------------------------- reading
+
+
+def _read_text(data: bytes, path) -> list[str]:
+    text = data.decode("utf-8", errors="surrogateescape")
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    cards: list[str] = []
+    for number, line in enumerate(lines, start=1):
+        if line.endswith("\r"):
+            line = line[:-1]
+        if line.startswith("~") and line[1:].strip(" \t") == "":
+            break  # end of file
+        if len(line) > CARD_COLUMNS and line[CARD_COLUMNS:].strip(" ") == "":
+            line = line[:CARD_COLUMNS]
+        cards.append(line)
+    return cards
+
+
+def _looks_text(data: bytes, path) -> None:
+    """Raise DeckError unless every byte is printable ASCII, a line end or a tab."""
+    for offset, byte in enumerate(data):
+        if not (0x20 <= byte <= 0x7E or byte in (0x0A, 0x0D, 0x09)):
+            raise _err(f"byte 0x{byte:02X} at offset {offset} is not text", path,
+                       data.count(b"\n", 0, offset) + 1)
+
+
+def _read_binary(data: bytes, path) -> list[tuple[int, ...]]:
+    if len(data) % BINARY_CARD_BYTES:
+        whole, rest = divmod(len(data), BINARY_CARD_BYTES)
+        raise _err(f"file is {len(data)} bytes, not a multiple of {BINARY_CARD_BYTES}: "
+                   f"binary card images are {BINARY_CARD_BYTES} bytes a card, and card "
+                   f"{whole + 1} has only {rest}", path, whole + 1)
+    cards = []
+    for start in range(0, len(data), BINARY_CARD_BYTES):
+        chunk = data[start:start + BINARY_CARD_BYTES]
+        number = start // BINARY_CARD_BYTES + 1
+        columns = []
+        for c in range(CARD_COLUMNS):
+            first, second = chunk[2 * c], chunk[2 * c + 1]
+            if first & 0x0F:
+                raise _err(f"byte 0x{first:02X} at offset {start + 2 * c}: the low four bits "
+                           "of a column's first byte must be 0 in a binary card image",
+                           path, number, c + 1)
+            columns.append(((first >> 4) & 0xF) | (second << 4))
+        cards.append(tuple(columns))
+    return cards
+
+
+def _records(data: bytes, path, name: str) -> list[tuple[int, bytes]]:
+    """Split at record marks: (offset, record) pairs, record marks cleared."""
+    if data and not data[0] & RECORD_MARK:
+        raise _err(f"the first byte (0x{data[0]:02X}) has no record mark (bit 7): not a "
+                   f"{name} card file", path, 1)
+    records = []
+    start = 0
+    for i in range(1, len(data) + 1):
+        if i == len(data) or data[i] & RECORD_MARK:
+            records.append((start, bytes([data[start] & 0x7F]) + data[start + 1:i]))
+            start = i
+    return records
+
+
+def _read_cbn(data: bytes, path) -> list[tuple[int, ...]]:
+    cards = []
+    for number, (offset, record) in enumerate(_records(data, path, "CBN"), start=1):
+        if data[offset] == TAPE_MARK and len(record) == 1:
+            break
+        if len(record) > BINARY_CARD_BYTES or len(record) % 2:
+            raise _err(f"record of {len(record)} bytes at offset {offset}: a CBN card is "
+                       f"{BINARY_CARD_BYTES} bytes (two a column) or a shorter even number",
+                       path, number)
+        columns = [0] * CARD_COLUMNS
+        for i, byte in enumerate(record):
+            six = byte & 0o77
+            if parity_bit(six) == (byte & 0o100):
+                raise _err(f"parity error in byte 0x{data[offset + i]:02X} at offset "
+                           f"{offset + i} (CBN bytes have odd parity, bit 6)",
+                           path, number, i // 2 + 1)
+            columns[i // 2] |= six << 6 if i % 2 == 0 else six
+        cards.append(tuple(columns))
+    return cards
+
+
+def _read_bcd(data: bytes, path) -> list[tuple[int, ...]]:
+    cards = []
+    for number, (offset, record) in enumerate(_records(data, path, "BCD"), start=1):
+        if data[offset] == TAPE_MARK and len(record) == 1:
+            break
+        if len(record) > BCD_CARD_BYTES:
+            raise _err(f"record of {len(record)} bytes at offset {offset}: a BCD card holds "
+                       f"at most {BCD_CARD_BYTES} characters", path, number, BCD_CARD_BYTES + 1)
+        columns = [0] * CARD_COLUMNS
+        for i, byte in enumerate(record):
+            six = byte & 0o77
+            if parity_bit(six) != (byte & 0o100):
+                raise _err(f"parity error in byte 0x{data[offset + i]:02X} at offset "
+                           f"{offset + i} (BCD bytes have even parity, bit 6)",
+                           path, number, i + 1)
+            columns[i] = bcd_to_holes(six)
+        cards.append(tuple(columns))
+    return cards
+
+
+_READERS = {"text": _read_text, "binary": _read_binary, "cbn": _read_cbn, "bcd": _read_bcd}
+
+
+def _simulator_guess(data: bytes) -> str:
+    """The simulator's autodetection on the first card (``_sim_parse_card``, MODE_AUTO)."""
+    mode = "text"
+    if len(data) >= BINARY_CARD_BYTES and not any(
+        data[i] & 0x0F for i in range(0, BINARY_CARD_BYTES, 2)
+    ):
+        mode = "binary"
+    if data and data[0] & RECORD_MARK:
+        even = odd = 0
+        for i, byte in enumerate(data):
+            if i and byte & RECORD_MARK:
+                break  # the next card
+            ch = byte & 0o177
+            if parity_bit(ch) == (ch & 0o100):
+                even += 1
+            else:
+                odd += 1
+        if even == 0 and odd == BINARY_CARD_BYTES:
+            mode = "cbn"
+        elif odd == 0 and 0 < even <= BCD_CARD_BYTES:
+            mode = "bcd"
+    return mode
+
+
+def detect_format(data: bytes, path=None) -> str:
+    """The card format of ``data``, when it is unambiguous; else :class:`DeckError`."""
+    if not data:
+        return "text"
+    fits = []
+    for name in FORMATS:
+        try:
+            (_looks_text if name == "text" else _READERS[name])(data, path)
+        except DeckError:
+            continue
+        fits.append(name)
+    if len(fits) == 1:
+        return fits[0]
+    if len(fits) > 1:
+        raise DeckError(f"the card format is ambiguous: the file reads as {' and as '.join(fits)}"
+                        "; say which with --card-format", path=path)
+    return _nearest_format(data)  # reading it in that format names the error
+
+
+def _nearest_format(data: bytes) -> str:
+    """The format a file that reads in none most resembles: the simulator's pick, except
+    that a first byte with a record mark means CBN or BCD by the parity most of the first
+    record's bytes have (a parity error then names its card and column)."""
+    if data[0] & RECORD_MARK:
+        end = next((i for i in range(1, len(data)) if data[i] & RECORD_MARK), len(data))
+        odd = sum(1 for b in data[:end] if parity_bit(b & 0o77) != (b & 0o100))
+        return "cbn" if 2 * odd > end else "bcd"
+    return _simulator_guess(data)
+
+
+def read_images(data: bytes, card_format: str = "auto", path=None) -> CardFile:
+    """Read a card file's bytes in ``card_format`` ('auto', 'text', 'binary', 'cbn', 'bcd')."""
+    if card_format == "auto":
+        card_format = detect_format(data, path)
+    if card_format not in _READERS:
+        raise DeckError(f"unknown card format {card_format!r} (one of {', '.join(FORMATS)})",
+                        path=path)
+    cards = _READERS[card_format](data, path)
+    return CardFile(card_format, tuple(cards))
+
+
+def card_texts(card_file: CardFile, keypunch: str | None = None, path=None) -> list[str]:
+    """Every card as text: text cards as they stand, binary ones through ``keypunch``
+    ('026', the default, or '029').  A column no character of the code stands for is a
+    :class:`DeckError` naming the card, the column and the rows punched."""
+    code = keypunch or "026"
+    texts = []
+    for number, card in enumerate(card_file.cards, start=1):
+        if isinstance(card, str):
+            texts.append(card)
+            continue
+        if card[0] in _END_BY_HOLES and not any(card[1:]):
+            texts.append(_END_BY_HOLES[card[0]])
+            continue
+        chars = []
+        for column, holes in enumerate(card, start=1):
+            ch = to_char(holes, code)
+            if ch is None:
+                hint = ""
+                if holes == 0x82 and card_file.format == "bcd":
+                    hint = " (BCD character 00, which the simulator's punch writes for a blank)"
+                raise _err(f"rows {rows_text(holes)} punched: no character of the {code} "
+                           f"keypunch code{hint}", path, number, column)
+            chars.append(ch)
+        texts.append("".join(chars))
+    return texts
+
+
+# ------------------------------------------------------------------------- writing
+
+
+def _card_holes(text: str, number: int, code: str) -> list[int]:
+    if len(text) > CARD_COLUMNS:
+        raise _err(f"card text is {len(text)} columns; a card holds {CARD_COLUMNS}",
+                   None, number, CARD_COLUMNS + 1)
+    if text in END_CARDS:
+        return [END_CARDS[text]] + [0] * (CARD_COLUMNS - 1)
+    columns = []
+    for column, ch in enumerate(text.ljust(CARD_COLUMNS), start=1):
+        holes = to_holes(ch, code)
+        if holes is None:
+            raise _err(f"{ch!r} has no punch in the {code} keypunch code", None, number, column)
+        columns.append(holes)
+    return columns
+
+
+def write_images(texts: list[str], card_format: str, keypunch: str | None = None) -> bytes:
+    """Punch the card texts in ``card_format`` with ``keypunch`` ('026' default, '029')."""
+    code = keypunch or "026"
+    out = bytearray()
+    for number, text in enumerate(texts, start=1):
+        if card_format == "text":
+            if len(text) > CARD_COLUMNS or not all(" " <= ch <= "~" for ch in text):
+                raise _err("not a text card (printable ASCII, at most 80 columns)", None, number)
+            out += text.rstrip(" ").encode("ascii") + b"\n"
+            continue
+        columns = _card_holes(text, number, code)
+        if card_format == "binary":
+            for col in columns:
+                out += bytes([(col & 0x00F) << 4, (col & 0xFF0) >> 4])
+        elif card_format == "cbn":
+            card = bytearray()
+            for col in columns:
+                card += bytes([(col >> 6) & 0o77, col & 0o77])
+            for i, six in enumerate(card):
+                card[i] = six | (0o100 ^ parity_bit(six))
+            card[0] |= RECORD_MARK
+            out += card
+        elif card_format == "bcd":
+            card = bytearray()
+            for column, col in enumerate(columns, start=1):
+                bcd = holes_to_bcd(col)
+                if bcd is None:
+                    raise _err(f"rows {rows_text(col)} have no BCD character", None, number,
+                               column)
+                card.append(bcd | parity_bit(bcd))
+            blank = 0o20 | parity_bit(0o20)
+            while len(card) > 1 and card[-1] == blank:
+                card.pop()  # trailing blanks: a short record
+            card[0] |= RECORD_MARK
+            out += card
+        else:
+            raise DeckError(f"unknown card format {card_format!r} (one of {', '.join(FORMATS)})")
+    return bytes(out)

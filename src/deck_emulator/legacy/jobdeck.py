@@ -1,0 +1,244 @@
+"""Whole decks as they went into the reader: IBSYS job decks in any card format.
+
+An IBSYS job deck puts control cards with ``$`` in column 1 around the program and its
+data::
+
+    $JOB            ...
+    $EXECUTE        IBJOB
+    $IBJOB
+    $IBFTC MAIN                 FORTRAN IV source cards follow
+          READ(5,1)V1B,...
+    ...
+    $IBFTC SR1                  another routine
+    ...
+    $ENTRY   (or)   $DATA       the data cards follow
+    0.0       0.0 ...           eight cards in FORMAT(8F10.5)
+    $IBSYS          (end cards)
+
+A deck of data cards alone (``$DATA`` and eight cards, optionally with control cards before
+them) is a plain deck and reads exactly as :func:`deck_emulator.legacy.deck.parse_deck` reads
+it.  Any other arrangement of ``$`` cards is a job deck: every ``$DATA`` (or ``$ENTRY``)
+section is a deck of its own, run in turn; a section ends at the next ``$`` card or end card
+(the simulator's ``~eor``, ``~eof``, ``~eoi``).  A ``$ENTRY`` card directly followed by
+``$DATA`` starts one section, not two.
+
+When the deck carries FORTRAN source (cards after ``$IBFTC``), it is compared statement by
+statement with the listing the emulator follows (``legacy/luminaire.f``, shipped with the
+package as a byte-for-byte copy): comments (``C`` or ``*`` in column 1) and blank cards are
+not statements, columns 73-80 are ignored, a card with a character other than blank or 0 in
+column 6 continues the statement before it, and blanks are ignored everywhere (FORTRAN
+ignores them; so does this comparison, inside Hollerith texts too).  The listing's own
+``C$IBFTC`` comment lines stand for the control cards the deck carries.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from importlib import resources
+
+from deck_emulator.legacy.cardimage import END_CARDS, card_texts, read_images
+from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck
+
+__all__ = ["Job", "read_job", "parse_job", "Statement", "statements", "listing_lines",
+           "compare_source", "job_deck_texts", "data_deck_texts"]
+
+_MAX_BYTES = 1 << 22
+LISTING_NAME = "legacy/luminaire.f"
+# Control cards that end a section and start none.
+_DATA_STARTS = ("$DATA", "$ENTRY")
+
+
+@dataclass(frozen=True)
+class Statement:
+    label: str
+    text: str  # columns 7-72 of the card and its continuations, blanks removed
+    line: int  # card (or line) where it starts, 1-based
+
+
+def statements(lines: list[str], numbers: list[int] | None = None) -> list[Statement]:
+    """The FORTRAN statements of fixed-form source lines (see the module docstring);
+    ``numbers`` are the lines' card or line numbers (default 1, 2, ...)."""
+    result: list[Statement] = []
+    for number, raw in zip(numbers or range(1, len(lines) + 1), lines):
+        line = raw[:72]
+        if not line.strip() or line[:1] in ("C", "c", "*") or line.startswith("$"):
+            continue
+        body = "".join(line[6:].split())
+        if len(line) > 5 and line[5] not in (" ", "0") and result:
+            last = result[-1]
+            result[-1] = Statement(last.label, last.text + body, last.line)
+            continue
+        result.append(Statement("".join(line[:5].split()), body, number))
+    return result
+
+
+def listing_lines() -> list[str]:
+    """The lines of the listing (the package's copy of ``legacy/luminaire.f``)."""
+    text = resources.files("deck_emulator.legacy").joinpath("luminaire.f").read_text("ascii")
+    return text.splitlines()
+
+
+def _shown(s: Statement) -> str:
+    return f"{s.label + ' ' if s.label else ''}{s.text}"
+
+
+def compare_source(source: list[tuple[int, str]]) -> str:
+    """One line: whether the source cards ((file card number, text) pairs) are the
+    listing's program, or the first statement where they differ."""
+    deck = statements([text for _, text in source], [number for number, _ in source])
+    listing = statements(listing_lines())
+    for index, (mine, theirs) in enumerate(zip(deck, listing), start=1):
+        if (mine.label, mine.text) != (theirs.label, theirs.text):
+            return (f"source: NOT the listing's program ({LISTING_NAME}): statement {index} "
+                    f"differs, deck card {mine.line} {_shown(mine)!r} against listing line "
+                    f"{theirs.line} {_shown(theirs)!r}")
+    if len(deck) < len(listing):
+        nxt = listing[len(deck)]
+        return (f"source: NOT the listing's program ({LISTING_NAME}): the deck's source ends "
+                f"after {len(deck)} statements; the listing goes on at line {nxt.line} "
+                f"{_shown(nxt)!r}")
+    if len(deck) > len(listing):
+        extra = deck[len(listing)]
+        return (f"source: NOT the listing's program ({LISTING_NAME}): the deck has more "
+                f"statements than the listing's {len(listing)}, from card {extra.line} "
+                f"{_shown(extra)!r}")
+    return (f"source: the same program as the listing ({LISTING_NAME}), {len(listing)} "
+            "statements (columns 73-80 and blanks ignored)")
+
+
+@dataclass(frozen=True)
+class Job:
+    """A deck read whole: its card format, its data decks in order, and what its source
+    is (None when it carries none)."""
+
+    path: str | None
+    card_format: str
+    decks: tuple[Deck, ...]
+    source_verdict: str | None = None
+    control_cards: tuple[str, ...] = field(default=(), repr=False)
+
+
+def read_job(path, card_format: str = "auto", keypunch: str | None = None) -> Job:
+    """Read a deck file (plain or job deck, any card format).  DeckError for bad input."""
+    shown = os.fsdecode(path)
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(_MAX_BYTES + 1)
+    except FileNotFoundError:
+        raise DeckError("no such file", path=shown) from None
+    except IsADirectoryError:
+        raise DeckError("is a directory, not a deck file", path=shown) from None
+    except (OSError, ValueError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise DeckError(f"cannot read: {reason}", path=shown) from None
+    if len(data) > _MAX_BYTES:
+        raise DeckError(f"file is larger than {_MAX_BYTES} bytes", path=shown)
+    return parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
+
+
+def _is_control(text: str) -> bool:
+    return text.startswith("$") or text[:4].lower() in END_CARDS
+
+
+def _word(text: str) -> str:
+    return text.split()[0].upper() if text.strip() else text
+
+
+def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
+              keypunch: str | None = None) -> Job:
+    """Parse a deck file's bytes; see the module docstring."""
+    if not isinstance(data, (bytes, bytearray)):
+        raise TypeError(f"parse_job needs bytes, not {type(data).__name__}")
+    data = bytes(data)
+    images = read_images(data, card_format, path=path)
+    texts = card_texts(images, keypunch, path=path)
+
+    # a plain deck: control cards (if any) only before the data cards, at most one $DATA
+    first_data = next((i for i, t in enumerate(texts) if not _is_control(t)), len(texts))
+    words = [_word(t) for t in texts if _is_control(t)]
+    plain = (not any(_is_control(t) for t in texts[first_data:])
+             and "$IBFTC" not in words and words.count("$DATA") <= 1)
+    if plain:
+        if images.format == "text" and not (data.startswith(b"~") or b"\n~" in data):
+            deck = parse_deck(data, path=path)  # exactly the reader of text decks
+        else:
+            deck = parse_deck("\n".join(texts), path=path)
+        return Job(path, images.format, (deck,), None, tuple(t for t in texts if _is_control(t)))
+
+    sections: list[tuple[int, list[str]]] = []  # (file card number of the $DATA card, cards)
+    source: list[tuple[int, str]] = []
+    controls: list[str] = []
+    state = "control"
+    for number, text in enumerate(texts, start=1):
+        if _is_control(text):
+            controls.append(text)
+            word = _word(text)
+            if word in _DATA_STARTS:
+                if sections and state == "data" and not sections[-1][1] and \
+                        _word(texts[sections[-1][0] - 1]) == "$ENTRY":
+                    sections.pop()  # $ENTRY directly followed by $DATA: one section
+                sections.append((number, []))
+                state = "data"
+            elif word == "$IBFTC":
+                state = "source"
+            else:
+                state = "control"
+            continue
+        if state == "source":
+            source.append((number, text))
+        elif state == "data":
+            sections[-1][1].append(text)
+        elif text.strip():
+            raise DeckError(f"a card outside any $IBFTC or $DATA section (after the control "
+                            f"card {controls[-1].strip()!r})" if controls else
+                            "a card before any control card in a job deck",
+                            file_card=number, path=path)
+    if not sections:
+        raise DeckError("job deck without a $DATA (or $ENTRY) card: no data cards for the "
+                        "8 READ statements", path=path)
+    decks = []
+    for index, (number, cards) in enumerate(sections, start=1):
+        where = f"{path + ': ' if path else ''}$DATA section {index} (card {number} of the file)"
+        decks.append(parse_deck("\n".join(cards) + ("\n" if cards else ""), path=where))
+    verdict = compare_source(source) if source else None
+    return Job(path, images.format, tuple(decks), verdict, tuple(controls))
+
+
+# ------------------------------------------------------------------------- writing
+
+
+def data_deck_texts(decks: list[Deck]) -> list[str]:
+    """Card texts of plain data decks: a ``$DATA`` card and 8 data cards each."""
+    texts: list[str] = []
+    for deck in decks:
+        texts += ["$DATA", *(card.rstrip(" ") for card in deck.cards)]
+    return texts
+
+
+def _punchable(line: str) -> str:
+    """A comment card's text on a 1967 keypunch: capitals, and characters the FORTRAN
+    set lacks (the transcription's ``;``) punched as blanks."""
+    allowed = set("ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 =+-*/(),.$'")
+    return "".join(ch if ch in allowed else " " for ch in line.upper())
+
+
+def job_deck_texts(decks: list[Deck], job_name: str = "LUMIN") -> list[str]:
+    """Card texts of a whole IBSYS job deck: control cards, the listing's source (its
+    ``C$`` comment lines as the control cards they stand for; its comment cards in capitals
+    with the characters no keypunch had, such as ``;``, left blank), ``$ENTRY``, and each
+    deck's ``$DATA`` section."""
+    texts = [f"$JOB           {job_name}", "$EXECUTE       IBJOB", "$IBJOB"]
+    for line in listing_lines():
+        line = line.rstrip()
+        if line.startswith("C$"):
+            if _word(line[1:]) not in ("$EXECUTE", "$IBJOB"):  # those head the job already
+                texts.append(line[1:])
+            continue
+        texts.append(_punchable(line) if line[:1] in ("C", "*") else line)
+    texts += ["$ENTRY         MAIN"]
+    for deck in decks:
+        texts += ["$DATA", *(card.rstrip(" ") for card in deck.cards)]
+    texts.append("$IBSYS")
+    assert all(len(t) <= CARD_COLUMNS for t in texts)
+    return texts

@@ -1,0 +1,128 @@
+"""The printout as the line printer laid it on paper: pages, as PDF.
+
+The 7094's printer (an IBM 1403 on the 1401 or the 7094's own channel; facts from the IBM
+1403 manuals as summarised in the project's reference notes):
+
+* 132 print positions at 10 characters an inch, 6 lines an inch;
+* an 11-inch form holds 66 lines; channel 1 of the carriage-control tape marks the form's
+  first line, here line 1 (the top of the form); fan-fold paper 14 7/8 inches wide;
+* FORTRAN carriage control, column 1 of each record, is obeyed before the line prints:
+  blank = space one line, ``0`` = two (one blank line), ``-`` = three (two blank lines; not
+  every installation had it, it is followed here), ``1`` = skip to channel 1 (a new form),
+  ``+`` = no spacing (print over the line before).  Any other character spaces one line.
+* There is no overflow control: nothing in the listing tests channel 12, so a line past the
+  66th prints on the next form, across the perforation, as the paper simply moves on.
+* A ``1`` before anything is printed leaves the printer on the first form (as POSIX ``asa``
+  does); whether an operator's first skip fed one blank form is not known.
+* Print positions beyond 132 are not printed.  The listing printed no page numbers and none
+  are added.
+
+Each printed line's baseline sits 1/6 inch below the previous one; line ``n`` of a form
+(1-based) has its baseline ``BASELINE_DROP`` above the bottom of its 1/6-inch band.  The face
+is PDF's standard Courier at 12 points, whose advance is exactly 1/10 inch.  ``striped`` paper
+has green bars three lines (half an inch) deep, starting with a bar on lines 1-3.
+"""
+
+from __future__ import annotations
+
+import os
+
+__all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
+           "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "form_figure", "write_pdf"]
+
+LINES_PER_FORM = 66
+LINES_PER_INCH = 6
+CHARS_PER_INCH = 10
+PRINT_POSITIONS = 132
+PAGE_WIDTH_IN = 14.875
+PAGE_HEIGHT_IN = LINES_PER_FORM / LINES_PER_INCH  # 11
+LEFT_MARGIN_IN = (PAGE_WIDTH_IN - PRINT_POSITIONS / CHARS_PER_INCH) / 2
+BASELINE_DROP = 0.04  # inch, baseline above the bottom of the line's band
+# PDF's standard Courier (not embedded; every reader has it): 600/1000 em a character,
+# so at 12 points exactly 7.2 points, 1/10 inch -- the 1403's pitch.
+_FONT = "Courier"
+_ADVANCE_EM = 600 / 1000
+FONT_SIZE_PT = 72 / CHARS_PER_INCH / _ADVANCE_EM  # 12
+
+
+def layout(records: list[str]) -> list[list[tuple[int, str]]]:
+    """Forms of (line number 1..66, printed text) in the order printed, from records
+    with carriage control in column 1."""
+    forms: list[list[tuple[int, str]]] = [[]]
+    line = 0  # the line last printed on; 0: the form is fresh, at channel 1
+    for record in records:
+        control, text = (record[:1] or " "), record[1 : 1 + PRINT_POSITIONS]
+        if control == "1":
+            if line or forms[-1]:
+                forms.append([])
+            line = 1
+        elif control == "+":
+            line = max(line, 1)
+        else:
+            line += {"0": 2, "-": 3}.get(control, 1)
+        while line > LINES_PER_FORM:
+            forms.append([])
+            line -= LINES_PER_FORM
+        forms[-1].append((line, text))
+    return forms
+
+
+def baseline_in(line: int) -> float:
+    """Height of line ``line``'s baseline above the bottom of the form, in inches."""
+    return PAGE_HEIGHT_IN - line / LINES_PER_INCH + BASELINE_DROP
+
+
+def column_x_in(position: int) -> float:
+    """Left edge of print position ``position`` (1-based), in inches from the form's left."""
+    return LEFT_MARGIN_IN + (position - 1) / CHARS_PER_INCH
+
+
+def _paper(fig, paper: str) -> None:
+    from matplotlib.patches import Circle, Rectangle
+
+    w, h = PAGE_WIDTH_IN, PAGE_HEIGHT_IN
+    if paper == "striped":
+        for first in range(1, LINES_PER_FORM + 1, 6):
+            top = h - (first - 1) / LINES_PER_INCH
+            fig.add_artist(Rectangle(((LEFT_MARGIN_IN - 0.2) / w, (top - 0.5) / h),
+                                     (PRINT_POSITIONS / CHARS_PER_INCH + 0.4) / w, 0.5 / h,
+                                     transform=fig.transFigure, color="#d8ecd8", lw=0))
+    for k in range(22):  # tractor holes, every half inch, a quarter inch from each edge
+        y = (k + 0.5) / 2
+        for x in (0.25, w - 0.25):
+            fig.add_artist(Circle((x / w, y / h), 0.08 / w, transform=fig.transFigure,
+                                  fill=False, color="#b0b0b0", lw=0.6))
+
+
+_RC = {"pdf.use14corefonts": True, "font.family": "monospace", "font.monospace": [_FONT]}
+
+
+def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
+    """One form as a matplotlib Figure, 14 7/8 by 11 inches."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
+    _paper(fig, paper)
+    for line, text in form:
+        stripped = text.lstrip(" ")
+        if not stripped.strip():
+            continue
+        first = len(text) - len(stripped) + 1
+        fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
+                 stripped.rstrip(" "), family="monospace", weight="medium", size=FONT_SIZE_PT,
+                 ha="left", va="baseline")
+    return fig
+
+
+def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain") -> int:
+    """Write the printout's forms to ``path`` as PDF; return the number of pages."""
+    from matplotlib import rc_context
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    if paper not in ("plain", "striped"):
+        raise ValueError(f"paper must be plain or striped, not {paper!r}")
+    forms = layout(records)
+    with rc_context(_RC), PdfPages(path) as pdf:
+        for form in forms:
+            pdf.savefig(form_figure(form, paper))
+    return len(forms)
