@@ -60,3 +60,15 @@ def test_sweep_and_study_need_no_base_deck_path(installed):
                  cwd=work, timeout=600)
     assert study.returncode == 0, study.stderr
     assert (work / "stab" / "README.md").is_file()
+
+
+def test_the_listing_ships_with_the_package(installed):
+    """Job decks carrying the program's source are compared with the listing: the installed
+    package holds it (the checkout's file, through a link in the package's folder)."""
+    exe, work = installed
+    python = exe.parent / "python"
+    code = ("import importlib.resources as r; "
+            "print(r.files('deck_emulator.legacy').joinpath('luminaire.f').read_text(), end='')")
+    proc = _run([str(python), "-c", code], cwd=work)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == (ROOT / "legacy" / "luminaire.f").read_text()

@@ -192,13 +192,21 @@ class Deck:
 
 def read_deck(path: str | os.PathLike[str]) -> Deck:
     """Read a deck file.  Raises :class:`DeckError` for any bad input."""
+    shown, data = read_bytes(path, "a deck is 8 cards of 80 columns")
+    return parse_deck(data, path=shown)
+
+
+def read_bytes(path: str | os.PathLike[str], what: str = "",
+               limit: int = _MAX_BYTES) -> tuple[str, bytes]:
+    """A deck file's name as shown to the user, and its bytes (at most ``limit``);
+    :class:`DeckError` naming the file for anything that stops the read."""
     try:
         shown = os.fsdecode(path)
     except TypeError:
         raise TypeError(f"read_deck needs a path, not {type(path).__name__}") from None
     try:
         with open(path, "rb") as handle:
-            data = handle.read(_MAX_BYTES + 1)
+            data = handle.read(limit + 1)
     except FileNotFoundError:
         raise DeckError("no such file", path=shown) from None
     except IsADirectoryError:
@@ -208,12 +216,10 @@ def read_deck(path: str | os.PathLike[str]) -> Deck:
     except (OSError, ValueError) as exc:  # ValueError: e.g. a NUL byte in the path
         reason = getattr(exc, "strerror", None) or str(exc)
         raise DeckError(f"cannot read: {reason}", path=shown) from None
-    if len(data) > _MAX_BYTES:
-        raise DeckError(
-            f"file is larger than {_MAX_BYTES} bytes; a deck is 8 cards of 80 columns",
-            path=shown,
-        )
-    return parse_deck(data, path=shown)
+    if len(data) > limit:
+        raise DeckError(f"file is larger than {limit} bytes" + (f"; {what}" if what else ""),
+                        path=shown)
+    return shown, data
 
 
 def parse_deck(text: str | bytes, path: str | None = None) -> Deck:

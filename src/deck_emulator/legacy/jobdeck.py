@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 
 from deck_emulator.legacy.cardimage import END_CARDS, card_texts, read_images
-from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck
+from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck, read_bytes
 
 __all__ = ["Job", "read_job", "parse_job", "Statement", "statements", "listing_lines",
            "compare_source", "job_deck_texts", "data_deck_texts"]
@@ -121,19 +121,7 @@ class Job:
 
 def read_job(path, card_format: str = "auto", keypunch: str | None = None) -> Job:
     """Read a deck file (plain or job deck, any card format).  DeckError for bad input."""
-    shown = os.fsdecode(path)
-    try:
-        with open(path, "rb") as handle:
-            data = handle.read(_MAX_BYTES + 1)
-    except FileNotFoundError:
-        raise DeckError("no such file", path=shown) from None
-    except IsADirectoryError:
-        raise DeckError("is a directory, not a deck file", path=shown) from None
-    except (OSError, ValueError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise DeckError(f"cannot read: {reason}", path=shown) from None
-    if len(data) > _MAX_BYTES:
-        raise DeckError(f"file is larger than {_MAX_BYTES} bytes", path=shown)
+    shown, data = read_bytes(path, limit=_MAX_BYTES)
     return parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
 
 
