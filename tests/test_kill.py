@@ -213,3 +213,52 @@ def test_study_interrupted_leaves_no_temporary_and_no_worker(tmp_path):
         assert p.returncode == code, p.stderr.read()
         assert p.leftover == [], "worker processes outlived the interrupted study"
         assert sorted(x.name for x in tmp_path.iterdir()) == []  # no folder, no staging
+
+
+# ----------------------------------------------------------------------------- sweep
+
+
+SWEEP = ["sweep", "--speeds", "20,30,40", "--angles", "0,15", "--erratum", "ed-direction",
+         "--jobs", "2", "--quiet"]
+
+
+def test_sweep_killed_anywhere_leaves_old_or_new(tmp_path):
+    ref = tmp_path / "ref"
+    full = timed(CLI + SWEEP + ["--out", str(ref)])
+    expected = {p.name: p.read_bytes() for p in ref.iterdir()}
+    out = tmp_path / "out"
+    old = {"sweep.csv": b"old,csv\n", "sweep.md": b"# old\n"}
+    for delay in delays(full, 3, seed=19):
+        out.mkdir(exist_ok=True)
+        for name, data in old.items():
+            (out / name).write_bytes(data)
+        p = killed_at(CLI + SWEEP + ["--out", str(out)], delay)
+        assert p.leftover == [], "sweep workers outlived the killed command"
+        now = {q.name: q.read_bytes() for q in out.iterdir() if not q.name.startswith(".")}
+        # both old, or both new and whole (run times and the command line may differ)
+        assert now == old or (_rows(now["sweep.csv"]) == _rows(expected["sweep.csv"])
+                              and now["sweep.md"].replace(str(out).encode(), b"")
+                              == expected["sweep.md"].replace(str(ref).encode(), b"")), now
+
+
+def _rows(csv_bytes: bytes) -> list[dict]:
+    import csv
+    import io
+
+    rows = list(csv.DictReader(io.StringIO(csv_bytes.decode())))
+    for r in rows:
+        r.pop("run_s")
+    return rows
+
+
+def test_sweep_interrupted_leaves_no_temporary_and_no_worker(tmp_path):
+    out = tmp_path / "new"
+    full = timed(CLI + SWEEP + ["--out", str(tmp_path / "ref")])
+    for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
+        p = killed_at(CLI + SWEEP + ["--out", str(out)], 0.5 * full, sig)
+        if p.returncode == 0:  # it finished first on a fast machine: nothing to check
+            continue
+        assert p.returncode == code, p.stderr.read()
+        assert p.leftover == [], "sweep workers outlived the interrupted command"
+        assert not out.exists()
+        assert sorted(x.name for x in tmp_path.iterdir() if x.name.startswith(".")) == []
