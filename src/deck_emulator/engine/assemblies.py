@@ -9,7 +9,7 @@ layer.
 
 from __future__ import annotations
 
-from deck_emulator.core.assembly import AssemblyError, mass_properties
+from deck_emulator.core.assembly import Assembly, AssemblyError, MassProperties, mass_properties
 
 __all__ = ["to_deck_values", "to_deck_text", "to_scene"]
 

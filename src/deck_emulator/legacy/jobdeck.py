@@ -33,7 +33,6 @@ ignores them; so does this comparison, inside Hollerith texts too).  The listing
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 from importlib import resources
 

@@ -46,7 +46,6 @@ __all__ = [
     "save_pulse",
     "save_animation",
     "instants",
-    "add_parser",
 ]
 
 VIEWS = ("side", "plan", "3d", "all")

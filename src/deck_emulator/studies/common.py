@@ -10,14 +10,11 @@ emulator defect: ``guard = "crash"``).
 
 from __future__ import annotations
 
-import csv
 import datetime
-import io
 import math
 import os
 import platform
 import statistics
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -28,6 +25,7 @@ from deck_emulator.engine import EmulatorEngine, errata as errata_policy
 from deck_emulator.studies.diff import legacy_options
 from deck_emulator.core import kinetic_energy, simulate
 from deck_emulator.files import write_file
+from deck_emulator.studies.csvfile import csv_text, csv_value
 from deck_emulator.legacy.emulator import EmulatorError, Limits
 from deck_emulator.legacy.printer import event_message
 
@@ -216,29 +214,12 @@ def machine_line(m: dict, jobs: int, wall_s: float) -> str:
             f"{wall_s:.0f} s.")
 
 
-def csv_text(rows: list[dict], columns: list[str]) -> str:
-    """The CSV of ``rows`` (one line per row, ``columns`` in order) as text."""
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
-    w.writeheader()
-    for row in rows:
-        w.writerow({c: fmt_csv(row.get(c)) for c in columns})
-    return buf.getvalue()
-
-
 def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
     """Write :func:`csv_text` to ``path`` whole or not at all."""
     write_file(path, csv_text(rows, columns))
 
 
-def fmt_csv(v):
-    if v is None:
-        return ""
-    if isinstance(v, (float, np.floating)):
-        return "" if math.isnan(v) else repr(float(v))
-    if isinstance(v, np.integer):
-        return int(v)
-    return v
+fmt_csv = csv_value  # the one cell format (deck_emulator.studies.csvfile)
 
 
 def fmt(v, spec=".3g", none="–") -> str:

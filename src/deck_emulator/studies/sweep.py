@@ -34,8 +34,6 @@ Rules (stated once, here)
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
@@ -46,6 +44,7 @@ from deck_emulator.events import Surface
 from deck_emulator.legacy.deck import Deck, read_deck
 from deck_emulator.parallel import parallel_map
 from deck_emulator.studies import safety
+from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.report_tables import report_comment
 from deck_emulator.units import FT_PER_MILE, S_PER_HOUR
 
@@ -279,24 +278,9 @@ def sweep(
 # ============================================================================== writing
 
 
-def _csv_value(v):
-    if v is None:
-        return ""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, float):
-        return "" if math.isnan(v) else repr(v)
-    return v
-
-
 def write_csv(rows: list[dict]) -> str:
-    cols = list(rows[0].keys()) if rows else list(COLUMNS)
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(cols)
-    for r in rows:
-        w.writerow([_csv_value(r.get(c)) for c in cols])
-    return buf.getvalue()
+    """The sweep's CSV: one row per scene, the columns of :data:`COLUMNS`."""
+    return csv_text(rows, list(rows[0].keys()) if rows else list(COLUMNS))
 
 
 def _num(x, nd=2, signed=False):

@@ -1,0 +1,32 @@
+"""The one CSV layout of the studies' tables: a header, one line a row, ``repr`` floats (they
+read back exactly), empty cells for None and NaN, ``true``/``false`` for booleans."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import numbers
+
+
+def csv_value(v):
+    """One cell as the CSV holds it."""
+    if v is None:
+        return ""
+    if isinstance(v, bool) or type(v).__name__ == "bool_":
+        return "true" if v else "false"
+    if isinstance(v, numbers.Integral):
+        return int(v)
+    if isinstance(v, numbers.Real):
+        return "" if math.isnan(v) else repr(float(v))
+    return v
+
+
+def csv_text(rows: list[dict], columns) -> str:
+    """The CSV of ``rows`` (one line per row, ``columns`` in order) as text."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(columns), extrasaction="ignore", lineterminator="\n")
+    w.writeheader()
+    for row in rows:
+        w.writerow({c: csv_value(row.get(c)) for c in columns})
+    return buf.getvalue()
