@@ -21,11 +21,24 @@ Departures from the listing are options, off by default:
 Guards end what the 1967 program could not: ED's search without a root, label 108 halving for
 ever, a post that never lands, and any non-finite value (see :class:`Limits`); each raises
 :class:`EmulatorError` naming the label, the statement's variable, the step and the time.
+
+Speed (binary64): the values are Python floats and the sines and cosines the C library's own;
+finiteness is checked once per block, on the variables the block assigns (found in this text
+once, at import), not on every assignment. When a block leaves a NaN or an infinity, or the
+arithmetic raises, the run is replayed from the start in the checking mode, where every
+assignment is checked, so the error names the statement exactly as before; the program is
+deterministic, so the replay reaches the same point. The other arithmetics always check every
+assignment (their own operations trap first anyway).
 """
 
 from __future__ import annotations
 
+import ast
+import inspect
 import linecache
+import math
+import operator
+import re
 import sys
 import traceback
 from dataclasses import dataclass, field
@@ -89,10 +102,10 @@ class Run:
 
 
 class _Vars:
-    """The variables of one program unit. Every assignment of a real is checked: a NaN or an
-    infinity stops the run at that statement (as gfortran's trapping build does). A variable
-    read before any assignment is zero, as in the 7094's cleared core (and gfortran's
-    -fno-automatic -finit-local-zero): INTEGER by FORTRAN's implicit rule (I-N) or REAL."""
+    """The variables of one program unit. A variable read before any assignment is zero, as in
+    the 7094's cleared core (and gfortran's -fno-automatic -finit-local-zero): INTEGER by
+    FORTRAN's implicit rule (I-N) or REAL. Assignments are not checked here: the label machine
+    checks each block's variables when the block ends (see Program._dispatch)."""
 
     def __init__(self, isfinite, zero):
         object.__setattr__(self, "_isfinite", isfinite)
@@ -103,10 +116,29 @@ class _Vars:
             raise AttributeError(name)
         return 0 if name[0] in "IJKLMN" else self._zero
 
+
+class _CheckedVars(_Vars):
+    """The checking mode: every assignment of a real is checked, and a NaN or an infinity stops
+    the run at that statement (as gfortran's trapping build does)."""
+
     def __setattr__(self, name, value):
         if type(value) is not int and not self._isfinite(value):
             raise _NonFinite(name)
         object.__setattr__(self, name, value)
+
+
+class _Replay(Exception):
+    """The fast run met a non-finite value or a fault: replay the run in the checking mode."""
+
+
+def _if_float(x, neg, zero, pos):
+    """Arithmetic IF on a Python int or float (a minus zero is zero; a NaN goes to zero, as
+    ``Arithmetic.sign`` sends it)."""
+    return neg if x < 0 else pos if x > 0 else zero
+
+
+def _square(x):
+    return x*x
 
 
 class _NonFinite(ArithmeticError):
@@ -219,7 +251,7 @@ class Program:
 
     def __init__(self, deck, arithmetic: Arithmetic | str = "double", *, errata=(),
                  step_scale_k: int = 0, tha_start: str | None = None, ed_tolerance: str = ".0001",
-                 limits: Limits = Limits(), trace: bool = True):
+                 limits: Limits = Limits(), trace: bool = True, checking: bool = False):
         self.ar = get_arithmetic(arithmetic) if isinstance(arithmetic, str) else arithmetic
         unknown = set(errata) - set(ERRATA)
         if unknown:
@@ -232,13 +264,30 @@ class Program:
         self.limits = limits
         self.deck = deck
         self.keep_trace = trace
-        self._consts: dict[str, object] = {}
-        self.v = _Vars(self.ar.isfinite, self.ar.decimal("0.0"))
+        self.options = dict(errata=errata, step_scale_k=step_scale_k, tha_start=tha_start,
+                            ed_tolerance=ed_tolerance, limits=limits, trace=trace)
+        # binary64 runs unchecked and checks once per block; the rest check every assignment
+        self.fast = bool(getattr(self.ar, "native_float", False)) and not checking
+        self.v = (_Vars if self.fast else _CheckedVars)(self.ar.isfinite, self.ar.decimal("0.0"))
+        # the literals of the program text, converted by the arithmetic once per run
+        self._consts = {text: self.ar.decimal(text) for text in _LITERALS}
+        if tha_start is not None:
+            self._consts[tha_start] = self.ar.decimal(tha_start)
+        self._steps = {}
+        for text in _STEP_LITERALS:
+            c = self._consts[text]
+            for _ in range(self.k):
+                c = c / self._consts["2."]
+            self._steps[text] = c
+        self.K = self._consts.__getitem__  # K("0.01"): a literal of the program text
+        self.KSTEP = self._steps.__getitem__  # KSTEP("0.0004"): a literal meaning one step
+        if self.fast:
+            self.IF, self.P2 = _if_float, _square
         self.free_flight = False
         self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
         self.ed_tolerance = ed_tolerance
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
-        self.printer = Printer(self.ar.exact, rounding)
+        self.printer = Printer(self.ar.exact, rounding, binary=getattr(self.ar, "binary", False))
         self.run_ = Run(records=self.printer.records, arithmetic=self.ar.describe(),
                         errata=self.errata, step_scale_k=self.k)
         self.label = "START"
@@ -246,19 +295,9 @@ class Program:
         self.halvings = 0
 
     # -- helpers -------------------------------------------------------------------------------
-    def K(self, text: str):
-        """A literal of the program text, converted by the arithmetic once."""
-        c = self._consts.get(text)
-        if c is None:
-            c = self._consts[text] = self.ar.decimal(text)
-        return c
-
-    def KSTEP(self, text: str):
-        """A literal that means one step: divided by 2**k under ``step_scale_k``."""
-        c = self.K(text)
-        for _ in range(self.k):
-            c = c / self.K("2.")
-        return c
+    # K(text): a literal of the program text, converted by the arithmetic once per run (bound in
+    # __init__ to a dict look-up); KSTEP(text): a literal that means one step, divided by 2**k
+    # under ``step_scale_k``. Both tables are made from this file's text (_LITERALS).
 
     def IF(self, x, neg, zero, pos):
         """Arithmetic IF: three-way branch on the sign of x (a minus zero is zero)."""
@@ -304,6 +343,8 @@ class Program:
         try:
             with self.ar.trapping():
                 self._dispatch()
+        except _Replay:
+            return self._replay()
         except EmulatorError as exc:
             if exc.guard == "ed_iterations":  # raised inside ED, which knows no step or time
                 exc = EmulatorError(exc.reason, label=exc.label, step=self.step,
@@ -313,6 +354,8 @@ class Program:
                 ValueError) as exc:
             if isinstance(exc, ValueError) and "math domain" not in str(exc):
                 raise
+            if self.fast:  # name the statement as the checking mode does
+                return self._replay()
             variable = exc.name if isinstance(exc, _NonFinite) else _assigned_variable(exc)
             label = self.ed.label if variable in ("D", "DH") or _in_ed(exc) else self.label
             label = f"ED {label}" if _in_ed(exc) or variable in ("D", "DH") else label
@@ -326,6 +369,10 @@ class Program:
                                      time=self.time(), guard="arithmetic"))
         return self.run_
 
+    def _replay(self) -> Run:
+        """The run again from the start in the checking mode (see the module docstring)."""
+        return Program(self.deck, self.ar, checking=True, **self.options).run()
+
     def _fail(self, exc: EmulatorError):
         self.run_.error = exc
         exc.run = self.run_
@@ -334,14 +381,40 @@ class Program:
     def _dispatch(self):
         blocks = self._blocks()
         checks = self._checks()
+        IF = self.IF
+        if not self.fast:
+            lab = "START"
+            while lab is not None:
+                self.label = lab
+                if lab in checks:
+                    x, neg, zero, pos = checks[lab]
+                    lab = IF(x(), neg, zero, pos)
+                else:
+                    lab = blocks[lab]()
+            return
+        # binary64: each block's assigned reals are checked when the block ends
+        v, isfinite = self.v, math.isfinite
+        assigned = {lab: _ASSIGNED[fn.__name__] for lab, fn in blocks.items() if fn.__name__ in _ASSIGNED}
         lab = "START"
         while lab is not None:
             self.label = lab
             if lab in checks:
                 x, neg, zero, pos = checks[lab]
-                lab = self.IF(x(), neg, zero, pos)
-            else:
-                lab = blocks[lab]()
+                lab = IF(x(), neg, zero, pos)
+                continue
+            try:
+                nxt = blocks[lab]()
+            except EmulatorError:  # a guard: genuine only if the block's values are finite
+                got = assigned.get(lab)
+                if got is not None and not isfinite(sum(got(v))):
+                    raise _Replay from None
+                raise
+            got = assigned.get(lab)
+            if got is not None and not isfinite(sum(got(v))):
+                raise _Replay  # (or the sum overflowed: the replay then runs to the end)
+            lab = nxt
+        if not all(isfinite(x) for x in vars(v).values() if type(x) is float):
+            raise _Replay
 
     def _blocks(self):
         return {
@@ -386,6 +459,8 @@ class Program:
         v.ZCO = -v.YYCO*sin(v.DELTA)+v.ZZCO*cos(v.DELTA)
         v.XVSO = v.XSO*cos(v.ALPHA)-v.YYSO*sin(v.ALPHA)
         v.XVTO = v.XTO*cos(v.ALPHA)-v.YYTO*sin(v.ALPHA)
+        if self.fast and not all(map(math.isfinite, (getattr(v, n) for n in d.values))):
+            raise _Replay
         return 125
 
     def L125(self):  # 125 CONTINUE
@@ -985,6 +1060,41 @@ def _assigned_variable(exc) -> str | None:
             if name.isidentifier():
                 return name
     return None
+
+
+def _assigned_names(fn) -> list[str]:
+    """The names a block assigns: ``v.NAME = ...``, ``self.v.NAME = ...`` and
+    ``v.A, v.B, v.C = ...``."""
+    import textwrap
+
+    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                for t in (target.elts if isinstance(target, ast.Tuple) else [target]):
+                    if isinstance(t, ast.Attribute) and t.attr not in names and (
+                            (isinstance(t.value, ast.Name) and t.value.id == "v")
+                            or (isinstance(t.value, ast.Attribute) and t.value.attr == "v")):
+                        names.append(t.attr)
+    return names
+
+
+def _getter(names):
+    get = operator.attrgetter(*names)
+    return get if len(names) > 1 else (lambda v: (get(v),))
+
+
+#: block method name -> a function giving the values the block assigned (integers included:
+#: they are always finite and sum with the reals).
+_ASSIGNED = {name: _getter(names) for name, fn in vars(Program).items()
+             if name.startswith("L") and callable(fn)
+             for names in [_assigned_names(fn)] if names}
+
+_SOURCE = inspect.getsource(sys.modules[__name__])
+#: Every literal the program text writes as K("...") or KSTEP("..."), and the ones ED binds.
+_LITERALS = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE)) | {"2.", "0.0"}))
+_STEP_LITERALS = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE))))
 
 
 def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,
