@@ -156,3 +156,40 @@ def test_variables_read_before_assignment_are_zero():
         assert program.v.THAD == 0 and program.v.DIFFB == 0
         assert type(program.v.LL) is int and program.v.LL == 0  # I-N: INTEGER
         assert type(program.v.THAD) is not int
+
+
+def test_block_assignments_found_by_pattern_match_the_syntax_tree():
+    """The per-block finiteness check reads each block's assigned names from the program text
+    with a pattern; an AST walk of the same methods must find the same names."""
+    import ast
+    import inspect
+    import textwrap
+
+    from deck_emulator.legacy import emulator
+
+    found = emulator._assigned_names(inspect.getsource(emulator))
+    for name, fn in vars(emulator.Program).items():
+        if not (name.startswith("L") and callable(fn)):
+            continue
+        names = []
+        for node in ast.walk(ast.parse(textwrap.dedent(inspect.getsource(fn)))):
+            if isinstance(node, ast.Assign):
+                for target in node.targets:
+                    for t in (target.elts if isinstance(target, ast.Tuple) else [target]):
+                        if isinstance(t, ast.Attribute) and t.attr not in names and (
+                                (isinstance(t.value, ast.Name) and t.value.id == "v")
+                                or (isinstance(t.value, ast.Attribute) and t.value.attr == "v")):
+                            names.append(t.attr)
+        assert sorted(found.get(name, [])) == sorted(names), name
+    assert "W1FA" in found["L57"] and "XPFA" in found["L57"] and "FSA" in found["L83"]
+
+
+def test_overflow_in_a_block_is_named_by_the_replay():
+    """An infinity made by an overflowing product (no Python exception in binary64) is found
+    when its block ends and named by the replay in the checking mode."""
+    deck = read_deck(ROOT / "decks" / "steel40.dat").with_values(WV=1e-308)  # (H/WV)*FSB overflows
+    with pytest.raises(EmulatorError) as info:
+        run_deck(deck)
+    err = info.value
+    assert err.variable == "VVA" and err.label == 124 and err.step == 1
+    assert "non-finite" in str(err)

@@ -33,7 +33,6 @@ assignment (their own operations trap first anyway).
 
 from __future__ import annotations
 
-import ast
 import inspect
 import linecache
 import math
@@ -176,6 +175,9 @@ class ED:
         def IF(x, neg, zero, pos):
             s = sign(x) if type(x) is not int else (x > 0) - (x < 0)
             return neg if s < 0 else zero if s == 0 else pos
+
+        if getattr(ar, "native_float", False):
+            IF = _if_float  # noqa: F811  (the same three-way branch, on a float)
 
         # +1 where the erratum makes labels 1 and 15 step towards the root
         up = self.towards_root
@@ -1062,22 +1064,25 @@ def _assigned_variable(exc) -> str | None:
     return None
 
 
-def _assigned_names(fn) -> list[str]:
-    """The names a block assigns: ``v.NAME = ...``, ``self.v.NAME = ...`` and
-    ``v.A, v.B, v.C = ...``."""
-    import textwrap
+_BLOCK = re.compile(r"^    def (L\w+)\(self\):.*?(?=^    def |^\S)", re.M | re.S)
+_TARGET = re.compile(r"^\s+((?:self\.)?v\.\w+(?:\s*,\s*v\.\w+)*)\s*=(?!=)", re.M)
 
-    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
-    names = []
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Assign):
-            for target in node.targets:
-                for t in (target.elts if isinstance(target, ast.Tuple) else [target]):
-                    if isinstance(t, ast.Attribute) and t.attr not in names and (
-                            (isinstance(t.value, ast.Name) and t.value.id == "v")
-                            or (isinstance(t.value, ast.Attribute) and t.value.attr == "v")):
-                        names.append(t.attr)
-    return names
+
+def _assigned_names(source: str) -> dict[str, list[str]]:
+    """Block method name -> the names it assigns (``v.NAME = ...``, ``self.v.NAME = ...``,
+    ``v.A, v.B, v.C = ...``), read from the program text by a pattern (an AST walk costs more
+    at import; tests/test_emulator.py checks that the two agree)."""
+    out = {}
+    for m in _BLOCK.finditer(source):
+        names = []
+        for t in _TARGET.finditer(m.group(0)):
+            for part in t.group(1).split(","):
+                name = part.strip().rsplit(".", 1)[1]
+                if name not in names:
+                    names.append(name)
+        if names:
+            out[m.group(1)] = names
+    return out
 
 
 def _getter(names):
@@ -1085,13 +1090,10 @@ def _getter(names):
     return get if len(names) > 1 else (lambda v: (get(v),))
 
 
+_SOURCE = inspect.getsource(sys.modules[__name__])
 #: block method name -> a function giving the values the block assigned (integers included:
 #: they are always finite and sum with the reals).
-_ASSIGNED = {name: _getter(names) for name, fn in vars(Program).items()
-             if name.startswith("L") and callable(fn)
-             for names in [_assigned_names(fn)] if names}
-
-_SOURCE = inspect.getsource(sys.modules[__name__])
+_ASSIGNED = {name: _getter(names) for name, names in _assigned_names(_SOURCE).items()}
 #: Every literal the program text writes as K("...") or KSTEP("..."), and the ones ED binds.
 _LITERALS = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE)) | {"2.", "0.0"}))
 _STEP_LITERALS = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE))))

@@ -7,9 +7,9 @@ import ctypes.util
 import math
 from fractions import Fraction
 
-import numpy as np
-
 from .base import Arithmetic, register
+
+np = None  # numpy, imported by the first SingleArithmetic
 
 
 class DoubleArithmetic(Arithmetic):
@@ -52,6 +52,9 @@ class SingleArithmetic(Arithmetic):
     binary = True  # a binary32 value converts to binary64 exactly: prints from its float
 
     def __init__(self):
+        global np
+        import numpy as np  # only binary32 needs numpy: binary64 runs start without it
+
         self._m = _libm()
 
     def decimal(self, text: str) -> np.float32:
