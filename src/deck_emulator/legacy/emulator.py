@@ -178,6 +178,7 @@ class ED:
 
         if getattr(ar, "native_float", False):
             IF = _if_float  # noqa: F811  (the same three-way branch, on a float)
+        isfinite = ar.isfinite
 
         # +1 where the erratum makes labels 1 and 15 step towards the root
         up = self.towards_root
@@ -244,7 +245,7 @@ class ED:
                 D = self.DH  # 20 D=DH
                 self.L = self.L + 1
                 return D
-            if not ar.isfinite(self.DH) or (D is not None and not ar.isfinite(D)):
+            if not isfinite(self.DH) or (D is not None and not isfinite(D)):
                 raise _NonFinite("DH" if not ar.isfinite(self.DH) else "D")
 
 
@@ -268,8 +269,13 @@ class Program:
         self.keep_trace = trace
         self.options = dict(errata=errata, step_scale_k=step_scale_k, tha_start=tha_start,
                             ed_tolerance=ed_tolerance, limits=limits, trace=trace)
-        # binary64 runs unchecked and checks once per block; the rest check every assignment
-        self.fast = bool(getattr(self.ar, "native_float", False)) and not checking
+        # binary64 runs unchecked and checks once per block; an arithmetic whose every value is
+        # finite (the 7094's words: overflow faults) runs unchecked; binary32 checks every
+        # assignment. A fault in an unchecked run replays it in the checking mode.
+        native = bool(getattr(self.ar, "native_float", False))
+        self.fast = (native or bool(getattr(self.ar, "always_finite", False))) and not checking
+        self.check_blocks = native and self.fast
+        self._underflows_at_start = getattr(getattr(self.ar, "indicators", None), "underflows", 0)
         self.v = (_Vars if self.fast else _CheckedVars)(self.ar.isfinite, self.ar.decimal("0.0"))
         # the literals of the program text, converted by the arithmetic once per run
         self._consts = {text: self.ar.decimal(text) for text in _LITERALS}
@@ -284,7 +290,9 @@ class Program:
         self.K = self._consts.__getitem__  # K("0.01"): a literal of the program text
         self.KSTEP = self._steps.__getitem__  # KSTEP("0.0004"): a literal meaning one step
         if self.fast:
-            self.IF, self.P2 = _if_float, _square
+            self.P2 = _square  # X**2 is X*X, one multiplication, in every arithmetic
+        if self.check_blocks:
+            self.IF = _if_float
         self.free_flight = False
         self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
         self.ed_tolerance = ed_tolerance
@@ -373,6 +381,9 @@ class Program:
 
     def _replay(self) -> Run:
         """The run again from the start in the checking mode (see the module docstring)."""
+        indicators = getattr(self.ar, "indicators", None)
+        if indicators is not None:  # count the 7094's underflows of one run only
+            indicators.underflows = self._underflows_at_start
         return Program(self.deck, self.ar, checking=True, **self.options).run()
 
     def _fail(self, exc: EmulatorError):
@@ -384,7 +395,7 @@ class Program:
         blocks = self._blocks()
         checks = self._checks()
         IF = self.IF
-        if not self.fast:
+        if not self.check_blocks:
             lab = "START"
             while lab is not None:
                 self.label = lab
@@ -461,7 +472,7 @@ class Program:
         v.ZCO = -v.YYCO*sin(v.DELTA)+v.ZZCO*cos(v.DELTA)
         v.XVSO = v.XSO*cos(v.ALPHA)-v.YYSO*sin(v.ALPHA)
         v.XVTO = v.XTO*cos(v.ALPHA)-v.YYTO*sin(v.ALPHA)
-        if self.fast and not all(map(math.isfinite, (getattr(v, n) for n in d.values))):
+        if self.check_blocks and not all(map(math.isfinite, (getattr(v, n) for n in d.values))):
             raise _Replay
         return 125
 
