@@ -104,6 +104,7 @@ class Outcome:
     agree: bool
     why: str = ""
     records: int = 0
+    compiled_text: str = ""  # what the compiled program printed
 
 
 GUARDS = ("ed_iterations", "halvings", "time_s")
@@ -123,7 +124,7 @@ def compare(deck, exe_for, workdir: Path, mg) -> Outcome:
         ours, ours_ending = run.records, "normal"
     except EmulatorError as exc:
         ours, ours_ending = exc.run.records, exc.guard or "error"
-    o = Outcome(ending, ours_ending, False, records=len(theirs))
+    o = Outcome(ending, ours_ending, False, records=len(theirs), compiled_text=out)
     if ending == "normal":
         if ours_ending != "normal":
             o.why = f"the compiled program ended normally, the emulator stopped ({ours_ending})"

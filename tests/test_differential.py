@@ -49,6 +49,27 @@ def test_random_deck_prints_as_the_compiled_listing(oracle, index):
         assert outcome.records > 100  # a whole printout, compared byte for byte
 
 
+#: Hand-made decks for the lines of MAIN the random corpus does not reach (docs/oracle.md), and
+#: the message the compiled program ends with on each.
+HAND_MADE = {
+    "hit_top.dat": "THE POST HAS HIT THE TOP OF THE VEHICLE",  # labels 240, 242
+    "hit_trunk.dat": "THE POST HAS HIT THE TRUNK OF THE VEHICLE",  # labels 247, 248
+    "ground_q.dat": "THE POST HAS HIT THE GROUND WITH POINT Q",  # labels 96, 97; 253
+    "c_past_roof.dat": "THE POST HAS HIT THE GROUND WITH POINT R",  # point C: labels 459-461
+}
+
+
+@pytest.mark.parametrize("name", sorted(HAND_MADE))
+def test_hand_made_deck_prints_as_the_compiled_listing(oracle, name):
+    from deck_emulator.legacy.deck import read_deck
+
+    diff, o = oracle
+    outcome = o.compare(read_deck(ROOT / "tests" / "decks" / name))
+    assert outcome.ending_compiled == "normal" and outcome.agree, outcome.why
+    messages = [r.strip() for r in outcome.compiled_text.splitlines() if "THE POST HAS" in r]
+    assert messages[-1] == HAND_MADE[name]  # then the last printout (label 98) and STOP
+
+
 def test_small_corpus_reaches_normal_ends_and_stops():
     diff = _differential()
     decks = diff.corpus(SMALL, SMALL_SEED)
