@@ -391,7 +391,8 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
     w("")
     w("The ED root search as printed walks away from its root once ψ passes its fixed start "
       "value 0.15 rad (legacy/CORRECTIONS.md, erratum `ed-direction`); gfortran's as-printed "
-      "builds of these decks do not end within 20 s (golden/MANIFEST.txt). Run here as printed, "
+      "builds of these decks do not end within the goldens' time limit of 5 s (`TIMEOUT_S` in "
+      "scripts/make_goldens.py; golden/MANIFEST.txt). Run here as printed, "
       "each bounded by the emulator's ED guard (100 000 iterations per call). (The 0° decks "
       "need no erratum: their ibm7094 runs in the tables above are the listing as printed, and "
       "they run to the end.)")

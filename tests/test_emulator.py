@@ -163,3 +163,56 @@ def test_variables_read_before_assignment_are_zero():
         assert program.v.THAD == 0 and program.v.DIFFB == 0
         assert type(program.v.LL) is int and program.v.LL == 0  # I-N: INTEGER
         assert type(program.v.THAD) is not int
+
+
+def test_block_assignments_found_by_pattern_match_the_syntax_tree():
+    """The per-block finiteness check reads each block's assigned names from the program text
+    with a pattern; an AST walk of the same methods must find the same names."""
+    import ast
+    import inspect
+    import textwrap
+
+    from deck_emulator.legacy import emulator
+
+    found = emulator._assigned_names(inspect.getsource(emulator))
+    for name, fn in vars(emulator.Program).items():
+        if not (name.startswith("L") and callable(fn)):
+            continue
+        names = []
+        for node in ast.walk(ast.parse(textwrap.dedent(inspect.getsource(fn)))):
+            if isinstance(node, ast.Assign):
+                for target in node.targets:
+                    for t in (target.elts if isinstance(target, ast.Tuple) else [target]):
+                        if isinstance(t, ast.Attribute) and t.attr not in names and (
+                                (isinstance(t.value, ast.Name) and t.value.id == "v")
+                                or (isinstance(t.value, ast.Attribute) and t.value.attr == "v")):
+                            names.append(t.attr)
+        assert sorted(found.get(name, [])) == sorted(names), name
+    assert "W1FA" in found["L57"] and "XPFA" in found["L57"] and "FSA" in found["L83"]
+
+
+def test_overflow_in_a_block_is_named_by_the_replay():
+    """An infinity made by an overflowing product (no Python exception in binary64) is found
+    when its block ends and named by the replay in the checking mode."""
+    deck = read_deck(ROOT / "decks" / "steel40.dat").with_values(WV=1e-308)  # (H/WV)*FSB overflows
+    with pytest.raises(EmulatorError) as info:
+        run_deck(deck)
+    err = info.value
+    assert err.variable == "VVA" and err.label == 124 and err.step == 1
+    assert "non-finite" in str(err)
+
+
+@pytest.mark.parametrize("name, surface, height", [
+    ("hit_top", "TOP", "HTV"), ("hit_trunk", "TRUNK", "HTRV")])
+def test_a_car_hit_names_the_point_that_met_the_surface(name, surface, height):
+    """The listing's car messages do not name the point; the event does, from the check the
+    program was in. Checked by geometry: at the hit the named point lies in the listing's
+    0.1 ft band about that surface's height (decks made for these labels, tests/decks)."""
+    from deck_emulator.events import Surface
+
+    deck = read_deck(ROOT / "tests" / "decks" / f"{name}.dat")
+    run = run_deck(deck, errata=("ed-direction",))
+    hit = run.events[-1]
+    assert hit.surface is Surface[surface] and hit.point in ("P", "R", "C")
+    z = run.trace[-1][f"ZZ{hit.point}"]
+    assert abs(z - deck[height]) <= 0.1

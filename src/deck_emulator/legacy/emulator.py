@@ -21,11 +21,23 @@ Departures from the listing are options, off by default:
 Guards end what the 1967 program could not: ED's search without a root, label 108 halving for
 ever, a post that never lands, and any non-finite value (see :class:`Limits`); each raises
 :class:`EmulatorError` naming the label, the statement's variable, the step and the time.
+
+Speed (binary64): the values are Python floats and the sines and cosines the C library's own;
+finiteness is checked once per block, on the variables the block assigns (found in this text
+once, at import), not on every assignment. When a block leaves a NaN or an infinity, or the
+arithmetic raises, the run is replayed from the start in the checking mode, where every
+assignment is checked, so the error names the statement exactly as before; the program is
+deterministic, so the replay reaches the same point. The other arithmetics always check every
+assignment (their own operations trap first anyway).
 """
 
 from __future__ import annotations
 
+import inspect
 import linecache
+import math
+import operator
+import re
 import sys
 import traceback
 from dataclasses import dataclass, field
@@ -90,10 +102,10 @@ class Run:
 
 
 class _Vars:
-    """The variables of one program unit. Every assignment of a real is checked: a NaN or an
-    infinity stops the run at that statement (as gfortran's trapping build does). A variable
-    read before any assignment is zero, as in the 7094's cleared core (and gfortran's
-    -fno-automatic -finit-local-zero): INTEGER by FORTRAN's implicit rule (I-N) or REAL."""
+    """The variables of one program unit. A variable read before any assignment is zero, as in
+    the 7094's cleared core (and gfortran's -fno-automatic -finit-local-zero): INTEGER by
+    FORTRAN's implicit rule (I-N) or REAL. Assignments are not checked here: the label machine
+    checks each block's variables when the block ends (see Program._dispatch)."""
 
     def __init__(self, isfinite, zero):
         object.__setattr__(self, "_isfinite", isfinite)
@@ -104,10 +116,29 @@ class _Vars:
             raise AttributeError(name)
         return 0 if name[0] in "IJKLMN" else self._zero
 
+
+class _CheckedVars(_Vars):
+    """The checking mode: every assignment of a real is checked, and a NaN or an infinity stops
+    the run at that statement (as gfortran's trapping build does)."""
+
     def __setattr__(self, name, value):
         if type(value) is not int and not self._isfinite(value):
             raise _NonFinite(name)
         object.__setattr__(self, name, value)
+
+
+class _Replay(Exception):
+    """The fast run met a non-finite value or a fault: replay the run in the checking mode."""
+
+
+def _if_float(x, neg, zero, pos):
+    """Arithmetic IF on a Python int or float (a minus zero is zero; a NaN goes to zero, as
+    ``Arithmetic.sign`` sends it)."""
+    return neg if x < 0 else pos if x > 0 else zero
+
+
+def _square(x):
+    return x*x
 
 
 class _NonFinite(ArithmeticError):
@@ -145,6 +176,10 @@ class ED:
         def IF(x, neg, zero, pos):
             s = sign(x) if type(x) is not int else (x > 0) - (x < 0)
             return neg if s < 0 else zero if s == 0 else pos
+
+        if getattr(ar, "native_float", False):
+            IF = _if_float  # noqa: F811  (the same three-way branch, on a float)
+        isfinite = ar.isfinite
 
         # +1 where the erratum makes labels 1 and 15 step towards the root
         up = self.towards_root
@@ -211,7 +246,7 @@ class ED:
                 D = self.DH  # 20 D=DH
                 self.L = self.L + 1
                 return D
-            if not ar.isfinite(self.DH) or (D is not None and not ar.isfinite(D)):
+            if not isfinite(self.DH) or (D is not None and not isfinite(D)):
                 raise _NonFinite("DH" if not ar.isfinite(self.DH) else "D")
 
 
@@ -220,7 +255,7 @@ class Program:
 
     def __init__(self, deck, arithmetic: Arithmetic | str = "double", *, errata=(),
                  step_scale_k: int = 0, tha_start: str | None = None, ed_tolerance: str = ".0001",
-                 limits: Limits = Limits(), trace: bool = True):
+                 limits: Limits = Limits(), trace: bool = True, checking: bool = False):
         self.ar = get_arithmetic(arithmetic) if isinstance(arithmetic, str) else arithmetic
         unknown = set(errata) - set(ERRATA)
         if unknown:
@@ -233,34 +268,48 @@ class Program:
         self.limits = limits
         self.deck = deck
         self.keep_trace = trace
-        self._consts: dict[str, object] = {}
-        self.v = _Vars(self.ar.isfinite, self.ar.decimal("0.0"))
+        self.options = dict(errata=errata, step_scale_k=step_scale_k, tha_start=tha_start,
+                            ed_tolerance=ed_tolerance, limits=limits, trace=trace)
+        # binary64 runs unchecked and checks once per block; an arithmetic whose every value is
+        # finite (the 7094's words: overflow faults) runs unchecked; binary32 checks every
+        # assignment. A fault in an unchecked run replays it in the checking mode.
+        native = bool(getattr(self.ar, "native_float", False))
+        self.fast = (native or bool(getattr(self.ar, "always_finite", False))) and not checking
+        self.check_blocks = native and self.fast
+        self._underflows_at_start = getattr(getattr(self.ar, "indicators", None), "underflows", 0)
+        self.v = (_Vars if self.fast else _CheckedVars)(self.ar.isfinite, self.ar.decimal("0.0"))
+        # the literals of the program text, converted by the arithmetic once per run
+        self._consts = {text: self.ar.decimal(text) for text in _LITERALS}
+        if tha_start is not None:
+            self._consts[tha_start] = self.ar.decimal(tha_start)
+        self._steps = {}
+        for text in _STEP_LITERALS:
+            c = self._consts[text]
+            for _ in range(self.k):
+                c = c / self._consts["2."]
+            self._steps[text] = c
+        self.K = self._consts.__getitem__  # K("0.01"): a literal of the program text
+        self.KSTEP = self._steps.__getitem__  # KSTEP("0.0004"): a literal meaning one step
+        if self.fast:
+            self.P2 = _square  # X**2 is X*X, one multiplication, in every arithmetic
+        if self.check_blocks:
+            self.IF = _if_float
         self.free_flight = False
         self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
         self.ed_tolerance = ed_tolerance
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
-        self.printer = Printer(self.ar.exact, rounding)
+        self.printer = Printer(self.ar.exact, rounding, binary=getattr(self.ar, "binary", False))
         self.run_ = Run(records=self.printer.records, arithmetic=self.ar.describe(),
                         errata=self.errata, step_scale_k=self.k)
         self.label = "START"
         self.step = 0
         self.halvings = 0
-        self.checking = None  # the point the free-flight checks are on: P, R or C
+        self.checked_point = None  # the point the free-flight checks are on: P, R or C
 
     # -- helpers -------------------------------------------------------------------------------
-    def K(self, text: str):
-        """A literal of the program text, converted by the arithmetic once."""
-        c = self._consts.get(text)
-        if c is None:
-            c = self._consts[text] = self.ar.decimal(text)
-        return c
-
-    def KSTEP(self, text: str):
-        """A literal that means one step: divided by 2**k under ``step_scale_k``."""
-        c = self.K(text)
-        for _ in range(self.k):
-            c = c / self.K("2.")
-        return c
+    # K(text): a literal of the program text, converted by the arithmetic once per run (bound in
+    # __init__ to a dict look-up); KSTEP(text): a literal that means one step, divided by 2**k
+    # under ``step_scale_k``. Both tables are made from this file's text (_LITERALS).
 
     def IF(self, x, neg, zero, pos):
         """Arithmetic IF: three-way branch on the sign of x (a minus zero is zero)."""
@@ -297,7 +346,7 @@ class Program:
         self.run_.trace.append(row)
 
     def _event(self, label: int, t):
-        self.run_.events.append(event_for(label, self.ar.to_float(t), self.checking))
+        self.run_.events.append(event_for(label, self.ar.to_float(t), self.checked_point))
 
     # -- the label machine ---------------------------------------------------------------------
     def run(self) -> Run:
@@ -305,6 +354,8 @@ class Program:
         try:
             with self.ar.trapping():
                 self._dispatch()
+        except _Replay:
+            return self._replay()
         except EmulatorError as exc:
             if exc.guard == "ed_iterations":  # raised inside ED, which knows no step or time
                 exc = EmulatorError(exc.reason, label=exc.label, step=self.step,
@@ -314,6 +365,8 @@ class Program:
                 ValueError) as exc:
             if isinstance(exc, ValueError) and "math domain" not in str(exc):
                 raise
+            if self.fast:  # name the statement as the checking mode does
+                return self._replay()
             variable = exc.name if isinstance(exc, _NonFinite) else _assigned_variable(exc)
             label = self.ed.label if variable in ("D", "DH") or _in_ed(exc) else self.label
             label = f"ED {label}" if _in_ed(exc) or variable in ("D", "DH") else label
@@ -327,6 +380,13 @@ class Program:
                                      time=self.time(), guard="arithmetic"))
         return self.run_
 
+    def _replay(self) -> Run:
+        """The run again from the start in the checking mode (see the module docstring)."""
+        indicators = getattr(self.ar, "indicators", None)
+        if indicators is not None:  # count the 7094's underflows of one run only
+            indicators.underflows = self._underflows_at_start
+        return Program(self.deck, self.ar, checking=True, **self.options).run()
+
     def _fail(self, exc: EmulatorError):
         self.run_.error = exc
         exc.run = self.run_
@@ -335,16 +395,44 @@ class Program:
     def _dispatch(self):
         blocks = self._blocks()
         checks = self._checks()
+        IF = self.IF
+        if not self.check_blocks:
+            lab = "START"
+            while lab is not None:
+                self.label = lab
+                if lab in checks:
+                    if lab in _CHECK_STARTS:
+                        self.checked_point = _CHECK_STARTS[lab]
+                    x, neg, zero, pos = checks[lab]
+                    lab = IF(x(), neg, zero, pos)
+                else:
+                    lab = blocks[lab]()
+            return
+        # binary64: each block's assigned reals are checked when the block ends
+        v, isfinite = self.v, math.isfinite
+        assigned = {lab: _ASSIGNED[fn.__name__] for lab, fn in blocks.items() if fn.__name__ in _ASSIGNED}
         lab = "START"
         while lab is not None:
             self.label = lab
             if lab in checks:
                 if lab in _CHECK_STARTS:
-                    self.checking = _CHECK_STARTS[lab]
+                    self.checked_point = _CHECK_STARTS[lab]
                 x, neg, zero, pos = checks[lab]
-                lab = self.IF(x(), neg, zero, pos)
-            else:
-                lab = blocks[lab]()
+                lab = IF(x(), neg, zero, pos)
+                continue
+            try:
+                nxt = blocks[lab]()
+            except EmulatorError:  # a guard: genuine only if the block's values are finite
+                got = assigned.get(lab)
+                if got is not None and not isfinite(sum(got(v))):
+                    raise _Replay from None
+                raise
+            got = assigned.get(lab)
+            if got is not None and not isfinite(sum(got(v))):
+                raise _Replay  # (or the sum overflowed: the replay then runs to the end)
+            lab = nxt
+        if not all(isfinite(x) for x in vars(v).values() if type(x) is float):
+            raise _Replay
 
     def _blocks(self):
         return {
@@ -389,6 +477,8 @@ class Program:
         v.ZCO = -v.YYCO*sin(v.DELTA)+v.ZZCO*cos(v.DELTA)
         v.XVSO = v.XSO*cos(v.ALPHA)-v.YYSO*sin(v.ALPHA)
         v.XVTO = v.XTO*cos(v.ALPHA)-v.YYTO*sin(v.ALPHA)
+        if self.check_blocks and not all(map(math.isfinite, (getattr(v, n) for n in d.values))):
+            raise _Replay
         return 125
 
     def L125(self):  # 125 CONTINUE
@@ -993,6 +1083,41 @@ def _assigned_variable(exc) -> str | None:
             if name.isidentifier():
                 return name
     return None
+
+
+_BLOCK = re.compile(r"^    def (L\w+)\(self\):.*?(?=^    def |^\S)", re.M | re.S)
+_TARGET = re.compile(r"^\s+((?:self\.)?v\.\w+(?:\s*,\s*v\.\w+)*)\s*=(?!=)", re.M)
+
+
+def _assigned_names(source: str) -> dict[str, list[str]]:
+    """Block method name -> the names it assigns (``v.NAME = ...``, ``self.v.NAME = ...``,
+    ``v.A, v.B, v.C = ...``), read from the program text by a pattern (an AST walk costs more
+    at import; tests/test_emulator.py checks that the two agree)."""
+    out = {}
+    for m in _BLOCK.finditer(source):
+        names = []
+        for t in _TARGET.finditer(m.group(0)):
+            for part in t.group(1).split(","):
+                name = part.strip().rsplit(".", 1)[1]
+                if name not in names:
+                    names.append(name)
+        if names:
+            out[m.group(1)] = names
+    return out
+
+
+def _getter(names):
+    get = operator.attrgetter(*names)
+    return get if len(names) > 1 else (lambda v: (get(v),))
+
+
+_SOURCE = inspect.getsource(sys.modules[__name__])
+#: block method name -> a function giving the values the block assigned (integers included:
+#: they are always finite and sum with the reals).
+_ASSIGNED = {name: _getter(names) for name, names in _assigned_names(_SOURCE).items()}
+#: Every literal the program text writes as K("...") or KSTEP("..."), and the ones ED binds.
+_LITERALS = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE)) | {"2.", "0.0"}))
+_STEP_LITERALS = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE))))
 
 
 def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,

@@ -1,11 +1,13 @@
 """The line printer: every WRITE/FORMAT of the 1967 listing, as records with ASA carriage
 control in column 1 (exactly the lines gfortran writes to unit 6).
 
-Records are laid out by fortranformat from the FORMAT texts below, copied from
-``legacy/luminaire.f`` with their labels. One thing is done here rather than by fortranformat:
-the rounding of a value to the printed digits (see ``printable``): fortranformat rounds exact
-ties away from zero where gfortran rounds to even, and misrounds some values next to a tie;
-an arithmetic may also choose to truncate (``format_rounding``).
+Records are laid out from the FORMAT texts below, copied from ``legacy/luminaire.f`` with
+their labels; they use only Hollerith text, ``nX``, ``/`` and ``Fw.d``, which are laid out here
+directly (tests/test_printer.py checks the layout against fortranformat's, and the goldens
+against gfortran's). The digits are decided from the exact value (see ``rounded_digits``):
+gfortran rounds exact ties to even, where fortranformat rounds them away from zero and
+misrounds some values next to a tie; an arithmetic may also choose to truncate
+(``format_rounding``).
 """
 
 from __future__ import annotations
@@ -13,7 +15,6 @@ from __future__ import annotations
 import re
 from fractions import Fraction
 
-import fortranformat
 
 from deck_emulator.events import Event, EventKind, Surface
 
@@ -111,25 +112,58 @@ def event_message(event: Event) -> str | None:
 
 
 _DECIMALS = {label: [int(d) for d in re.findall(r"F\d+\.(\d+)", text)] for label, text in FORMATS.items()}
-_WRITERS: dict[int, fortranformat.FortranRecordWriter] = {}
 
 
-def _writer(label: int) -> fortranformat.FortranRecordWriter:
-    if label not in _WRITERS:
-        _WRITERS[label] = fortranformat.FortranRecordWriter(FORMATS[label])
-    return _WRITERS[label]
+def _compile(fmt: str) -> list[list]:
+    """A FORMAT of the listing as records, each a list of text pieces and ``(w, d)`` F fields.
+
+    Only what the listing's FORMATs use: ``nH`` Hollerith text, ``nX``, ``/`` and ``Fw.d``,
+    separated by commas; each ``/`` ends a record."""
+    body = fmt[1:-1]
+    records: list[list] = [[]]
+    i = 0
+    while i < len(body):
+        c = body[i]
+        if c == ",":
+            i += 1
+        elif c == "/":
+            records.append([])
+            i += 1
+        elif c == "F":
+            m = re.match(r"F(\d+)\.(\d+)", body[i:])
+            records[-1].append((int(m.group(1)), int(m.group(2))))
+            i += m.end()
+        else:
+            m = re.match(r"(\d+)([HX])", body[i:])
+            if m is None:
+                raise ValueError(f"FORMAT item not handled at {body[i:]!r} in {fmt}")
+            n, kind = int(m.group(1)), m.group(2)
+            i += m.end()
+            if kind == "X":
+                records[-1].append(" " * n)
+            else:
+                records[-1].append(body[i:i + n])
+                i += n
+    return records
 
 
-def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> float:
-    """The float to hand fortranformat so that it prints ``exact`` as gfortran would.
+_LAYOUTS = {label: _compile(text) for label, text in FORMATS.items()}
 
-    The digits are decided here, from the exact value: ``nearest`` rounds to nearest with
-    exact ties to even (gfortran); ``truncate`` chops towards zero. fortranformat cannot be
-    left to round: it rounds exact ties away from zero, and it also misrounds values just
-    off a tie (binary64 5.0000000000000004e-06 as F15.5 gives 0.00000; gfortran 0.00001).
-    The float returned is the nearest binary64 to the chosen decimal, which fortranformat
-    prints as exactly those digits.
-    """
+
+def f_field(digits: str, negative: bool, w: int) -> str:
+    """An Fw.d field from the rounded digits ``[-]i.fff`` without sign: right-justified in w
+    columns; the leading zero of a number below 1 is dropped when it does not fit, and a
+    number that still does not fit prints as w asterisks (gfortran and fortranformat alike)."""
+    text = ("-" if negative else "") + digits
+    if len(text) > w and digits.startswith("0."):
+        text = ("-" if negative else "") + digits[1:]
+    if len(text) > w:
+        return "*" * w
+    return text.rjust(w)
+
+
+def rounded_digits(exact: Fraction, decimals: int, rounding: str = "nearest") -> str:
+    """|exact| rounded to ``decimals`` places as gfortran does (ties to even), or chopped."""
     scaled = abs(exact) * 10**decimals
     whole, rest = divmod(scaled, 1)
     if rounding == "nearest":
@@ -137,27 +171,55 @@ def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> floa
             whole += 1
     elif rounding != "truncate":
         raise ValueError(f"unknown output rounding {rounding!r}")
+    s = str(int(whole)).rjust(decimals + 1, "0")
+    return s[:len(s) - decimals] + "." + s[len(s) - decimals:]
+
+
+def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> float:
+    """The float that prints ``exact`` as gfortran would, for a writer that rounds correctly
+    (fortranformat rounds exact ties away from zero, and misrounds values just off a tie:
+    binary64 5.0000000000000004e-06 as F15.5 gives 0.00000 where gfortran gives 0.00001)."""
+    whole = int(rounded_digits(exact, decimals, rounding).replace(".", ""))
     sign = -1 if exact < 0 else 1
     if whole == 0:
         return sign * 1e-300  # keeps gfortran's '-0.00000' for a small negative value
-    return float(sign * Fraction(int(whole), 10**decimals))
+    return float(sign * Fraction(whole, 10**decimals))
 
 
 class Printer:
-    """Collects the records one run writes to unit 6."""
+    """Collects the records one run writes to unit 6.
 
-    def __init__(self, exact=Fraction, rounding: str = "nearest"):
+    ``exact`` gives a value's exact value as a Fraction and ``rounding`` says how the digits
+    are chosen from it. ``binary=True`` says the values are IEEE binary floats (or convert to a
+    binary64 exactly): their digits then come from Python's formatting, which is correctly
+    rounded from the exact binary value with exact ties to even, as gfortran's; a minus zero
+    prints as ``-0.00000``, as gfortran prints it."""
+
+    def __init__(self, exact=Fraction, rounding: str = "nearest", *, binary: bool = False):
         self._exact = exact
         self._rounding = rounding
+        self._binary = binary and rounding == "nearest"
         self.records: list[str] = []
+
+    def _field(self, value, w: int, d: int) -> str:
+        if self._binary:
+            x = float(value)
+            text = f"{x:.{d}f}"
+            negative = text[0] == "-"
+            return f_field(text[1:] if negative else text, negative, w)
+        exact = self._exact(value)
+        return f_field(rounded_digits(exact, d, self._rounding), exact < 0, w)
 
     def write(self, label: int, *values) -> None:
         """``WRITE(6,label) values``: append the records that FORMAT ``label`` makes."""
+        layout = _LAYOUTS[label]
         decimals = _DECIMALS[label]
         if len(values) != len(decimals):
             raise ValueError(f"FORMAT {label} takes {len(decimals)} values, got {len(values)}")
-        items = [printable(self._exact(v), d, self._rounding) for v, d in zip(values, decimals)]
-        self.records.extend(_writer(label).write(items).split("\n"))
+        it = iter(values)
+        for pieces in layout:
+            self.records.append("".join(p if type(p) is str else self._field(next(it), *p)
+                                        for p in pieces))
 
     def text(self) -> str:
         return "".join(r + "\n" for r in self.records)

@@ -287,6 +287,12 @@ class Word:
             p <<= 1
             ch -= 1
         # AC keeps the high 27 bits: the exact product chopped (the MQ gets the rest)
+        if 0 <= ch <= _M_CH:  # _pack's common case, inline
+            w = _new(Word)
+            _set_s(w, s)
+            _set_ch(w, ch)
+            _set_f(w, p >> _N_FR)
+            return w
         return _pack(s, ch, p >> _N_FR)
 
     # --- FDP -------------------------------------------------------------------------------------
@@ -401,6 +407,12 @@ def _fad(s1: int, c1: int, f1: int, s2: int, c2: int, f2: int) -> Word:
         d <<= sh
         c2 -= sh
     # the AC keeps the high 27 bits: chopped
+    if 0 <= c2 <= _M_CH:  # _pack's common case, inline
+        w = _new(Word)
+        _set_s(w, s)
+        _set_ch(w, c2)
+        _set_f(w, d >> _N_FR)
+        return w
     return _pack(s, c2, d >> _N_FR)
 
 
@@ -539,14 +551,50 @@ def _sincos_word(x: Word, want_cos: bool, nearest: bool) -> Word:
         w *= 2
 
 
+#: Relative width of the interval put around the C library's binary64 sin/cos before it is
+#: trusted to decide the word: 2**-36, some 10**5 times the library's error (below 2 units of
+#: 2**-52 for glibc's sin and cos, whose argument reduction is exact for every argument).
+_LIBM_MARGIN = 2.0**-36
+
+
+def _sincos_libm(x: Word, want_cos: bool, nearest: bool) -> Word | None:
+    """The word for sin or cos of x decided from the binary64 library value, or None when the
+    interval of relative width _LIBM_MARGIN around it does not chop (round) to one word: then
+    the exact computation decides (the same Ziv test as _sincos_word, with a cheaper first
+    approximation; tests/test_ibm7094.py checks the two against each other)."""
+    xf = float(x)  # exact
+    v = math.cos(xf) if want_cos else math.sin(xf)
+    if not 2.0**-120 < abs(v) < 2.0**120:  # near the words' range (and 0): the exact way
+        return None
+    a = abs(v)
+    lo, hi = a * (1.0 - _LIBM_MARGIN), a * (1.0 + _LIBM_MARGIN)
+    n1, d1 = lo.as_integer_ratio()
+    n2, d2 = hi.as_integer_ratio()
+    w1 = _from_ratio(n1, d1, v < 0, nearest)
+    w2 = _from_ratio(n2, d2, v < 0, nearest)
+    if w1.characteristic == w2.characteristic and w1.fraction == w2.fraction:
+        return w1
+    return None
+
+
 @functools.lru_cache(maxsize=1 << 14)
 def _sin_cached(s: int, ch: int, f: int, nearest: bool) -> Word:
-    return _sincos_word(_make(s, ch, f), False, nearest)
+    x = _make(s, ch, f)
+    if f:
+        w = _sincos_libm(x, False, nearest)
+        if w is not None:
+            return w
+    return _sincos_word(x, False, nearest)
 
 
 @functools.lru_cache(maxsize=1 << 14)
 def _cos_cached(ch: int, f: int, nearest: bool) -> Word:
-    return _sincos_word(_make(0, ch, f), True, nearest)
+    x = _make(0, ch, f)
+    if f:
+        w = _sincos_libm(x, True, nearest)
+        if w is not None:
+            return w
+    return _sincos_word(x, True, nearest)
 
 
 # --- decimal text -> word ----------------------------------------------------------------------
@@ -587,6 +635,8 @@ class IBM7094Arithmetic(Arithmetic):
     """
 
     name = "ibm7094"
+    #: Every word is a finite number (overflow faults instead): the emulator need not check.
+    always_finite = True
 
     def __init__(self, *, sincos: str = "chop", decimal: str = "chop", output: str = "nearest"):
         chosen = {"sincos": sincos, "decimal": decimal, "output": output}

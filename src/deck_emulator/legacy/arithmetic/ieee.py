@@ -17,15 +17,20 @@ class DoubleArithmetic(Arithmetic):
     library's ``sin``/``cos`` (the same calls gfortran's code makes)."""
 
     name = "double"
+    #: The values are Python floats: the emulator may use the operators and comparisons of
+    #: the float type directly and check finiteness once per block (see emulator.Program).
+    native_float = True
+    #: Values print from their binary64 value (printer.Printer(binary=True)).
+    binary = True
 
     def decimal(self, text: str) -> float:
         return float(text)  # correctly rounded, as gfortran's compile-time conversion
 
-    def sin(self, x):
-        return math.sin(x)
-
-    def cos(self, x):
-        return math.cos(x)
+    # the C library's functions themselves, with no Python call in between
+    sin = staticmethod(math.sin)
+    cos = staticmethod(math.cos)
+    isfinite = staticmethod(math.isfinite)
+    to_float = staticmethod(float)
 
 
 def _libm():
@@ -44,6 +49,7 @@ class SingleArithmetic(Arithmetic):
     functions gfortran's REAL*4 intrinsics call."""
 
     name = "single"
+    binary = True  # a binary32 value converts to binary64 exactly: prints from its float
 
     def __init__(self):
         global np
