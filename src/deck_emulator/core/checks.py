@@ -133,12 +133,6 @@ def check_outcome(result) -> list[str]:
         if v is not None:
             for axis, x in zip(("XL", "YL", "ZL"), v):
                 extra[f"{axis} of point {k}"] = x
-    passage = getattr(result, "ground_passage", None)
-    if passage and heights and not getattr(result.options, "solid_ground", True):
-        # the listing's behaviour, reproduced on purpose: the post went through the ground
-        # during the contact and the outcome says so (point, time, depth); points below the
-        # ground at the hit are that passage, named, not an unexplained answer
-        heights = {k: max(h, 0.0) for k, h in heights.items()}
     flags = check_summary(
         hit=(result.hit.surface.lower() + " hit") if result.hit else None,
         hit_time_s=result.hit_time_s,

@@ -37,6 +37,7 @@ __all__ = [
     "simulate",
     "free_flight",
     "stiffness",
+    "check_inertia",
     "DEFAULT_RTOL",
     "DEFAULT_ATOL",
     "DEFAULT_METHOD",
@@ -230,7 +231,8 @@ class _Run:
 
     def _close_mode(self, label, t):
         t0 = self.open_modes.pop(label)
-        self.notes.append(f"{label}, {t0:.6g}\u2013{t:.6g} s")
+        if t > t0:
+            self.notes.append(f"{label}, {t0:.6g}\u2013{t:.6g} s")
 
     def contact(self):
         m = self.model
@@ -301,6 +303,33 @@ class _Run:
         if " sliding ends " in name or name.startswith("cap sliding"):
             return
         self.events.append(CoreEvent(name, t, LISTING_MESSAGES.get(name, "")))
+
+    def report_ground_passage(self):
+        """The listing's behaviour went through the ground: its run (kept whole in the
+        trajectory) carries on underground to its own hit, which is no answer; the
+        outcome is the ground reached at the passage, and the listing's hit is named."""
+        gp = self.ground_passage
+        m = self.model
+        depth = m.scene.environment.ground_depth_ft
+        listing = self.hit
+        gp["listing_hit"] = listing.message if listing else None
+        gp["listing_hit_s"] = listing.time_s if listing else None
+        if listing is not None:
+            traj = Trajectory(self.segments, m)
+            t = min(listing.time_s, traj.t_end)
+            low = min((float(traj.point(p, t)[2]) + depth, p) for p in traj.point_names)
+            gp["depth_at_listing_hit_ft"] = -low[0]
+            gp["deepest_at_listing_hit"] = low[1]
+            self.events = [
+                CoreEvent("listing's hit, post underground", e.time_s, e.message)
+                if e.name == "hit" else e
+                for e in self.events
+            ]
+        self.hit = None
+        self._set_hit(gp["time_s"], gp["point"], "GROUND")
+        self.events[-1] = CoreEvent(
+            "hit", gp["time_s"], self.hit.message + " (legacy: passing through)"
+        )
 
     def ground_passage_check(self):
         """The listing's behaviour: find the first post point through the ground during
@@ -448,7 +477,10 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         vv_loss = float(traj.state(t_release)[IDX_VV])
         delta_v = (abs(scene.vehicle.initial_velocity_ft_s) - abs(vv_loss)) * MPH_PER_FT_S
         f, max_t = run.max_vehicle_force()
-        if m.gravity > 0.0 and math.isfinite(f):
+        if not math.isfinite(f):
+            max_t = None
+            notes.append("no largest deceleration: the contact lasted no time")
+        elif m.gravity > 0.0:
             max_g = float(f) / (m.vehicle_mass * m.gravity)
         else:
             max_t = None
@@ -468,21 +500,22 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
     passage = run.ground_passage
     reason = None
     if passage is not None:
+        after = (
+            f"; the listing's run carries on underground to {passage['listing_hit']!r} at "
+            f"{passage['listing_hit_s']:.6g} s with point {passage['deepest_at_listing_hit']} "
+            f"{passage['depth_at_listing_hit_ft']:.3g} ft below the ground: not an answer"
+            if passage.get("listing_hit")
+            else "; the listing's run never hits anything after that"
+        )
         notes.append(
-            f"the post went through the ground during the contact (the listing checks the "
-            f"ground only in free flight): point {passage['point']} from "
-            f"{passage['time_s']:.6g} s, deepest point {passage['deepest_point']} "
-            f"{passage['depth_ft']:.3g} ft below the ground at {passage['depth_time_s']:.6g} s"
+            f"legacy: the post went through the ground during the contact (the listing checks "
+            f"the ground only in free flight): point {passage['point']} at "
+            f"{passage['time_s']:.6g} s is reported as the hit (passing through); deepest "
+            f"in the contact: point {passage['deepest_point']} {passage['depth_ft']:.3g} ft "
+            f"below the ground at {passage['depth_time_s']:.6g} s" + after
         )
     if run.hit is None:
-        if passage is not None:
-            reason = (
-                f"the post went through the ground during the contact (legacy: no ground "
-                f"check in contact; point {passage['point']} from {passage['time_s']:.6g} s, "
-                f"{passage['depth_ft']:.3g} ft deep), so free flight "
-                + ("started below the ground" if run.vehicle_lost is not None else "never began")
-            )
-        elif run.vehicle_lost is None and scene.vehicle is not None:
+        if run.vehicle_lost is None and scene.vehicle is not None:
             reason = (
                 f"the car still pushed the post at the simulated-time bound "
                 f"t_max_s = {run.t_max:g} s"
@@ -521,6 +554,26 @@ def _xl(m, y, name, q0, depth):
     return (p[0] - q0[0], p[1] - q0[1], p[2] + depth)
 
 
+#: relative slack on the inertia triangle inequality (decks print 5 or 6 digits)
+INERTIA_SLACK = 1e-6
+
+
+def check_inertia(scene: Scene) -> None:
+    """A rigid body's principal moments satisfy the triangle inequality (each at most the
+    sum of the other two); moments that do not are no body at all, and their Euler
+    equations are gyroscopically stiff beyond any bound (B = 1e12 with A, C of a post)."""
+    a = scene.post.principal_inertia_slug_ft2
+    names = ("A", "B", "C")
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        if a[i] > (a[j] + a[k]) * (1.0 + INERTIA_SLACK):
+            raise CoreError(
+                f"the post's moments of inertia are no rigid body's: {names[i]} = {a[i]:g} "
+                f"slug ft^2 exceeds {names[j]} + {names[k]} = {a[j] + a[k]:g} slug ft^2 "
+                "(the triangle inequality)"
+            )
+
+
 def _checked(result: CoreResult, check: bool) -> CoreResult:
     if check:
         failed = check_outcome(result)
@@ -555,6 +608,7 @@ def simulate(
     ``check``: every outcome goes through :func:`~.checks.check_outcome` first; a failed
     check raises ``CoreError`` naming it."""
     started = time.perf_counter()
+    check_inertia(scene)
     model = assemble(scene, options)
     run = _Run(model, method, rtol, atol, max_step_s, t_max_s, max_evaluations, max_wall_s)
     if scene.vehicle is None:
@@ -565,6 +619,8 @@ def simulate(
             run.ground_passage = run.ground_passage_check()
         if t is not None:
             run.free_flight(t, y)
+        if run.ground_passage is not None:
+            run.report_ground_passage()
     return _checked(_result(run, scene, options, started), check)
 
 
