@@ -329,7 +329,12 @@ def _friction_state(model, mode: ContactMode, t, y) -> ContactMode:
 def _cap_state(model, mode: ContactMode, t, y) -> ContactMode:
     """Enter the cap's sliding mode if it attracts at ``y``; else ``mode`` as it is."""
     contact = model.components.get("vehicle contact")
-    if contact is None or contact.cap_lb is None or not mode.cap_armed:
+    if (
+        contact is None
+        or contact.cap_lb is None
+        or not mode.cap_armed
+        or not model.options.cap_sliding
+    ):
         return mode
     trial = replace(mode, cap_sliding=True, cap_engaged=True)
     if mode.contact_point == "S" and Filippov(model, trial).admissible(t, y):
@@ -369,7 +374,25 @@ def after_event(model, mode: ContactMode, name: str, t, y) -> tuple[ContactMode,
         )
     if name in ("base friction ends", "base friction resumes"):
         mode = _friction_state(model, mode, t, y)
-    return mode, ended, ""
+    return _still_sliding(model, mode, t, y), ended, ""
+
+
+def _still_sliding(model, mode: ContactMode, t, y) -> ContactMode:
+    """Leave a sliding mode whose force an event has put outside its bounds (another
+    force changed at the event: its exit event could not see the jump)."""
+    if not (mode.cap_sliding or (mode.friction_on and mode.friction_stick)):
+        return mode
+    r = Filippov(model, mode).solve(t, y)
+    for name, lam, (lo, hi) in zip(r["sliders"], r["lam"], r["bounds"]):
+        if name == "cap" and (lam <= 0.0 or not hi > lo):
+            mode = replace(mode, cap_sliding=False, cap_engaged=lam <= 0.0)
+        elif name == "cap" and lam >= 1.0:
+            mode = replace(mode, cap_sliding=False, cap_engaged=False)
+        elif name == "stick" and lam <= 0.0:
+            mode = replace(mode, friction_stick=False, friction_sign=+1.0)
+        elif name == "stick" and lam >= 1.0:
+            mode = replace(mode, friction_stick=False, friction_sign=-1.0)
+    return mode
 
 
 def mode_at_time(model, mode: ContactMode, t, y) -> ContactMode:
@@ -377,7 +400,7 @@ def mode_at_time(model, mode: ContactMode, t, y) -> ContactMode:
     new = model.mode_at_time(mode, t, y)
     if new.window != mode.window:
         new = _friction_state(model, new, t, y)
-    return new
+    return _still_sliding(model, new, t, y)
 
 
 def mode_labels(mode: ContactMode) -> set[str]:

@@ -338,9 +338,7 @@ class _Run:
         depth = m.scene.environment.ground_depth_ft
         tol = ground_tolerance_ft(m.options)
         names = list(m.body_points)
-        first = None
-        deepest = (0.0, None, None)
-        prev = None
+        times, states = [], []
         for seg in self.segments:
             if seg.phase != "contact" or seg.t1 <= seg.t0:
                 continue
@@ -348,37 +346,39 @@ class _Run:
             fine = np.unique(
                 np.concatenate([np.linspace(a, b, 5) for a, b in zip(ts[:-1], ts[1:])])
             )
-            ys = seg.solution(fine)
-            for name in names:
-                h = _heights(m, ys, name) + depth
-                k = int(np.argmin(h))
-                if -h[k] > deepest[0]:
-                    deepest = (-float(h[k]), name, float(fine[k]))
-                tol_p = tol.get(name, 0.0) if isinstance(tol, dict) else tol
-                below = np.nonzero(h < -tol_p)[0]
-                if len(below):
-                    j = int(below[0])
-                    tj = float(fine[j])
-                    if first is None or tj < first[1]:
-                        # when it went below the ground plane: the last sample above it
-                        above = np.nonzero(h[:j] >= 0.0)[0]
-                        if len(above):
-                            a, b = float(fine[above[-1]]), float(fine[above[-1] + 1])
-                            f = lambda s, seg=seg, name=name: float(  # noqa: E731
-                                _heights(m, seg.solution(s).reshape(-1, 1), name)[0] + depth
-                            )
-                            try:
-                                tj = brentq(f, a, b, xtol=1e-12) if f(a) * f(b) < 0 else b
-                            except ValueError:  # pragma: no cover - sign checked
-                                tj = b
-                        first = (name, tj)
-            prev = seg
-        del prev
+            times.append(fine)
+            states.append(seg.solution(fine))
+        if not times:
+            return None
+        fine = np.concatenate(times)
+        ys = np.concatenate(states, axis=1)
+        first = None
+        deepest = (0.0, None, None)
+        for name in names:
+            h = _heights(m, ys, name) + depth
+            k = int(np.argmin(h))
+            if -h[k] > deepest[0]:
+                deepest = (-float(h[k]), name, float(fine[k]))
+            tol_p = tol.get(name, 0.0) if isinstance(tol, dict) else tol
+            below = np.nonzero(h < -tol_p)[0]
+            if len(below) and (first is None or fine[below[0]] < first[1]):
+                j = int(below[0])
+                above = np.nonzero(h[:j] >= 0.0)[0]
+                first = (name, float(fine[j]), float(fine[above[-1]]) if len(above) else None)
         if first is None:
             return None
+        name, tj, ta = first
+        if ta is not None:
+            traj = Trajectory(self.segments, m)
+
+            def f(s):
+                return float(traj.point(name, s)[2]) + depth
+
+            if f(ta) * f(tj) < 0.0:
+                tj = brentq(f, ta, tj, xtol=1e-13)
         return {
-            "point": first[0],
-            "time_s": first[1],
+            "point": name,
+            "time_s": tj,
             "deepest_point": deepest[1],
             "depth_ft": deepest[0],
             "depth_time_s": deepest[2],
