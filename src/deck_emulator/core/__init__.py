@@ -17,6 +17,7 @@ from .regions import HIT_MESSAGES
 from .result import CoreEvent, CoreResult, Hit, Trajectory
 from .rigid import angular_momentum_world, attitude_angle_between, kinetic_energy
 from .solve import DEFAULT_ATOL, DEFAULT_RTOL, CoreError, free_flight, simulate
+from .checks import check_outcome, check_summary
 
 __all__ = [
     "simulate",
@@ -34,6 +35,8 @@ __all__ = [
     "Hit",
     "Trajectory",
     "CoreError",
+    "check_outcome",
+    "check_summary",
     "HIT_MESSAGES",
     "DEFAULT_RTOL",
     "DEFAULT_ATOL",

@@ -1,7 +1,14 @@
 """Integration of a model: phases chained by located events.
 
 Contact with the car (spring at S, then at T) and free flight are integrated with
-``scipy.integrate.solve_ivp`` (DOP853 by default; Radau, LSODA ... selectable).  Every
+``scipy.integrate.solve_ivp`` (``method="auto"`` by default: DOP853, and Radau for the
+contact phase of a stiff scene, see :func:`stiffness`; any ``solve_ivp`` method can be
+named).  A segment on which an explicit method meets a numerical warning is solved again
+with Radau and the outcome says so; no warning reaches the caller.  The sliding modes of
+the ``FCONST`` cap and of the base friction (:mod:`.sliding`), and -- under
+``ModelOptions.solid_ground`` -- the ground during the contact, are located events too.
+Every run ends: ``t_max_s``, ``max_evaluations`` and ``max_wall_s`` bound its work, and
+every outcome passes :func:`~.checks.check_outcome` before it is returned.  Every
 switch -- a spring losing contact, the force moving from S to T, the base friction and
 normal force ending, the ``FCONST`` cap engaging -- is an event function located by
 scipy's root finder on the step's dense output (to a few units in the last place of t);
