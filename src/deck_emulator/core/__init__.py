@@ -25,6 +25,7 @@ _WHERE = {
     "kinetic_energy": "rigid",
     "DEFAULT_ATOL": "solve", "DEFAULT_RTOL": "solve", "CoreError": "solve",
     "free_flight": "solve", "simulate": "solve",
+    "check_outcome": "checks", "check_summary": "checks",
 }
 
 
@@ -56,6 +57,8 @@ __all__ = [
     "Hit",
     "Trajectory",
     "CoreError",
+    "check_outcome",
+    "check_summary",
     "HIT_MESSAGES",
     "DEFAULT_RTOL",
     "DEFAULT_ATOL",

@@ -82,17 +82,40 @@ class BaseNormalForce:
 
 
 class BaseFriction:
-    """Friction along ``+XX`` at Q while ``XQ - XQ0 > -window`` (section 3.3)."""
+    """Friction at Q along ``XX`` while ``XQ - XQ0 > -window`` (section 3.3).
+
+    ``reaction=False`` (the listing): a constant ``force_lb`` along ``+XX``.
+    ``reaction=True``: Coulomb friction with ``force_lb`` as its limit -- while the base
+    slips (``mode.friction_sign`` = the sign of its velocity along ``XX``) the force is
+    ``-force_lb * sign``; while it sticks (``mode.friction_stick``) it is the reaction that
+    holds it, set by :mod:`.sliding` through ``override``.
+    """
 
     name = "base friction"
 
-    def __init__(self, force_lb: float, window_ft: float):
+    def __init__(self, force_lb: float, window_ft: float, reaction: bool = False):
         self.force_lb = force_lb
         self.window_ft = window_ft
+        self.reaction = reaction
+        self.override: float | None = None
+
+    def force(self, mode) -> float:
+        """The friction force along ``+XX`` (lb) in ``mode``."""
+        if not mode.friction_on:
+            return 0.0
+        if self.override is not None:
+            return self.override
+        if not self.reaction:
+            return self.force_lb
+        if mode.friction_stick:  # pragma: no cover - the stick force always comes as override
+            return 0.0
+        return -self.force_lb * mode.friction_sign
 
     def apply(self, t, kin, mode, acc) -> None:
         if mode.friction_on:
-            _add_force(acc, (self.force_lb, 0.0, 0.0), kin.arm("Q"))
+            f = self.force(mode)
+            if f != 0.0:
+                _add_force(acc, (f, 0.0, 0.0), kin.arm("Q"))
 
     def events(self, model, mode) -> list[EventSpec]:
         f = lambda t, y: model.base_travel(y) + self.window_ft  # noqa: E731
@@ -148,6 +171,8 @@ class VehicleContact:
         self.listing_diff = options.listing_diff
         # XVSO, XVTO: the points' initial XV coordinates
         self.xv0 = {k: model.initial_xv(k) for k in self.stiffness}
+        # the spring force set by :mod:`.sliding` while the cap's switching surface is held
+        self.override: float | None = None
 
     # -- geometry of the contact (eq. 3.13-3.15)
 
@@ -182,6 +207,8 @@ class VehicleContact:
         """``FS`` (lb) in this mode."""
         if mode.window == "first_step":
             return self.kick.first_step_spring_force_lb
+        if self.override is not None:
+            return self.override
         letter = mode.contact_point
         kx = self.stiffness[letter] * self.compression(kin, letter)
         fs = abs(kx) if self.absolute else max(0.0, kx)

@@ -23,6 +23,13 @@ class ContactMode:
 
     ``contact_point``: where the spring force acts ("S" or "T").  ``window``: the
     start-up kick's windows ("kick", "first_step") or ``None``.
+
+    Sliding modes (Filippov; :mod:`.sliding`): ``cap_sliding`` -- the ``FCONST`` cap's
+    switching surface is held (the spring force is the one that keeps ``DIFF``
+    stationary, between the cap and the uncapped force); ``friction_stick`` -- the base
+    sticks (the friction is the reaction that holds it, bounded by its limit);
+    ``friction_sign`` -- the sign of the base's sliding velocity along ``XX`` while it
+    slips (the friction acts against it).
     """
 
     contact_point: str = "S"
@@ -34,6 +41,9 @@ class ContactMode:
     window: str | None = None
     #: a leaf spring's largest compression so far while it unloads (ft); None: loading
     spring_peak_ft: float | None = None
+    cap_sliding: bool = False
+    friction_stick: bool = False
+    friction_sign: float = 0.0
 
 
 class EventSpec:

@@ -101,7 +101,9 @@ class Model:
                 )
             elif base.friction is not None:
                 comps["base friction"] = BaseFriction(
-                    base.friction.force_lb, base.friction.slip_window_ft
+                    base.friction.force_lb,
+                    base.friction.slip_window_ft,
+                    reaction=options.friction_reaction,
                 )
         if vehicle is not None and getattr(vehicle, "leaf_spring", None) is not None:
             from .leaf_spring import LeafSpringContact

@@ -123,6 +123,13 @@ class CoreResult:
       ``None`` for a point the scene lacks).
     * ``planar`` -- the scene's motion stays in the XX-ZZ plane (``Scene.is_planar``).
     * ``trajectory`` -- :class:`Trajectory`.
+    * ``notes`` -- what the run did that a reader should know: the named sliding modes
+      and their intervals ("cap holding, 0.0971-0.1032 s"), the method chosen for the
+      contact and why, a numerical warning recovered from.
+    * ``no_hit_reason`` -- why there is no hit (``None`` when there is one).
+    * ``ground_passage`` -- under the listing's behaviour (no ground during the contact):
+      the first post point that went through the ground, when, and how deep the post got
+      (``{"point", "time_s", "deepest_point", "depth_ft", "depth_time_s"}``), else ``None``.
     """
 
     scene: Scene
@@ -143,6 +150,9 @@ class CoreResult:
     nfev: int
     run_time_s: float
     trajectory: Trajectory = field(repr=False)
+    notes: tuple[str, ...] = ()
+    no_hit_reason: str | None = None
+    ground_passage: dict | None = None
 
     @property
     def hit_message(self) -> str | None:
@@ -175,4 +185,7 @@ class CoreResult:
             ],
             "nfev": self.nfev,
             "run_time_s": self.run_time_s,
+            "notes": list(self.notes),
+            "no_hit_reason": self.no_hit_reason,
+            "ground_passage": dict(self.ground_passage) if self.ground_passage else None,
         }

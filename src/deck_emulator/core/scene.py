@@ -675,6 +675,18 @@ class ModelOptions:
       hits the ground when within 0.1 ft of it (0.01 ft for Q), a car surface when within
       0.1 ft of it inside the outline; the windshield when inside the top's outline below
       ``HTV``.  False: the exact surfaces (ground plane; the car as three solid boxes).
+    * ``cap_sliding`` -- when the ``FCONST`` cap's on/off decision would chatter (the
+      capped spring holds ``DIFF`` stationary), the core enters the sliding mode
+      (Filippov): the spring force is the one that keeps ``DIFF`` stationary, between the
+      cap and the uncapped force, until that force reaches either bound (a located
+      event).  False: plain switching (a chattering cap ends in ``CoreError``).
+    * ``solid_ground`` -- the ground is solid during the contact too: a post point reaching
+      it while the car still pushes is a hit.  False (the listing): the ground is checked
+      only in free flight, and the outcome says when and how deep the post went through it.
+    * ``friction_reaction`` -- base friction is Coulomb friction at Q along ``XX``: it
+      opposes the base's sliding velocity with the scene's force as its limit, and holds
+      the base still (stick) while a smaller force would do; only inside the slip-base
+      travel.  False (the listing): a constant force along ``+XX`` inside the travel.
     """
 
     startup_kick: StartupKick | None = None
@@ -685,6 +697,9 @@ class ModelOptions:
     listing_diff: bool = False
     listing_friction: bool = False
     listing_hit_tolerances: bool = False
+    cap_sliding: bool = True
+    solid_ground: bool = True
+    friction_reaction: bool = True
     name: str = "custom"
 
     def replace(self, **changes: Any) -> "ModelOptions":
@@ -705,6 +720,8 @@ LEGACY = ModelOptions(
     listing_diff=True,
     listing_friction=True,
     listing_hit_tolerances=True,
+    solid_ground=False,
+    friction_reaction=False,
     name="legacy",
 )
 

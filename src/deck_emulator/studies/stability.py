@@ -29,7 +29,7 @@ from deck_emulator.events import EventKind
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.legacy.emulator import Limits
-from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
+from deck_emulator.core.scene import LISTING_BASE_FRICTION, PHYSICAL, BaseFriction, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.parallel import parallel_map
@@ -68,7 +68,8 @@ COLUMNS = [
     "core_status", "core_error", "core_hit", "core_hit_s", "core_release_s", "core_launch_ke_ftlb",
     "core_free_drift", "core_wall_s", "core_nfev",
     "core_warnings", "core_lowest_at_release_ft", "core_base_travel_ft", "hit_diff_s", "launch_ke_rel_diff", "traj_diff_ft",
-    "ed_tolerance",
+    "ed_tolerance", "core_notes",
+    "physical_status", "physical_error", "physical_hit", "physical_hit_s", "physical_notes",
 ]
 
 
@@ -176,7 +177,15 @@ def _task_core(spec, deck) -> dict:
     out = run_core(scene, options, rtol=CORE_RTOL, t_max_s=CORE_T_MAX_S)
     res = out["result"]
     row = {"core_status": out["status"], "core_error": out["error"], "core_wall_s": out["wall_s"],
-           "core_warnings": out["warnings"]}
+           "core_warnings": out["warnings"],
+           "core_notes": "; ".join(getattr(res, "notes", ())) if res is not None else ""}
+    # the same scene under the physical preset, beside the legacy one
+    phys = run_core(scene, PHYSICAL, rtol=CORE_RTOL, t_max_s=CORE_T_MAX_S)
+    pres = phys["result"]
+    row.update(physical_status=phys["status"], physical_error=phys["error"],
+               physical_hit=pres.hit_message or "" if pres is not None else "",
+               physical_hit_s=pres.hit_time_s if pres is not None else None,
+               physical_notes="; ".join(getattr(pres, "notes", ())) if pres is not None else "")
     if res is not None:
         e = core_energies(res)
         row.update(core_hit=res.hit_message or "", core_hit_s=res.hit_time_s,
@@ -448,11 +457,11 @@ def _cell_text(r, engine):
         elif r.get("emulator_guard"):
             cls = f"{r['emulator_guard']} guard"
         return cls + (f", t = {float(when):.3g} s" if when else "")
-    if r.get("core_status") == "hit":
-        return f"{_short(r['core_hit'])} at {r['core_hit_s']:.3f} s"
-    if r.get("core_status") == "no hit":
+    if r.get(f"{engine}_status") == "hit":
+        return f"{_short(r[f'{engine}_hit'])} at {r[f'{engine}_hit_s']:.3f} s"
+    if r.get(f"{engine}_status") == "no hit":
         return f"no hit in {CORE_T_MAX_S:g} s"
-    err = r.get("core_error") or "?"
+    err = r.get(f"{engine}_error") or "?"
     return err.split(":", 1)[0] + (" (events chatter)" if "chatter" in err else "")
 
 
@@ -518,7 +527,10 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
         "converging as H shrinks, see the error study, which would hide the stiffness). The core "
         "runs the `legacy` preset with the emulator's start-up step (`StartupKick(step_s=H)`, the "
         f"`FCONST` cap armed at 8 ms), DOP853 at rtol = atol = {CORE_RTOL:g}, up to "
-        f"{CORE_T_MAX_S:g} s. An emulator run **agrees** when it reports the same hit as the "
+        f"{CORE_T_MAX_S:g} s; beside it, the same scene under the `physical` preset (column "
+        "*core's end, physical preset*; the scene's base friction as a reaction, the ground solid "
+        "in the contact). A legacy run whose post went through the ground during the contact "
+        "reports that passage as its hit (*passing through* in `core_notes`). An emulator run **agrees** when it reports the same hit as the "
         f"core, within {AGREE_HIT_S:g} s, with the post's kinetic energy when the car lets go "
         f"(the *launch energy*) within {100 * AGREE_KE:.0f} %; **same hit, off** when the hit "
         "is the same but further off; **other hit** when it ends cleanly with another hit. "
@@ -544,13 +556,16 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
             f"`{r['scene']}`", r["description"],
             f"{r['h_omega']:.3g}" if _finite(r.get("h_omega")) else "",
             r["emulator_class"], _cell_text(r, "emulator"), _cell_text(r, "core"),
+            _cell_text(r, "physical"),
             fmt(r.get("launch_ke_rel_diff"), "+.1%"), fmt(r.get("traj_diff_ft"), ".2g"),
             fmt(r.get("emulator_free_drift"), "+.2e"), fmt(r.get("core_free_drift"), "+.1e"),
         ])
     lines += [md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
+                        "core's end, physical preset",
                         "launch energy, emulator vs core", "largest mass-centre distance (ft)",
                         "emulator free-flight drift", "core free-flight drift"], table), ""]
-    errors = [r for r in rows if r.get("emulator_error") or r.get("core_error")]
+    errors = [r for r in rows
+              if r.get("emulator_error") or r.get("core_error") or r.get("physical_error")]
     if errors:
         lines += ["## Messages of the runs that failed", ""]
         for r in errors:
@@ -558,6 +573,8 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
                 lines.append(f"* `{r['scene']}`, emulator: {r['emulator_error']}")
             if r.get("core_error"):
                 lines.append(f"* `{r['scene']}`, core: {r['core_error']}")
+            if r.get("physical_error"):
+                lines.append(f"* `{r['scene']}`, core (physical): {r['physical_error']}")
         lines.append("")
     lines += ["Every number is in `stability_study.csv` (one row per scene; `k` is the step "
               "scaling, `h_omega` = H sqrt(CK / W)).", ""]

@@ -1,0 +1,413 @@
+"""Sliding modes of the contact phase (Filippov) and the solid ground.
+
+Two forces of the contact phase switch on a surface of the state and can hold the state
+*on* that surface -- a sliding mode, in which an event-per-switch integration chatters
+(the on/off events repeat at one instant):
+
+* the ``FCONST`` cap (``ModelOptions.cap_sliding``): it is on while ``DIFF`` does not
+  decrease.  Under the cap the post falls behind (``DIFF`` decreases), under the uncapped
+  spring it runs ahead: on the surface ``dDIFF/dt = 0`` the spring force is the one that
+  keeps ``dDIFF/dt`` stationary, between the cap (lower bound) and the uncapped spring
+  force (upper bound).  The mode is left, by a located event, when that force reaches
+  either bound: at the cap the cap stays engaged, at the uncapped force it is released.
+* Coulomb friction at the base (``ModelOptions.friction_reaction``): on the surface
+  ``v_Q = 0`` (the base's velocity along ``XX``) the friction is the reaction that keeps
+  the base still, bounded by the friction limit; the base slips, against the friction,
+  once the reaction needed reaches the limit (a located event), and sticks again when its
+  velocity returns to zero while a reaction within the limit holds it.
+
+Both forces act linearly on the state's derivative, so the force that keeps a surface
+stationary is found from the derivatives at the two bounds (Filippov's convex
+combination; with both modes at once, a 2 x 2 linear system).  A mode is entered only
+where it is attractive (the derivative of the surface function has opposite signs at
+the two bounds, pointing back to the surface).
+
+The solid ground (``ModelOptions.solid_ground``): events that end the run with a ground
+hit when a post point reaches the ground plane while the car still pushes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
+from .rigid import post_derivative, rotate
+
+__all__ = [
+    "Filippov",
+    "contact_rhs",
+    "contact_events",
+    "after_event",
+    "initial_mode",
+    "point_acceleration",
+    "friction_force",
+    "spring_force",
+    "mode_labels",
+]
+
+#: a mode is entered only if its force is this far (as a fraction of the bound interval)
+#: inside its bounds: at the bound itself its exit event would fire at once
+_INSIDE = 1e-9
+
+
+def point_acceleration(model, kin: Kinematics, d, letter: str):
+    """Road-axes acceleration (ft/s^2) of post point ``letter`` given the state derivative
+    ``d``: ``R (omega x (V + omega x r) + V' + omega' x r)``."""
+    y = kin.y
+    bx, by, bz = model.body_points[letter]
+    v1, v2, v3 = y[3], y[4], y[5]
+    w1, w2, w3 = y[10], y[11], y[12]
+    u1 = v1 + w2 * bz - w3 * by
+    u2 = v2 + w3 * bx - w1 * bz
+    u3 = v3 + w1 * by - w2 * bx
+    dw1, dw2, dw3 = d[10], d[11], d[12]
+    a1 = w2 * u3 - w3 * u2 + d[3] + dw2 * bz - dw3 * by
+    a2 = w3 * u1 - w1 * u3 + d[4] + dw3 * bx - dw1 * bz
+    a3 = w1 * u2 - w2 * u1 + d[5] + dw1 * by - dw2 * bx
+    return rotate(kin.R, (a1, a2, a3))
+
+
+class _CapSlider:
+    """The ``FCONST`` cap's surface ``dDIFF/dt = 0`` (``DIFF`` of point S)."""
+
+    name = "cap"
+
+    def __init__(self, model):
+        self.comp = model.components["vehicle contact"]
+
+    def bounds(self, model, kin, mode):
+        c = self.comp
+        hi = c.spring_force(kin, replace(mode, cap_engaged=False, cap_sliding=False))
+        return c.cap_lb, hi
+
+    def sigma(self, model, kin):
+        return self.comp.diff_rate(kin)
+
+    def sigma_dot(self, model, kin, d):
+        c = self.comp
+        ax, ay, _ = point_acceleration(model, kin, d, "S")
+        dxv = c._xv(kin, "S") - c.xv0["S"]
+        dsv = kin.y[IDX_VV - 1] - c.sv_contact
+        return math.copysign(1.0, dxv) * (ax * c.cos_a - ay * c.sin_a) - math.copysign(
+            1.0, dsv
+        ) * d[IDX_VV]
+
+
+class _StickSlider:
+    """The base's surface ``v_Q = 0`` along ``XX`` (Coulomb friction sticking)."""
+
+    name = "stick"
+
+    def __init__(self, model):
+        self.comp = model.components["base friction"]
+
+    def bounds(self, model, kin, mode):
+        f = self.comp.force_lb
+        return -f, f
+
+    def sigma(self, model, kin):
+        return kin.point_velocity("Q")[0]
+
+    def sigma_dot(self, model, kin, d):
+        return point_acceleration(model, kin, d, "Q")[0]
+
+
+def _sliders(model, mode: ContactMode):
+    out = []
+    if mode.cap_sliding:
+        out.append(_CapSlider(model))
+    if mode.friction_on and mode.friction_stick:
+        out.append(_StickSlider(model))
+    return out
+
+
+def _derivative(model, mode, t, kin, sliders, values):
+    for s, v in zip(sliders, values):
+        s.comp.override = v
+    try:
+        acc = model.loads(t, kin, mode)
+    finally:
+        for s in sliders:
+            s.comp.override = None
+    d = post_derivative(kin.y, kin.R, acc[0:3], acc[3:6], model.mass, model.inertia)
+    d.append(kin.y[IDX_VV])
+    d.append(acc[6] / model.vehicle_mass)
+    return d, acc
+
+
+class Filippov:
+    """The sliding forces of ``mode`` at a state: ``solve(t, y)`` -> dict with ``d`` (the
+    state derivative), ``lam`` (unclamped position of each force between its bounds, 0 at
+    the lower, 1 at the upper), ``force``, ``bounds``, ``diag`` (d sigma_dot / d lam: > 0
+    where the mode attracts)."""
+
+    def __init__(self, model, mode: ContactMode):
+        self.model = model
+        self.mode = mode
+        self.sliders = _sliders(model, mode)
+        self._key = None
+        self._val = None
+
+    def solve(self, t, y):
+        yl = y.tolist() if not isinstance(y, list) else y
+        key = (t, tuple(yl))
+        if key == self._key:
+            return self._val
+        m, mode, sl = self.model, self.mode, self.sliders
+        kin = Kinematics(m, yl)
+        bounds = [s.bounds(m, kin, mode) for s in sl]
+        lo = [b[0] for b in bounds]
+        d0, acc0 = _derivative(m, mode, t, kin, sl, lo)
+        sig0 = [s.sigma_dot(m, kin, d0) for s in sl]
+        cols, M = [], [[0.0] * len(sl) for _ in sl]
+        for i, (a, b) in enumerate(bounds):
+            vals = list(lo)
+            vals[i] = b
+            di, _ = _derivative(m, mode, t, kin, sl, vals)
+            cols.append(di)
+            for j, s in enumerate(sl):
+                M[j][i] = s.sigma_dot(m, kin, di) - sig0[j]
+        n = len(sl)
+        if n == 1:
+            lam = [-sig0[0] / M[0][0] if M[0][0] != 0.0 else 1.0]
+        else:
+            det = M[0][0] * M[1][1] - M[0][1] * M[1][0]
+            if det == 0.0:
+                lam = [1.0, 0.5]
+            else:
+                lam = [
+                    (-sig0[0] * M[1][1] + sig0[1] * M[0][1]) / det,
+                    (-sig0[1] * M[0][0] + sig0[0] * M[1][0]) / det,
+                ]
+        lamc = [min(max(x, 0.0), 1.0) for x in lam]
+        d = list(d0)
+        for i, li in enumerate(lamc):
+            if li:
+                di = cols[i]
+                d = [dk + li * (dik - d0k) for dk, dik, d0k in zip(d, di, d0)]
+        force = [a + li * (b - a) for (a, b), li in zip(bounds, lamc)]
+        val = {
+            "d": d,
+            "lam": lam,
+            "force": force,
+            "bounds": bounds,
+            "diag": [M[i][i] for i in range(n)],
+            "sliders": [s.name for s in sl],
+        }
+        self._key, self._val = key, val
+        return val
+
+    def admissible(self, t, y) -> bool:
+        """The mode attracts and its forces lie strictly inside their bounds."""
+        if not self.sliders:
+            return False
+        r = self.solve(t, y)
+        for (a, b), lam, diag in zip(r["bounds"], r["lam"], r["diag"]):
+            if not (b > a and diag > 0.0 and _INSIDE < lam < 1.0 - _INSIDE):
+                return False
+        return True
+
+
+def contact_rhs(model, mode: ContactMode):
+    """The right-hand side of the contact phase in ``mode`` (sliding forces included)."""
+    if not _sliders(model, mode):
+        return model.contact_rhs(mode)
+    fil = Filippov(model, mode)
+    return lambda t, y: fil.solve(t, y)["d"]
+
+
+def spring_force(model, t, y, mode) -> float:
+    """The spring force (lb) on the car in ``mode`` (the sliding one while the cap holds)."""
+    if mode.cap_sliding:
+        r = Filippov(model, mode).solve(t, y)
+        return r["force"][r["sliders"].index("cap")]
+    return model.vehicle_force(t, y, mode)
+
+
+def vehicle_force(model, t, y, mode) -> float:
+    """Force on the car along ``+XV`` (lb) in ``mode``."""
+    if mode.window == "kick" or not mode.cap_sliding:
+        return model.vehicle_force(t, y, mode)
+    return spring_force(model, t, y, mode)
+
+
+def friction_force(model, t, y, mode) -> float:
+    """The base friction along ``+XX`` (lb) in ``mode`` (0 without friction)."""
+    comp = model.components.get("base friction")
+    if comp is None or not mode.friction_on or mode.window == "kick":
+        return 0.0
+    if mode.friction_stick:
+        r = Filippov(model, mode).solve(t, y)
+        return r["force"][r["sliders"].index("stick")]
+    return comp.force(mode)
+
+
+def _ground_events(model):
+    depth = model.scene.environment.ground_depth_ft
+    out = []
+    for p in model.checks.points:
+        if p not in model.body_points:  # pragma: no cover - checks only hold the scene's points
+            continue
+        out.append(
+            EventSpec(
+                f"ground reached by {p}",
+                lambda t, y, p=p: -(model.point_position(Kinematics(model, y), p)[2] + depth),
+                +1.0,
+            )
+        )
+    return out
+
+
+def contact_events(model, mode: ContactMode) -> list[EventSpec]:
+    """The model's contact events for ``mode``, with the sliding modes' and the ground's."""
+    out = model.contact_events(mode)
+    if mode.cap_sliding:
+        out = [e for e in out if e.name not in ("force cap engaged", "force cap released")]
+    fil = None
+    if mode.cap_sliding or (mode.friction_on and mode.friction_stick):
+        fil = Filippov(model, mode)
+        for i, s in enumerate(fil.sliders):
+            out.append(
+                EventSpec(
+                    f"{s.name} sliding ends at lower bound",
+                    lambda t, y, i=i: fil.solve(t, y)["lam"][i],
+                    -1.0,
+                )
+            )
+            out.append(
+                EventSpec(
+                    f"{s.name} sliding ends at upper bound",
+                    lambda t, y, i=i: fil.solve(t, y)["lam"][i] - 1.0,
+                    +1.0,
+                )
+            )
+            if s.name == "cap":
+                out.append(
+                    EventSpec(
+                        "cap sliding ends: cap not binding",
+                        lambda t, y, i=i: (lambda b: b[1] - b[0])(fil.solve(t, y)["bounds"][i]),
+                        -1.0,
+                    )
+                )
+    comp = model.components.get("base friction")
+    if comp is not None and comp.reaction and mode.friction_on and not mode.friction_stick:
+        sign = mode.friction_sign
+        out.append(
+            EventSpec(
+                "base stops sliding",
+                lambda t, y: sign * Kinematics(model, y).point_velocity("Q")[0],
+                -1.0,
+            )
+        )
+    if model.options.solid_ground:
+        out.extend(_ground_events(model))
+    return out
+
+
+def _friction_state(model, mode: ContactMode, t, y) -> ContactMode:
+    """Stick or slip (and which way) for a base with friction at state ``y``."""
+    comp = model.components.get("base friction")
+    if comp is None or not comp.reaction or not mode.friction_on or mode.window == "kick":
+        return replace(mode, friction_stick=False, friction_sign=0.0)
+    kin = Kinematics(model, y)
+    v = kin.point_velocity("Q")[0]
+    scale = 1e-9 * max(1.0, abs(kin.y[IDX_VV]))
+    if abs(v) > scale:
+        return replace(mode, friction_stick=False, friction_sign=math.copysign(1.0, v))
+    trial = replace(mode, friction_stick=True, friction_sign=0.0)
+    if comp.force_lb > 0.0 and Filippov(model, trial).admissible(t, y):
+        return trial
+    # it slips: which way?  the base's acceleration with the friction at its limit against
+    plus = replace(mode, friction_stick=False, friction_sign=+1.0)
+    d, _ = _derivative(model, plus, t, kin, [], [])
+    if point_acceleration(model, kin, d, "Q")[0] > 0.0:
+        return plus
+    return replace(mode, friction_stick=False, friction_sign=-1.0)
+
+
+def _cap_state(model, mode: ContactMode, t, y) -> ContactMode:
+    """Enter the cap's sliding mode if it attracts at ``y``; else ``mode`` as it is."""
+    contact = model.components.get("vehicle contact")
+    if (
+        contact is None
+        or contact.cap_lb is None
+        or not mode.cap_armed
+        or not model.options.cap_sliding
+    ):
+        return mode
+    trial = replace(mode, cap_sliding=True, cap_engaged=True)
+    if mode.contact_point == "S" and Filippov(model, trial).admissible(t, y):
+        return trial
+    return mode
+
+
+def initial_mode(model) -> ContactMode:
+    mode = model.initial_mode()
+    return _friction_state(model, mode, 0.0, list(model.y0))
+
+
+def after_event(model, mode: ContactMode, name: str, t, y) -> tuple[ContactMode, bool, str]:
+    """The mode after event ``name`` at ``(t, y)``: (mode, car has left, hit point or "")."""
+    if name.startswith("ground reached by "):
+        return mode, True, name.rsplit(" ", 1)[-1]
+    if name == "cap sliding ends at lower bound":
+        return replace(mode, cap_sliding=False, cap_engaged=True), False, ""
+    if name in ("cap sliding ends at upper bound", "cap sliding ends: cap not binding"):
+        return replace(mode, cap_sliding=False, cap_engaged=False), False, ""
+    if name == "stick sliding ends at lower bound":  # friction at -limit: the base slips +XX
+        return replace(mode, friction_stick=False, friction_sign=+1.0), False, ""
+    if name == "stick sliding ends at upper bound":
+        return replace(mode, friction_stick=False, friction_sign=-1.0), False, ""
+    if name == "base stops sliding":
+        return _friction_state(model, replace(mode, friction_sign=0.0), t, y), False, ""
+    old = mode
+    mode, ended = model.transition(mode, name, y)
+    if name in ("force cap engaged", "force cap released"):
+        mode = _cap_state(model, mode, t, y)
+    elif old.cap_sliding and mode.contact_point != old.contact_point or (
+        old.cap_sliding and name == "first spring lost"
+    ):
+        contact = model.components["vehicle contact"]
+        mode = replace(
+            mode, cap_sliding=False, cap_engaged=contact.diff_rate(Kinematics(model, y)) >= 0.0
+        )
+    if name in ("base friction ends", "base friction resumes"):
+        mode = _friction_state(model, mode, t, y)
+    return _still_sliding(model, mode, t, y), ended, ""
+
+
+def _still_sliding(model, mode: ContactMode, t, y) -> ContactMode:
+    """Leave a sliding mode whose force an event has put outside its bounds (another
+    force changed at the event: its exit event could not see the jump)."""
+    if not (mode.cap_sliding or (mode.friction_on and mode.friction_stick)):
+        return mode
+    r = Filippov(model, mode).solve(t, y)
+    for name, lam, (lo, hi) in zip(r["sliders"], r["lam"], r["bounds"]):
+        if name == "cap" and (lam <= 0.0 or not hi > lo):
+            mode = replace(mode, cap_sliding=False, cap_engaged=lam <= 0.0)
+        elif name == "cap" and lam >= 1.0:
+            mode = replace(mode, cap_sliding=False, cap_engaged=False)
+        elif name == "stick" and lam <= 0.0:
+            mode = replace(mode, friction_stick=False, friction_sign=+1.0)
+        elif name == "stick" and lam >= 1.0:
+            mode = replace(mode, friction_stick=False, friction_sign=-1.0)
+    return mode
+
+
+def mode_at_time(model, mode: ContactMode, t, y) -> ContactMode:
+    """:meth:`Model.mode_at_time` with the friction's stick/slip state refreshed."""
+    new = model.mode_at_time(mode, t, y)
+    if new.window != mode.window:
+        new = _friction_state(model, new, t, y)
+    return _still_sliding(model, new, t, y)
+
+
+def mode_labels(mode: ContactMode) -> set[str]:
+    """The named sliding modes ``mode`` is in ("cap holding", "base sticking")."""
+    out = set()
+    if mode.cap_sliding:
+        out.add("cap holding")
+    if mode.friction_on and mode.friction_stick:
+        out.add("base sticking")
+    return out
