@@ -89,3 +89,18 @@ def test_ibm7094_run_ends_and_names_its_assumptions(capsys):
 def test_machine_assumptions_belong_to_ibm7094(capsys):
     assert main(["run", "decks/steel40.dat", "--sincos", "round"]) == 2
     assert "assumptions of --precision ibm7094" in capsys.readouterr().err
+
+
+def test_summary_flags_a_listing_hit_with_a_point_under_the_ground(tmp_path, capsys):
+    """The post thrown down at 50 ft/s: the listing reports 'hit the ground with point P'
+    while Q is far below the ground (it tests Q only in a 0.01 ft band). The printout stays
+    the listing's; the summary says what is odd, with the printed depth."""
+    from deck_emulator.legacy.deck import read_deck
+
+    deck = tmp_path / "thrown_down.dat"
+    deck.write_text(read_deck(ROOT / "decks" / "steel40.dat").with_values(V3B=-50.0).to_text())
+    assert main(["summary", str(deck), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    zql = data["terminal"]["Q"]["ZL"]
+    assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT P" and zql < -1.0
+    assert any(f"Q {-zql:.3g} ft below the ground" in f for f in data["flags"]), data["flags"]

@@ -348,6 +348,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
             "events": [e.as_dict() for e in out.events],
             **printed,
             "delta_v_contact_mph": out.delta_v_contact_mph,
+            "flags": list(out.flags),
             "safety": safety.summary(out)}
     if args.json:
         _emit(args, json.dumps(data, indent=2) + "\n")

@@ -105,6 +105,8 @@ class EmulatorEngine:
         if self.trace and run.trace:
             _emulator_arrays(out, run.trace, d)
         _printed_quantities(out, run, deck)
+        if run.error is None:
+            out.flags = _listing_flags(out)
         return out
 
 
@@ -158,6 +160,27 @@ def _printed_quantities(out: Outcome, run, deck) -> None:
     out.delta_v_crush_mph = printed.delta_v_crush_mph
     out.max_decel_g = printed.max_decel_g
     out.terminal = {k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()}
+
+
+def _listing_flags(out: Outcome) -> list[str]:
+    """The core's outcome checks applied to what the listing printed (its hit, the terminal
+    heights ZL, the speed lost), with the listing's own ground bands as tolerances."""
+    from deck_emulator.core.checks import check_summary
+    from deck_emulator.core.regions import LISTING_GROUND_TOLERANCE_FT
+
+    hit = out.hit
+    return check_summary(
+        hit=(f"{hit.surface.value} hit" if hit and hit.surface else None),
+        hit_time_s=out.hit_time_s,
+        heights_at_hit_ft={k: (p[2] if p[2] is not None else None)
+                           for k, p in out.terminal.items()} if hit else None,
+        delta_v_contact_mph=out.delta_v_contact_mph,
+        car_speed_mph=ft_s_to_mph(abs(out.values.get("VVB", 0.0))),
+        max_decel_g=out.max_decel_g,
+        no_hit_reason=None if hit else "the listing stopped without a hit message",
+        ground_tolerance_ft=dict(LISTING_GROUND_TOLERANCE_FT),
+        who="the listing",
+    )
 
 
 # ================================================================================= the core

@@ -31,6 +31,9 @@ class Outcome:
     * ``max_decel_g``: the report's maximum deceleration (emulator: the largest *printed*
       FSA/(WV*G), as the report read it; core: its continuous maximum).
     * ``terminal``: P, Q, R, C at the hit in the report's XL, YL, ZL axes (ft).
+    * ``flags``: sentences naming what is physically absurd in an answer the engine gave
+      (a hit with a point under the ground, a delta-V above the car's speed ...); the
+      emulator's printout is left as the listing prints it, the flags say what is odd.
     * ``error``: why the run stopped early (one line), ``None`` if it ended; ``guard``: the
       emulator's guard that stopped it; ``hint``: what would let it run.
     * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
@@ -54,6 +57,7 @@ class Outcome:
     max_decel_g: float | None = None
     terminal: dict = field(default_factory=dict)
     error: str | None = None
+    flags: list[str] = field(default_factory=list)
     guard: str | None = None
     hint: str = ""
     run_s: float = 0.0
