@@ -455,8 +455,10 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
                        "events. Presets: legacy (the listing's quirks) or physical (none).")
     p.add_argument("scene", metavar="DECK_OR_TOML", help="a card deck or a scene file (.toml)")
     _add_preset_option(p)
-    p.add_argument("--method", default="DOP853", choices=("DOP853", "RK45", "Radau", "LSODA"),
-                   help="solve_ivp's method (default DOP853)")
+    p.add_argument("--method", default="auto",
+                   choices=("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA"),
+                   help="solve_ivp's method; auto (the default): DOP853, or Radau for the "
+                   "contact when the scene's springs make it stiff (the outcome says which)")
     p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (default 1e-10)")
     p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (default 1e-10)")
     _add_answer_options(p)

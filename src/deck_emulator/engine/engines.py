@@ -211,12 +211,12 @@ def core_events(result) -> list[Event]:
 class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
     ``options``: a :class:`~deck_emulator.core.scene.ModelOptions` instead of a preset;
-    ``method``, ``rtol``, ``atol``: solve_ivp's; ``sample_contact_s``, ``sample_free_s``: the
+    ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's; ``sample_contact_s``, ``sample_free_s``: the
     grid the outcome's arrays are sampled on."""
 
     preset: str = "legacy"
     options: object = None
-    method: str = "DOP853"
+    method: str = "auto"
     rtol: float | None = None
     atol: float | None = None
     sample_contact_s: float = 0.0002

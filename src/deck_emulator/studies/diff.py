@@ -121,6 +121,7 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
     core = CoreEngine(rtol=rtol, atol=atol)
     scene = core.scene(deck)
     convergence = []
+    methods: set[str] = set()
     first = None
 
     def emulate(k, precision, tol):
@@ -153,6 +154,7 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
             "ed_tolerance_rad": float(tol),
         }
         convergence.append(row)
+        methods.add(result.method)
         if first is None:
             first = (emu, core_row, row)
             if tighten_ed:  # the side by side is the printed run: redo k = 0 with .0001
@@ -170,7 +172,7 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
         "deck": str(deck.path),
         "precision": precision,
         "errata": list(chosen),
-        "core_method": "DOP853",
+        "core_method": "/".join(sorted(methods)),
         "core_rtol": rtol,
         "emulator": emu,
         "core": core_row,
