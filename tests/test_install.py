@@ -50,6 +50,33 @@ def test_run_and_summary_on_an_absolute_deck_path(installed):
     assert json.loads(summary.stdout)["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
 
 
+@pytest.mark.parametrize("argv, made", [
+    (["parse", "{deck}", "--json"], None),
+    (["run", "{deck}", "--precision", "ibm7094", "--out", "r.txt"], "r.txt"),
+    (["plot", "{deck}", "--out", "side.png"], "side.png"),
+    (["diff", "{deck}", "--erratum", "ed-direction", "--max-k", "0"], None),
+    (["core", "{deck}"], None),
+    (["scene", "{deck}", "--out", "s.toml"], "s.toml"),
+    (["core", "s.toml"], None),
+    (["punch", "{deck}", "--to", "cbn", "--job", "--out", "j.cbn"], "j.cbn"),
+    (["run", "j.cbn", "--pages", "j.pdf"], "j.pdf"),
+    (["assembly", "aluminium", "deck"], None),
+    (["study", "error", "{deck}", "--quick", "--jobs", "2", "--out", "err"], "err/README.md"),
+])
+def test_every_readme_command_runs_installed(installed, argv, made):
+    """Each command of the README, as a user types it, from outside the checkout (in order:
+    the scene and the punched job deck of earlier rows are inputs of later ones)."""
+    exe, work = installed
+    deck = str(ROOT / "decks" / "steel40.dat")
+    proc = _run([str(exe)] + [a.format(deck=deck) for a in argv], cwd=work, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr
+    if made:
+        assert (work / made).stat().st_size > 0
+    else:
+        assert proc.stdout.strip()
+
+
 def test_sweep_and_study_need_no_base_deck_path(installed):
     exe, work = installed
     sweep = _run([str(exe), "sweep", "--speeds", "40", "--angles", "0", "--jobs", "1",
