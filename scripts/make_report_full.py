@@ -30,7 +30,7 @@ from deck_emulator.files import write_atomic  # noqa: E402
 from deck_emulator.studies import crash_test as ct  # noqa: E402
 from deck_emulator.studies.report_full import run_column  # noqa: E402
 from deck_emulator.studies.report_tables import (  # noqa: E402
-    CASES_ALL, REPORT_ALL, SEED, TABLE8, TABLE9, TABLE10, report_time_ms_all,
+    CASES_ALL, REPORT_ALL, SOURCE, TABLE8, TABLE9, TABLE10, report_time_ms_all,
 )
 
 OUT = ROOT / "docs" / "report_full.md"
@@ -667,7 +667,7 @@ def main(argv=None) -> int:
         r["core"]["max_decel_g"] = core_max_decel(r["result"])
     lines = ["# The report's Tables 9-12, all columns, against both engines\n"]
     lines.append(f"Made by `python scripts/make_report_full.py`; report numbers from "
-                 f"`deck_emulator.studies.report_tables` (seed `{SEED}`, Tables 11-12 lines "
+                 f"`deck_emulator.studies.report_tables` ({SOURCE}; Tables 11-12 lines "
                  "1748-1792, Tables 8-10 lines 1622-1674). Nothing is tuned to the report.\n")
     lines.append("Contents: the builder against the steel deck; geometry the tables imply; "
                  "Tables 11 and 12 (18 columns); Chapter V's crash test (Tables 9, 10, "
