@@ -399,7 +399,6 @@ def crash_section(lines):
                 ("unloading at 12,000 lb/ft only (no stiff branch)",
                  {"unloading_stiffness_lb_per_ft": [12000.0, 12000.0]}),
                 ("no U-bolt stop (26,400 lb/ft beyond 4.5 in)", {"stop_ft": 100.0}),
-                ("no normal force at the base", {"normal_force_release_ft": 0.0}),
                 ("base 0.5 ft above the ground", {"base_on_ground": False})]
     got = {}
     for label, kw in variants:

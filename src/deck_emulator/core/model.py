@@ -111,8 +111,8 @@ class Model:
             comps["vehicle contact"] = LeafSpringContact(scene, options, self)
         elif vehicle is not None:
             comps["vehicle contact"] = VehicleContact(scene, options, self)
-            if options.startup_kick is not None:
-                self.kick_load = StartupKickLoad(options.startup_kick)
+        if vehicle is not None and options.startup_kick is not None:
+            self.kick_load = StartupKickLoad(options.startup_kick)
         self.components = comps
         self._regular = tuple(comps.values())
         self.checks: FreeFlightChecks = build_checks(scene, options, self)
