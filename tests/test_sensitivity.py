@@ -30,7 +30,7 @@ def test_ishigami_indices_are_recovered_within_their_confidence_intervals(tmp_pa
     problem = {"num_vars": 3, "names": ["x1", "x2", "x3"], "bounds": [[-math.pi, math.pi]] * 3}
     study = sa.run_study(
         problem, 1024, sa.ishigami_task, base_task={"a": 7.0, "b": 0.1}, outputs=["y"],
-        store_dir=tmp_path / "s", jobs=2, digits=False, progress=False,
+        store_dir=tmp_path / "s", jobs=2, digits=False, progress=False, chunk=256,
     )
     assert len(study.store.rows()) == 1024 * 5
     rows = [r for r in study.indices if r["N"] == 1024]

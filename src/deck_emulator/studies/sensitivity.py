@@ -334,6 +334,7 @@ def run_study(
     desc: str = "scenes",
     progress: bool | None = None,
     convergence: bool = True,
+    chunk: int = 1,
 ) -> Study:
     """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
     for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample)."""
@@ -344,7 +345,7 @@ def run_study(
     started = time.perf_counter()
     store = run_scenes(
         tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler, resume=resume,
-        desc=desc, progress=progress,
+        desc=desc, progress=progress, chunk=chunk,
     )
     wall = time.perf_counter() - started
     rows = store.by_id()
