@@ -455,9 +455,9 @@ def indices_markdown(rows: list, *, header: str = "") -> str:
 
 
 def _top_inputs(rows: list, n: int) -> list[str]:
-    """The two inputs with the largest total index on the class outcomes (hits_car, hits_roof),
-    else summed over every outcome."""
-    for outs in (("hits_car", "hits_roof"), tuple(OUTCOMES)):
+    """The two inputs with the largest total index on the class outcomes (hits_car, hits_roof);
+    if the class does not change, on the roof clearance; else summed over every outcome."""
+    for outs in (("hits_car", "hits_roof"), ("roof_clearance_ft",), tuple(OUTCOMES)):
         score: dict = {}
         for r in rows:
             if r["N"] == n and r["output"] in outs and r["ST"] is not None:
@@ -509,8 +509,8 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
 
 
 def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") -> None:
-    """What the post hits first, per scene, over the two given inputs (every scene of the
-    sample; the other inputs vary underneath)."""
+    """What the post hits first (marker) and its least clearance above the roof (colour), per
+    scene, over the two given inputs (every scene of the sample; the others vary underneath)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -523,13 +523,24 @@ def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") ->
     for t in study.tasks:
         r = rows.get(scene_id(t))
         surf.append("FAILED" if r is None or r.get("status") != "ok" else r.get("hit_surface"))
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    colours = {"GROUND": "tab:brown", "HOOD": "tab:blue", "WINDSHIELD": "tab:red",
-               "TOP": "tab:orange", "TRUNK": "tab:green", "NONE": "tab:gray", "FAILED": "k"}
+    clear = []
+    for t in study.tasks:
+        r = rows.get(scene_id(t))
+        v = None if r is None else r.get("roof_clearance_ft")
+        clear.append(np.nan if v is None else float(v))
+    clear = np.array(clear)
+    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    markers = {"GROUND": "o", "HOOD": "s", "WINDSHIELD": "^", "TOP": "D", "TRUNK": "v",
+               "NONE": "x", "FAILED": "x"}
+    sc = None
     for s in sorted(set(surf)):
         k = [i for i, v in enumerate(surf) if v == s]
-        ax.scatter(study.X[k, ix[0]], study.X[k, ix[1]], s=10, alpha=0.7,
-                   c=colours.get(s, "tab:purple"), label=f"{s} ({len(k)})")
+        sc = ax.scatter(study.X[k, ix[0]], study.X[k, ix[1]], s=14, c=clear[k], cmap="viridis",
+                        vmin=np.nanmin(clear) if np.isfinite(clear).any() else 0,
+                        vmax=np.nanmax(clear) if np.isfinite(clear).any() else 1,
+                        marker=markers.get(s, "P"), label=f"{s} ({len(k)})")
+    if sc is not None:
+        fig.colorbar(sc, ax=ax, label="least clearance above the roof (ft)")
     ax.set_xlabel(inputs[0])
     ax.set_ylabel(inputs[1])
     ax.legend(fontsize=7, title="post hits first", title_fontsize=7)
