@@ -64,7 +64,14 @@ import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
-__all__ = ["scene_id", "SceneStore", "run_scenes", "StoreError", "META_COLUMNS"]
+__all__ = [
+    "scene_id",
+    "SceneStore",
+    "run_scenes",
+    "StoreError",
+    "META_COLUMNS",
+    "add_cluster_arguments",
+]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
 META_COLUMNS = ("scene_id", "task_json", "status", "error", "worker", "run_s", "stored_at")
@@ -379,3 +386,13 @@ def run_scenes(
         flush()  # Ctrl-C or any error: what has completed is stored
         bar.close()
     return store
+
+
+def add_cluster_arguments(p) -> None:
+    """Add ``--scheduler ADDRESS`` and ``--resume`` to an argparse parser (a subcommand that
+    runs its scenes with :func:`run_scenes`; it keeps its own ``--jobs``)."""
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on an existing Dask cluster (its scheduler's address, "
+                   "tcp://host:8786) instead of an embedded one of --jobs workers")
+    p.add_argument("--resume", action="store_true",
+                   help="run only the scenes not yet stored in the output directory")

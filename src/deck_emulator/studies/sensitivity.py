@@ -60,7 +60,12 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.studies.distributed import SceneStore, run_scenes, scene_id
+from deck_emulator.studies.distributed import (
+    SceneStore,
+    add_cluster_arguments,
+    run_scenes,
+    scene_id,
+)
 
 __all__ = [
     "InputRange",
@@ -697,8 +702,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    "minute on two cores; wide intervals")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--jobs", type=int, metavar="N", help="workers of the embedded cluster")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler")
-    p.add_argument("--resume", action="store_true", help="run only the scenes not yet stored")
+    add_cluster_arguments(p)
     p.add_argument("--out", required=True, metavar="DIR")
     p.set_defaults(func=_cmd, argv_tail=[])
     return p
