@@ -291,7 +291,7 @@ def _client(jobs: int | None, scheduler: str | None):
             threads_per_worker=1,
             processes=True,
             dashboard_address=None,
-            silence_logs=logging.ERROR,
+            silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
         )
     client = Client(cluster)
     try:
