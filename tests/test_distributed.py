@@ -151,3 +151,16 @@ def test_sigkill_of_the_whole_command_then_resume(stub, tmp_path):
         assert rows[sid] == r
     assert not list((store_dir / "results").glob(".*.tmp"))
     assert sorted(r["y"] for r in rows.values()) == [i * 0.5 for i in range(n)]
+
+
+def test_an_existing_cluster_by_its_scheduler_address(stub, tmp_path):
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster:
+        tasks = [{"i": i} for i in range(12)]
+        store = run_scenes(tasks, stub.work, store_dir=tmp_path / "s",
+                           scheduler=cluster.scheduler_address, progress=False)
+        rows = _check_complete(store, tasks)
+        assert sorted(r["square"] for r in rows) == [i * i for i in range(12)]
+        assert cluster.status.name == "running"  # the cluster is theirs: left running
