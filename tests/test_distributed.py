@@ -101,7 +101,8 @@ def test_a_killed_worker_loses_no_scene(stub, tmp_path):
     assert not redone["worker"].endswith(f":{killed_pid}")  # run again by another process
 
 
-def test_sigkill_of_the_whole_command_then_resume(stub, tmp_path):
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT], ids=["kill-9", "ctrl-c"])
+def test_killing_the_whole_command_then_resume(stub, tmp_path, sig):
     store_dir = tmp_path / "s"
     n = 60
     script = tmp_path / "sweep_script.py"
@@ -128,8 +129,10 @@ def test_sigkill_of_the_whole_command_then_resume(stub, tmp_path):
             ).read_text()[-2000:]
             assert time.monotonic() < deadline, "the sweep stored nothing in 120 s"
             time.sleep(0.1)
-        os.kill(proc.pid, signal.SIGKILL)  # kill -9 of the main process only
-        proc.wait(timeout=30)
+        os.kill(proc.pid, sig)  # kill -9 (or Ctrl-C) of the main process only
+        proc.wait(timeout=60)
+        if sig == signal.SIGINT:  # Ctrl-C: what had completed was written on the way out
+            assert proc.returncode != 0
     finally:
         # the session's other processes (Dask's nanny and workers, if any are left)
         try:
