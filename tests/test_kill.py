@@ -225,7 +225,7 @@ SWEEP = ["sweep", "--speeds", "20,30,40", "--angles", "0,15", "--erratum", "ed-d
 def test_sweep_killed_anywhere_leaves_old_or_new(tmp_path):
     ref = tmp_path / "ref"
     full = timed(CLI + SWEEP + ["--out", str(ref)])
-    expected = {p.name: p.read_bytes() for p in ref.iterdir()}
+    expected = {p.name: p.read_bytes() for p in ref.iterdir() if p.is_file()}
     out = tmp_path / "out"
     old = {"sweep.csv": b"old,csv\n", "sweep.md": b"# old\n"}
     for delay in delays(full, 3, seed=19):
@@ -235,6 +235,7 @@ def test_sweep_killed_anywhere_leaves_old_or_new(tmp_path):
         p = killed_at(CLI + SWEEP + ["--out", str(out)], delay)
         assert p.leftover == [], "sweep workers outlived the killed command"
         now = {q.name: q.read_bytes() for q in out.iterdir() if not q.name.startswith(".")}
+        assert p.returncode != 0 or now != old  # (a run that ended wrote the new pair)
         # both old, or both new and whole (run times and the command line may differ)
         assert now == old or (_rows(now["sweep.csv"]) == _rows(expected["sweep.csv"])
                               and now["sweep.md"].replace(str(out).encode(), b"")
@@ -260,5 +261,34 @@ def test_sweep_interrupted_leaves_no_temporary_and_no_worker(tmp_path):
             continue
         assert p.returncode == code, p.stderr.read()
         assert p.leftover == [], "sweep workers outlived the interrupted command"
-        assert not out.exists()
+        # no table, no temporary: only the scene store, kept for --resume
+        assert sorted(x.name for x in out.iterdir()) in ([], [".scenes"])
         assert sorted(x.name for x in tmp_path.iterdir() if x.name.startswith(".")) == []
+
+
+def test_sweep_killed_then_resumed_runs_each_scene_once(tmp_path):
+    """SIGKILL of the whole sweep part-way, then --resume: the stored scenes are kept as they
+    were (no file changed), only the missing ones run, and the table has every scene once."""
+    import csv
+    import io
+
+    argv = CLI + ["sweep", "--speeds", "20:45:5", "--angles", "0,15", "--erratum",
+                  "ed-direction", "--jobs", "2", "--quiet", "--out", str(tmp_path / "out")]
+    ref = timed(CLI + ["sweep", "--speeds", "20", "--angles", "0", "--jobs", "2", "--quiet",
+                       "--out", str(tmp_path / "warm")])  # a cluster's start-up, measured
+    store = tmp_path / "out" / ".scenes" / "results"
+    for delay in (ref + 4.0, ref + 8.0, ref + 16.0):
+        p = killed_at(argv, delay)
+        assert p.leftover == []
+        if p.returncode != 0 and store.is_dir() and list(store.iterdir()):
+            break
+    files = {q.name: sha(q) for q in store.iterdir()} if store.is_dir() else {}
+    done = subprocess.run(argv + ["--resume"], cwd=ROOT, env=env(), capture_output=True,
+                          text=True, timeout=900)
+    assert done.returncode == 0, done.stderr
+    after = {q.name: sha(q) for q in store.iterdir()}
+    assert all(after[name] == h for name, h in files.items())  # nothing stored was rewritten
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "out" / "sweep.csv").read_text())))
+    scenes = [(float(r["speed_mph"]), float(r["angle_deg"])) for r in rows]
+    assert sorted(scenes) == sorted({(s, a) for s in range(20, 50, 5) for a in (0, 15)})
+    assert all(r["error"] == "" and r["hit"] for r in rows)

@@ -73,9 +73,11 @@ def test_results_in_input_order():
 
 @needs_proc
 def test_a_worker_error_propagates_and_stops_the_workers():
+    before = set(_children(os.getpid()))  # e.g. multiprocessing's resource tracker of an
+    # earlier test: not this pool's
     with pytest.raises(ValueError, match="three"):
         parallel_map(_fail_on_three, range(40), jobs=2, desc="t")
-    assert _children(os.getpid()) == []
+    assert set(_children(os.getpid())) <= before
 
 
 def test_no_progress_bar_unless_stderr_is_a_terminal(capsys):

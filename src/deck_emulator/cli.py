@@ -32,6 +32,8 @@ PRECISIONS = ("double", "single", "ibm7094")
 ERRATA_NAMES = ("ed-direction",)
 PRESETS = ("legacy", "physical")
 VIEWS = ("side", "plan", "3d", "all")
+#: where a sweep stores its scenes as they finish, inside its output folder (for --resume)
+SWEEP_STORE = ".scenes"
 CLIError = UsageError  # the name the commands below use
 
 # Functions that add one subcommand's parser; main() calls each of them in order.
@@ -62,6 +64,14 @@ def _check_out(args) -> None:
         from deck_emulator.files import check_output_file
 
         check_output_file(args.out)
+
+
+def _add_cluster_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on an existing Dask cluster (its scheduler's address, "
+                   "tcp://host:8786) instead of an embedded one of --jobs workers")
+    p.add_argument("--resume", action="store_true",
+                   help="run only the scenes not yet stored in the output directory")
 
 
 def _positive_int(text: str) -> int:
@@ -641,9 +651,15 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     check_output_dir(args.out)
     options = (dict(errata=tuple(args.erratum)) if args.engine == "emulator"
                else dict(preset=args.preset))
+    store = Path(args.out) / SWEEP_STORE
+    if not args.resume and store.exists():  # a new sweep: the scenes of the last one go
+        import shutil
+
+        shutil.rmtree(store)
     started = time.perf_counter()
     rows = sweep(speeds, angles, engine=args.engine, options=options, post=args.post,
-                 base=base, jobs=args.jobs, vvb_decimals=args.vvb_decimals, quiet=args.quiet)
+                 base=base, jobs=args.jobs, vvb_decimals=args.vvb_decimals, quiet=args.quiet,
+                 store_dir=store, scheduler=args.scheduler, resume=args.resume)
     wall = time.perf_counter() - started
     command = "deck-emulator sweep " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["sweep"] else ""
     with OutputSet(directory=args.out) as outputs:
@@ -684,9 +700,54 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--vvb-decimals", type=int, default=2, metavar="N",
                    help="decimals VVB is cut to (default 2, as the report's deck: -58.66)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_cluster_options(p)
     p.add_argument("--out", required=True, metavar="DIR",
-                   help="directory for sweep.csv and sweep.md")
+                   help="directory for sweep.csv and sweep.md (and the scene store, "
+                   f"DIR/{SWEEP_STORE}, kept for --resume)")
     p.set_defaults(func=_cmd_sweep)
+
+
+# --------------------------------------------------------------------------- sensitivity
+
+
+@_subcommand
+def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "sensitivity",
+        help="Sobol indices of the outcome over the report's uncertain inputs",
+        description="Sample the inputs the report takes as estimates (base friction and its "
+        "travel, CK, CT, FCONST, WV; and any --input NAME=LO:HI), run every sample on one "
+        "engine on a Dask cluster, and write DIR/sensitivity.csv and .md (Sobol S1 and ST with "
+        "95%% confidence, for N and N/2), a bar chart of the indices and a map of what the post "
+        "hits first over the two most influential inputs. Scenes are stored as they finish in "
+        "DIR/scenes/; --resume runs only the missing ones.",
+    )
+    p.add_argument("--deck", action="append", metavar="DECK",
+                   help="shipped deck name or path; repeat for several (default steel40)")
+    p.add_argument("--engine", choices=("core", "emulator"), default="core",
+                   help="default core: the emulator's deck has no base-friction field")
+    _add_preset_option(p)
+    p.add_argument("--input", action="append", metavar="NAME=LO:HI",
+                   help="add or re-range an input (a READ-list name, or friction_lb, "
+                   "friction_travel_ft on the core)")
+    p.add_argument("--only", action="store_true", help="only the --input inputs")
+    p.add_argument("-N", dest="n", type=int, metavar="N",
+                   help="base sample size, a power of two (default 256; 16 with --quick)")
+    p.add_argument("--quick", action="store_true",
+                   help="N = 16 (128 scenes with the default inputs): a first look in about a "
+                   "minute on two cores; wide intervals")
+    p.add_argument("--seed", type=int, default=0, help="the sample's seed (default 0)")
+    p.add_argument("--jobs", type=_positive_int, metavar="N",
+                   help="workers of the embedded cluster (default: all cores)")
+    _add_cluster_options(p)
+    p.add_argument("--out", required=True, metavar="DIR", help="directory for the results")
+
+    def run(args):
+        from deck_emulator.studies.sensitivity import run_command
+
+        return run_command(args)
+
+    p.set_defaults(func=run)
 
 
 # --------------------------------------------------------------------------- study

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from .scene import ModelOptions, Scene
+from .scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
 from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
 from .rigid import rotate
 
@@ -29,9 +29,8 @@ __all__ = [
 ]
 
 #: ``FFXA=3.1*T`` with ``T=300.0``
-LISTING_FRICTION_LB = 3.1 * 300.0
-#: friction while ``XQA+0.083333-0.004 > 0``
-LISTING_FRICTION_WINDOW_FT = 0.083333 - 0.004
+#: the listing's friction force and the window it acts in (one home: the scene module)
+LISTING_FRICTION_LB = LISTING_BASE_FRICTION.force_lb
 
 
 def _add_force(acc, force, arm) -> None:

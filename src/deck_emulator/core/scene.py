@@ -38,6 +38,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, is_dataclass
 from typing import Any
 
+from deck_emulator.units import G_FT_S2
+
 __all__ = [
     "Vec3",
     "PostPoint",
@@ -335,13 +337,15 @@ class Environment:
     the depth of the ground below the post's initial mass centre, ft)."""
 
     ground_depth_ft: float
-    gravity_ft_s2: float = 32.174
+    gravity_ft_s2: float = G_FT_S2
 
 
 #: The listing's base friction: ``FFXA=3.1*T`` with ``T=300.0`` lb, over the 1 in. slot
 #: (``XQA+0.083333``).  The listing's extra ``-0.004`` ft is a tolerance, not a slot: it
 #: belongs to the ``listing_friction`` option.
 LISTING_BASE_FRICTION = BaseFriction(force_lb=3.1 * 300.0, slip_window_ft=0.083333)
+#: The window the listing's friction acts in, as coded: while ``XQA+0.083333-0.004 > 0``.
+LISTING_FRICTION_WINDOW_FT = LISTING_BASE_FRICTION.slip_window_ft - 0.004
 #: The listing's release of the normal force: ``IF(XQA+0.4166)107,107,106`` (5 in.).
 LISTING_NORMAL_RELEASE_FT = 0.4166
 

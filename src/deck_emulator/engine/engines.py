@@ -248,14 +248,17 @@ class CoreEngine:
         tol = f"rtol {self.rtol:g}" if self.rtol else "default tolerances"
         return f"preset {opts.name}; {self.method}, {tol}"
 
-    def run(self, source, *, name: str = "") -> Outcome:
+    def run(self, source, *, name: str = "", scene=None) -> Outcome:
+        """Run ``source`` (a deck or a scene); ``scene``: run this scene instead, keeping the
+        deck ``source``'s values for the outcome (a deck with changes the deck cannot hold,
+        such as the base's friction)."""
         from deck_emulator.core import CoreError
 
         values = dict(getattr(source, "values", {}) or {})
         out = Outcome("core", name or source_name(source), values, settings=self.settings())
         started = time.perf_counter()
         try:
-            r = self.simulate(source)
+            r = self.simulate(scene if scene is not None else source)
         except (CoreError, ValueError, ArithmeticError) as exc:
             out.error = f"{type(exc).__name__}: {exc}"
             out.run_s = time.perf_counter() - started

@@ -34,6 +34,7 @@ Rules (stated once, here)
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
@@ -42,7 +43,6 @@ from deck_emulator import decks
 from deck_emulator.engine import Outcome, engine_for
 from deck_emulator.events import Surface
 from deck_emulator.legacy.deck import Deck, read_deck
-from deck_emulator.parallel import parallel_map
 from deck_emulator.studies import safety
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.report_tables import report_comment
@@ -252,6 +252,12 @@ def _scene_job(job: dict) -> dict:
     return result_row(res, job["speed"], job["angle"], report)
 
 
+def _stored_scene_job(job: dict) -> dict:
+    """Worker (Dask): one scene -> its row, as JSON in one column (the store's own columns,
+    such as ``error`` and ``run_s``, never mix with the row's)."""
+    return {"row_json": json.dumps(_scene_job(job))}
+
+
 def sweep(
     speeds: Sequence[float],
     angles: Sequence[float],
@@ -263,14 +269,41 @@ def sweep(
     jobs: int | None = None,
     vvb_decimals: int = 2,
     quiet: bool = False,
+    store_dir=None,
+    scheduler: str | None = None,
+    resume: bool = False,
 ) -> list[dict]:
     """Run every (speed, angle) on ``engine`` (``engine_for(engine, **options)``); rows
-    sorted by speed, then angle."""
+    sorted by speed, then angle.
+
+    The scenes run on Dask (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded
+    cluster of ``jobs`` workers, or the one at ``scheduler``) and are stored as they finish in
+    ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
+    import tempfile
+
+    from deck_emulator.studies.distributed import run_scenes, scene_id
+
     base = str(base if base is not None else POSTS[post])
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
-    rows = parallel_map(_scene_job, todo, jobs=jobs, desc=f"sweep ({engine})", quiet=quiet)
+    with tempfile.TemporaryDirectory(prefix="sweep-") as tmp:
+        store = run_scenes(todo, _stored_scene_job, store_dir=store_dir or tmp, jobs=jobs,
+                           scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
+                           progress=False if quiet else None)
+        stored = store.by_id()
+    rows = []
+    for job in todo:
+        got = stored.get(scene_id(job), {})
+        if got.get("status") == "ok":
+            rows.append(json.loads(got["row_json"]))
+        else:  # the worker died with it (Dask's KilledWorker): a row that says so
+            deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"],
+                              job["vvb_decimals"])
+            name = scene_name(job["speed"], job["angle"], job["post"])
+            out = Outcome(engine, name, dict(deck.values),
+                          error=got.get("error") or "not run")
+            rows.append(result_row(out, job["speed"], job["angle"]))
     rows.sort(key=lambda r: (r["speed_mph"], r["angle_deg"]))
     return rows
 

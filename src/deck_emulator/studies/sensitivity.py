@@ -1,0 +1,654 @@
+"""Which uncertain input decides the outcome: Sobol indices, ``deck-emulator sensitivity``.
+
+The report takes several inputs as estimates: the slip base's friction force and the travel over
+which it acts (constants of the listing, ``FFXA=3.1*T`` with ``T=300`` lb over the 1 in. slot),
+the car's crush springs ``CK`` and ``CT``, the cap ``FCONST`` on the spring force and the car's
+mass ``WV``. This study varies them over ranges (:data:`DEFAULT_INPUTS`, or any deck input a user
+names with ``--input NAME=LO:HI``), runs every sample on either engine, and gives Sobol
+first-order (S1) and total (ST) indices with 95 % bootstrap confidence intervals (SALib: Sobol'
+sequence, Saltelli's scheme without second-order terms, ``N (D + 2)`` scenes for ``D`` inputs).
+
+The ranges in :data:`DEFAULT_INPUTS` are *ours*, not the report's: the report gives single values
+and calls them estimates; we take friction +-50 %, the slip travel 0.04-0.12 ft (about 1/2 to
+1 1/2 in.), CK, CT and FCONST +-30 %, the car's mass +-20 %. Uniform distributions throughout.
+
+Outcomes (each a number per scene; :data:`OUTCOMES`):
+
+* what the post hits first, as two indicators (Sobol indices need a number, a class has none):
+  ``hits_car`` -- 1 if the first hit is on the car (hood, windshield, top, trunk), else 0 (the
+  ground); ``hits_roof`` -- 1 if it is the roof: top or windshield. The indices of an indicator
+  are those of the probability of that class. The surface itself is stored (``hit_surface``) and
+  drawn as a map over the two most influential inputs;
+* ``hit_time_ms`` -- time of that first hit;
+* ``delta_v_crush_mph`` -- the speed the car lost by the end of the crush pulse (the report's
+  delta-V: where the spring force is first cut to FCONST); ``delta_v_contact_mph`` -- by the end
+  of the contact with the car;
+* ``max_decel_g`` -- the car's largest deceleration (the report's: largest printed FSA/(WV G) on
+  the emulator, the continuous maximum on the core);
+* ``oiv_m_s`` -- occupant impact velocity (flail space, :mod:`deck_emulator.studies.safety`);
+* ``roof_clearance_ft`` -- the post's least clearance above the roof (windshield base to the end of
+  the top) while it is over it in free flight; a scene in which the post is never over the roof
+  has no value, and an outcome with scenes without a value gets no indices (the table says how
+  many).
+
+Engines. The deck has no field for base friction (it is a constant of the listing), so the
+friction inputs exist only on the core, where they are the scene's ``base.friction``; with the
+``legacy`` preset the core's ``listing_friction`` option (which ignores the scene's friction) is
+then switched off and the scene's friction used, with the listing's travel ``0.083333 - 0.004``
+ft as the nominal value, so that at the nominal values the run is the legacy run. On the
+emulator the friction inputs are dropped (and said so).
+
+Every input value is rounded to six significant digits before it is used, so that a sampled
+value can be punched in an ``F10.5`` field and read back exactly.
+
+All engine calls go through :func:`_run_scene`, the one adapter to the engine layer.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from deck_emulator.core.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
+from deck_emulator.studies.distributed import (
+    SceneStore,
+    run_scenes,
+    scene_id,
+)
+
+__all__ = [
+    "InputRange",
+    "DEFAULT_INPUTS",
+    "SCENE_INPUTS",
+    "OUTCOMES",
+    "Study",
+    "problem_for",
+    "sample",
+    "tasks_for",
+    "run_study",
+    "analyse",
+    "scene_task",
+    "ishigami_task",
+    "ishigami_indices",
+    "write_outputs",
+    "add_parser",
+]
+
+# =================================================================================== inputs
+
+
+@dataclass(frozen=True)
+class InputRange:
+    """One uncertain input: ``name`` (a READ-list name or one of :data:`SCENE_INPUTS`), the
+    interval it is sampled from (uniform), the nominal value and what it is."""
+
+    name: str
+    low: float
+    high: float
+    nominal: float | None = None
+    what: str = ""
+
+
+#: The core scene's inputs that are not deck fields: base friction (lb) and its travel (ft).
+SCENE_INPUTS = {
+    "friction_lb": "base friction force at Q (lb); the listing's 3.1*300 = 930",
+    "friction_travel_ft": "travel of the base over which friction acts (ft); the listing's "
+    "0.083333 - 0.004 = 0.079333",
+}
+
+LISTING_FRICTION_LB = LISTING_BASE_FRICTION.force_lb
+LISTING_FRICTION_TRAVEL_FT = LISTING_FRICTION_WINDOW_FT
+
+#: The inputs the report calls estimates, with our ranges (module docstring).
+DEFAULT_INPUTS: tuple[InputRange, ...] = (
+    InputRange("friction_lb", 465.0, 1395.0, LISTING_FRICTION_LB, SCENE_INPUTS["friction_lb"]),
+    InputRange(
+        "friction_travel_ft", 0.04, 0.12, LISTING_FRICTION_TRAVEL_FT,
+        SCENE_INPUTS["friction_travel_ft"],
+    ),
+    InputRange("CK", 23100.0, 42900.0, 33000.0, "first crush spring (lb/ft)"),
+    InputRange("CT", 14000.0, 26000.0, 20000.0, "second crush spring (lb/ft)"),
+    InputRange("FCONST", 840.0, 1560.0, 1200.0, "cap on the spring force (lb)"),
+    InputRange("WV", 80.0, 120.0, 100.0, "car's mass (slug)"),
+)
+
+#: Outcome key -> (label, unit).
+OUTCOMES: dict[str, tuple[str, str]] = {
+    "hits_car": ("P(first hit on the car)", "-"),
+    "hits_roof": ("P(first hit on roof: top or windshield)", "-"),
+    "hit_time_ms": ("time of the first hit", "ms"),
+    "delta_v_crush_mph": ("delta-V, end of crush pulse", "mph"),
+    "delta_v_contact_mph": ("delta-V, end of contact", "mph"),
+    "max_decel_g": ("maximum deceleration", "g"),
+    "oiv_m_s": ("occupant impact velocity", "m/s"),
+    "roof_clearance_ft": ("least clearance above the roof", "ft"),
+}
+CAR_SURFACES = ("HOOD", "WINDSHIELD", "TOP", "TRUNK", "FRONT", "SIDE")
+ROOF_SURFACES = ("WINDSHIELD", "TOP")
+
+
+def _round6(x: float) -> float:
+    return float(f"{float(x):.6g}")
+
+
+def problem_for(inputs) -> dict:
+    """SALib's problem dict for a sequence of :class:`InputRange`."""
+    return {
+        "num_vars": len(inputs),
+        "names": [i.name for i in inputs],
+        "bounds": [[i.low, i.high] for i in inputs],
+    }
+
+
+def sample(problem: dict, n: int, *, seed: int = 0) -> np.ndarray:
+    """Saltelli's scheme on a scrambled Sobol' sequence, no second-order terms:
+    ``n * (D + 2)`` rows. The first ``m * (D + 2)`` rows are the sample of size ``m`` for any
+    power of two ``m <= n`` (same seed): convergence is read off one run."""
+    from SALib.sample import sobol as sobol_sample
+
+    if n < 2 or n & (n - 1):
+        raise ValueError(f"N must be a power of two >= 2, got {n}")
+    return sobol_sample.sample(problem, n, calc_second_order=False, seed=seed)
+
+
+def tasks_for(problem: dict, X: np.ndarray, base_task: dict, *, digits: bool = True) -> list[dict]:
+    """One task per sample row: ``base_task`` plus ``inputs`` = {name: value} (values rounded
+    to six significant digits when ``digits``)."""
+    names = problem["names"]
+    out = []
+    for row in X:
+        vals = {n: (_round6(v) if digits else float(v)) for n, v in zip(names, row)}
+        out.append({**base_task, "inputs": vals})
+    return out
+
+
+# ==================================================================== the engine adapter
+
+_DECKS: dict[str, object] = {}
+
+
+def _base_deck(deck: str):
+    from deck_emulator import decks
+    from deck_emulator.legacy.deck import read_deck
+
+    if deck not in _DECKS:
+        try:
+            path = decks.path(deck)
+        except KeyError:
+            path = Path(deck)
+        _DECKS[deck] = read_deck(path)
+    return _DECKS[deck]
+
+
+def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=()) -> dict:
+    """THE adapter to the engine layer: the deck ``deck`` (a shipped deck's name or a path) with
+    ``values`` (READ-list names -> values; on the core also :data:`SCENE_INPUTS`), run by
+    ``engine`` -> the flat row of ``result_row`` (every output the sweep has)."""
+    import dataclasses
+
+    from deck_emulator.engine import CoreEngine, EmulatorEngine
+    from deck_emulator.legacy.deck import NAMES
+    from deck_emulator.studies.sweep import result_row
+    from deck_emulator.units import ft_s_to_mph
+
+    deck_values = {k: v for k, v in values.items() if k in NAMES}
+    scene_values = {k: v for k, v in values.items() if k in SCENE_INPUTS}
+    unknown = set(values) - set(deck_values) - set(scene_values)
+    if unknown:
+        raise ValueError(f"unknown input(s) {sorted(unknown)}")
+    if scene_values and engine != "core":
+        raise ValueError(f"{sorted(scene_values)}: only the core has base friction inputs")
+    base = _base_deck(deck)
+    d = base.with_values(**deck_values) if deck_values else base
+    name = Path(deck).stem
+    if engine == "emulator":
+        res = EmulatorEngine(errata=tuple(errata)).run(d, name=name)
+    else:
+        core = CoreEngine(preset=preset)
+        scene = None
+        if scene_values:  # the deck has no friction field: the base's friction on the scene
+            from deck_emulator.core.scene import BaseFriction
+
+            scene = core.scene(d)
+            friction = BaseFriction(
+                force_lb=scene_values.get("friction_lb", LISTING_FRICTION_LB),
+                slip_window_ft=scene_values.get("friction_travel_ft", LISTING_FRICTION_TRAVEL_FT))
+            scene = dataclasses.replace(
+                scene, base=dataclasses.replace(scene.base, friction=friction))
+            core = CoreEngine(options=core.model_options().replace(listing_friction=False))
+        res = core.run(d, name=name, scene=scene)
+    return result_row(res, ft_s_to_mph(abs(d["VVB"])), math.degrees(d["ALPHA"]))
+
+
+def outcomes_of(row: dict) -> dict:
+    """A ``result_row`` -> the study's outcomes (:data:`OUTCOMES`) plus the hit surface and the
+    engine's error text."""
+    surf = (row.get("hit_surface") or "").upper()
+    hit = bool(surf)
+    return {
+        "hit_surface": surf or "NONE",
+        "hits_car": float(surf in CAR_SURFACES) if hit else None,
+        "hits_roof": float(surf in ROOF_SURFACES) if hit else None,
+        "hit_time_ms": row.get("hit_time_ms"),
+        "delta_v_crush_mph": row.get("delta_v_crush_mph"),
+        "delta_v_contact_mph": row.get("delta_v_contact_mph"),
+        "max_decel_g": row.get("max_decel_g"),
+        "oiv_m_s": row.get("oiv_m_s"),
+        "roof_clearance_ft": row.get("margin_roof_ft"),
+        "engine_error": row.get("error") or "",
+        "engine_run_s": row.get("run_s"),
+    }
+
+
+def scene_task(task: dict) -> dict:
+    """A worker's function: ``{"deck", "engine", "preset", "inputs"}`` -> outcomes."""
+    return outcomes_of(_run_scene(task["inputs"], task["engine"], task["preset"], task["deck"],
+                                  task.get("errata", ())))
+
+
+# ============================================================== a function with known indices
+
+
+def ishigami_task(task: dict) -> dict:
+    """The Ishigami function ``sin x1 + a sin^2 x2 + b x3^4 sin x1`` of ``task["inputs"]``
+    (``x1, x2, x3`` in [-pi, pi]); ``a``, ``b`` from the task (default 7, 0.1). A stand-in for an
+    engine with indices known in closed form (:func:`ishigami_indices`)."""
+    x = task["inputs"]
+    a, b = task.get("a", 7.0), task.get("b", 0.1)
+    x1, x2, x3 = x["x1"], x["x2"], x["x3"]
+    return {"y": math.sin(x1) + a * math.sin(x2) ** 2 + b * x3**4 * math.sin(x1)}
+
+
+def ishigami_indices(a: float = 7.0, b: float = 0.1) -> dict:
+    """Closed-form S1 and ST of the Ishigami function (Ishigami and Homma 1990; Sobol' and
+    Levitan 1999): ``V = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2``."""
+    pi = math.pi
+    v1 = 0.5 * (1 + b * pi**4 / 5) ** 2
+    v2 = a**2 / 8
+    v13 = b**2 * pi**8 * (1 / 18 - 1 / 50)
+    v = v1 + v2 + v13
+    return {
+        "S1": {"x1": v1 / v, "x2": v2 / v, "x3": 0.0},
+        "ST": {"x1": (v1 + v13) / v, "x2": v2 / v, "x3": v13 / v},
+    }
+
+
+# =============================================================================== the study
+
+
+@dataclass
+class Study:
+    """One sample run and analysed: the problem, the sample, the tasks, the store and the
+    indices (:func:`analyse`'s rows)."""
+
+    problem: dict
+    n: int
+    X: np.ndarray
+    tasks: list
+    store: SceneStore
+    outputs: list
+    indices: list = field(default_factory=list)
+    Y: dict = field(default_factory=dict)
+    wall_s: float = 0.0
+    ran: int = 0
+
+
+def run_study(
+    problem: dict,
+    n: int,
+    fn,
+    *,
+    base_task: dict,
+    outputs,
+    store_dir,
+    seed: int = 0,
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    resume: bool = False,
+    digits: bool = True,
+    desc: str = "scenes",
+    progress: bool | None = None,
+    convergence: bool = True,
+    chunk: int = 1,
+) -> Study:
+    """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
+    for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample)."""
+    X = sample(problem, n, seed=seed)
+    tasks = tasks_for(problem, X, base_task, digits=digits)
+    store = SceneStore(store_dir)
+    before = len(store.ids()) if resume else 0
+    started = time.perf_counter()
+    store = run_scenes(
+        tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler, resume=resume,
+        desc=desc, progress=progress, chunk=chunk,
+    )
+    wall = time.perf_counter() - started
+    rows = store.by_id()
+    Xused = np.array([[t["inputs"][k] for k in problem["names"]] for t in tasks])
+    Y = {}
+    for key in outputs:
+        vals = []
+        for t in tasks:
+            r = rows.get(scene_id(t))
+            v = None if r is None or r.get("status") != "ok" else r.get(key)
+            vals.append(np.nan if v is None else float(v))
+        Y[key] = np.array(vals)
+    sizes = [n // 2, n] if convergence and n >= 4 else [n]
+    study = Study(problem, n, Xused, tasks, store, list(outputs), Y=Y, wall_s=wall)
+    study.ran = len(store.ids()) - before
+    study.indices = analyse(problem, Y, sizes, seed=seed)
+    return study
+
+
+def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float = 0.95) -> list:
+    """Sobol S1 and ST (with ``conf_level`` bootstrap half-widths) for every output in ``Y`` and
+    every base-sample size in ``sizes`` (using the first ``size * (D + 2)`` scenes). An output
+    with a missing value (NaN) or no variance gets no indices; its row says why."""
+    from SALib.analyze import sobol
+
+    D = problem["num_vars"]
+    out = []
+    for key, y in Y.items():
+        for m in sizes:
+            ym = np.asarray(y[: m * (D + 2)], dtype=float)
+            missing = int(np.isnan(ym).sum())
+            base = {"output": key, "N": m, "scenes": len(ym), "missing": missing,
+                    "mean": float(np.nanmean(ym)) if len(ym) > missing else None,
+                    "sd": float(np.nanstd(ym)) if len(ym) > missing else None}
+            note = ""
+            if missing:
+                note = f"{missing} of {len(ym)} scenes without a value: no indices"
+            elif np.ptp(ym) == 0:
+                note = f"constant ({ym[0]:g}) over the sample: no indices"
+            if note:
+                for name in problem["names"]:
+                    out.append({**base, "input": name, "S1": None, "S1_conf": None,
+                                "ST": None, "ST_conf": None, "note": note})
+                continue
+            with np.errstate(all="ignore"):
+                si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=conf_level,
+                                   num_resamples=200, seed=seed)
+            for i, name in enumerate(problem["names"]):
+                out.append({**base, "input": name,
+                            "S1": float(si["S1"][i]), "S1_conf": float(si["S1_conf"][i]),
+                            "ST": float(si["ST"][i]), "ST_conf": float(si["ST_conf"][i]),
+                            "note": ""})
+    return out
+
+
+# ================================================================================= writing
+
+INDEX_COLUMNS = ("deck", "engine", "output", "input", "N", "scenes", "missing", "mean", "sd",
+                 "S1", "S1_conf", "ST", "ST_conf", "note")
+
+
+def _fmt(v, nd=3):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "—"
+    return f"{v:.{nd}f}" if isinstance(v, float) else str(v)
+
+
+def indices_csv(rows: list) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(INDEX_COLUMNS)
+    for r in rows:
+        w.writerow(["" if r.get(c) is None else (repr(r[c]) if isinstance(r[c], float) else r[c])
+                    for c in INDEX_COLUMNS])
+    return buf.getvalue()
+
+
+def indices_markdown(rows: list, *, header: str = "") -> str:
+    lines = [header.rstrip(), ""] if header else []
+    groups: dict = {}
+    for r in rows:
+        groups.setdefault((r["deck"], r["engine"], r["N"]), []).append(r)
+    for (deck, engine, n), rs in groups.items():
+        lines += [f"### {deck}, {engine}, N = {n} ({rs[0]['scenes']} scenes)", ""]
+        names = list(dict.fromkeys(r["input"] for r in rs))
+        lines.append("| outcome (mean ± sd) | " + " | ".join(names) + " |")
+        lines.append("|---|" + "---|" * len(names))
+        for out in dict.fromkeys(r["output"] for r in rs):
+            cells = []
+            orow = [r for r in rs if r["output"] == out]
+            for name in names:
+                r = next(x for x in orow if x["input"] == name)
+                if r["S1"] is None:
+                    cells.append("—")
+                else:
+                    cells.append(f"{r['S1']:.2f}±{r['S1_conf']:.2f} / "
+                                 f"**{r['ST']:.2f}**±{r['ST_conf']:.2f}")
+            label, unit = OUTCOMES.get(out, (out, ""))
+            m = orow[0]
+            stat = f" ({_fmt(m['mean'], 3)} ± {_fmt(m['sd'], 3)} {unit})" if m["mean"] is not None else ""
+            note = f" — {orow[0]['note']}" if orow[0]["note"] else ""
+            lines.append(f"| {label}{stat}{note} | " + " | ".join(cells) + " |")
+        lines.append("")
+    lines.append("Cells: S1 ± 95 % half-width / **ST** ± 95 % half-width (SALib bootstrap, 200 "
+                 "resamples). — : no indices (see the note in the outcome's cell).")
+    return "\n".join(lines) + "\n"
+
+
+def _top_inputs(rows: list, n: int) -> list[str]:
+    """The two inputs with the largest total index on the class outcomes (hits_car, hits_roof);
+    if the class does not change, on the roof clearance; else summed over every outcome."""
+    for outs in (("hits_car", "hits_roof"), ("roof_clearance_ft",), tuple(OUTCOMES)):
+        score: dict = {}
+        for r in rows:
+            if r["N"] == n and r["output"] in outs and r["ST"] is not None:
+                score[r["input"]] = score.get(r["input"], 0.0) + max(r["ST"], 0.0)
+        if score and max(score.values()) > 0:
+            return sorted(score, key=score.get, reverse=True)[:2]
+    return []
+
+
+def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    outs = [o for o in OUTCOMES if any(r["output"] == o and r["N"] == n for r in rows)]
+    outs += [o for o in dict.fromkeys(r["output"] for r in rows) if o not in outs]
+    ncol = 4 if len(outs) > 3 else len(outs)
+    nrow = math.ceil(len(outs) / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.6 * ncol, 3.0 * nrow), squeeze=False)
+    for ax, out in zip(axes.flat, outs):
+        rs = [r for r in rows if r["output"] == out and r["N"] == n]
+        names = [r["input"] for r in rs]
+        x = np.arange(len(rs))
+        label = OUTCOMES.get(out, (out, ""))[0]
+        ax.set_title(label, fontsize=8)
+        if not rs or rs[0]["S1"] is None:
+            ax.text(0.5, 0.5, (rs[0]["note"] if rs else "no data").replace(": ", ":\n"),
+                    ha="center", va="center", fontsize=7, transform=ax.transAxes)
+        else:
+            s1 = [r["S1"] for r in rs]
+            st = [r["ST"] for r in rs]
+            ax.bar(x - 0.2, s1, 0.4, yerr=[r["S1_conf"] for r in rs], capsize=2, label="S1")
+            ax.bar(x + 0.2, st, 0.4, yerr=[r["ST_conf"] for r in rs], capsize=2, label="ST")
+            ax.axhline(0, color="k", lw=0.5)
+            ax.set_ylim(min(-0.1, min(s1) - 0.1), max(1.05, max(st) + 0.1))
+        ax.set_xticks(x, names, rotation=45, ha="right", fontsize=7)
+        ax.tick_params(axis="y", labelsize=7)
+    for ax in list(axes.flat)[len(outs):]:
+        ax.axis("off")
+    for ax in axes.flat:
+        if ax.containers:
+            ax.legend(fontsize=7)
+            break
+    fig.suptitle(title + f" (N = {n}; bars: 95 % confidence)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") -> None:
+    """What the post hits first (marker) and its least clearance above the roof (colour), per
+    scene, over the two given inputs (every scene of the sample; the others vary underneath)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = study.store.by_id()
+    names = study.problem["names"]
+    ix = [names.index(k) for k in inputs]
+    surf = []
+    for t in study.tasks:
+        r = rows.get(scene_id(t))
+        surf.append("FAILED" if r is None or r.get("status") != "ok" else r.get("hit_surface"))
+    clear = []
+    for t in study.tasks:
+        r = rows.get(scene_id(t))
+        v = None if r is None else r.get("roof_clearance_ft")
+        clear.append(np.nan if v is None else float(v))
+    clear = np.array(clear)
+    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    markers = {"GROUND": "o", "HOOD": "s", "WINDSHIELD": "^", "TOP": "D", "TRUNK": "v",
+               "NONE": "x", "FAILED": "x"}
+    sc = None
+    for s in sorted(set(surf)):
+        k = [i for i, v in enumerate(surf) if v == s]
+        sc = ax.scatter(study.X[k, ix[0]], study.X[k, ix[1]], s=14, c=clear[k], cmap="viridis",
+                        vmin=np.nanmin(clear) if np.isfinite(clear).any() else 0,
+                        vmax=np.nanmax(clear) if np.isfinite(clear).any() else 1,
+                        marker=markers.get(s, "P"), label=f"{s} ({len(k)})")
+    if sc is not None:
+        fig.colorbar(sc, ax=ax, label="least clearance above the roof (ft)")
+    ax.set_xlabel(inputs[0])
+    ax.set_ylabel(inputs[1])
+    ax.legend(fontsize=7, title="post hits first", title_fontsize=7)
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_outputs(studies: list, out: Path, *, header: str = "") -> list[Path]:
+    """``sensitivity.csv``, ``sensitivity.md`` (every study) and, per study, the picture of the
+    indices and the class map. Returns the files written."""
+    from deck_emulator.files import write_atomic
+
+    out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    written = []
+    for label, engine, st in studies:
+        rows += [{**r, "deck": label, "engine": engine} for r in st.indices]
+        pic = out / f"sensitivity_{label}.png"
+        plot_indices(st.indices, pic, n=st.n, title=f"Sobol indices, {label}, {engine}")
+        written.append(pic)
+        top = _top_inputs(st.indices, st.n)
+        if len(top) == 2:
+            cm = out / f"hit_map_{label}.png"
+            plot_class_map(st, cm, inputs=top,
+                           title=f"{label}, {engine}: first hit over {top[0]} and {top[1]}")
+            written.append(cm)
+    write_atomic(out / "sensitivity.csv", indices_csv(rows))
+    write_atomic(out / "sensitivity.md", indices_markdown(rows, header=header))
+    return [out / "sensitivity.csv", out / "sensitivity.md", *written]
+
+
+# ===================================================================================== CLI
+
+
+def parse_input(text: str) -> InputRange:
+    """``NAME=LO:HI`` -> :class:`InputRange`."""
+    try:
+        name, rng = text.split("=", 1)
+        lo, hi = (float(x) for x in rng.split(":"))
+    except ValueError:
+        raise ValueError(f"--input {text!r}: use NAME=LO:HI") from None
+    name = name.strip()
+    if not lo < hi:
+        raise ValueError(f"--input {text!r}: LO must be below HI")
+    from deck_emulator.legacy.deck import NAMES
+
+    if name not in NAMES and name not in SCENE_INPUTS:
+        raise ValueError(
+            f"--input {name!r}: not a deck (READ-list) name nor one of {sorted(SCENE_INPUTS)}"
+        )
+    return InputRange(name, lo, hi, None, SCENE_INPUTS.get(name, "deck input"))
+
+
+def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
+    """The inputs of a study and the notes on what was left out."""
+    chosen = {i.name: i for i in (DEFAULT_INPUTS if defaults else ())}
+    for e in extra:
+        chosen[e.name] = e
+    notes = []
+    if engine != "core":
+        dropped = [k for k in chosen if k in SCENE_INPUTS]
+        named = [e.name for e in extra if e.name in SCENE_INPUTS]
+        if named:
+            raise ValueError(f"{named}: the emulator's deck has no base-friction field "
+                             "(friction is a constant of the listing); use --engine core")
+        for k in dropped:
+            chosen.pop(k)
+        if dropped:
+            notes.append(f"{', '.join(dropped)} left out: the emulator's deck has no field for "
+                         "them (a constant of the listing); the core has them")
+    return list(chosen.values()), notes
+
+
+def run_command(args) -> int:
+    """``deck-emulator sensitivity`` (options: see the CLI)."""
+    try:
+        extra = [parse_input(t) for t in args.input or []]
+        inputs, notes = choose_inputs(args.engine, extra, defaults=not args.only)
+    except ValueError as exc:
+        print(f"deck-emulator sensitivity: {exc}", file=sys.stderr)
+        return 2
+    if not inputs:
+        print("deck-emulator sensitivity: no inputs", file=sys.stderr)
+        return 2
+    n = args.n if args.n else (16 if args.quick else 256)
+    deck_names = args.deck or ["steel40"]
+    problem = problem_for(inputs)
+    out = Path(args.out)
+    studies = []
+    for note in notes:
+        print(f"deck-emulator sensitivity: {note}", file=sys.stderr)
+    started = time.perf_counter()
+    for deck in deck_names:
+        _base_deck(deck)  # a bad deck fails here, before any work
+        label = Path(deck).stem
+        st = run_study(
+            problem, n, scene_task,
+            base_task={"deck": deck, "engine": args.engine, "preset": args.preset},
+            outputs=list(OUTCOMES), store_dir=out / "scenes" / label, seed=args.seed,
+            jobs=args.jobs, scheduler=args.scheduler, resume=args.resume, desc=label,
+        )
+        studies.append((label, args.engine, st))
+        print(f"deck-emulator sensitivity: {label}: {len(st.tasks)} scenes, {st.ran} run now, "
+              f"{st.wall_s:.1f} s", file=sys.stderr)
+    wall = time.perf_counter() - started
+    tail = getattr(args, "argv_tail", None) or (
+        sys.argv[2:] if sys.argv[1:2] == ["sensitivity"] else [])
+    cmd = "deck-emulator sensitivity " + " ".join(tail) if tail else ""
+    rng = "; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs)
+    header = "\n".join([
+        "# Sobol sensitivity indices",
+        "",
+        f"Command: `{cmd}`" if cmd else "",
+        "",
+        f"Engine **{args.engine}** (preset {args.preset}); N = {n} (and N/2 for convergence); "
+        f"{n * (len(inputs) + 2)} scenes per deck; seed {args.seed}; "
+        f"{wall:.0f} s wall for the scenes run now (measured under load).",
+        "",
+        f"Inputs (uniform): {rng}.",
+        *(f"\nNote: {x}." for x in notes),
+        "",
+        "Class outcomes as indicators: P(first hit on the car) and P(first hit on roof: top or "
+        "windshield); see `deck_emulator.studies.sensitivity`.",
+    ])
+    files = write_outputs(studies, out, header=header)
+    print("deck-emulator sensitivity: wrote " + ", ".join(str(f) for f in files), file=sys.stderr)
+    return 0

@@ -1,0 +1,169 @@
+"""Sweeps on Dask: every scene stored exactly once, through failures, killed workers and a
+killed command (SIGKILL), and resumed without running or changing a finished scene."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from deck_emulator.studies.distributed import SceneStore, StoreError, run_scenes, scene_id
+
+SRC = Path(__file__).resolve().parent.parent / "src"
+
+# The stub "engine" lives in its own module so that Dask's worker processes can import it.
+STUB = textwrap.dedent(
+    '''
+    import os, signal, time
+    def work(task):
+        if task.get("fail"):
+            raise ValueError(f"scene {task['i']} fails on purpose")
+        kill = task.get("kill_marker")
+        if kill and not os.path.exists(kill):
+            with open(kill, "w") as fh:
+                fh.write(str(os.getpid()))
+            os.kill(os.getpid(), signal.SIGKILL)  # this worker dies in the middle of the scene
+        time.sleep(task.get("sleep", 0.0))
+        return {"y": task["i"] * 0.5, "square": task["i"] ** 2}
+    '''
+)
+
+
+@pytest.fixture
+def stub(tmp_path, monkeypatch):
+    (tmp_path / "stub_engine.py").write_text(STUB)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(tmp_path), str(SRC)]))
+    import importlib
+
+    import stub_engine
+
+    importlib.reload(stub_engine)
+    return stub_engine
+
+
+def _digests(store: SceneStore) -> dict:
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in store.files()}
+
+
+def _check_complete(store: SceneStore, tasks: list[dict]) -> list[dict]:
+    rows = store.rows()
+    counts = Counter(r["scene_id"] for r in rows)
+    assert set(counts) == {scene_id(t) for t in tasks}
+    assert max(counts.values()) == 1, "a scene is stored twice"
+    return rows
+
+
+def test_scene_id_is_the_task_not_its_key_order():
+    a = scene_id({"deck": "steel40", "inputs": {"CK": 33000.0, "WV": 100.0}})
+    b = scene_id({"inputs": {"WV": 100.0, "CK": 33000.0}, "deck": "steel40"})
+    assert a == b and len(a) == 24
+    assert a != scene_id({"deck": "steel40", "inputs": {"CK": 33000.0, "WV": 100.00000001}})
+    # stable across processes and runs: pinned
+    assert scene_id({"i": 1}) == hashlib.sha256(b'{"i":1}').hexdigest()[:24]
+
+
+def test_a_failing_scene_is_stored_with_its_error_and_the_rest_run(stub, tmp_path):
+    tasks = [{"i": i, "fail": i == 3} for i in range(8)]
+    store = run_scenes(tasks, stub.work, store_dir=tmp_path / "s", jobs=1, progress=False)
+    rows = {r["scene_id"]: r for r in _check_complete(store, tasks)}
+    bad = rows[scene_id(tasks[3])]
+    assert bad["status"] == "failed" and "fails on purpose" in bad["error"]
+    assert all(rows[scene_id(t)]["status"] == "ok" for t in tasks if t["i"] != 3)
+    assert rows[scene_id(tasks[5])]["y"] == 2.5
+    with pytest.raises(StoreError):  # not mixed with an old store unless resuming
+        run_scenes(tasks, stub.work, store_dir=tmp_path / "s", jobs=1, progress=False)
+    # a resume with nothing missing runs nothing and writes nothing
+    before = _digests(store)
+    run_scenes(tasks, stub.work, store_dir=tmp_path / "s", resume=True, progress=False)
+    assert _digests(store) == before
+
+
+def test_a_killed_worker_loses_no_scene(stub, tmp_path):
+    marker = tmp_path / "killed.pid"
+    tasks = [{"i": i, "sleep": 0.05} for i in range(30)]
+    tasks[10] = {"i": 10, "sleep": 0.05, "kill_marker": str(marker)}
+    store = run_scenes(tasks, stub.work, store_dir=tmp_path / "s", jobs=2, progress=False)
+    assert marker.exists(), "the worker was not killed"
+    killed_pid = marker.read_text()
+    rows = {r["scene_id"]: r for r in _check_complete(store, tasks)}
+    assert all(r["status"] == "ok" for r in rows.values())
+    redone = rows[scene_id(tasks[10])]
+    assert redone["y"] == 5.0
+    assert not redone["worker"].endswith(f":{killed_pid}")  # run again by another process
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT], ids=["kill-9", "ctrl-c"])
+def test_killing_the_whole_command_then_resume(stub, tmp_path, sig):
+    store_dir = tmp_path / "s"
+    n = 60
+    script = tmp_path / "sweep_script.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            from deck_emulator.studies.distributed import run_scenes
+            import stub_engine
+            if __name__ == "__main__":  # Dask starts its workers by spawning
+                tasks = [{{"i": i, "sleep": 0.15}} for i in range({n})]
+                run_scenes(tasks, stub_engine.work, store_dir={str(store_dir)!r}, jobs=2,
+                           flush_s=0.0, progress=False)
+            """
+        )
+    )
+    proc = subprocess.Popen([sys.executable, str(script)], start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=open(tmp_path / "stderr.txt", "w"))
+    store = SceneStore(store_dir)
+    try:
+        deadline = time.monotonic() + 120
+        while len(store.rows()) < 10:
+            assert proc.poll() is None, "the sweep ended before it could be killed: " + (
+                tmp_path / "stderr.txt"
+            ).read_text()[-2000:]
+            assert time.monotonic() < deadline, "the sweep stored nothing in 120 s"
+            time.sleep(0.1)
+        os.kill(proc.pid, sig)  # kill -9 (or Ctrl-C) of the main process only
+        proc.wait(timeout=60)
+        if sig == signal.SIGINT:  # Ctrl-C: what had completed was written on the way out
+            assert proc.returncode != 0
+    finally:
+        # the session's other processes (Dask's nanny and workers, if any are left)
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    time.sleep(0.5)
+    before = _digests(store)
+    stored_before = {r["scene_id"]: r for r in store.rows()}
+    assert 10 <= len(stored_before) < n, "the kill did not land part-way"
+
+    tasks = [{"i": i, "sleep": 0.15} for i in range(n)]
+    store = run_scenes(tasks, stub.work, store_dir=store_dir, jobs=2, resume=True,
+                       progress=False)
+    rows = {r["scene_id"]: r for r in _check_complete(store, tasks)}
+    after = _digests(store)
+    assert {k: after[k] for k in before} == before, "a finished result's file changed"
+    for sid, r in stored_before.items():
+        assert rows[sid] == r
+    assert not list((store_dir / "results").glob(".*.tmp"))
+    assert sorted(r["y"] for r in rows.values()) == [i * 0.5 for i in range(n)]
+
+
+def test_an_existing_cluster_by_its_scheduler_address(stub, tmp_path):
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster:
+        tasks = [{"i": i} for i in range(12)]
+        store = run_scenes(tasks, stub.work, store_dir=tmp_path / "s",
+                           scheduler=cluster.scheduler_address, progress=False)
+        rows = _check_complete(store, tasks)
+        assert sorted(r["square"] for r in rows) == [i * i for i in range(12)]
+        assert cluster.status.name == "running"  # the cluster is theirs: left running

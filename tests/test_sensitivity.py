@@ -1,0 +1,92 @@
+"""Sobol indices: the analysis recovers the Ishigami function's closed-form indices through the
+same path the engines take (sample -> run_scenes on Dask -> store -> SALib); the inputs and the
+one engine adapter."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import pytest
+
+from deck_emulator.studies import sensitivity as sa
+
+# Independent source: the closed form (Ishigami and Homma 1990), a = 7, b = 0.1, as tabulated
+# in the literature (e.g. Saltelli et al., Global Sensitivity Analysis: The Primer, 2008).
+ISHIGAMI = {
+    "S1": {"x1": 0.3139, "x2": 0.4424, "x3": 0.0},
+    "ST": {"x1": 0.5576, "x2": 0.4424, "x3": 0.2437},
+}
+
+
+def test_closed_form_matches_the_published_values():
+    got = sa.ishigami_indices(7.0, 0.1)
+    for kind in ("S1", "ST"):
+        for k, v in ISHIGAMI[kind].items():
+            assert got[kind][k] == pytest.approx(v, abs=6e-5)
+
+
+def test_ishigami_indices_are_recovered_within_their_confidence_intervals(tmp_path):
+    problem = {"num_vars": 3, "names": ["x1", "x2", "x3"], "bounds": [[-math.pi, math.pi]] * 3}
+    study = sa.run_study(
+        problem, 1024, sa.ishigami_task, base_task={"a": 7.0, "b": 0.1}, outputs=["y"],
+        store_dir=tmp_path / "s", jobs=2, digits=False, progress=False, chunk=256,
+    )
+    assert len(study.store.rows()) == 1024 * 5
+    rows = [r for r in study.indices if r["N"] == 1024]
+    assert len(rows) == 3
+    for r in rows:
+        for kind in ("S1", "ST"):
+            truth = ISHIGAMI[kind][r["input"]]
+            conf = r[f"{kind}_conf"]
+            assert 0 < conf < 0.1, (r["input"], kind, conf)
+            assert abs(r[kind] - truth) <= conf, (r["input"], kind, r[kind], conf, truth)
+    # the half sample is reported too, with wider intervals on the whole
+    half = [r for r in study.indices if r["N"] == 512]
+    assert sum(r["ST_conf"] for r in half) > sum(r["ST_conf"] for r in rows)
+
+
+def test_friction_inputs_exist_only_on_the_core():
+    inputs, notes = sa.choose_inputs("core", [])
+    assert [i.name for i in inputs] == [i.name for i in sa.DEFAULT_INPUTS]
+    assert notes == []
+    inputs, notes = sa.choose_inputs("emulator", [])
+    assert "friction_lb" not in [i.name for i in inputs] and "CK" in [i.name for i in inputs]
+    assert notes and "no field" in notes[0]
+    with pytest.raises(ValueError, match="no base-friction field"):
+        sa.choose_inputs("emulator", [sa.parse_input("friction_lb=500:900")])
+
+
+def test_input_ranges_are_parsed_and_checked():
+    r = sa.parse_input("HTV=-16:-14.5")
+    assert (r.name, r.low, r.high) == ("HTV", -16.0, -14.5)
+    for bad in ("HTV=1", "HTV=2:1", "NOPE=1:2", "CK"):
+        with pytest.raises(ValueError):
+            sa.parse_input(bad)
+    inputs, _ = sa.choose_inputs("core", [sa.parse_input("CK=1000:2000")], defaults=False)
+    assert [(i.name, i.low, i.high) for i in inputs] == [("CK", 1000.0, 2000.0)]
+
+
+def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
+    plain = sa.outcomes_of(sa._run_scene({}, "core", "legacy", "steel40"))
+    nominal = sa.outcomes_of(
+        sa._run_scene(
+            {"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333},
+            "core", "legacy", "steel40",
+        )
+    )
+    changed = sa.outcomes_of(sa._run_scene({"friction_lb": 465.0}, "core", "legacy", "steel40"))
+    for k in sa.OUTCOMES:
+        assert nominal[k] == pytest.approx(plain[k], rel=1e-9, abs=1e-12), k
+    assert changed["delta_v_contact_mph"] != pytest.approx(plain["delta_v_contact_mph"], rel=1e-6)
+
+
+def test_subcommand_registers():
+    from deck_emulator.cli import build_parser
+
+    args = build_parser().parse_args(
+        ["sensitivity", "--quick", "--engine", "core", "--input", "HTV=-16:-14", "--deck",
+         "steel20", "--deck", "steel40", "--scheduler", "tcp://h:8786", "--resume", "--out", "d"]
+    )
+    assert args.quick and args.resume and args.deck == ["steel20", "steel40"]
+    assert args.scheduler == "tcp://h:8786" and args.command == "sensitivity"
