@@ -22,6 +22,7 @@ from pathlib import Path
 
 from deck_emulator import __version__
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.present.answers import definitions_help
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -64,6 +65,43 @@ def _check_out(args) -> None:
         check_output_file(args.out)
 
 
+def _is_scene(path) -> bool:
+    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
+    import tomllib
+
+    if str(path).endswith(".toml"):
+        return True
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(1 << 20)
+        parsed = tomllib.loads(data.decode("utf-8"))
+    except (OSError, ValueError):
+        return False
+    return any(isinstance(v, dict) for v in parsed.values())
+
+
+def _refuse_scene(path, command: str, why: str = "") -> None:
+    """``run``/``parse``/``summary``/``diff`` need a card deck: say so, and what to do."""
+    if _is_scene(path):
+        raise CLIError(
+            f"{path}: a scene file; {command} needs a card deck{why} (the emulator reads "
+            f"8-card decks): run the scene with `{PROG} core {path}`, or give {command} the "
+            f"deck it was made from ({PROG} scene DECK writes a deck's scene)")
+
+
+def _with_progress(args, engine, source):
+    """``engine.run(source)`` with the progress display (stderr, a terminal only)."""
+    from deck_emulator.parallel import busy
+
+    with busy(f"{PROG}: {engine.name} running", quiet=getattr(args, "quiet", False)):
+        return engine.run(source)
+
+
+def _add_quiet_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress display on stderr (shown only on a terminal)")
+
+
 def _positive_int(text: str) -> int:
     n = int(text)
     if n < 1:
@@ -75,20 +113,15 @@ def _positive_int(text: str) -> int:
 
 
 def _cmd_parse(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.deck import READ_LIST, field_columns, read_deck
+    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.present.answers import parse_answer, render_parse
 
+    _refuse_scene(args.deck, "parse")
     deck = read_deck(args.deck)
-    if args.json:
+    if args.json:  # name -> value, READ order (docs/json.md: the units are the table's)
         sys.stdout.write(json.dumps(deck.values) + "\n")
         return 0
-    lines = [f"{deck.path}: 8 cards, FORMAT(8F10.5)"]
-    for card_no, names in enumerate(READ_LIST, start=1):
-        lines.append("")
-        lines.append(f"card {card_no}   columns  name       value")
-        for field_no, name in enumerate(names, start=1):
-            first, last = field_columns(field_no)
-            lines.append(f"         {first:2d}-{last:<2d}    {name:<8s} {deck[name]!r:>12s}")
-    sys.stdout.write("\n".join(lines) + "\n")
+    sys.stdout.write(render_parse(parse_answer(deck)))
     return 0
 
 
@@ -102,8 +135,8 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
     p.add_argument(
-        "--json", action="store_true", help="print one JSON object, name -> value, in READ order"
-    )
+        "--json", action="store_true",
+        help="print one JSON object, name -> value, in READ order (docs/json.md)")
     p.set_defaults(func=_cmd_parse)
 
 
@@ -145,9 +178,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.deck import read_deck
     from deck_emulator.legacy.printer import render_asa
 
+    _refuse_scene(args.deck, "run")
     deck = read_deck(args.deck)
     _check_out(args)
-    out = _emulator(args, trace=False).run(deck)
+    out = _with_progress(args, _emulator(args, trace=False), deck)
     run = out.raw
     _emit(args, render_asa(run.records) if args.render else run.text())
     _say(f"{deck.path}: {_describe(run)}")
@@ -213,6 +247,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     )
     _add_emulator_options(p)
     p.add_argument("--out", metavar="FILE", help="write the printout to FILE")
+    _add_quiet_option(p)
     p.add_argument("--render", action="store_true",
                    help="render ASA carriage control (1 = form feed, 0 = blank line, + = "
                    "overprint) as the POSIX asa utility does, instead of the raw records")
@@ -224,29 +259,38 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 def _cmd_summary(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.legacy.extract import extract
-    from deck_emulator.studies import safety
+    from deck_emulator.present.answers import outcome_answer, render_outcome
 
+    _refuse_scene(args.deck, "summary")
     deck = read_deck(args.deck)
     _check_out(args)
     engine = _emulator(args)
-    out = engine.run(deck)
+    out = _with_progress(args, engine, deck)
     if out.error is not None:
         raise RunFailed(_stopped(out))
-    printed = extract(out.raw.records, deck).summary_dict()
-    printed.pop("events")
-    data = {"deck": str(deck.path), "arithmetic": out.raw.arithmetic,
-            "errata": list(out.errata),
-            "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
-            "events": [e.as_dict() for e in out.events],
-            **printed,
-            "delta_v_contact_mph": out.delta_v_contact_mph,
-            "safety": safety.summary(out)}
-    if args.json:
-        _emit(args, json.dumps(data, indent=2) + "\n")
-    else:
-        _emit(args, "".join(f"{k}: {v}\n" for k, v in data.items()))
+    from deck_emulator.engine import errata
+
+    settings = {"arithmetic": out.raw.arithmetic,
+                "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
+                "errata": errata.describe(out.errata)}
+    if not settings["assumptions"]:
+        settings.pop("assumptions")
+    answer = outcome_answer(out, command="summary", source=str(deck.path), settings=settings)
+    answer["notes"] += _odd_deck_notes(out.values)
+    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
+
+
+def _odd_deck_notes(values: dict) -> list[str]:
+    """Why a well-formed but physically odd deck's numbers are odd."""
+    notes = []
+    for name, what in (("W", "the post's mass"), ("WV", "the car's mass"), ("G", "gravity")):
+        if values.get(name, 1.0) <= 0:
+            notes.append(f"{name} = {values[name]:g}: {what} is not positive; the numbers "
+                         "below follow the equations, not physics")
+    if values.get("VVB", -1.0) == 0:
+        notes.append("VVB = 0: the car does not move")
+    return notes
 
 
 @_subcommand
@@ -254,14 +298,15 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "summary",
         help="run a deck and print its outcomes (events, hit, delta-V, deceleration, P/Q/R)",
-        description="Run the emulated program and extract from its printout what the report's "
-        "Tables 11 and 12 give: events with times, the hit, the vehicle's speed change in mph "
-        "(delta_v_crush_mph: by the end of the crush pulse, as the report tabulates it; "
-        "delta_v_contact_mph: by the end of contact), the largest printed deceleration in g, "
-        "terminal P, Q, R in XL, YL, ZL.",
+        description="Run the emulated program and print what the report's Tables 11 and 12 "
+        "give: the events as sentences, the hit, the car's speed change in mph, the largest "
+        "printed deceleration in g, P, Q, R at the hit in XL, YL, ZL; then the occupant-risk "
+        "numbers and the cited limits they are judged by. The two speed changes: "
+        + definitions_help() + ". --json: the same as one JSON object (docs/json.md).",
     )
     _add_emulator_options(p)
     _add_answer_options(p)
+    _add_quiet_option(p)
     p.set_defaults(func=_cmd_summary)
 
 
@@ -311,7 +356,7 @@ def _load_scene(path: str):
     from deck_emulator.legacy.deck import read_deck
 
     try:
-        if path.endswith(".toml"):
+        if _is_scene(path):
             try:
                 return Scene.from_toml(Path(path).read_text())
             except (ValueError, KeyError, TypeError) as exc:
@@ -322,21 +367,25 @@ def _load_scene(path: str):
 
 
 def _cmd_core(args: argparse.Namespace) -> int:
-    from deck_emulator.core import CoreError
     from deck_emulator.engine import CoreEngine
+    from deck_emulator.present.answers import outcome_answer, render_outcome
 
-    scene = _load_scene(args.scene)
+    scene = _load_scene(args.scene)  # a bad scene or deck: exit 2 before any work
+    source = scene
+    if not _is_scene(args.scene):
+        from deck_emulator.legacy.deck import read_deck
+
+        source = read_deck(args.scene)  # the deck's 64 values: the occupant risk, XL axes
     _check_out(args)
     engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol)
-    try:
-        result = engine.simulate(scene)
-    except CoreError as exc:
-        raise RunFailed(str(exc)) from None
-    data = result.summary()
-    text = json.dumps(data, indent=2) + "\n" if args.json else "".join(
-        f"{k}: {v}\n" for k, v in data.items() if k != "events") + "".join(
-        f"  {e['time_s']:.9f} s  {e['name']}  {e['message']}\n" for e in data["events"])
-    _emit(args, text)
+    out = _with_progress(args, engine, source)
+    if out.error is not None:
+        raise RunFailed(f"{args.scene}: the core stopped: {out.error}")
+    settings = {"preset": args.preset, "method": args.method,
+                "rtol": args.rtol, "atol": args.atol}
+    answer = outcome_answer(out, command="core", source=args.scene, settings=settings)
+    answer["notes"] += _odd_deck_notes(out.values)
+    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
 
 
@@ -352,6 +401,7 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (default 1e-10)")
     p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (default 1e-10)")
     _add_answer_options(p)
+    _add_quiet_option(p)
     p.set_defaults(func=_cmd_core)
 
 

@@ -36,3 +36,50 @@ def parallel_map(fn, items, *, jobs: int | None = None, desc: str = "", unit: st
     finally:
         bar.close()
     return results
+
+
+def progress_bar(total: int | None = None, *, desc: str = "", unit: str = "it",
+                 quiet: bool = False):
+    """The package's one progress display: a tqdm bar on stderr, shown only when stderr is a
+    terminal and not ``quiet`` (``total=None``: a counter)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
+                disable=quiet or not sys.stderr.isatty())
+
+
+class busy:
+    """``with busy("emulator"): work()`` -- for one long call that reports nothing itself:
+    the same bar, counting seconds of wall time from a background thread (nothing is added
+    to the work's own loop)."""
+
+    def __init__(self, desc: str, *, quiet: bool = False, every_s: float = 0.5):
+        self.desc, self.quiet, self.every_s = desc, quiet, every_s
+
+    def __enter__(self):
+        import threading
+        import time
+
+        self._bar = None
+        self._stop = threading.Event()
+        if self.quiet or not sys.stderr.isatty():
+            return self
+        self._bar = progress_bar(desc=self.desc, unit="s", quiet=self.quiet)
+        self._bar.bar_format = "{desc}: {elapsed}"
+        started = time.monotonic()
+
+        def tick():
+            while not self._stop.wait(self.every_s):
+                self._bar.n = int(time.monotonic() - started)
+                self._bar.refresh()
+
+        self._thread = threading.Thread(target=tick, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        if self._bar is not None:
+            self._thread.join()
+            self._bar.close()
+        return False
