@@ -315,17 +315,33 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
 
 def _cmd_diff(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.parallel import progress_bar
     from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
 
+    _refuse_scene(args.deck, "diff", why=" (it runs both engines, and the emulator runs "
+                  "only decks)")
+    if args.max_k < 0:
+        raise CLIError(f"--max-k must be 0 or more, not {args.max_k}")
+    if not 0 < args.rtol < 1:
+        raise CLIError(f"--rtol must be between 0 and 1, not {args.rtol:g}")
     deck = read_deck(args.deck)
     _check_out(args)
-    progress = (lambda m: _say(m)) if sys.stderr.isatty() else None
-    try:
-        data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
-                         ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
-                         tighten_ed=not args.as_printed_ed, progress=progress)
-    except DiffStopped as exc:
-        raise RunFailed(str(exc)) from None
+    with progress_bar(args.max_k + 1, desc=f"{PROG}: diff", unit="k",
+                      quiet=args.quiet) as bar:
+        started = []
+
+        def progress(message: str) -> None:  # called as each k starts
+            if started:
+                bar.update()
+            started.append(message)
+            bar.set_postfix_str(message.split(":")[0])
+
+        try:
+            data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
+                             ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
+                             tighten_ed=not args.as_printed_ed, progress=progress)
+        except DiffStopped as exc:
+            raise RunFailed(str(exc)) from None
     _emit(args, json.dumps(data, indent=2) + "\n" if args.json else format_diff(data))
     return 0
 
@@ -343,11 +359,13 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--precision", default="double", choices=PRECISIONS,
                    help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
     _add_erratum_option(p)
-    p.add_argument("--max-k", type=int, default=4, help="halve the step up to K times (default 4)")
+    p.add_argument("--max-k", type=int, default=4, metavar="K",
+                   help="halve the step up to K times, K >= 0 (default 4)")
     p.add_argument("--rtol", type=float, default=1e-10, help="core tolerance (rtol = atol)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
     _add_answer_options(p)
+    _add_quiet_option(p)
     p.set_defaults(func=_cmd_diff)
 
 

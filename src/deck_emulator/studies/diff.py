@@ -199,10 +199,10 @@ def format_diff(d: dict) -> str:
 
     row("lost first spring (s)", e["first_spring_lost_s"], c["first_spring_lost_s"])
     row("lost the vehicle (s)", e["vehicle_contact_lost_s"], c["vehicle_contact_lost_s"])
-    row("hit time (s)", e["hit_time_s"], c["hit_time_s"])
-    row("delta-V to end of contact (mph)", e["delta_v_contact_mph"], c["delta_v_contact_mph"],
+    row("post hits, hit_time_s (s)", e["hit_time_s"], c["hit_time_s"])
+    row("delta_v_contact_mph (mph)", e["delta_v_contact_mph"], c["delta_v_contact_mph"],
         "{:.4f}")
-    row("max deceleration (g)", e["max_decel_g"], c["max_decel_g"], "{:.4f}")
+    row("max_decel_g (g)", e["max_decel_g"], c["max_decel_g"], "{:.4f}")
     for p in POINTS:
         for axis, a, b in zip(("XL", "YL", "ZL"), e["terminal_points_xl_yl_zl_ft"][p],
                               c["terminal_points_xl_yl_zl_ft"][p]):
