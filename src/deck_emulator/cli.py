@@ -536,6 +536,19 @@ def _add_assembly(sub: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------- plot
 
 
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from deck_emulator.parallel import busy
+    from deck_emulator.present.plot import _cmd_plot as plot, check_plot_outputs
+
+    if args.every is not None and not args.every > 0:
+        raise CLIError(f"--every must be positive (ms), not {args.every:g}")
+    check_plot_outputs(args.out, args.animate)
+    _refuse_scene(args.deck, "plot", why=" (the pictures are drawn in the report's XL, YL, "
+                  "ZL axes, set by the deck's 64 values, which a scene file does not carry)")
+    with busy(f"{PROG}: plot", quiet=args.quiet):
+        return plot(args)
+
+
 @_subcommand
 def _add_plot(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
@@ -549,24 +562,22 @@ def _add_plot(sub: argparse._SubParsersAction) -> None:
         "computed).",
     )
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    p.add_argument("--out", required=True, metavar="FILE.png", help="the picture to write")
+    p.add_argument("--out", required=True, metavar="FILE.png",
+                   help="the picture to write: .png, .svg, .pdf (any format matplotlib writes)")
     p.add_argument("--engine", choices=("emulator", "core"), default="emulator",
                    help="which engine's run to draw (default emulator)")
     p.add_argument("--view", choices=VIEWS, default="side", help="which view (default side)")
     p.add_argument("--pulse", action="store_true",
                    help="draw the vehicle pulse (both engines) instead of the trajectory")
-    p.add_argument("--animate", metavar="FILE.gif", help="also write an animated GIF of the fall")
+    p.add_argument("--animate", metavar="FILE.gif",
+                   help="also write the fall as an animated GIF (.mp4 if ffmpeg is installed)")
     _add_erratum_option(p)
     _add_preset_option(p)
     p.add_argument("--every", type=float, metavar="MS",
                    help="draw the post every MS milliseconds (default: about 20 instants)")
+    _add_quiet_option(p)
 
-    def run(args):
-        from deck_emulator.present.plot import _cmd_plot
-
-        return _cmd_plot(args)
-
-    p.set_defaults(func=run)
+    p.set_defaults(func=_cmd_plot)
 
 
 # --------------------------------------------------------------------------- sweep
