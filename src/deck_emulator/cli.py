@@ -17,6 +17,7 @@ import argparse
 import json
 import os
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -186,7 +187,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     _emit(args, render_asa(run.records) if args.render else run.text())
     _say(f"{deck.path}: {_describe(run)}")
     if out.error is not None:
-        _say(f"error: {_stopped(out)}")
+        _say(f"error: {_failed(out, deck.path)}")
         return EXIT_RUN_FAILED
     return 0
 
@@ -267,7 +268,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     engine = _emulator(args)
     out = _with_progress(args, engine, deck)
     if out.error is not None:
-        raise RunFailed(_stopped(out))
+        raise _failed(out, deck.path)
     from deck_emulator.engine import errata
 
     settings = {"arithmetic": out.raw.arithmetic,
@@ -282,15 +283,25 @@ def _cmd_summary(args: argparse.Namespace) -> int:
 
 
 def _odd_deck_notes(values: dict) -> list[str]:
-    """Why a well-formed but physically odd deck's numbers are odd."""
+    """Why a well-formed but physically odd deck gives odd numbers (or stops)."""
     notes = []
-    for name, what in (("W", "the post's mass"), ("WV", "the car's mass"), ("G", "gravity")):
+    for name, what in (("W", "the post's mass"), ("WV", "the car's mass")):
         if values.get(name, 1.0) <= 0:
-            notes.append(f"{name} = {values[name]:g}: {what} is not positive; the numbers "
-                         "below follow the equations, not physics")
+            notes.append(f"{name} = {values[name]:g} slug: {what} is not positive; what follows "
+                         "is what the equations give, not physics")
+    if values.get("G", 1.0) <= 0:
+        notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is 32.174); a "
+                     "deceleration in g divides by WV*G, so the printed ones are not given, and "
+                     "the post comes down only by the motion the car gave it")
     if values.get("VVB", -1.0) == 0:
-        notes.append("VVB = 0: the car does not move")
+        notes.append("VVB = 0: the car does not move, so nothing strikes the post")
     return notes
+
+
+def _failed(out, source) -> RunFailed:
+    """A stopped run: the engine's line, its hint, and why the deck is odd if it is."""
+    notes = _odd_deck_notes(out.values)
+    return RunFailed(f"{source}: {_stopped(out)}" + "".join(f"; {n}" for n in notes))
 
 
 @_subcommand
@@ -398,7 +409,7 @@ def _cmd_core(args: argparse.Namespace) -> int:
     engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol)
     out = _with_progress(args, engine, source)
     if out.error is not None:
-        raise RunFailed(f"{args.scene}: the core stopped: {out.error}")
+        raise _failed(out, args.scene)
     settings = {"preset": args.preset, "method": args.method,
                 "rtol": args.rtol, "atol": args.atol}
     answer = outcome_answer(out, command="core", source=args.scene, settings=settings)
@@ -729,7 +740,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # usage errors (2) and --help (0)
         return exc.code if isinstance(exc.code, int) else 2
     try:
-        return args.func(args)
+        with warnings.catch_warnings():  # numpy's divide-by-zero and the like: the notes say why
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return args.func(args)
     except (DeckError, UsageError, OSError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT

@@ -160,6 +160,7 @@ def render_outcome(a: dict) -> str:
     """The table of ``summary`` / ``core``."""
     lines = [f"{a['source']}: the {a['engine']}"]
     lines += [f"  {k}: {v}" for k, v in a["settings"].items()]
+    lines += [f"note: {n}" for n in a["notes"]]
     lines += ["", "events"]
     lines += [f"  {e['sentence']}" for e in a["events"]] or ["  none"]
     lines += [""] + _table(_quantity_rows(a["quantities"]), ("outcome", "name", "value", "unit"),
@@ -178,8 +179,6 @@ def render_outcome(a: dict) -> str:
                     if c["preferred"] is not None else "")
             lines.append(f"  {c['quantity']}: {pref}{c['maximum']:g} {c['unit']} at most "
                          f"({c['source']})")
-    for n in a["notes"]:
-        lines.append(f"note: {n}")
     return "\n".join(lines) + "\n"
 
 
