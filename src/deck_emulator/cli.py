@@ -104,10 +104,61 @@ def _add_quiet_option(p: argparse.ArgumentParser) -> None:
 
 
 def _positive_int(text: str) -> int:
-    n = int(text)
+    n = _int(text)
     if n < 1:
-        raise argparse.ArgumentTypeError("must be at least 1")
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {n}")
     return n
+
+
+def _int(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+
+
+def _nonnegative_int(text: str) -> int:
+    n = _int(text)
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, not {n}")
+    return n
+
+
+def _positive_float(text: str) -> float:
+    import math
+
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(x) and x > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive finite number, not {text}")
+    return x
+
+
+def _tolerance(text: str) -> float:
+    x = _positive_float(text)
+    if x >= 1:
+        raise argparse.ArgumentTypeError(f"must be below 1, not {text}")
+    return x
+
+
+def _number_text(text: str) -> str:
+    """A decimal constant kept as text (the arithmetic converts it), checked to be a number."""
+    import math
+
+    try:
+        ok = math.isfinite(float(text))
+    except ValueError:
+        ok = False
+    if not ok:
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return text
+
+
+def _positive_number_text(text: str) -> str:
+    _positive_float(text)
+    return text
 
 
 # --------------------------------------------------------------------------- parse
@@ -200,17 +251,18 @@ def _add_emulator_options(p: argparse.ArgumentParser) -> None:
                    help="arithmetic: double (IEEE binary64, as the r8 goldens), single (IEEE "
                    "binary32, as the r4 goldens, trapping), ibm7094 (the 1967 machine's 36-bit words)")
     _add_erratum_option(p)
-    p.add_argument("--step-scale", type=int, default=0, metavar="K",
+    p.add_argument("--step-scale", type=_nonnegative_int, default=0, metavar="K",
                    help="divide every literal that means one step (0.0004 s) by 2**K")
-    p.add_argument("--tha-start", metavar="VALUE",
+    p.add_argument("--tha-start", metavar="VALUE", type=_number_text,
                    help="start-up THA at label 123 instead of the printed 0.000022")
-    p.add_argument("--ed-tolerance", metavar="RAD", default=".0001",
+    p.add_argument("--ed-tolerance", metavar="RAD", default=".0001", type=_positive_number_text,
                    help="ED's |DF| tolerance at labels 15 and 16 (printed: .0001)")
-    p.add_argument("--max-time", type=float, default=Limits.time_s, metavar="S",
+    p.add_argument("--max-time", type=_positive_float, default=Limits.time_s, metavar="S",
                    help="stop when simulated time passes S seconds (default %(default)s)")
-    p.add_argument("--max-ed-iterations", type=int, default=Limits.ed_iterations, metavar="N",
+    p.add_argument("--max-ed-iterations", type=_positive_int, default=Limits.ed_iterations,
+                   metavar="N",
                    help="stop when one call of ED iterates N times (default %(default)s)")
-    p.add_argument("--max-halvings", type=int, default=Limits.halvings, metavar="N",
+    p.add_argument("--max-halvings", type=_nonnegative_int, default=Limits.halvings, metavar="N",
                    help="stop after N consecutive step halvings at label 108 (default %(default)s)")
     p.add_argument("--sincos", choices=("chop", "round"), help="ibm7094: how SIN/COS were rounded")
     p.add_argument("--decimal", choices=("chop", "round"),
@@ -331,10 +383,6 @@ def _cmd_diff(args: argparse.Namespace) -> int:
 
     _refuse_scene(args.deck, "diff", why=" (it runs both engines, and the emulator runs "
                   "only decks)")
-    if args.max_k < 0:
-        raise CLIError(f"--max-k must be 0 or more, not {args.max_k}")
-    if not 0 < args.rtol < 1:
-        raise CLIError(f"--rtol must be between 0 and 1, not {args.rtol:g}")
     deck = read_deck(args.deck)
     _check_out(args)
     with progress_bar(args.max_k + 1, desc=f"{PROG}: diff", unit="k",
@@ -370,9 +418,10 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--precision", default="double", choices=PRECISIONS,
                    help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
     _add_erratum_option(p)
-    p.add_argument("--max-k", type=int, default=4, metavar="K",
+    p.add_argument("--max-k", type=_nonnegative_int, default=4, metavar="K",
                    help="halve the step up to K times, K >= 0 (default 4)")
-    p.add_argument("--rtol", type=float, default=1e-10, help="core tolerance (rtol = atol)")
+    p.add_argument("--rtol", type=_tolerance, default=1e-10,
+                   help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default 1e-10)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
     _add_answer_options(p)
@@ -387,12 +436,43 @@ def _load_scene(path: str):
     try:
         if _is_scene(path):
             try:
-                return Scene.from_toml(Path(path).read_text())
+                text = Path(path).read_text()
+                _finite_numbers(text)
+                return Scene.from_toml(text)
             except (ValueError, KeyError, TypeError) as exc:
-                raise CLIError(f"{path}: not a scene: {exc}") from None
+                import re
+
+                message = str(exc)
+                missing = re.findall(r"'(\w+)'", message) if "required positional" in message else []
+                if missing:
+                    message = "missing " + ", ".join(f"[{m}]" for m in missing)
+                raise CLIError(f"{path}: not a scene: {message}") from None
+            except OSError as exc:
+                raise CLIError(f"{path}: cannot read: {exc.strerror or exc}") from None
         return Scene.from_deck(read_deck(path), name=Path(path).stem)
     except SceneError as exc:
         raise CLIError(f"{path}: {exc}") from None
+
+
+def _finite_numbers(text: str) -> None:
+    """A scene's numbers must be finite (TOML allows inf and nan): ValueError naming the key."""
+    import math
+    import tomllib
+
+    def walk(node, where):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                walk(v, f"{where}.{k}" if where else k)
+        elif isinstance(node, list):
+            for i, v in enumerate(node):
+                walk(v, f"{where}[{i}]")
+        elif isinstance(node, float) and not math.isfinite(node):
+            raise ValueError(f"{where} = {node}: not a finite number")
+
+    try:
+        walk(tomllib.loads(text), "")
+    except tomllib.TOMLDecodeError:
+        return  # Scene.from_toml says what is wrong with the TOML itself
 
 
 def _cmd_core(args: argparse.Namespace) -> int:
@@ -427,8 +507,10 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
     _add_preset_option(p)
     p.add_argument("--method", default="DOP853", choices=("DOP853", "RK45", "Radau", "LSODA"),
                    help="solve_ivp's method (default DOP853)")
-    p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (default 1e-10)")
-    p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (default 1e-10)")
+    p.add_argument("--rtol", type=_tolerance, default=1e-10,
+                   help="relative tolerance, 0 < RTOL < 1 (default 1e-10)")
+    p.add_argument("--atol", type=_tolerance, default=1e-10,
+                   help="absolute tolerance, 0 < ATOL < 1 (default 1e-10)")
     _add_answer_options(p)
     _add_quiet_option(p)
     p.set_defaults(func=_cmd_core)
@@ -551,8 +633,6 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.parallel import busy
     from deck_emulator.present.plot import _cmd_plot as plot, check_plot_outputs
 
-    if args.every is not None and not args.every > 0:
-        raise CLIError(f"--every must be positive (ms), not {args.every:g}")
     check_plot_outputs(args.out, args.animate)
     _refuse_scene(args.deck, "plot", why=" (the pictures are drawn in the report's XL, YL, "
                   "ZL axes, set by the deck's 64 values, which a scene file does not carry)")
@@ -584,7 +664,7 @@ def _add_plot(sub: argparse._SubParsersAction) -> None:
                    help="also write the fall as an animated GIF (.mp4 if ffmpeg is installed)")
     _add_erratum_option(p)
     _add_preset_option(p)
-    p.add_argument("--every", type=float, metavar="MS",
+    p.add_argument("--every", type=_positive_float, metavar="MS",
                    help="draw the post every MS milliseconds (default: about 20 instants)")
     _add_quiet_option(p)
 
@@ -719,8 +799,15 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------- main
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, but a usage error is one line (and exit status 2)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog=PROG,
         description="Emulator of the 1967 TTI luminaire-support impact program (Report 75-9).",
     )
