@@ -341,6 +341,10 @@ def _odd_deck_notes(values: dict) -> list[str]:
         if values.get(name, 1.0) <= 0:
             notes.append(f"{name} = {values[name]:g} slug: {what} is not positive; what follows "
                          "is what the equations give, not physics")
+    for name in ("A", "B", "C"):
+        if values.get(name, 1.0) <= 0:
+            notes.append(f"{name} = {values[name]:g} slug ft^2: a principal moment of inertia of "
+                         "the post is not positive, so the run is not physical")
     if values.get("G", 1.0) <= 0:
         notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is 32.174); a "
                      "deceleration in g divides by WV*G, so the printed ones are not given, and "

@@ -47,6 +47,10 @@ QUANTITIES: dict[str, Quantity] = {
         "largest deceleration of the car", "g", 2,
         "emulator: the largest printed FSA/(WV*G), as the report read it; core: the "
         "largest over its continuous solution"),
+    "max_decel_every_step_g": Quantity(
+        "largest deceleration, every step", "g", 4,
+        "diff: the largest FS/(WV*G) over every accepted step of the emulator (not only the "
+        "printed ones), and the core's continuous maximum"),
     "max_decel_10ms_g": Quantity(
         "largest 10 ms average deceleration", "g", 2,
         "the largest average deceleration of the car over any 10 ms window"),
