@@ -357,6 +357,10 @@ def _odd_deck_notes(values: dict) -> list[str]:
 def _failed(out, source) -> RunFailed:
     """A stopped run: the engine's line, its hint, and why the deck is odd if it is."""
     notes = _odd_deck_notes(out.values)
+    if out.settings.startswith("arithmetic single") and "PHIA" in (out.error or ""):
+        notes.append("in binary32 COS(THA) rounds to 1.0 at step 2 and the listing divides "
+                     "by zero, where gfortran's trapping single-precision build stops too "
+                     "(golden/*.r4.trap; README, 'Single precision')")
     return RunFailed(f"{source}: {_stopped(out)}" + "".join(f"; {n}" for n in notes))
 
 
