@@ -771,8 +771,14 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     studies = p.add_subparsers(dest="study", metavar="STUDY", required=True)
 
     def run(args):
+        from deck_emulator.files import check_output_dir
+        from deck_emulator.legacy.deck import read_deck
         from deck_emulator.studies.study_cli import _cmd_study
 
+        if getattr(args, "deck", None):
+            _refuse_scene(args.deck, f"study {args.study}")
+            read_deck(args.deck)
+        check_output_dir(args.out)  # before any work, and before the study makes the folder
         return _cmd_study(args)
 
     def common(q):
@@ -781,6 +787,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                        help="a small grid (seconds, for tests) instead of the full study")
         q.add_argument("--jobs", type=_positive_int, default=None, metavar="N",
                        help="worker processes (default: os.cpu_count())")
+        _add_quiet_option(q)
         q.set_defaults(func=run)
 
     e = studies.add_parser(

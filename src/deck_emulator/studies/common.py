@@ -17,7 +17,6 @@ import math
 import os
 import platform
 import statistics
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -208,10 +207,20 @@ def parallel_map(fn, tasks: list, jobs: int | None, progress=None) -> list:
     return results
 
 
-def stderr_progress(name: str):
+def stderr_progress(name: str, quiet: bool = False):
+    """A ``progress(done, total)`` callback drawing the package's one progress bar
+    (:func:`deck_emulator.parallel.progress_bar`: stderr, a terminal only, not ``quiet``)."""
+    from deck_emulator.parallel import progress_bar
+
+    bar = None
+
     def report(done, total):
-        if done == total or done % max(1, total // 10) == 0:
-            print(f"{name}: {done}/{total} runs", file=sys.stderr, flush=True)
+        nonlocal bar
+        if bar is None:
+            bar = progress_bar(total, desc=f"deck-emulator: {name}", unit="run", quiet=quiet)
+        bar.update(done - bar.n)
+        if done >= total:
+            bar.close()
 
     return report
 

@@ -17,6 +17,7 @@ import os
 import shlex
 import sys
 
+from .common import stderr_progress
 from .error import error_study
 from .stability import stability_study
 
@@ -38,7 +39,8 @@ def _cmd_study(args: argparse.Namespace) -> int:
     cmd = _command(args)
     if args.study == "error":
         read_deck(args.deck)  # DeckError -> exit status 2 before any work
-        s = error_study(args.deck, args.out, quick=args.quick, jobs=args.jobs, command=cmd)
+        s = error_study(args.deck, args.out, quick=args.quick, jobs=args.jobs, command=cmd,
+                        progress=stderr_progress("study error", quiet=args.quiet))
         o = s["orders"]
         lines = [f"observed order (listing as printed): {o['legacy, ED as printed (double)']['vs_h']:.2f}",
                  f"observed order (ED tightened): {o['legacy, ED tightened (double)']['vs_h']:.2f}"]
@@ -46,7 +48,9 @@ def _cmd_study(args: argparse.Namespace) -> int:
         deck = getattr(args, "deck", None)
         if deck:
             read_deck(deck)
-        s = stability_study(args.out, quick=args.quick, jobs=args.jobs, deck_path=deck, command=cmd)
+        s = stability_study(args.out, quick=args.quick, jobs=args.jobs, deck_path=deck,
+                            command=cmd,
+                            progress=stderr_progress("study stability", quiet=args.quiet))
         lines = [f"emulator classes: {s['classes']}"]
     for line in lines + [f"wrote {args.out} in {s['wall_s']:.0f} s"]:
         print(f"deck-emulator: study {args.study}: {line}", file=sys.stderr)
