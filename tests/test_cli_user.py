@@ -330,6 +330,13 @@ def _bad_inputs(tmp_path: Path) -> dict[str, list[str]]:
                             "--out", str(d / "afile")],
         "plot: wrong type": ["plot", STEEL40, "--out", str(d / "afile")],
         "unknown command": ["frobnicate"],
+        "scene of a missing deck": ["scene", str(d / "nope.dat")],
+        "unknown assembly": ["assembly", str(d / "nope")],
+        "study of a scene": ["study", "error", str(d / "bad.toml"), "--quick",
+                             "--out", str(d / "st")],
+        "study out: a file": ["study", "stability", "--quick", "--out", str(d / "afile")],
+        "sweep base: a scene": ["sweep", "--speeds", "40", "--angles", "0",
+                                "--base-deck", str(d / "bad.toml"), "--out", str(d / "sw")],
         "no deck": ["run"],
     }
     if os.geteuid() != 0:  # root writes anywhere

@@ -701,6 +701,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         raise CLIError("--angles must be in [0, 90) degrees")
     if not 0 <= args.vvb_decimals <= 5:
         raise CLIError("--vvb-decimals must be 0 to 5")
+    if args.base_deck:
+        _refuse_scene(args.base_deck, "sweep --base-deck")
     base = Path(args.base_deck) if args.base_deck else POSTS[args.post]
     base_deck = read_deck(base)  # bad deck -> DeckError, before any work
     for s in speeds:  # every VVB/ALPHA must punch: fail before running anything
