@@ -542,6 +542,10 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------- assembly
 
 
+def _ms(t_s) -> str:
+    return "no time" if t_s is None else f"{1000.0 * t_s:.1f} ms"
+
+
 def _cmd_assembly(args: argparse.Namespace) -> int:
     """Build a support assembly (or the crash test) from a description file and print its
     mass properties, its deck, its scene, or run it."""
@@ -566,7 +570,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
             raise CLIError(f"cannot run on the listing: {asm.scene_runs_on_listing(scene)}")
         res, loss, r70 = ct.table10(scene)
         rows = [f"{k}: at loss of contact {loss[k]:.4f}, at 70 ms {r70[k]:.4f}" for k in loss]
-        _emit(args, f"hit: {res.hit_message} at {res.hit_time_s}\n" + "\n".join(rows) + "\n")
+        _emit(args, f"hit: {res.hit_message} at {_ms(res.hit_time_s)}\n" + "\n".join(rows) + "\n")
         return 0
     template = (f"steel{args.speed_mph}" + ("" if args.alpha_deg == 0 else f"_a{args.alpha_deg}"))
     mp = asm.mass_properties(a)
@@ -603,7 +607,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
 
     res = joint_ground_hit(simulate(scene, LEGACY if args.preset == "legacy" else PHYSICAL))
     pts = terminal_points_xl(res)
-    lines = [f"hit: {res.hit_message} at {res.hit_time_s} s"]
+    lines = [f"hit: {res.hit_message} at {_ms(res.hit_time_s)}"]
     lines += [f"  {k}L: ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) ft" for k, p in pts.items()]
     _emit(args, "\n".join(lines) + "\n")
     return 0
