@@ -111,11 +111,11 @@ def test_every_printed_limit_carries_its_citation(capsys):
 
 
 @pytest.mark.parametrize("argv", [
-    ["summary", A30], ["run", A30], ["diff", A30, "--max-k", "0"],
+    ["summary", A30, "--max-ed-iterations", "2000"], ["run", A30, "--max-ed-iterations", "2000"],
+    ["diff", A30, "--max-k", "0"], ["plot", A30, "--out", "{tmp}/a30.png"],
 ])
 def test_a_stop_in_ed_names_the_erratum(capsys, tmp_path, argv):
-    code, _, err = _run(capsys, *argv, "--max-ed-iterations", "2000") if argv[0] != "diff" \
-        else _run(capsys, *argv)
+    code, _, err = _run(capsys, *(a.format(tmp=tmp_path) for a in argv))
     assert code == 3
     assert "--erratum ed-direction" in err and "Traceback" not in err
 
@@ -211,11 +211,19 @@ def test_core_takes_a_scene_like_a_deck(capsys, scenes):
         assert "post hit the ground with the luminaire end R at 822.6 ms" in out
 
 
-@pytest.mark.parametrize("command", ["run", "parse", "summary", "diff", "plot"])
+def test_plot_draws_a_scene_with_the_core(capsys, scenes):
+    toml, _ = scenes
+    out = toml.parent / "scene.png"
+    code, _, err = _run(capsys, "plot", str(toml), "--engine", "core", "--out", str(out))
+    assert code == 0, err
+    assert out.read_bytes().startswith(b"\x89PNG")
+
+
+@pytest.mark.parametrize("command", ["run", "parse", "summary", "diff", "plot", "plot --pulse"])
 def test_deck_commands_refuse_a_scene_in_one_line(capsys, scenes, command, no_work):
     for scene in scenes:
-        argv = [command, str(scene)] + (["--out", str(scene.parent / "x.png")]
-                                        if command == "plot" else [])
+        argv = [command.split()[0], str(scene), *command.split()[1:]] + (
+            ["--out", str(scene.parent / "x.png")] if command.startswith("plot") else [])
         code, out, err = _run(capsys, *argv)
         assert code == 2 and out == ""
         _one_line_error(err)

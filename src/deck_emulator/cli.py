@@ -646,8 +646,12 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.present.plot import _cmd_plot as plot, check_plot_outputs
 
     check_plot_outputs(args.out, args.animate)
-    _refuse_scene(args.deck, "plot", why=" (the pictures are drawn in the report's XL, YL, "
-                  "ZL axes, set by the deck's 64 values, which a scene file does not carry)")
+    args.source = None
+    if args.engine != "core" or args.pulse:
+        _refuse_scene(args.deck, "plot" + (" --pulse" if args.pulse else ""),
+                      why=" (the emulator draws only decks; --engine core draws a scene)")
+    elif _is_scene(args.deck):
+        args.source = _load_scene(args.deck)
     with busy(f"{PROG}: plot", quiet=args.quiet):
         return plot(args)
 
@@ -664,7 +668,8 @@ def _add_plot(sub: argparse._SubParsersAction) -> None:
         "names an erratum. Exit status 3 if a run stopped early (the picture shows what it "
         "computed).",
     )
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    p.add_argument("deck", metavar="DECK_OR_SCENE",
+                   help="deck file, e.g. decks/steel40.dat; a scene file with --engine core")
     p.add_argument("--out", required=True, metavar="FILE.png",
                    help="the picture to write: .png, .svg, .pdf (any format matplotlib writes)")
     p.add_argument("--engine", choices=("emulator", "core"), default="emulator",

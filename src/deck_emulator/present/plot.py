@@ -826,7 +826,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     if args.every is not None and not args.every > 0:
         raise CLIError("--every must be positive (ms)")
     check_plot_outputs(args.out, args.animate)
-    deck = read_deck(args.deck)
+    deck = getattr(args, "source", None) or read_deck(args.deck)  # a deck, or a scene (core)
     out = Path(args.out)
     every = None if args.every is None else args.every / 1000.0
     status = 0
