@@ -205,10 +205,16 @@ def parse_answer(deck) -> dict:
             "values": dict(deck.values), "cards": cards}
 
 
+def _field(value: float) -> str:
+    """FORMAT F10.5's five decimals, unless the card gave more (then every digit it gave)."""
+    shown = f"{value:.5f}"
+    return shown if float(shown) == value else repr(value)
+
+
 def render_parse(a: dict) -> str:
     lines = [f"{a['source']}: 8 cards, FORMAT(8F10.5)"]
     for card in a["cards"]:
-        rows = [(f"{f['columns'][0]}-{f['columns'][1]}", f["name"], f"{f['value']:.5f}",
+        rows = [(f"{f['columns'][0]}-{f['columns'][1]}", f["name"], _field(f["value"]),
                  f["unit"]) for f in card["fields"]]
         lines += ["", f"card {card['card']}"]
         lines += ["  " + s for s in _table(rows, ("columns", "name", "value", "unit"), {2})]
