@@ -138,6 +138,10 @@ def test_progress_on_a_terminal_and_quiet_silences_it(capsys, monkeypatch):
     assert code == 0 and "deck-emulator: core running" in err
     code, _, err = _run(capsys, "core", STEEL40, "--quiet")
     assert code == 0 and err == ""
+    code, _, err = _run(capsys, "summary", STEEL40)
+    assert code == 0 and "deck-emulator: emulator running" in err
+    code, _, err = _run(capsys, "diff", STEEL40, "--max-k", "0")
+    assert code == 0 and "deck-emulator: diff" in err
 
 
 def test_no_progress_when_stderr_is_not_a_terminal(capsys):

@@ -94,8 +94,16 @@ def _with_progress(args, engine, source):
     """``engine.run(source)`` with the progress display (stderr, a terminal only)."""
     from deck_emulator.parallel import busy
 
-    with busy(f"{PROG}: {engine.name} running", quiet=getattr(args, "quiet", False)):
-        return engine.run(source)
+    if engine.name != "emulator":
+        with busy(f"{PROG}: {engine.name} running", quiet=getattr(args, "quiet", False)):
+            return engine.run(source)
+    programs = []
+
+    def status() -> str:
+        return f"step {programs[0].step}" if programs else ""
+
+    with busy(f"{PROG}: emulator running", quiet=getattr(args, "quiet", False), status=status):
+        return engine.run(source, watch=programs.append)
 
 
 def _add_quiet_option(p: argparse.ArgumentParser) -> None:

@@ -39,13 +39,13 @@ def parallel_map(fn, items, *, jobs: int | None = None, desc: str = "", unit: st
 
 
 def progress_bar(total: int | None = None, *, desc: str = "", unit: str = "it",
-                 quiet: bool = False):
+                 quiet: bool = False, **options):
     """The package's one progress display: a tqdm bar on stderr, shown only when stderr is a
     terminal and not ``quiet`` (``total=None``: a counter)."""
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
-                disable=quiet or not sys.stderr.isatty())
+                disable=quiet or not sys.stderr.isatty(), **options)
 
 
 class busy:
@@ -53,8 +53,9 @@ class busy:
     the same bar, counting seconds of wall time from a background thread (nothing is added
     to the work's own loop)."""
 
-    def __init__(self, desc: str, *, quiet: bool = False, every_s: float = 0.5):
-        self.desc, self.quiet, self.every_s = desc, quiet, every_s
+    def __init__(self, desc: str, *, quiet: bool = False, every_s: float = 0.5, status=None):
+        """``status``: a callable giving a short text to show (e.g. the emulator's step)."""
+        self.desc, self.quiet, self.every_s, self.status = desc, quiet, every_s, status
 
     def __enter__(self):
         import threading
@@ -64,13 +65,18 @@ class busy:
         self._stop = threading.Event()
         if self.quiet or not sys.stderr.isatty():
             return self
-        self._bar = progress_bar(desc=self.desc, unit="s", quiet=self.quiet)
-        self._bar.bar_format = "{desc}: {elapsed}"
+        self._bar = progress_bar(desc=self.desc, unit="s", quiet=self.quiet,
+                                 bar_format="{desc}: {elapsed}{postfix}")
         started = time.monotonic()
 
         def tick():
             while not self._stop.wait(self.every_s):
                 self._bar.n = int(time.monotonic() - started)
+                if self.status is not None:
+                    try:
+                        self._bar.set_postfix_str(self.status(), refresh=False)
+                    except Exception:  # a status is a courtesy: never stop the work for it
+                        pass
                 self._bar.refresh()
 
         self._thread = threading.Thread(target=tick, daemon=True)

@@ -78,11 +78,15 @@ class EmulatorEngine:
                        ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
                        trace=self.trace)
 
-    def run(self, deck, *, name: str = "") -> Outcome:
+    def run(self, deck, *, name: str = "", watch=None) -> Outcome:
+        """``watch``: called with the program before it runs (a progress display may read
+        its ``step`` from another thread; nothing is added to the program's loop)."""
         from deck_emulator.legacy.emulator import EmulatorError
 
         started = time.perf_counter()
         program = self.program(deck)
+        if watch is not None:
+            watch(program)
         error = None
         try:
             run = program.run()
