@@ -71,7 +71,7 @@ def _is_scene(path) -> bool:
     import tomllib
 
     if str(path).endswith(".toml"):
-        return True
+        return os.path.isfile(path)
     try:
         with open(path, "rb") as fh:
             data = fh.read(1 << 20)
