@@ -74,6 +74,17 @@ def test_core_and_parse_are_tables(capsys):
     assert code == 0
     assert re.search(r"31-40 +VVB +-58\.66000 +ft/s", out)
     assert re.search(r"W +15\.10000 +slug", out)
+    rows = [line.split() for line in out.splitlines() if re.match(r" +\d+-\d+ ", line)]
+    assert len(rows) == 64 and all(len(r) == 4 for r in rows)  # every value has its unit
+
+
+def test_parse_keeps_every_digit_a_card_gave(tmp_path, capsys):
+    text = Path(STEEL40).read_text().splitlines()
+    text[1] = "0.00000221" + text[1][10:]  # V1B: more decimals than F10.5's five
+    deck = tmp_path / "fine.dat"
+    deck.write_text("\n".join(text) + "\n")
+    code, out, _ = _run(capsys, "parse", str(deck))
+    assert code == 0 and re.search(r"V1B +2\.21e-06 +ft/s", out)
 
 
 # --------------------------------------------------------------------- 2. one vocabulary

@@ -459,7 +459,8 @@ def _load_scene(path: str):
                 import re
 
                 message = str(exc)
-                missing = re.findall(r"'(\w+)'", message) if "required positional" in message else []
+                missing = (re.findall(r"'(\w+)'", message)
+                           if "required positional" in message else [])
                 if missing:
                     message = "missing " + ", ".join(f"[{m}]" for m in missing)
                 raise CLIError(f"{path}: not a scene: {message}") from None
