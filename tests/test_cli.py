@@ -44,13 +44,13 @@ def test_summary_json_names_the_errata_and_outcomes(capsys):
     assert main(["summary", "decks/steel40_a15.dat", "--erratum", "ed-direction", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["errata"] == ["ed-direction"]
-    assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
     # the events as objects, in time order; the hit agrees with the printed message
     assert [e["kind"] for e in data["events"]] == ["lost_first_spring", "lost_vehicle", "hit"]
     assert data["events"][-1]["surface"] == "ground" and data["events"][-1]["point"] == "R"
     assert data["events"][0]["sentence"].startswith("post lost contact with the first spring at")
     # two ΔVs, two names: the report's (crush-pulse end) is reached before contact ends
-    assert 0 < data["delta_v_crush_mph"] < data["delta_v_contact_mph"]
+    q = data["quantities"]
+    assert 0 < q["delta_v_crush_mph"] < q["delta_v_contact_mph"]
 
 
 def test_summary_without_needed_erratum_fails_with_a_hint(capsys):
@@ -66,8 +66,8 @@ def test_scene_toml_round_trips_through_core(tmp_path, capsys):
     from_toml = json.loads(capsys.readouterr().out)
     assert main(["core", "decks/steel40.dat", "--json"]) == 0
     from_deck = json.loads(capsys.readouterr().out)
-    assert from_toml["hit"] == from_deck["hit"]
-    assert from_toml["hit_time_s"] == from_deck["hit_time_s"]
+    assert from_toml["events"][-1] == from_deck["events"][-1]
+    assert from_toml["quantities"]["hit_time_s"] == from_deck["quantities"]["hit_time_s"]
 
 
 def test_module_entry_point():
@@ -80,9 +80,10 @@ def test_ibm7094_run_ends_and_names_its_assumptions(capsys):
     """The archival run: the original deck as printed, in the 1967 machine's arithmetic."""
     assert main(["summary", "decks/steel40.dat", "--precision", "ibm7094", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["assumptions"] == {"sincos": "chop", "decimal": "chop", "output": "nearest"}
-    assert data["arithmetic"].startswith("ibm7094 (sincos=chop")
-    assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    s = data["settings"]
+    assert s["assumptions"] == {"sincos": "chop", "decimal": "chop", "output": "nearest"}
+    assert s["arithmetic"].startswith("ibm7094 (sincos=chop")
+    assert data["events"][-1]["sentence"].startswith("post hit the ground with the luminaire end R")
     assert data["errata"] == []
 
 
@@ -101,6 +102,7 @@ def test_summary_flags_a_listing_hit_with_a_point_under_the_ground(tmp_path, cap
     deck.write_text(read_deck(ROOT / "decks" / "steel40.dat").with_values(V3B=-50.0).to_text())
     assert main(["summary", str(deck), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    zql = data["terminal"]["Q"]["ZL"]
-    assert data["hit"] == "THE POST HAS HIT THE GROUND WITH POINT P" and zql < -1.0
-    assert any(f"Q {-zql:.3g} ft below the ground" in f for f in data["flags"]), data["flags"]
+    zql = data["terminal_xl_yl_zl_ft"]["Q"][2]
+    hit = data["events"][-1]
+    assert (hit["surface"], hit["point"]) == ("ground", "P") and zql < -1.0
+    assert any(f"Q {-zql:.3g} ft below the ground" in f for f in data["notes"]), data["notes"]

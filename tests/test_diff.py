@@ -51,7 +51,7 @@ def test_diff_cli_json(capsys):
     data = json.loads(capsys.readouterr().out)
     assert data["errata"] == ["ed-direction"]
     for side in ("emulator", "core"):
-        assert {"hit", "hit_time_s", "delta_v_contact_mph", "max_decel_g"} <= set(data[side])
+        assert {"hit", "hit_time_s", "delta_v_contact_mph", "max_decel_every_step_g"} <= set(data[side])
     assert [r["k"] for r in data["convergence"]] == [0, 1]
     assert {"k", "h_s", "hit_time_diff_s", "max_trajectory_diff_ft"} <= set(data["convergence"][0])
 

@@ -47,7 +47,8 @@ def test_run_and_summary_on_an_absolute_deck_path(installed):
     assert run.stdout == (ROOT / "golden" / "steel40.r8.txt").read_text()
     summary = _run([str(exe), "summary", deck, "--json"], cwd=work)
     assert summary.returncode == 0, summary.stderr
-    assert json.loads(summary.stdout)["hit"] == "THE POST HAS HIT THE GROUND WITH POINT R"
+    hit = json.loads(summary.stdout)["events"][-1]
+    assert (hit["kind"], hit["surface"], hit["point"]) == ("hit", "ground", "R")
 
 
 @pytest.mark.parametrize("argv, made", [

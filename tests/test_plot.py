@@ -124,12 +124,22 @@ def test_command_as_printed_on_an_angle_deck_names_the_erratum(tmp_path, capsys)
     assert "stopped early" in err and "--erratum ed-direction" in err
 
 
-def test_command_refuses_a_non_png_output(tmp_path):
+def test_command_refuses_a_non_picture_output(tmp_path):
     from deck_emulator.errors import UsageError as CLIError
 
     args = _parser().parse_args(
-        ["plot", str(ROOT / "decks" / "steel40.dat"), "--out", str(tmp_path / "x.jpg")]
+        ["plot", str(ROOT / "decks" / "steel40.dat"), "--out", str(tmp_path / "x.txt")]
     )
     with pytest.raises(CLIError):
         args.func(args)
-    assert not (tmp_path / "x.jpg").exists()
+    assert not (tmp_path / "x.txt").exists()
+
+
+def test_plot_writes_svg_and_pdf(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    deck = str(ROOT / "decks" / "steel40.dat")
+    assert main(["plot", deck, "--out", str(tmp_path / "x.svg")]) == 0
+    assert main(["plot", deck, "--out", str(tmp_path / "x.pdf"), "--view", "plan"]) == 0
+    assert (tmp_path / "x.svg").read_text().lstrip().startswith(("<?xml", "<svg"))
+    assert (tmp_path / "x.pdf").read_bytes().startswith(b"%PDF")

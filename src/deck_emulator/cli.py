@@ -17,11 +17,13 @@ import argparse
 import json
 import os
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from deck_emulator import __version__
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.present.answers import definitions_help
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -74,10 +76,55 @@ def _add_cluster_options(p: argparse.ArgumentParser) -> None:
                    help="run only the scenes not yet stored in the output directory")
 
 
+def _is_scene(path) -> bool:
+    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
+    import tomllib
+
+    if str(path).endswith(".toml"):
+        return os.path.isfile(path)
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(1 << 20)
+        parsed = tomllib.loads(data.decode("utf-8"))
+    except (OSError, ValueError):
+        return False
+    return any(isinstance(v, dict) for v in parsed.values())
+
+
+def _refuse_scene(path, command: str, why: str = "") -> None:
+    """``run``/``parse``/``summary``/``diff`` need a card deck: say so, and what to do."""
+    if _is_scene(path):
+        raise CLIError(
+            f"{path}: a scene file; {command} needs a card deck{why} (the emulator reads "
+            f"8-card decks): run the scene with `{PROG} core {path}`, or give {command} the "
+            f"deck it was made from ({PROG} scene DECK writes a deck's scene)")
+
+
+def _with_progress(args, engine, source):
+    """``engine.run(source)`` with the progress display (stderr, a terminal only)."""
+    from deck_emulator.parallel import busy
+
+    if engine.name != "emulator":
+        with busy(f"{PROG}: {engine.name} running", quiet=getattr(args, "quiet", False)):
+            return engine.run(source)
+    programs = []
+
+    def status() -> str:
+        return f"step {programs[0].step}" if programs else ""
+
+    with busy(f"{PROG}: emulator running", quiet=getattr(args, "quiet", False), status=status):
+        return engine.run(source, watch=programs.append)
+
+
+def _add_quiet_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress display on stderr (shown only on a terminal)")
+
+
 def _positive_int(text: str) -> int:
-    n = int(text)
+    n = _int(text)
     if n < 1:
-        raise argparse.ArgumentTypeError("must be at least 1")
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {n}")
     return n
 
 
@@ -168,24 +215,69 @@ def _add_punch(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_cmd_punch)
 
 
+def _int(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+
+
+def _nonnegative_int(text: str) -> int:
+    n = _int(text)
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, not {n}")
+    return n
+
+
+def _positive_float(text: str) -> float:
+    import math
+
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(x) and x > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive finite number, not {text}")
+    return x
+
+
+def _tolerance(text: str) -> float:
+    x = _positive_float(text)
+    if x >= 1:
+        raise argparse.ArgumentTypeError(f"must be below 1, not {text}")
+    return x
+
+
+def _number_text(text: str) -> str:
+    """A decimal constant kept as text (the arithmetic converts it), checked to be a number."""
+    import math
+
+    try:
+        ok = math.isfinite(float(text))
+    except ValueError:
+        ok = False
+    if not ok:
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return text
+
+
+def _positive_number_text(text: str) -> str:
+    _positive_float(text)
+    return text
+
+
 # --------------------------------------------------------------------------- parse
 
 
 def _cmd_parse(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.deck import READ_LIST, field_columns
+    from deck_emulator.present.answers import parse_answer, render_parse
 
+    _refuse_scene(args.deck, "parse")
     deck = _load_one_deck(args)
-    if args.json:
+    if args.json:  # name -> value, READ order (docs/json.md: the units are the table's)
         sys.stdout.write(json.dumps(deck.values) + "\n")
         return 0
-    lines = [f"{deck.path}: 8 cards, FORMAT(8F10.5)"]
-    for card_no, names in enumerate(READ_LIST, start=1):
-        lines.append("")
-        lines.append(f"card {card_no}   columns  name       value")
-        for field_no, name in enumerate(names, start=1):
-            first, last = field_columns(field_no)
-            lines.append(f"         {first:2d}-{last:<2d}    {name:<8s} {deck[name]!r:>12s}")
-    sys.stdout.write("\n".join(lines) + "\n")
+    sys.stdout.write(render_parse(parse_answer(deck)))
     return 0
 
 
@@ -200,8 +292,8 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
     p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
     _add_card_options(p)
     p.add_argument(
-        "--json", action="store_true", help="print one JSON object, name -> value, in READ order"
-    )
+        "--json", action="store_true",
+        help="print one JSON object, name -> value, in READ order (docs/json.md)")
     p.set_defaults(func=_cmd_parse)
 
 
@@ -242,6 +334,7 @@ def _describe(run) -> str:
 def _cmd_run(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.printer import render_asa
 
+    _refuse_scene(args.deck, "run")
     job = _load_job(args)
     _check_out(args)
     if args.pages:
@@ -251,13 +344,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     engine = _emulator(args, trace=False)
     records, text, failed = [], "", None
     for deck in job.decks:  # a job deck's $DATA sections, in turn
-        out = engine.run(deck)
+        out = _with_progress(args, engine, deck)
         run = out.raw
         records += run.records
         text += render_asa(run.records) if args.render else run.text()
         _say(f"{deck.path}: {_describe(run)}")
         if out.error is not None:
-            failed = out
+            failed = (out, deck.path)
             break
     _emit(args, text)
     if args.pages:
@@ -265,7 +358,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         write_pdf(records, args.pages, paper=args.paper)
     if failed is not None:
-        _say(f"error: {_stopped(failed)}")
+        _say(f"error: {_failed(*failed)}")
         return EXIT_RUN_FAILED
     return 0
 
@@ -279,17 +372,18 @@ def _add_emulator_options(p: argparse.ArgumentParser) -> None:
                    help="arithmetic: double (IEEE binary64, as the r8 goldens), single (IEEE "
                    "binary32, as the r4 goldens, trapping), ibm7094 (the 1967 machine's 36-bit words)")
     _add_erratum_option(p)
-    p.add_argument("--step-scale", type=int, default=0, metavar="K",
+    p.add_argument("--step-scale", type=_nonnegative_int, default=0, metavar="K",
                    help="divide every literal that means one step (0.0004 s) by 2**K")
-    p.add_argument("--tha-start", metavar="VALUE",
+    p.add_argument("--tha-start", metavar="VALUE", type=_number_text,
                    help="start-up THA at label 123 instead of the printed 0.000022")
-    p.add_argument("--ed-tolerance", metavar="RAD", default=".0001",
+    p.add_argument("--ed-tolerance", metavar="RAD", default=".0001", type=_positive_number_text,
                    help="ED's |DF| tolerance at labels 15 and 16 (printed: .0001)")
-    p.add_argument("--max-time", type=float, default=Limits.time_s, metavar="S",
+    p.add_argument("--max-time", type=_positive_float, default=Limits.time_s, metavar="S",
                    help="stop when simulated time passes S seconds (default %(default)s)")
-    p.add_argument("--max-ed-iterations", type=int, default=Limits.ed_iterations, metavar="N",
+    p.add_argument("--max-ed-iterations", type=_positive_int, default=Limits.ed_iterations,
+                   metavar="N",
                    help="stop when one call of ED iterates N times (default %(default)s)")
-    p.add_argument("--max-halvings", type=int, default=Limits.halvings, metavar="N",
+    p.add_argument("--max-halvings", type=_nonnegative_int, default=Limits.halvings, metavar="N",
                    help="stop after N consecutive step halvings at label 108 (default %(default)s)")
     p.add_argument("--sincos", choices=("chop", "round"), help="ibm7094: how SIN/COS were rounded")
     p.add_argument("--decimal", choices=("chop", "round"),
@@ -331,6 +425,9 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                    help="also lay the printout out as the line printer's pages, as PDF")
     p.add_argument("--paper", choices=("plain", "striped"), default="plain",
                    help="the fan-fold paper of --pages (default plain)")
+
+
+    _add_quiet_option(p)
     p.add_argument("--render", action="store_true",
                    help="render ASA carriage control (1 = form feed, 0 = blank line, + = "
                    "overprint) as the POSIX asa utility does, instead of the raw records")
@@ -341,30 +438,56 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.extract import extract
-    from deck_emulator.studies import safety
+    from deck_emulator.present.answers import outcome_answer, render_outcome
 
+    _refuse_scene(args.deck, "summary")
     deck = _load_one_deck(args)
     _check_out(args)
     engine = _emulator(args)
-    out = engine.run(deck)
+    out = _with_progress(args, engine, deck)
     if out.error is not None:
-        raise RunFailed(_stopped(out))
-    printed = extract(out.raw.records, deck).summary_dict()
-    printed.pop("events")
-    data = {"deck": str(deck.path), "arithmetic": out.raw.arithmetic,
-            "errata": list(out.errata),
-            "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
-            "events": [e.as_dict() for e in out.events],
-            **printed,
-            "delta_v_contact_mph": out.delta_v_contact_mph,
-            "flags": list(out.flags),
-            "safety": safety.summary(out)}
-    if args.json:
-        _emit(args, json.dumps(data, indent=2) + "\n")
-    else:
-        _emit(args, "".join(f"{k}: {v}\n" for k, v in data.items()))
+        raise _failed(out, deck.path)
+    from deck_emulator.engine import errata
+
+    settings = {"arithmetic": out.raw.arithmetic,
+                "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
+                "errata": errata.describe(out.errata)}
+    if not settings["assumptions"]:
+        settings.pop("assumptions")
+    answer = outcome_answer(out, command="summary", source=str(deck.path), settings=settings)
+    answer["notes"] += _odd_deck_notes(out.values) + list(out.flags)
+    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
+
+
+def _odd_deck_notes(values: dict) -> list[str]:
+    """Why a well-formed but physically odd deck gives odd numbers (or stops)."""
+    notes = []
+    for name, what in (("W", "the post's mass"), ("WV", "the car's mass")):
+        if values.get(name, 1.0) <= 0:
+            notes.append(f"{name} = {values[name]:g} slug: {what} is not positive; what follows "
+                         "is what the equations give, not physics")
+    for name in ("A", "B", "C"):
+        if values.get(name, 1.0) <= 0:
+            notes.append(f"{name} = {values[name]:g} slug ft^2: a principal moment of inertia of "
+                         "the post is not positive, so the run is not physical")
+    if values.get("G", 1.0) <= 0:
+        notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is 32.174); a "
+                     "deceleration in g divides by WV*G, so the printed ones are not given, and "
+                     "the post comes down only by the motion the car gave it")
+    if values.get("VVB", -1.0) == 0:
+        notes.append("VVB = 0: the car does not move, so nothing strikes the post")
+    return notes
+
+
+def _failed(out, source) -> RunFailed:
+    """A stopped run: the engine's line, its hint, and why the deck is odd if it is."""
+    notes = _odd_deck_notes(out.values)
+    if out.settings.startswith("arithmetic single") and "PHIA" in (out.error or ""):
+        notes.append("in binary32 COS(THA) rounds to 1.0 at step 2 and the listing divides "
+                     "by zero, where gfortran's trapping single-precision build stops too "
+                     "(golden/*.r4.trap; README, 'Single precision')")
+    return RunFailed(f"{source}: {_stopped(out)}" + "".join(f"; {n}" for n in notes))
 
 
 @_subcommand
@@ -372,14 +495,15 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "summary",
         help="run a deck and print its outcomes (events, hit, delta-V, deceleration, P/Q/R)",
-        description="Run the emulated program and extract from its printout what the report's "
-        "Tables 11 and 12 give: events with times, the hit, the vehicle's speed change in mph "
-        "(delta_v_crush_mph: by the end of the crush pulse, as the report tabulates it; "
-        "delta_v_contact_mph: by the end of contact), the largest printed deceleration in g, "
-        "terminal P, Q, R in XL, YL, ZL.",
+        description="Run the emulated program and print what the report's Tables 11 and 12 "
+        "give: the events as sentences, the hit, the car's speed change in mph, the largest "
+        "printed deceleration in g, P, Q, R at the hit in XL, YL, ZL; then the occupant-risk "
+        "numbers and the cited limits they are judged by. The two speed changes: "
+        + definitions_help() + ". --json: the same as one JSON object (docs/json.md).",
     )
     _add_emulator_options(p)
     _add_answer_options(p)
+    _add_quiet_option(p)
     p.set_defaults(func=_cmd_summary)
 
 
@@ -388,17 +512,29 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
 
 def _cmd_diff(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.parallel import progress_bar
     from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
 
+    _refuse_scene(args.deck, "diff", why=" (it runs both engines, and the emulator runs "
+                  "only decks)")
     deck = read_deck(args.deck)
     _check_out(args)
-    progress = (lambda m: _say(m)) if sys.stderr.isatty() else None
-    try:
-        data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
-                         ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
-                         tighten_ed=not args.as_printed_ed, progress=progress)
-    except DiffStopped as exc:
-        raise RunFailed(str(exc)) from None
+    with progress_bar(args.max_k + 1, desc=f"{PROG}: diff", unit="k",
+                      quiet=args.quiet) as bar:
+        started = []
+
+        def progress(message: str) -> None:  # called as each k starts
+            if started:
+                bar.update()
+            started.append(message)
+            bar.set_postfix_str(message.split(":")[0])
+
+        try:
+            data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
+                             ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
+                             tighten_ed=not args.as_printed_ed, progress=progress)
+        except DiffStopped as exc:
+            raise RunFailed(str(exc)) from None
     _emit(args, json.dumps(data, indent=2) + "\n" if args.json else format_diff(data))
     return 0
 
@@ -416,11 +552,14 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--precision", default="double", choices=PRECISIONS,
                    help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
     _add_erratum_option(p)
-    p.add_argument("--max-k", type=int, default=4, help="halve the step up to K times (default 4)")
-    p.add_argument("--rtol", type=float, default=1e-10, help="core tolerance (rtol = atol)")
+    p.add_argument("--max-k", type=_nonnegative_int, default=4, metavar="K",
+                   help="halve the step up to K times, K >= 0 (default 4)")
+    p.add_argument("--rtol", type=_tolerance, default=1e-10,
+                   help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default 1e-10)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
     _add_answer_options(p)
+    _add_quiet_option(p)
     p.set_defaults(func=_cmd_diff)
 
 
@@ -429,32 +568,70 @@ def _load_scene(path: str):
     from deck_emulator.legacy.deck import read_deck
 
     try:
-        if path.endswith(".toml"):
+        if _is_scene(path):
             try:
-                return Scene.from_toml(Path(path).read_text())
+                text = Path(path).read_text()
+                _finite_numbers(text)
+                return Scene.from_toml(text)
             except (ValueError, KeyError, TypeError) as exc:
-                raise CLIError(f"{path}: not a scene: {exc}") from None
+                import re
+
+                message = str(exc)
+                missing = (re.findall(r"'(\w+)'", message)
+                           if "required positional" in message else [])
+                if missing:
+                    message = "missing " + ", ".join(f"[{m}]" for m in missing)
+                raise CLIError(f"{path}: not a scene: {message}") from None
+            except OSError as exc:
+                raise CLIError(f"{path}: cannot read: {exc.strerror or exc}") from None
         return Scene.from_deck(read_deck(path), name=Path(path).stem)
     except SceneError as exc:
         raise CLIError(f"{path}: {exc}") from None
 
 
-def _cmd_core(args: argparse.Namespace) -> int:
-    from deck_emulator.core import CoreError
-    from deck_emulator.engine import CoreEngine
+def _finite_numbers(text: str) -> None:
+    """A scene's numbers must be finite (TOML allows inf and nan): ValueError naming the key."""
+    import math
+    import tomllib
 
-    scene = _load_scene(args.scene)
+    def walk(node, where):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                walk(v, f"{where}.{k}" if where else k)
+        elif isinstance(node, list):
+            for i, v in enumerate(node):
+                walk(v, f"{where}[{i}]")
+        elif isinstance(node, float) and not math.isfinite(node):
+            raise ValueError(f"{where} = {node}: not a finite number")
+
+    try:
+        walk(tomllib.loads(text), "")
+    except tomllib.TOMLDecodeError:
+        return  # Scene.from_toml says what is wrong with the TOML itself
+
+
+def _cmd_core(args: argparse.Namespace) -> int:
+    from deck_emulator.engine import CoreEngine
+    from deck_emulator.present.answers import outcome_answer, render_outcome
+
+    scene = _load_scene(args.scene)  # a bad scene or deck: exit 2 before any work
+    source = scene
+    if not _is_scene(args.scene):
+        from deck_emulator.legacy.deck import read_deck
+
+        source = read_deck(args.scene)  # the deck's 64 values: the occupant risk, XL axes
     _check_out(args)
     engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol)
-    try:
-        result = engine.simulate(scene)
-    except CoreError as exc:
-        raise RunFailed(str(exc)) from None
-    data = result.summary()
-    text = json.dumps(data, indent=2) + "\n" if args.json else "".join(
-        f"{k}: {v}\n" for k, v in data.items() if k != "events") + "".join(
-        f"  {e['time_s']:.9f} s  {e['name']}  {e['message']}\n" for e in data["events"])
-    _emit(args, text)
+    out = _with_progress(args, engine, source)
+    if out.error is not None:
+        raise _failed(out, args.scene)
+    used = out.raw.method
+    settings = {"preset": args.preset,
+                "method": f"{used} (auto)" if args.method == "auto" else used,
+                "rtol": args.rtol, "atol": args.atol}
+    answer = outcome_answer(out, command="core", source=args.scene, settings=settings)
+    answer["notes"] += _odd_deck_notes(out.values) + list(getattr(out.raw, "notes", ()) or ())
+    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
 
 
@@ -469,9 +646,12 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
                    choices=("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA"),
                    help="solve_ivp's method; auto (the default): DOP853, or Radau for the "
                    "contact when the scene's springs make it stiff (the outcome says which)")
-    p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (default 1e-10)")
-    p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (default 1e-10)")
+    p.add_argument("--rtol", type=_tolerance, default=1e-10,
+                   help="relative tolerance, 0 < RTOL < 1 (default 1e-10)")
+    p.add_argument("--atol", type=_tolerance, default=1e-10,
+                   help="absolute tolerance, 0 < ATOL < 1 (default 1e-10)")
     _add_answer_options(p)
+    _add_quiet_option(p)
     p.set_defaults(func=_cmd_core)
 
 
@@ -491,6 +671,10 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
 
 
 # --------------------------------------------------------------------------- assembly
+
+
+def _ms(t_s) -> str:
+    return "no time" if t_s is None else f"{1000.0 * t_s:.1f} ms"
 
 
 def _cmd_assembly(args: argparse.Namespace) -> int:
@@ -517,7 +701,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
             raise CLIError(f"cannot run on the listing: {asm.scene_runs_on_listing(scene)}")
         res, loss, r70 = ct.table10(scene)
         rows = [f"{k}: at loss of contact {loss[k]:.4f}, at 70 ms {r70[k]:.4f}" for k in loss]
-        _emit(args, f"hit: {res.hit_message} at {res.hit_time_s}\n" + "\n".join(rows) + "\n")
+        _emit(args, f"hit: {res.hit_message} at {_ms(res.hit_time_s)}\n" + "\n".join(rows) + "\n")
         return 0
     template = (f"steel{args.speed_mph}" + ("" if args.alpha_deg == 0 else f"_a{args.alpha_deg}"))
     mp = asm.mass_properties(a)
@@ -554,7 +738,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
 
     res = joint_ground_hit(simulate(scene, LEGACY if args.preset == "legacy" else PHYSICAL))
     pts = terminal_points_xl(res)
-    lines = [f"hit: {res.hit_message} at {res.hit_time_s} s"]
+    lines = [f"hit: {res.hit_message} at {_ms(res.hit_time_s)}"]
     lines += [f"  {k}L: ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) ft" for k, p in pts.items()]
     _emit(args, "\n".join(lines) + "\n")
     return 0
@@ -588,6 +772,21 @@ def _add_assembly(sub: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------- plot
 
 
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from deck_emulator.parallel import busy
+    from deck_emulator.present.plot import _cmd_plot as plot, check_plot_outputs
+
+    check_plot_outputs(args.out, args.animate)
+    args.source = None
+    if args.engine != "core" or args.pulse:
+        _refuse_scene(args.deck, "plot" + (" --pulse" if args.pulse else ""),
+                      why=" (the emulator draws only decks; --engine core draws a scene)")
+    elif _is_scene(args.deck):
+        args.source = _load_scene(args.deck)
+    with busy(f"{PROG}: plot", quiet=args.quiet):
+        return plot(args)
+
+
 @_subcommand
 def _add_plot(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
@@ -600,25 +799,24 @@ def _add_plot(sub: argparse._SubParsersAction) -> None:
         "names an erratum. Exit status 3 if a run stopped early (the picture shows what it "
         "computed).",
     )
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    p.add_argument("--out", required=True, metavar="FILE.png", help="the picture to write")
+    p.add_argument("deck", metavar="DECK_OR_SCENE",
+                   help="deck file, e.g. decks/steel40.dat; a scene file with --engine core")
+    p.add_argument("--out", required=True, metavar="FILE.png",
+                   help="the picture to write: .png, .svg, .pdf (any format matplotlib writes)")
     p.add_argument("--engine", choices=("emulator", "core"), default="emulator",
                    help="which engine's run to draw (default emulator)")
     p.add_argument("--view", choices=VIEWS, default="side", help="which view (default side)")
     p.add_argument("--pulse", action="store_true",
                    help="draw the vehicle pulse (both engines) instead of the trajectory")
-    p.add_argument("--animate", metavar="FILE.gif", help="also write an animated GIF of the fall")
+    p.add_argument("--animate", metavar="FILE.gif",
+                   help="also write the fall as an animated GIF (.mp4 if ffmpeg is installed)")
     _add_erratum_option(p)
     _add_preset_option(p)
-    p.add_argument("--every", type=float, metavar="MS",
+    p.add_argument("--every", type=_positive_float, metavar="MS",
                    help="draw the post every MS milliseconds (default: about 20 instants)")
+    _add_quiet_option(p)
 
-    def run(args):
-        from deck_emulator.present.plot import _cmd_plot
-
-        return _cmd_plot(args)
-
-    p.set_defaults(func=run)
+    p.set_defaults(func=_cmd_plot)
 
 
 # --------------------------------------------------------------------------- sweep
@@ -643,6 +841,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         raise CLIError("--angles must be in [0, 90) degrees")
     if not 0 <= args.vvb_decimals <= 5:
         raise CLIError("--vvb-decimals must be 0 to 5")
+    if args.base_deck:
+        _refuse_scene(args.base_deck, "sweep --base-deck")
     base = Path(args.base_deck) if args.base_deck else POSTS[args.post]
     base_deck = read_deck(base)  # bad deck -> DeckError, before any work
     for s in speeds:  # every VVB/ALPHA must punch: fail before running anything
@@ -764,8 +964,14 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     studies = p.add_subparsers(dest="study", metavar="STUDY", required=True)
 
     def run(args):
+        from deck_emulator.files import check_output_dir
+        from deck_emulator.legacy.deck import read_deck
         from deck_emulator.studies.study_cli import _cmd_study
 
+        if getattr(args, "deck", None):
+            _refuse_scene(args.deck, f"study {args.study}")
+            read_deck(args.deck)
+        check_output_dir(args.out)  # before any work, and before the study makes the folder
         return _cmd_study(args)
 
     def common(q):
@@ -774,6 +980,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                        help="a small grid (seconds, for tests) instead of the full study")
         q.add_argument("--jobs", type=_positive_int, default=None, metavar="N",
                        help="worker processes (default: os.cpu_count())")
+        _add_quiet_option(q)
         q.set_defaults(func=run)
 
     e = studies.add_parser(
@@ -802,8 +1009,15 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------- main
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, but a usage error is one line (and exit status 2)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog=PROG,
         description="Emulator of the 1967 TTI luminaire-support impact program (Report 75-9).",
     )
@@ -831,7 +1045,9 @@ def _main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # usage errors (2) and --help (0)
         return exc.code if isinstance(exc.code, int) else 2
     try:
-        return args.func(args)
+        with warnings.catch_warnings():  # numpy's divide-by-zero and the like: the notes say why
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return args.func(args)
     except (DeckError, UsageError, OSError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT

@@ -24,7 +24,7 @@ import threading
 import time
 from collections.abc import Callable, Iterable
 
-__all__ = ["parallel_map", "POLL_S"]
+__all__ = ["parallel_map", "progress_bar", "busy", "POLL_S"]
 
 POLL_S = 0.5  # how often a worker looks for its parent
 _PR_SET_PDEATHSIG = 1
@@ -114,3 +114,56 @@ def parallel_map(fn: Callable, items: Iterable, *, jobs: int | None, desc: str,
     finally:
         if bar is not None:
             bar.close()
+
+
+def progress_bar(total: int | None = None, *, desc: str = "", unit: str = "it",
+                 quiet: bool = False, **options):
+    """The package's one progress display: a tqdm bar on stderr, shown only when stderr is a
+    terminal and not ``quiet`` (``total=None``: a counter)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
+                disable=quiet or not sys.stderr.isatty(), **options)
+
+
+class busy:
+    """``with busy("emulator"): work()`` -- for one long call that reports nothing itself:
+    the same bar, counting seconds of wall time from a background thread (nothing is added
+    to the work's own loop)."""
+
+    def __init__(self, desc: str, *, quiet: bool = False, every_s: float = 0.5, status=None):
+        """``status``: a callable giving a short text to show (e.g. the emulator's step)."""
+        self.desc, self.quiet, self.every_s, self.status = desc, quiet, every_s, status
+
+    def __enter__(self):
+        import threading
+        import time
+
+        self._bar = None
+        self._stop = threading.Event()
+        if self.quiet or not sys.stderr.isatty():
+            return self
+        self._bar = progress_bar(desc=self.desc, unit="s", quiet=self.quiet,
+                                 bar_format="{desc}: {elapsed}{postfix}")
+        started = time.monotonic()
+
+        def tick():
+            while not self._stop.wait(self.every_s):
+                self._bar.n = int(time.monotonic() - started)
+                if self.status is not None:
+                    try:
+                        self._bar.set_postfix_str(self.status(), refresh=False)
+                    except Exception:  # a status is a courtesy: never stop the work for it
+                        pass
+                self._bar.refresh()
+
+        self._thread = threading.Thread(target=tick, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        if self._bar is not None:
+            self._thread.join()
+            self._bar.close()
+        return False

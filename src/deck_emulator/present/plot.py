@@ -570,7 +570,7 @@ def save_trajectory(res: Outcome, out, view: str = "side", every: float | None =
 
 
 def _savefig(fig, path) -> None:
-    fig.savefig(path, dpi=DPI, format="png")
+    fig.savefig(path, dpi=DPI)  # the format from the name (a staged name keeps the suffix)
 
 
 # ============================================================================= pulse
@@ -688,7 +688,7 @@ def save_animation(
 
 def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi: int) -> int:
     import matplotlib
-    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.animation import FuncAnimation
 
     if view not in ("side", "plan"):
         view = "side"
@@ -773,11 +773,52 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
         return [post, car, label, *trail_lines]
 
     anim = FuncAnimation(fig, update, frames=len(frames), blit=False)
-    anim.save(str(out), writer=PillowWriter(fps=fps), dpi=dpi)
+    anim.save(str(out), writer=animation_writer(out)(fps=fps), dpi=dpi)
     return len(frames)
 
 
 # ================================================================================== CLI
+
+
+def picture_formats() -> list[str]:
+    """The file types matplotlib writes a still picture in (png, svg, pdf, ...)."""
+    return sorted(set(_mpl().FigureCanvasAgg(_mpl().Figure()).get_supported_filetypes())
+                  - {"gif", "raw", "rgba"})
+
+
+def animation_writer(path):
+    """The animation writer for ``path``'s suffix, or a UsageError saying why there is none."""
+    from matplotlib.animation import FFMpegWriter, PillowWriter, writers
+
+    from deck_emulator.errors import UsageError
+
+    suffix = Path(path).suffix.lower()
+    if suffix == ".gif":
+        return PillowWriter
+    if suffix == ".mp4":
+        if writers.is_available("ffmpeg"):
+            return FFMpegWriter
+        raise UsageError(f"--animate {path}: MP4 needs ffmpeg, which is not installed here; "
+                         "name a .gif file instead")
+    raise UsageError(f"--animate {path}: the animation is written as .gif (or .mp4 with ffmpeg)")
+
+
+def check_plot_outputs(out, animate=None) -> None:
+    """Before any work: the formats, and that every output can be written."""
+    from deck_emulator.errors import UsageError
+    from deck_emulator.files import check_output_file
+
+    formats = picture_formats()
+    if Path(out).suffix.lower().lstrip(".") not in formats:
+        raise UsageError(f"--out {out}: name a picture file ending in ." + ", .".join(
+            f for f in formats if f in ("png", "svg", "pdf")) + " or another matplotlib "
+            "format (" + ", ".join(formats) + ")")
+    check_output_file(out)
+    if animate:
+        animation_writer(animate)
+        check_output_file(animate)
+        if Path(animate).resolve() == Path(out).resolve():
+            raise UsageError("--out and --animate name the same file")
 
 
 def _run_for_plot(deck, engine, args) -> Outcome:
@@ -785,7 +826,8 @@ def _run_for_plot(deck, engine, args) -> Outcome:
                else dict(preset=args.preset))
     res = engine_for(engine, **options).run(deck)
     if res.error:
-        print(f"deck-emulator: {deck.path}: the {engine} stopped early: {res.error}"
+        print(f"deck-emulator: {getattr(deck, 'path', None) or args.deck}: the {engine} "
+              f"stopped early: {res.error}"
               + (f"; {res.hint}" if res.hint else ""), file=sys.stderr)
     return res
 
@@ -794,18 +836,12 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.errors import UsageError as CLIError
     from deck_emulator.legacy.deck import read_deck
 
-    deck = read_deck(args.deck)
-    out = Path(args.out)
-    if out.suffix.lower() != ".png":
-        raise CLIError("--out must name a .png file")
-    gif = Path(args.animate) if args.animate else None
-    if gif is not None and gif.suffix.lower() != ".gif":
-        raise CLIError("--animate must name a .gif file")
-    if args.every is not None and args.every <= 0:
+    if args.every is not None and not args.every > 0:
         raise CLIError("--every must be positive (ms)")
-    for path in (out, gif):  # a missing or read-only folder fails before any run
-        if path is not None:
-            check_output_file(path)
+    check_plot_outputs(args.out, args.animate)
+    deck = getattr(args, "source", None) or read_deck(args.deck)  # a deck, or a scene (core)
+    out = Path(args.out)
+    gif = Path(args.animate) if args.animate else None
     every = None if args.every is None else args.every / 1000.0
     with OutputSet() as files:  # the picture and the animation: both written, or neither
         status, main = _draw_plot(args, deck, out, every, files)

@@ -58,7 +58,7 @@ def emulator_summary(run, deck) -> dict:
         "first_spring_lost_s": times.get(EventKind.LOST_FIRST_SPRING),
         "vehicle_contact_lost_s": times.get(EventKind.LOST_VEHICLE),
         "delta_v_contact_mph": ft_s_to_mph(abs(d["VVB"]) - abs(contact[-1]["VV"])),
-        "max_decel_g": max(r["FS"] for r in contact) / (d["WV"] * d["G"]),
+        "max_decel_every_step_g": max(r["FS"] for r in contact) / (d["WV"] * d["G"]),
         "terminal_points_xl_yl_zl_ft": terminal,
     }
 
@@ -74,7 +74,7 @@ def core_summary(result) -> dict:
         "first_spring_lost_s": times.get(EventKind.LOST_FIRST_SPRING),
         "vehicle_contact_lost_s": times.get(EventKind.LOST_VEHICLE),
         "delta_v_contact_mph": result.delta_v_contact_mph,
-        "max_decel_g": result.max_decel_g,
+        "max_decel_every_step_g": result.max_decel_g,
         "terminal_points_xl_yl_zl_ft": {p: tuple(result.terminal_points_ft[p]) for p in POINTS},
     }
 
@@ -201,10 +201,11 @@ def format_diff(d: dict) -> str:
 
     row("lost first spring (s)", e["first_spring_lost_s"], c["first_spring_lost_s"])
     row("lost the vehicle (s)", e["vehicle_contact_lost_s"], c["vehicle_contact_lost_s"])
-    row("hit time (s)", e["hit_time_s"], c["hit_time_s"])
-    row("delta-V to end of contact (mph)", e["delta_v_contact_mph"], c["delta_v_contact_mph"],
+    row("post hits, hit_time_s (s)", e["hit_time_s"], c["hit_time_s"])
+    row("delta_v_contact_mph (mph)", e["delta_v_contact_mph"], c["delta_v_contact_mph"],
         "{:.4f}")
-    row("max deceleration (g)", e["max_decel_g"], c["max_decel_g"], "{:.4f}")
+    row("max_decel_every_step_g (g)", e["max_decel_every_step_g"],
+        c["max_decel_every_step_g"], "{:.4f}")
     for p in POINTS:
         for axis, a, b in zip(("XL", "YL", "ZL"), e["terminal_points_xl_yl_zl_ft"][p],
                               c["terminal_points_xl_yl_zl_ft"][p]):

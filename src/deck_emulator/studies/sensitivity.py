@@ -78,7 +78,6 @@ __all__ = [
     "ishigami_task",
     "ishigami_indices",
     "write_outputs",
-    "add_parser",
 ]
 
 # =================================================================================== inputs

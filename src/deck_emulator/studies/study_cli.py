@@ -38,7 +38,8 @@ def _cmd_study(args: argparse.Namespace) -> int:
     cmd = _command(args)
     if args.study == "error":
         read_deck(args.deck)  # DeckError -> exit status 2 before any work
-        s = error_study(args.deck, args.out, quick=args.quick, jobs=args.jobs, command=cmd)
+        s = error_study(args.deck, args.out, quick=args.quick, jobs=args.jobs, command=cmd,
+                        quiet=args.quiet)
         o = s["orders"]
         lines = [f"observed order (listing as printed): {o['legacy, ED as printed (double)']['vs_h']:.2f}",
                  f"observed order (ED tightened): {o['legacy, ED tightened (double)']['vs_h']:.2f}"]
@@ -46,7 +47,8 @@ def _cmd_study(args: argparse.Namespace) -> int:
         deck = getattr(args, "deck", None)
         if deck:
             read_deck(deck)
-        s = stability_study(args.out, quick=args.quick, jobs=args.jobs, deck_path=deck, command=cmd)
+        s = stability_study(args.out, quick=args.quick, jobs=args.jobs, deck_path=deck,
+                            command=cmd, quiet=args.quiet)
         lines = [f"emulator classes: {s['classes']}"]
     for line in lines + [f"wrote {args.out} in {s['wall_s']:.0f} s"]:
         print(f"deck-emulator: study {args.study}: {line}", file=sys.stderr)

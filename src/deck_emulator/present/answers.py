@@ -1,0 +1,240 @@
+"""What the commands answer: one vocabulary, a table a person reads, the same content as JSON.
+
+Every quantity a command prints has one name (the JSON key), one label, one unit and one
+number of digits, all in :data:`QUANTITIES`; the table and the JSON are both built from the
+same answer dict, so they cannot disagree.  The JSON schema is documented in ``docs/json.md``
+(a test checks that every name here is listed there).
+
+Digits: positions as the printout gives them (five decimals, ft); speed changes and
+decelerations as the report tabulates them (two decimals); times in ms with one decimal
+(the emulator's step is 0.4 ms).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+#: Version of the JSON answers; bumped when a key changes meaning or goes away.
+SCHEMA = 1
+
+
+@dataclass(frozen=True)
+class Quantity:
+    label: str
+    unit: str
+    digits: int
+    definition: str
+    scale: float = 1.0  # shown = value * scale (s -> ms)
+
+    def show(self, value) -> str:
+        if value is None or (isinstance(value, float) and math.isnan(value)):
+            return "-"
+        return f"{value * self.scale:.{self.digits}f}"
+
+
+#: The one vocabulary: JSON name -> label, unit as shown, digits, definition.
+QUANTITIES: dict[str, Quantity] = {
+    "hit_time_s": Quantity("post hits", "ms", 1, "time of the hit that ends the run", 1000.0),
+    "delta_v_crush_mph": Quantity(
+        "speed lost, crush pulse (report's ΔV)", "mph", 2,
+        "the speed the car has lost by the end of the crush pulse (the spring force first "
+        "capped at FCONST): the report's DECREASE IN VEHICLE VELOCITY, Tables 11 and 12"),
+    "delta_v_contact_mph": Quantity(
+        "speed lost, whole contact", "mph", 2,
+        "the speed the car has lost by the end of its contact with the post"),
+    "max_decel_g": Quantity(
+        "largest deceleration of the car", "g", 2,
+        "emulator: the largest printed FSA/(WV*G), as the report read it; core: the "
+        "largest over its continuous solution"),
+    "max_decel_every_step_g": Quantity(
+        "largest deceleration, every step", "g", 4,
+        "diff: the largest FS/(WV*G) over every accepted step of the emulator (not only the "
+        "printed ones), and the core's continuous maximum"),
+    "max_decel_10ms_g": Quantity(
+        "largest 10 ms average deceleration", "g", 2,
+        "the largest average deceleration of the car over any 10 ms window"),
+    "oiv_m_s": Quantity(
+        "occupant impact velocity (OIV)", "m/s", 2,
+        "flail-space model (0.6 m): the occupant's speed relative to the car when it "
+        "strikes the interior"),
+    "ora_g": Quantity(
+        "occupant ridedown acceleration (ORA)", "g", 2,
+        "the largest 10 ms average deceleration of the car after the occupant strikes"),
+    "occupant_strike_time_s": Quantity(
+        "occupant strikes the interior", "ms", 1, "flail-space model: when the occupant "
+        "has moved 0.6 m relative to the car (none: never)", 1000.0),
+    "body_clearance_ft": Quantity(
+        "least clearance above the car body", "ft", 3,
+        "the post's least height above the car's outline (hood, roof, trunk) while over it"),
+    "roof_clearance_ft": Quantity(
+        "least clearance above the roof", "ft", 3,
+        "the same over the passenger compartment only"),
+}
+
+#: The terminal points' coordinates (ft, the printout's five decimals).
+POINT_DIGITS = 5
+
+
+def definitions_help() -> str:
+    """The two ΔVs, for ``--help``."""
+    return "; ".join(f"{k}: {QUANTITIES[k].definition}"
+                     for k in ("delta_v_crush_mph", "delta_v_contact_mph"))
+
+
+def _finite(x):
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+# ------------------------------------------------------------------------ summary and core
+
+
+def criteria_answer() -> dict:
+    """The limits the occupant-risk numbers are judged by, each with its citation; only
+    those that can be cited (see docs/safety.md for the unconfirmed ones)."""
+    from deck_emulator.studies.safety import CRITERIA
+
+    names = {"oiv": "oiv_m_s", "ora": "ora_g"}
+    return {k: {"quantity": names.get(k, k), "preferred": c.preferred, "maximum": c.maximum,
+                "unit": c.unit, "source": c.source}
+            for k, c in CRITERIA.items()}
+
+
+def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
+    """An engine's :class:`Outcome` as the answer of ``summary`` or ``core``."""
+    from deck_emulator.studies import safety
+
+    quantities = {
+        "hit_time_s": _finite(out.hit_time_s),
+        "delta_v_crush_mph": _finite(out.delta_v_crush_mph),
+        "delta_v_contact_mph": _finite(out.delta_v_contact_mph),
+        "max_decel_g": _finite(out.max_decel_g),
+    }
+    risk = None
+    try:
+        m = safety.assess_outcome(out) if out.values and out.t.size else None
+        c = safety.clearance_of(out) if out.values and out.t.size else None
+    except (ValueError, ArithmeticError, KeyError):
+        m = c = None
+    if m is not None:
+        risk = {"oiv_m_s": _finite(m.oiv_m_s), "ora_g": _finite(m.ora_g),
+                "max_decel_10ms_g": _finite(m.max_decel_10ms_g),
+                "occupant_strike_time_s": _finite(m.occupant_strike_time_s),
+                "body_clearance_ft": _finite(c.body_ft) if c else None,
+                "roof_clearance_ft": _finite(c.roof_ft) if c else None}
+    if out.delta_v_contact_mph is None and m is not None:
+        quantities["delta_v_contact_mph"] = _finite(m.delta_v_contact_mph)
+    terminal = {k: [round(float(v), POINT_DIGITS) for v in p]
+                for k, p in (out.terminal or {}).items() if p is not None}
+    return {
+        "schema": SCHEMA,
+        "command": command,
+        "source": source,
+        "engine": out.engine,
+        "settings": settings,
+        "errata": list(out.errata),
+        "events": [e.as_dict() for e in out.events],
+        "quantities": quantities,
+        "terminal_xl_yl_zl_ft": terminal,
+        "occupant_risk": risk,
+        "criteria": criteria_answer() if risk is not None else None,
+        "notes": [],
+    }
+
+
+def _table(rows: list[tuple[str, ...]], heads: tuple[str, ...], right: set[int]) -> list[str]:
+    widths = [max(len(r[i]) for r in [heads, *rows]) for i in range(len(heads))]
+
+    def line(r):
+        return "  ".join(c.rjust(w) if i in right else c.ljust(w)
+                         for i, (c, w) in enumerate(zip(r, widths))).rstrip()
+
+    return [line(heads)] + [line(r) for r in rows]
+
+
+def _quantity_rows(values: dict) -> list[tuple[str, ...]]:
+    return [(QUANTITIES[k].label, k, QUANTITIES[k].show(v), QUANTITIES[k].unit)
+            for k, v in values.items()]
+
+
+def render_outcome(a: dict) -> str:
+    """The table of ``summary`` / ``core``."""
+    lines = [f"{a['source']}: the {a['engine']}"]
+    lines += [f"  {k}: {v}" for k, v in a["settings"].items()]
+    lines += [f"note: {n}" for n in a["notes"]]
+    lines += ["", "events"]
+    lines += [f"  {e['sentence']}" for e in a["events"]] or ["  none"]
+    lines += [""] + _table(_quantity_rows(a["quantities"]), ("outcome", "name", "value", "unit"),
+                           {2})
+    if a["terminal_xl_yl_zl_ft"]:
+        rows = [(k, *(f"{x:.{POINT_DIGITS}f}" for x in p))
+                for k, p in a["terminal_xl_yl_zl_ft"].items()]
+        lines += ["", "at the hit (ft, the report's XL, YL, ZL axes)"]
+        lines += ["  " + s for s in _table(rows, ("point", "XL", "YL", "ZL"), {1, 2, 3})]
+    if a["occupant_risk"]:
+        lines += [""] + _table(_quantity_rows(a["occupant_risk"]),
+                               ("occupant risk (docs/safety.md)", "name", "value", "unit"), {2})
+        lines += ["", "limits, with their sources"]
+        for c in a["criteria"].values():
+            pref = (f"{c['preferred']:g} {c['unit']} preferred, "
+                    if c["preferred"] is not None else "")
+            lines.append(f"  {c['quantity']}: {pref}{c['maximum']:g} {c['unit']} at most "
+                         f"({c['source']})")
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------------------- parse
+
+
+def parse_answer(deck) -> dict:
+    """A deck's 64 values under their READ-list names, with their units."""
+    from deck_emulator.legacy.deck import READ_LIST, field_columns
+
+    cards = []
+    for card_no, names in enumerate(READ_LIST, start=1):
+        fields = []
+        for field_no, name in enumerate(names, start=1):
+            first, last = field_columns(field_no)
+            fields.append({"name": name, "columns": [first, last], "value": deck[name],
+                           "unit": DECK_UNITS.get(name, "")})
+        cards.append({"card": card_no, "fields": fields})
+    return {"schema": SCHEMA, "command": "parse", "source": str(deck.path),
+            "values": dict(deck.values), "cards": cards}
+
+
+def _field(value: float) -> str:
+    """FORMAT F10.5's five decimals, unless the card gave more (then every digit it gave)."""
+    shown = f"{value:.5f}"
+    return shown if float(shown) == value else repr(value)
+
+
+def render_parse(a: dict) -> str:
+    lines = [f"{a['source']}: 8 cards, FORMAT(8F10.5)"]
+    for card in a["cards"]:
+        rows = [(f"{f['columns'][0]}-{f['columns'][1]}", f["name"], _field(f["value"]),
+                 f["unit"]) for f in card["fields"]]
+        lines += ["", f"card {card['card']}"]
+        lines += ["  " + s for s in _table(rows, ("columns", "name", "value", "unit"), {2})]
+    return "\n".join(lines) + "\n"
+
+
+#: The deck's quantities and their units (TTI Report 75-9's nomenclature; ft, lb, slug, s,
+#: rad). Names not listed are pure numbers.
+DECK_UNITS = {
+    **dict.fromkeys(('V1B', 'V2B', 'V3B', 'VVB'), 'ft/s'),
+    **dict.fromkeys(('F1B', 'F2B', 'F3B', 'FNA', 'FSB', 'FCONST'), 'lb'),
+    **dict.fromkeys(('PSIDB', 'THDB', 'PHIDB', 'W1B', 'W2B', 'W3B'), 'rad/s'),
+    **dict.fromkeys(('W', 'WV'), 'slug'),
+    **dict.fromkeys(('A', 'B', 'C'), 'slug·ft²'),
+    **dict.fromkeys(('G',), 'ft/s²'),
+    **dict.fromkeys(('XCMB', 'YCMB', 'ZCMB', 'HEIGHT', 'SVB', 'XSO', 'YYSO', 'ZZSO', 'XPO',
+                     'YYPO', 'ZZPO', 'XQO', 'YYQO', 'ZZQO', 'SVO', 'HLEN', 'TLEN', 'YLFEN',
+                     'YRFEN', 'TRLEN', 'HTRV', 'HTV', 'HHV', 'XRO', 'YYRO', 'ZZRO', 'XCO', 'YYCO',
+                     'ZZCO', 'XTO', 'YYTO', 'ZZTO'), 'ft'),
+    **dict.fromkeys(('CK', 'CT'), 'lb/ft'),
+    **dict.fromkeys(('PSIB', 'THB', 'PHIB', 'ALPHA', 'DELTA'), 'rad'),
+    **dict.fromkeys(('T1B', 'T2B', 'T3B'), 'lb·ft'),
+}
