@@ -183,71 +183,78 @@ class ED:
 
         # +1 where the erratum makes labels 1 and 15 step towards the root
         up = self.towards_root
-        self.iterations = 0
-        lab = 0  # entry
+        # the static L, DH, H live in this object between calls; within a call they are locals
+        # (written back when ED returns or stops)
+        L, DH, H = self.L, self.DH, self.H
+        iterations, max_iterations = 0, self.max_iterations
+        lab = cur = 0  # entry
         D = None
-        while True:
-            self.label = lab
-            self.iterations += 1
-            if self.iterations > self.max_iterations:
-                raise EmulatorError(
-                    f"ED's root search did not converge in {self.max_iterations} iterations "
-                    f"(D = {ar.to_float(D):.6g}, DH = {ar.to_float(self.DH):.6g}, H = {ar.to_float(self.H):.6g})",
-                    label=f"ED {lab}", guard="ed_iterations")
-            if lab == 0:
-                lab = IF(self.L - 25, 21, 21, 22)  # IF(L-25)21,21,22  (integer)
-            elif lab == 21:
-                D = self.K015  # 21 D=.15
-                self.H = -self.K001
-                lab = IF(DF(D), 1, 20, 10)
-            elif lab == 22:
-                D = PSIB  # 22 D=PSIB
-                self.H = -self.K001
-                lab = IF(DF(D), 1, 20, 10)
-            # ROOT GOES NEGATIVE TO POSITIVE
-            elif lab == 1:
-                self.DH = D - self.H if up else D + self.H  # 1 DH=D+H  (erratum: D-H)
-                lab = IF(DF(self.DH), 2, 20, 15)
-            elif lab == 2:
-                D = self.DH
-                lab = 1
-            elif lab == 15:
-                self.DH = D - self.H / K2 if up else D + self.H / K2  # 15 DH=D+H/2. (erratum: D-H/2.)
-                lab = IF(abs(DF(self.DH)) - self.K00001, 20, 20, 4)
-            elif lab == 4:
-                lab = IF(DF(self.DH), 5, 20, 3)
-            elif lab == 3:
-                self.H = self.H / K2
-                lab = 15
-            elif lab == 5:
-                D = self.DH
-                self.H = self.H / K2
-                lab = 15
-            # ROOT GOES POSITIVE TO NEGATIVE
-            elif lab == 10:
-                self.DH = D + self.H
-                lab = IF(DF(self.DH), 16, 20, 11)
-            elif lab == 11:
-                D = self.DH
-                lab = 10
-            elif lab == 16:
-                self.DH = D + self.H / K2
-                lab = IF(abs(DF(self.DH)) - self.K00001, 20, 20, 13)
-            elif lab == 13:
-                lab = IF(DF(self.DH), 12, 20, 14)
-            elif lab == 12:
-                self.H = self.H / K2
-                lab = 16
-            elif lab == 14:
-                D = self.DH
-                self.H = self.H / K2
-                lab = 16
-            elif lab == 20:
-                D = self.DH  # 20 D=DH
-                self.L = self.L + 1
-                return D
-            if not isfinite(self.DH) or (D is not None and not isfinite(D)):
-                raise _NonFinite("DH" if not ar.isfinite(self.DH) else "D")
+        try:
+            while True:
+                cur = lab  # the label being executed (named by any error)
+                iterations += 1
+                if iterations > max_iterations:
+                    raise EmulatorError(
+                        f"ED's root search did not converge in {max_iterations} iterations "
+                        f"(D = {ar.to_float(D):.6g}, DH = {ar.to_float(DH):.6g}, H = {ar.to_float(H):.6g})",
+                        label=f"ED {lab}", guard="ed_iterations")
+                if lab == 0:
+                    lab = IF(L - 25, 21, 21, 22)  # IF(L-25)21,21,22  (integer)
+                elif lab == 21:
+                    D = self.K015  # 21 D=.15
+                    H = -self.K001
+                    lab = IF(DF(D), 1, 20, 10)
+                elif lab == 22:
+                    D = PSIB  # 22 D=PSIB
+                    H = -self.K001
+                    lab = IF(DF(D), 1, 20, 10)
+                # ROOT GOES NEGATIVE TO POSITIVE
+                elif lab == 1:
+                    DH = D - H if up else D + H  # 1 DH=D+H  (erratum: D-H)
+                    lab = IF(DF(DH), 2, 20, 15)
+                elif lab == 2:
+                    D = DH
+                    lab = 1
+                elif lab == 15:
+                    DH = D - H / K2 if up else D + H / K2  # 15 DH=D+H/2. (erratum: D-H/2.)
+                    lab = IF(abs(DF(DH)) - self.K00001, 20, 20, 4)
+                elif lab == 4:
+                    lab = IF(DF(DH), 5, 20, 3)
+                elif lab == 3:
+                    H = H / K2
+                    lab = 15
+                elif lab == 5:
+                    D = DH
+                    H = H / K2
+                    lab = 15
+                # ROOT GOES POSITIVE TO NEGATIVE
+                elif lab == 10:
+                    DH = D + H
+                    lab = IF(DF(DH), 16, 20, 11)
+                elif lab == 11:
+                    D = DH
+                    lab = 10
+                elif lab == 16:
+                    DH = D + H / K2
+                    lab = IF(abs(DF(DH)) - self.K00001, 20, 20, 13)
+                elif lab == 13:
+                    lab = IF(DF(DH), 12, 20, 14)
+                elif lab == 12:
+                    H = H / K2
+                    lab = 16
+                elif lab == 14:
+                    D = DH
+                    H = H / K2
+                    lab = 16
+                elif lab == 20:
+                    D = DH  # 20 D=DH
+                    L = L + 1
+                    return D
+                if not isfinite(DH) or (D is not None and not isfinite(D)):
+                    raise _NonFinite("DH" if not isfinite(DH) else "D")
+        finally:
+            self.L, self.DH, self.H = L, DH, H
+            self.iterations, self.label = iterations, cur
 
 
 class Program:
