@@ -206,13 +206,16 @@ def test_study_killed_anywhere_leaves_old_or_new(tmp_path):
 
 @pytest.mark.slow_corpus
 def test_study_interrupted_leaves_no_temporary_and_no_worker(tmp_path):
-    out = tmp_path / "new"
+    study = ["study", "error", "decks/steel40.dat", "--quick", "--jobs", "2", "--out"]
+    full = timed(CLI + study + [str(tmp_path / "ref")])  # the signal lands half-way through
+    work = tmp_path / "work"
+    work.mkdir()
+    out = work / "new"
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
-        p = killed_at(WRAPPED + ["study", "error", "decks/steel40.dat", "--quick", "--jobs", "2",
-                                 "--out", str(out)], 6.0, sig)
+        p = killed_at(WRAPPED + study + [str(out)], 0.5 * full, sig)
         assert p.returncode == code, p.stderr.read()
         assert p.leftover == [], "worker processes outlived the interrupted study"
-        assert sorted(x.name for x in tmp_path.iterdir()) == []  # no folder, no staging
+        assert sorted(x.name for x in work.iterdir()) == []  # no folder, no staging
 
 
 # ----------------------------------------------------------------------------- sweep
