@@ -24,9 +24,9 @@ import numpy as np  # noqa: E402
 
 from deck_emulator.core.assembly import (  # noqa: E402
     Arm, Assembly, Shaft, inferred_geometry, load_assembly, mass_properties,
-    steel_deck_residuals, STEEL_DECK_TARGET,
+    STEEL_DECK_TARGET,
 )
-from deck_emulator.files import write_atomic  # noqa: E402
+from deck_emulator.files import OutputSet  # noqa: E402
 from deck_emulator.studies import crash_test as ct  # noqa: E402
 from deck_emulator.studies.report_full import run_column  # noqa: E402
 from deck_emulator.studies.report_tables import (  # noqa: E402
@@ -342,7 +342,7 @@ T10_KEYS = [("time_ms", "TIME, ms", 1), ("theta_deg", "θ, deg", 1),
             ("V1_ft_s", "V1, ft/s", 2), ("V3_ft_s", "V3, ft/s", 2), ("SV_ft", "SV, ft", 2)]
 
 
-def crash_section(lines):
+def crash_section(lines, fig_path):
     lines.append("## Chapter V: the crash test (Tables 9 and 10, Figure 18)\n")
     lines.append(
         "The scene: `assemblies/crash_test.toml` through `deck_emulator.studies.crash_test` — a "
@@ -447,7 +447,7 @@ def crash_section(lines):
         "from them by {:+.2f} and {:+.2f} ft. The start values themselves (θ = 25°, "
         "V1 = −28.5, V3 = −12.5) carry the test's reading error.\n".format(
             abs(a["XCM_ft"]), abs(a["ZCM_ft"]), abs(a["XCM_ft"]) - 7.61, abs(a["ZCM_ft"]) - 0.27))
-    figure18(res)
+    figure18(res, fig_path)
     lines.append(f"![Figure 18 regenerated]({FIG.name})\n")
     lines.append(
         "Figure 18 (regenerated): the post (Q to P) in the XX-ZZ plane, ours every 20 ms "
@@ -466,7 +466,7 @@ def post_line(xcm, zcm, theta_deg):
     return c - zc * u, c + (L - zc) * u
 
 
-def figure18(res):
+def figure18(res, path):
     from deck_emulator.studies.common import agg_backend
 
     agg_backend()
@@ -498,7 +498,7 @@ def figure18(res):
     ax.set_title("Crash test, Figure 18 regenerated: post Q–P, ours every 20 ms")
     ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
-    fig.savefig(FIG, dpi=110)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
@@ -672,29 +672,30 @@ def main(argv=None) -> int:
                  "Tables 11 and 12 (18 columns); Chapter V's crash test (Tables 9, 10, "
                  "Figure 18) with every assumption's effect; the report's statements checked; "
                  "inconsistencies in the source; what is unfinished.\n")
-    summary_section(lines, runs)
-    builder_section(lines)
-    geometry_section(lines)
-    geometry_sensitivity_section(lines)
-    columns_section(lines, runs)
-    crash = crash_section(lines)
-    statements_section(lines, runs, crash)
-    lines.append("## Inconsistencies in the source, and what we took\n")
-    for i, s in enumerate(INCONSISTENCIES, 1):
-        lines.append(f"{i}. {s}")
-    lines.append("")
-    lines.append("## Unfinished\n")
-    lines.append(
-        "* The shaft's wall is uniform: a wall that thins towards the top, or a transformer "
-        "base with its own inertia, might close the +7 %/+17 % inertia misfit; the report "
-        "does not give either.\n"
-        "* Table 9's HIT needs the crash car's outline (not given).\n"
-        "* The 20 mph 'hits car' endings need a shaft-against-car test (the listing has none); "
-        "the columns show the core's post at the report's time instead.\n"
-        "* The aluminium and twin posts use the steel deck's base weight and arm shape, and "
-        "the steel deck's car (heights kept above the ground, fenders about the shaft).\n")
-    lines.append(f"\n_Wall time of this script: {time.perf_counter() - t0:.0f} s._\n")
-    write_atomic(OUT, "\n".join(lines))
+    with OutputSet() as files:  # the page and its figure: both, or neither
+        summary_section(lines, runs)
+        builder_section(lines)
+        geometry_section(lines)
+        geometry_sensitivity_section(lines)
+        columns_section(lines, runs)
+        crash = crash_section(lines, files.path(FIG))
+        statements_section(lines, runs, crash)
+        lines.append("## Inconsistencies in the source, and what we took\n")
+        for i, s in enumerate(INCONSISTENCIES, 1):
+            lines.append(f"{i}. {s}")
+        lines.append("")
+        lines.append("## Unfinished\n")
+        lines.append(
+            "* The shaft's wall is uniform: a wall that thins towards the top, or a transformer "
+            "base with its own inertia, might close the +7 %/+17 % inertia misfit; the report "
+            "does not give either.\n"
+            "* Table 9's HIT needs the crash car's outline (not given).\n"
+            "* The 20 mph 'hits car' endings need a shaft-against-car test (the listing has none); "
+            "the columns show the core's post at the report's time instead.\n"
+            "* The aluminium and twin posts use the steel deck's base weight and arm shape, and "
+            "the steel deck's car (heights kept above the ground, fenders about the shaft).\n")
+        lines.append(f"\n_Wall time of this script: {time.perf_counter() - t0:.0f} s._\n")
+        files.write(OUT, "\n".join(lines))
     print(f"wrote {OUT.relative_to(ROOT)} and {FIG.relative_to(ROOT)}")
     return 0
 

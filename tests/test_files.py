@@ -276,8 +276,8 @@ def test_studies_check_their_folder_before_the_runs(tmp_path, monkeypatch):
     def no_run(*a, **k):
         raise AssertionError("runs started before the folder was checked")
 
-    monkeypatch.setattr(error, "parallel_map", no_run)
-    monkeypatch.setattr(stability, "parallel_map", no_run)
+    monkeypatch.setattr(error, "run_longest_first", no_run)
+    monkeypatch.setattr(stability, "run_longest_first", no_run)
     (tmp_path / "file").write_text("x")
     for out in (tmp_path / "missing" / "out", tmp_path / "file"):
         with pytest.raises(OutputError):

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from procs import group
+
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = (ROOT / "golden" / "steel40.r8.txt").read_bytes()
 CLI = [sys.executable, "-m", "deck_emulator"]
@@ -44,17 +46,6 @@ def state(folder: Path) -> dict[str, str]:
     return {p.name: sha(p) for p in sorted(folder.iterdir()) if not p.name.startswith(".")}
 
 
-def _group(pgid: int) -> list[int]:
-    out = []
-    for d in Path("/proc").iterdir():
-        if d.name.isdigit():
-            try:
-                fields = (d / "stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                out.append(int(d.name))
-    return out
 
 
 def timed(argv, **kw) -> float:
@@ -82,9 +73,9 @@ def killed_at(argv, delay: float, sig=signal.SIGKILL) -> subprocess.Popen:
 
 def _wait_group_empty(pgid: int, seconds: float) -> list[int]:
     deadline = time.monotonic() + seconds
-    while _group(pgid) and time.monotonic() < deadline:
+    while group(pgid) and time.monotonic() < deadline:
         time.sleep(0.1)
-    return _group(pgid)
+    return group(pgid)
 
 
 def delays(full_s: float, n: int, seed: int = 17) -> list[float]:

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from procs import children, group
+
 from deck_emulator.parallel import parallel_map
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -34,31 +36,8 @@ def _fail_on_three(x):
     return x
 
 
-def _children(pid: int) -> list[int]:
-    out = []
-    for d in Path("/proc").iterdir():
-        if d.name.isdigit():
-            try:
-                fields = (d / "stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == pid and fields[0] != "Z":
-                out.append(int(d.name))
-    return out
 
 
-def _group(pgid: int) -> list[int]:
-    """Live (not zombie) processes of the process group ``pgid``."""
-    out = []
-    for d in Path("/proc").iterdir():
-        if d.name.isdigit():
-            try:
-                fields = (d / "stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                out.append(int(d.name))
-    return out
 
 
 needs_proc = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
@@ -73,11 +52,11 @@ def test_results_in_input_order():
 
 @needs_proc
 def test_a_worker_error_propagates_and_stops_the_workers():
-    before = set(_children(os.getpid()))  # e.g. multiprocessing's resource tracker of an
+    before = set(children(os.getpid()))  # e.g. multiprocessing's resource tracker of an
     # earlier test: not this pool's
     with pytest.raises(ValueError, match="three"):
         parallel_map(_fail_on_three, range(40), jobs=2, desc="t")
-    assert set(_children(os.getpid())) <= before
+    assert set(children(os.getpid())) <= before
 
 
 def test_no_progress_bar_unless_stderr_is_a_terminal(capsys):
@@ -108,7 +87,7 @@ def _start(mode: str):
                          stderr=subprocess.PIPE, text=True, start_new_session=True)
     assert p.stdout.readline() == "ready\n"
     deadline = time.monotonic() + 30
-    while len(_group(p.pid)) < 3:  # the main process and its two workers
+    while len(group(p.pid)) < 3:  # the main process and its two workers
         assert time.monotonic() < deadline, "the workers did not start"
         time.sleep(0.1)
     return p
@@ -116,9 +95,9 @@ def _start(mode: str):
 
 def _wait_empty(pgid: int, seconds: float) -> list[int]:
     deadline = time.monotonic() + seconds
-    while _group(pgid) and time.monotonic() < deadline:
+    while group(pgid) and time.monotonic() < deadline:
         time.sleep(0.1)
-    return _group(pgid)
+    return group(pgid)
 
 
 @needs_proc
@@ -131,7 +110,7 @@ def test_a_signal_to_the_main_process_stops_its_workers(sig, code):
         assert p.returncode == code, p.stderr.read()
         assert _wait_empty(p.pid, 2) == []
     finally:
-        for pid in _group(p.pid):
+        for pid in group(p.pid):
             os.kill(pid, signal.SIGKILL)
 
 
@@ -146,5 +125,5 @@ def test_workers_die_with_a_killed_parent(mode):
         p.wait(timeout=10)
         assert _wait_empty(p.pid, 5) == []
     finally:
-        for pid in _group(p.pid):
+        for pid in group(p.pid):
             os.kill(pid, signal.SIGKILL)

@@ -66,18 +66,12 @@ def _stop(pool: concurrent.futures.ProcessPoolExecutor) -> None:
             p.join(timeout=5)
 
 
-def _bar(total: int, desc: str, unit: str, quiet: bool):
-    if quiet or not total:
-        return None
+def _on_terminal() -> bool:
+    """Whether stderr is a terminal (False for a closed or replaced stderr)."""
     try:
-        tty = sys.stderr.isatty()
+        return sys.stderr.isatty()
     except (AttributeError, ValueError):
-        tty = False
-    if not tty:
-        return None
-    from tqdm import tqdm
-
-    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False, dynamic_ncols=True)
+        return False
 
 
 def parallel_map(fn: Callable, items: Iterable, *, jobs: int | None, desc: str,
@@ -87,14 +81,14 @@ def parallel_map(fn: Callable, items: Iterable, *, jobs: int | None, desc: str,
     progress, interruption and orphans."""
     items = list(items)
     jobs = max(1, int(jobs or os.cpu_count() or 1))
-    bar = _bar(len(items), desc, unit, quiet)
+    bar = progress_bar(len(items), desc=desc, unit=unit, quiet=quiet or not items,
+                       dynamic_ncols=True)
     try:
         if jobs == 1 or len(items) <= 1:
             out = []
             for x in items:
                 out.append(fn(x))
-                if bar is not None:
-                    bar.update(1)
+                bar.update(1)
             return out
         results: list = [None] * len(items)
         pool = concurrent.futures.ProcessPoolExecutor(
@@ -104,16 +98,14 @@ def parallel_map(fn: Callable, items: Iterable, *, jobs: int | None, desc: str,
             futures = {pool.submit(fn, x): i for i, x in enumerate(items)}
             for fut in concurrent.futures.as_completed(futures):
                 results[futures[fut]] = fut.result()
-                if bar is not None:
-                    bar.update(1)
+                bar.update(1)
         except BaseException:
             _stop(pool)
             raise
         pool.shutdown(wait=True)
         return results
     finally:
-        if bar is not None:
-            bar.close()
+        bar.close()
 
 
 def progress_bar(total: int | None = None, *, desc: str = "", unit: str = "it",
@@ -123,7 +115,7 @@ def progress_bar(total: int | None = None, *, desc: str = "", unit: str = "it",
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
-                disable=quiet or not sys.stderr.isatty(), **options)
+                disable=quiet or not _on_terminal(), **options)
 
 
 class busy:
@@ -141,7 +133,7 @@ class busy:
 
         self._bar = None
         self._stop = threading.Event()
-        if self.quiet or not sys.stderr.isatty():
+        if self.quiet or not _on_terminal():
             return self
         self._bar = progress_bar(desc=self.desc, unit="s", quiet=self.quiet,
                                  bar_format="{desc}: {elapsed}{postfix}")

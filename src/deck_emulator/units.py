@@ -6,8 +6,6 @@ criteria are in m/s and g.
 
 from __future__ import annotations
 
-import math
-
 #: ft in a mile, s in an hour
 FT_PER_MILE, S_PER_HOUR = 5280, 3600
 #: ft/s in one mph (88/60)
@@ -18,17 +16,5 @@ M_PER_FT = 0.3048
 G_FT_S2 = 32.174
 
 
-def mph_to_ft_s(mph: float) -> float:
-    return mph * FT_S_PER_MPH
-
-
 def ft_s_to_mph(ft_s: float) -> float:
     return ft_s / FT_S_PER_MPH
-
-
-def ft_to_m(ft: float) -> float:
-    return ft * M_PER_FT
-
-
-def rad_to_deg(rad: float) -> float:
-    return math.degrees(rad)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -367,8 +367,3 @@ def engine_for(name: str, **options):
 def run_engine(source, engine: str = "emulator", *, name: str = "", **options) -> Outcome:
     """One run of the named engine on a deck (or, for the core, a scene)."""
     return engine_for(engine, **options).run(source, name=name)
-
-
-def with_options(engine, **changes):
-    """A copy of ``engine`` with some settings changed."""
-    return replace(engine, **changes)

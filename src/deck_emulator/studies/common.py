@@ -190,6 +190,25 @@ def median_wall(fn, reps: int) -> tuple[float, list[float], object]:
 # --------------------------------------------------------------------------- files
 
 
+def cpu_count() -> int:
+    """Worker processes by default: every core."""
+    return os.cpu_count() or 1
+
+
+def run_longest_first(fn, tasks: list[dict], *, jobs: int, desc: str, quiet: bool = False) -> list:
+    """``[fn(t) for t in tasks]`` on the one parallel map, the costliest tasks (their
+    ``cost``) started first so that no long run is left for last; results in the tasks' order."""
+    from deck_emulator.parallel import parallel_map
+
+    order = sorted(range(len(tasks)), key=lambda i: -tasks[i]["cost"])
+    done = parallel_map(fn, [tasks[i] for i in order], jobs=jobs, desc=desc, unit="run",
+                        quiet=quiet)
+    results: list = [None] * len(tasks)
+    for i, r in zip(order, done):
+        results[i] = r
+    return results
+
+
 def machine() -> dict:
     import matplotlib
     import scipy

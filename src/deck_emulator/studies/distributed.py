@@ -56,7 +56,6 @@ import json
 import logging
 import math
 import os
-import sys
 import time
 import traceback
 import uuid
@@ -249,26 +248,23 @@ def _call_many(fn: Callable[[dict], dict], tasks: list[dict]) -> list[dict]:
 
 
 class _Bar:
-    def __init__(self, total: int, initial: int, desc: str, enabled: bool | None):
-        self.failed = 0
-        self.bar = None
-        if enabled is None:
-            enabled = sys.stderr.isatty()
-        if enabled:
-            from tqdm import tqdm
+    """The package's progress display (:func:`deck_emulator.parallel.progress_bar`) with a
+    count of failed scenes; ``enabled=False`` silences it."""
 
-            self.bar = tqdm(total=total, initial=initial, desc=desc, unit="scene", file=sys.stderr,
-                            dynamic_ncols=True, smoothing=0.1)
+    def __init__(self, total: int, initial: int, desc: str, enabled: bool | None):
+        from deck_emulator.parallel import progress_bar
+
+        self.failed = 0
+        self.bar = progress_bar(total, desc=desc, unit="scene", quiet=enabled is False,
+                                initial=initial, dynamic_ncols=True, smoothing=0.1)
 
     def step(self, failed: bool):
         self.failed += failed
-        if self.bar is not None:
-            self.bar.set_postfix(failed=self.failed, refresh=False)
-            self.bar.update(1)
+        self.bar.set_postfix(failed=self.failed, refresh=False)
+        self.bar.update(1)
 
     def close(self):
-        if self.bar is not None:
-            self.bar.close()
+        self.bar.close()
 
 
 @contextlib.contextmanager

@@ -32,11 +32,10 @@ from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.core.scene import Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
-from deck_emulator.parallel import parallel_map
-
 from .common import (
     H0,
     agg_backend,
+    cpu_count,
     emulator_hit,
     emulator_trajectory,
     fit_slope,
@@ -48,6 +47,7 @@ from .common import (
     median_wall,
     run_core,
     run_emulator,
+    run_longest_first,
     csv_text,
 )
 
@@ -256,14 +256,9 @@ def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None
     deck_path = str(deck_path)
     read_deck(deck_path)  # a bad deck fails here, before any process starts
     p = plan(quick)
-    jobs = jobs or _cpu_count()
-    tasks = _tasks(deck_path, p)
-    order = sorted(range(len(tasks)), key=lambda i: -tasks[i]["cost"])  # longest first
-    done = parallel_map(_task, [tasks[i] for i in order], jobs=jobs, desc="study error",
-                        unit="run", quiet=quiet)
-    rows = [None] * len(tasks)
-    for i, r in zip(order, done):
-        rows[i] = r
+    jobs = jobs or cpu_count()
+    rows = run_longest_first(_task, _tasks(deck_path, p), jobs=jobs, desc="study error",
+                             quiet=quiet)
     summary = _summarise(rows, p)
     with OutputSet(directory=out) as files:  # the three files appear together or not at all
         files.write("error_study.csv", csv_text(rows, COLUMNS))
@@ -274,12 +269,6 @@ def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None
         files.write("README.md", _report(rows, summary, p, deck_path, cmd, jobs, wall))
     summary["wall_s"] = wall
     return summary
-
-
-def _cpu_count():
-    import os
-
-    return os.cpu_count() or 1
 
 
 def _ok(rows, series):

@@ -534,24 +534,25 @@ def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") ->
 def write_outputs(studies: list, out: Path, *, header: str = "") -> list[Path]:
     """``sensitivity.csv``, ``sensitivity.md`` (every study) and, per study, the picture of the
     indices and the class map. Returns the files written."""
-    from deck_emulator.files import write_atomic
+    from deck_emulator.files import OutputSet
 
-    out.mkdir(parents=True, exist_ok=True)
     rows = []
     written = []
-    for label, engine, st in studies:
-        rows += [{**r, "deck": label, "engine": engine} for r in st.indices]
-        pic = out / f"sensitivity_{label}.png"
-        plot_indices(st.indices, pic, n=st.n, title=f"Sobol indices, {label}, {engine}")
-        written.append(pic)
-        top = _top_inputs(st.indices, st.n)
-        if len(top) == 2:
-            cm = out / f"hit_map_{label}.png"
-            plot_class_map(st, cm, inputs=top,
-                           title=f"{label}, {engine}: first hit over {top[0]} and {top[1]}")
-            written.append(cm)
-    write_atomic(out / "sensitivity.csv", indices_csv(rows))
-    write_atomic(out / "sensitivity.md", indices_markdown(rows, header=header))
+    with OutputSet(directory=out) as files:  # the tables and pictures appear together
+        for label, engine, st in studies:
+            rows += [{**r, "deck": label, "engine": engine} for r in st.indices]
+            pic = f"sensitivity_{label}.png"
+            plot_indices(st.indices, files.path(pic), n=st.n,
+                         title=f"Sobol indices, {label}, {engine}")
+            written.append(out / pic)
+            top = _top_inputs(st.indices, st.n)
+            if len(top) == 2:
+                cm = f"hit_map_{label}.png"
+                plot_class_map(st, files.path(cm), inputs=top,
+                               title=f"{label}, {engine}: first hit over {top[0]} and {top[1]}")
+                written.append(out / cm)
+        files.write("sensitivity.csv", indices_csv(rows))
+        files.write("sensitivity.md", indices_markdown(rows, header=header))
     return [out / "sensitivity.csv", out / "sensitivity.md", *written]
 
 

@@ -27,18 +27,18 @@ import numpy as np
 
 from deck_emulator.events import EventKind
 from deck_emulator.legacy.deck import read_deck
+from deck_emulator.units import FT_S_PER_MPH
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.legacy.emulator import Limits
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, PHYSICAL, BaseFriction, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
-from deck_emulator.parallel import parallel_map
-
 from .common import (
     ERRATA,
     H0,
     agg_backend,
     core_energies,
+    cpu_count,
     default_deck,
     emulator_energies,
     emulator_hit,
@@ -50,6 +50,7 @@ from .common import (
     md_table,
     run_core,
     run_emulator,
+    run_longest_first,
     csv_text,
 )
 
@@ -58,7 +59,6 @@ CORE_RTOL = 1e-9
 CORE_T_MAX_S = 3.0
 AGREE_HIT_S = 0.01
 AGREE_KE = 0.10
-FT_S_PER_MPH = 5280.0 / 3600.0
 
 COLUMNS = [
     "scene", "group", "description", "CK_lb_ft", "k", "H_s", "h_omega", "speed_mph", "alpha_deg",
@@ -257,19 +257,15 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
     deck_path = str(deck_path or default_deck())
     shown = os.path.relpath(deck_path) if not os.path.relpath(deck_path).startswith("..") else deck_path
     base = read_deck(deck_path).values
-    jobs = jobs or _cpu_count()
+    jobs = jobs or cpu_count()
     grid = scenes(base, quick)
     tasks = []
     for i, s in enumerate(grid):
         for engine in ("emulator", "core") if s["emulator"] else ("core",):
             cost = (0.4 * 2 ** s["k"]) if engine == "emulator" else 0.3
             tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
-    order = sorted(range(len(tasks)), key=lambda i: -tasks[i]["cost"])
-    done = parallel_map(_task, [tasks[i] for i in order], jobs=jobs, desc="study stability",
-                        unit="run", quiet=quiet)
-    results: dict = {}
-    for i, r in zip(order, done):
-        results[(tasks[i]["index"], tasks[i]["engine"])] = r
+    done = run_longest_first(_task, tasks, jobs=jobs, desc="study stability", quiet=quiet)
+    results = {(t["index"], t["engine"]): r for t, r in zip(tasks, done)}
     rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
             for i, s in enumerate(grid)]
     summary = _summarise(rows)
@@ -283,10 +279,6 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
         files.write("README.md", _report(rows, summary, shown, cmd, jobs, wall, quick))
     summary["wall_s"] = wall
     return summary
-
-
-def _cpu_count():
-    return os.cpu_count() or 1
 
 
 # --------------------------------------------------------------------------- analysis
