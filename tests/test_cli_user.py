@@ -268,11 +268,16 @@ def test_every_option_has_help():
     assert missing == []
 
 
-def test_version(capsys):
-    from deck_emulator import __version__
+def test_version_is_written_once_in_pyproject_and_read_from_the_metadata(capsys):
+    import tomllib
 
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
     assert main(["--version"]) == 0
-    assert capsys.readouterr().out == f"deck-emulator {__version__}\n"
+    assert capsys.readouterr().out == f"deck-emulator {version}\n"
+    # nowhere else: no literal in the package, none in the citation file
+    for path in (ROOT / "src").rglob("*.py"):
+        assert not re.search(r"__version__\s*=\s*['\"]", path.read_text()), path
+    assert not re.search(r"(?m)^version:", (ROOT / "CITATION.cff").read_text())
 
 
 def test_readme_says_what_single_precision_does():

@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-import time
 import warnings
 
 import numpy as np
@@ -145,17 +144,58 @@ def test_capped_spring_holds_diff_stationary_closed_form():
     assert seen > 0
 
 
-def test_plain_switching_chatters_where_the_sliding_mode_holds():
-    # the stability study's settings (cap armed at 20 steps + 1, rtol 1e-9)
+def _sigma_dot(model, mode, t, y):
+    """d/dt of the cap's switching function (``dDIFF/dt`` of S) under the plain (non-sliding)
+    force law of ``mode``: a central difference along the model's own derivative, so the
+    Filippov construction under test is not used to check itself."""
+    contact = model.components["vehicle contact"]
+    d = np.asarray(model.contact_rhs(mode)(t, np.asarray(y)))
+    h = 1e-7
+    rate = [contact.diff_rate(Kinematics(model, list(np.asarray(y) + k * h * d))) for k in (1, -1)]
+    return (rate[0] - rate[1]) / (2 * h)
+
+
+def test_the_cap_holds_diff_where_plain_switching_would_chatter():
+    """The 100 mph car with the cap armed at the stability study's 21st step: wherever the
+    core holds the cap's surface (a sliding mode), the physics says why and how.
+
+    * entered where plain switching would chatter: on the surface ``dDIFF/dt = 0`` the capped
+      spring drives ``dDIFF/dt`` below zero (which releases the cap) and the uncapped spring
+      drives it above zero (which engages it again): each side points back to the surface;
+    * while held, ``DIFF`` stays put and the spring force lies between the cap (``FCONST``)
+      and the uncapped spring force ``CK * compression``;
+    * it is left where that force reaches one of its bounds.
+
+    The exit time against a closed form is the block's test above."""
     options = LEGACY.replace(force_cap_from_s=0.0084)
-    with pytest.raises(CoreError, match="chatter"):
-        simulate(
-            speed(100), options.replace(cap_sliding=False), t_max_s=3.0, rtol=1e-9, atol=1e-9
-        )
     r = simulate(speed(100), options, t_max_s=3.0, rtol=1e-9, atol=1e-9)
-    held = _intervals(r.notes, "cap holding")
-    # where the plain switching chattered (notes print 6 digits)
-    assert held and held[0][0] == pytest.approx(0.09713996340830394, abs=1e-5)
+    model = r.trajectory._model
+    contact = model.components["vehicle contact"]
+    fconst = STEEL40["FCONST"]
+    held = [seg for seg in r.trajectory.segments
+            if seg.phase == "contact" and seg.mode.cap_sliding]
+    assert held and _intervals(r.notes, "cap holding")
+    for seg in held:
+        capped = dataclasses.replace(seg.mode, cap_sliding=False, cap_engaged=True)
+        uncapped = dataclasses.replace(seg.mode, cap_sliding=False, cap_engaged=False)
+        start = seg.solution(seg.t0)
+        kin = Kinematics(model, list(start))
+        assert abs(contact.diff_rate(kin)) < 1e-6 * abs(start[IDX_VV])  # on the surface
+        assert _sigma_dot(model, capped, seg.t0, start) < 0.0 < _sigma_dot(
+            model, uncapped, seg.t0, start)
+        diff0 = contact.diff(kin, "S")
+        for t in np.linspace(seg.t0, seg.t1, 9):
+            y = seg.solution(t)
+            kin = Kinematics(model, list(y))
+            assert contact.diff(kin, "S") == pytest.approx(diff0, abs=1e-6)  # ft: held
+            f = sliding.vehicle_force(model, t, y, seg.mode)
+            spring = contact.stiffness["S"] * contact.compression(kin, "S")
+            assert fconst * (1 - 1e-9) <= f <= spring * (1 + 1e-9)
+        end = seg.solution(seg.t1)
+        kin = Kinematics(model, list(end))
+        f = sliding.vehicle_force(model, seg.t1, end, seg.mode)
+        spring = contact.stiffness["S"] * contact.compression(kin, "S")
+        assert min(abs(f - fconst), abs(f - spring)) < 1e-6 * fconst  # left at a bound
 
 
 # --------------------------------------------------------------------------------------
@@ -295,11 +335,29 @@ def test_no_numpy_warning_reaches_the_user():
     assert any("numerical warning" in n for n in r.notes)
 
 
+class _TickingClock:
+    """A wall clock that moves on 10 ms at every reading: the core reads it once per
+    right-hand-side evaluation, so the wall bound is reached after a known amount of work,
+    whatever the machine's speed."""
+
+    tick_s = 0.01
+
+    def __init__(self):
+        self.now = 0.0
+
+    def perf_counter(self) -> float:
+        self.now += self.tick_s
+        return self.now
+
+
 @pytest.mark.parametrize("changes", [{"WV": 1e-6}, {"B": 1e12}], ids=["WV=1e-6", "B=1e12"])
 @pytest.mark.parametrize("options", [LEGACY, PHYSICAL], ids=["legacy", "physical"])
-def test_every_run_ends_within_the_bound(changes, options):
+def test_every_run_ends_within_the_bound(changes, options, monkeypatch):
+    from deck_emulator.core import solve
+
+    clock = _TickingClock()
+    monkeypatch.setattr(solve, "time", clock)
     bound = 3.0
-    started = time.perf_counter()
     try:
         r = simulate(deck(**changes), options, max_wall_s=bound)
     except CoreError as exc:
@@ -307,7 +365,21 @@ def test_every_run_ends_within_the_bound(changes, options):
         assert re.search(r"max_wall_s|triangle inequality", str(exc))
     else:
         assert r.hit is not None or r.no_hit_reason
-    assert time.perf_counter() - started < bound + 2.0
+    # the clock was read no more than the bound allows (and one reading past it, which ends
+    # the run), plus the readings before and after the integration
+    assert clock.now <= bound + 4 * clock.tick_s
+
+
+def test_the_wall_bound_is_what_ends_an_endless_run(monkeypatch):
+    """On a clock that races, an ordinary scene is ended by the bound, in one line."""
+    from deck_emulator.core import solve
+
+    clock = _TickingClock()
+    clock.tick_s = 1.0
+    monkeypatch.setattr(solve, "time", clock)
+    with pytest.raises(CoreError, match=r"max_wall_s = 3 s") as info:
+        simulate(deck(), LEGACY, max_wall_s=3.0)
+    assert "\n" not in str(info.value)
 
 
 # --------------------------------------------------------------------------------------

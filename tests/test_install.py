@@ -5,38 +5,79 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
+import sysconfig
 import venv
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+#: what a source distribution of the checkout holds (the rest is history and local state)
+_NOT_SHIPPED = shutil.ignore_patterns(".git", "build", "*.egg-info", "__pycache__",
+                                      ".pytest_cache", ".hypothesis", ".venv*", "dist")
 
 
 def _run(argv, cwd, timeout=300):
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "PYTHONHOME", "PYTHONUSERBASE", "VIRTUAL_ENV")}
     return subprocess.run(argv, cwd=cwd, capture_output=True, text=True, timeout=timeout, env=env)
+
+
+def _running_site_dirs() -> list[str]:
+    """The folders this interpreter imports installed packages from: a virtualenv's own
+    site-packages, or the system interpreter's (and the user's, where it is used)."""
+    dirs = [sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]]
+    dirs += [p for p in sys.path if p.rstrip("/").endswith(("site-packages", "dist-packages"))]
+    return list(dict.fromkeys(d for d in dirs if Path(d).is_dir()))
 
 
 @pytest.fixture(scope="module")
 def installed(tmp_path_factory):
-    """A fresh venv with this checkout installed as ``pip install .`` does (a built wheel, not
-    editable). The venv sees this interpreter's site-packages for the dependencies (numpy,
-    scipy ...) so the test needs no network; the package itself comes from the wheel."""
+    """A fresh venv with this checkout installed as ``pip install .`` does: a wheel built from
+    a copy of the source tree, not an editable install.  The wheel is built offline with the
+    running environment's setuptools (no build isolation, no index).  The venv is made without
+    system site-packages; a ``.pth`` file in it names the running environment's site folders,
+    where the README's test command installed numpy, fortranformat and the rest, so the
+    dependencies are those the suite runs with (in a virtualenv or the system interpreter
+    alike) and nothing is fetched.  The venv's own site-packages comes first on its path: the
+    package itself is the wheel's."""
     base = tmp_path_factory.mktemp("install")
+    source = base / "source"
+    shutil.copytree(ROOT, source, symlinks=True, ignore=_NOT_SHIPPED)
+    wheels = base / "wheels"
+    build = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
+                  "--no-index", "--wheel-dir", str(wheels), str(source)], cwd=base)
+    assert build.returncode == 0, build.stdout + build.stderr
+    (wheel,) = wheels.glob("deck_emulator-*.whl")
+
     env_dir = base / "venv"
-    venv.EnvBuilder(system_site_packages=True, with_pip=True).create(env_dir)
+    venv.EnvBuilder(system_site_packages=False, with_pip=True).create(env_dir)
     python = env_dir / "bin" / "python"
-    inst = _run([str(python), "-m", "pip", "install", "--no-deps", str(ROOT)], cwd=base)
+    purelib = _run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                   cwd=base).stdout.strip()
+    (Path(purelib) / "_running_environment.pth").write_text("\n".join(_running_site_dirs()) + "\n")
+    inst = _run([str(python), "-m", "pip", "install", "--no-deps", "--no-index", str(wheel)],
+                cwd=base)
     assert inst.returncode == 0, inst.stdout + inst.stderr
-    where = _run([str(python), "-c", "import deck_emulator; print(deck_emulator.__file__)"],
+    where = _run([str(python), "-c", "import deck_emulator, numpy; print(deck_emulator.__file__)"],
                  cwd=base)
-    assert str(env_dir) in where.stdout, where.stdout + where.stderr  # the wheel, not the checkout
+    assert where.returncode == 0, where.stderr
+    assert where.stdout.startswith(purelib), where.stdout  # the wheel, not the checkout
     work = base / "elsewhere"
     work.mkdir()
     return env_dir / "bin" / "deck-emulator", work
+
+
+def test_the_installed_version_is_the_one_in_pyproject(installed):
+    import tomllib
+
+    exe, work = installed
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    proc = _run([str(exe), "--version"], cwd=work)
+    assert (proc.returncode, proc.stdout) == (0, f"deck-emulator {version}\n"), proc.stderr
 
 
 def test_run_and_summary_on_an_absolute_deck_path(installed):

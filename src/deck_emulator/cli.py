@@ -21,7 +21,6 @@ import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from deck_emulator import __version__
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.present.answers import definitions_help
 
@@ -1016,12 +1015,23 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")
 
 
+class _Version(argparse.Action):
+    """``--version``: the installed package's metadata, read only when asked."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import deck_emulator
+
+        print(f"{parser.prog} {deck_emulator.__version__}")
+        parser.exit(0)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG,
         description="Emulator of the 1967 TTI luminaire-support impact program (Report 75-9).",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="print the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for add in _SUBCOMMANDS:
         add(sub)
