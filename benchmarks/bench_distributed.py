@@ -23,6 +23,7 @@ import time
 
 from deck_emulator.studies.distributed import run_scenes
 from deck_emulator.studies.sensitivity import scene_task
+from deck_emulator.units import S_PER_HOUR
 
 TARGET = 10_000
 
@@ -71,7 +72,7 @@ def main() -> None:
             if base is None:
                 base = rate / w
             eff = rate / (w * base)
-            ext = TARGET / rate / 3600
+            ext = TARGET / rate / S_PER_HOUR
             label = f"{ext:.2f}" if n >= TARGET else f"{ext:.2f} (extrapolated from {n})"
             print(f"| {engine} | {w} | {n} | {wall:.1f} | {rate:.2f} | {eff:.2f} | {failed} | "
                   f"{label} |", flush=True)

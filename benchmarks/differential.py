@@ -52,29 +52,31 @@ def random_deck(rng: random.Random):
     FCONST, car outline, height and DELTA drawn at random; about one deck in eight physically
     odd (car moving away, a very light or very flat post, stiff or no springs ...)."""
     from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.units import FT_S_PER_MPH
 
     base = read_deck(ROOT / "decks" / "steel40.dat")
+    d = base.values  # each drawn value is the deck's own, scaled or shifted
     u = rng.uniform
     ch = {
-        "VVB": _r(-u(10, 60) * 1.46667, 2),  # 10 to 60 mph towards the post
+        "VVB": _r(-u(10, 60) * FT_S_PER_MPH, 2),  # 10 to 60 mph towards the post
         "ALPHA": 0.0 if rng.random() < 0.6 else _r(u(0.03, 0.6), 4),
-        "W": _r(100.0 * u(0.5, 2.0), 2),
-        "A": _r(3351.41 * u(0.5, 2.0), 2),
-        "B": _r(3282.6 * u(0.5, 2.0), 2),
-        "C": _r(69.68 * u(0.5, 2.0), 2),
-        "CK": _r(33000.0 * u(0.3, 3.0), 1),
-        "CT": _r(20000.0 * u(0.3, 3.0), 1),
-        "FCONST": _r(1200.0 * u(0.3, 3.0), 1),
-        "HLEN": _r(5.0 * u(0.6, 1.6), 3),
-        "TLEN": _r(7.0 * u(0.6, 1.4), 3),
-        "TRLEN": _r(6.0 * u(0.6, 1.4), 3),
-        "HHV": _r(-16.27 + u(-1.5, 1.5), 3),
-        "HTV": _r(-15.27 + u(-1.5, 1.5), 3),
-        "HTRV": _r(-16.77 + u(-1.5, 1.5), 3),
-        "YLFEN": _r(-1.47 + u(-2.0, 1.0), 3),
-        "YRFEN": _r(4.53 + u(-1.0, 2.0), 3),
-        "HEIGHT": _r(20.27 * u(0.8, 1.2), 3),
-        "DELTA": _r(0.1463 + u(-0.1, 0.1), 4),
+        "W": _r(d["W"] * u(0.5, 2.0), 2),  # the post's mass (before 2026-11: the car's, 100)
+        "A": _r(d["A"] * u(0.5, 2.0), 2),
+        "B": _r(d["B"] * u(0.5, 2.0), 2),
+        "C": _r(d["C"] * u(0.5, 2.0), 2),
+        "CK": _r(d["CK"] * u(0.3, 3.0), 1),
+        "CT": _r(d["CT"] * u(0.3, 3.0), 1),
+        "FCONST": _r(d["FCONST"] * u(0.3, 3.0), 1),
+        "HLEN": _r(d["HLEN"] * u(0.6, 1.6), 3),
+        "TLEN": _r(d["TLEN"] * u(0.6, 1.4), 3),
+        "TRLEN": _r(d["TRLEN"] * u(0.6, 1.4), 3),
+        "HHV": _r(d["HHV"] + u(-1.5, 1.5), 3),
+        "HTV": _r(d["HTV"] + u(-1.5, 1.5), 3),
+        "HTRV": _r(d["HTRV"] + u(-1.5, 1.5), 3),
+        "YLFEN": _r(d["YLFEN"] + u(-2.0, 1.0), 3),
+        "YRFEN": _r(d["YRFEN"] + u(-1.0, 2.0), 3),
+        "HEIGHT": _r(d["HEIGHT"] * u(0.8, 1.2), 3),
+        "DELTA": _r(d["DELTA"] + u(-0.1, 0.1), 4),
     }
     if rng.random() < 0.125:  # the physically odd
         odd = rng.choice(["away", "slow", "light", "flat", "stiff", "soft", "nocap", "low", "fast"])

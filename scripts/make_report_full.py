@@ -27,6 +27,7 @@ from deck_emulator.core.assembly import (  # noqa: E402
     STEEL_DECK_TARGET,
 )
 from deck_emulator.files import OutputSet  # noqa: E402
+from deck_emulator.units import ft_s_to_mph  # noqa: E402
 from deck_emulator.studies import crash_test as ct  # noqa: E402
 from deck_emulator.studies.report_full import run_column  # noqa: E402
 from deck_emulator.studies.report_tables import (  # noqa: E402
@@ -35,7 +36,6 @@ from deck_emulator.studies.report_tables import (  # noqa: E402
 
 OUT = ROOT / "docs" / "report_full.md"
 FIG = ROOT / "docs" / "crash_test_fig18.png"
-MPH = 5280.0 / 3600.0
 
 ROWS = [("delta_v_crush_mph", "ΔV, mph", 2), ("max_decel_g", "max decel., g", 2),
         ("XPL", "XPL", 2), ("YPL", "YPL", 2), ("ZPL", "ZPL", 2),
@@ -60,7 +60,7 @@ def core_dv_crush_pulse(res):
     if t is None:
         return None
     vv = float(res.trajectory.state(t)[14])
-    return (abs(res.scene.vehicle.initial_velocity_ft_s) - abs(vv)) / MPH
+    return ft_s_to_mph(abs(res.scene.vehicle.initial_velocity_ft_s) - abs(vv))
 
 
 def core_max_decel(res):

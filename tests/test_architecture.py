@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -79,3 +80,21 @@ def test_cli_names_agree_with_the_layers_below():
     assert set(cli.ERRATA_NAMES) == set(ERRATA)
     assert set(cli.PRESETS) == set(PRESETS)
     assert cli.VIEWS == VIEWS
+
+
+#: A unit factor written out: ft in a mile, s in an hour, mph <-> ft/s (and its rounded
+#: 1.46667), m in a ft, the report's gravity. units.py is the one place for each.
+_UNIT_FACTOR = re.compile(r"5280|3600|1\.4666|0\.6818|0\.3048|88\.0? */ *60\b|32\.174")
+
+
+def test_unit_factors_are_written_in_units_py_only():
+    files = [*(ROOT / "src").rglob("*.py"), *(ROOT / "scripts").glob("*.py"),
+             *(ROOT / "benchmarks").glob("*.py")]
+    found = []
+    for path in files:
+        if path.name == "units.py":
+            continue
+        for i, line in enumerate(path.read_text().splitlines(), 1):
+            if _UNIT_FACTOR.search(line.split("#", 1)[0]):
+                found.append(f"{path.relative_to(ROOT)}:{i}: {line.strip()}")
+    assert found == []

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.present.answers import definitions_help
+from deck_emulator.units import G_FT_S2
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -471,7 +472,7 @@ def _odd_deck_notes(values: dict) -> list[str]:
             notes.append(f"{name} = {values[name]:g} slug ft^2: a principal moment of inertia of "
                          "the post is not positive, so the run is not physical")
     if values.get("G", 1.0) <= 0:
-        notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is 32.174); a "
+        notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is {G_FT_S2:g}); a "
                      "deceleration in g divides by WV*G, so the printed ones are not given, and "
                      "the post comes down only by the motion the car gave it")
     if values.get("VVB", -1.0) == 0:

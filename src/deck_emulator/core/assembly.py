@@ -76,6 +76,8 @@ from typing import Any
 
 import numpy as np
 
+from deck_emulator.units import G_FT_S2
+
 __all__ = [
     "G_FT_S2",
     "Shaft",
@@ -101,7 +103,6 @@ __all__ = [
     "arm_properties",
 ]
 
-G_FT_S2 = 32.174
 IN = 1.0 / 12.0
 
 

@@ -116,7 +116,7 @@ def ground_tolerance_ft(options) -> dict[str, float] | float:
 
 def check_outcome(result) -> list[str]:
     """The failed checks of core run ``result`` as sentences (empty: may be reported)."""
-    from .result import MPH_PER_FT_S
+    from deck_emulator.units import ft_s_to_mph
 
     scene = result.scene
     depth = scene.environment.ground_depth_ft
@@ -126,7 +126,7 @@ def check_outcome(result) -> list[str]:
         t = min(result.hit.time_s, traj.t_end)
         heights = {p: float(traj.point(p, t)[2]) + depth for p in traj.point_names}
     car_speed = (
-        abs(scene.vehicle.initial_velocity_ft_s) * MPH_PER_FT_S if scene.vehicle else None
+        ft_s_to_mph(abs(scene.vehicle.initial_velocity_ft_s)) if scene.vehicle else None
     )
     extra = {"end time": result.end_time_s}
     for k, v in result.terminal_points_ft.items():

@@ -8,10 +8,7 @@ import numpy as np
 
 from .scene import ModelOptions, Scene
 
-__all__ = ["CoreEvent", "Hit", "Segment", "Trajectory", "CoreResult", "MPH_PER_FT_S"]
-
-#: 3600 / 5280
-MPH_PER_FT_S = 3600.0 / 5280.0
+__all__ = ["CoreEvent", "Hit", "Segment", "Trajectory", "CoreResult"]
 
 
 @dataclass(frozen=True)

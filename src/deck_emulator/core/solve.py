@@ -37,7 +37,9 @@ from .scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from .regions import hit_message
-from .result import MPH_PER_FT_S, CoreEvent, CoreResult, Hit, Segment, Trajectory
+from deck_emulator.units import ft_s_to_mph
+
+from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
 
 __all__ = [
     "CoreError",
@@ -482,7 +484,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         t_release = run.contact_end
     if scene.vehicle is not None and t_release is not None:
         vv_loss = float(traj.state(t_release)[IDX_VV])
-        delta_v = (abs(scene.vehicle.initial_velocity_ft_s) - abs(vv_loss)) * MPH_PER_FT_S
+        delta_v = ft_s_to_mph(abs(scene.vehicle.initial_velocity_ft_s) - abs(vv_loss))
         f, max_t = run.max_vehicle_force()
         if not math.isfinite(f):
             max_t = None

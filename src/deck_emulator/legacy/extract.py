@@ -69,6 +69,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
+from deck_emulator.units import FT_S_PER_MPH
+
 __all__ = [
     "DELTA_V_CANDIDATES",
     "DELTA_V_DEFINITION",
@@ -85,7 +87,7 @@ __all__ = [
 ]
 
 #: One mile per hour in ft/s.
-MPH = 88.0 / 60.0
+MPH = FT_S_PER_MPH  # ft/s in one mph (units.py)
 
 #: The candidate definitions of the report's "DECREASE IN VEHICLE VELOCITY", in order.
 DELTA_V_CANDIDATES = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost",

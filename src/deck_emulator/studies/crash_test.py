@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from deck_emulator.units import G_FT_S2
+
 from deck_emulator.core import PHYSICAL, free_flight, simulate
 from deck_emulator.core.assembly import load_assembly
 from deck_emulator.core.scene import (
@@ -38,7 +40,7 @@ from deck_emulator.core.scene import (
 __all__ = ["crash_description", "crash_scene", "state_row", "table10", "table9_state",
            "table9", "G"]
 
-G = 32.174
+G = G_FT_S2  # the report's gravity (units.py)
 
 
 def crash_description() -> dict:
