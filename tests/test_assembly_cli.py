@@ -23,3 +23,28 @@ def test_assembly_twin_refused_on_the_listing(capsys):
 def test_assembly_twin_scene_has_u(capsys):
     assert main(["assembly", "twin", "scene"]) == 0
     assert "[post.second_luminaire_end]" in capsys.readouterr().out
+
+
+def test_assembly_twin_core_json_carries_u(capsys):
+    """The twin post's second luminaire U goes all the way to the answer: its point at the
+    hit, the joint "R&U" ground hit, and a clearance over the car measured with both arms.
+    At 0 deg the twin is symmetric about the shaft's plane, so U lands as R's mirror image
+    (Table 12's "POST HITS GROUND WITH POINTS R&U")."""
+    import json
+
+    import pytest
+
+    assert main(["assembly", "twin", "core", "--json"]) == 0
+    answer = json.loads(capsys.readouterr().out)
+    pts = answer["terminal_xl_yl_zl_ft"]
+    assert {"P", "Q", "R", "U"} <= set(pts)
+    (xr, yr, zr), (xu, yu, zu), yp = pts["R"], pts["U"], pts["P"][1]
+    assert (xu, yu - yp, zu) == pytest.approx((xr, yp - yr, zr), abs=1e-4)
+    hit = answer["events"][-1]
+    assert (hit["kind"], hit["surface"], hit["point"]) == ("hit", "ground", "R&U")
+    assert answer["occupant_risk"]["body_clearance_ft"] is not None
+
+
+def test_assembly_json_goes_with_core_only(capsys):
+    assert main(["assembly", "twin", "props", "--json"]) == 2
+    assert "--json goes with 'core'" in capsys.readouterr().err

@@ -206,6 +206,21 @@ def test_clearance_counts_only_free_flight():
     assert c.body_ft == pytest.approx(5.0, abs=1e-9) and c.instants == 1
 
 
+def test_clearance_checks_a_second_arm():
+    """A twin post whose shaft and first arm lie beside the car (YV 10 ft, outside the
+    fenders) while its second arm P-U reaches over the roof, sloping from 2 ft to 1 ft above
+    the roof line HTV = -15: the clearance is the arm's lower end, 1 ft, over the roof."""
+    pts = lying_post(-10.0, x0=-3.0, x1=2.0, yv=10.0)
+    pts["U"] = np.array([[2.0, 1.0, -14.0]] * 3)  # over the roof (SV 0 to 7), inside the fenders
+    pts["P"][:, 2] = -13.0
+    c = body_clearance(np.array([0.0, 0.1, 0.2]), pts, np.zeros(3), CAR)
+    assert c.body_surface == "roof" and c.body_where.startswith("P-U")
+    assert c.body_ft == pytest.approx(1.0, abs=1e-9)
+    without_u = body_clearance(np.array([0.0, 0.1, 0.2]),
+                               {k: v for k, v in pts.items() if k != "U"}, np.zeros(3), CAR)
+    assert without_u.body_ft is None  # the shaft and the first arm never pass over the car
+
+
 # ----------------------------------------------------------------- against the printout
 
 

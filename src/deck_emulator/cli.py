@@ -682,9 +682,11 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     mass properties, its deck, its scene, or run it."""
     import math as _m
 
-    from deck_emulator.core import LEGACY, PHYSICAL, simulate
     from deck_emulator.core import assembly as asm
     from deck_emulator.engine import assemblies as bridge
+
+    if args.json and args.what != "core":
+        raise CLIError(f"--json goes with 'core' (a run's outcome), not with '{args.what}'")
 
     try:
         a, extra, _ = asm.load_assembly(args.description)
@@ -734,13 +736,17 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
             _say(f"error: {_stopped(out)}")
             return EXIT_RUN_FAILED
         return 0
-    from deck_emulator.core.pair_hits import joint_ground_hit, terminal_points_xl
+    from deck_emulator.engine import CoreEngine
+    from deck_emulator.present.answers import outcome_answer, render_outcome
 
-    res = joint_ground_hit(simulate(scene, LEGACY if args.preset == "legacy" else PHYSICAL))
-    pts = terminal_points_xl(res)
-    lines = [f"hit: {res.hit_message} at {_ms(res.hit_time_s)}"]
-    lines += [f"  {k}L: ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) ft" for k, p in pts.items()]
-    _emit(args, "\n".join(lines) + "\n")
+    out = CoreEngine(preset=args.preset).run(scene, name=a.name)
+    if out.error is not None:
+        raise _failed(out, args.description)
+    settings = {"preset": args.preset, "method": out.raw.method,
+                "car": f"{args.speed_mph} mph at {args.alpha_deg} deg ({template}'s car)"}
+    answer = outcome_answer(out, command="assembly", source=a.name, settings=settings)
+    answer["notes"] += list(out.raw.notes)
+    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
 
 
@@ -762,6 +768,8 @@ def _add_assembly(sub: argparse._SubParsersAction) -> None:
                    help="the approach angle: one of the report's three (default 0)")
     _add_erratum_option(p)
     _add_preset_option(p)
+    p.add_argument("--json", action="store_true",
+                   help="with core: the outcome as one JSON object (as deck-emulator core --json)")
     p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
     p.set_defaults(func=_cmd_assembly)
 

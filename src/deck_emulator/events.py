@@ -50,6 +50,7 @@ POINT_NAMES = {
     "Q": "base Q",
     "R": "luminaire end R",
     "U": "second luminaire U",
+    "R&U": "luminaire ends R and U together",
     "S": "impact point S",
     "T": "impact point T",
     "C": "point C",

@@ -115,7 +115,8 @@ class CoreResult:
     * ``first_spring_lost_s``, ``vehicle_contact_lost_s`` -- the listing's two messages.
     * ``delta_v_contact_mph`` -- speed the car lost during contact (positive: slowed down), mph.
     * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact.
-    * ``terminal_points_ft`` -- P, Q, R at the hit in the report's XL, YL, ZL axes (origin
+    * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire)
+      at the hit in the report's XL, YL, ZL axes (origin
       at the base of the support: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``;
       ``None`` for a point the scene lacks).
     * ``planar`` -- the scene's motion stays in the XX-ZZ plane (``Scene.is_planar``).

@@ -500,7 +500,8 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
     terminal: dict[str, tuple[float, float, float] | None] = {}
     q0 = m._q0
     depth = scene.environment.ground_depth_ft
-    for name in ("P", "Q", "R"):
+    # P, Q, R always (None where the scene lacks one), and a second luminaire U where it has one
+    for name in ("P", "Q", "R") + (("U",) if "U" in m.body_points else ()):
         if name not in m.body_points or not traj.segments:
             terminal[name] = None if name not in m.body_points else _xl(m, m.y0, name, q0, depth)
             continue

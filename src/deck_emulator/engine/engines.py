@@ -270,11 +270,15 @@ class CoreEngine:
         return Scene.from_deck(source, name=source_name(source))
 
     def simulate(self, source):
-        """The core's own :class:`~deck_emulator.core.CoreResult` (raises CoreError)."""
+        """The core's own :class:`~deck_emulator.core.CoreResult` (raises CoreError); a post
+        with two luminaires ends "R&U" when both reach the ground band together
+        (:func:`~deck_emulator.core.pair_hits.joint_ground_hit`)."""
         from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, simulate
+        from deck_emulator.core.pair_hits import joint_ground_hit
 
-        return simulate(self.scene(source), self.model_options(), method=self.method,
-                        rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL)
+        return joint_ground_hit(
+            simulate(self.scene(source), self.model_options(), method=self.method,
+                     rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL))
 
     def settings(self) -> str:
         opts = self.model_options()
@@ -325,7 +329,7 @@ class CoreEngine:
         t = np.unique(np.clip(grid, 0.0, t_end))
         out.t = t
         allp = traj.points(t)
-        out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C") if k in allp}
+        out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C", "U") if k in allp}
         out.points["CM"] = np.asarray(traj.mass_centre(t)).T
         veh = traj.vehicle(t)
         out.sv, out.vv = np.asarray(veh[0]), np.asarray(veh[1])

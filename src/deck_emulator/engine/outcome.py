@@ -19,8 +19,8 @@ class Outcome:
       arithmetic and its assumptions, the errata; or the preset, method and tolerances);
       ``errata``: the errata the emulator applied.
     * ``values``: the scene as the report's 64 named quantities (the READ list).
-    * ``t``; ``points``: name -> (n, 3) for the post's points ``P``, ``Q``, ``R``, ``C`` and
-      the mass centre ``CM`` (NaN where an engine does not give a point); ``sv``, ``vv``: the
+    * ``t``; ``points``: name -> (n, 3) for the post's points ``P``, ``Q``, ``R``, ``C``, a
+      second luminaire ``U`` where the post has one, and the mass centre ``CM`` (NaN where an engine does not give a point); ``sv``, ``vv``: the
       car's position and velocity along XV; ``free``: the free-flight samples.
     * ``pulse_t``, ``pulse_g``: the car's deceleration (g) over the contact phase.
     * ``events``: :class:`~deck_emulator.events.Event` in time order; ``hit``: the last one
@@ -30,7 +30,7 @@ class Outcome:
       ``delta_v_contact_mph``: the speed lost by the end of contact with the post.
     * ``max_decel_g``: the report's maximum deceleration (emulator: the largest *printed*
       FSA/(WV*G), as the report read it; core: its continuous maximum).
-    * ``terminal``: P, Q, R, C at the hit in the report's XL, YL, ZL axes (ft).
+    * ``terminal``: P, Q, R, C (and U) at the hit in the report's XL, YL, ZL axes (ft).
     * ``flags``: sentences naming what is physically absurd in an answer the engine gave
       (a hit with a point under the ground, a delta-V above the car's speed ...); the
       emulator's printout is left as the listing prints it, the flags say what is odd.

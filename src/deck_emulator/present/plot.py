@@ -98,7 +98,9 @@ def instants(res: Outcome, every: float | None = None) -> list[int]:
 
 
 def _post_chain(res: Outcome) -> list[str]:
-    chain = ["Q", "P", "R"]
+    """The post drawn as one line: (C,) Q, P, R and, for a second luminaire, back to P and
+    out to U."""
+    chain = ["Q", "P", "R"] + (["P", "U"] if "U" in res.points else [])
     c, q = res.points.get("C"), res.points.get("Q")
     if c is not None and not np.allclose(c[0], q[0], equal_nan=True):
         chain = ["C"] + chain
@@ -140,6 +142,7 @@ def _hit_index(res: Outcome) -> int:
 
 def _hit_point_l(res: Outcome):
     point = res.hit.point if res.hit else None
+    point = "R" if point == "R&U" else point  # the twin's joint hit: marked at R
     if point is None or point not in res.points:
         return None
     p = res.points[point][_hit_index(res)]
@@ -386,7 +389,7 @@ def _draw_3d(ax, res: Outcome, idx: list[int]):
             edgecolor="k",
             depthshade=False,
         )
-    for k in _post_chain(res):
+    for k in dict.fromkeys(_post_chain(res)):
         q = res.to_l(res.points[k][hi])
         if not np.isnan(q).any():
             ax.text(q[0], q[1], q[2], f" {k}", fontsize=9, fontweight="bold")

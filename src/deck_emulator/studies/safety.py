@@ -369,11 +369,14 @@ class Clearance:
 
 
 def _segments(points: Mapping[str, np.ndarray]):
-    """The post as segments (label, A (n,3), B (n,3)): Q-P, P-R, and C as a point if it is
-    not on them."""
+    """The post as segments (label, A (n,3), B (n,3)): Q-P, P-R, the second arm P-U where the
+    post has one, and C as a point if it is not on them."""
     out = []
     chain = [k for k in ("Q", "P", "R") if k in points]
-    for a, b in zip(chain, chain[1:]):
+    pairs = list(zip(chain, chain[1:]))
+    if "U" in points and "P" in points:
+        pairs.append(("P", "U"))
+    for a, b in pairs:
         out.append((f"{a}-{b}", np.asarray(points[a], float), np.asarray(points[b], float)))
     if "C" in points:
         c = np.asarray(points["C"], float)
@@ -490,7 +493,7 @@ def clearance_of(out) -> Clearance | None:
     """The post's least clearance above the car in an outcome's free flight."""
     if not out.t.size or not out.free.any():
         return None
-    pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C")}
+    pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C", "U")}
     if "C" in pts and np.isnan(pts["C"][out.free]).any():
         pts.pop("C")
     return body_clearance(out.t, pts, out.sv, out.values, free=out.free)
