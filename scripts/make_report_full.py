@@ -53,30 +53,6 @@ def f(x, nd=2, signed=False):
     return f"{x:+.{nd}f}" if signed else f"{x:.{nd}f}"
 
 
-def core_dv_crush_pulse(res):
-    """The core's ΔV at the end of the crush pulse (the FCONST cap first engages), the
-    definition the emulator's column uses (docs/comparison.md)."""
-    t = next((e.time_s for e in res.events if e.name == "force cap engaged"), None)
-    if t is None:
-        return None
-    vv = float(res.trajectory.state(t)[14])
-    return ft_s_to_mph(abs(res.scene.vehicle.initial_velocity_ft_s) - abs(vv))
-
-
-def core_max_decel(res):
-    """The core's largest spring force over WV*G after the listing's two start-up steps (the
-    start-up kick's 10,000 lb is a device of the listing's scheme, not an impact force: the
-    listing's printed FSA starts after it)."""
-    m = res.trajectory._model
-    best = 0.0
-    for seg in res.trajectory.segments:
-        if seg.phase != "contact" or seg.mode is None or seg.mode.window is not None:
-            continue
-        for t in np.linspace(seg.t0, seg.t1, 400):
-            best = max(best, m.vehicle_force(t, seg.solution(t), seg.mode))
-    return best / (m.vehicle_mass * m.gravity)
-
-
 def hit_word(msg):
     if msg is None:
         return "none"
@@ -160,16 +136,13 @@ def columns_section(lines, runs):
         lines.append(f"| end | {rep['comment'].lower()} | "
                      f"{hit_word(em['hit']) if em else '—'} | | {hit_word(co['hit'])} | | |")
         if mph == 20 and "CAR" in rep["comment"] and rep_time is not None:
-            res = r["result"]
+            res = r["core_outcome"]
             t = rep_time / 1000.0
-            if t <= res.trajectory.t_end:
-                pts = {k: res.trajectory.point(k, t) for k in ("P", "R", "Q", "U")
-                       if k in res.trajectory.point_names}
-                q0 = res.trajectory._model._q0
-                depth = res.scene.environment.ground_depth_ft
+            pts = {k: res.point_l(k, t) for k in ("P", "R", "Q", "U")}
+            pts = {k: p for k, p in pts.items() if p is not None}
+            if pts:
                 cells = []
-                for k, p in pts.items():
-                    xl = (p[0] - q0[0], p[1] - q0[1], p[2] + depth)
+                for k, xl in pts.items():
                     rr = tuple(rep.get(f"{a}{k}L") for a in "XYZ")
                     d = max(abs(a - b) for a, b in zip(xl, rr)) if None not in rr else None
                     cells.append(f"{k} ({f(xl[0])}, {f(xl[1])}, {f(xl[2])}), max |Δ| {f(d)} ft")
@@ -217,10 +190,9 @@ def summary_section(lines, runs):
 
 def geometry_sensitivity_section(lines):
     """How much the two calibrated unknowns move the aluminium and twin 40 mph columns."""
-    from deck_emulator.core import LEGACY, simulate
     from deck_emulator.core.assembly import BaseMass
+    from deck_emulator.engine import CoreEngine
     from deck_emulator.engine.assemblies import to_scene
-    from deck_emulator.core.pair_hits import joint_ground_hit, terminal_points_xl
 
     lines.append("### How much the inferred geometry moves the answer (core, 40 mph, α = 0°)\n")
     lines.append("| post | variant | A, B, C (slug ft²) | δ, deg | end | time, ms (report) | XQL, ZQL (report) |")
@@ -235,11 +207,11 @@ def geometry_sensitivity_section(lines):
                         a, arms=tuple(dataclasses.replace(x, shape="straight") for x in a.arms)))]
         for label, v in variants:
             mp = mass_properties(v)
-            res = joint_ground_hit(simulate(to_scene(v, mp, template="steel40"), LEGACY))
-            pts = terminal_points_xl(res)
+            res = CoreEngine(preset="legacy").run(to_scene(v, mp, template="steel40"))
+            pts = res.terminal
             lines.append(
                 f"| {post} | {label} | {mp.A:.0f}, {mp.B:.0f}, {mp.C:.1f} | {mp.delta_deg:.2f} | "
-                f"{hit_word(res.hit_message)} | {f(1000 * res.hit.time_s, 1)} "
+                f"{hit_word(res.hit_message)} | {f(1000 * res.hit_time_s, 1)} "
                 f"({rep['time_to_hit_ground_ms']}) | {f(pts['Q'][0])}, {f(pts['Q'][2])} "
                 f"({rep['XQL']}, {rep['ZQL']}) |")
     lines.append("\nThe base's weight (the shaft's wall follows from the total weight) moves the "
@@ -542,14 +514,7 @@ def statements_section(lines, runs, crash):
     for col in CASES_ALL:
         post = CASES_ALL[col][0]
         r = runs[col]
-        m = r["result"].trajectory._model
-        depth = r["result"].scene.environment.ground_depth_ft
-        q0 = m._q0
-        def xl(p):
-            return (p[0] - q0[0], p[1] - q0[1], p[2] + depth)
-        from deck_emulator.core.kinematics import Kinematics
-        k0 = Kinematics(m, list(m.y0))
-        P0, Q0, R0 = (xl(m.point_position(k0, k)) for k in "PQR")
+        P0, Q0, R0 = (r["core_outcome"].point_l(k, 0.0) for k in "PQR")
         co = r["core"]
         rep = REPORT_ALL[col]
         ours = spin_deg(*[(co[f"X{k}L"], co[f"Y{k}L"], co[f"Z{k}L"]) for k in "PQR"], P0, Q0, R0)
@@ -661,9 +626,6 @@ INCONSISTENCIES = [
 def main(argv=None) -> int:
     t0 = time.perf_counter()
     runs = {c: run_column(c) for c in CASES_ALL}
-    for c, r in runs.items():
-        r["core"]["delta_v_crush_mph"] = core_dv_crush_pulse(r["result"])
-        r["core"]["max_decel_g"] = core_max_decel(r["result"])
     lines = ["# The report's Tables 9-12, all columns, against both engines\n"]
     lines.append(f"Made by `python scripts/make_report_full.py`; report numbers from "
                  f"`deck_emulator.studies.report_tables` ({SOURCE}; Tables 11-12 lines "

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from deck_emulator.units import G_FT_S2
-from deck_emulator.studies.safety import (
+from deck_emulator.engine.safety import (
     CRITERIA,
     FT_PER_M,
     assess,
@@ -237,7 +237,7 @@ def steel40():
 
 def test_delta_v_over_the_contact_is_extracts_vehicle_contact_lost(steel40):
     from deck_emulator.engine import EmulatorEngine
-    from deck_emulator.studies.safety import assess_outcome
+    from deck_emulator.engine.safety import assess_outcome
 
     deck, run, out = steel40
     m = assess_outcome(EmulatorEngine().run(deck))
@@ -256,7 +256,7 @@ def test_summary_block_from_a_plain_emulator_run(steel40):
     import json
 
     from deck_emulator.engine import EmulatorEngine
-    from deck_emulator.studies.safety import assess_outcome, summary
+    from deck_emulator.engine.safety import assess_outcome, summary
 
     deck, run, _ = steel40
     engine = EmulatorEngine()

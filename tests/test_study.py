@@ -157,11 +157,11 @@ def test_jobs_must_be_positive():
 
 def test_energy_helpers_on_a_plain_run():
     from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.studies.common import emulator_energies, run_emulator
+    from deck_emulator.studies.common import energies, run_emulator
 
     deck = read_deck(DECK)
     out = run_emulator(deck)
     assert out["status"] == "hit"
-    e = emulator_energies(out["run"], deck)
+    e = energies(out)
     assert np.isfinite(e["launch_ke_ftlb"]) and e["launch_ke_ftlb"] > 0
     assert 0 < e["free_drift"] < 0.05  # the explicit scheme gains a little energy in free flight

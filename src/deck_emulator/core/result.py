@@ -114,7 +114,9 @@ class CoreResult:
     * ``hit`` -- :class:`Hit` or ``None`` (nothing hit before ``t_max_s``).
     * ``first_spring_lost_s``, ``vehicle_contact_lost_s`` -- the listing's two messages.
     * ``delta_v_contact_mph`` -- speed the car lost during contact (positive: slowed down), mph.
-    * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact.
+    * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact;
+      ``max_decel_after_startup_g`` -- the same after the start-up kick (the listing's device
+      of 10,000 lb over its first steps is not an impact force; its printed FSA starts after).
     * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire)
       at the hit in the report's XL, YL, ZL axes (origin
       at the base of the support: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``;
@@ -151,6 +153,7 @@ class CoreResult:
     notes: tuple[str, ...] = ()
     no_hit_reason: str | None = None
     ground_passage: dict | None = None
+    max_decel_after_startup_g: float | None = None
 
     @property
     def hit_message(self) -> str | None:

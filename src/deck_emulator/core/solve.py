@@ -428,12 +428,15 @@ class _Run:
 
     # -- summary
 
-    def max_vehicle_force(self):
-        """Largest force on the car over the contact segments: (lb, time s)."""
+    def max_vehicle_force(self, after_startup: bool = False):
+        """Largest force on the car over the contact segments: (lb, time s); with
+        ``after_startup``, over those after the start-up kick's window."""
         m = self.model
         best = (-math.inf, None)
         for seg in self.segments:
             if seg.phase != "contact" or seg.t1 <= seg.t0:
+                continue
+            if after_startup and seg.mode is not None and seg.mode.window is not None:
                 continue
             mode = seg.mode
             ts = np.asarray(seg.solution.ts)
@@ -477,7 +480,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
     m = run.model
     traj = Trajectory(run.segments, m)
     end = run.hit.time_s if run.hit else traj.t_end
-    delta_v = max_g = max_t = None
+    delta_v = max_g = max_t = max_g_after = None
     notes = list(run.notes)
     t_release = run.vehicle_lost
     if t_release is None and run.hit_in_contact:
@@ -491,6 +494,9 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
             notes.append("no largest deceleration: the contact lasted no time")
         elif m.gravity > 0.0:
             max_g = float(f) / (m.vehicle_mass * m.gravity)
+            f_after, _ = run.max_vehicle_force(after_startup=True)
+            if math.isfinite(f_after):
+                max_g_after = float(f_after) / (m.vehicle_mass * m.gravity)
         else:
             max_t = None
             notes.append(
@@ -554,6 +560,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         notes=tuple(notes),
         no_hit_reason=reason,
         ground_passage=passage,
+        max_decel_after_startup_g=max_g_after,
     )
 
 

@@ -2,14 +2,39 @@
 
 ``scene -> engine -> outcome``: an :class:`EmulatorEngine` (the 1967 program on a card deck)
 or a :class:`CoreEngine` (the modern core on a deck or a typed scene) turns its input into one
-:class:`Outcome`.  Studies, pictures and the CLI use engines only through this package; the
-errata policy lives in :mod:`.errata`.
+:class:`Outcome`; :mod:`.quantities` is the one registry of what is computed from an outcome
+(names, units, definitions), :mod:`.safety` the occupant-risk and clearance readings it uses,
+:mod:`.energy` the post's energies.  Studies, pictures and the CLI use engines only through
+this package; the errata policy lives in :mod:`.errata`.
+
+Names are imported when first used, so that the command line's start-up (which reads the
+registry's definitions for its help) loads neither the engines nor numpy.
 """
 
-from . import errata
-from .engines import (ENGINES, CoreEngine, EmulatorEngine, core_events, engine_for, run_engine,
-                      source_name)
-from .outcome import Outcome
+import importlib
 
-__all__ = ["ENGINES", "CoreEngine", "EmulatorEngine", "Outcome", "core_events", "engine_for",
-           "errata", "run_engine", "source_name"]
+_WHERE = {
+    "ENGINES": "engines", "CoreEngine": "engines", "EmulatorEngine": "engines",
+    "core_events": "engines", "engine_for": "engines", "run_engine": "engines",
+    "source_name": "engines", "Outcome": "outcome",
+}
+_MODULES = ("errata", "quantities", "safety", "energy", "assemblies")
+
+__all__ = ["ENGINES", "CoreEngine", "EmulatorEngine", "Limits", "Outcome", "core_events",
+           "engine_for", "errata", "quantities", "run_engine", "source_name"]
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        return getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
+    if name in _MODULES:
+        return importlib.import_module(f".{name}", __name__)
+    if name == "Limits":  # the emulator's bounds on what the listing leaves unbounded
+        from deck_emulator.legacy.emulator import Limits
+
+        return Limits
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_WHERE) + list(_MODULES) + ["Limits"])

@@ -53,7 +53,9 @@ class EmulatorEngine:
     """The 1967 program. ``precision``: ``double``, ``single`` or ``ibm7094`` (with the
     7094's ``arithmetic_options``); ``errata`` as requested (default: as printed); the
     options of :class:`deck_emulator.legacy.emulator.Program` (``step_scale_k``,
-    ``ed_tolerance``, ``tha_start``, ``limits``); ``trace``: build the trajectory arrays."""
+    ``ed_tolerance``, ``tha_start``, ``limits``); ``trace``: build the trajectory arrays;
+    ``record_defects``: an exception that is not one of the emulator's guards (a defect of
+    ours) ends the run as guard ``"crash"`` instead of propagating (the studies record it)."""
 
     precision: str = "double"
     errata: tuple[str, ...] = ()
@@ -63,6 +65,7 @@ class EmulatorEngine:
     limits: object = None
     arithmetic_options: dict = field(default_factory=dict)
     trace: bool = True
+    record_defects: bool = False
     name = "emulator"
 
     def arithmetic(self):
@@ -87,16 +90,23 @@ class EmulatorEngine:
         program = self.program(deck)
         if watch is not None:
             watch(program)
-        error = None
+        error = defect = None
         try:
             run = program.run()
         except EmulatorError as exc:
             run, error = exc.run, exc
+        except Exception as exc:  # noqa: BLE001 - recorded only when asked (record_defects)
+            if not self.record_defects:
+                raise
+            run = program.run_
+            defect = f"{type(exc).__name__}: {exc} (label {program.label}, step {program.step})"
         out = self.outcome(run, deck, name=name)
         out.run_s = time.perf_counter() - started
         if error is not None:
             out.error, out.guard = str(error), error.guard
             out.hint = errata_policy.hint(error.guard, run.errata)
+        elif defect is not None:
+            out.error, out.guard = defect, "crash"
         return out
 
     def outcome(self, run, deck, *, name: str = "") -> Outcome:
@@ -106,6 +116,10 @@ class EmulatorEngine:
                       settings=f"arithmetic {run.arithmetic}; errata: "
                       f"{errata_policy.describe(run.errata)}", raw=run)
         out.events = list(run.events)
+        if out.hit is not None:
+            from deck_emulator.legacy.printer import event_message
+
+            out.hit_message = event_message(out.hit)
         if self.trace and run.trace:
             _emulator_arrays(out, run.trace, d)
         _printed_quantities(out, run, deck)
@@ -149,6 +163,9 @@ def _emulator_arrays(out: Outcome, rows, d) -> None:
         with np.errstate(divide="ignore", invalid="ignore"):
             out.pulse_g = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
         out.delta_v_contact_mph = ft_s_to_mph(abs(d["VVB"]) - abs(float(vc[-1])))
+    fs = [r["FS"] for r in rows if r["phase"] == "contact" and "FS" in r]
+    if fs and d["WV"] * d["G"] != 0:
+        out.max_decel_every_step_g = max(fs) / (d["WV"] * d["G"])
 
 
 def _printed_quantities(out: Outcome, run, deck) -> None:
@@ -244,14 +261,17 @@ def core_events(result) -> list[Event]:
 class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
     ``options``: a :class:`~deck_emulator.core.scene.ModelOptions` instead of a preset;
-    ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's; ``sample_contact_s``, ``sample_free_s``: the
-    grid the outcome's arrays are sampled on."""
+    ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's
+    (default: the core's); ``t_max_s``: simulated time at most (default: the core's);
+    ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
+    ``trace``: sample them at all."""
 
     preset: str = "legacy"
     options: object = None
     method: str = "auto"
     rtol: float | None = None
     atol: float | None = None
+    t_max_s: float | None = None
     sample_contact_s: float = 0.0002
     sample_free_s: float = 0.001
     trace: bool = True
@@ -276,9 +296,10 @@ class CoreEngine:
         from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, simulate
         from deck_emulator.core.pair_hits import joint_ground_hit
 
+        bounds = {} if self.t_max_s is None else {"t_max_s": self.t_max_s}
         return joint_ground_hit(
             simulate(self.scene(source), self.model_options(), method=self.method,
-                     rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL))
+                     rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, **bounds))
 
     def settings(self) -> str:
         opts = self.model_options()
@@ -289,6 +310,20 @@ class CoreEngine:
         """Run ``source`` (a deck or a scene); ``scene``: run this scene instead, keeping the
         deck ``source``'s values for the outcome (a deck with changes the deck cannot hold,
         such as the base's friction)."""
+        return self._run(source, name, lambda: self.simulate(scene if scene is not None
+                                                             else source))
+
+    def run_free_flight(self, scene, state, t0_s: float, *, name: str = "") -> Outcome:
+        """Free flight of ``scene``'s post from ``state`` (the core's 15 numbers) at ``t0_s``
+        until the first hit or ``t_max_s``: the crash test's Table 9 starts from Table 8's
+        state at 70 ms."""
+        from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, free_flight
+
+        return self._run(scene, name, lambda: free_flight(
+            scene, state, t0_s, self.model_options(), method=self.method,
+            rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, t_max_s=self.t_max_s))
+
+    def _run(self, source, name: str, solve) -> Outcome:
         from deck_emulator.core import CoreError
 
         from deck_emulator.core.scene import Scene
@@ -298,16 +333,19 @@ class CoreEngine:
         out = Outcome("core", name or source_name(source), values, settings=self.settings())
         started = time.perf_counter()
         try:
-            r = self.simulate(scene if scene is not None else source)
+            r = solve()
         except (CoreError, ValueError, ArithmeticError) as exc:
             out.error = f"{type(exc).__name__}: {exc}"
             out.run_s = time.perf_counter() - started
             return out
         out.run_s = time.perf_counter() - started
+        out.hit_message = r.hit_message
         out.raw = r
         out.events = core_events(r)
         out.delta_v_contact_mph = r.delta_v_contact_mph
-        out.max_decel_g = r.max_decel_g
+        out.max_decel_g = (r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None
+                           else r.max_decel_g)
+        out.max_decel_every_step_g = r.max_decel_g
         out.terminal = {k: v for k, v in r.terminal_points_ft.items() if v is not None}
         cap = next((e.time_s for e in out.events if e.kind is EventKind.FORCE_CAP), None)
         if cap is not None:  # the report's ΔV: at the force cap (extract's crush_pulse_end)
@@ -324,9 +362,10 @@ class CoreEngine:
         lost = out.vehicle_contact_lost_s
         t_c = lost if lost is not None else t_end
         edges = [s.t0 for s in traj.segments] + [s.t1 for s in traj.segments]
-        grid = np.concatenate([np.arange(0.0, t_c, self.sample_contact_s),
+        t0 = float(traj.t_start)  # 0, or where a free flight was started
+        grid = np.concatenate([np.arange(t0, t_c, self.sample_contact_s),
                                np.arange(t_c, t_end, self.sample_free_s), edges, [t_c, t_end]])
-        t = np.unique(np.clip(grid, 0.0, t_end))
+        t = np.unique(np.clip(grid, t0, t_end))
         out.t = t
         allp = traj.points(t)
         out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C", "U") if k in allp}

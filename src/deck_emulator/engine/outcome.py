@@ -24,12 +24,16 @@ class Outcome:
       car's position and velocity along XV; ``free``: the free-flight samples.
     * ``pulse_t``, ``pulse_g``: the car's deceleration (g) over the contact phase.
     * ``events``: :class:`~deck_emulator.events.Event` in time order; ``hit``: the last one
-      if it is a hit.
+      if it is a hit; ``hit_message``: the hit as the listing words it ("THE POST HAS HIT
+      THE GROUND WITH POINT R"; the core's own for what the listing cannot say).
     * ``delta_v_crush_mph``: the speed the car lost by the end of the crush pulse (the spring
       force first capped at FCONST), the report's "DECREASE IN VEHICLE VELOCITY";
       ``delta_v_contact_mph``: the speed lost by the end of contact with the post.
     * ``max_decel_g``: the report's maximum deceleration (emulator: the largest *printed*
-      FSA/(WV*G), as the report read it; core: its continuous maximum).
+      FSA/(WV*G), as the report read it; core: its continuous maximum after the start-up
+      kick); ``max_decel_every_step_g``: over every accepted step of the emulator, start-up
+      included, and the core's continuous maximum likewise (the quantities and their
+      definitions: :mod:`deck_emulator.engine.quantities`).
     * ``terminal``: P, Q, R, C (and U) at the hit in the report's XL, YL, ZL axes (ft).
     * ``flags``: sentences naming what is physically absurd in an answer the engine gave
       (a hit with a point under the ground, a delta-V above the car's speed ...); the
@@ -52,9 +56,11 @@ class Outcome:
     pulse_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
     pulse_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
     events: list[Event] = field(default_factory=list)
+    hit_message: str | None = None
     delta_v_crush_mph: float | None = None
     delta_v_contact_mph: float | None = None
     max_decel_g: float | None = None
+    max_decel_every_step_g: float | None = None
     terminal: dict = field(default_factory=dict)
     error: str | None = None
     flags: list[str] = field(default_factory=list)
@@ -62,6 +68,8 @@ class Outcome:
     hint: str = ""
     run_s: float = 0.0
     raw: object = field(default=None, repr=False)
+    #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance)
+    cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     # -- events ---------------------------------------------------------------------------
 
@@ -109,6 +117,21 @@ class Outcome:
         d = self.values
         p = np.asarray(p, dtype=float)
         return p - np.array([d["XQO"], d["YYQO"], -d["HEIGHT"]])
+
+    def point_l(self, name: str, t: float) -> tuple[float, float, float] | None:
+        """The post's point ``name`` at ``t`` in the report's XL, YL, ZL axes: the core's
+        dense solution, the emulator's nearest accepted step (None outside the run or for a
+        point the post lacks)."""
+        if self.engine == "core" and self.raw is not None:
+            traj = self.raw.trajectory
+            if name not in traj.point_names or not traj.t_start <= t <= traj.t_end:
+                return None
+            p = traj.point(name, t)
+        else:
+            if name not in self.points or not self.t.size or t > self.t[-1]:
+                return None
+            p = self.points[name][self.at(t)]
+        return tuple(float(x) for x in self.to_l(p))
 
     def contact_history(self):
         """(t, vv) up to the end of the contact with the car (the whole run if it never ends)."""

@@ -1,8 +1,9 @@
 """What the commands answer: one vocabulary, a table a person reads, the same content as JSON.
 
 Every quantity a command prints has one name (the JSON key), one label, one unit and one
-number of digits, all in :data:`QUANTITIES`; the table and the JSON are both built from the
-same answer dict, so they cannot disagree.  The JSON schema is documented in ``docs/json.md``
+number of digits, all in the registry :data:`deck_emulator.engine.quantities.QUANTITIES`,
+which also defines its value; the table and the JSON are both built from the same answer
+dict, so they cannot disagree.  The JSON schema is documented in ``docs/json.md``
 (a test checks that every name here is listed there).
 
 Digits: positions as the printout gives them (five decimals, ft); speed changes and
@@ -13,73 +14,18 @@ decelerations as the report tabulates them (two decimals); times in ms with one 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+
+from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.
 SCHEMA = 1
 
-
-@dataclass(frozen=True)
-class Quantity:
-    label: str
-    unit: str
-    digits: int
-    definition: str
-    scale: float = 1.0  # shown = value * scale (s -> ms)
-
-    def show(self, value) -> str:
-        if value is None or (isinstance(value, float) and math.isnan(value)):
-            return "-"
-        return f"{value * self.scale:.{self.digits}f}"
-
-
-#: The one vocabulary: JSON name -> label, unit as shown, digits, definition.
-QUANTITIES: dict[str, Quantity] = {
-    "hit_time_s": Quantity("post hits", "ms", 1, "time of the hit that ends the run", 1000.0),
-    "delta_v_crush_mph": Quantity(
-        "speed lost, crush pulse (report's ΔV)", "mph", 2,
-        "the speed the car has lost by the end of the crush pulse (the spring force first "
-        "capped at FCONST): the report's DECREASE IN VEHICLE VELOCITY, Tables 11 and 12"),
-    "delta_v_contact_mph": Quantity(
-        "speed lost, whole contact", "mph", 2,
-        "the speed the car has lost by the end of its contact with the post"),
-    "max_decel_g": Quantity(
-        "largest deceleration of the car", "g", 2,
-        "emulator: the largest printed FSA/(WV*G), as the report read it; core: the "
-        "largest over its continuous solution"),
-    "max_decel_every_step_g": Quantity(
-        "largest deceleration, every step", "g", 4,
-        "diff: the largest FS/(WV*G) over every accepted step of the emulator (not only the "
-        "printed ones), and the core's continuous maximum"),
-    "max_decel_10ms_g": Quantity(
-        "largest 10 ms average deceleration", "g", 2,
-        "the largest average deceleration of the car over any 10 ms window"),
-    "oiv_m_s": Quantity(
-        "occupant impact velocity (OIV)", "m/s", 2,
-        "flail-space model (0.6 m): the occupant's speed relative to the car when it "
-        "strikes the interior"),
-    "ora_g": Quantity(
-        "occupant ridedown acceleration (ORA)", "g", 2,
-        "the largest 10 ms average deceleration of the car after the occupant strikes"),
-    "occupant_strike_time_s": Quantity(
-        "occupant strikes the interior", "ms", 1, "flail-space model: when the occupant "
-        "has moved 0.6 m relative to the car (none: never)", 1000.0),
-    "body_clearance_ft": Quantity(
-        "least clearance above the car body", "ft", 3,
-        "the post's least height above the car's outline (hood, roof, trunk) while over it"),
-    "roof_clearance_ft": Quantity(
-        "least clearance above the roof", "ft", 3,
-        "the same over the passenger compartment only"),
-}
-
 #: The terminal points' coordinates (ft, the printout's five decimals).
 POINT_DIGITS = 5
-
-
-def definitions_help() -> str:
-    """The two ΔVs, for ``--help``."""
-    return "; ".join(f"{k}: {QUANTITIES[k].definition}"
-                     for k in ("delta_v_crush_mph", "delta_v_contact_mph"))
+#: What summary and core print: the outcome, then the occupant risk.
+OUTCOME = ("hit_time_s", "delta_v_crush_mph", "delta_v_contact_mph", "max_decel_g")
+OCCUPANT_RISK = ("oiv_m_s", "ora_g", "max_decel_10ms_g", "occupant_strike_time_s",
+                 "body_clearance_ft", "roof_clearance_ft")
 
 
 def _finite(x):
@@ -95,7 +41,7 @@ def _finite(x):
 def criteria_answer() -> dict:
     """The limits the occupant-risk numbers are judged by, each with its citation; only
     those that can be cited (see docs/safety.md for the unconfirmed ones)."""
-    from deck_emulator.studies.safety import CRITERIA
+    from deck_emulator.engine.safety import CRITERIA
 
     names = {"oiv": "oiv_m_s", "ora": "ora_g"}
     return {k: {"quantity": names.get(k, k), "preferred": c.preferred, "maximum": c.maximum,
@@ -104,29 +50,14 @@ def criteria_answer() -> dict:
 
 
 def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
-    """An engine's :class:`Outcome` as the answer of ``summary`` or ``core``."""
-    from deck_emulator.studies import safety
+    """An engine's :class:`Outcome` as the answer of ``summary``, ``core`` or ``assembly``:
+    the registry's quantities, read from the outcome."""
+    from deck_emulator.engine import quantities
 
-    quantities = {
-        "hit_time_s": _finite(out.hit_time_s),
-        "delta_v_crush_mph": _finite(out.delta_v_crush_mph),
-        "delta_v_contact_mph": _finite(out.delta_v_contact_mph),
-        "max_decel_g": _finite(out.max_decel_g),
-    }
+    quantities_ = quantities.values(out, OUTCOME)
     risk = None
-    try:
-        m = safety.assess_outcome(out) if out.values and out.t.size else None
-        c = safety.clearance_of(out) if out.values and out.t.size else None
-    except (ValueError, ArithmeticError, KeyError):
-        m = c = None
-    if m is not None:
-        risk = {"oiv_m_s": _finite(m.oiv_m_s), "ora_g": _finite(m.ora_g),
-                "max_decel_10ms_g": _finite(m.max_decel_10ms_g),
-                "occupant_strike_time_s": _finite(m.occupant_strike_time_s),
-                "body_clearance_ft": _finite(c.body_ft) if c else None,
-                "roof_clearance_ft": _finite(c.roof_ft) if c else None}
-    if out.delta_v_contact_mph is None and m is not None:
-        quantities["delta_v_contact_mph"] = _finite(m.delta_v_contact_mph)
+    if out.values and out.t.size and quantities.value("oiv_m_s", out) is not None:
+        risk = quantities.values(out, OCCUPANT_RISK)
     terminal = {k: [round(float(v), POINT_DIGITS) for v in p]
                 for k, p in (out.terminal or {}).items() if p is not None}
     return {
@@ -137,7 +68,7 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
         "settings": settings,
         "errata": list(out.errata),
         "events": [e.as_dict() for e in out.events],
-        "quantities": quantities,
+        "quantities": quantities_,
         "terminal_xl_yl_zl_ft": terminal,
         "occupant_risk": risk,
         "criteria": criteria_answer() if risk is not None else None,

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from deck_emulator.files import OutputSet, check_output_file
-from deck_emulator.studies import safety
+from deck_emulator.engine import safety
 from deck_emulator.engine import ENGINES, Outcome, engine_for
 from deck_emulator.events import EventKind
 from deck_emulator.units import ft_s_to_mph

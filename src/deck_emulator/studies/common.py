@@ -1,11 +1,11 @@
-"""What both studies share: one emulator run, one core run, energies, the machine, the files.
+"""What both studies share: one emulator run, one core run (each through the engine layer),
+energies, the machine, the files.
 
-An emulator run here is :class:`~deck_emulator.legacy.emulator.Program` with its trace rows extended by
-the body velocities ``V1, V2, V3`` and angular velocities ``W1, W2, W3`` of the step (the
-listing's ``V1A ...`` in contact, ``V1FA ...`` in free flight), so that the kinetic energy of
-every accepted step is known.  Every failure is caught and described: a guard of the emulator
-(:class:`~deck_emulator.legacy.emulator.EmulatorError` with its ``guard``) or any other exception (an
-emulator defect: ``guard = "crash"``).
+An emulator run keeps the program's trace, whose rows carry the body velocities ``V1, V2, V3``
+and angular velocities ``W1, W2, W3`` of every accepted step, so that the energies of
+:mod:`deck_emulator.engine.energy` are known.  Every failure is caught and described: a guard
+of the emulator (its name in ``guard``) or any other exception (an emulator defect:
+``guard = "crash"``, :attr:`~deck_emulator.engine.EmulatorEngine.record_defects`).
 """
 
 from __future__ import annotations
@@ -21,15 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.engine import EmulatorEngine, errata as errata_policy
-from deck_emulator.studies.diff import legacy_options
-from deck_emulator.core import kinetic_energy, simulate
+from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
 from deck_emulator.files import write_file
 from deck_emulator.studies.csvfile import csv_text, csv_value
-from deck_emulator.legacy.emulator import EmulatorError, Limits
-from deck_emulator.legacy.printer import event_message
+from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
 
-H0 = 0.0004  # the listing's step, s
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
 #: (no effect at alpha = 0 on steel40, needed by every angled deck); said in each README
 ERRATA = (errata_policy.ED_DIRECTION,)
@@ -49,39 +45,33 @@ def default_deck() -> Path:
 # --------------------------------------------------------------------------- the emulator
 
 
-_DEFAULT_LIMITS = Limits()
-
-
 def run_emulator(deck, *, precision="double", k=0, tha_start=None, ed_tolerance=".0001",
-                 limits=_DEFAULT_LIMITS, errata=ERRATA) -> dict:
-    """One emulator run -> {status, guard, error, run, wall_s}.
+                 limits=None, errata=ERRATA) -> dict:
+    """One emulator run through the engine layer -> {status, guard, error, run, wall_s,
+    outcome}.
 
     ``status``: ``"hit"`` (ended by a hit message), ``"guard"`` (a guard of the emulator fired:
     ``guard`` is its name), ``"crash"`` (any other exception: a defect), ``"stop"`` (ended
-    without a hit message)."""
-    prog = EmulatorEngine(precision=precision, errata=errata, step_scale_k=k, tha_start=tha_start,
-                          ed_tolerance=ed_tolerance, limits=limits).program(deck)
-    started = time.perf_counter()
-    status, guard, error = "stop", "", ""
-    try:
-        run = prog.run()
-    except EmulatorError as exc:
-        run, status, guard = prog.run_, "guard", exc.guard or "?"
-        error = str(exc)
-    except Exception as exc:  # noqa: BLE001 - an emulator defect, recorded as such
-        run, status, guard = prog.run_, "crash", "crash"
-        error = f"{type(exc).__name__}: {exc} (label {prog.label}, step {prog.step})"
-    wall = time.perf_counter() - started
-    if status == "stop" and run.events and run.events[-1].is_hit:
-        status = "hit"
-    return {"status": status, "guard": guard, "error": error, "run": run, "wall_s": wall}
+    without a hit message). ``run``: the program's own record (its trace), ``wall_s`` the
+    program's run time."""
+    out = EmulatorEngine(precision=precision, errata=errata, step_scale_k=k, tha_start=tha_start,
+                         ed_tolerance=ed_tolerance, limits=limits,
+                         record_defects=True).run(deck)
+    if out.guard == "crash":
+        status, guard = "crash", "crash"
+    elif out.error is not None:
+        status, guard = "guard", out.guard or "?"
+    else:
+        status, guard = ("hit" if out.hit is not None else "stop"), ""
+    return {"status": status, "guard": guard, "error": out.error or "", "run": out.raw,
+            "wall_s": out.run_s, "outcome": out}
 
 
-def emulator_hit(run) -> tuple[str, float | None]:
-    """The hit as the line printer wrote it, and its time ('', None without a hit)."""
-    if run.events and run.events[-1].is_hit:
-        return event_message(run.events[-1]), run.events[-1].time_s
-    return "", None
+def emulator_hit(run_out: dict) -> tuple[str, float | None]:
+    """The hit of a :func:`run_emulator` run as the line printer wrote it, and its time ('',
+    None without a hit)."""
+    out = run_out["outcome"]
+    return (out.hit_message or "", out.hit_time_s) if out.hit is not None else ("", None)
 
 
 def emulator_trajectory(run) -> tuple[np.ndarray, np.ndarray]:
@@ -91,50 +81,37 @@ def emulator_trajectory(run) -> tuple[np.ndarray, np.ndarray]:
     return t, xyz.reshape(3, -1)
 
 
-def emulator_energies(run, deck) -> dict:
-    """Kinetic energy of the post when the car lets go, and the free-flight energy drift.
-
-    ``launch_ke_ftlb``: kinetic energy at the last contact step.  ``free_drift``: (E_end -
-    E_start) / E_start over the free-flight steps, E = kinetic + W G (ZZ + HEIGHT)."""
-    d = deck.values
-    mass, g, depth = d["W"], d["G"], d["HEIGHT"]
-    inertia = (d["A"], d["B"], d["C"])
-
-    def energy(row, potential=True):
-        ke = 0.5 * mass * (row["V1"] ** 2 + row["V2"] ** 2 + row["V3"] ** 2) + 0.5 * (
-            inertia[0] * row["W1"] ** 2 + inertia[1] * row["W2"] ** 2 + inertia[2] * row["W3"] ** 2)
-        return ke + (mass * g * (row["ZZCM"] + depth) if potential else 0.0)
-
-    contact = [r for r in run.trace if r["phase"] == "contact"]
-    free = [r for r in run.trace if r["phase"] != "contact"]
-    out = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
-    if contact and free:
-        out["launch_ke_ftlb"] = energy(contact[-1], potential=False)
-    if len(free) >= 2:
-        e0, e1 = energy(free[0]), energy(free[-1])
-        out["free_drift"] = (e1 - e0) / e0 if e0 else math.nan
-    return out
+def energies(run_out: dict) -> dict:
+    """The launch energy and the free-flight energy drift of a :func:`run_emulator` or
+    :func:`run_core` run (:mod:`deck_emulator.engine.energy`, the registry's definitions)."""
+    return {k: quantities.value(name, run_out["outcome"])
+            for k, name in (("launch_ke_ftlb", "launch_ke_ftlb"),
+                            ("free_drift", "free_flight_energy_drift"))}
 
 
 # --------------------------------------------------------------------------- the core
 
 
 def run_core(scene, options, *, method="DOP853", rtol=1e-9, atol=None, t_max_s=10.0) -> dict:
-    """One core run -> {status, error, result, wall_s}; ``status`` "hit", "no hit" (t_max
-    reached) or "error" (CoreError or any exception, in ``error``)."""
+    """One core run through the engine layer -> {status, error, result, wall_s, warnings,
+    outcome}; ``status`` "hit", "no hit" (t_max reached) or "error" (CoreError or any
+    exception, in ``error``)."""
+    engine = CoreEngine(options=options, method=method, rtol=rtol,
+                        atol=rtol if atol is None else atol, t_max_s=t_max_s, trace=False)
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            result = simulate(scene, options, method=method, rtol=rtol,
-                              atol=rtol if atol is None else atol, t_max_s=t_max_s)  # the core's
-            # own call: the studies need its t_max_s and its warnings, not an Outcome
-        except Exception as exc:  # noqa: BLE001 - CoreError or a defect: recorded
+            out = engine.run(scene)
+        except Exception as exc:  # noqa: BLE001 - a defect: recorded
             return {"status": "error", "error": f"{type(exc).__name__}: {exc}", "result": None,
-                    "wall_s": time.perf_counter() - started, "warnings": _warnings(caught)}
-    wall = time.perf_counter() - started
-    return {"status": "hit" if result.hit else "no hit", "error": "", "result": result,
-            "wall_s": wall, "warnings": _warnings(caught)}
+                    "wall_s": time.perf_counter() - started, "warnings": _warnings(caught),
+                    "outcome": None}
+    if out.error is not None:
+        return {"status": "error", "error": out.error, "result": None, "wall_s": out.run_s,
+                "warnings": _warnings(caught), "outcome": out}
+    return {"status": "hit" if out.hit is not None else "no hit", "error": "", "result": out.raw,
+            "wall_s": out.run_s, "warnings": _warnings(caught), "outcome": out}
 
 
 def _warnings(caught) -> str:
@@ -145,31 +122,6 @@ def _warnings(caught) -> str:
         if text not in seen:
             seen.append(text)
     return "; ".join(seen)
-
-
-def core_energies(result) -> dict:
-    """As :func:`emulator_energies`, for a core run (the car lets go at
-    ``vehicle_contact_lost_s``; free flight ends at the hit or at the end of the run)."""
-    out = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
-    t0 = result.vehicle_contact_lost_s
-    if t0 is None:
-        return out
-    post = result.scene.post
-    mass, inertia = post.mass_slug, post.principal_inertia_slug_ft2
-    g, depth = result.scene.environment.gravity_ft_s2, result.scene.environment.ground_depth_ft
-    traj = result.trajectory
-    t1 = min(result.end_time_s, traj.t_end)
-
-    def energy(t, potential=True):
-        y = traj.state(t)
-        ke = float(kinetic_energy(y[:13], mass, inertia))
-        return ke + (mass * g * float(y[2] + depth) if potential else 0.0)
-
-    out["launch_ke_ftlb"] = energy(t0, potential=False)
-    if t1 > t0:
-        e0 = energy(t0)
-        out["free_drift"] = (energy(t1) - e0) / e0 if e0 else math.nan
-    return out
 
 
 # --------------------------------------------------------------------------- timing, processes

@@ -24,7 +24,7 @@ import numpy as np
 
 from deck_emulator.units import G_FT_S2
 
-from deck_emulator.core import PHYSICAL, free_flight, simulate
+from deck_emulator.engine import CoreEngine
 from deck_emulator.core.assembly import load_assembly
 from deck_emulator.core.scene import (
     BreakawayBase,
@@ -113,10 +113,22 @@ def state_row(result, t: float) -> dict:
     }
 
 
+#: The crash test's runs: the physical preset at tight tolerances.
+def _engine(t_max_s: float) -> CoreEngine:
+    return CoreEngine(preset="physical", rtol=1e-10, atol=1e-10, t_max_s=t_max_s, trace=False)
+
+
+def _result(out):
+    """The core's result of an outcome; a run that could not end is an error here."""
+    if out.error is not None:
+        raise RuntimeError(f"the crash test's run did not end: {out.error}")
+    return out.raw
+
+
 def table10(scene: Scene | None = None, *, t_max_s: float = 0.6):
     """(result, row at the loss of contact, row at 70 ms) of a full run of the scene."""
     scene = scene or crash_scene()
-    res = simulate(scene, PHYSICAL, t_max_s=t_max_s, rtol=1e-10, atol=1e-10)
+    res = _result(_engine(t_max_s).run(scene))
     t_loss = res.vehicle_contact_lost_s
     return res, (state_row(res, t_loss) if t_loss is not None else None), state_row(res, 0.070)
 
@@ -141,5 +153,5 @@ def table9(scene: Scene | None = None, *, vv_ft_s: float, t_end_s: float = 0.273
     scene = scene or crash_scene()
     free_scene = dataclasses.replace(scene, vehicle=dataclasses.replace(
         scene.vehicle, body=None))
-    return free_flight(free_scene, table9_state(TABLE8, vv_ft_s), 0.070, PHYSICAL,
-                       t_max_s=t_end_s, rtol=1e-10, atol=1e-10)
+    return _result(_engine(t_end_s).run_free_flight(free_scene, table9_state(TABLE8, vv_ft_s),
+                                                     0.070))

@@ -7,9 +7,12 @@ Both give the same quantities under the same definitions:
 * ``delta_v_contact_mph``: the speed the car lost up to loss of contact with the vehicle
   (the report's tables give ``delta_v_crush_mph``, by the end of the crush pulse: see
   ``deck-emulator summary``);
-* ``max_decel_g``: the largest spring force over the car's weight, over every step of the
-  contact phase (the emulator's every accepted step, not only the printed ones);
-* terminal P, Q, R in the report's XL, YL, ZL axes (origin at the base of the support);
+* ``max_decel_every_step_g``: the largest spring force over the car's weight, over every
+  step of the contact phase (the emulator's every accepted step, not only the printed ones;
+  the core's continuous maximum);
+* terminal P, Q, R in the report's XL, YL, ZL axes (origin at the base of the support; the
+  emulator's as its printout gives them);
+(the quantities are the registry's, :mod:`deck_emulator.engine.quantities`)
 * the largest distance between the two mass-centre trajectories, at the emulator's steps.
 
 The convergence table runs the emulator with every "one step" literal divided by 2**k and the
@@ -25,9 +28,7 @@ from dataclasses import replace
 import numpy as np
 
 from deck_emulator.core.scene import LEGACY, StartupKick
-from deck_emulator.engine import CoreEngine, EmulatorEngine, core_events, errata as errata_policy
-from deck_emulator.events import EventKind
-from deck_emulator.units import ft_s_to_mph
+from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
 
 
 class DiffStopped(RuntimeError):
@@ -37,45 +38,18 @@ H0 = 0.0004  # the listing's step, s
 POINTS = ("P", "Q", "R")
 
 
-def _times(events) -> dict:
-    return {e.kind: e.time_s for e in reversed(events)}
+#: The quantities diff sets side by side (the registry's names and definitions).
+QUANTITIES = ("hit_time_s", "first_spring_lost_s", "vehicle_contact_lost_s",
+              "delta_v_contact_mph", "max_decel_every_step_g")
 
 
-def emulator_summary(run, deck) -> dict:
-    """The diff's quantities from one emulator run (its trace and events)."""
-    d = deck.values
-    contact = [r for r in run.trace if r["phase"] == "contact"]
-    times = _times(run.events)
-    last = run.trace[-1]
-    hit = next((e for e in run.events if e.kind is EventKind.HIT), None)
-    terminal = {
-        p: (last[f"X{p}"] - d["XQO"], last[f"YY{p}"] - d["YYQO"], last[f"ZZ{p}"] + d["HEIGHT"])
-        for p in POINTS
-    }
+def outcome_summary(out) -> dict:
+    """The diff's quantities of one engine's outcome: the hit, the registry's
+    :data:`QUANTITIES`, the terminal P, Q, R (XL, YL, ZL, ft)."""
     return {
-        "hit": hit.short() if hit else None,
-        "hit_time_s": hit.time_s if hit else None,
-        "first_spring_lost_s": times.get(EventKind.LOST_FIRST_SPRING),
-        "vehicle_contact_lost_s": times.get(EventKind.LOST_VEHICLE),
-        "delta_v_contact_mph": ft_s_to_mph(abs(d["VVB"]) - abs(contact[-1]["VV"])),
-        "max_decel_every_step_g": max(r["FS"] for r in contact) / (d["WV"] * d["G"]),
-        "terminal_points_xl_yl_zl_ft": terminal,
-    }
-
-
-def core_summary(result) -> dict:
-    """The same quantities from one core run."""
-    events = core_events(result)
-    hit = next((e for e in events if e.kind is EventKind.HIT), None)
-    times = _times(events)
-    return {
-        "hit": hit.short() if hit else None,
-        "hit_time_s": hit.time_s if hit else None,
-        "first_spring_lost_s": times.get(EventKind.LOST_FIRST_SPRING),
-        "vehicle_contact_lost_s": times.get(EventKind.LOST_VEHICLE),
-        "delta_v_contact_mph": result.delta_v_contact_mph,
-        "max_decel_every_step_g": result.max_decel_g,
-        "terminal_points_xl_yl_zl_ft": {p: tuple(result.terminal_points_ft[p]) for p in POINTS},
+        "hit": out.hit.short() if out.hit else None,
+        **quantities.values(out, QUANTITIES),
+        "terminal_points_xl_yl_zl_ft": {p: tuple(out.terminal[p]) for p in POINTS},
     }
 
 
@@ -130,19 +104,19 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
         if out.error:
             hint = f" -- {out.hint}" if out.hint else ""
             raise DiffStopped(f"the emulator stopped at k = {k}: {out.error}{hint}")
-        return out.raw
+        return out
 
     for k in ks:
         h = H0 / 2**k
         if progress:
             progress(f"k = {k}: emulator with H = {h:g} s, core legacy preset with a {h:g} s start-up")
         tol = ed_tolerance(k) if tighten_ed else ".0001"
-        run = emulate(k, precision if k == 0 else "double", tol)
-        try:
-            result = CoreEngine(options=legacy_options(h), rtol=rtol, atol=atol).simulate(scene)
-        except Exception as exc:  # CoreError and the like: one line, not a traceback
-            raise DiffStopped(f"the core stopped at k = {k}: {type(exc).__name__}: {exc}") from None
-        emu, core_row = emulator_summary(run, deck), core_summary(result)
+        em = emulate(k, precision if k == 0 else "double", tol)
+        co = CoreEngine(options=legacy_options(h), rtol=rtol, atol=atol, trace=False).run(scene)
+        if co.error is not None:  # CoreError and the like: one line, not a traceback
+            raise DiffStopped(f"the core stopped at k = {k}: {co.error}")
+        run, result = em.raw, co.raw
+        emu, core_row = outcome_summary(em), outcome_summary(co)
         row = {
             "k": k,
             "h_s": h,
@@ -158,9 +132,9 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, a
         if first is None:
             first = (emu, core_row, row)
             if tighten_ed:  # the side by side is the printed run: redo k = 0 with .0001
-                run0 = emulate(0, precision, ".0001")
-                first = (emulator_summary(run0, deck), core_row, dict(
-                    row, max_trajectory_diff_ft=max_trajectory_distance(run0, result)))
+                em0 = emulate(0, precision, ".0001")
+                first = (outcome_summary(em0), core_row, dict(
+                    row, max_trajectory_diff_ft=max_trajectory_distance(em0.raw, result)))
     if first is None:
         raise DiffStopped("no step size to compare: give --max-k 0 or more")
     emu, core_row, row0 = first

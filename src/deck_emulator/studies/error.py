@@ -26,10 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.core import LEGACY
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.core.scene import Scene
+from deck_emulator.core.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
 from .common import (
@@ -180,7 +179,7 @@ def _task_emulator(spec):
     else:
         walls, wall = [first["wall_s"]], first["wall_s"]
     run = first["run"]
-    message, hit_time = emulator_hit(run)
+    message, hit_time = emulator_hit(first)
     row = {"series": spec["series"], "engine": "emulator", "method": "listing scheme",
            "precision": precision, "k": k, "h_s": H0 / 2**k, "ed_tolerance": tol,
            "status": first["status"], "guard": first["guard"], "error": first["error"],

@@ -16,23 +16,16 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from deck_emulator.core import LEGACY, simulate
-from deck_emulator.core.assembly import (
-    load_assembly,
-    mass_properties,
-    scene_runs_on_listing,
-)
-from deck_emulator.engine.assemblies import to_deck_text, to_deck_values, to_scene
-from deck_emulator.core.pair_hits import joint_ground_hit, terminal_points_xl
+from deck_emulator.core.assembly import load_assembly, mass_properties, scene_runs_on_listing
 from deck_emulator.core.scene import Scene
 from deck_emulator.decks import path as deck_path
-from deck_emulator.legacy.deck import parse_deck, read_deck
-from deck_emulator.engine import EmulatorEngine
+from deck_emulator.engine import CoreEngine, EmulatorEngine, Outcome
+from deck_emulator.engine.assemblies import to_deck_text, to_deck_values, to_scene
 from deck_emulator.engine.errata import ED_DIRECTION
-from deck_emulator.legacy.extract import extract
+from deck_emulator.legacy.deck import parse_deck, read_deck
 from deck_emulator.studies.report_tables import CASES_ALL
 
-__all__ = ["column_inputs", "run_column", "template_deck"]
+__all__ = ["column_inputs", "run_column", "template_deck", "columns_row"]
 
 
 def template_deck(column: str) -> str:
@@ -60,35 +53,34 @@ def column_inputs(column: str):
     return deck, scene
 
 
-@lru_cache(maxsize=None)
+def columns_row(out: Outcome) -> dict:
+    """An engine's outcome of a column, keyed like ``REPORT_ALL``'s fields: the report's ΔV
+    and deceleration (the registry's ``delta_v_crush_mph`` and ``max_decel_g``), the end
+    (the hit as the listing words it) and its time, the terminal points XL, YL, ZL."""
+    row = {"delta_v_crush_mph": out.delta_v_crush_mph, "max_decel_g": out.max_decel_g,
+           "hit": out.hit_message,
+           "time_ms": None if out.hit_time_s is None else 1000 * out.hit_time_s,
+           "error": out.error, "errata": out.errata}
+    for p in ("P", "R", "Q", "U"):
+        xyz = out.terminal.get(p)
+        for i, ax in enumerate("XYZ"):
+            row[f"{ax}{p}L"] = None if xyz is None or xyz[i] is None else float(xyz[i])
+    return row
+
+
 def run_column(column: str) -> dict:
-    """Both engines' numbers of one column, keyed like ``REPORT_ALL``'s fields."""
-    post, mph, alpha, table = CASES_ALL[column]
+    """Both engines' outcomes of one column: ``emulator`` and ``core`` (:func:`columns_row`,
+    ``None`` where the listing cannot carry the post), ``core_outcome`` (the core's
+    :class:`~deck_emulator.engine.Outcome`) and ``listing_refusal`` (why not, or None)."""
     deck, scene = column_inputs(column)
     out: dict = {"column": column, "emulator": None, "core": None,
                  "listing_refusal": scene_runs_on_listing(scene)}
     if deck is not None:
         # requested for every column: the angled ones need it, and it leaves the 0° printouts
         # byte-identical (legacy/CORRECTIONS.md)
-        errata = (ED_DIRECTION,)
-        result = EmulatorEngine(errata=errata, trace=False).run(deck)
-        run, err = result.raw, result.error
-        o = extract(run.text(), deck)
-        em = {"delta_v_crush_mph": o.delta_v_crush_mph, "max_decel_g": o.max_decel_g,
-              "hit": o.hit, "time_ms": None if o.hit_time_s is None else 1000 * o.hit_time_s,
-              "error": err, "errata": errata}
-        for p in ("P", "R", "Q"):
-            pt = o.terminal.get(p)
-            for ax in "XYZ":
-                em[f"{ax}{p}L"] = None if pt is None else getattr(pt, f"{ax}L")
-        out["emulator"] = em
-    res = joint_ground_hit(simulate(scene, LEGACY))
-    pts = terminal_points_xl(res)
-    co = {"delta_v_crush_mph": res.delta_v_contact_mph, "max_decel_g": res.max_decel_g,
-          "hit": res.hit_message, "time_ms": None if res.hit is None else 1000 * res.hit.time_s}
-    for p in ("P", "R", "Q", "U"):
-        for i, ax in enumerate("XYZ"):
-            co[f"{ax}{p}L"] = pts[p][i] if p in pts else None
-    out["core"] = co
-    out["result"] = res
+        em = EmulatorEngine(errata=(ED_DIRECTION,), trace=False).run(deck)
+        out["emulator"] = columns_row(em)
+    co = CoreEngine(preset="legacy", trace=False).run(scene, name=column)
+    out["core"] = columns_row(co)
+    out["core_outcome"] = co
     return out

@@ -25,7 +25,7 @@ Outcomes (each a number per scene; :data:`OUTCOMES`):
   of the contact with the car;
 * ``max_decel_g`` -- the car's largest deceleration (the report's: largest printed FSA/(WV G) on
   the emulator, the continuous maximum on the core);
-* ``oiv_m_s`` -- occupant impact velocity (flail space, :mod:`deck_emulator.studies.safety`);
+* ``oiv_m_s`` -- occupant impact velocity (flail space, :mod:`deck_emulator.engine.safety`);
 * ``roof_clearance_ft`` -- the post's least clearance above the roof (windshield base to the end of
   the top) while it is over it in free flight; a scene in which the post is never over the roof
   has no value, and an outcome with scenes without a value gets no indices (the table says how
@@ -235,12 +235,12 @@ def outcomes_of(row: dict) -> dict:
         "hit_surface": surf or "NONE",
         "hits_car": float(surf in CAR_SURFACES) if hit else None,
         "hits_roof": float(surf in ROOF_SURFACES) if hit else None,
-        "hit_time_ms": row.get("hit_time_ms"),
+        "hit_time_ms": None if row.get("hit_time_s") is None else 1000 * row["hit_time_s"],
         "delta_v_crush_mph": row.get("delta_v_crush_mph"),
         "delta_v_contact_mph": row.get("delta_v_contact_mph"),
         "max_decel_g": row.get("max_decel_g"),
         "oiv_m_s": row.get("oiv_m_s"),
-        "roof_clearance_ft": row.get("margin_roof_ft"),
+        "roof_clearance_ft": row.get("roof_clearance_ft"),
         "engine_error": row.get("error") or "",
         "engine_run_s": row.get("run_s"),
     }

@@ -29,7 +29,7 @@ from deck_emulator.events import EventKind
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.units import FT_S_PER_MPH
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.legacy.emulator import Limits
+from deck_emulator.engine import Limits
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, PHYSICAL, BaseFriction, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
@@ -37,11 +37,10 @@ from .common import (
     ERRATA,
     H0,
     agg_backend,
-    core_energies,
     cpu_count,
     default_deck,
-    emulator_energies,
     emulator_hit,
+    energies,
     emulator_trajectory,
     fmt,
     machine,
@@ -149,16 +148,13 @@ def _task_emulator(spec, deck) -> dict:
                        ed_tolerance=spec["ed_tolerance"])
     run = out["run"]
     t, xyz = emulator_trajectory(run)
-    message, hit_time = emulator_hit(run)
+    message, hit_time = emulator_hit(out)
     release = next((e.time_s for e in run.events if e.kind is EventKind.LOST_VEHICLE), None)
     row = {"emulator_status": out["status"], "emulator_guard": out["guard"],
            "emulator_error": out["error"], "emulator_hit": message, "emulator_hit_s": hit_time,
            "emulator_release_s": release, "emulator_wall_s": out["wall_s"],
            "emulator_steps": len(run.trace), "_t": t, "_xyz": xyz}
-    try:
-        e = emulator_energies(run, deck)
-    except (KeyError, ZeroDivisionError):  # pragma: no cover - partial trace
-        e = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
+    e = energies(out)
     row["emulator_launch_ke_ftlb"], row["emulator_free_drift"] = e["launch_ke_ftlb"], e["free_drift"]
     return row
 
@@ -187,7 +183,7 @@ def _task_core(spec, deck) -> dict:
                physical_hit_s=pres.hit_time_s if pres is not None else None,
                physical_notes="; ".join(getattr(pres, "notes", ())) if pres is not None else "")
     if res is not None:
-        e = core_energies(res)
+        e = energies(out)
         row.update(core_hit=res.hit_message or "", core_hit_s=res.hit_time_s,
                    core_release_s=res.vehicle_contact_lost_s, core_nfev=res.nfev,
                    core_launch_ke_ftlb=e["launch_ke_ftlb"], core_free_drift=e["free_drift"])

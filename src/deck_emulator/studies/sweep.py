@@ -4,7 +4,7 @@ Every (speed, angle) of a grid is one scene: the base deck with VVB and ALPHA ch
 scene is run by one engine, in parallel over worker processes, and written as
 
 * ``sweep.csv`` -- one row per scene: every output (events, hit, the report's quantities, the
-  occupant-risk numbers of :mod:`deck_emulator.studies.safety`, the post's margin above the car) and,
+  occupant-risk numbers of :mod:`deck_emulator.engine.safety`, the post's margin above the car) and,
   where the report has the case, the report's value and our difference;
 * ``sweep.md`` -- laid out like Tables 11 and 12 of the report: one table per speed, a column
   per approach angle, each cell ``ours (report, diff)``.
@@ -40,10 +40,10 @@ from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
 from deck_emulator import decks
-from deck_emulator.engine import Outcome, engine_for
+from deck_emulator.engine import Outcome, engine_for, quantities
 from deck_emulator.events import Surface
 from deck_emulator.legacy.deck import Deck, read_deck
-from deck_emulator.studies import safety
+from deck_emulator.engine import safety
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.report_tables import report_comment
 from deck_emulator.units import FT_PER_MILE, S_PER_HOUR
@@ -154,11 +154,22 @@ def _report_for(name: str, deck: Deck):
     return REPORT[name]
 
 
+#: The registry's quantities a sweep row carries, under their registry names and units.
+ROW_QUANTITIES = (
+    "hit_time_s", "first_spring_lost_s", "vehicle_contact_lost_s", "delta_v_crush_mph",
+    "delta_v_contact_mph", "max_decel_g", "max_decel_every_step_g", "max_decel_10ms_g",
+    "oiv_m_s", "occupant_strike_time_s", "ora_g", "body_clearance_ft", "roof_clearance_ft",
+)
+
+
 def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) -> dict:
-    """Everything one scene gives, as a flat dict of plain values (a CSV row)."""
+    """Everything one scene gives, as a flat dict of plain values (a CSV row): the scene, the
+    run, the registry's quantities (:data:`ROW_QUANTITIES`, names and units of
+    :mod:`deck_emulator.engine.quantities`), where and when the clearances were least, the
+    ratings (none for a run that stopped: its numbers are of a run cut short), and the
+    report's values beside ours."""
     d = res.values
     hit = res.hit
-    ms = lambda s: None if s is None else 1000 * s  # noqa: E731
     row: dict = {
         "scene": res.name,
         "speed_mph": speed_mph,
@@ -172,56 +183,30 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
         "hit": hit.short() if hit else "",
         "hit_point": (hit.point or "") if hit else "",
         "hit_surface": hit.surface.value if hit and hit.surface else "",
-        "hit_time_ms": ms(res.hit_time_s),
-        "first_spring_lost_ms": ms(res.first_spring_lost_s),
-        "vehicle_contact_lost_ms": ms(res.vehicle_contact_lost_s),
-        "delta_v_crush_mph": res.delta_v_crush_mph,
-        "delta_v_contact_mph": res.delta_v_contact_mph,
-        "max_decel_g": res.max_decel_g,
     }
+    row.update(quantities.values(res, ROW_QUANTITIES))
     for p in ("P", "R", "Q", "C"):
         xyz = res.terminal.get(p)
         for i, ax in enumerate("XYZ"):
             row[f"{ax}{p}L"] = None if xyz is None or xyz[i] is None else float(xyz[i])
+    ms = lambda s: None if s is None else 1000 * s  # noqa: E731 - the report's rows are in ms
     on_car = hit is not None and hit.surface is not None and hit.surface.on_car
-    row["time_to_hit_car_ms"] = row["hit_time_ms"] if on_car else None
-    row["time_to_hit_ground_ms"] = row["hit_time_ms"] if hit and hit.surface is Surface.GROUND else None
+    row["time_to_hit_car_ms"] = ms(row["hit_time_s"]) if on_car else None
+    row["time_to_hit_ground_ms"] = (ms(row["hit_time_s"]) if hit and hit.surface is Surface.GROUND
+                                    else None)
     row["comment"] = report_comment(hit) if hit else ("NO HIT" + (f" ({res.error})" if res.error else ""))
     m = safety.assess_outcome(res) if res.t.size else None
-    keys = (
-        "delta_v_contact_ft_s",
-        "delta_v_contact_m_s",
-        "max_decel_g",
-        "max_decel_10ms_g",
-        "oiv_ft_s",
-        "oiv_m_s",
-        "occupant_strike_time_s",
-        "strike_after_contact",
-        "ora_g",
-        "oiv_rating",
-        "ora_rating",
-    )
-    for k in keys:
-        v = getattr(m, k) if m is not None else None
-        if k == "occupant_strike_time_s":
-            row["occupant_strike_ms"] = None if v is None else 1000 * v
-        elif k == "max_decel_g":
-            row["contact_max_decel_g"] = v
-        else:
-            row[k] = v
-    row["oiv_limit_m_s"] = safety.CRITERIA["oiv"].label()
-    row["ora_limit_g"] = safety.CRITERIA["ora"].label()
+    ended = res.error is None
+    row["occupant_strike_after_contact"] = m.strike_after_contact if m is not None else None
+    row["oiv_rating"] = m.oiv_rating if m is not None and ended else ""
+    row["ora_rating"] = m.ora_rating if m is not None and ended else ""
     c = safety.clearance_of(res)
-    row["margin_body_ft"] = c.body_ft if c else None
-    row["margin_body_surface"] = (c.body_surface or "") if c else ""
-    row["margin_body_ms"] = None if c is None or c.body_time_s is None else 1000 * c.body_time_s
-    row["margin_body_where"] = (c.body_where or "") if c else ""
-    row["margin_roof_ft"] = c.roof_ft if c else None
-    row["margin_roof_ms"] = None if c is None or c.roof_time_s is None else 1000 * c.roof_time_s
-    row["margin_roof_where"] = (c.roof_where or "") if c else ""
-    row["line_meets_car_ms"] = (
-        None if c is None or c.touch_time_s is None else 1000 * c.touch_time_s
-    )
+    row["body_clearance_surface"] = (c.body_surface or "") if c else ""
+    row["body_clearance_time_s"] = c.body_time_s if c else None
+    row["body_clearance_where"] = (c.body_where or "") if c else ""
+    row["roof_clearance_time_s"] = c.roof_time_s if c else None
+    row["roof_clearance_where"] = (c.roof_where or "") if c else ""
+    row["line_meets_car_time_s"] = c.touch_time_s if c else None
     row["line_meets_car_surface"] = (c.touch_surface or "") if c else ""
     row["run_s"] = res.run_s
     for key, _, _ in REPORT_ROWS:
@@ -322,6 +307,11 @@ def _num(x, nd=2, signed=False):
     return f"{x:+.{nd}f}" if signed else f"{x:.{nd}f}"
 
 
+def _ms(seconds, nd=1):
+    """Seconds shown in ms (the tables' unit for times)."""
+    return _num(None if seconds is None else 1000 * seconds, nd)
+
+
 def _cell(row, key, nd):
     ours = row.get(key)
     rep = row.get(f"report_{key}")
@@ -356,14 +346,15 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         + (
             "the largest *printed* FSA/(WV·G), as the report read it."
             if engine == "emulator"
-            else "the core's continuous maximum."
+            else "the core's continuous maximum after the start-up kick."
         ),
         "- Terminal coordinates in the report's XL, YL, ZL axes (origin on the ground under the "
         "base of the support), at the hit.",
-        f"- Occupant risk (flail-space model, `deck_emulator.studies.safety`, docs/safety.md): OIV "
+        f"- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md): OIV "
         f"limit {oiv.label()}; ORA limit {ora.label()} (breakaway supports, NCHRP Report 350 "
         "/ MASH).",
-        "- Margin: the least vertical clearance (ft) between the post (the line Q–P–R) and the "
+        "- Clearance: the least vertical clearance (ft) between the post (the line Q–P–R, and "
+        "P–U for a second arm) and the "
         "car's outline while the post is over the car in free flight; over the roof = over the "
         "passenger compartment (windshield base to the end of the top). — : never over it.",
         "",
@@ -390,14 +381,11 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
                 for r in rs
             ],
         )
-        add("lost contact with the car (ms)", [_num(r["vehicle_contact_lost_ms"], 1) for r in rs])
+        add("lost contact with the car (ms)", [_ms(r["vehicle_contact_lost_s"], 1) for r in rs])
+        add("ΔV to the end of contact (mph)", [_num(r["delta_v_contact_mph"]) for r in rs])
         add(
-            "ΔV to the end of contact, ft/s (m/s)",
-            [f"{_num(r['delta_v_contact_ft_s'])} ({_num(r['delta_v_contact_m_s'])})" for r in rs],
-        )
-        add(
-            "max deceleration, any step (g); max 10 ms average (g)",
-            [f"{_num(r['contact_max_decel_g'])}; {_num(r['max_decel_10ms_g'])}" for r in rs],
+            "max deceleration, every step (g); max 10 ms average (g)",
+            [f"{_num(r['max_decel_every_step_g'])}; {_num(r['max_decel_10ms_g'])}" for r in rs],
         )
         add(
             f"OIV m/s ({oiv.label()})",
@@ -406,8 +394,8 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         add(
             "occupant strikes the interior (ms)",
             [
-                _num(r["occupant_strike_ms"], 0)
-                + (" (after contact)" if r["strike_after_contact"] else "")
+                _ms(r["occupant_strike_time_s"], 0)
+                + (" (after contact)" if r["occupant_strike_after_contact"] else "")
                 for r in rs
             ],
         )
@@ -419,10 +407,10 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
             "least clearance over the car (ft)",
             [
                 (
-                    f"{_num(r['margin_body_ft'])} {r['margin_body_surface']} at "
-                    f"{_num(r['margin_body_ms'], 0)} ms"
+                    f"{_num(r['body_clearance_ft'])} {r['body_clearance_surface']} at "
+                    f"{_ms(r['body_clearance_time_s'], 0)} ms"
                 )
-                if r["margin_body_ft"] is not None
+                if r["body_clearance_ft"] is not None
                 else "—"
                 for r in rs
             ],
@@ -430,8 +418,8 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         add(
             "least clearance over roof/windshield (ft)",
             [
-                (f"{_num(r['margin_roof_ft'])} at {_num(r['margin_roof_ms'], 0)} ms")
-                if r["margin_roof_ft"] is not None
+                (f"{_num(r['roof_clearance_ft'])} at {_ms(r['roof_clearance_time_s'], 0)} ms")
+                if r["roof_clearance_ft"] is not None
                 else "—"
                 for r in rs
             ],
@@ -440,8 +428,8 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
             "post's line first inside the car outline (ms)²",
             [
                 (
-                    f"{_num(r['line_meets_car_ms'], 1)} {r['line_meets_car_surface']}"
-                    if r["line_meets_car_ms"] is not None
+                    f"{_ms(r['line_meets_car_time_s'], 1)} {r['line_meets_car_surface']}"
+                    if r["line_meets_car_time_s"] is not None
                     else "never"
                 )
                 for r in rs

@@ -1,0 +1,200 @@
+"""The one registry of quantities: each has one name, one unit, one definition and one line
+saying what it is.
+
+A :class:`Quantity`'s ``value`` is a function of an engine's
+:class:`~deck_emulator.engine.outcome.Outcome`; every table, JSON answer, CSV column, picture
+label and generated page takes a quantity's name, unit, digits and value from here, and
+nothing else computes it.  The name carries the unit the value is in (``hit_time_s`` is in
+seconds; a table may show it in ms: ``scale`` and ``unit`` say how it is shown).
+
+Quantities that differ get different names:
+
+* two speed changes: ``delta_v_crush_mph`` (by the end of the crush pulse, the report's
+  "DECREASE IN VEHICLE VELOCITY") and ``delta_v_contact_mph`` (by the end of the contact);
+* three decelerations: ``max_decel_g`` (the report's: the largest spring force over WV*G
+  as the listing prints it, at its print instants, after the start-up steps),
+  ``max_decel_every_step_g`` (the same at every accepted step of the emulator, and over the
+  core's continuous solution: what the two engines compute alike) and ``max_decel_10ms_g``
+  (the largest average over any 10 ms, the occupant-risk reading).
+
+Where an engine measures a quantity its own way (the emulator reads what its printout says,
+as the report's authors read the paper; the core locates the instant exactly), the line says
+so; the studies never compute one themselves.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+__all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help"]
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """``name`` (the JSON key and CSV column), ``unit`` and ``label`` as a table shows them,
+    ``digits`` shown, ``what`` it is in one line (with its source where it is a criterion's
+    reading), ``value(outcome)`` in the unit of the name, ``scale``: shown = value * scale."""
+
+    name: str
+    label: str
+    unit: str
+    digits: int
+    what: str
+    value: Callable[[object], float | None]
+    scale: float = 1.0
+
+    def of(self, outcome) -> float | None:
+        """The value for ``outcome`` (``None`` where it has none, or it is not finite)."""
+        try:
+            v = self.value(outcome)
+        except (ValueError, ArithmeticError, KeyError):
+            return None
+        if v is None:
+            return None
+        v = float(v)
+        return v if math.isfinite(v) else None
+
+    def show(self, v) -> str:
+        """``v`` as a table shows it (``-`` for none)."""
+        if v is None or (isinstance(v, float) and math.isnan(v)):
+            return "-"
+        return f"{v * self.scale:.{self.digits}f}"
+
+
+# ------------------------------------------------------------------ what the definitions read
+
+
+def _pulse(o):
+    """The occupant-risk numbers of the outcome's contact history (computed once)."""
+    from .safety import assess_outcome
+
+    if "pulse" not in o.cache:
+        o.cache["pulse"] = assess_outcome(o) if o.t.size else None
+    return o.cache["pulse"]
+
+
+def _clearance(o):
+    from .safety import clearance_of
+
+    if "clearance" not in o.cache:
+        o.cache["clearance"] = clearance_of(o) if o.t.size else None
+    return o.cache["clearance"]
+
+
+def _attr(name):
+    return lambda o: getattr(o, name)
+
+
+def _of_pulse(field):
+    return lambda o: None if _pulse(o) is None else getattr(_pulse(o), field)
+
+
+def _of_clearance(field):
+    return lambda o: None if _clearance(o) is None else getattr(_clearance(o), field)
+
+
+def _delta_v_contact(o):
+    if o.delta_v_contact_mph is not None:
+        return o.delta_v_contact_mph
+    return None if _pulse(o) is None else _pulse(o).delta_v_contact_mph
+
+
+def _energies(o):
+    from .energy import energies
+
+    if "energies" not in o.cache:
+        o.cache["energies"] = energies(o)
+    return o.cache["energies"]
+
+
+_REGISTRY = (
+    Quantity("hit_time_s", "post hits", "ms", 1, "time of the hit that ends the run",
+             _attr("hit_time_s"), 1000.0),
+    Quantity("first_spring_lost_s", "post leaves the first spring", "ms", 1,
+             "time the post loses contact with the car's first crush spring",
+             _attr("first_spring_lost_s"), 1000.0),
+    Quantity("vehicle_contact_lost_s", "post leaves the car", "ms", 1,
+             "time the post loses contact with the car", _attr("vehicle_contact_lost_s"),
+             1000.0),
+    Quantity("delta_v_crush_mph", "speed lost, crush pulse (report's ΔV)", "mph", 2,
+             "the speed the car has lost by the end of the crush pulse (the spring force first "
+             "capped at FCONST): the report's DECREASE IN VEHICLE VELOCITY, Tables 11 and 12 "
+             "(emulator: read at the first printed step where FSA is cut to FCONST, as the "
+             "report read its printout; core: at its located 'force cap engaged' event)",
+             _attr("delta_v_crush_mph")),
+    Quantity("delta_v_contact_mph", "speed lost, whole contact", "mph", 2,
+             "the speed the car has lost by the end of its contact with the post",
+             _delta_v_contact),
+    Quantity("max_decel_g", "largest deceleration of the car", "g", 2,
+             "the report's MAXIMUM VEHICLE DECELERATION: the largest spring force over WV*G "
+             "after the start-up steps (emulator: the largest printed FSA, as the report read "
+             "it; core: the largest over its continuous solution after the start-up kick, "
+             "whose 10,000 lb is a device of the listing's scheme, not an impact force)",
+             _attr("max_decel_g")),
+    Quantity("max_decel_every_step_g", "largest deceleration, every step", "g", 4,
+             "the largest spring force over WV*G at every accepted step of the emulator (not "
+             "only the printed ones), start-up steps included; the core's continuous maximum "
+             "likewise: what the two engines compute alike, for diff",
+             _attr("max_decel_every_step_g")),
+    Quantity("max_decel_10ms_g", "largest 10 ms average deceleration", "g", 2,
+             "the largest average deceleration of the car over any 10 ms window of the contact",
+             _of_pulse("max_decel_10ms_g")),
+    Quantity("oiv_m_s", "occupant impact velocity (OIV)", "m/s", 2,
+             "flail-space model (0.6 m): the occupant's speed relative to the car when it "
+             "strikes the interior; judged by NCHRP Report 350 (1993), Table 5.1, criterion H",
+             _of_pulse("oiv_m_s")),
+    Quantity("ora_g", "occupant ridedown acceleration (ORA)", "g", 2,
+             "the largest 10 ms average deceleration of the car after the occupant strikes; "
+             "judged by NCHRP Report 350 (1993), Table 5.1, criterion I",
+             _of_pulse("ora_g")),
+    Quantity("occupant_strike_time_s", "occupant strikes the interior", "ms", 1,
+             "flail-space model: when the occupant has moved 0.6 m relative to the car "
+             "(none: never)", _of_pulse("occupant_strike_time_s"), 1000.0),
+    Quantity("body_clearance_ft", "least clearance above the car body", "ft", 3,
+             "the post's least height above the car's outline (hood, roof, trunk) while over "
+             "it in free flight, every arm included", _of_clearance("body_ft")),
+    Quantity("roof_clearance_ft", "least clearance above the roof", "ft", 3,
+             "the same over the passenger compartment only (windshield base to the end of the "
+             "top)", _of_clearance("roof_ft")),
+    Quantity("launch_ke_ftlb", "post's kinetic energy as the car lets go", "ft·lb", 1,
+             "translational plus rotational kinetic energy of the post when its contact with "
+             "the car ends", lambda o: _energies(o)["launch_ke_ftlb"]),
+    Quantity("free_flight_energy_drift", "energy drift in free flight", "1", 3,
+             "(E_end - E_start) / E_start over the free flight, E kinetic plus potential "
+             "above the ground: zero for an exact solution", lambda o: _energies(o)["free_drift"]),
+)
+
+#: name -> :class:`Quantity`, in the order tables show them.
+QUANTITIES: Mapping[str, Quantity] = MappingProxyType({q.name: q for q in _REGISTRY})
+
+
+def value(name: str, outcome) -> float | None:
+    """The value of quantity ``name`` for ``outcome``."""
+    return QUANTITIES[name].of(outcome)
+
+
+def values(outcome, which: Iterable[str]) -> dict[str, float | None]:
+    """``{name: value}`` of the quantities ``which`` for ``outcome``."""
+    return {n: QUANTITIES[n].of(outcome) for n in which}
+
+
+def names() -> list[str]:
+    return list(QUANTITIES)
+
+
+def definitions_help() -> str:
+    """The two ΔVs, for ``--help``."""
+    return "; ".join(f"{k}: {QUANTITIES[k].what}" for k in ("delta_v_crush_mph",
+                                                            "delta_v_contact_mph"))
+
+
+def markdown_table() -> str:
+    """The registry as the table of docs/json.md (a test keeps the page equal to it)."""
+    rows = ["| name | label in the tables | unit | digits | definition |", "|---|---|---|---|---|"]
+    for q in QUANTITIES.values():
+        unit = q.unit if q.scale == 1.0 else f"s (shown in {q.unit})"
+        rows.append(f"| `{q.name}` | {q.label} | {unit} | {q.digits} | {q.what} |")
+    return "\n".join(rows)
