@@ -301,9 +301,9 @@ def build(runs: dict, seconds: float, jobs: int) -> str:
       f"STEEL POST columns ({SOURCE}, lines 1748-1794), kept in `deck_emulator.studies.report_tables`;")
     w("* **gfortran r8** — `golden/<deck>[.ed-direction].r8.txt`, the listing compiled with "
       "gfortran `-fdefault-real-8` (see `golden/MANIFEST.txt`), read by `deck_emulator.legacy.extract`;")
-    w("* **double** — `run_deck(deck, 'double', errata=...)`, the emulator in IEEE binary64, "
+    w("* **double** — `EmulatorEngine(precision='double', errata=...)`, the emulator in IEEE binary64, "
       "with the errata the golden's name gives;")
-    w(f"* **ibm7094** — `run_deck(deck, 'ibm7094', errata=...)`: {arith_7094}; same errata.")
+    w(f"* **ibm7094** — `EmulatorEngine(precision='ibm7094', errata=...)`: {arith_7094}; same errata.")
     w("")
     w("How each value is read from a printout (details in the docstring of "
       "`src/deck_emulator/legacy/extract.py`):")

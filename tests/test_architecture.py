@@ -98,3 +98,53 @@ def test_unit_factors_are_written_in_units_py_only():
             if _UNIT_FACTOR.search(line.split("#", 1)[0]):
                 found.append(f"{path.relative_to(ROOT)}:{i}: {line.strip()}")
     assert found == []
+
+
+def _machinery() -> list[str]:
+    import tomllib
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
+    (road,) = [c for c in config["contracts"] if c["id"] == "one-road"]
+    return road["forbidden_modules"]
+
+
+def _imported_names(path: Path):
+    """(module, name) of every import in ``path`` (name None for ``import module``)."""
+    import ast
+
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                yield a.name, None
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            for a in node.names:
+                yield node.module, a.name
+
+
+def test_studies_and_pictures_reach_the_machinery_through_no_back_door():
+    """import-linter sees ``from deck_emulator.core import simulate`` as an import of the
+    core's package, whose names load lazily: here no study or picture imports a machinery
+    name through the packages ``deck_emulator.core`` or ``deck_emulator.legacy`` either."""
+    machinery = _machinery()
+    lazy = {"deck_emulator.core": "core", "deck_emulator.legacy": "legacy"}
+    allowed = {"LEGACY", "PHYSICAL", "PRESETS", "ModelOptions", "StartupKick", "Scene",
+               "SceneError"}  # the typed scene's vocabulary (core/scene.py)
+    found = []
+    for path in [*(ROOT / "src/deck_emulator/studies").glob("*.py"),
+                 *(ROOT / "src/deck_emulator/present").glob("*.py")]:
+        for module, name in _imported_names(path):
+            if any(module == m or module.startswith(m + ".") for m in machinery):
+                found.append(f"{path.name}: {module}")
+            elif module in lazy and name not in allowed:
+                found.append(f"{path.name}: from {module} import {name}")
+    assert found == []
+
+
+def test_no_script_runs_an_engine_itself():
+    """Scripts ask the engine layer for a run: none calls the emulator's program or the core's
+    solver."""
+    runs = re.compile(r"(?<![.\w])(simulate|free_flight|run_deck|Program)\(")
+    found = [f"{p.name}:{i}" for p in (ROOT / "scripts").glob("*.py")
+             for i, line in enumerate(p.read_text().splitlines(), 1)
+             if runs.search(line.split("#", 1)[0])]
+    assert found == []
