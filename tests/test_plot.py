@@ -1,16 +1,31 @@
-"""The pictures: valid PNGs (and a GIF) of the expected pixel size, not blank; the command's
-options and messages."""
+"""The pictures: valid PNGs (and a GIF) of the expected pixel size that show the run's data
+(the post's computed points where the picture puts them, in the colour of their instant; the
+pulse through the computed decelerations); the command's options and messages."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pytest
 from PIL import Image
 
 from deck_emulator.present import plot
+from pictures import (
+    Mapper,
+    axes_box,
+    colour_near,
+    in_boxes,
+    in_polygons,
+    inside_box,
+    near_points,
+    near_segments,
+    read_png,
+    segments_of,
+    spots_along,
+)
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.engine import run_engine
 
@@ -32,6 +47,133 @@ def check_png(path: Path, view: str):
     assert (px.sum(axis=2) < 700).mean() > 0.03
 
 
+# ------------------------------------------------------------- what the pictures show
+
+#: The post as the pictures draw it: base Q, top P, luminaire end R (and C where it is not Q,
+#: which on steel40 it is: see test_post_points_in_the_report_axes).
+CHAIN = ("Q", "P", "R")
+VIEW_AXES = {"side": (0, 2), "plan": (0, 1)}  # XL-ZL, XL-YL
+LINE_GAP_PX = 5.0  # a spot this close to another line may be covered by it
+STAR_PX = 16.0  # the hit point's star is 18 pt (25 px) across
+
+
+def point_l(res, name: str, i: int) -> np.ndarray:
+    """Point ``name`` at sample i in the report's XL, YL, ZL (origin on the ground under the
+    base of the support): the Outcome's road axes XX, YY, ZZ less XQO, YYQO and -HEIGHT."""
+    d = res.values
+    return np.asarray(res.points[name][i], dtype=float) - np.array(
+        [d["XQO"], d["YYQO"], -d["HEIGHT"]]
+    )
+
+
+def post_l(res, i: int) -> np.ndarray:
+    return np.array([point_l(res, k, i) for k in CHAIN])
+
+
+def hit_index(res) -> int:
+    return int(np.argmin(np.abs(res.t - res.hit_time_s)))
+
+
+def instant_colour(res, i: int):
+    """The colour map's colour for sample i's time (the colour bar runs from 0 to the end)."""
+    return matplotlib.colormaps[plot.CMAP](res.t[i] / res.end_time_s)
+
+
+def _spots_on(line: np.ndarray) -> np.ndarray:
+    return np.vstack([spots_along(p0, p1) for p0, p1 in segments_of(line)] + [np.zeros((0, 2))])
+
+
+PANELS = {"Side view": "side", "Plan view": "plan", "3-d view": "3d"}  # by the axes' title
+
+
+def check_trajectory_content(path: Path, res, view: str) -> dict:
+    """The picture at ``path`` (written by save_trajectory) shows ``res`` in every panel:
+    pixels along the segments between the post's points at the hit have HIT_COLOUR, pixels
+    along the post at the drawn instants the colour map's colour for their time.  The points
+    come from the Outcome's arrays; the same figure drawn again by figure_trajectory gives
+    only the mapping from data to pixels (its axes' transData, and the 3-d projection) and
+    the boxes of its labels.  Returns the counts of spots checked, per panel."""
+    img = read_png(path)
+    fig = plot.figure_trajectory(res, view)
+    fig.canvas.draw()
+    mapper = Mapper(fig, img.shape)
+    assert mapper.scale == 1.0  # the PNG is written at the figure's DPI
+    panels = {
+        PANELS[t]: ax
+        for ax in fig.axes
+        for t in PANELS
+        if ax.get_title().startswith(t)
+    }
+    assert set(panels) == ({"side", "plan", "3d"} if view == "all" else {view})
+    return {kind: _check_panel(img, mapper, ax, kind, res) for kind, ax in panels.items()}
+
+
+def _check_panel(img, mapper: Mapper, ax, kind: str, res) -> dict:
+    """Spots near a label, the hit's star, the axes' edge, a line drawn over the one checked
+    or (3-d) the translucent car and ground are left out; at least half the instants and
+    some 50 spots along the post at the hit must remain."""
+    renderer = mapper.fig.canvas.get_renderer()
+    if kind == "3d":
+        def project(p):
+            return mapper.data3d(ax, p)
+    else:
+        a, b = VIEW_AXES[kind]
+
+        def project(p):
+            return mapper.data(ax, np.asarray(p)[:, [a, b]])
+
+    hi = hit_index(res)
+    idx = [i for i in plot.instants(res) if i != hi]  # the post at the hit is drawn over its own
+    order = idx + [hi]  # drawing order (the hit's line has the highest zorder of the lines)
+    lines = {i: project(post_l(res, i)) for i in order}
+    labels = mapper.boxes(ax.texts, renderer)
+    star = project(point_l(res, res.hit.point, hi)[None])
+    frame = axes_box(mapper, ax)
+    veils = []  # the 3-d view's translucent car and ground, which tint what is behind them
+    if kind == "3d":
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        veils = [
+            mapper.data(ax, p.vertices)
+            for c in ax.collections
+            if isinstance(c, Poly3DCollection)
+            for p in c.get_paths()
+        ]
+
+    def hidden(spots, own):
+        out = in_boxes(spots, labels) | near_points(spots, star, STAR_PX)
+        out |= ~inside_box(spots, frame) | in_polygons(spots, veils)
+        # lines drawn later lie over this one (mplot3d sorts only collections and patches by
+        # depth, and draws them over the lines: the veils)
+        for j in order[order.index(own) + 1:]:
+            out |= near_segments(spots, segments_of(lines[j]), LINE_GAP_PX)
+        return out
+
+    spots = _spots_on(lines[hi])
+    spots = spots[~hidden(spots, hi)]
+    assert len(spots) >= 50, f"{kind}: only {len(spots)} spots along the post at the hit"
+    ok = colour_near(img, spots, plot.HIT_COLOUR)
+    assert ok.all(), (
+        f"{kind}: {(~ok).sum()} of {len(ok)} spots along the post at the hit are not "
+        f"{plot.HIT_COLOUR}, e.g. (column, row) {spots[~ok][:3].round().tolist()}"
+    )
+    counts = {"hit": len(spots), "instants": 0, "instant_spots": 0}
+    wrong = []
+    for i in idx:
+        spots = _spots_on(lines[i])
+        spots = spots[~hidden(spots, i)]
+        if len(spots) < 3:
+            continue
+        ok = colour_near(img, spots, instant_colour(res, i))
+        counts["instants"] += 1
+        counts["instant_spots"] += len(spots)
+        if not ok.all():
+            wrong.append(f"t = {res.t[i]:.3f} s: {(~ok).sum()} of {len(ok)}")
+    assert not wrong, f"{kind}: the post is not in its instant's colour at " + "; ".join(wrong)
+    assert counts["instants"] >= len(idx) / 2, (kind, counts, len(idx))
+    return counts
+
+
 @pytest.fixture(scope="module")
 def steel40_emulator():
     return run_engine(read_deck(ROOT / "decks" / "steel40.dat"), "emulator")
@@ -43,16 +185,31 @@ def steel40_core():
 
 
 @pytest.mark.parametrize("view", plot.VIEWS)
-def test_trajectory_views_are_valid_pictures(tmp_path, steel40_emulator, view):
+def test_trajectory_views_show_the_post(tmp_path, steel40_emulator, view):
     out = tmp_path / f"steel40_{view}.png"
     plot.save_trajectory(steel40_emulator, out, view)
     check_png(out, view)
+    check_trajectory_content(out, steel40_emulator, view)
 
 
-def test_core_trajectory_picture(tmp_path, steel40_core):
-    out = tmp_path / "core.png"
-    plot.save_trajectory(steel40_core, out, "side")
-    check_png(out, "side")
+@pytest.mark.parametrize("view", ["side", "plan"])
+def test_core_trajectory_picture(tmp_path, steel40_core, view):
+    out = tmp_path / f"core_{view}.png"
+    plot.save_trajectory(steel40_core, out, view)
+    check_png(out, view)
+    check_trajectory_content(out, steel40_core, view)
+
+
+def test_post_points_in_the_report_axes(steel40_emulator, steel40_core):
+    """What the picture checks expect: the post's points at the hit in XL, YL, ZL are the
+    engines' own terminal positions; C is Q at the start, so the post is drawn Q-P-R."""
+    for res in (steel40_emulator, steel40_core):
+        hi = hit_index(res)
+        assert hi == len(res.t) - 1  # the run ends at the hit
+        for k, p in zip(CHAIN, post_l(res, hi)):
+            assert np.allclose(p, res.terminal[k], atol=1e-3), (res.engine, k, p)
+        assert np.allclose(res.points["C"][0], res.points["Q"][0])
+        assert not np.isnan(np.array([res.points[k] for k in CHAIN])).any()
 
 
 def test_pulse_picture_with_both_engines(tmp_path, steel40_emulator, steel40_core):
