@@ -13,12 +13,15 @@ import pytest
 from PIL import Image
 
 from deck_emulator.present import plot
+from deck_emulator.events import EventKind
+from deck_emulator.units import ft_s_to_mph
 from pictures import (
     Mapper,
     axes_box,
     colour_near,
     in_boxes,
     in_polygons,
+    ink_near,
     inside_box,
     near_points,
     near_segments,
@@ -174,6 +177,56 @@ def _check_panel(img, mapper: Mapper, ax, kind: str, res) -> dict:
     return counts
 
 
+def pulse_line(res) -> np.ndarray:
+    """(time in ms, deceleration in g) along the drawn curve: the core's samples joined; the
+    emulator's as steps, each value held over the step that ends at its time."""
+    t, g = 1000 * res.pulse_t, res.pulse_g
+    if res.engine != "emulator":
+        return np.c_[t, g]
+    return np.c_[np.repeat(t, 2)[:-1], np.repeat(g, 2)[1:]]
+
+
+def check_pulse_content(path: Path, fig, results, least: int = 30) -> dict:
+    """The pulse picture at ``path`` (written from ``fig``) draws each engine's deceleration
+    through the Outcome's (pulse_t, pulse_g) points in the engine's colour.  Points near the
+    axes' edge, a text, the legend, a speed curve (the same colour, dashed), a lost-contact
+    line (the same colour, dotted) or a deceleration curve drawn later are left out; at least
+    ``least`` points per engine must remain.  Returns the number checked per engine."""
+    img = read_png(path)
+    mapper = Mapper(fig, img.shape)
+    ax, ax2 = fig.axes[:2]
+    renderer = fig.canvas.get_renderer()
+    boxes = mapper.boxes([*ax.texts, ax.get_legend()], renderer)
+    frame = axes_box(mapper, ax)
+    top, bottom = frame[1] - 10, frame[3] + 10
+    speeds, contact_lines = [], []
+    for res in results:
+        t, vv = res.contact_history()
+        speeds.append(mapper.data(ax2, np.c_[1000 * t, ft_s_to_mph(np.abs(vv))]))
+        for e in res.events:
+            if e.kind in (EventKind.LOST_FIRST_SPRING, EventKind.LOST_VEHICLE):
+                c = mapper.data(ax, [[1000 * e.time_s, 0.0]])[0, 0]
+                contact_lines.append([[c, top], [c, bottom]])
+    curves = [mapper.data(ax, pulse_line(res)) for res in results]
+    counts = {}
+    for n, res in enumerate(results):
+        spots = mapper.data(ax, np.c_[1000 * res.pulse_t, res.pulse_g])
+        hide = ~inside_box(spots, frame) | in_boxes(spots, boxes)
+        hide |= near_segments(spots, np.array(contact_lines).reshape(-1, 2, 2), 4.0)
+        for line in speeds + curves[n + 1:]:
+            hide |= near_segments(spots, segments_of(line), LINE_GAP_PX)
+        spots = spots[~hide]
+        colour = plot.ENGINE_COLOUR[res.engine]
+        ok = ink_near(img, spots, colour)
+        assert ok.all(), (
+            f"{res.engine}: {(~ok).sum()} of {len(ok)} computed points of the pulse are not on "
+            f"a {colour} line, e.g. (column, row) {spots[~ok][:3].round().tolist()}"
+        )
+        assert len(spots) >= least, (res.engine, len(spots))
+        counts[res.engine] = len(spots)
+    return counts
+
+
 @pytest.fixture(scope="module")
 def steel40_emulator():
     return run_engine(read_deck(ROOT / "decks" / "steel40.dat"), "emulator")
@@ -225,6 +278,20 @@ def test_pulse_picture_with_both_engines(tmp_path, steel40_emulator, steel40_cor
     )
     fig.savefig(out, dpi=plot.DPI)
     check_png(out, "pulse")
+    # the two curves coincide over most of the pulse: the core's, drawn last, hides the rest
+    check_pulse_content(out, fig, [steel40_emulator, steel40_core], least=10)
+
+
+@pytest.mark.parametrize("engine", ["emulator", "core"])
+def test_pulse_passes_through_the_computed_decelerations(
+    tmp_path, steel40_emulator, steel40_core, engine
+):
+    res = {"emulator": steel40_emulator, "core": steel40_core}[engine]
+    out = tmp_path / f"pulse_{engine}.png"
+    fig = plot.figure_pulse([res])
+    fig.savefig(out, dpi=plot.DPI)
+    check_png(out, "pulse")
+    assert check_pulse_content(out, fig, [res])[engine] >= len(res.pulse_t) / 2
 
 
 def test_side_view_axes_and_legend(steel40_emulator):
