@@ -12,6 +12,7 @@ left out by the callers with :func:`near_segments`, :func:`near_points` and
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import numpy as np
@@ -155,13 +156,16 @@ def _windows(img: np.ndarray, spots: np.ndarray, radius: int) -> np.ndarray:
     return img[rr, cc]
 
 
-def colour_near(img, spots, colour, radius: int = 2, tol: float = 6.0) -> np.ndarray:
-    """Whether a pixel within ``radius`` of each spot has ``colour`` (every channel within
-    ``tol`` of 0-255): the inside of a line or marker at least two pixels wide."""
+def colour_near(img, spots, colour, radius: int = 2, tol: float = 6.0,
+                least: int = 1) -> np.ndarray:
+    """Whether at least ``least`` pixels within ``radius`` of each spot have ``colour``
+    (every channel within ``tol`` of 0-255).  One is the inside of a line or marker at least
+    two pixels wide; most of the (2 radius + 1)**2 a filled marker, which a line crossing the
+    window cannot give (a 1.6 pt line at 110 dpi wholly covers at most 10 of 25)."""
     if not len(spots):
         return np.zeros(0, dtype=bool)
     w = _windows(img, np.asarray(spots, dtype=float), radius)
-    return (np.abs(w - rgb255(colour)).max(axis=2) <= tol).any(axis=1)
+    return (np.abs(w - rgb255(colour)).max(axis=2) <= tol).sum(axis=1) >= least
 
 
 def ink_near(img, spots, colour, radius: int = 2, min_alpha: float = 0.6,
@@ -190,3 +194,24 @@ def in_polygons(spots: np.ndarray, polygons: list[np.ndarray], pad_px: float = 3
         out |= MplPath(poly).contains_points(spots)
         out |= near_segments(spots, segments_of(np.vstack([poly, poly[:1]])), pad_px)
     return out
+
+
+@contextlib.contextmanager
+def saved_figures():
+    """Within the block, every ``Figure.savefig`` still writes its file and also records the
+    figure: yields {file name: Figure}.  For pictures a module draws and writes in one go, so
+    that a test can map data into the very file written and compare the figure's artists
+    with the data."""
+    import pytest
+    from matplotlib.figure import Figure
+
+    saved: dict = {}
+    original = Figure.savefig
+
+    def spy(self, fname, *args, **kwargs):
+        saved[Path(fname).name] = self
+        return original(self, fname, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Figure, "savefig", spy)
+        yield saved
