@@ -1,18 +1,36 @@
-"""The pictures: valid PNGs (and a GIF) of the expected pixel size, not blank; the command's
-options and messages."""
+"""The pictures: valid PNGs (and a GIF) of the expected pixel size that show the run's data
+(the post's computed points where the picture puts them, in the colour of their instant; the
+pulse through the computed decelerations); the command's options and messages."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pytest
 from PIL import Image
 
 from deck_emulator.present import plot
+from deck_emulator.events import EventKind
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.engine import run_engine
+from deck_emulator.units import ft_s_to_mph
+from pictures import (
+    Mapper,
+    axes_box,
+    colour_near,
+    in_boxes,
+    in_polygons,
+    ink_near,
+    inside_box,
+    near_points,
+    near_segments,
+    read_png,
+    segments_of,
+    spots_along,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -32,6 +50,189 @@ def check_png(path: Path, view: str):
     assert (px.sum(axis=2) < 700).mean() > 0.03
 
 
+# ------------------------------------------------------------- what the pictures show
+
+#: The post as the pictures draw it: base Q, top P, luminaire end R (and C where it is not Q,
+#: which on steel40 it is: see test_post_points_in_the_report_axes).
+CHAIN = ("Q", "P", "R")
+VIEW_AXES = {"side": (0, 2), "plan": (0, 1)}  # XL-ZL, XL-YL
+LINE_GAP_PX = 5.0  # a spot this close to another line may be covered by it
+STAR_PX = 16.0  # the hit point's star is 18 pt (25 px) across
+
+
+def point_l(res, name: str, i: int) -> np.ndarray:
+    """Point ``name`` at sample i in the report's XL, YL, ZL (origin on the ground under the
+    base of the support): the Outcome's road axes XX, YY, ZZ less XQO, YYQO and -HEIGHT."""
+    d = res.values
+    return np.asarray(res.points[name][i], dtype=float) - np.array(
+        [d["XQO"], d["YYQO"], -d["HEIGHT"]]
+    )
+
+
+def post_l(res, i: int) -> np.ndarray:
+    return np.array([point_l(res, k, i) for k in CHAIN])
+
+
+def hit_index(res) -> int:
+    """The sample nearest the hit; the last one for a run that stopped without a hit (the
+    pictures then draw the post at the end in HIT_COLOUR)."""
+    if res.hit is None:
+        return len(res.t) - 1
+    return int(np.argmin(np.abs(res.t - res.hit_time_s)))
+
+
+def instant_colour(res, i: int):
+    """The colour map's colour for sample i's time (the colour bar runs from 0 to the end)."""
+    return matplotlib.colormaps[plot.CMAP](res.t[i] / res.end_time_s)
+
+
+def _spots_on(line: np.ndarray) -> np.ndarray:
+    return np.vstack([spots_along(p0, p1) for p0, p1 in segments_of(line)] + [np.zeros((0, 2))])
+
+
+PANELS = {"Side view": "side", "Plan view": "plan", "3-d view": "3d"}  # by the axes' title
+
+
+def check_trajectory_content(path: Path, res, view: str, instants: float = 0.5) -> dict:
+    """The picture at ``path`` (written by save_trajectory) shows ``res`` in every panel:
+    pixels along the segments between the post's points at the hit have HIT_COLOUR, pixels
+    along the post at the drawn instants the colour map's colour for their time.  The points
+    come from the Outcome's arrays; the same figure drawn again by figure_trajectory gives
+    only the mapping from data to pixels (its axes' transData, and the 3-d projection) and
+    the boxes of its labels.  At least the fraction ``instants`` of the drawn instants must
+    be seen.  Returns the counts of spots checked, per panel."""
+    img = read_png(path)
+    fig = plot.figure_trajectory(res, view)
+    fig.canvas.draw()
+    mapper = Mapper(fig, img.shape)
+    assert mapper.scale == 1.0  # the PNG is written at the figure's DPI
+    panels = {
+        PANELS[t]: ax
+        for ax in fig.axes
+        for t in PANELS
+        if ax.get_title().startswith(t)
+    }
+    assert set(panels) == ({"side", "plan", "3d"} if view == "all" else {view})
+    return {kind: _check_panel(img, mapper, ax, kind, res, instants)
+            for kind, ax in panels.items()}
+
+
+def _check_panel(img, mapper: Mapper, ax, kind: str, res, instants: float) -> dict:
+    """Spots near a label, the hit's star, the axes' edge, a line drawn over the one checked
+    or (3-d) the translucent car and ground are left out; some 50 spots along the post at
+    the hit and the fraction ``instants`` of the instants must remain."""
+    renderer = mapper.fig.canvas.get_renderer()
+    if kind == "3d":
+        def project(p):
+            return mapper.data3d(ax, p)
+    else:
+        a, b = VIEW_AXES[kind]
+
+        def project(p):
+            return mapper.data(ax, np.asarray(p)[:, [a, b]])
+
+    hi = hit_index(res)
+    idx = [i for i in plot.instants(res) if i != hi]  # the post at the hit is drawn over its own
+    order = idx + [hi]  # drawing order (the hit's line has the highest zorder of the lines)
+    lines = {i: project(post_l(res, i)) for i in order}
+    labels = mapper.boxes(ax.texts, renderer)
+    star = project(point_l(res, res.hit.point, hi)[None]) if res.hit else np.zeros((0, 2))
+    frame = axes_box(mapper, ax)
+    veils = []  # the 3-d view's translucent car and ground, which tint what is behind them
+    if kind == "3d":
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        veils = [
+            mapper.data(ax, p.vertices)
+            for c in ax.collections
+            if isinstance(c, Poly3DCollection)
+            for p in c.get_paths()
+        ]
+
+    def hidden(spots, own):
+        out = in_boxes(spots, labels) | near_points(spots, star, STAR_PX)
+        out |= ~inside_box(spots, frame) | in_polygons(spots, veils)
+        # lines drawn later lie over this one (mplot3d sorts only collections and patches by
+        # depth, and draws them over the lines: the veils)
+        for j in order[order.index(own) + 1:]:
+            out |= near_segments(spots, segments_of(lines[j]), LINE_GAP_PX)
+        return out
+
+    spots = _spots_on(lines[hi])
+    spots = spots[~hidden(spots, hi)]
+    assert len(spots) >= 50, f"{kind}: only {len(spots)} spots along the post at the hit"
+    ok = colour_near(img, spots, plot.HIT_COLOUR)
+    assert ok.all(), (
+        f"{kind}: {(~ok).sum()} of {len(ok)} spots along the post at the hit are not "
+        f"{plot.HIT_COLOUR}, e.g. (column, row) {spots[~ok][:3].round().tolist()}"
+    )
+    counts = {"hit": len(spots), "instants": 0, "instant_spots": 0}
+    wrong = []
+    for i in idx:
+        spots = _spots_on(lines[i])
+        spots = spots[~hidden(spots, i)]
+        if len(spots) < 3:
+            continue
+        ok = colour_near(img, spots, instant_colour(res, i))
+        counts["instants"] += 1
+        counts["instant_spots"] += len(spots)
+        if not ok.all():
+            wrong.append(f"t = {res.t[i]:.3f} s: {(~ok).sum()} of {len(ok)}")
+    assert not wrong, f"{kind}: the post is not in its instant's colour at " + "; ".join(wrong)
+    assert counts["instants"] >= instants * len(idx), (kind, counts, len(idx))
+    return counts
+
+
+def pulse_line(res) -> np.ndarray:
+    """(time in ms, deceleration in g) along the drawn curve: the core's samples joined; the
+    emulator's as steps, each value held over the step that ends at its time."""
+    t, g = 1000 * res.pulse_t, res.pulse_g
+    if res.engine != "emulator":
+        return np.c_[t, g]
+    return np.c_[np.repeat(t, 2)[:-1], np.repeat(g, 2)[1:]]
+
+
+def check_pulse_content(path: Path, fig, results, least: int = 30) -> dict:
+    """The pulse picture at ``path`` (written from ``fig``) draws each engine's deceleration
+    through the Outcome's (pulse_t, pulse_g) points in the engine's colour.  Points near the
+    axes' edge, a text, the legend, a speed curve (the same colour, dashed), a lost-contact
+    line (the same colour, dotted) or a deceleration curve drawn later are left out; at least
+    ``least`` points per engine must remain.  Returns the number checked per engine."""
+    img = read_png(path)
+    mapper = Mapper(fig, img.shape)
+    ax, ax2 = fig.axes[:2]
+    renderer = fig.canvas.get_renderer()
+    boxes = mapper.boxes([*ax.texts, ax.get_legend()], renderer)
+    frame = axes_box(mapper, ax)
+    top, bottom = frame[1] - 10, frame[3] + 10
+    speeds, contact_lines = [], []
+    for res in results:
+        t, vv = res.contact_history()
+        speeds.append(mapper.data(ax2, np.c_[1000 * t, ft_s_to_mph(np.abs(vv))]))
+        for e in res.events:
+            if e.kind in (EventKind.LOST_FIRST_SPRING, EventKind.LOST_VEHICLE):
+                c = mapper.data(ax, [[1000 * e.time_s, 0.0]])[0, 0]
+                contact_lines.append([[c, top], [c, bottom]])
+    curves = [mapper.data(ax, pulse_line(res)) for res in results]
+    counts = {}
+    for n, res in enumerate(results):
+        spots = mapper.data(ax, np.c_[1000 * res.pulse_t, res.pulse_g])
+        hide = ~inside_box(spots, frame) | in_boxes(spots, boxes)
+        hide |= near_segments(spots, np.array(contact_lines).reshape(-1, 2, 2), 4.0)
+        for line in speeds + curves[n + 1:]:
+            hide |= near_segments(spots, segments_of(line), LINE_GAP_PX)
+        spots = spots[~hide]
+        colour = plot.ENGINE_COLOUR[res.engine]
+        ok = ink_near(img, spots, colour)
+        assert ok.all(), (
+            f"{res.engine}: {(~ok).sum()} of {len(ok)} computed points of the pulse are not on "
+            f"a {colour} line, e.g. (column, row) {spots[~ok][:3].round().tolist()}"
+        )
+        assert len(spots) >= least, (res.engine, len(spots))
+        counts[res.engine] = len(spots)
+    return counts
+
+
 @pytest.fixture(scope="module")
 def steel40_emulator():
     return run_engine(read_deck(ROOT / "decks" / "steel40.dat"), "emulator")
@@ -43,16 +244,31 @@ def steel40_core():
 
 
 @pytest.mark.parametrize("view", plot.VIEWS)
-def test_trajectory_views_are_valid_pictures(tmp_path, steel40_emulator, view):
+def test_trajectory_views_show_the_post(tmp_path, steel40_emulator, view):
     out = tmp_path / f"steel40_{view}.png"
     plot.save_trajectory(steel40_emulator, out, view)
     check_png(out, view)
+    check_trajectory_content(out, steel40_emulator, view)
 
 
-def test_core_trajectory_picture(tmp_path, steel40_core):
-    out = tmp_path / "core.png"
-    plot.save_trajectory(steel40_core, out, "side")
-    check_png(out, "side")
+@pytest.mark.parametrize("view", ["side", "plan"])
+def test_core_trajectory_picture(tmp_path, steel40_core, view):
+    out = tmp_path / f"core_{view}.png"
+    plot.save_trajectory(steel40_core, out, view)
+    check_png(out, view)
+    check_trajectory_content(out, steel40_core, view)
+
+
+def test_post_points_in_the_report_axes(steel40_emulator, steel40_core):
+    """What the picture checks expect: the post's points at the hit in XL, YL, ZL are the
+    engines' own terminal positions; C is Q at the start, so the post is drawn Q-P-R."""
+    for res in (steel40_emulator, steel40_core):
+        hi = hit_index(res)
+        assert hi == len(res.t) - 1  # the run ends at the hit
+        for k, p in zip(CHAIN, post_l(res, hi)):
+            assert np.allclose(p, res.terminal[k], atol=1e-3), (res.engine, k, p)
+        assert np.allclose(res.points["C"][0], res.points["Q"][0])
+        assert not np.isnan(np.array([res.points[k] for k in CHAIN])).any()
 
 
 def test_pulse_picture_with_both_engines(tmp_path, steel40_emulator, steel40_core):
@@ -68,6 +284,20 @@ def test_pulse_picture_with_both_engines(tmp_path, steel40_emulator, steel40_cor
     )
     fig.savefig(out, dpi=plot.DPI)
     check_png(out, "pulse")
+    # the two curves coincide over most of the pulse: the core's, drawn last, hides the rest
+    check_pulse_content(out, fig, [steel40_emulator, steel40_core], least=10)
+
+
+@pytest.mark.parametrize("engine", ["emulator", "core"])
+def test_pulse_passes_through_the_computed_decelerations(
+    tmp_path, steel40_emulator, steel40_core, engine
+):
+    res = {"emulator": steel40_emulator, "core": steel40_core}[engine]
+    out = tmp_path / f"pulse_{engine}.png"
+    fig = plot.figure_pulse([res])
+    fig.savefig(out, dpi=plot.DPI)
+    check_png(out, "pulse")
+    assert check_pulse_content(out, fig, [res])[engine] >= len(res.pulse_t) / 2
 
 
 def test_side_view_axes_and_legend(steel40_emulator):
@@ -112,6 +342,10 @@ def test_command_runs_an_angle_deck_with_the_erratum_requested(tmp_path, capsys)
     )
     assert args.func(args) == 0
     check_png(out, "plan")
+    res = run_engine(read_deck(ROOT / "decks" / "steel40_a15.dat"), "emulator",
+                     errata=("ed-direction",))
+    assert res.hit and np.allclose(res.points["C"][0], res.points["Q"][0])
+    check_trajectory_content(out, res, "plan")
 
 
 def test_command_as_printed_on_an_angle_deck_names_the_erratum(tmp_path, capsys):
@@ -122,6 +356,10 @@ def test_command_as_printed_on_an_angle_deck_names_the_erratum(tmp_path, capsys)
     assert args.func(args) == 3  # ED stops it as printed; the picture shows what it computed
     err = capsys.readouterr().err
     assert "stopped early" in err and "--erratum ed-direction" in err
+    res = run_engine(read_deck(ROOT / "decks" / "steel40_a15.dat"), "emulator")
+    assert res.error and res.hit is None and np.allclose(res.points["C"][0], res.points["Q"][0])
+    # the post at the end (6 ms) in HIT_COLOUR, over the post at t = 0, the one instant
+    check_trajectory_content(out, res, "side", instants=0)
 
 
 def test_command_refuses_a_non_picture_output(tmp_path):
