@@ -381,3 +381,30 @@ def test_plot_writes_svg_and_pdf(tmp_path, capsys):
     assert main(["plot", deck, "--out", str(tmp_path / "x.pdf"), "--view", "plan"]) == 0
     assert (tmp_path / "x.svg").read_text().lstrip().startswith(("<?xml", "<svg"))
     assert (tmp_path / "x.pdf").read_bytes().startswith(b"%PDF")
+
+
+def test_twin_plan_view_draws_the_second_arm(tmp_path):
+    """The twin post's plan view at the hit: the arm P-U is drawn in the hit's colour, as
+    P-R is (U from the Outcome's own arrays)."""
+    from deck_emulator.core.assembly import load_assembly, mass_properties
+    from deck_emulator.engine import CoreEngine
+    from deck_emulator.engine.assemblies import to_scene
+
+    a, _, _ = load_assembly("twin")
+    res = CoreEngine().run(to_scene(a, mass_properties(a), template="steel40"), name="twin")
+    assert res.hit is not None and res.hit.point == "R&U"
+    out = tmp_path / "twin_plan.png"
+    plot.save_trajectory(res, out, "plan")
+    img = read_png(out)
+    fig = plot.figure_trajectory(res, "plan")
+    fig.canvas.draw()
+    mapper = Mapper(fig, img.shape)
+    ax = fig.axes[0]
+    hi = hit_index(res)
+    labels = mapper.boxes(ax.texts, fig.canvas.get_renderer())
+    for arm in ("R", "U"):
+        ends = mapper.data(ax, np.array([point_l(res, "P", hi), point_l(res, arm, hi)])[:, :2])
+        spots = spots_along(ends[0], ends[1])
+        spots = spots[~in_boxes(spots, labels) & ~near_points(spots, ends[1:], STAR_PX)]
+        assert len(spots) > 10, arm
+        assert colour_near(img, spots, plot.HIT_COLOUR).all(), arm
