@@ -23,7 +23,6 @@ Times are wall-clock and depend on the machine's load: say how loaded it was whe
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import statistics
 import subprocess
@@ -34,13 +33,6 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 SWEEP_GRID = ["--speeds", "10:55:5", "--angles", "0:49.5:0.5"]  # 10 x 100 = 1,000 scenes
-
-
-def _make_goldens():
-    spec = importlib.util.spec_from_file_location("make_goldens", ROOT / "scripts" / "make_goldens.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def median_time(fn, repeat: int) -> float:
@@ -79,7 +71,7 @@ def main(argv=None) -> int:
     from deck_emulator.legacy.deck import read_deck
     from deck_emulator.legacy.emulator import EmulatorError, run_deck
 
-    mg = _make_goldens()
+    from deck_emulator.legacy import oracle as mg
     rows = []
     env = _env()
     with tempfile.TemporaryDirectory() as tmp:

@@ -5,7 +5,7 @@
 
 Compiles the listing as scripts/make_goldens.py does (REAL*8; its functions, with ``--coverage``
 added to the flags), as printed and with the ``ed-direction`` erratum, runs every deck of the
-corpus (benchmarks/differential.py; the erratum where ALPHA != 0) and the decks in ``--extra``,
+corpus (deck_emulator.legacy.oracle; the erratum where ALPHA != 0) and the decks in ``--extra``,
 and reads the counts with ``gcov``. The erratum changes two statements and no line numbers, so
 the two builds' executed lines are merged by line number.
 
@@ -25,10 +25,8 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "benchmarks"))
 sys.path.insert(0, str(ROOT / "src"))
 
-import differential  # noqa: E402
 
 
 def gcov_lines(build: Path, exe: Path, src: Path) -> dict[int, tuple[bool, str]]:
@@ -61,10 +59,11 @@ def main(argv=None) -> int:
         return 2
     from deck_emulator.legacy.deck import read_deck
 
-    mg = differential.make_goldens()
+    from deck_emulator.legacy import oracle as mg
+
     mg.COMMON_FLAGS = [*mg.COMMON_FLAGS, "--coverage"]
     mg.TIMEOUT_S = args.timeout
-    decks = differential.corpus(args.decks, args.seed)
+    decks = mg.corpus(args.decks, args.seed)
     for d in args.extra:
         decks += [read_deck(p) for p in sorted(d.glob("*.dat"))]
     merged: dict[int, tuple[bool, str]] = {}

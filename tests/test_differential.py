@@ -1,4 +1,4 @@
-"""The compiled listing as a standing oracle (benchmarks/differential.py): seeded random decks,
+"""The compiled listing as a standing oracle (deck_emulator.legacy.oracle): seeded random decks,
 run through the compiled legacy/luminaire.f (REAL*8) and through the emulator in binary64,
 printouts compared byte for byte, and how each run ended compared too.
 
@@ -6,7 +6,6 @@ printouts compared byte for byte, and how each run ended compared too.
 
 from __future__ import annotations
 
-import importlib.util
 import shutil
 import sys
 from pathlib import Path
@@ -22,13 +21,9 @@ pytestmark = pytest.mark.skipif(shutil.which("gfortran") is None,
 
 
 def _differential():
-    spec = importlib.util.spec_from_file_location("differential", ROOT / "benchmarks" / "differential.py")
-    mod = sys.modules.get(spec.name)
-    if mod is None:
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod  # its dataclass looks its module up there
-        spec.loader.exec_module(mod)
-    return mod
+    from deck_emulator.legacy import oracle
+
+    return oracle
 
 
 @pytest.fixture(scope="module")
