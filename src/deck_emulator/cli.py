@@ -701,7 +701,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
             return 0
         if args.what in ("deck", "emulator"):
             raise CLIError(f"cannot run on the listing: {asm.scene_runs_on_listing(scene)}")
-        res, loss, r70 = ct.table10(scene)
+        res, loss, r70 = ct.table10(scene)  # res: the run's Outcome
         rows = [f"{k}: at loss of contact {loss[k]:.4f}, at 70 ms {r70[k]:.4f}" for k in loss]
         _emit(args, f"hit: {res.hit_message} at {_ms(res.hit_time_s)}\n" + "\n".join(rows) + "\n")
         return 0

@@ -110,6 +110,14 @@ def _energies(o):
     return o.cache["energies"]
 
 
+def _leaf(o):
+    from .leaf_spring import at_unloading
+
+    if "leaf" not in o.cache:
+        o.cache["leaf"] = at_unloading(o)
+    return o.cache["leaf"]
+
+
 _REGISTRY = (
     Quantity("hit_time_s", "post hits", "ms", 1, "time of the hit that ends the run",
              _attr("hit_time_s"), 1000.0),
@@ -165,6 +173,12 @@ _REGISTRY = (
     Quantity("free_flight_energy_drift", "energy drift in free flight", "1", 3,
              "(E_end - E_start) / E_start over the free flight, E kinetic plus potential "
              "above the ground: zero for an exact solution", lambda o: _energies(o)["free_drift"]),
+    Quantity("leaf_spring_peak_compression_ft", "leaf spring's largest compression", "ft", 4,
+             "the crash test's leaf spring (Chapter V): its compression when it begins to "
+             "unload", lambda o: _leaf(o)["compression_ft"]),
+    Quantity("leaf_spring_set_ft", "leaf spring's set", "ft", 4,
+             "the compression at which the leaf spring's unloading force reaches zero (the "
+             "crush it keeps)", lambda o: _leaf(o)["set_ft"]),
 )
 
 #: name -> :class:`Quantity`, in the order tables show them.

@@ -126,11 +126,13 @@ def _result(out):
 
 
 def table10(scene: Scene | None = None, *, t_max_s: float = 0.6):
-    """(result, row at the loss of contact, row at 70 ms) of a full run of the scene."""
+    """(the run's :class:`~deck_emulator.engine.Outcome`, row at the loss of contact, row at
+    70 ms) of a full run of the scene."""
     scene = scene or crash_scene()
-    res = _result(_engine(t_max_s).run(scene))
+    out = _engine(t_max_s).run(scene)
+    res = _result(out)
     t_loss = res.vehicle_contact_lost_s
-    return res, (state_row(res, t_loss) if t_loss is not None else None), state_row(res, 0.070)
+    return out, (state_row(res, t_loss) if t_loss is not None else None), state_row(res, 0.070)
 
 
 def table9_state(t8: dict, vv_ft_s: float) -> np.ndarray:
