@@ -206,3 +206,17 @@ def test_scene_is_frozen_and_hashable():
     assert hash(s) == hash(steel40())
     assert isinstance(s.base.friction, BaseFriction)
     assert ModelOptions() == PHYSICAL.replace(name="custom")
+
+
+def test_the_deck_scene_mapping_goes_both_ways():
+    """Every shipped deck, read into a scene and written back through the one mapping
+    (DECK_FIELDS), gives the deck's own values for every name the mapping has."""
+    from deck_emulator import decks
+    from deck_emulator.core.scene import DECK_FIELDS
+    from deck_emulator.legacy.deck import read_deck
+
+    for name in decks.names():
+        deck = read_deck(decks.path(name))
+        back = Scene.from_deck(deck).deck_values()
+        assert set(back) == set(DECK_FIELDS)
+        assert {k: deck[k] for k in DECK_FIELDS} == back, name

@@ -18,8 +18,8 @@ A component a scene does not have is ``None`` (no luminaire arm R, no point C, n
 crush spring T, no base friction, no car body outline, no vehicle at all); the core then
 builds no force, no point and no check for it.
 
-Deck names (the READ list) map to fields as written in each docstring; the mapping in
-one place is :data:`DECK_NAMES`.  The deck carries no base friction and no normal-force
+Deck names (the READ list) map to fields as written in each docstring; the mapping, in one
+place and used both ways, is :data:`DECK_FIELDS`.  The deck carries no base friction and no normal-force
 release distance: those are constants of the listing (``FFXA=3.1*T`` with ``T=300.0``,
 the 1 in. slot ``0.083333`` ft, the release at ``XQA <= -0.4166`` ft) and
 :meth:`Scene.from_deck` fills them in as :data:`LISTING_BASE_FRICTION` and
@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields, is_dataclass
+from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
 from deck_emulator.units import G_FT_S2
@@ -60,7 +60,7 @@ __all__ = [
     "PRESETS",
     "LISTING_BASE_FRICTION",
     "LISTING_NORMAL_RELEASE_FT",
-    "DECK_NAMES",
+    "DECK_FIELDS",
     "SceneError",
 ]
 
@@ -349,44 +349,41 @@ LISTING_FRICTION_WINDOW_FT = LISTING_BASE_FRICTION.slip_window_ft - 0.004
 #: The listing's release of the normal force: ``IF(XQA+0.4166)107,107,106`` (5 in.).
 LISTING_NORMAL_RELEASE_FT = 0.4166
 
-#: dataclass field -> deck (READ-list) names
-DECK_NAMES: dict[str, str] = {
-    "post.mass_slug": "W",
-    "post.inertia_1_slug_ft2": "A",
-    "post.inertia_2_slug_ft2": "B",
-    "post.inertia_3_slug_ft2": "C",
-    "post.principal_tilt_rad": "DELTA",
-    "post.top": "XPO, YYPO, ZZPO",
-    "post.base": "XQO, YYQO, ZZQO",
-    "post.first_impact": "XSO, YYSO, ZZSO",
-    "post.second_impact": "XTO, YYTO, ZZTO",
-    "post.luminaire_end": "XRO, YYRO, ZZRO",
-    "post.point_c": "XCO, YYCO, ZZCO",
-    "post.second_luminaire_end": "(none: the listing has no point U)",
-    "initial.mass_centre_ft": "XCMB, YCMB, ZCMB (given in X, Y, Z)",
-    "initial.velocity_body_ft_s": "V1B, V2B, V3B",
-    "initial.angular_velocity_body_rad_s": "W1B, W2B, W3B",
-    "initial.attitude_wxyz": "PSIB, THB, PHIB (eq. 2.51)",
-    "vehicle.mass_slug": "WV",
-    "vehicle.initial_velocity_ft_s": "VVB",
-    "vehicle.approach_angle_rad": "ALPHA",
-    "vehicle.initial_position_ft": "SVB",
-    "vehicle.contact_position_ft": "SVO",
-    "vehicle.first_spring.stiffness_lb_per_ft": "CK",
-    "vehicle.second_spring.stiffness_lb_per_ft": "CT",
-    "vehicle.force_cap_lb": "FCONST",
-    "vehicle.leaf_spring": "(none: the listing's springs are linear)",
-    "vehicle.body.hood_length_ft": "HLEN",
-    "vehicle.body.top_length_ft": "TLEN",
-    "vehicle.body.trunk_length_ft": "TRLEN",
-    "vehicle.body.hood_height_ft": "HHV",
-    "vehicle.body.top_height_ft": "HTV",
-    "vehicle.body.trunk_height_ft": "HTRV",
-    "vehicle.body.left_fender_ft": "YLFEN",
-    "vehicle.body.right_fender_ft": "YRFEN",
-    "base.normal_force_lb": "FNA",
-    "environment.ground_depth_ft": "HEIGHT",
-    "environment.gravity_ft_s2": "G",
+#: The one deck <-> scene mapping: READ-list name -> the scene field it is, as a path through
+#: the scene's nested tables (the layout of :meth:`Scene.to_toml`). :meth:`Scene.from_deck`
+#: reads a deck through it and :meth:`Scene.deck_values` writes a scene back through it.
+#: Not in it: the initial state (``XCMB ... PHIB``, kept as a quaternion and body rates), the
+#: listing's scheme-only start values, and what the listing has no field for (base friction,
+#: the normal force's release, a second luminaire U, a leaf spring).
+DECK_FIELDS: dict[str, tuple[str, ...]] = {
+    "W": ("post", "mass_slug"),
+    "A": ("post", "inertia_1_slug_ft2"),
+    "B": ("post", "inertia_2_slug_ft2"),
+    "C": ("post", "inertia_3_slug_ft2"),
+    "DELTA": ("post", "principal_tilt_rad"),
+    **{f"{axis}{letter}O": ("post", attr, coord)
+       for letter, attr in (("P", "top"), ("Q", "base"), ("S", "first_impact"),
+                            ("T", "second_impact"), ("R", "luminaire_end"), ("C", "point_c"))
+       for axis, coord in (("X", "xx_ft"), ("YY", "yy_ft"), ("ZZ", "zz_ft"))},
+    "WV": ("vehicle", "mass_slug"),
+    "VVB": ("vehicle", "initial_velocity_ft_s"),
+    "ALPHA": ("vehicle", "approach_angle_rad"),
+    "SVB": ("vehicle", "initial_position_ft"),
+    "SVO": ("vehicle", "contact_position_ft"),
+    "CK": ("vehicle", "first_spring", "stiffness_lb_per_ft"),
+    "CT": ("vehicle", "second_spring", "stiffness_lb_per_ft"),
+    "FCONST": ("vehicle", "force_cap_lb"),
+    "HLEN": ("vehicle", "body", "hood_length_ft"),
+    "TLEN": ("vehicle", "body", "top_length_ft"),
+    "TRLEN": ("vehicle", "body", "trunk_length_ft"),
+    "HHV": ("vehicle", "body", "hood_height_ft"),
+    "HTV": ("vehicle", "body", "top_height_ft"),
+    "HTRV": ("vehicle", "body", "trunk_height_ft"),
+    "YLFEN": ("vehicle", "body", "left_fender_ft"),
+    "YRFEN": ("vehicle", "body", "right_fender_ft"),
+    "FNA": ("base", "normal_force_lb"),
+    "HEIGHT": ("environment", "ground_depth_ft"),
+    "G": ("environment", "gravity_ft_s2"),
 }
 
 # READ-list values the scene does not use: the listing's previous-step forces and Euler
@@ -479,42 +476,34 @@ class Scene:
         def v(key: str) -> float:
             return float(values.get(key, 0.0))
 
-        def point(x: str, yy: str, zz: str) -> PostPoint | None:
-            p = PostPoint(v(x), v(yy), v(zz))
-            return None if p.as_tuple() == (0.0, 0.0, 0.0) else p
-
-        delta = v("DELTA")
-        top = point("XPO", "YYPO", "ZZPO")
-        base = point("XQO", "YYQO", "ZZQO")
-        if top is None or base is None:
+        tree: dict[str, Any] = {}
+        for key, path in DECK_FIELDS.items():
+            node = tree
+            for step in path[:-1]:
+                node = node.setdefault(step, {})
+            node[path[-1]] = v(key)
+        post, vehicle = tree["post"], tree["vehicle"]
+        # what a zero means in the deck: a point at the mass centre, CT = 0, FCONST = 0 and an
+        # all-zero car outline are absent components
+        for attr in Post.POINT_FIELDS.values():
+            if attr in post and not any(post[attr].values()):
+                del post[attr]
+        if "top" not in post or "base" not in post:
             raise SceneError("the deck must give the top P and the base Q of the post")
-        ck, ct, fconst = v("CK"), v("CT"), v("FCONST")
-        post = Post(
-            mass_slug=v("W"),
-            inertia_1_slug_ft2=v("A"),
-            inertia_2_slug_ft2=v("B"),
-            inertia_3_slug_ft2=v("C"),
-            principal_tilt_rad=delta,
-            top=top,
-            base=base,
-            first_impact=point("XSO", "YYSO", "ZZSO"),
-            second_impact=point("XTO", "YYTO", "ZZTO") if ct != 0.0 else None,
-            luminaire_end=point("XRO", "YYRO", "ZZRO"),
-            point_c=point("XCO", "YYCO", "ZZCO"),
-        )
-        body = VehicleBody.from_values(values)
-        vehicle = Vehicle(
-            mass_slug=v("WV"),
-            initial_velocity_ft_s=v("VVB"),
-            approach_angle_rad=v("ALPHA"),
-            initial_position_ft=v("SVB"),
-            contact_position_ft=v("SVO"),
-            first_spring=CrushSpring(ck),
-            second_spring=CrushSpring(ct) if ct != 0.0 else None,
-            force_cap_lb=fconst if fconst != 0.0 else None,
-            body=body,
-        )
+        if vehicle["second_spring"]["stiffness_lb_per_ft"] == 0.0:
+            del vehicle["second_spring"]
+            post.pop("second_impact", None)
+        if vehicle["force_cap_lb"] == 0.0:
+            del vehicle["force_cap_lb"]
+        outline = vehicle["body"]
+        if not any(v for k, v in outline.items() if not k.endswith("fender_ft")):
+            del vehicle["body"]
+        # what the deck has no field for: the listing's constants
+        tree["base"].update(normal_release_ft=LISTING_NORMAL_RELEASE_FT,
+                            friction=_plain(LISTING_BASE_FRICTION))
+        scene = _build_dataclass(cls, tree, "")
         # XCMB, YCMB, ZCMB are in X, Y, Z: turn them into XX, YY, ZZ (Table 6)
+        delta = v("DELTA")
         c, s = math.cos(delta), math.sin(delta)
         xcm, ycm, zcm = v("XCMB"), v("YCMB"), v("ZCMB")
         initial = PostInitialState.from_euler(
@@ -525,18 +514,19 @@ class Scene:
             velocity_body_ft_s=(v("V1B"), v("V2B"), v("V3B")),
             angular_velocity_body_rad_s=(v("W1B"), v("W2B"), v("W3B")),
         )
-        return cls(
-            post=post,
-            environment=Environment(ground_depth_ft=v("HEIGHT"), gravity_ft_s2=v("G")),
-            initial=initial,
-            vehicle=vehicle,
-            base=BreakawayBase(
-                normal_force_lb=v("FNA"),
-                normal_release_ft=LISTING_NORMAL_RELEASE_FT,
-                friction=LISTING_BASE_FRICTION,
-            ),
-            name=name,
-        )
+        return replace(scene, initial=initial, name=name)
+
+    def deck_values(self) -> dict[str, float]:
+        """The READ-list values the scene carries, through :data:`DECK_FIELDS` (an absent
+        component reads 0.0, as a deck writes it); the initial state is not among them."""
+        tree = _plain(self)
+        out = {}
+        for key, path in DECK_FIELDS.items():
+            node: Any = tree
+            for step in path:
+                node = node.get(step) if isinstance(node, dict) else None
+            out[key] = float(node) if node is not None else 0.0
+        return out
 
     # ---- TOML ------------------------------------------------------------------------
 

@@ -30,6 +30,7 @@ def to_deck_values(
     """READ-list values of the assembly's deck: the post from the builder, the car, the
     springs and everything else from the ``template`` deck, with the car's heights kept
     above the ground and its fenders kept about the shaft axis.  One arm at most."""
+    from deck_emulator.core.scene import DECK_FIELDS, Post
     from deck_emulator.decks import path as deck_path
     from deck_emulator.legacy.deck import read_deck
 
@@ -48,15 +49,13 @@ def to_deck_values(
         v[k] = v[k] - old_axis + axis
     v.update(W=round(mp.mass_slug, 5), A=mp.A, B=mp.B, C=mp.C, DELTA=mp.delta_rad,
              HEIGHT=depth, FNA=mp.weight_lb)
-    pts = mp.points
-    for letter, (xn, yn, zn) in {
-        "P": ("XPO", "YYPO", "ZZPO"), "Q": ("XQO", "YYQO", "ZZQO"), "S": ("XSO", "YYSO", "ZZSO"),
-        "T": ("XTO", "YYTO", "ZZTO"), "C": ("XCO", "YYCO", "ZZCO"), "R": ("XRO", "YYRO", "ZZRO"),
-    }.items():
-        if letter in pts:
-            v[xn], v[yn], v[zn] = pts[letter]
-        else:
-            v[xn] = v[yn] = v[zn] = 0.0
+    # the post's points, through the one deck <-> scene mapping (an absent point reads 0.0)
+    letter_of = {attr: letter for letter, attr in Post.POINT_FIELDS.items()}
+    coord_index = {"xx_ft": 0, "yy_ft": 1, "zz_ft": 2}
+    for name, path in DECK_FIELDS.items():
+        if path[0] == "post" and len(path) == 3:
+            p = mp.points.get(letter_of[path[1]])
+            v[name] = 0.0 if p is None else p[coord_index[path[2]]]
     if speed_ft_s is not None:
         v["VVB"] = -abs(speed_ft_s)
     if alpha_rad is not None:

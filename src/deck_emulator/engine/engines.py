@@ -208,32 +208,9 @@ def _listing_flags(out: Outcome) -> list[str]:
 
 
 def scene_values(scene) -> dict:
-    """The deck names a scene carries as they are (the points, masses, inertias, the car, the
-    ground, gravity): what the pictures and the occupant-risk numbers read. The initial
-    attitude and velocities, which a scene keeps in another form, are left out."""
-    post, car, env = scene.post, scene.vehicle, scene.environment
-    values = {"W": post.mass_slug, "A": post.inertia_1_slug_ft2, "B": post.inertia_2_slug_ft2,
-              "C": post.inertia_3_slug_ft2, "DELTA": post.principal_tilt_rad,
-              "HEIGHT": env.ground_depth_ft, "G": env.gravity_ft_s2}
-    for letter, p in (("P", post.top), ("Q", post.base), ("S", post.first_impact),
-                      ("T", post.second_impact), ("R", post.luminaire_end), ("C", post.point_c)):
-        x, yy, zz = p.as_tuple() if p is not None else (0.0, 0.0, 0.0)
-        values.update({f"X{letter}O": x, f"YY{letter}O": yy, f"ZZ{letter}O": zz})
-    if car is not None:
-        values.update(WV=car.mass_slug, VVB=car.initial_velocity_ft_s,
-                      ALPHA=car.approach_angle_rad, SVB=car.initial_position_ft,
-                      SVO=car.contact_position_ft, CK=car.first_spring.stiffness_lb_per_ft,
-                      CT=car.second_spring.stiffness_lb_per_ft if car.second_spring else 0.0,
-                      FCONST=car.force_cap_lb or 0.0)
-        b = car.body
-        outline = (b.hood_length_ft, b.top_length_ft, b.trunk_length_ft, b.hood_height_ft,
-                   b.top_height_ft, b.trunk_height_ft, b.left_fender_ft,
-                   b.right_fender_ft) if b is not None else (0.0,) * 8
-        values.update(zip(("HLEN", "TLEN", "TRLEN", "HHV", "HTV", "HTRV", "YLFEN", "YRFEN"),
-                          outline))
-    if scene.base is not None:
-        values["FNA"] = scene.base.normal_force_lb
-    return {k: float(v) for k, v in values.items()}
+    """The deck names a scene carries (:meth:`~deck_emulator.core.scene.Scene.deck_values`,
+    the one deck <-> scene mapping): what the pictures and the occupant-risk numbers read."""
+    return scene.deck_values()
 
 
 _CORE_EVENTS = {
