@@ -13,12 +13,11 @@ import sys
 import time
 from pathlib import Path
 
-from deck_emulator.engine import CoreEngine, EmulatorEngine
+from deck_emulator.engine import CoreEngine, EmulatorEngine, step_literals
 from deck_emulator.engine.errata import ED_DIRECTION
 from deck_emulator.files import OutputError, check_output_file, write_file
 from deck_emulator.signals import run as run_guarded
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.legacy.emulator import STEP_LITERALS
 from deck_emulator.studies.diff import diff_deck, format_diff
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -50,7 +49,7 @@ def main() -> int:
         "rtol = atol = 1e-10. The side-by-side columns are the listing's run as printed. In the "
         "convergence table the emulator's step literals are divided by 2**k:",
         "",
-        *[f"* {s}" for s in STEP_LITERALS],
+        *[f"* {s}" for s in step_literals()],
         "",
         "and ED's tolerance (printed: .0001 rad at every step size) is shrunk to 1e-6 rad / 4**k; "
         "the core's start-up kick lasts the same one step. With ED's printed tolerance the scheme "

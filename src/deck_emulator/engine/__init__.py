@@ -16,7 +16,7 @@ import importlib
 _WHERE = {
     "ENGINES": "engines", "CoreEngine": "engines", "EmulatorEngine": "engines",
     "core_events": "engines", "engine_for": "engines", "run_engine": "engines",
-    "source_name": "engines", "Outcome": "outcome",
+    "source_name": "engines", "step_literals": "engines", "Outcome": "outcome",
 }
 _MODULES = ("errata", "quantities", "safety", "energy", "assemblies", "leaf_spring")
 

@@ -48,6 +48,14 @@ def _initial_points(d) -> dict:
     }
 
 
+def step_literals() -> tuple[str, ...]:
+    """The listing's literals that mean "one step" (0.0004 s): what the emulator's
+    ``step_scale_k`` divides by 2**k, in words."""
+    from deck_emulator.legacy.emulator import STEP_LITERALS
+
+    return STEP_LITERALS
+
+
 @dataclass(frozen=True)
 class EmulatorEngine:
     """The 1967 program. ``precision``: ``double``, ``single`` or ``ibm7094`` (with the
