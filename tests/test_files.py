@@ -394,6 +394,48 @@ sys.exit(signals.run(main))
 """
 
 
+HELD = """
+import signal, sys, threading, time
+from deck_emulator import signals
+from deck_emulator.files import _signals_held
+
+# a second thread, which does not hold the signals: the kernel may give a signal to it
+threading.Thread(target=time.sleep, args=(600,), daemon=True).start()
+CATCHABLE = {signal.SIGINT, signal.SIGTERM}
+
+
+def main():
+    with _signals_held():
+        seen, handlers = [], {s: signal.getsignal(s) for s in CATCHABLE}
+        for s, h in handlers.items():  # note when the signal reaches its handler
+            signal.signal(s, lambda n, f, h=h: (seen.append(n), h(n, f)))
+        print("ready", flush=True)
+        while not (seen or CATCHABLE & signal.sigpending()):
+            time.sleep(0.01)
+        for s, h in handlers.items():
+            signal.signal(s, h)
+        print("the window ran to its end", flush=True)
+    print("not reached: the signal is raised as the window ends", flush=True)
+    return 0
+
+sys.exit(signals.run(main))
+"""
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_signal_is_held_over_a_commit_in_a_process_with_threads(sig, code):
+    """A SIGINT/SIGTERM that arrives inside a commit's window is delivered as the window ends,
+    even when the process has another thread (numpy's OpenBLAS starts some): the window runs
+    to its end, then the status."""
+    p = subprocess.Popen([sys.executable, "-c", HELD], env=env(), stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline() == "ready\n"
+    p.send_signal(sig)
+    out, err = p.communicate(timeout=300)
+    assert out == "the window ran to its end\n", err
+    assert p.returncode == code, err
+
+
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_signal_removes_temporaries_and_sets_the_status(tmp_path, sig, code):
     (tmp_path / "a.txt").write_text("old")
