@@ -213,17 +213,33 @@ def _mode_as_open(tmp: Path, existing: os.stat_result | None) -> None:
 @contextlib.contextmanager
 def _signals_held():
     """Hold SIGINT/SIGTERM/SIGHUP over a commit (a few renames): a Ctrl-C arriving there is
-    delivered just after, so the commit is never cut in half by a catchable signal."""
-    sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
+    delivered just after, so the commit is never cut in half by a catchable signal.
+
+    The Python handlers are swapped for one that notes the signal, and the first signal noted
+    is raised again once they are back.  (Blocking the signals with ``pthread_sigmask`` does
+    not hold them: it blocks them in the calling thread only, the kernel then gives them to
+    another thread of the process -- numpy's OpenBLAS starts some -- and Python runs the
+    handler in the main thread all the same, inside the window.)  Python runs handlers only in
+    the main thread: from another thread nothing needs holding, and nothing is changed."""
+    noted: list[int] = []
+    held: dict[int, object] = {}
+    sigs = [signal.SIGINT, signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
     try:
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
-    except (AttributeError, ValueError, OSError):
-        yield
-        return
+        for sig in sigs:
+            handler = signal.getsignal(sig)
+            if handler in (signal.SIG_IGN, None):  # ignored, or not Python's to restore
+                continue
+            signal.signal(sig, lambda signum, frame: noted.append(signum))
+            held[sig] = handler
+    except ValueError:  # not the main thread
+        pass
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for sig, handler in held.items():
+            signal.signal(sig, handler)
+        if noted:
+            signal.raise_signal(noted[0])  # its own handler now: KeyboardInterrupt, Terminated
 
 
 def _stream_write(target: Path, user, data: bytes) -> None:
