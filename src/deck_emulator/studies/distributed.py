@@ -346,8 +346,11 @@ def run_scenes(
     def flush():
         nonlocal last
         if pending:
-            store.write_batch(pending)
+            # taken out of pending before the write: a Ctrl-C inside it loses the batch (it
+            # runs again on resume) but can never have the finally's flush store it twice
+            batch = pending[:]
             pending.clear()
+            store.write_batch(batch)
         last = time.monotonic()
 
     try:
