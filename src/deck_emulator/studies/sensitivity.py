@@ -346,6 +346,13 @@ def run_study(
     return study
 
 
+def bootstrap_seed(seed: int) -> int:
+    """The seed of SALib's bootstrap of the confidence intervals, drawn from ``seed``: never 0,
+    which SALib takes as "no seed" (``if seed:``), so that the intervals of seed 0 -- the
+    default -- were different at every run."""
+    return int(np.random.SeedSequence(seed).generate_state(1)[0]) | 1
+
+
 def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float = 0.95) -> list:
     """Sobol S1 and ST (with ``conf_level`` bootstrap half-widths) for every output in ``Y`` and
     every base-sample size in ``sizes`` (using the first ``size * (D + 2)`` scenes). An output
@@ -373,7 +380,7 @@ def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float =
                 continue
             with np.errstate(all="ignore"):
                 si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=conf_level,
-                                   num_resamples=200, seed=seed)
+                                   num_resamples=200, seed=bootstrap_seed(seed))
             for i, name in enumerate(problem["names"]):
                 out.append({**base, "input": name,
                             "S1": float(si["S1"][i]), "S1_conf": float(si["S1_conf"][i]),
