@@ -94,11 +94,11 @@ class EmulatorEngine:
         its ``step`` from another thread; nothing is added to the program's loop)."""
         from deck_emulator.legacy.emulator import EmulatorError
 
-        started = time.perf_counter()
         program = self.program(deck)
         if watch is not None:
             watch(program)
         error = defect = None
+        started = time.perf_counter()  # the program's run alone: what a study times
         try:
             run = program.run()
         except EmulatorError as exc:
@@ -108,8 +108,9 @@ class EmulatorEngine:
                 raise
             run = program.run_
             defect = f"{type(exc).__name__}: {exc} (label {program.label}, step {program.step})"
+        run_s = time.perf_counter() - started
         out = self.outcome(run, deck, name=name)
-        out.run_s = time.perf_counter() - started
+        out.run_s = run_s
         if error is not None:
             out.error, out.guard = str(error), error.guard
             out.hint = errata_policy.hint(error.guard, run.errata)

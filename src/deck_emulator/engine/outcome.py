@@ -40,6 +40,8 @@ class Outcome:
       emulator's printout is left as the listing prints it, the flags say what is odd.
     * ``error``: why the run stopped early (one line), ``None`` if it ended; ``guard``: the
       emulator's guard that stopped it; ``hint``: what would let it run.
+    * ``run_s``: seconds the engine's solver ran (the program's loop; the core's solution),
+      without building this outcome.
     * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
     """
 
