@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from deck_emulator.files import OutputSet, check_output_file
-from deck_emulator.engine import safety
+from deck_emulator.engine import quantities, safety
 from deck_emulator.engine import ENGINES, Outcome, engine_for
 from deck_emulator.events import EventKind
 from deck_emulator.units import ft_s_to_mph
@@ -615,16 +615,19 @@ def figure_pulse(results: list[Outcome]) -> Figure:
                 ax.axvline(1000 * e.time_s, color=col, lw=0.8, ls=":")
         m = safety.assess_outcome(res)
         if m is not None:
-            crush = (
-                ""
-                if res.delta_v_crush_mph is None
-                else f" (to the end of the crush pulse, the report's ΔV: {res.delta_v_crush_mph:.2f} mph)"
-            )
+            q = quantities.values(res, ("delta_v_contact_mph", "delta_v_crush_mph",
+                                        "max_decel_every_step_g", "max_decel_10ms_g", "oiv_m_s",
+                                        "ora_g"))
+            show = {k: quantities.QUANTITIES[k].show(v) for k, v in q.items()}
+            crush = ("" if q["delta_v_crush_mph"] is None else
+                     f" (to the end of the crush pulse, the report's ΔV: "
+                     f"{show['delta_v_crush_mph']} mph)")
+            rating = f" ({m.oiv_rating})" if res.error is None else ""
             notes.append(
-                f"{res.engine}: ΔV to the end of contact {m.delta_v_contact_mph:.2f} mph"
-                f" ({m.delta_v_contact_m_s:.2f} m/s){crush},\n    "
-                f"max {m.max_decel_g:.2f} g, 10 ms avg {m.max_decel_10ms_g:.2f} g, "
-                f"OIV {m.oiv_m_s:.2f} m/s ({m.oiv_rating}), ORA {m.ora_g:.1f} g"
+                f"{res.engine}: ΔV to the end of contact {show['delta_v_contact_mph']} mph{crush},"
+                f"\n    max, every step {show['max_decel_every_step_g']} g, 10 ms avg "
+                f"{show['max_decel_10ms_g']} g, OIV {show['oiv_m_s']} m/s{rating}, "
+                f"ORA {show['ora_g']} g"
             )
         if res.error:
             notes.append(f"{res.engine}: run stopped: {res.error}")
