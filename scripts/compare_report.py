@@ -4,11 +4,9 @@ runs: :func:`deck_emulator.studies.report_comparison.write_comparison`.
 
     python scripts/compare_report.py                 # writes docs/comparison.md
     python scripts/compare_report.py --out FILE      # write elsewhere
-    python scripts/compare_report.py --jobs 1        # no worker processes
 """
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
@@ -22,9 +20,8 @@ ROOT = Path(__file__).resolve().parent.parent
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default=str(ROOT / "docs" / "comparison.md"))
-    ap.add_argument("--jobs", type=int, default=min(4, os.cpu_count() or 1))
     args = ap.parse_args(argv)
-    seconds = write_comparison(args.out, args.jobs)
+    seconds = write_comparison(args.out)
     print(f"wrote {args.out} in {seconds:.1f} s", file=sys.stderr)
     return 0
 

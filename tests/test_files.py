@@ -238,17 +238,17 @@ def test_read_only_folder_fails_before_any_work(tmp_path):
 
 
 # The CLI with the points where the work starts replaced by a marker and an exit: the plot's
-# engine run (EmulatorEngine.run, CoreEngine.run) and the studies' parallel map of runs.
+# engine run (EmulatorEngine.run, CoreEngine.run) and the studies' scene runner.
 NO_ENGINE = """
 import os, sys
-from deck_emulator import parallel
 from deck_emulator.engine import engines
+from deck_emulator.studies import distributed
 
 def started(*args, **kwargs):
     print("ENGINE STARTED", flush=True)
     os._exit(99)
 
-engines.EmulatorEngine.run = engines.CoreEngine.run = parallel.parallel_map = started
+engines.EmulatorEngine.run = engines.CoreEngine.run = distributed.run_scenes = started
 from deck_emulator.cli import main
 sys.exit(main(sys.argv[1:]))
 """

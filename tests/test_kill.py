@@ -176,6 +176,10 @@ sys.exit(signals.run(lambda: __import__("deck_emulator.cli").cli.main(sys.argv[1
 '''
 
 
+#: the studies' and the sweep's scene store inside their folder (kept for --resume)
+STORE = ".scenes"
+
+
 def env(**extra) -> dict:
     e = dict(os.environ)
     e["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + e.get("PYTHONPATH", "")
@@ -408,16 +412,17 @@ def test_study_killed_while_it_writes_leaves_each_file_whole(tmp_path):
             (out / name).write_bytes(data)
 
     # killed in the runs: the workers end with it; the old files intact, nothing staged yet
+    # (the runs that finished are in the study's scene store, kept for --resume)
     put_old()
     killed(with_workers(pause_at(tmp_path, "runs", argv + [str(out)]), 2))
-    assert visible(out) == STABILITY_OLD and hidden(out) == []
+    assert visible(out) == STABILITY_OLD and hidden(out) == [STORE]
 
     # killed with the four files staged (in a hidden folder inside the study's), none renamed:
     # the old files intact
     put_old()
     p = killed(pause_at(tmp_path, "set-staged", argv + [str(out)]))
     stage = Path(p.info["staged"][0]).parent
-    assert stage.parent == out and hidden(out) == [stage.name]
+    assert stage.parent == out and hidden(out) == sorted([STORE, stage.name])
     assert sorted(Path(t).name for t in p.info["targets"]) == sorted(STABILITY_OLD)
     assert sorted(os.listdir(stage)) == sorted(STABILITY_OLD)
     assert visible(out) == STABILITY_OLD
@@ -432,18 +437,19 @@ def test_study_killed_while_it_writes_leaves_each_file_whole(tmp_path):
     assert sorted(mixed) == sorted(STABILITY_OLD)
     assert {n: mixed[n] for n in order[2:]} == {n: STABILITY_OLD[n] for n in order[2:]}
 
-    # a new folder, killed just before the staging folder is renamed to it: no folder (only
-    # the hidden staging folder beside it, complete)
-    p = killed(pause_at(tmp_path, "renaming", argv + [str(fresh)]))
-    assert Path(p.info["dst"]) == fresh and not fresh.exists()
-    assert hidden(tmp_path) == [Path(p.info["src"]).name]
-    staged_new = visible(Path(p.info["src"]))
+    # a new folder, killed with its files staged: the folder holds the scene store (made
+    # before the runs, for --resume) and the complete staging folder, and no file
+    p = killed(pause_at(tmp_path, "set-staged", argv + [str(fresh)]))
+    stage = Path(p.info["staged"][0]).parent
+    assert stage.parent == fresh and visible(fresh) == {}
+    assert hidden(fresh) == sorted([STORE, stage.name])
+    staged_new = visible(stage)
     assert sorted(staged_new) == sorted(STABILITY_OLD)
 
     # later writers remove what the SIGKILLs left: a run into the study's folder, and a
     # writer of a new folder beside the one that never appeared
     run_ok(argv + [str(out)])
-    assert hidden(out) == []
+    assert hidden(out) == [STORE]
     for name in order[:2]:  # the renamed files were the new ones, whole
         _whole_new(name, mixed[name], out)
     for name, data in staged_new.items():  # the new folder was staged complete
@@ -457,25 +463,25 @@ def test_study_killed_while_it_writes_leaves_each_file_whole(tmp_path):
 
 @pytest.mark.slow_corpus
 def test_study_interrupted_leaves_no_temporary_and_no_worker(tmp_path):
-    """SIGINT and SIGTERM in the runs (the workers busy) and with the files staged (a new
-    folder's staging folder made): the status, no worker, no folder, no staging folder."""
-    work = tmp_path / "work"
-    work.mkdir()
-    study = ["study", "error", "decks/steel40.dat", "--quick", "--jobs", "2", "--out",
-             str(work / "new")]
+    """SIGINT and SIGTERM in the runs (the workers busy) and with the files staged: the
+    status, no worker, no staging folder, no file; only the scene store, kept for --resume."""
+    new = tmp_path / "work" / "new"
+    new.parent.mkdir()
+    study = ["study", "error", "decks/steel40.dat", "--quick", "--jobs", "2", "--out", str(new)]
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
         p = stop(with_workers(pause_at(tmp_path, "runs", study), 2), sig)
         assert p.returncode == code, p.stderr_text
         assert p.leftover == [], "worker processes outlived the interrupted study"
-        assert "Traceback" not in p.stderr_text and sorted(os.listdir(work)) == []
+        assert "Traceback" not in p.stderr_text
+        assert sorted(os.listdir(new)) == [STORE]
 
         p = pause_at(tmp_path, "set-staged", study)
         stage = Path(p.info["staged"][0]).parent
-        assert stage.parent == work and sorted(os.listdir(work)) == [stage.name]
+        assert stage.parent == new and sorted(os.listdir(new)) == sorted([STORE, stage.name])
         stop(p, sig)
         assert p.returncode == code, p.stderr_text
         assert p.leftover == [] and "Traceback" not in p.stderr_text
-        assert sorted(os.listdir(work)) == []  # no folder, no staging
+        assert sorted(os.listdir(new)) == [STORE]  # no staging, no file
 
 
 # ----------------------------------------------------------------------------- sweep

@@ -51,7 +51,7 @@ def test_the_comparison_page_sets_each_deck_beside_the_report(tmp_path):
     from deck_emulator.studies.report_comparison import DECKS, write_comparison
 
     out = tmp_path / "comparison.md"
-    write_comparison(out, jobs=2)
+    write_comparison(out)
     text = out.read_text()
     for deck in DECKS:
         assert re.search(rf"^### `{deck}` — ", text, re.M), deck

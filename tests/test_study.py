@@ -407,3 +407,19 @@ def test_energy_helpers_on_a_plain_run():
     e = energies(out)
     assert np.isfinite(e["launch_ke_ftlb"]) and e["launch_ke_ftlb"] > 0
     assert 0 < e["free_drift"] < 0.05  # the explicit scheme gains a little energy in free flight
+
+
+def test_a_resumed_study_runs_nothing_it_has_stored(stability_dir):
+    """The study's runs are in its scene store (the one runner's, as the sweep's): --resume
+    adds no batch to it and writes the same table (but for the measured times)."""
+    store = stability_dir / ".scenes" / "results"
+    before = sorted(p.name for p in store.glob("*.parquet"))
+    assert before
+    rows_before = _rows(stability_dir / "stability_study.csv")[1]
+    assert _run(["study", "stability", "--out", str(stability_dir), "--quick", "--jobs", "2",
+                 "--resume"]) == 0
+    assert sorted(p.name for p in store.glob("*.parquet")) == before
+    rows_after = _rows(stability_dir / "stability_study.csv")[1]
+    timing = {k for k in rows_before[0] if k.endswith("wall_s")}
+    strip = lambda rows: [{k: v for k, v in r.items() if k not in timing} for r in rows]  # noqa: E731
+    assert strip(rows_after) == strip(rows_before)

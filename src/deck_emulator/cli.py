@@ -988,6 +988,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                        help="a small grid (seconds, for tests) instead of the full study")
         q.add_argument("--jobs", type=_positive_int, default=None, metavar="N",
                        help="worker processes (default: os.cpu_count())")
+        _add_cluster_options(q)
         _add_quiet_option(q)
         q.set_defaults(func=run)
 

@@ -47,6 +47,7 @@ from .common import (
     run_core,
     run_emulator,
     run_longest_first,
+    study_store,
     csv_text,
 )
 
@@ -246,9 +247,12 @@ def _tasks(deck_path: str, p: dict) -> list[dict]:
 
 
 def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None,
-                command: str | None = None, quiet: bool = False) -> dict:
+                command: str | None = None, quiet: bool = False, scheduler: str | None = None,
+                resume: bool = False) -> dict:
     """Run the work-precision study on ``deck_path``; write ``error_study.csv``,
-    ``work_precision.png`` and ``README.md`` into ``out_dir``.  Returns the summary."""
+    ``work_precision.png`` and ``README.md`` into ``out_dir`` (the runs are stored in its
+    ``.scenes`` as they finish: ``resume`` runs only the missing ones).  Returns the
+    summary."""
     started = time.perf_counter()
     out = Path(out_dir)
     check_output_dir(out)  # a missing or read-only folder fails before any run
@@ -257,7 +261,8 @@ def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None
     p = plan(quick)
     jobs = jobs or cpu_count()
     rows = run_longest_first(_task, _tasks(deck_path, p), jobs=jobs, desc="study error",
-                             quiet=quiet)
+                             quiet=quiet, store_dir=study_store(out, resume),
+                             scheduler=scheduler, resume=resume)
     summary = _summarise(rows, p)
     with OutputSet(directory=out) as files:  # the three files appear together or not at all
         files.write("error_study.csv", csv_text(rows, COLUMNS))

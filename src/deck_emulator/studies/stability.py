@@ -50,6 +50,7 @@ from .common import (
     run_core,
     run_emulator,
     run_longest_first,
+    study_store,
     csv_text,
 )
 
@@ -227,10 +228,12 @@ def _merge(spec, emu, core) -> dict:
     row.update(emu or {})
     row.update(core or {})
     if emu and core and "_grid" in core and len(emu["_t"]):
-        t, xyz, grid = emu["_t"], emu["_xyz"], core["_grid"]
+        # the arrays travelled from the workers as lists (studies.common.run_longest_first)
+        t, xyz, grid = np.asarray(emu["_t"]), np.asarray(emu["_xyz"]), np.asarray(core["_grid"])
         keep = t <= grid[-1]
         if keep.any():
-            cm = np.array([np.interp(t[keep], grid, core["_cm"][i]) for i in range(3)])
+            cm = np.array([np.interp(t[keep], grid, np.asarray(core["_cm"][i]))
+                           for i in range(3)])
             row["traj_diff_ft"] = float(np.max(np.linalg.norm(xyz[:, keep] - cm, axis=0)))
     for key in ("_t", "_xyz", "_grid", "_cm"):
         row.pop(key, None)
@@ -244,7 +247,8 @@ def _merge(spec, emu, core) -> dict:
 
 
 def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_path=None,
-                    command: str | None = None, quiet: bool = False) -> dict:
+                    command: str | None = None, quiet: bool = False,
+                    scheduler: str | None = None, resume: bool = False) -> dict:
     """Run the stability grid; write ``stability_study.csv``, ``stability_map.png``,
     ``extreme_scenes.png`` and ``README.md`` into ``out_dir``.  Returns the summary."""
     started = time.perf_counter()
@@ -260,7 +264,9 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
         for engine in ("emulator", "core") if s["emulator"] else ("core",):
             cost = (0.4 * 2 ** s["k"]) if engine == "emulator" else 0.3
             tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
-    done = run_longest_first(_task, tasks, jobs=jobs, desc="study stability", quiet=quiet)
+    done = run_longest_first(_task, tasks, jobs=jobs, desc="study stability", quiet=quiet,
+                             store_dir=study_store(out, resume), scheduler=scheduler,
+                             resume=resume)
     results = {(t["index"], t["engine"]): r for t, r in zip(tasks, done)}
     rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
             for i, s in enumerate(grid)]

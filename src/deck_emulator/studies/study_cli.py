@@ -6,7 +6,9 @@
   the stability grid (``stability_study.csv``, ``stability_map.png``, ``extreme_scenes.png``,
   ``README.md``).
 
-Both run their runs over ``--jobs`` processes (default ``os.cpu_count()``) and are deterministic
+Both run their runs on the one scene runner (an embedded Dask cluster of ``--jobs`` workers,
+default ``os.cpu_count()``, or an existing one with ``--scheduler``), store them in
+``DIR/.scenes`` as they finish (``--resume`` runs only the missing ones) and are deterministic
 apart from the timings.  :func:`add_parser` registers the ``study`` command with the CLI.
 """
 
@@ -39,7 +41,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
     if args.study == "error":
         read_deck(args.deck)  # DeckError -> exit status 2 before any work
         s = error_study(args.deck, args.out, quick=args.quick, jobs=args.jobs, command=cmd,
-                        quiet=args.quiet)
+                        quiet=args.quiet, scheduler=args.scheduler, resume=args.resume)
         o = s["orders"]
         lines = [f"observed order (listing as printed): {o['legacy, ED as printed (double)']['vs_h']:.2f}",
                  f"observed order (ED tightened): {o['legacy, ED tightened (double)']['vs_h']:.2f}"]
@@ -48,7 +50,8 @@ def _cmd_study(args: argparse.Namespace) -> int:
         if deck:
             read_deck(deck)
         s = stability_study(args.out, quick=args.quick, jobs=args.jobs, deck_path=deck,
-                            command=cmd, quiet=args.quiet)
+                            command=cmd, quiet=args.quiet, scheduler=args.scheduler,
+                            resume=args.resume)
         lines = [f"emulator classes: {s['classes']}"]
     for line in lines + [f"wrote {args.out} in {s['wall_s']:.0f} s"]:
         print(f"deck-emulator: study {args.study}: {line}", file=sys.stderr)
