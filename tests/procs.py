@@ -29,3 +29,13 @@ def children(pid: int) -> list[int]:
 def group(pgid: int) -> list[int]:
     """Live processes of the process group ``pgid``."""
     return _live(2, pgid)
+
+
+def sigint_as_on_a_terminal() -> None:
+    """``preexec_fn`` for a child that a test will send SIGINT: its SIGINT back to the default
+    (Python then raises KeyboardInterrupt for it). A command started in the background by a
+    non-interactive shell inherits SIGINT ignored, and rightly keeps it; so would the test's
+    child when the test suite itself runs that way, and a Ctrl-C test would wait for nothing."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

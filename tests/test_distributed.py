@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from procs import sigint_as_on_a_terminal
+
 from deck_emulator.studies.distributed import SceneStore, StoreError, run_scenes, scene_id
 
 SRC = Path(__file__).resolve().parent.parent / "src"
@@ -119,7 +121,8 @@ def test_killing_the_whole_command_then_resume(stub, tmp_path, sig):
         )
     )
     proc = subprocess.Popen([sys.executable, str(script)], start_new_session=True,
-                            stdout=subprocess.DEVNULL, stderr=open(tmp_path / "stderr.txt", "w"))
+                            stdout=subprocess.DEVNULL, stderr=open(tmp_path / "stderr.txt", "w"),
+                            preexec_fn=sigint_as_on_a_terminal)
     store = SceneStore(store_dir)
     try:
         deadline = time.monotonic() + 120

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from procs import sigint_as_on_a_terminal
+
 from deck_emulator import files
 from deck_emulator.files import OutputError, OutputSet, check_output_dir, check_output_file, write_file
 
@@ -450,7 +452,7 @@ def test_signal_is_held_over_a_commit_in_a_process_with_threads(sig, code):
     even when the process has another thread (numpy's OpenBLAS starts some): the window runs
     to its end, then the status."""
     p = subprocess.Popen([sys.executable, "-c", HELD], env=env(), stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True, preexec_fn=sigint_as_on_a_terminal)
     assert p.stdout.readline() == "ready\n"
     p.send_signal(sig)
     out, err = p.communicate(timeout=300)
@@ -462,7 +464,8 @@ def test_signal_is_held_over_a_commit_in_a_process_with_threads(sig, code):
 def test_signal_removes_temporaries_and_sets_the_status(tmp_path, sig, code):
     (tmp_path / "a.txt").write_text("old")
     p = subprocess.Popen([sys.executable, "-c", SIGNALLED, str(tmp_path)], env=env(),
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=sigint_as_on_a_terminal)
     assert p.stdout.readline() == "ready\n"
     assert leftovers(tmp_path)  # the staged files exist while it runs
     p.send_signal(sig)

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import pytest
 
-from procs import group
+from procs import group, sigint_as_on_a_terminal
 
 ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = (ROOT / "golden" / "steel40.r8.txt").read_bytes()
@@ -233,7 +233,8 @@ def pause_at(tmp_path: Path, point: str, argv: list[str], nth: int = 1) -> subpr
     with open(err, "wb") as fh:  # a file, not a pipe: a command that says much never blocks
         p = subprocess.Popen([sys.executable, "-c", HOOK] + argv, cwd=ROOT,
                              env=env(KILL_POINT=point, KILL_NTH=str(nth), KILL_MARKER=str(marker)),
-                             stdout=subprocess.DEVNULL, stderr=fh, start_new_session=True)
+                             stdout=subprocess.DEVNULL, stderr=fh, start_new_session=True,
+                             preexec_fn=sigint_as_on_a_terminal)
     _started.append(p)
     p.err = err
     deadline = time.monotonic() + HANG_S
