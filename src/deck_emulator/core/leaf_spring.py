@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from .components import VehicleContact
-from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
+from .kinematics import IDX_VV, EventSpec, Kinematics
 from .scene import LeafSpring
 
 __all__ = ["loading_force", "unloading_force", "leaf_force", "zero_force_set", "loop_area",

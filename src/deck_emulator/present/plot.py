@@ -812,7 +812,6 @@ def animation_writer(path):
 def check_plot_outputs(out, animate=None) -> None:
     """Before any work: the formats, and that every output can be written."""
     from deck_emulator.errors import UsageError
-    from deck_emulator.files import check_output_file
 
     formats = picture_formats()
     if Path(out).suffix.lower().lstrip(".") not in formats:

@@ -30,7 +30,6 @@ from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: th
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
 #: (no effect at alpha = 0 on steel40, needed by every angled deck); said in each README
 ERRATA = (errata_policy.ED_DIRECTION,)
-_BODY_RATES = ("V1", "V2", "V3", "W1", "W2", "W3")
 
 
 matched_options = legacy_options  # one definition: deck_emulator.studies.diff.legacy_options

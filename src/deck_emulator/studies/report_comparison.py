@@ -18,11 +18,9 @@ are in the repository. The file is written whole (temporary file, then rename).
 
 from __future__ import annotations
 
-import argparse
 import datetime as _dt
 import math
 import platform
-import sys
 import time
 from fractions import Fraction
 from pathlib import Path
