@@ -23,6 +23,7 @@ from pathlib import Path
 
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.present.answers import definitions_help
+from deck_emulator.studies import SCENE_STORE
 from deck_emulator.units import G_FT_S2
 
 PROG = "deck-emulator"
@@ -34,8 +35,6 @@ PRECISIONS = ("double", "single", "ibm7094")
 ERRATA_NAMES = ("ed-direction",)
 PRESETS = ("legacy", "physical")
 VIEWS = ("side", "plan", "3d", "all")
-#: where a sweep stores its scenes as they finish, inside its output folder (for --resume)
-SWEEP_STORE = ".scenes"
 CLIError = UsageError  # the name the commands below use
 
 # Functions that add one subcommand's parser; main() calls each of them in order.
@@ -835,6 +834,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     from deck_emulator.files import OutputSet, check_output_dir
     from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.studies.distributed import output_store
     from deck_emulator.studies.sweep import (POSTS, parse_grid, render_markdown, scene_deck,
                                              sweep, write_csv)
 
@@ -859,11 +859,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     check_output_dir(args.out)
     options = (dict(errata=tuple(args.erratum)) if args.engine == "emulator"
                else dict(preset=args.preset))
-    store = Path(args.out) / SWEEP_STORE
-    if not args.resume and store.exists():  # a new sweep: the scenes of the last one go
-        import shutil
-
-        shutil.rmtree(store)
+    store = output_store(args.out, args.resume)  # a new sweep: the scenes of the last one go
     started = time.perf_counter()
     rows = sweep(speeds, angles, engine=args.engine, options=options, post=args.post,
                  base=base, jobs=args.jobs, vvb_decimals=args.vvb_decimals, quiet=args.quiet,
@@ -911,7 +907,7 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
     _add_cluster_options(p)
     p.add_argument("--out", required=True, metavar="DIR",
                    help="directory for sweep.csv and sweep.md (and the scene store, "
-                   f"DIR/{SWEEP_STORE}, kept for --resume)")
+                   f"DIR/{SCENE_STORE}, kept for --resume)")
     p.set_defaults(func=_cmd_sweep)
 
 

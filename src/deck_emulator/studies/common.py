@@ -147,21 +147,6 @@ def cpu_count() -> int:
     return os.cpu_count() or 1
 
 
-#: Where a study stores its runs as they finish, inside its output folder (for --resume), as
-#: the sweep does.
-STORE = ".scenes"
-
-
-def study_store(out_dir, resume: bool) -> Path:
-    """The study's scene store in ``out_dir``; a new study (no ``resume``) starts it empty."""
-    import shutil
-
-    store = Path(out_dir) / STORE
-    if not resume and store.exists():
-        shutil.rmtree(store)
-    return store
-
-
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
                       quiet: bool = False, scheduler: str | None = None,
                       resume: bool = False) -> list[dict]:

@@ -39,16 +39,16 @@ POINTS = ("P", "Q", "R")
 
 
 #: The quantities diff sets side by side (the registry's names and definitions).
-QUANTITIES = ("hit_time_s", "first_spring_lost_s", "vehicle_contact_lost_s",
+COMPARED = ("hit_time_s", "first_spring_lost_s", "vehicle_contact_lost_s",
               "delta_v_contact_mph", "max_decel_every_step_g")
 
 
 def outcome_summary(out) -> dict:
     """The diff's quantities of one engine's outcome: the hit, the registry's
-    :data:`QUANTITIES`, the terminal P, Q, R (XL, YL, ZL, ft)."""
+    :data:`COMPARED`, the terminal P, Q, R (XL, YL, ZL, ft)."""
     return {
         "hit": out.hit.short() if out.hit else None,
-        **quantities.values(out, QUANTITIES),
+        **quantities.values(out, COMPARED),
         "terminal_points_xl_yl_zl_ft": {p: tuple(out.terminal[p]) for p in POINTS},
     }
 

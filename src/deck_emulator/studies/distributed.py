@@ -64,6 +64,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 __all__ = [
+    "output_store",
     "scene_id",
     "SceneStore",
     "run_scenes",
@@ -106,6 +107,19 @@ def scene_id(task: dict) -> str:
 
 
 # ================================================================================ the store
+
+
+def output_store(out_dir, resume: bool) -> Path:
+    """The scene store of a command's output folder (:data:`deck_emulator.studies.SCENE_STORE`
+    in it); a new run (no ``resume``) starts it empty."""
+    import shutil
+
+    from deck_emulator.studies import SCENE_STORE
+
+    store = Path(out_dir) / SCENE_STORE
+    if not resume and store.exists():
+        shutil.rmtree(store)
+    return store
 
 
 class SceneStore:

@@ -31,6 +31,7 @@ from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.core.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.studies.distributed import output_store
 from .common import (
     H0,
     agg_backend,
@@ -47,7 +48,6 @@ from .common import (
     run_core,
     run_emulator,
     run_longest_first,
-    study_store,
     csv_text,
 )
 
@@ -261,7 +261,7 @@ def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None
     p = plan(quick)
     jobs = jobs or cpu_count()
     rows = run_longest_first(_task, _tasks(deck_path, p), jobs=jobs, desc="study error",
-                             quiet=quiet, store_dir=study_store(out, resume),
+                             quiet=quiet, store_dir=output_store(out, resume),
                              scheduler=scheduler, resume=resume)
     summary = _summarise(rows, p)
     with OutputSet(directory=out) as files:  # the three files appear together or not at all

@@ -33,6 +33,7 @@ from deck_emulator.engine import Limits
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, PHYSICAL, BaseFriction, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.studies.distributed import output_store
 from .common import (
     ERRATA,
     H0,
@@ -50,7 +51,6 @@ from .common import (
     run_core,
     run_emulator,
     run_longest_first,
-    study_store,
     csv_text,
 )
 
@@ -265,7 +265,7 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
             cost = (0.4 * 2 ** s["k"]) if engine == "emulator" else 0.3
             tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
     done = run_longest_first(_task, tasks, jobs=jobs, desc="study stability", quiet=quiet,
-                             store_dir=study_store(out, resume), scheduler=scheduler,
+                             store_dir=output_store(out, resume), scheduler=scheduler,
                              resume=resume)
     results = {(t["index"], t["engine"]): r for t, r in zip(tasks, done)}
     rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
