@@ -29,7 +29,8 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
-__all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help"]
+__all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help", "pulse",
+           "clearance"]
 
 
 @dataclass(frozen=True)
@@ -67,21 +68,39 @@ class Quantity:
 # ------------------------------------------------------------------ what the definitions read
 
 
-def _pulse(o):
-    """The occupant-risk numbers of the outcome's contact history (computed once)."""
+def _cached(o, key: str, compute):
+    """``compute(o)``, once per outcome (kept in ``o.cache``)."""
+    if key not in o.cache:
+        o.cache[key] = compute(o)
+    return o.cache[key]
+
+
+def pulse(o):
+    """The occupant-risk reading of the outcome's contact history
+    (:class:`~deck_emulator.engine.safety.PulseMetrics`, computed once; None without one)."""
     from .safety import assess_outcome
 
-    if "pulse" not in o.cache:
-        o.cache["pulse"] = assess_outcome(o) if o.t.size else None
-    return o.cache["pulse"]
+    return _cached(o, "pulse", lambda o: assess_outcome(o) if o.t.size else None)
 
 
-def _clearance(o):
+def clearance(o):
+    """The post's clearance over the car in free flight
+    (:class:`~deck_emulator.engine.safety.Clearance`, computed once; None without one)."""
     from .safety import clearance_of
 
-    if "clearance" not in o.cache:
-        o.cache["clearance"] = clearance_of(o) if o.t.size else None
-    return o.cache["clearance"]
+    return _cached(o, "clearance", lambda o: clearance_of(o) if o.t.size else None)
+
+
+def _energies(o):
+    from .energy import energies
+
+    return _cached(o, "energies", energies)
+
+
+def _leaf(o):
+    from .leaf_spring import at_unloading
+
+    return _cached(o, "leaf", at_unloading)
 
 
 def _attr(name):
@@ -89,33 +108,17 @@ def _attr(name):
 
 
 def _of_pulse(field):
-    return lambda o: None if _pulse(o) is None else getattr(_pulse(o), field)
+    return lambda o: None if pulse(o) is None else getattr(pulse(o), field)
 
 
 def _of_clearance(field):
-    return lambda o: None if _clearance(o) is None else getattr(_clearance(o), field)
+    return lambda o: None if clearance(o) is None else getattr(clearance(o), field)
 
 
 def _delta_v_contact(o):
     if o.delta_v_contact_mph is not None:
         return o.delta_v_contact_mph
-    return None if _pulse(o) is None else _pulse(o).delta_v_contact_mph
-
-
-def _energies(o):
-    from .energy import energies
-
-    if "energies" not in o.cache:
-        o.cache["energies"] = energies(o)
-    return o.cache["energies"]
-
-
-def _leaf(o):
-    from .leaf_spring import at_unloading
-
-    if "leaf" not in o.cache:
-        o.cache["leaf"] = at_unloading(o)
-    return o.cache["leaf"]
+    return None if pulse(o) is None else pulse(o).delta_v_contact_mph
 
 
 _REGISTRY = (

@@ -462,10 +462,10 @@ def _summary_text(res: Outcome) -> str:
     lines = _legend_title(res).split("\n") + [""]
     for e in res.events:
         lines.append(f"{1000 * e.time_s:7.1f} ms  {e.sentence()}")
-    m = safety.assess_outcome(res)
+    m = quantities.pulse(res)
     if m is not None:
         lines += ["", "Occupant risk (flail-space model):"] + ["  " + s for s in m.lines()]
-    c = safety.clearance_of(res)
+    c = quantities.clearance(res)
     if c is not None:
         lines.append("")
         if c.body_ft is None:
@@ -613,7 +613,7 @@ def figure_pulse(results: list[Outcome]) -> Figure:
         for e in res.events:
             if e.kind in (EventKind.LOST_FIRST_SPRING, EventKind.LOST_VEHICLE):
                 ax.axvline(1000 * e.time_s, color=col, lw=0.8, ls=":")
-        m = safety.assess_outcome(res)
+        m = quantities.pulse(res)
         if m is not None:
             q = quantities.values(res, ("delta_v_contact_mph", "delta_v_crush_mph",
                                         "max_decel_every_step_g", "max_decel_10ms_g", "oiv_m_s",

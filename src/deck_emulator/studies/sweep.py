@@ -195,12 +195,12 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
     row["time_to_hit_ground_ms"] = (ms(row["hit_time_s"]) if hit and hit.surface is Surface.GROUND
                                     else None)
     row["comment"] = report_comment(hit) if hit else ("NO HIT" + (f" ({res.error})" if res.error else ""))
-    m = safety.assess_outcome(res) if res.t.size else None
+    m = quantities.pulse(res)  # the readings the registry's values came from
     ended = res.error is None
     row["occupant_strike_after_contact"] = m.strike_after_contact if m is not None else None
     row["oiv_rating"] = m.oiv_rating if m is not None and ended else ""
     row["ora_rating"] = m.ora_rating if m is not None and ended else ""
-    c = safety.clearance_of(res)
+    c = quantities.clearance(res)
     row["body_clearance_surface"] = (c.body_surface or "") if c else ""
     row["body_clearance_time_s"] = c.body_time_s if c else None
     row["body_clearance_where"] = (c.body_where or "") if c else ""
