@@ -13,8 +13,6 @@ decelerations as the report tabulates them (two decimals); times in ms with one 
 
 from __future__ import annotations
 
-import math
-
 from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.
@@ -26,13 +24,6 @@ POINT_DIGITS = 5
 OUTCOME = ("hit_time_s", "delta_v_crush_mph", "delta_v_contact_mph", "max_decel_g")
 OCCUPANT_RISK = ("oiv_m_s", "ora_g", "max_decel_10ms_g", "occupant_strike_time_s",
                  "body_clearance_ft", "roof_clearance_ft")
-
-
-def _finite(x):
-    if x is None:
-        return None
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 # ------------------------------------------------------------------------ summary and core
