@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from deck_emulator.legacy.deck import read_deck
+from deck_emulator.units import FT_S_PER_MPH
 from deck_emulator.legacy.extract import (
     DELTA_V_CANDIDATES,
-    MPH,
     ExtractError,
     Outcome,
     extract,
@@ -125,12 +125,12 @@ def test_max_decel_and_delta_v_from_the_printed_values(text, deck, outcome):
     i = next(i for i, s in enumerate(lines) if "LOST CONTACT WITH THE VEHICLE" in s)
     vva = _last_before(lines, i, "VVA")
     assert outcome.delta_v_candidates_mph["vehicle_contact_lost"] == pytest.approx(
-        (abs(d["VVB"]) - abs(vva)) / MPH)
+        (abs(d["VVB"]) - abs(vva)) / FT_S_PER_MPH)
     # crush-pulse end: the first FSA printed equal to FCONST after one above it
     vvas = [float(x) for x in re.findall(r"THE VALUE OF VVA IS +(\S+)", text)]
     k = next(k for k in range(1, len(fsa)) if fsa[k - 1] > d["FCONST"] and fsa[k] == d["FCONST"])
     assert outcome.delta_v_crush_mph == outcome.delta_v_candidates_mph["crush_pulse_end"]
-    assert outcome.delta_v_crush_mph == pytest.approx((abs(d["VVB"]) - abs(vvas[k])) / MPH)
+    assert outcome.delta_v_crush_mph == pytest.approx((abs(d["VVB"]) - abs(vvas[k])) / FT_S_PER_MPH)
     assert set(outcome.delta_v_candidates_mph) == set(DELTA_V_CANDIDATES)
     # VVFA is constant in free flight: the speed recovered from SVFA equals VVA at separation
     assert outcome.delta_v_candidates_mph["end_of_run"] == pytest.approx(

@@ -62,11 +62,10 @@ STAR_PX = 16.0  # the hit point's star is 18 pt (25 px) across
 
 def point_l(res, name: str, i: int) -> np.ndarray:
     """Point ``name`` at sample i in the report's XL, YL, ZL (origin on the ground under the
-    base of the support): the Outcome's road axes XX, YY, ZZ less XQO, YYQO and -HEIGHT."""
-    d = res.values
-    return np.asarray(res.points[name][i], dtype=float) - np.array(
-        [d["XQO"], d["YYQO"], -d["HEIGHT"]]
-    )
+    base of the support): the Outcome's road axes XX, YY, ZZ less the base Q's XQO, YYQO and
+    -HEIGHT (the scene's ground depth)."""
+    q, depth = res.scene.post.base, res.scene.environment.ground_depth_ft
+    return np.asarray(res.points[name][i], dtype=float) - np.array([q.xx_ft, q.yy_ft, -depth])
 
 
 def post_l(res, i: int) -> np.ndarray:

@@ -454,13 +454,15 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     if not settings["assumptions"]:
         settings.pop("assumptions")
     answer = outcome_answer(out, command="summary", source=str(deck.path), settings=settings)
-    answer["notes"] += _odd_deck_notes(out.values) + list(out.flags)
+    answer["notes"] += _odd_deck_notes(out) + list(out.flags)
     _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
 
 
-def _odd_deck_notes(values: dict) -> list[str]:
-    """Why a well-formed but physically odd deck gives odd numbers (or stops)."""
+def _odd_deck_notes(out) -> list[str]:
+    """Why a well-formed but physically odd deck gives odd numbers (or stops): the run's
+    scene, in the deck's names."""
+    values = out.scene.deck_values() if out.scene is not None else {}
     notes = []
     for name, what in (("W", "the post's mass"), ("WV", "the car's mass")):
         if values.get(name, 1.0) <= 0:
@@ -481,7 +483,7 @@ def _odd_deck_notes(values: dict) -> list[str]:
 
 def _failed(out, source) -> RunFailed:
     """A stopped run: the engine's line, its hint, and why the deck is odd if it is."""
-    notes = _odd_deck_notes(out.values)
+    notes = _odd_deck_notes(out)
     if out.settings.startswith("arithmetic single") and "PHIA" in (out.error or ""):
         notes.append("in binary32 COS(THA) rounds to 1.0 at step 2 and the listing divides "
                      "by zero, where gfortran's trapping single-precision build stops too "
@@ -629,7 +631,7 @@ def _cmd_core(args: argparse.Namespace) -> int:
                 "method": f"{used} (auto)" if args.method == "auto" else used,
                 "rtol": args.rtol, "atol": args.atol}
     answer = outcome_answer(out, command="core", source=args.scene, settings=settings)
-    answer["notes"] += _odd_deck_notes(out.values) + list(getattr(out.raw, "notes", ()) or ())
+    answer["notes"] += _odd_deck_notes(out) + list(getattr(out.raw, "notes", ()) or ())
     _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
 

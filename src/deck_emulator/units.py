@@ -18,3 +18,10 @@ G_FT_S2 = 32.174
 
 def ft_s_to_mph(ft_s: float) -> float:
     return ft_s / FT_S_PER_MPH
+
+
+def speed_lost_mph(v0_ft_s: float, v_ft_s: float) -> float:
+    """The speed the car lost between two velocities along its path, ``|v0| - |v|`` (ft/s
+    in, mph out): the one formula of every delta-V here. The registry's two delta-Vs
+    (:mod:`deck_emulator.engine.quantities`) differ only in the instant ``v`` is read."""
+    return ft_s_to_mph(abs(v0_ft_s) - abs(v_ft_s))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -73,6 +74,18 @@ class Trajectory:
         out[6:10] = q / np.linalg.norm(q, axis=0)
         return out[:, 0] if np.ndim(t) == 0 else out
 
+    def velocity_body(self, t) -> np.ndarray:
+        """Mass-centre velocity along the body axes 1, 2, 3 (ft/s): (3,) or (3, n)."""
+        return self.state(t)[3:6]
+
+    def attitude(self, t) -> np.ndarray:
+        """The unit quaternion (w, x, y, z) turning body axes into road axes: (4,) or (4, n)."""
+        return self.state(t)[6:10]
+
+    def angular_velocity_body(self, t) -> np.ndarray:
+        """Angular velocity along the body axes 1, 2, 3 (rad/s): (3,) or (3, n)."""
+        return self.state(t)[10:13]
+
     def mass_centre(self, t) -> np.ndarray:
         """Mass-centre position (XX, YY, ZZ), ft: shape (3,) or (3, n)."""
         return self.state(t)[0:3]
@@ -100,6 +113,24 @@ class Trajectory:
     def points(self, t) -> dict[str, np.ndarray]:
         """All the post's points at ``t``, by name."""
         return {k: self.point(k, t) for k in self.point_names}
+
+    def contact_force(self, step_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """The force on the car along ``+XV`` (lb) over the contact segments, sampled at
+        least every ``step_s`` and at each segment's ends: (times, forces); empty arrays
+        without a contact."""
+        ts, fs = [], []
+        for seg in self.segments:
+            if seg.phase != "contact" or seg.t1 <= seg.t0:
+                continue
+            n = max(math.ceil((seg.t1 - seg.t0) / step_s), 2)
+            tt = np.linspace(seg.t0, seg.t1, n + 1)
+            ys = seg.solution(tt)
+            fs.append([self._model.vehicle_force(tk, ys[:, k], seg.mode)
+                       for k, tk in enumerate(tt)])
+            ts.append(tt)
+        if not ts:
+            return np.zeros(0), np.zeros(0)
+        return np.concatenate(ts), np.asarray(np.concatenate(fs), dtype=float)
 
     def vehicle(self, t) -> np.ndarray:
         """Car position SV (ft) and velocity VV (ft/s) along XV: shape (2,) or (2, n)."""

@@ -53,6 +53,7 @@ __all__ = [
     "BreakawayBase",
     "Environment",
     "Scene",
+    "DeckScene",
     "StartupKick",
     "ModelOptions",
     "LEGACY",
@@ -408,14 +409,22 @@ class Scene:
     name: str = ""
 
     def __post_init__(self) -> None:
+        problems = self.problems()
+        if problems:
+            raise SceneError(problems[0])
+
+    def problems(self) -> list[str]:
+        """What keeps the core from solving this scene (empty: nothing); a :class:`Scene`
+        refuses to be built with any, a :class:`DeckScene` keeps them."""
+        out = []
         if self.vehicle is not None and self.post.first_impact is None:
-            raise SceneError("a scene with a vehicle needs the post's first impact point S")
+            out.append("a scene with a vehicle needs the post's first impact point S")
         if (
             self.vehicle is not None
             and self.vehicle.second_spring is not None
             and self.post.second_impact is None
         ):
-            raise SceneError("a second crush spring needs the post's second impact point T")
+            out.append("a second crush spring needs the post's second impact point T")
         for value, what in (
             (self.post.mass_slug, "post mass"),
             (self.post.inertia_1_slug_ft2, "inertia A"),
@@ -423,9 +432,17 @@ class Scene:
             (self.post.inertia_3_slug_ft2, "inertia C"),
         ):
             if not value > 0.0:
-                raise SceneError(f"{what} must be positive, got {value!r}")
+                out.append(f"{what} must be positive, got {value!r}")
         if self.vehicle is not None and not self.vehicle.mass_slug > 0.0:
-            raise SceneError(f"vehicle mass must be positive, got {self.vehicle.mass_slug!r}")
+            out.append(f"vehicle mass must be positive, got {self.vehicle.mass_slug!r}")
+        return out
+
+    def checked(self) -> "Scene":
+        """This scene as a :class:`Scene` the core can solve (raises :class:`SceneError`
+        naming the first problem)."""
+        if type(self) is Scene:
+            return self
+        return Scene(**{f.name: getattr(self, f.name) for f in fields(self)})
 
     # ---- planar test ---------------------------------------------------------------
 
@@ -458,7 +475,7 @@ class Scene:
     # ---- from a deck -----------------------------------------------------------------
 
     @classmethod
-    def from_deck(cls, deck: Any, *, name: str = "") -> "Scene":
+    def from_deck(cls, deck: Any, *, name: str = "", checked: bool = True) -> "Scene":
         """Build the scene of a card deck (a :class:`deck_emulator.legacy.deck.Deck` or a mapping
         READ-list name -> value).
 
@@ -466,6 +483,10 @@ class Scene:
         ``CT``, a zero ``FCONST`` and an all-zero car outline mean "absent".  Missing
         names read as 0.0.  Base friction and the normal-force release distance are the
         listing's constants (:data:`LISTING_BASE_FRICTION`, :data:`LISTING_NORMAL_RELEASE_FT`).
+
+        ``checked=False``: the deck as it is, even one the core cannot solve (a zero mass, P
+        or Q at the mass centre, a car without S): a :class:`DeckScene`, which is what an
+        emulator's outcome carries -- the 1967 program runs such decks.
         """
         values = deck if isinstance(deck, Mapping) else deck.values
         if not name and not isinstance(deck, Mapping):
@@ -486,7 +507,8 @@ class Scene:
         # what a zero means in the deck: a point at the mass centre, CT = 0, FCONST = 0 and an
         # all-zero car outline are absent components
         for attr in Post.POINT_FIELDS.values():
-            if attr in post and not any(post[attr].values()):
+            if attr in post and not any(post[attr].values()) and (
+                    checked or attr not in ("top", "base")):
                 del post[attr]
         if "top" not in post or "base" not in post:
             raise SceneError("the deck must give the top P and the base Q of the post")
@@ -501,7 +523,7 @@ class Scene:
         # what the deck has no field for: the listing's constants
         tree["base"].update(normal_release_ft=LISTING_NORMAL_RELEASE_FT,
                             friction=_plain(LISTING_BASE_FRICTION))
-        scene = _build_dataclass(cls, tree, "")
+        scene = _build_dataclass(cls if checked else DeckScene, tree, "")
         # XCMB, YCMB, ZCMB are in X, Y, Z: turn them into XX, YY, ZZ (Table 6)
         delta = v("DELTA")
         c, s = math.cos(delta), math.sin(delta)
@@ -547,6 +569,15 @@ class Scene:
         except tomllib.TOMLDecodeError as exc:
             raise SceneError(f"not valid TOML: {exc}") from exc
         return _build_dataclass(cls, data, "")
+
+
+@dataclass(frozen=True)
+class DeckScene(Scene):
+    """A scene as a card deck gives it, not checked: the emulator runs decks the core refuses
+    (:meth:`Scene.problems` says what they lack); :meth:`Scene.checked` is the core's way in."""
+
+    def __post_init__(self) -> None:
+        pass
 
 
 def _plain(obj: Any) -> dict:

@@ -37,7 +37,7 @@ from .scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from .regions import hit_message
-from deck_emulator.units import ft_s_to_mph
+from deck_emulator.units import speed_lost_mph
 
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
 
@@ -487,7 +487,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         t_release = run.contact_end
     if scene.vehicle is not None and t_release is not None:
         vv_loss = float(traj.state(t_release)[IDX_VV])
-        delta_v = ft_s_to_mph(abs(scene.vehicle.initial_velocity_ft_s) - abs(vv_loss))
+        delta_v = speed_lost_mph(scene.vehicle.initial_velocity_ft_s, vv_loss)
         f, max_t = run.max_vehicle_force()
         if not math.isfinite(f):
             max_t = None

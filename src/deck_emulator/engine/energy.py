@@ -26,15 +26,15 @@ def energies(outcome) -> dict:
         return dict(_NONE)
     try:
         if outcome.engine == "emulator":
-            return _emulator(outcome.raw, outcome.values)
+            return _emulator(outcome.raw, outcome.scene)
         return _core(outcome.raw)
     except (KeyError, ZeroDivisionError, ValueError):  # a partial trace, a run cut short
         return dict(_NONE)
 
 
-def _emulator(run, d) -> dict:
-    mass, g, depth = d["W"], d["G"], d["HEIGHT"]
-    inertia = (d["A"], d["B"], d["C"])
+def _emulator(run, scene) -> dict:
+    mass, inertia = scene.post.mass_slug, scene.post.principal_inertia_slug_ft2
+    g, depth = scene.environment.gravity_ft_s2, scene.environment.ground_depth_ft
 
     def energy(row, potential=True):
         ke = 0.5 * mass * (row["V1"] ** 2 + row["V2"] ** 2 + row["V3"] ** 2) + 0.5 * (

@@ -11,7 +11,6 @@ what was computed up to then.
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator.events import Event, EventKind, Surface
-from deck_emulator.units import ft_s_to_mph
+from deck_emulator.units import speed_lost_mph
 
 from . import errata as errata_policy
 from .outcome import Outcome
@@ -120,8 +119,12 @@ class EmulatorEngine:
 
     def outcome(self, run, deck, *, name: str = "") -> Outcome:
         """An emulator ``Run`` of ``deck`` as an :class:`Outcome`."""
+        from deck_emulator.core.scene import Scene
+
         d = dict(deck.values)
-        out = Outcome("emulator", name or source_name(deck), d, errata=tuple(run.errata),
+        out = Outcome("emulator", name or source_name(deck),
+                      Scene.from_deck(deck, name=name or source_name(deck), checked=False),
+                      errata=tuple(run.errata), arithmetic=self.precision,
                       settings=f"arithmetic {run.arithmetic}; errata: "
                       f"{errata_policy.describe(run.errata)}", raw=run)
         out.events = list(run.events)
@@ -171,7 +174,7 @@ def _emulator_arrays(out: Outcome, rows, d) -> None:
         out.pulse_t = tc[1:]
         with np.errstate(divide="ignore", invalid="ignore"):
             out.pulse_g = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
-        out.delta_v_contact_mph = ft_s_to_mph(abs(d["VVB"]) - abs(float(vc[-1])))
+        out.delta_v_contact_mph = speed_lost_mph(d["VVB"], float(vc[-1]))
     fs = [r["FS"] for r in rows if r["phase"] == "contact" and "FS" in r]
     if fs and d["WV"] * d["G"] != 0:
         out.max_decel_every_step_g = max(fs) / (d["WV"] * d["G"])
@@ -205,7 +208,7 @@ def _listing_flags(out: Outcome) -> list[str]:
         heights_at_hit_ft={k: (p[2] if p[2] is not None else None)
                            for k, p in out.terminal.items()} if hit else None,
         delta_v_contact_mph=out.delta_v_contact_mph,
-        car_speed_mph=ft_s_to_mph(abs(out.values.get("VVB", 0.0))),
+        car_speed_mph=out.speed_mph,
         max_decel_g=out.max_decel_g,
         no_hit_reason=None if hit else "the listing stopped without a hit message",
         ground_tolerance_ft=dict(LISTING_GROUND_TOLERANCE_FT),
@@ -214,12 +217,6 @@ def _listing_flags(out: Outcome) -> list[str]:
 
 
 # ================================================================================= the core
-
-
-def scene_values(scene) -> dict:
-    """The deck names a scene carries (:meth:`~deck_emulator.core.scene.Scene.deck_values`,
-    the one deck <-> scene mapping): what the pictures and the occupant-risk numbers read."""
-    return scene.deck_values()
 
 
 _CORE_EVENTS = {
@@ -269,10 +266,13 @@ class CoreEngine:
         return self.options if self.options is not None else PRESETS[self.preset]
 
     def scene(self, source):
+        """The scene the core solves: ``source`` itself, or the deck's (a deck or a
+        :class:`~deck_emulator.core.scene.DeckScene` the core cannot solve raises
+        :class:`~deck_emulator.core.scene.SceneError` naming why)."""
         from deck_emulator.core.scene import Scene
 
         if isinstance(source, Scene):
-            return source
+            return source.checked()
         return Scene.from_deck(source, name=source_name(source))
 
     def simulate(self, source):
@@ -294,17 +294,21 @@ class CoreEngine:
 
     def run(self, source, *, name: str = "", scene=None) -> Outcome:
         """Run ``source`` (a deck or a scene); ``scene``: run this scene instead, keeping the
-        deck ``source``'s values for the outcome (a deck with changes the deck cannot hold,
-        such as the base's friction)."""
-        return self._run(source, name, lambda: self.simulate(scene if scene is not None
-                                                             else source))
+        deck ``source``'s name for the outcome (a deck with changes the deck cannot hold,
+        such as the base's friction); the outcome carries the scene that ran."""
+        target = scene if scene is not None else source
+        return self._run(target, name or source_name(source), lambda: self.simulate(target))
 
-    def run_free_flight(self, scene, state, t0_s: float, *, name: str = "") -> Outcome:
-        """Free flight of ``scene``'s post from ``state`` (the core's 15 numbers) at ``t0_s``
-        until the first hit or ``t_max_s``: the crash test's Table 9 starts from Table 8's
-        state at 70 ms."""
+    def run_free_flight(self, scene, post, t0_s: float, *, car_position_ft: float = 0.0,
+                        car_velocity_ft_s: float = 0.0, name: str = "") -> Outcome:
+        """Free flight of ``scene``'s post from its motion ``post`` at ``t0_s`` (a
+        :class:`~deck_emulator.core.scene.PostInitialState`, attitude from body to road axes)
+        with the car at ``car_position_ft``, ``car_velocity_ft_s`` along XV, until the first
+        hit or ``t_max_s``: the crash test's Table 9 starts from Table 8's state at 70 ms."""
         from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, free_flight
+        from deck_emulator.core.kinematics import state_vector
 
+        state = state_vector(post, car_position_ft, car_velocity_ft_s)
         return self._run(scene, name, lambda: free_flight(
             scene, state, t0_s, self.model_options(), method=self.method,
             rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, t_max_s=self.t_max_s))
@@ -314,9 +318,10 @@ class CoreEngine:
 
         from deck_emulator.core.scene import Scene
 
-        values = (scene_values(source) if isinstance(source, Scene)
-                  else dict(getattr(source, "values", {}) or {}))
-        out = Outcome("core", name or source_name(source), values, settings=self.settings())
+        scene = (source if isinstance(source, Scene)
+                 else Scene.from_deck(source, name=source_name(source), checked=False))
+        out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
+                      arithmetic="IEEE double")
         started = time.perf_counter()
         try:
             r = solve()
@@ -336,9 +341,8 @@ class CoreEngine:
         cap = next((e.time_s for e in out.events if e.kind is EventKind.FORCE_CAP), None)
         if cap is not None:  # the report's ΔV: at the force cap (extract's crush_pulse_end)
             vv_cap = float(r.trajectory.vehicle(cap)[1])
-            out.delta_v_crush_mph = ft_s_to_mph(
-                abs(r.scene.vehicle.initial_velocity_ft_s) - abs(vv_cap))
-        if self.trace and values:
+            out.delta_v_crush_mph = speed_lost_mph(r.scene.vehicle.initial_velocity_ft_s, vv_cap)
+        if self.trace:
             self._arrays(out, r)
         return out
 
@@ -362,26 +366,14 @@ class CoreEngine:
         if "C" in out.points and out.hit_time_s is not None:
             c = out.to_l(traj.point("C", min(out.hit_time_s, t_end)))
             out.terminal["C"] = tuple(float(x) for x in c)
-        out.pulse_t, out.pulse_g = _core_pulse(traj, out.values, t_c, self.sample_contact_s)
-
-
-def _core_pulse(traj, d, t_c, step):
-    """The car's deceleration (g) over the contact, from the model's force."""
-    model = traj._model
-    ts, gs = [], []
-    for seg in traj.segments:
-        if seg.phase != "contact" or seg.t1 <= seg.t0:
-            continue
-        n = max(math.ceil((seg.t1 - seg.t0) / (step / 2)), 2)
-        tt = np.linspace(seg.t0, seg.t1, n + 1)
-        ys = seg.solution(tt)
-        f = [model.vehicle_force(tk, ys[:, k], seg.mode) for k, tk in enumerate(tt)]
-        ts.append(tt)
-        # force on the car along +XV; the car moves towards -XV when VVB < 0
-        gs.append(np.asarray(f) / (d["WV"] * d["G"]) * (1.0 if d["VVB"] < 0 else -1.0))
-    if not ts:
-        return np.zeros(0), np.zeros(0)
-    return np.concatenate(ts), np.concatenate(gs)
+        t_f, force = traj.contact_force(self.sample_contact_s / 2)
+        car, g = r.scene.vehicle, r.scene.environment.gravity_ft_s2
+        out.pulse_t = t_f
+        if car is None:
+            out.pulse_g = np.zeros(0)
+        else:  # force on the car along +XV; the car moves towards -XV when VVB < 0
+            sign = 1.0 if car.initial_velocity_ft_s < 0 else -1.0
+            out.pulse_g = force / (car.mass_slug * g) * sign
 
 
 def engine_for(name: str, **options):

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from deck_emulator.core.scene import Scene
 from deck_emulator.events import Event, EventKind
 from deck_emulator.units import ft_s_to_mph
 
@@ -17,8 +18,13 @@ class Outcome:
 
     * ``engine``: ``"emulator"`` or ``"core"``; ``settings``: what was run, in words (the
       arithmetic and its assumptions, the errata; or the preset, method and tolerances);
-      ``errata``: the errata the emulator applied.
-    * ``values``: the scene as the report's 64 named quantities (the READ list).
+      ``arithmetic``: the arithmetic it ran in (the emulator's ``double``, ``single`` or
+      ``ibm7094``; the core's ``IEEE double``); ``errata``: the errata the emulator applied.
+    * ``scene``: what was run, typed (:class:`~deck_emulator.core.scene.Scene`: the post
+      and its named points, U included, the car, the base, the ground); an emulator's deck
+      is a :class:`~deck_emulator.core.scene.DeckScene` (built through the one deck <->
+      scene mapping, not checked: the listing runs decks the core refuses). ``None`` only
+      for a row that stands for no run.
     * ``t``; ``points``: name -> (n, 3) for the post's points ``P``, ``Q``, ``R``, ``C``, a
       second luminaire ``U`` where the post has one, and the mass centre ``CM`` (NaN where an engine does not give a point); ``sv``, ``vv``: the
       car's position and velocity along XV; ``free``: the free-flight samples.
@@ -47,8 +53,9 @@ class Outcome:
 
     engine: str
     name: str
-    values: dict
+    scene: Scene | None = None
     settings: str = ""
+    arithmetic: str = ""
     errata: tuple[str, ...] = ()
     t: np.ndarray = field(default_factory=lambda: np.zeros(0))
     points: dict = field(default_factory=dict)
@@ -100,11 +107,19 @@ class Outcome:
 
     @property
     def speed_mph(self) -> float:
-        return ft_s_to_mph(abs(self.values["VVB"]))
+        """The car's speed at t = 0 (mph; NaN without a car)."""
+        car = self.scene.vehicle if self.scene is not None else None
+        return ft_s_to_mph(abs(car.initial_velocity_ft_s)) if car is not None else math.nan
 
     @property
     def angle_deg(self) -> float:
-        return math.degrees(self.values["ALPHA"])
+        """The car's approach angle (deg; NaN without a car)."""
+        car = self.scene.vehicle if self.scene is not None else None
+        return math.degrees(car.approach_angle_rad) if car is not None else math.nan
+
+    @property
+    def gravity_ft_s2(self) -> float:
+        return self.scene.environment.gravity_ft_s2
 
     @property
     def end_time_s(self) -> float:
@@ -115,10 +130,11 @@ class Outcome:
         return int(np.argmin(np.abs(self.t - t)))
 
     def to_l(self, p):
-        """XX, YY, ZZ -> the report's XL, YL, ZL (origin on the ground under the base)."""
-        d = self.values
+        """XX, YY, ZZ -> the report's XL, YL, ZL (origin on the ground under the base Q at
+        t = 0)."""
+        base, ground = self.scene.post.base, self.scene.environment.ground_depth_ft
         p = np.asarray(p, dtype=float)
-        return p - np.array([d["XQO"], d["YYQO"], -d["HEIGHT"]])
+        return p - np.array([base.xx_ft, base.yy_ft, -ground])
 
     def point_l(self, name: str, t: float) -> tuple[float, float, float] | None:
         """The post's point ``name`` at ``t`` in the report's XL, YL, ZL axes: the core's

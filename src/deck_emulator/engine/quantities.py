@@ -48,11 +48,10 @@ class Quantity:
     scale: float = 1.0
 
     def of(self, outcome) -> float | None:
-        """The value for ``outcome`` (``None`` where it has none, or it is not finite)."""
-        try:
-            v = self.value(outcome)
-        except (ValueError, ArithmeticError, KeyError):
-            return None
+        """The value for ``outcome`` (``None`` where it has none, or it is not finite). A
+        definition that raises is a defect and is not hidden: each returns None itself
+        where an outcome has no such value."""
+        v = self.value(outcome)
         if v is None:
             return None
         v = float(v)

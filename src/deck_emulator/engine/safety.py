@@ -45,7 +45,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from deck_emulator.core.scene import VehicleBody
-from deck_emulator.units import FT_S_PER_MPH, G_FT_S2, M_PER_FT
+from deck_emulator.units import G_FT_S2, M_PER_FT, speed_lost_mph
 
 __all__ = [
     "FLAIL_DISTANCE_M",
@@ -62,7 +62,9 @@ __all__ = [
     "flail_space",
     "Clearance",
     "body_clearance",
-    "body_outline_xv",
+    "car_body",
+    "approach_angle_rad",
+    "NO_BODY",
 ]
 
 FT_PER_M = 1.0 / M_PER_FT
@@ -253,8 +255,6 @@ def flail_space(
 class PulseMetrics:
     """The occupant-risk numbers of one velocity history (see the module docstring)."""
 
-    delta_v_contact_ft_s: float
-    delta_v_contact_m_s: float
     delta_v_contact_mph: float
     max_decel_g: float
     max_decel_time_s: float
@@ -279,7 +279,7 @@ class PulseMetrics:
         oiv, ora = CRITERIA["oiv"], CRITERIA["ora"]
         when = " (after contact ended: relative speed = ΔV)" if self.strike_after_contact else ""
         return [
-            f"ΔV {self.delta_v_contact_ft_s:.3f} ft/s = {self.delta_v_contact_m_s:.3f} m/s = {self.delta_v_contact_mph:.3f} mph",
+            f"ΔV {self.delta_v_contact_mph:.3f} mph",
             f"max deceleration {self.max_decel_g:.2f} g at {ms(self.max_decel_time_s)}; "
             f"max 10 ms average {self.max_decel_10ms_g:.2f} g",
             f"OIV {self.oiv_m_s:.2f} m/s ({self.oiv_ft_s:.2f} ft/s), occupant strikes at "
@@ -298,16 +298,13 @@ def assess(
 ) -> PulseMetrics:
     """All the pulse numbers of a velocity history ``(t s, vv ft/s)``."""
     t, u = _history(t, vv)
-    dv = float(u[0] - u[-1])
     amax, tmax = max_deceleration(t, u)
     a10, t10 = max_window_average(t, u, window)
     fs = flail_space(t, u, flail_distance_ft=flail_distance_ft, window=window)
     oiv_m_s = fs.oiv_ft_s / FT_PER_M
     ora_g = fs.ora_ft_s2 / g
     return PulseMetrics(
-        delta_v_contact_ft_s=dv,
-        delta_v_contact_m_s=dv / FT_PER_M,
-        delta_v_contact_mph=dv / FT_S_PER_MPH,
+        delta_v_contact_mph=speed_lost_mph(float(u[0]), float(u[-1])),
         max_decel_g=amax / g,
         max_decel_time_s=tmax,
         max_decel_10ms_g=a10 / g,
@@ -326,15 +323,19 @@ def assess(
 
 # ---------------------------------------------------------------------- the post over the car
 
-#: Names of the deck values the car body needs.
-BODY_NAMES = ("HLEN", "TLEN", "TRLEN", "HHV", "HTV", "HTRV", "YLFEN", "YRFEN", "ALPHA")
+#: A car without an outline, drawn and checked as one of zero size.
+NO_BODY = VehicleBody(0, 0, 0, 0, 0, 0, 0, 0)
 
 
-def body_outline_xv(sv: float, d: Mapping[str, float]) -> dict[str, float]:
-    """The car's profile along XV at car position ``sv`` (the core's one outline,
-    :meth:`deck_emulator.core.scene.VehicleBody.outline_xv`, of the deck values ``d``)."""
-    body = VehicleBody.from_values(d) or VehicleBody(0, 0, 0, 0, 0, 0, 0, 0)
-    return body.outline_xv(sv)
+def car_body(scene) -> VehicleBody:
+    """The car's outline of a scene (:data:`NO_BODY` without a car or an outline)."""
+    car = scene.vehicle
+    return car.body if car is not None and car.body is not None else NO_BODY
+
+
+def approach_angle_rad(scene) -> float:
+    """The car's approach angle alpha of a scene (0 without a car)."""
+    return scene.vehicle.approach_angle_rad if scene.vehicle is not None else 0.0
 
 
 @dataclass(frozen=True)
@@ -402,13 +403,14 @@ def _clip(ax, ay, dx, dy, x0, x1, y0, y1):
 
 
 def body_clearance(
-    times, points: Mapping[str, np.ndarray], sv, d: Mapping[str, float], *, free=None
+    times, points: Mapping[str, np.ndarray], sv, body: VehicleBody, alpha_rad: float = 0.0, *,
+    free=None
 ) -> Clearance:
     """The post's least clearance above the car body (see :class:`Clearance`).
 
     ``times`` (n,) s; ``points`` name -> (n, 3) positions in XX, YY, ZZ (ft) of Q, P, R
-    (and C); ``sv`` (n,) the car's position; ``d`` the deck values (:data:`BODY_NAMES`);
-    ``free`` (n,) bool, the free-flight instants (default: all).
+    (and C); ``sv`` (n,) the car's position; ``body`` the car's outline, ``alpha_rad`` its
+    approach angle; ``free`` (n,) bool, the free-flight instants (default: all).
 
     Exact for straight segments: each segment Q-P, P-R is clipped to the footprint of the
     hood, the top and the trunk (in XV, YV), and its height above that part's surface is
@@ -422,22 +424,23 @@ def body_clearance(
     n = times.size
     free = np.ones(n, dtype=bool) if free is None else np.asarray(free, dtype=bool)
     idx = np.nonzero(free)[0]
-    ca, sa = math.cos(d["ALPHA"]), math.sin(d["ALPHA"])
-    o = body_outline_xv(sv[idx], d)
+    ca, sa = math.cos(alpha_rad), math.sin(alpha_rad)
+    o = body.outline_xv(sv[idx])
     parts = (
-        ("hood", o["XBUMP"], o["SV"], d["HHV"]),
-        ("roof", o["SV"], o["XENTOP"], d["HTV"]),
-        ("trunk", o["XENTOP"], o["XTAIL"], d["HTRV"]),
+        ("hood", o["XBUMP"], o["SV"], body.hood_height_ft),
+        ("roof", o["SV"], o["XENTOP"], body.top_height_ft),
+        ("trunk", o["XENTOP"], o["XTAIL"], body.trunk_height_ft),
     )
     t = times[idx]
-    body = roof = touch = None  # (clearance, time, surface, where) / (time, surface)
+    least = roof = touch = None  # (clearance, time, surface, where) / (time, surface)
     for label, A, B in _segments(points):
         A, B = A[idx], B[idx]
         axv, ayv = A[:, 0] * ca - A[:, 1] * sa, A[:, 0] * sa + A[:, 1] * ca
         bxv, byv = B[:, 0] * ca - B[:, 1] * sa, B[:, 0] * sa + B[:, 1] * ca
         dx, dy, dz = bxv - axv, byv - ayv, B[:, 2] - A[:, 2]
         for surface, x0, x1, top in parts:
-            lo, hi, ok = _clip(axv, ayv, dx, dy, x0, x1, d["YLFEN"], d["YRFEN"])
+            lo, hi, ok = _clip(axv, ayv, dx, dy, x0, x1, body.left_fender_ft,
+                               body.right_fender_ft)
             z_lo, z_hi = A[:, 2] + lo * dz, A[:, 2] + hi * dz
             clear = np.minimum(z_lo, z_hi) - top
             at = np.where(z_lo <= z_hi, lo, hi)
@@ -452,8 +455,8 @@ def body_clearance(
             k = int(np.argmin(np.where(count, clear, np.inf)))
             c = float(clear[k])
             where = label if label == "C" else f"{label} {at[k]:.2f}"
-            if body is None or c < body[0]:
-                body = (c, float(t[k]), surface, where)
+            if least is None or c < least[0]:
+                least = (c, float(t[k]), surface, where)
             if surface == "roof" and (roof is None or c < roof[0]):
                 roof = (c, float(t[k]), where)
             inside = count & (clear < 0)
@@ -461,7 +464,7 @@ def body_clearance(
                 j = int(np.argmax(inside))
                 if touch is None or t[j] < touch[0]:
                     touch = (float(t[j]), surface)
-    b = body or (None,) * 4
+    b = least or (None,) * 4
     r = roof or (None,) * 3
     tt = touch or (None, None)
     return Clearance(
@@ -486,7 +489,7 @@ def assess_outcome(out) -> PulseMetrics | None:
     t, vv = out.contact_history()
     if t.size < 2:
         return None
-    return assess(t, vv, g=out.values.get("G") or G_FT_S2)
+    return assess(t, vv, g=out.gravity_ft_s2 or G_FT_S2)
 
 
 def clearance_of(out) -> Clearance | None:
@@ -496,7 +499,8 @@ def clearance_of(out) -> Clearance | None:
     pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C", "U")}
     if "C" in pts and np.isnan(pts["C"][out.free]).any():
         pts.pop("C")
-    return body_clearance(out.t, pts, out.sv, out.values, free=out.free)
+    return body_clearance(out.t, pts, out.sv, car_body(out.scene),
+                          approach_angle_rad(out.scene), free=out.free)
 
 
 def summary(out) -> dict:

@@ -69,13 +69,12 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from deck_emulator.units import FT_S_PER_MPH
+from deck_emulator.units import speed_lost_mph
 
 __all__ = [
     "DELTA_V_CANDIDATES",
     "DELTA_V_DEFINITION",
     "LABEL_VARIABLE",
-    "MPH",
     "Block",
     "Event",
     "ExtractError",
@@ -87,7 +86,6 @@ __all__ = [
 ]
 
 #: One mile per hour in ft/s.
-MPH = FT_S_PER_MPH  # ft/s in one mph (units.py)
 
 #: The candidate definitions of the report's "DECREASE IN VEHICLE VELOCITY", in order.
 DELTA_V_CANDIDATES = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost",
@@ -277,7 +275,7 @@ def _deck_values(deck) -> Mapping[str, float]:
 
 
 def _decrease_mph(vv0: float, vv: float | None) -> float | None:
-    return None if vv is None else (abs(vv0) - abs(vv)) / MPH
+    return None if vv is None else speed_lost_mph(vv0, vv)
 
 
 def extract(printout, deck) -> Outcome:

@@ -47,7 +47,7 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
 
     quantities_ = quantities.values(out, OUTCOME)
     risk = None
-    if out.values and out.t.size and quantities.value("oiv_m_s", out) is not None:
+    if out.scene is not None and out.t.size and quantities.value("oiv_m_s", out) is not None:
         risk = quantities.values(out, OCCUPANT_RISK)
     terminal = {k: [round(float(v), POINT_DIGITS) for v in p]
                 for k, p in (out.terminal or {}).items() if p is not None}

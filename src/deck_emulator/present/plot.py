@@ -116,22 +116,24 @@ def _post_l(res: Outcome, i: int) -> np.ndarray:
 
 def _car_xy_l(res: Outcome, sv: float, xv: np.ndarray, yv: np.ndarray):
     """XV, YV of the car -> XL, YL."""
-    a = res.values["ALPHA"]
+    a = safety.approach_angle_rad(res.scene)
     ca, sa = math.cos(a), math.sin(a)
     xx = xv * ca + yv * sa
     yy = -xv * sa + yv * ca
-    return xx - res.values["XQO"], yy - res.values["YYQO"]
+    base = res.scene.post.base
+    return xx - base.xx_ft, yy - base.yy_ft
 
 
 def _profile(res: Outcome, sv: float, yv: float):
     """The car's side profile at YV = yv: XL and ZL arrays (bumper at the ground round to tail)."""
-    d = res.values
-    o = safety.body_outline_xv(sv, d)
-    h = d["HEIGHT"]
+    body = safety.car_body(res.scene)
+    o = body.outline_xv(sv)
+    h = res.scene.environment.ground_depth_ft
     xv = np.array(
         [o["XBUMP"], o["XBUMP"], o["SV"], o["SV"], o["XENTOP"], o["XENTOP"], o["XTAIL"], o["XTAIL"]]
     )
-    zz = np.array([-h, d["HHV"], d["HHV"], d["HTV"], d["HTV"], d["HTRV"], d["HTRV"], -h])
+    zz = np.array([-h, body.hood_height_ft, body.hood_height_ft, body.top_height_ft,
+                   body.top_height_ft, body.trunk_height_ft, body.trunk_height_ft, -h])
     xl, _ = _car_xy_l(res, sv, xv, np.full_like(xv, yv))
     return xl, zz + h
 
@@ -204,8 +206,9 @@ def _draw_side(ax, res: Outcome, idx: list[int]):
     _draw_post(ax, res, idx, (0, 2))
     # car at the hit (near and far fender for an angled approach)
     sv = res.sv[hi]
-    d = res.values
-    sides = [d["YLFEN"], d["YRFEN"]] if d["ALPHA"] != 0 else [0.5 * (d["YLFEN"] + d["YRFEN"])]
+    body = safety.car_body(res.scene)
+    fenders = [body.left_fender_ft, body.right_fender_ft]
+    sides = fenders if safety.approach_angle_rad(res.scene) != 0 else [0.5 * sum(fenders)]
     for k, yv in enumerate(sides):
         xl, zl = _profile(res, sv, yv)
         ax.add_patch(
@@ -219,11 +222,12 @@ def _draw_side(ax, res: Outcome, idx: list[int]):
                 zorder=2,
             )
         )
-    o = safety.body_outline_xv(sv, d)
+    o = body.outline_xv(sv)
     wx, _ = _car_xy_l(res, sv, np.array([o["SV"]]), np.array([sides[0]]))
+    h = res.scene.environment.ground_depth_ft
     ax.plot(
         [wx[0], wx[0]],
-        [d["HHV"] + d["HEIGHT"], d["HTV"] + d["HEIGHT"]],
+        [body.hood_height_ft + h, body.top_height_ft + h],
         color="tab:cyan",
         lw=3,
         zorder=2.5,
@@ -253,10 +257,10 @@ def _draw_side(ax, res: Outcome, idx: list[int]):
 
 def _draw_plan(ax, res: Outcome, idx: list[int]):
     hi = _hit_index(res)
-    d = res.values
+    body = safety.car_body(res.scene)
     sv = res.sv[hi]
-    o = safety.body_outline_xv(sv, d)
-    yl, yr = d["YLFEN"], d["YRFEN"]
+    o = body.outline_xv(sv)
+    yl, yr = body.left_fender_ft, body.right_fender_ft
 
     def rect(x0, x1, **kw):
         xv = np.array([x0, x1, x1, x0])
@@ -274,7 +278,7 @@ def _draw_plan(ax, res: Outcome, idx: list[int]):
     if hp is not None:
         ax.plot(hp[0], hp[1], marker="*", ms=18, color="gold", mec="k", zorder=6)
     # direction of travel along -XV
-    a = d["ALPHA"]
+    a = safety.approach_angle_rad(res.scene)
     bx, by = _car_xy_l(res, sv, np.array([o["XBUMP"]]), np.array([0.5 * (yl + yr)]))
     tip = (bx[0] - 4 * math.cos(a), by[0] + 4 * math.sin(a))
     ax.annotate(
@@ -342,17 +346,17 @@ def _draw_3d(ax, res: Outcome, idx: list[int]):
     cmap = matplotlib.colormaps[CMAP]
     norm = _norm(res)
     hi = _hit_index(res)
-    d = res.values
-    h = d["HEIGHT"]
+    body = safety.car_body(res.scene)
+    h = res.scene.environment.ground_depth_ft
     sv = res.sv[hi]
-    o = safety.body_outline_xv(sv, d)
+    o = body.outline_xv(sv)
     faces = []
     for x0, x1, ztop in (
-        (o["XBUMP"], o["SV"], d["HHV"]),
-        (o["SV"], o["XENTOP"], d["HTV"]),
-        (o["XENTOP"], o["XTAIL"], d["HTRV"]),
+        (o["XBUMP"], o["SV"], body.hood_height_ft),
+        (o["SV"], o["XENTOP"], body.top_height_ft),
+        (o["XENTOP"], o["XTAIL"], body.trunk_height_ft),
     ):
-        corners, fidx = _box_faces(x0, x1, d["YLFEN"], d["YRFEN"], -h, ztop)
+        corners, fidx = _box_faces(x0, x1, body.left_fender_ft, body.right_fender_ft, -h, ztop)
         xl, yl = _car_xy_l(res, sv, corners[:, 0], corners[:, 1])
         cl = np.c_[xl, yl, corners[:, 2] + h]
         faces += [cl[f] for f in fidx]
@@ -636,9 +640,10 @@ def figure_pulse(results: list[Outcome]) -> Figure:
             [], [], color="0.3", lw=0.8, ls=":", label="lost contact: first spring, then the car"
         )
     )
-    fc = first.values.get("FCONST") or 0.0
+    car = first.scene.vehicle
+    fc = (car.force_cap_lb or 0.0) if car is not None else 0.0
     if fc > 0 and t_max > 0:
-        g_cap = fc / (first.values["WV"] * first.values["G"])
+        g_cap = fc / (car.mass_slug * first.gravity_ft_s2)
         ax.annotate(
             f"force capped at FCONST = {fc:g} lb ({g_cap:.2f} g)",
             xy=(1000 * t_max * 0.45, g_cap),
@@ -705,17 +710,17 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
     ax = fig.add_subplot()
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.12, top=0.9)
     comp = (0, 2) if view == "side" else (0, 1)
-    d = res.values
+    body = safety.car_body(res.scene)
+    yl, yr = body.left_fender_ft, body.right_fender_ft
+    base_yy = res.scene.post.base.yy_ft
     # fixed limits from the whole run and the car's path
     allp = np.vstack(
         [_post_l(res, i) for i in range(0, len(res.t), 5)] + [_post_l(res, len(res.t) - 1)]
     )
     car_x = []
     for i in (0, len(res.t) - 1):
-        o = safety.body_outline_xv(res.sv[i], d)
-        xs, _ = _car_xy_l(
-            res, res.sv[i], np.array([o["XBUMP"], o["XTAIL"]]), np.array([d["YLFEN"], d["YRFEN"]])
-        )
+        o = body.outline_xv(res.sv[i])
+        xs, _ = _car_xy_l(res, res.sv[i], np.array([o["XBUMP"], o["XTAIL"]]), np.array([yl, yr]))
         car_x += list(xs)
     x0 = min(allp[:, 0].min(), min(car_x)) - 2
     x1 = max(allp[:, 0].max(), 12.0) + 2
@@ -732,8 +737,8 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
         ax.set_ylim(min(-1.0, allp[:, 2].min() - 1), max(allp[:, 2].max(), 6) + 1)
         ax.set_ylabel("ZL (ft)")
     else:
-        ylo = min(allp[:, 1].min(), d["YLFEN"] - d["YYQO"] - 2)
-        yhi = max(allp[:, 1].max(), d["YRFEN"] - d["YYQO"] + 2)
+        ylo = min(allp[:, 1].min(), yl - base_yy - 2)
+        yhi = max(allp[:, 1].max(), yr - base_yy + 2)
         ax.set_ylim(ylo - 1, yhi + 1)
         ax.set_ylabel("YL (ft)")
     ax.set_xlim(x0, x1)
@@ -745,12 +750,11 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
     def car_shape(i):
         sv = res.sv[i]
         if view == "side":
-            yv = 0.5 * (d["YLFEN"] + d["YRFEN"])
-            xl, zl = _profile(res, sv, yv)
+            xl, zl = _profile(res, sv, 0.5 * (yl + yr))
             return np.c_[xl, zl]
-        o = safety.body_outline_xv(sv, d)
+        o = body.outline_xv(sv)
         xv = np.array([o["XBUMP"], o["XTAIL"], o["XTAIL"], o["XBUMP"]])
-        yv = np.array([d["YLFEN"], d["YLFEN"], d["YRFEN"], d["YRFEN"]])
+        yv = np.array([yl, yl, yr, yr])
         x, y = _car_xy_l(res, sv, xv, yv)
         return np.c_[x, y]
 

@@ -32,13 +32,14 @@ from deck_emulator.core.scene import (
     Environment,
     LeafSpring,
     Post,
+    PostInitialState,
     PostPoint,
     Scene,
     Vehicle,
 )
 
-__all__ = ["crash_description", "crash_scene", "state_row", "table10", "table9_state",
-           "table9", "G"]
+__all__ = ["crash_description", "crash_scene", "state_row", "table10", "table9_start",
+           "table9", "crash_run", "G"]
 
 G = G_FT_S2  # the report's gravity (units.py)
 
@@ -96,20 +97,23 @@ def crash_scene(**changes) -> Scene:
 
 
 def state_row(result, t: float) -> dict:
-    """theta (deg), theta-dot (rad/s), XCM, ZCM (ft), V1, V3 (ft/s), SV (ft) at ``t``."""
-    y = result.trajectory.state(t)
-    w, qx, qy, qz = y[6:10]
-    theta = 2.0 * math.atan2(qy, w)
+    """theta (deg), theta-dot (rad/s), XCM, ZCM (ft), V1, V3 (ft/s), SV (ft), VV (ft/s) at
+    ``t`` of a core result's trajectory."""
+    traj = result.trajectory
+    w, _, qy, _ = traj.attitude(t)
+    x, _, z = traj.mass_centre(t)
+    v1, _, v3 = traj.velocity_body(t)
+    sv, vv = traj.vehicle(t)
     return {
         "time_ms": 1000.0 * t,
-        "theta_deg": math.degrees(theta),
-        "thetadot_rad_s": float(y[11]),
-        "XCM_ft": float(y[0]),
-        "ZCM_ft": float(y[2]),
-        "V1_ft_s": float(y[3]),
-        "V3_ft_s": float(y[5]),
-        "SV_ft": float(-y[13]),
-        "VV_ft_s": float(y[14]),
+        "theta_deg": math.degrees(2.0 * math.atan2(qy, w)),
+        "thetadot_rad_s": float(traj.angular_velocity_body(t)[1]),
+        "XCM_ft": float(x),
+        "ZCM_ft": float(z),
+        "V1_ft_s": float(v1),
+        "V3_ft_s": float(v3),
+        "SV_ft": float(-sv),
+        "VV_ft_s": float(vv),
     }
 
 
@@ -135,16 +139,15 @@ def table10(scene: Scene | None = None, *, t_max_s: float = 0.6):
     return out, (state_row(res, t_loss) if t_loss is not None else None), state_row(res, 0.070)
 
 
-def table9_state(t8: dict, vv_ft_s: float) -> np.ndarray:
-    """The core's 15-number state of Table 8's 70 ms column (planar; car at ``vv_ft_s``)."""
+def table9_start(t8: dict) -> PostInitialState:
+    """The post's motion in Table 8's 70 ms column (planar: theta about YY)."""
     th = math.radians(t8["theta_deg"][0])
-    return np.array([
-        t8["XCM_ft"][0], 0.0, t8["ZCM_ft"][0],
-        t8["V1_ft_s"][0], 0.0, t8["V3_ft_s"][0],
-        math.cos(th / 2), 0.0, math.sin(th / 2), 0.0,
-        0.0, t8["thetadot_rad_s"][0], 0.0,
-        -t8["SV_ft"][0], -abs(vv_ft_s),
-    ])
+    return PostInitialState(
+        mass_centre_ft=(t8["XCM_ft"][0], 0.0, t8["ZCM_ft"][0]),
+        velocity_body_ft_s=(t8["V1_ft_s"][0], 0.0, t8["V3_ft_s"][0]),
+        attitude_wxyz=(math.cos(th / 2), 0.0, math.sin(th / 2), 0.0),
+        angular_velocity_body_rad_s=(0.0, t8["thetadot_rad_s"][0], 0.0),
+    )
 
 
 def table9(scene: Scene | None = None, *, vv_ft_s: float, t_end_s: float = 0.273):
@@ -155,5 +158,48 @@ def table9(scene: Scene | None = None, *, vv_ft_s: float, t_end_s: float = 0.273
     scene = scene or crash_scene()
     free_scene = dataclasses.replace(scene, vehicle=dataclasses.replace(
         scene.vehicle, body=None))
-    return _result(_engine(t_end_s).run_free_flight(free_scene, table9_state(TABLE8, vv_ft_s),
-                                                     0.070))
+    return _result(_engine(t_end_s).run_free_flight(
+        free_scene, table9_start(TABLE8), 0.070, car_position_ft=-TABLE8["SV_ft"][0],
+        car_velocity_ft_s=-abs(vv_ft_s)))
+
+
+#: Figure 18 draws the post every this many seconds, up to :data:`FIGURE_END_S`.
+FIGURE_STEP_S, FIGURE_END_S = 0.02, 0.29
+
+
+def crash_run(task: dict) -> dict:
+    """Worker of the scene runner: one crash-test scene (``task["changes"]``: the keywords of
+    :func:`crash_scene`) as plain values: the rows of Table 10 at the loss of contact, 70 ms
+    and 270 ms, the hit time, the events, the leaf spring's peak compression and set (the
+    registry's), the ground's depth and Figure 18's post Q-P (``figure``: rows t, XX and ZZ of
+    Q, XX and ZZ of P); with ``task["free_flight"]`` also Table 9's free flights from Table 8's
+    state (``table9``: rows at 270 and 273 ms with the car at our 70 ms speed; ``table9_40``:
+    at 270 ms with the car at 40 ft/s)."""
+    from deck_emulator.engine import quantities
+
+    scene = crash_scene(**task["changes"])
+    out, loss, r70 = table10(scene)
+    res = out.raw
+    traj = res.trajectory
+    t_end = min(traj.t_end, FIGURE_END_S)
+    figure = []
+    for t in sorted(set(np.arange(0.0, t_end + 1e-9, FIGURE_STEP_S).round(6)) | {0.07, 0.27}):
+        if t <= traj.t_end:
+            q, p = traj.point("Q", t), traj.point("P", t)
+            figure.append([float(t), float(q[0]), float(q[2]), float(p[0]), float(p[2])])
+    row = {"loss": loss, "at_70": r70,
+           "at_270": state_row(res, 0.27) if traj.t_end >= 0.27 else None,
+           "hit_time_s": out.hit_time_s,
+           "vehicle_contact_lost_s": res.vehicle_contact_lost_s,
+           "events": [[e.name, e.time_s] for e in res.events],
+           "leaf_spring_peak_compression_ft": quantities.value("leaf_spring_peak_compression_ft",
+                                                               out),
+           "leaf_spring_set_ft": quantities.value("leaf_spring_set_ft", out),
+           "ground_depth_ft": scene.environment.ground_depth_ft,
+           "figure": figure}
+    if task.get("free_flight"):
+        f9 = table9(scene, vv_ft_s=abs(r70["VV_ft_s"]))
+        f40 = table9(scene, vv_ft_s=40.0)
+        row["table9"] = {"at_270": state_row(f9, 0.270), "at_273": state_row(f9, 0.273)}
+        row["table9_40"] = {"at_270": state_row(f40, 0.270)}
+    return row

@@ -37,12 +37,12 @@ from deck_emulator.legacy.printer import event_message
 from deck_emulator.legacy.extract import (
     DELTA_V_CANDIDATES,
     DELTA_V_DEFINITION,
-    MPH,
     Block,
     extract,
     parse_printout,
 )
 from deck_emulator.studies.report_tables import CASES, REPORT, SOURCE, report_time_ms
+from deck_emulator.units import speed_lost_mph
 
 DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30")
 COMMAND = "python scripts/compare_report.py"
@@ -213,7 +213,7 @@ def crush_end_every_step(trace, vv0, fconst):
     c = contact_steps(trace)
     for a, b in zip(c, c[1:]):
         if a["FS"] > fconst and b["FS"] == fconst:
-            return (abs(vv0) - abs(b["VV"])) / MPH, b["t"]
+            return speed_lost_mph(vv0, b["VV"]), b["t"]
     return None, None
 
 
@@ -672,7 +672,7 @@ def build(runs: dict, seconds: float) -> str:
 
 def _dv_crossing(trace, vv0, target_mph):
     for r in contact_steps(trace):
-        if (abs(vv0) - abs(r["VV"])) / MPH >= target_mph:
+        if speed_lost_mph(vv0, r["VV"]) >= target_mph:
             return r["t"]
     return None
 

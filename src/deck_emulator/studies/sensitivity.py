@@ -195,8 +195,6 @@ def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=()) -> 
     from deck_emulator.engine import CoreEngine, EmulatorEngine
     from deck_emulator.legacy.deck import NAMES
     from deck_emulator.studies.sweep import result_row
-    from deck_emulator.units import ft_s_to_mph
-
     deck_values = {k: v for k, v in values.items() if k in NAMES}
     scene_values = {k: v for k, v in values.items() if k in SCENE_INPUTS}
     unknown = set(values) - set(deck_values) - set(scene_values)
@@ -223,7 +221,7 @@ def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=()) -> 
                 scene, base=dataclasses.replace(scene.base, friction=friction))
             core = CoreEngine(options=core.model_options().replace(listing_friction=False))
         res = core.run(d, name=name, scene=scene)
-    return result_row(res, ft_s_to_mph(abs(d["VVB"])), math.degrees(d["ALPHA"]))
+    return result_row(res, res.speed_mph, res.angle_deg)  # of the scene that ran
 
 
 def outcomes_of(row: dict) -> dict:

@@ -40,6 +40,7 @@ from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
 from deck_emulator import decks
+from deck_emulator.core.scene import Scene
 from deck_emulator.engine import Outcome, engine_for, quantities
 from deck_emulator.events import Surface
 from deck_emulator.legacy.deck import Deck, read_deck
@@ -168,14 +169,14 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
     :mod:`deck_emulator.engine.quantities`), where and when the clearances were least, the
     ratings (none for a run that stopped: its numbers are of a run cut short), and the
     report's values beside ours."""
-    d = res.values
+    car = res.scene.vehicle if res.scene is not None else None
     hit = res.hit
     row: dict = {
         "scene": res.name,
         "speed_mph": speed_mph,
         "angle_deg": angle_deg,
-        "VVB_ft_s": d.get("VVB"),
-        "ALPHA_rad": d.get("ALPHA"),
+        "VVB_ft_s": car.initial_velocity_ft_s if car is not None else None,
+        "ALPHA_rad": car.approach_angle_rad if car is not None else None,
         "engine": res.engine,
         "errata": "+".join(res.errata) or "none",
         "settings": res.settings,
@@ -220,7 +221,7 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
 
 #: The CSV's columns, in order (the keys of :func:`result_row`).
 COLUMNS: tuple[str, ...] = tuple(
-    result_row(Outcome("emulator", "", {"VVB": 0.0, "ALPHA": 0.0}), 0.0, 0.0)
+    result_row(Outcome("emulator", ""), 0.0, 0.0)
 )
 
 
@@ -232,7 +233,8 @@ def _scene_job(job: dict) -> dict:
     try:
         res = engine.run(deck, name=name)
     except Exception as exc:  # noqa: BLE001 - a scene that cannot run is a row, not a crash
-        res = Outcome(job["engine"], name, dict(deck.values), error=f"{type(exc).__name__}: {exc}")
+        res = Outcome(job["engine"], name, Scene.from_deck(deck, name=name, checked=False),
+                      error=f"{type(exc).__name__}: {exc}")
     report = _report_for(name, deck) if job["post"] == "steel" else None
     return result_row(res, job["speed"], job["angle"], report)
 
@@ -286,7 +288,7 @@ def sweep(
             deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"],
                               job["vvb_decimals"])
             name = scene_name(job["speed"], job["angle"], job["post"])
-            out = Outcome(engine, name, dict(deck.values),
+            out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
                           error=got.get("error") or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))
     rows.sort(key=lambda r: (r["speed_mph"], r["angle_deg"]))
