@@ -513,29 +513,22 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
 
 def _cmd_diff(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.parallel import progress_bar
     from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
 
     _refuse_scene(args.deck, "diff", why=" (it runs both engines, and the emulator runs "
                   "only decks)")
     deck = read_deck(args.deck)
     _check_out(args)
-    with progress_bar(args.max_k + 1, desc=f"{PROG}: diff", unit="k",
-                      quiet=args.quiet) as bar:
-        started = []
-
-        def progress(message: str) -> None:  # called as each k starts
-            if started:
-                bar.update()
-            started.append(message)
-            bar.set_postfix_str(message.split(":")[0])
-
-        try:
-            data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
-                             ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
-                             tighten_ed=not args.as_printed_ed, progress=progress)
-        except DiffStopped as exc:
-            raise RunFailed(str(exc)) from None
+    if args.resume and not args.store:
+        raise CLIError("--resume needs --store DIR (the folder the runs were stored in)")
+    try:
+        data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
+                         ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
+                         tighten_ed=not args.as_printed_ed, jobs=args.jobs,
+                         scheduler=args.scheduler, store_dir=args.store, resume=args.resume,
+                         quiet=args.quiet, desc=f"{PROG}: diff")
+    except DiffStopped as exc:
+        raise RunFailed(str(exc)) from None
     _emit(args, json.dumps(data, indent=2) + "\n" if args.json else format_diff(data))
     return 0
 
@@ -559,6 +552,11 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
                    help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default 1e-10)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
+    p.add_argument("--jobs", type=_positive_int, metavar="N",
+                   help="worker processes of the embedded cluster (default: every core)")
+    p.add_argument("--store", metavar="DIR",
+                   help="keep the runs in DIR as they finish (default: a temporary folder)")
+    _add_cluster_options(p)
     _add_answer_options(p)
     _add_quiet_option(p)
     p.set_defaults(func=_cmd_diff)

@@ -11,7 +11,6 @@ of the emulator (its name in ``guard``) or any other exception (an emulator defe
 from __future__ import annotations
 
 import datetime
-import json
 import math
 import os
 import platform
@@ -25,6 +24,7 @@ import numpy as np
 from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
 from deck_emulator.files import write_file
 from deck_emulator.studies.csvfile import csv_text, csv_value
+from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
 from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
 
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
@@ -145,53 +145,6 @@ def median_wall(fn, reps: int) -> tuple[float, list[float], object]:
 def cpu_count() -> int:
     """Worker processes by default: every core."""
     return os.cpu_count() or 1
-
-
-def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
-                      quiet: bool = False, scheduler: str | None = None,
-                      resume: bool = False) -> list[dict]:
-    """``[fn(t) for t in tasks]`` on the one scene runner
-    (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``
-    workers, or the one at ``scheduler``), the costliest tasks (their ``cost``) submitted first
-    so that no long run is left for last, every row stored in ``store_dir`` as it finishes
-    (``resume``: only the tasks not stored yet run); rows in the tasks' order. A row travels
-    as JSON (its arrays as lists). A task that could not run (its ``fn`` raised, its worker
-    died) is an error naming it: a study cannot make its tables without it."""
-    import functools
-
-    from deck_emulator.errors import RunFailed
-
-    from .distributed import run_scenes, scene_id
-
-    order = sorted(tasks, key=lambda t: -t["cost"])
-    store = run_scenes(order, functools.partial(_json_row, fn), store_dir=store_dir, jobs=jobs,
-                       scheduler=scheduler, resume=resume, desc=desc,
-                       progress=False if quiet else None)
-    stored = store.by_id()
-    rows = []
-    for t in tasks:
-        got = stored.get(scene_id(t))
-        if got is None or got.get("status") != "ok":
-            why = "not run" if got is None else got.get("error")
-            raise RunFailed(f"{desc}: the run {_label(t)} failed: {why}")
-        rows.append(json.loads(got["row_json"]))
-    return rows
-
-
-def _label(task: dict) -> str:
-    return ", ".join(f"{k} {task[k]}" for k in ("kind", "engine", "series", "label", "k",
-                                                 "method", "rtol") if task.get(k) is not None)
-
-
-def _json_row(fn, task: dict) -> dict:
-    """On a worker: one task's row as JSON (numpy arrays and scalars as plain values)."""
-    return {"row_json": json.dumps(fn(task), default=_plain_json)}
-
-
-def _plain_json(v):
-    if hasattr(v, "tolist"):  # numpy arrays and scalars
-        return v.tolist()
-    raise TypeError(f"{type(v).__name__} is not a plain value")
 
 
 def machine() -> dict:

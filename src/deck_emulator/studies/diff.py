@@ -84,76 +84,134 @@ def ed_tolerance(k: int) -> str:
     return f"{1e-6 / 4**k:.3e}"
 
 
+def diff_tasks(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, atol=1e-10,
+               tighten_ed=True) -> list[dict]:
+    """The diff's runs as tasks of the scene runner: one per k (the emulator and the core at
+    the step H0/2**k, side by side in one task, since the trajectory difference needs both
+    runs in one process). The deck travels as its card images."""
+    chosen = list(errata_policy.resolve(errata))
+    return [{"kind": "diff", "deck": str(deck.path or ""), "cards": "\n".join(deck.cards) + "\n",
+             "k": int(k), "precision": precision if k == 0 else "double", "errata": chosen,
+             "rtol": float(rtol), "atol": float(atol), "tighten_ed": bool(tighten_ed),
+             "cost": 2.0**k} for k in ks]
+
+
+def diff_step(task: dict) -> dict:
+    """Worker: one k of the diff -> plain values: ``stopped`` (why a run did not end, or
+    None), the two engines' :func:`outcome_summary`, the convergence row, the core's method,
+    and at k = 0 with a tightened ED also ``printed``: the emulator's run as printed (ED's
+    tolerance .0001) and its trajectory difference."""
+    from deck_emulator.legacy.deck import parse_deck
+
+    deck = parse_deck(task["cards"], path=task["deck"] or None)
+    k, errata = task["k"], tuple(task["errata"])
+    h = H0 / 2**k
+    tol = ed_tolerance(k) if task["tighten_ed"] else ".0001"
+
+    def emulate(tolerance):
+        return EmulatorEngine(precision=task["precision"], errata=errata, step_scale_k=k,
+                              ed_tolerance=tolerance, trace=True).run(deck)
+
+    def stopped(out, who):
+        hint = f" -- {out.hint}" if out.hint else ""
+        return {"k": k, "stopped": f"the {who} stopped at k = {k}: {out.error}{hint}"}
+
+    em = emulate(tol)
+    if em.error:
+        return stopped(em, "emulator")
+    co = CoreEngine(options=legacy_options(h), rtol=task["rtol"], atol=task["atol"],
+                    trace=False).run(CoreEngine().scene(deck), name=deck.path or "")
+    if co.error is not None:  # CoreError and the like: one line, not a traceback
+        return {"k": k, "stopped": f"the core stopped at k = {k}: {co.error}"}
+    emu, core_row = outcome_summary(em), outcome_summary(co)
+    out = {"k": k, "stopped": None, "method": co.raw.method, "emulator": emu, "core": core_row,
+           "row": {
+               "k": k,
+               "h_s": h,
+               "hit_time_diff_s": abs(emu["hit_time_s"] - core_row["hit_time_s"]),
+               "terminal_points_diff_ft": _terminal_distance(emu, core_row),
+               "max_trajectory_diff_ft": max_trajectory_distance(em.raw, co.raw),
+               "same_hit": emu["hit"] == core_row["hit"],
+               "errata": list(errata),
+               "ed_tolerance_rad": float(tol),
+           }}
+    if k == 0 and task["tighten_ed"]:  # the side by side is the printed run: ED at .0001
+        em0 = emulate(".0001")
+        if em0.error:
+            return stopped(em0, "emulator")
+        out["printed"] = {"emulator": outcome_summary(em0),
+                          "max_trajectory_diff_ft": max_trajectory_distance(em0.raw, co.raw)}
+    return out
+
+
 def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, atol=1e-10,
-              tighten_ed=True, progress=None) -> dict:
+              tighten_ed=True, jobs=None, scheduler=None, store_dir=None, resume=False,
+              quiet=False, desc="diff") -> dict:
     """Run both engines; return {emulator, core, max_trajectory_diff_ft, convergence, ...}.
 
     The side-by-side values are the listing's run as printed (k = 0, ED tolerance .0001). The
     convergence rows from k = 1 on shrink ED's tolerance with the step (``tighten_ed``): with
-    the printed .0001 rad the scheme does not converge (see ``as_printed_ed`` in the CLI)."""
-    chosen = errata_policy.resolve(errata)
-    core = CoreEngine(rtol=rtol, atol=atol)
-    scene = core.scene(deck)
-    convergence = []
-    methods: set[str] = set()
-    first = None
+    the printed .0001 rad the scheme does not converge (see ``as_printed_ed`` in the CLI).
 
-    def emulate(k, precision, tol):
-        out = EmulatorEngine(precision=precision, errata=chosen, step_scale_k=k,
-                             ed_tolerance=tol, trace=True).run(deck)
-        if out.error:
-            hint = f" -- {out.hint}" if out.hint else ""
-            raise DiffStopped(f"the emulator stopped at k = {k}: {out.error}{hint}")
-        return out
+    The ks run on the one scene runner (:func:`deck_emulator.studies.common.run_longest_first`:
+    ``jobs`` workers or the cluster at ``scheduler``), stored in ``store_dir`` (a temporary
+    folder if None; ``resume`` runs only the ks not stored). A run that did not end raises
+    :class:`DiffStopped` naming the smallest k at which one stopped."""
+    options = dict(precision=precision, errata=errata, ks=ks, rtol=rtol, atol=atol,
+                   tighten_ed=tighten_ed)
+    return diff_decks([(deck, options)], jobs=jobs, scheduler=scheduler, store_dir=store_dir,
+                      resume=resume, quiet=quiet, desc=desc)[0]
 
-    for k in ks:
-        h = H0 / 2**k
-        if progress:
-            progress(f"k = {k}: emulator with H = {h:g} s, core legacy preset with a {h:g} s start-up")
-        tol = ed_tolerance(k) if tighten_ed else ".0001"
-        em = emulate(k, precision if k == 0 else "double", tol)
-        co = CoreEngine(options=legacy_options(h), rtol=rtol, atol=atol, trace=False).run(scene)
-        if co.error is not None:  # CoreError and the like: one line, not a traceback
-            raise DiffStopped(f"the core stopped at k = {k}: {co.error}")
-        run, result = em.raw, co.raw
-        emu, core_row = outcome_summary(em), outcome_summary(co)
-        row = {
-            "k": k,
-            "h_s": h,
-            "hit_time_diff_s": abs(emu["hit_time_s"] - core_row["hit_time_s"]),
-            "terminal_points_diff_ft": _terminal_distance(emu, core_row),
-            "max_trajectory_diff_ft": max_trajectory_distance(run, result),
-            "same_hit": emu["hit"] == core_row["hit"],
-            "errata": list(chosen),
-            "ed_tolerance_rad": float(tol),
-        }
-        convergence.append(row)
-        methods.add(result.method)
-        if first is None:
-            first = (emu, core_row, row)
-            if tighten_ed:  # the side by side is the printed run: redo k = 0 with .0001
-                em0 = emulate(0, precision, ".0001")
-                first = (outcome_summary(em0), core_row, dict(
-                    row, max_trajectory_diff_ft=max_trajectory_distance(em0.raw, result)))
-    if first is None:
-        raise DiffStopped("no step size to compare: give --max-k 0 or more")
-    emu, core_row, row0 = first
+
+def diff_decks(cases, *, jobs=None, scheduler=None, store_dir=None, resume=False,
+               quiet=False, desc="diff") -> list[dict]:
+    """:func:`diff_deck` of each ``(deck, options)`` in ``cases`` (options: the keywords of
+    :func:`diff_tasks`), all their runs in one call of the scene runner (``desc``: its
+    progress bar's label)."""
+    from deck_emulator.studies.distributed import run_longest_first
+
+    plans = []
+    for deck, options in cases:
+        tasks = diff_tasks(deck, **options)
+        if not tasks:
+            raise DiffStopped("no step size to compare: give --max-k 0 or more")
+        plans.append((deck, options, tasks))
+    steps = run_longest_first(diff_step, [t for _, _, tasks in plans for t in tasks], jobs=jobs,
+                              desc=desc, store_dir=store_dir, quiet=quiet,
+                              scheduler=scheduler, resume=resume)
+    out, at = [], 0
+    for deck, options, tasks in plans:
+        out.append(_diff_result(deck, options, steps[at:at + len(tasks)]))
+        at += len(tasks)
+    return out
+
+
+def _diff_result(deck, options: dict, steps: list[dict]) -> dict:
+    for step in steps:
+        if step["stopped"]:
+            raise DiffStopped(step["stopped"])
+    convergence = [step["row"] for step in steps]
+    first = steps[0]
+    emu, core_row, row0 = first["emulator"], first["core"], first["row"]
+    if "printed" in first:
+        emu = first["printed"]["emulator"]
+        row0 = dict(row0, max_trajectory_diff_ft=first["printed"]["max_trajectory_diff_ft"])
     orders = {}
     for key in ("hit_time_diff_s", "terminal_points_diff_ft", "max_trajectory_diff_ft"):
         pairs = [(a[key], b[key]) for a, b in zip(convergence, convergence[1:]) if a[key] > 0 and b[key] > 0]
         orders[key] = [math.log2(a / b) for a, b in pairs]
     return {
         "deck": str(deck.path),
-        "precision": precision,
-        "errata": list(chosen),
-        "core_method": "/".join(sorted(methods)),
-        "core_rtol": rtol,
+        "precision": options.get("precision", "double"),
+        "errata": list(errata_policy.resolve(options.get("errata", ()))),
+        "core_method": "/".join(sorted({step["method"] for step in steps})),
+        "core_rtol": options.get("rtol", 1e-10),
         "emulator": emu,
         "core": core_row,
         "max_trajectory_diff_ft": row0["max_trajectory_diff_ft"],
         "convergence": convergence,
         "observed_order": orders,
-        "ed_tolerance_scaled": tighten_ed,
+        "ed_tolerance_scaled": options.get("tighten_ed", True),
     }
 
 
@@ -200,3 +258,87 @@ def format_diff(d: dict) -> str:
         ords = d["observed_order"][key]
         lines.append(f"observed order ({label}): " + (", ".join(f"{o:.2f}" for o in ords) or "n/a"))
     return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------------------ the page
+
+#: The decks the page compares (the report's steel decks, as shipped).
+PAGE_DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30")
+
+
+def engine_times(deck, *, reps: int = 3) -> dict:
+    """Median wall times (s) of ``reps`` runs of deck: the emulator (double, ED towards its
+    root), the core's legacy preset at rtol = atol = 1e-10 and at its default tolerances."""
+    import statistics
+    import time
+
+    def median(run):
+        times = []
+        for _ in range(reps):
+            t0 = time.perf_counter()
+            run()
+            times.append(time.perf_counter() - t0)
+        return statistics.median(times)
+
+    emulator = EmulatorEngine(errata=(errata_policy.ED_DIRECTION,), trace=False)
+    tight, default = CoreEngine(rtol=1e-10, atol=1e-10), CoreEngine()
+    return {"emulator_s": median(lambda: emulator.run(deck)),
+            "core_tight_s": median(lambda: tight.simulate(deck)),
+            "core_default_s": median(lambda: default.simulate(deck))}
+
+
+def diff_page(*, jobs=None, quiet=False) -> str:
+    """docs/diff.md: the run times of both engines on each deck of :data:`PAGE_DECKS`, then
+    ``deck-emulator diff DECK --erratum ed-direction`` on each, and steel40 with ED's printed
+    tolerance at every step size (all the diffs' runs in one call of the scene runner)."""
+    import dataclasses
+    import datetime
+    import os
+
+    from deck_emulator import decks as shipped
+    from deck_emulator.engine import step_literals
+    from deck_emulator.legacy.deck import read_deck
+
+    errata = (errata_policy.ED_DIRECTION,)
+    deck_of = {name: dataclasses.replace(read_deck(shipped.path(name)), path=f"decks/{name}.dat")
+               for name in PAGE_DECKS}
+    parts = [
+        "# The emulator against the modern core",
+        "",
+        f"Made by `python scripts/make_diff_docs.py` on {datetime.date.today()}, {os.cpu_count()} cores. "
+        "Each section is the output of `deck-emulator diff DECK --erratum ed-direction`: as "
+        "printed, ED walks away from its root on the angle decks at the listing's step, and on "
+        "every deck once the step is halved (k >= 1); the erratum leaves the 0° printouts at "
+        "k = 0 byte-identical.",
+        "",
+        "The core runs its `legacy` preset (the listing's quirks as named options) with DOP853 at "
+        "rtol = atol = 1e-10. The side-by-side columns are the listing's run as printed. In the "
+        "convergence table the emulator's step literals are divided by 2**k:",
+        "",
+        *[f"* {s}" for s in step_literals()],
+        "",
+        "and ED's tolerance (printed: .0001 rad at every step size) is shrunk to 1e-6 rad / 4**k; "
+        "the core's start-up kick lasts the same one step. With ED's printed tolerance the scheme "
+        "does not converge (last section): its error in psi per step does not shrink with h.",
+        "",
+        "## Run time per deck (median of 3, seconds)",
+        "",
+        "| deck | emulator (double) | core, legacy preset, DOP853 rtol 1e-10 | core, default tolerances (1e-12) |",
+        "|---|---|---|---|",
+    ]
+    for name, deck in deck_of.items():
+        t = engine_times(deck)
+        parts.append(f"| {name} | {t['emulator_s']:.3f} | {t['core_tight_s']:.3f} | "
+                     f"{t['core_default_s']:.3f} |")
+    cases = [(deck, {"errata": errata}) for deck in deck_of.values()]
+    cases.append((deck_of["steel40"], {"errata": errata, "tighten_ed": False}))
+    results = diff_decks(cases, jobs=jobs, quiet=quiet)
+    for name, result in zip(PAGE_DECKS, results):
+        cmd = f"deck-emulator diff decks/{name}.dat --erratum {errata_policy.ED_DIRECTION}"
+        parts += ["", f"## {name}", "", f"`{cmd}`", "", "```", format_diff(result).rstrip(),
+                  "```"]
+    parts += ["", "## steel40 with ED's printed tolerance at every step size", "",
+              f"`deck-emulator diff decks/steel40.dat --as-printed-ed --erratum "
+              f"{errata_policy.ED_DIRECTION}`", "", "```", format_diff(results[-1]).rstrip(),
+              "```", ""]
+    return "\n".join(parts)

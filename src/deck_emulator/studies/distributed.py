@@ -64,6 +64,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 __all__ = [
+    "run_longest_first",
     "output_store",
     "scene_id",
     "SceneStore",
@@ -400,3 +401,51 @@ def run_scenes(
     return store
 
 
+def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
+                      quiet: bool = False, scheduler: str | None = None,
+                      resume: bool = False) -> list[dict]:
+    """``[fn(t) for t in tasks]`` on the one scene runner
+    (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``
+    workers, or the one at ``scheduler``), the costliest tasks (their ``cost``) submitted first
+    so that no long run is left for last, every row stored in ``store_dir`` as it finishes
+    (``resume``: only the tasks not stored yet run; ``None``: a temporary folder, gone at the
+    end); rows in the tasks' order. A row travels
+    as JSON (its arrays as lists). A task that could not run (its ``fn`` raised, its worker
+    died) is an error naming it: a study cannot make its tables without it."""
+    import functools
+    import tempfile
+
+    from deck_emulator.errors import RunFailed
+
+    order = sorted(tasks, key=lambda t: -t["cost"])
+    with tempfile.TemporaryDirectory(prefix="scenes-") as tmp:
+        store = run_scenes(order, functools.partial(_json_row, fn),
+                           store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
+                           scheduler=scheduler, resume=resume, desc=desc,
+                           progress=False if quiet else None)
+        stored = store.by_id()
+    rows = []
+    for t in tasks:
+        got = stored.get(scene_id(t))
+        if got is None or got.get("status") != "ok":
+            why = "not run" if got is None else got.get("error")
+            raise RunFailed(f"{desc}: the run {_label(t)} failed: {why}")
+        rows.append(json.loads(got["row_json"]))
+    return rows
+
+
+def _label(task: dict) -> str:
+    return ", ".join(f"{k} {task[k]}" for k in ("kind", "column", "post", "variant", "engine",
+                                                 "series", "label", "k",
+                                                 "method", "rtol") if task.get(k) is not None)
+
+
+def _json_row(fn, task: dict) -> dict:
+    """On a worker: one task's row as JSON (numpy arrays and scalars as plain values)."""
+    return {"row_json": json.dumps(fn(task), default=_plain_json)}
+
+
+def _plain_json(v):
+    if hasattr(v, "tolist"):  # numpy arrays and scalars
+        return v.tolist()
+    raise TypeError(f"{type(v).__name__} is not a plain value")

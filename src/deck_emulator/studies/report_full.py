@@ -25,7 +25,8 @@ from deck_emulator.engine.errata import ED_DIRECTION
 from deck_emulator.legacy.deck import parse_deck, read_deck
 from deck_emulator.studies.report_tables import CASES_ALL
 
-__all__ = ["column_inputs", "run_column", "template_deck", "columns_row"]
+__all__ = ["column_inputs", "run_column", "column_task", "column_tasks", "template_deck",
+           "columns_row"]
 
 
 def template_deck(column: str) -> str:
@@ -57,10 +58,11 @@ def columns_row(out: Outcome) -> dict:
     """An engine's outcome of a column, keyed like ``REPORT_ALL``'s fields: the report's ΔV
     and deceleration (the registry's ``delta_v_crush_mph`` and ``max_decel_g``), the end
     (the hit as the listing words it) and its time, the terminal points XL, YL, ZL."""
-    row = {"delta_v_crush_mph": out.delta_v_crush_mph, "max_decel_g": out.max_decel_g,
+    row = {"delta_v_crush_mph": out.delta_v_crush_mph,
+           "delta_v_contact_mph": out.delta_v_contact_mph, "max_decel_g": out.max_decel_g,
            "hit": out.hit_message,
            "time_ms": None if out.hit_time_s is None else 1000 * out.hit_time_s,
-           "error": out.error, "errata": out.errata}
+           "error": out.error, "errata": list(out.errata)}
     for p in ("P", "R", "Q", "U"):
         xyz = out.terminal.get(p)
         for i, ax in enumerate("XYZ"):
@@ -68,10 +70,19 @@ def columns_row(out: Outcome) -> dict:
     return row
 
 
+#: The post's points whose places the page reads off the core's run.
+POINTS_L = ("P", "R", "Q", "U")
+
+
 def run_column(column: str) -> dict:
-    """Both engines' outcomes of one column: ``emulator`` and ``core`` (:func:`columns_row`,
-    ``None`` where the listing cannot carry the post), ``core_outcome`` (the core's
-    :class:`~deck_emulator.engine.Outcome`) and ``listing_refusal`` (why not, or None)."""
+    """Both engines' outcomes of one column, as plain values (a row of the scene runner):
+    ``emulator`` and ``core`` (:func:`columns_row`; ``emulator`` is ``None`` where the listing
+    cannot carry the post), ``listing_refusal`` (why not, or None), and the core's post in
+    the report's XL, YL, ZL axes (``core_points_l``: at t = 0 under ``initial``, at the
+    report's time of the column's end under ``report_time``, None where the run did not
+    reach it)."""
+    from deck_emulator.studies.report_tables import report_time_ms_all
+
     deck, scene = column_inputs(column)
     out: dict = {"column": column, "emulator": None, "core": None,
                  "listing_refusal": scene_runs_on_listing(scene)}
@@ -82,5 +93,23 @@ def run_column(column: str) -> dict:
         out["emulator"] = columns_row(em)
     co = CoreEngine(preset="legacy", trace=False).run(scene, name=column)
     out["core"] = columns_row(co)
-    out["core_outcome"] = co
+    report_ms = report_time_ms_all(column)
+
+    def points_at(t):
+        got = {k: co.point_l(k, t) for k in POINTS_L} if t is not None else {}
+        return {k: list(p) for k, p in got.items() if p is not None}
+
+    out["core_points_l"] = {"initial": points_at(0.0),
+                            "report_time": points_at(None if report_ms is None
+                                                     else report_ms / 1000.0)}
     return out
+
+
+def column_task(task: dict) -> dict:
+    """Worker of the scene runner: :func:`run_column` of ``task["column"]``."""
+    return run_column(task["column"])
+
+
+def column_tasks(columns) -> list[dict]:
+    """The scene runner's tasks for ``columns``."""
+    return [{"kind": "column", "column": c, "cost": 1.0} for c in columns]

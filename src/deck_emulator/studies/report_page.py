@@ -21,10 +21,9 @@ from deck_emulator.core.assembly import (
     Arm, Assembly, Shaft, inferred_geometry, load_assembly, mass_properties,
     STEEL_DECK_TARGET,
 )
-from deck_emulator.engine import quantities
 from deck_emulator.files import OutputSet
 from deck_emulator.studies import crash_test as ct
-from deck_emulator.studies.report_full import run_column
+from deck_emulator.studies.report_full import column_task, column_tasks
 from deck_emulator.studies.report_tables import (
     CASES_ALL, REPORT_ALL, SOURCE, TABLE8, TABLE9, TABLE10, report_time_ms_all,
 )
@@ -133,10 +132,7 @@ def columns_section(lines, runs):
         lines.append(f"| end | {rep['comment'].lower()} | "
                      f"{hit_word(em['hit']) if em else '—'} | | {hit_word(co['hit'])} | | |")
         if mph == 20 and "CAR" in rep["comment"] and rep_time is not None:
-            res = r["core_outcome"]
-            t = rep_time / 1000.0
-            pts = {k: res.point_l(k, t) for k in ("P", "R", "Q", "U")}
-            pts = {k: p for k, p in pts.items() if p is not None}
+            pts = r["core_points_l"]["report_time"]
             if pts:
                 cells = []
                 for k, xl in pts.items():
@@ -185,31 +181,57 @@ def summary_section(lines, runs):
     lines.append("")
 
 
-def geometry_sensitivity_section(lines):
-    """How much the two calibrated unknowns move the aluminium and twin 40 mph columns."""
+#: The inferred geometry's variants the page runs (label of each, per post).
+GEOMETRY_VARIANTS = ("as shipped (base 61 lb, up-swept arm)", "no base mass", "base 120 lb",
+                     "straight arm")
+
+
+def _geometry_variant(post: str, label: str):
     from deck_emulator.core.assembly import BaseMass
+
+    a, _, _ = load_assembly(post)
+    return {GEOMETRY_VARIANTS[0]: a,
+            GEOMETRY_VARIANTS[1]: dataclasses.replace(a, base=BaseMass(0.0)),
+            GEOMETRY_VARIANTS[2]: dataclasses.replace(a, base=BaseMass(120.0)),
+            GEOMETRY_VARIANTS[3]: dataclasses.replace(
+                a, arms=tuple(dataclasses.replace(x, shape="straight") for x in a.arms))}[label]
+
+
+def geometry_tasks() -> list[dict]:
+    return [{"kind": "geometry", "post": post, "variant": label, "cost": 1.0}
+            for post in ("aluminium", "twin") for label in GEOMETRY_VARIANTS]
+
+
+def geometry_run(task: dict) -> dict:
+    """Worker of the scene runner: one variant of an inferred geometry on the core (legacy
+    preset, the steel40 deck's car): its inertias, tilt, end and base point Q."""
     from deck_emulator.engine import CoreEngine
     from deck_emulator.engine.assemblies import to_scene
 
+    v = _geometry_variant(task["post"], task["variant"])
+    mp = mass_properties(v)
+    res = CoreEngine(preset="legacy").run(to_scene(v, mp, template="steel40"))
+    q = res.terminal.get("Q")
+    return {"A": mp.A, "B": mp.B, "C": mp.C, "delta_deg": mp.delta_deg, "hit": res.hit_message,
+            "hit_time_s": res.hit_time_s, "XQL": None if q is None else q[0],
+            "ZQL": None if q is None else q[2]}
+
+
+def geometry_sensitivity_section(lines, runs: dict):
+    """How much the two calibrated unknowns move the aluminium and twin 40 mph columns
+    (``runs``: (post, variant) -> :func:`geometry_run`)."""
     lines.append("### How much the inferred geometry moves the answer (core, 40 mph, α = 0°)\n")
     lines.append("| post | variant | A, B, C (slug ft²) | δ, deg | end | time, ms (report) | XQL, ZQL (report) |")
     lines.append("|---|---|---|---|---|---|---|")
     for post in ("aluminium", "twin"):
-        a, _, _ = load_assembly(post)
         rep = REPORT_ALL[f"{post}40"]
-        variants = [("as shipped (base 61 lb, up-swept arm)", a),
-                    ("no base mass", dataclasses.replace(a, base=BaseMass(0.0))),
-                    ("base 120 lb", dataclasses.replace(a, base=BaseMass(120.0))),
-                    ("straight arm", dataclasses.replace(
-                        a, arms=tuple(dataclasses.replace(x, shape="straight") for x in a.arms)))]
-        for label, v in variants:
-            mp = mass_properties(v)
-            res = CoreEngine(preset="legacy").run(to_scene(v, mp, template="steel40"))
-            pts = res.terminal
+        for label in GEOMETRY_VARIANTS:
+            r = runs[(post, label)]
+            t = None if r["hit_time_s"] is None else 1000 * r["hit_time_s"]
             lines.append(
-                f"| {post} | {label} | {mp.A:.0f}, {mp.B:.0f}, {mp.C:.1f} | {mp.delta_deg:.2f} | "
-                f"{hit_word(res.hit_message)} | {f(1000 * res.hit_time_s, 1)} "
-                f"({rep['time_to_hit_ground_ms']}) | {f(pts['Q'][0])}, {f(pts['Q'][2])} "
+                f"| {post} | {label} | {r['A']:.0f}, {r['B']:.0f}, {r['C']:.1f} | "
+                f"{r['delta_deg']:.2f} | {hit_word(r['hit'])} | {f(t, 1)} "
+                f"({rep['time_to_hit_ground_ms']}) | {f(r['XQL'])}, {f(r['ZQL'])} "
                 f"({rep['XQL']}, {rep['ZQL']}) |")
     lines.append("\nThe base's weight (the shaft's wall follows from the total weight) moves the "
                  "end by tens of ms and the base point by feet: the aluminium and twin misses are "
@@ -311,7 +333,39 @@ T10_KEYS = [("time_ms", "TIME, ms", 1), ("theta_deg", "θ, deg", 1),
             ("V1_ft_s", "V1, ft/s", 2), ("V3_ft_s", "V3, ft/s", 2), ("SV_ft", "SV, ft", 2)]
 
 
-def crash_section(lines, fig_path):
+#: The crash test's variants: label -> the keywords of crash_scene (the first: as assumed).
+CRASH_VARIANTS = {
+    "as assumed (S 1.5 ft, knee 3.0 in, normal force)": {},
+    "S 1.0 ft above the base": {"impact_height_ft": 1.0},
+    "S 2.0 ft above the base": {"impact_height_ft": 2.0},
+    "S 2.5 ft above the base": {"impact_height_ft": 2.5},
+    "unloading knee at 0 (38,400 lb/ft all the way)": {"unloading_knee_ft": 0.0},
+    "unloading at 12,000 lb/ft only (no stiff branch)":
+        {"unloading_stiffness_lb_per_ft": [12000.0, 12000.0]},
+    "no U-bolt stop (26,400 lb/ft beyond 4.5 in)": {"stop_ft": 100.0},
+    "base 0.5 ft above the ground": {"base_on_ground": False},
+}
+
+
+def crash_tasks() -> list[dict]:
+    """The scene runner's tasks of the crash test: each variant; the first (as assumed) also
+    runs Table 9's free flights."""
+    return [{"kind": "crash", "label": label, "changes": changes, "free_flight": not changes,
+             "cost": 2.0} for label, changes in CRASH_VARIANTS.items()]
+
+
+def report_task(task: dict) -> dict:
+    """Worker of the scene runner: a column of Tables 11-12, a crash-test variant or a
+    variant of an inferred geometry."""
+    if task["kind"] == "crash":
+        return ct.crash_run(task)
+    if task["kind"] == "geometry":
+        return geometry_run(task)
+    return column_task(task)
+
+
+def crash_section(lines, fig_path, crash: dict):
+    """Chapter V's tables from the crash-test rows (label -> :func:`crash_test.crash_run`)."""
     lines.append("## Chapter V: the crash test (Tables 9 and 10, Figure 18)\n")
     lines.append(
         "The scene: `assemblies/crash_test.toml` through `deck_emulator.studies.crash_test` — a "
@@ -324,7 +378,8 @@ def crash_section(lines, fig_path):
         "above the base (the report's deck has its spring 1.5 ft above the ground); the unloading "
         "knee at 3.0 in; the 5 in normal-force release of the listing; the base on the ground; "
         "axial inertia 0.5 slug ft² (planar motion: no effect).\n")
-    res, loss, r70 = ct.table10()
+    base = crash[next(iter(CRASH_VARIANTS))]
+    loss, r70 = base["loss"], base["at_70"]
     lines.append("### Table 10: model against crash test at ~70 ms\n")
     lines.append("| quantity | report's model | crash test | ours at loss of contact | ours at 70 ms | ours − test (70 ms) |")
     lines.append("|---|---|---|---|---|---|")
@@ -332,10 +387,8 @@ def crash_section(lines, fig_path):
         m, t = TABLE10[key]
         a, b = loss[key], r70[key]
         lines.append(f"| {label} | {f(m, nd)} | {f(t, nd)} | {f(a, nd)} | {f(b, nd)} | {f(b - t, nd, True)} |")
-    ev = ", ".join(f"{e.name} {1000 * e.time_s:.1f} ms" for e in res.raw.events)
-    x_m = quantities.value("leaf_spring_peak_compression_ft", res)
-    x_set = quantities.value("leaf_spring_set_ft", res)
-    res = res.raw  # the core's own result: its trajectory and events, for the tables below
+    ev = ", ".join(f"{name} {1000 * t:.1f} ms" for name, t in base["events"])
+    x_m, x_set = base["leaf_spring_peak_compression_ft"], base["leaf_spring_set_ft"]
     lines.append(f"\nEvents of our run: {ev}. The car's speed at separation: "
                  f"{abs(loss['VV_ft_s']):.2f} ft/s. Peak compression {12 * x_m:.2f} in (past the "
                  f"4.5 in stop), so the unloading line at 38,400 lb/ft reaches zero force at "
@@ -348,26 +401,18 @@ def crash_section(lines, fig_path):
         "report's model 'kept [the constant force] present until displacements reached values "
         "such that the spring started to unload' and its 'longer application of the larger "
         "forces' gave θ̇ = 12.50 rad/s. Ours, {:.2f} rad/s, is between the model and the test "
-        "(8.75).\n".format(1000 * res.vehicle_contact_lost_s, loss["thetadot_rad_s"]))
+        "(8.75).\n".format(1000 * base["vehicle_contact_lost_s"], loss["thetadot_rad_s"]))
 
     # sensitivity
     lines.append("### How much each assumption moves Table 10\n")
     lines.append("| variant | contact lost, ms | θ̇ at loss, rad/s | θ at 70 ms, deg | XCM 70 ms | ZCM 70 ms | V1 at loss | V3 at loss | SV at loss, ft | post hits ground, ms |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|")
-    variants = [("as assumed (S 1.5 ft, knee 3.0 in, normal force)", {}),
-                ("S 1.0 ft above the base", {"impact_height_ft": 1.0}),
-                ("S 2.0 ft above the base", {"impact_height_ft": 2.0}),
-                ("S 2.5 ft above the base", {"impact_height_ft": 2.5}),
-                ("unloading knee at 0 (38,400 lb/ft all the way)", {"unloading_knee_ft": 0.0}),
-                ("unloading at 12,000 lb/ft only (no stiff branch)",
-                 {"unloading_stiffness_lb_per_ft": [12000.0, 12000.0]}),
-                ("no U-bolt stop (26,400 lb/ft beyond 4.5 in)", {"stop_ft": 100.0}),
-                ("base 0.5 ft above the ground", {"base_on_ground": False})]
     got = {}
-    for label, kw in variants:
-        r, lo, s70 = ct.table10(ct.crash_scene(**kw))
+    for label in CRASH_VARIANTS:
+        r = crash[label]
+        lo, s70 = r["loss"], r["at_70"]
         got[label] = lo
-        hit = f(1000 * r.hit_time_s, 1) if r.hit else "—"
+        hit = f(1000 * r["hit_time_s"], 1) if r["hit_time_s"] is not None else "—"
         lines.append(f"| {label} | {f(lo['time_ms'], 1)} | {f(lo['thetadot_rad_s'])} | "
                      f"{f(s70['theta_deg'], 1)} | {f(s70['XCM_ft'])} | {f(s70['ZCM_ft'])} | "
                      f"{f(lo['V1_ft_s'])} | {f(lo['V3_ft_s'])} | {f(lo['SV_ft'])} | {hit} |")
@@ -391,9 +436,8 @@ def crash_section(lines, fig_path):
         "checked (the crash car's is not given), so HIT is not computed.\n")
     lines.append("| quantity | report's model | crash test (Table 9) | crash test (Table 8) | ours at 270 ms | ours at 273 ms | ours − test (270 ms; XCM, ZCM signed as Table 8, SV as Table 9) | ours, car at 40 ft/s, 270 ms |")
     lines.append("|---|---|---|---|---|---|---|---|")
-    f9 = ct.table9(vv_ft_s=abs(r70["VV_ft_s"]))
-    f40 = ct.table9(vv_ft_s=40.0)
-    a, b, c = ct.state_row(f9, 0.270), ct.state_row(f9, 0.273), ct.state_row(f40, 0.270)
+    a, b = base["table9"]["at_270"], base["table9"]["at_273"]
+    c = base["table9_40"]["at_270"]
     for key, label, nd in [("theta_deg", "θ, deg", 1), ("XCM_ft", "XCM, ft", 2),
                            ("ZCM_ft", "ZCM, ft", 2), ("SV_ft", "SV, ft", 2), ("time_ms", "TIME, ms", 1)]:
         m, t = TABLE9[key]
@@ -410,14 +454,14 @@ def crash_section(lines, fig_path):
         "from them by {:+.2f} and {:+.2f} ft. The start values themselves (θ = 25°, "
         "V1 = −28.5, V3 = −12.5) carry the test's reading error.\n".format(
             abs(a["XCM_ft"]), abs(a["ZCM_ft"]), abs(a["XCM_ft"]) - 7.61, abs(a["ZCM_ft"]) - 0.27))
-    figure18(res, fig_path)
+    figure18(base, fig_path)
     lines.append(f"![Figure 18 regenerated]({FIG_NAME})\n")
     lines.append(
         "Figure 18 (regenerated): the post (Q to P) in the XX-ZZ plane, ours every 20 ms "
         "(grey; black at 70 and 270 ms), the crash test's two measured instants (Table 8, "
         "red), the report's model at 71.8 ms (Table 10) and at 273 ms (Table 9, with Table 8's "
         "signs; blue dashed).\n")
-    return res, loss, r70, a
+    return base, loss, r70, a
 
 
 def post_line(xcm, zcm, theta_deg):
@@ -429,23 +473,22 @@ def post_line(xcm, zcm, theta_deg):
     return c - zc * u, c + (L - zc) * u
 
 
-def figure18(res, path):
+def figure18(run: dict, path):
+    """Figure 18 from a crash-test row (:func:`crash_test.crash_run`: its ``figure``)."""
     from deck_emulator.studies.common import agg_backend
 
     agg_backend()
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
-    t_end = min(res.trajectory.t_end, 0.29)
-    for t in np.arange(0.0, t_end + 1e-9, 0.02):
-        q = res.trajectory.point("Q", t)
-        p = res.trajectory.point("P", t)
-        ax.plot([q[0], p[0]], [q[2], p[2]], color="0.7", lw=1)
-    for t in (0.07, 0.27):
-        q, p = res.trajectory.point("Q", t), res.trajectory.point("P", t)
-        ax.plot([q[0], p[0]], [q[2], p[2]], color="k", lw=2.5,
-                label="ours" if t == 0.07 else None)
-        ax.annotate(f"{1000 * t:.0f} ms", (p[0], p[2]), fontsize=8)
+    marked = (0.07, 0.27)
+    for t, qx, qz, px, pz in run["figure"]:
+        if t not in marked:
+            ax.plot([qx, px], [qz, pz], color="0.7", lw=1)
+    for t, qx, qz, px, pz in run["figure"]:
+        if t in marked:
+            ax.plot([qx, px], [qz, pz], color="k", lw=2.5, label="ours" if t == marked[0] else None)
+            ax.annotate(f"{1000 * t:.0f} ms", (px, pz), fontsize=8)
     for i, (xc, zc, th) in enumerate([(-1.50, 0.01, 25.0), (-7.10, -0.19, 122.0)]):
         q, p = post_line(xc, zc, th)
         ax.plot([q[0], p[0]], [q[1], p[1]], color="tab:red", lw=2,
@@ -454,7 +497,7 @@ def figure18(res, path):
         q, p = post_line(xc, zc, th)
         ax.plot([q[0], p[0]], [q[1], p[1]], color="tab:blue", lw=1.5, ls="--",
                 label="report's model (Tables 10, 9)" if i == 0 else None)
-    ax.axhline(-res.scene.environment.ground_depth_ft, color="tab:brown", lw=1)
+    ax.axhline(-run["ground_depth_ft"], color="tab:brown", lw=1)
     ax.set_aspect("equal")
     ax.set_xlabel("XX, ft (car moves towards −XX)")
     ax.set_ylabel("ZZ, ft (from the initial mass centre)")
@@ -497,7 +540,7 @@ def spin_deg(P, Q, R, P0, Q0, R0):
 
 
 def statements_section(lines, runs, crash):
-    res, loss, r70, f270 = crash
+    base, loss, r70, f270 = crash
     lines.append("## The report's statements, checked\n")
     rows = []
     # 1: single arm spins negative, twin positive (about ZL)
@@ -505,7 +548,7 @@ def statements_section(lines, runs, crash):
     for col in CASES_ALL:
         post = CASES_ALL[col][0]
         r = runs[col]
-        P0, Q0, R0 = (r["core_outcome"].point_l(k, 0.0) for k in "PQR")
+        P0, Q0, R0 = (tuple(r["core_points_l"]["initial"][k]) for k in "PQR")
         co = r["core"]
         rep = REPORT_ALL[col]
         ours = spin_deg(*[(co[f"X{k}L"], co[f"Y{k}L"], co[f"Z{k}L"]) for k in "PQR"], P0, Q0, R0)
@@ -519,7 +562,8 @@ def statements_section(lines, runs, crash):
     lines.append("| column | report's P, Q, R | ours (core) |")
     lines.append("|---|---|---|")
     for c in CASES_ALL:
-        lines.append(f"| {c} | {spins[c][0]:+.0f} | {spins[c][1]:+.0f} |")
+        # f(): a spin that rounds to 0 deg is shown as +0 whatever the sign of its last bits
+        lines.append(f"| {c} | {f(spins[c][0], 0, True)} | {f(spins[c][1], 0, True)} |")
     agree = sum((spins[c][0] < 0) == (spins[c][1] < 0) or abs(spins[c][0]) < 1
                 for c in CASES_ALL)
     neg_rep = sum(spins[c][0] < 0 for c in single)
@@ -560,11 +604,11 @@ def statements_section(lines, runs, crash):
     rows.append(("6.4: twin post — point R is the first to contact the ground",
                  "ours at 40 mph: " + ", ".join(hit_word(h) for h in tw)))
     lead70 = "ahead of" if r70["theta_deg"] > 25.0 else "behind"
-    lead270 = "ahead of" if ct.state_row(res, 0.27)["theta_deg"] > 122.0 else "behind"
+    lead270 = "ahead of" if base["at_270"]["theta_deg"] > 122.0 else "behind"
     rows.append(("5.5: the model lags the test at first and overtakes it (Figure 18)",
                  f"ours is {lead70} the test at 70 ms and {lead270} it at 270 ms: θ at 70 ms {r70['theta_deg']:.1f}° (test 25.0°), θ from the test's "
                  f"70 ms state at 270 ms {f270['theta_deg']:.1f}° (test 122.0°); our full run "
-                 f"at 270 ms: {ct.state_row(res, 0.27)['theta_deg']:.1f}°"))
+                 f"at 270 ms: {base['at_270']['theta_deg']:.1f}°"))
     rows.append(("5.3: θ̇ is Table 10's biggest discrepancy",
                  f"report: 12.50 vs 8.75 (+43 %); ours {loss['thetadot_rad_s']:.2f} vs 8.75 "
                  f"({100 * (loss['thetadot_rad_s'] / 8.75 - 1):+.0f} %)"))
@@ -614,13 +658,25 @@ INCONSISTENCIES = [
 ]
 
 
-def write_page(page: Path) -> Path:
+def write_page(page: Path, *, jobs=None, scheduler=None, store_dir=None, resume=False,
+               quiet=False) -> Path:
     """Write the page to ``page`` and its figure beside it (both, or neither); returns the
-    figure's path."""
+    figure's path. The 18 columns and the crash test's variants run on the one scene runner
+    (:func:`deck_emulator.studies.common.run_longest_first`; ``store_dir``: where the runs are
+    kept, a temporary folder if None; ``resume``: only the runs not stored)."""
+    from deck_emulator.studies.distributed import run_longest_first
+
     page = Path(page)
     fig = page.with_name(FIG_NAME)
     t0 = time.perf_counter()
-    runs = {c: run_column(c) for c in CASES_ALL}
+    tasks = column_tasks(CASES_ALL) + crash_tasks() + geometry_tasks()
+    rows = run_longest_first(report_task, tasks, jobs=jobs, desc="report_full",
+                             store_dir=store_dir, quiet=quiet, scheduler=scheduler,
+                             resume=resume)
+    runs = {t["column"]: r for t, r in zip(tasks, rows) if t["kind"] == "column"}
+    crash_rows = {t["label"]: r for t, r in zip(tasks, rows) if t["kind"] == "crash"}
+    geometry_rows = {(t["post"], t["variant"]): r for t, r in zip(tasks, rows)
+                     if t["kind"] == "geometry"}
     lines = ["# The report's Tables 9-12, all columns, against both engines\n"]
     lines.append(f"Made by `python scripts/make_report_full.py`; report numbers from "
                  f"`deck_emulator.studies.report_tables` ({SOURCE}; Tables 11-12 lines "
@@ -633,9 +689,9 @@ def write_page(page: Path) -> Path:
         summary_section(lines, runs)
         builder_section(lines)
         geometry_section(lines)
-        geometry_sensitivity_section(lines)
+        geometry_sensitivity_section(lines, geometry_rows)
         columns_section(lines, runs)
-        crash = crash_section(lines, files.path(fig))
+        crash = crash_section(lines, files.path(fig), crash_rows)
         statements_section(lines, runs, crash)
         lines.append("## Inconsistencies in the source, and what we took\n")
         for i, s in enumerate(INCONSISTENCIES, 1):
