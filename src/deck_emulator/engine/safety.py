@@ -15,7 +15,9 @@ contact with the post is over nothing slows the car: the listing's ``VVFA = VVFB
 Definitions (numbers in ft, s, ft/s unless the name says otherwise)
 -------------------------------------------------------------------
 * ``delta_v``: ``u(t0) - u(t_end)``, the speed the car lost, in ft/s, m/s and mph.
-* ``max_decel_g``: the largest deceleration between two samples, ``-(du/dt)/G``.
+* ``max_decel_sampled_g``: the largest deceleration between two samples of the history,
+  ``-(du/dt)/G`` (not the registry's ``max_decel_g``, the report's reading: for the
+  emulator's every accepted step it equals ``max_decel_every_step_g``).
 * ``max_decel_10ms_g``: the largest average deceleration over any 10 ms window,
   ``(u(t) - u(t + 0.010)) / 0.010 / G`` -- exact for a piecewise-linear history (the
   maximum of that piecewise-linear function of ``t`` lies on a breakpoint).
@@ -256,8 +258,8 @@ class PulseMetrics:
     """The occupant-risk numbers of one velocity history (see the module docstring)."""
 
     delta_v_contact_mph: float
-    max_decel_g: float
-    max_decel_time_s: float
+    max_decel_sampled_g: float
+    max_decel_sampled_time_s: float
     max_decel_10ms_g: float
     max_decel_10ms_start_s: float | None
     oiv_ft_s: float
@@ -280,7 +282,8 @@ class PulseMetrics:
         when = " (after contact ended: relative speed = ΔV)" if self.strike_after_contact else ""
         return [
             f"ΔV {self.delta_v_contact_mph:.3f} mph",
-            f"max deceleration {self.max_decel_g:.2f} g at {ms(self.max_decel_time_s)}; "
+            f"max deceleration between samples {self.max_decel_sampled_g:.2f} g at "
+            f"{ms(self.max_decel_sampled_time_s)}; "
             f"max 10 ms average {self.max_decel_10ms_g:.2f} g",
             f"OIV {self.oiv_m_s:.2f} m/s ({self.oiv_ft_s:.2f} ft/s), occupant strikes at "
             f"{ms(self.occupant_strike_time_s)}{when}: {self.oiv_rating} ({oiv.label()})",
@@ -305,8 +308,8 @@ def assess(
     ora_g = fs.ora_ft_s2 / g
     return PulseMetrics(
         delta_v_contact_mph=speed_lost_mph(float(u[0]), float(u[-1])),
-        max_decel_g=amax / g,
-        max_decel_time_s=tmax,
+        max_decel_sampled_g=amax / g,
+        max_decel_sampled_time_s=tmax,
         max_decel_10ms_g=a10 / g,
         max_decel_10ms_start_s=t10,
         oiv_ft_s=fs.oiv_ft_s,
