@@ -1,5 +1,7 @@
 """The `assembly` subcommand: build, print and refuse."""
 
+import json
+
 from deck_emulator.cli import main
 from deck_emulator.legacy.deck import parse_deck
 
@@ -45,6 +47,14 @@ def test_assembly_twin_core_json_carries_u(capsys):
     assert answer["occupant_risk"]["body_clearance_ft"] is not None
 
 
-def test_assembly_json_goes_with_core_only(capsys):
-    assert main(["assembly", "twin", "props", "--json"]) == 2
-    assert "--json goes with 'core'" in capsys.readouterr().err
+def test_assembly_props_json_is_the_table_as_numbers(capsys):
+    """props --json carries the numbers the props table prints (to its digits)."""
+    assert main(["assembly", "twin", "props"]) == 0
+    table = capsys.readouterr().out
+    assert main(["assembly", "twin", "props", "--json"]) == 0
+    answer = json.loads(capsys.readouterr().out)
+    assert answer["command"] == "assembly" and answer["settings"]["what"] == "props"
+    assert f"weight {answer['weight_lb']:.2f} lb" in table
+    a, b, c = answer["inertia_slug_ft2"]
+    assert f"A {a:.2f}, B {b:.2f}, C {c:.3f} slug ft^2" in table
+    assert set(answer["points_ft"]) >= {"P", "Q", "R", "U"}

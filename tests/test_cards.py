@@ -416,7 +416,7 @@ def test_readme_archive_commands_run(tmp_path):
         argv = shlex.split(command)[1:]
         if argv[0] == "run":  # a full run is tested above; here: the options and the deck
             args = build_parser().parse_args(argv)
-            assert args.deck
+            assert args.source
             continue
         proc = subprocess.run([sys.executable, "-m", "deck_emulator", *argv], cwd=tmp_path,
                               capture_output=True, text=True, env=env, timeout=120)

@@ -73,7 +73,7 @@ def test_scene_toml_round_trips_through_core(tmp_path, capsys):
 def test_module_entry_point():
     proc = subprocess.run([sys.executable, "-m", "deck_emulator", "parse", "decks/steel40.dat", "--json"],
                           capture_output=True, text=True, cwd=ROOT, check=True)
-    assert json.loads(proc.stdout)["FCONST"] == 1200.0
+    assert json.loads(proc.stdout)["values"]["FCONST"] == 1200.0
 
 
 def test_ibm7094_run_ends_and_names_its_assumptions(capsys):

@@ -57,7 +57,7 @@ def test_summary_json_has_the_same_content(capsys):
     code, out, _ = _run(capsys, "summary", STEEL40, "--json")
     assert code == 0
     data = json.loads(out)
-    assert data["schema"] == 1 and data["command"] == "summary"
+    assert data["schema"] == 2 and data["command"] == "summary" and data["status"] == "ok"
     for e in data["events"]:
         assert e["sentence"] in table
     assert f"{data['quantities']['delta_v_crush_mph']:.2f}" == "2.06"
@@ -309,6 +309,15 @@ def _scene_with(tmp_path: Path, name: str, old: str, new: str) -> str:
     return str(path)
 
 
+def _punched(d: Path, kind: str) -> str:
+    """steel40 punched as card images (``cbn``) or a whole job deck (``job``), once."""
+    path = d / f"steel40.{kind}"
+    if not path.exists():
+        extra = ["--job"] if kind == "job" else ["--to", kind]
+        assert main(["punch", STEEL40, *extra, "--out", str(path)]) == 0
+    return str(path)
+
+
 def _bad_inputs(tmp_path: Path) -> dict[str, list[str]]:
     """name -> argv; each must answer in one line with exit status 2 and write nothing."""
     d = tmp_path
@@ -367,6 +376,24 @@ def _bad_inputs(tmp_path: Path) -> dict[str, list[str]]:
         "sweep base: a scene": ["sweep", "--speeds", "40", "--angles", "0",
                                 "--base-deck", str(d / "bad.toml"), "--out", str(d / "sw")],
         "no deck": ["run"],
+        # SOURCE, the options that came with it (issue: one vocabulary)
+        "no shipped deck of that name": ["parse", "steel99"],
+        "empty source": ["summary", ""],
+        "section of a plain deck": ["parse", STEEL40, "--section", "2"],
+        "section 0": ["summary", STEEL40, "--section", "0"],
+        "section of a scene": ["core", str(d / "nokeys.toml"), "--section", "1"],
+        "unknown card format": ["parse", STEEL40, "--card-format", "paper-tape"],
+        "run of a scene": ["run", _scene_with(d, "ok", "mass_slug = 15.1", "mass_slug = 15.1")],
+        "trajectory: wrong type": ["core", STEEL40, "--trajectory", str(d / "t.txt")],
+        "trajectory: missing folder": ["run", STEEL40, "--trajectory",
+                                       str(d / "no" / "t.csv")],
+        "diff of a deck the core refuses": ["diff", _deck_with(d, "w0", W=0.0)],
+        "study of a card image": ["study", "error", _punched(d, "cbn"), "--quick",
+                                  "--out", str(d / "st")],
+        "sensitivity deck: a job deck": ["sensitivity", "--deck", _punched(d, "job"),
+                                         "--quick", "--out", str(d / "se")],
+        "sweep base: no such": ["sweep", "--speeds", "40", "--angles", "0",
+                                "--base-deck", "steel99", "--out", str(d / "sw")],
     }
     if os.geteuid() != 0:  # root writes anywhere
         cases["out: read-only folder"] = ["summary", STEEL40, "--out", str(ro / "s.txt")]

@@ -400,11 +400,16 @@ def run_cli(*args: str) -> subprocess.CompletedProcess:
 def test_cli_parse_json():
     proc = run_cli("parse", str(STEEL40), "--json")
     assert proc.returncode == 0, proc.stderr
-    values = json.loads(proc.stdout)
+    answer = json.loads(proc.stdout)
+    assert answer["command"] == "parse" and answer["source"] == str(STEEL40)
+    values = answer["values"]
     assert list(values) == list(NAMES)
     assert values["VVB"] == -58.66 and values["CK"] == 33000.0
     assert values["DELTA"] == 0.1463 and values["FCONST"] == 1200.0
     assert '"VVB": -58.66' in proc.stdout and '"CK": 33000.0' in proc.stdout
+    # each card's fields with the columns FORMAT(8F10.5) reads them from
+    first = answer["cards"][0]["fields"][0]
+    assert first["columns"] == [1, 10] and first["name"] == NAMES[0]
     assert proc.stderr == ""
 
 

@@ -40,7 +40,11 @@ def test_side_by_side_is_the_printed_run(tightened):
     assert e["hit_time_s"] == pytest.approx(0.8216, abs=1e-9)  # the golden's last TIME
     assert abs(e["hit_time_s"] - c["hit_time_s"]) < 0.005  # s
     assert abs(e["delta_v_contact_mph"] - c["delta_v_contact_mph"]) < 0.05  # mph
-    assert 0 < tightened["max_trajectory_diff_ft"] < 0.5  # ft, with ED's .0001 as printed
+    assert 0 < tightened["max_trajectory_diff_as_printed_ft"] < 0.5  # ft, ED's .0001 as printed
+    # the k = 0 row runs ED at 1e-6 rad: a different run, a different (smaller) number
+    assert tightened["convergence"][0]["ed_tolerance_rad"] == 1e-6
+    assert (tightened["convergence"][0]["max_trajectory_diff_ft"]
+            != tightened["max_trajectory_diff_as_printed_ft"])
 
 
 def test_as_printed_ed_tolerance_does_not_converge():
@@ -55,7 +59,8 @@ def test_as_printed_ed_tolerance_does_not_converge():
 def test_diff_cli_json(capsys):
     assert main(["diff", DECK, "--json", "--max-k", "1", "--erratum", "ed-direction"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["errata"] == ["ed-direction"]
+    assert data["command"] == "diff" and data["source"] == DECK and data["status"] == "ok"
+    assert data["settings"]["errata"] == ["ed-direction"]
     for side in ("emulator", "core"):
         assert {"hit", "hit_time_s", "delta_v_contact_mph", "max_decel_every_step_g"} <= set(data[side])
     assert [r["k"] for r in data["convergence"]] == [0, 1]
@@ -63,6 +68,12 @@ def test_diff_cli_json(capsys):
 
 
 def test_diff_as_printed_stops_at_the_first_halved_step_and_names_the_erratum(capsys):
-    assert main(["diff", DECK, "--max-k", "1"]) == 3
-    err = capsys.readouterr().err
-    assert "k = 1" in err and "--erratum ed-direction" in err
+    """The report's deck with no options: k = 0 compares, k = 1 is a row that says the
+    listing as printed stops there and which erratum lets it run; exit 0."""
+    assert main(["diff", DECK, "--max-k", "1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["stopped_from_k"] == 1
+    row = data["convergence"][1]
+    assert row["k"] == 1 and "k = 1" in row["stopped"]
+    assert "--erratum ed-direction" in row["stopped"]
+    assert data["observed_order"]["hit_time_diff_s"] == []  # no two rows that ran

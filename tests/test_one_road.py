@@ -84,4 +84,4 @@ def test_the_diff_runs_on_the_scene_runner_and_resumes_from_its_store(tmp_path):
     assert SceneStore(store).files() == files  # nothing ran again
     assert again == first
     assert first["emulator"]["hit"] == "hit ground (R)"
-    assert math.isfinite(first["max_trajectory_diff_ft"])
+    assert math.isfinite(first["max_trajectory_diff_as_printed_ft"])

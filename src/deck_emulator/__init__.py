@@ -12,4 +12,8 @@ def __getattr__(name: str):
             return version("deck_emulator")
         except PackageNotFoundError:
             return "0+unknown (not installed)"
+    if name == "run":  # deck_emulator.run(source, engine=...): engine.api.run
+        from deck_emulator.engine.api import run
+
+        return run
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -59,6 +59,53 @@ def _emit(args, text: str) -> None:
         sys.stdout.write(text)
 
 
+def _json(args, answer: dict) -> None:
+    """A command's JSON answer (the envelope of :func:`deck_emulator.present.answers.envelope`)
+    on stdout or in --out."""
+    _emit(args, json.dumps(answer, indent=2) + "\n")
+
+
+def _add_json_option(p: argparse.ArgumentParser, what: str = "the answer") -> None:
+    p.add_argument("--json", action="store_true",
+                   help=f"print {what} as one JSON object (docs/json.md)")
+
+
+def _add_trajectory_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--trajectory", metavar="FILE.csv|FILE.parquet",
+                   help="also write the run's trajectory: time, every named point (road and "
+                   "report axes), the shaft's tilt and heading, the car (pandas reads it)")
+
+
+def _check_trajectory(args) -> None:
+    path = getattr(args, "trajectory", None)
+    if path:
+        from deck_emulator.files import check_output_file
+
+        if not path.endswith((".csv", ".parquet")):
+            raise CLIError(f"--trajectory {path}: a .csv or .parquet file")
+        check_output_file(path)
+
+
+def _write_trajectory(args, out) -> None:
+    """The outcome's :meth:`~deck_emulator.engine.Outcome.trajectory_frame` to --trajectory
+    (written whole or not at all), what a stopped run computed included."""
+    path = getattr(args, "trajectory", None)
+    if not path:
+        return
+    import io
+
+    from deck_emulator.files import write_file
+
+    frame = out.trajectory_frame()
+    if path.endswith(".parquet"):
+        buffer = io.BytesIO()
+        frame.to_parquet(buffer, index=False)
+        write_file(path, buffer.getvalue())
+    else:
+        write_file(path, frame.to_csv(index=False))
+    _say(f"wrote the trajectory ({len(frame)} samples) to {path}")
+
+
 def _check_out(args) -> None:
     """The output file's folder must exist and be writable: checked before any work."""
     if getattr(args, "out", None):
@@ -75,28 +122,57 @@ def _add_cluster_options(p: argparse.ArgumentParser) -> None:
                    help="run only the scenes not yet stored in the output directory")
 
 
-def _is_scene(path) -> bool:
-    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
-    import tomllib
+#: What SOURCE may be, said once for every command's help.
+SOURCE_HELP = ("a shipped deck's name (steel40), a deck file (text, or card images in any "
+               "format), a job deck, or a scene file (.toml)")
 
-    if str(path).endswith(".toml"):
-        return os.path.isfile(path)
+
+def _add_source(p: argparse.ArgumentParser, help: str = SOURCE_HELP) -> None:
+    """The one input argument: SOURCE, and how to read it."""
+    p.add_argument("source", metavar="SOURCE", help=help)
+    _add_card_options(p)
+    p.add_argument("--section", type=_positive_int, metavar="N",
+                   help="the Nth $DATA section of a job deck that holds several")
+    p.add_argument("--listing-program", action="store_true",
+                   help="run the listing's program on a job deck whose own FORTRAN differs "
+                   "from it (refused otherwise; said on the first line)")
+
+
+def _source(args, command: str, kinds=("deck", "scene"), given=None):
+    """SOURCE read whole (:func:`deck_emulator.engine.sources.load_source`); what the reader
+    says (the job deck's program, warnings) goes to stderr first."""
+    from deck_emulator.engine.sources import load_source
+
+    src = load_source(args.source if given is None else given,
+                      card_format=getattr(args, "card_format", "auto"),
+                      keypunch=getattr(args, "keypunch", None),
+                      section=getattr(args, "section", None),
+                      listing_program=getattr(args, "listing_program", False),
+                      kinds=kinds, command=command)
+    for note in src.notes:
+        _say(note)
+    return src
+
+
+def _deck_file(given: str, command: str) -> str:
+    """A deck that a study reads by its file in every worker: a text deck of one $DATA
+    section (a shipped deck's name resolves to its file); card images and job decks are
+    refused with the one conversion that makes a text deck."""
+    from deck_emulator.legacy.deck import DeckError, read_deck
+
+    from deck_emulator.engine.sources import load_source
+
+    src = load_source(given, kinds=("deck",), command=command)  # refused or not: no notes yet
     try:
-        with open(path, "rb") as fh:
-            data = fh.read(1 << 20)
-        parsed = tomllib.loads(data.decode("utf-8"))
-    except (OSError, ValueError):
-        return False
-    return any(isinstance(v, dict) for v in parsed.values())
-
-
-def _refuse_scene(path, command: str, why: str = "") -> None:
-    """``run``/``parse``/``summary``/``diff`` need a card deck: say so, and what to do."""
-    if _is_scene(path):
-        raise CLIError(
-            f"{path}: a scene file; {command} needs a card deck{why} (the emulator reads "
-            f"8-card decks): run the scene with `{PROG} core {path}`, or give {command} the "
-            f"deck it was made from ({PROG} scene DECK writes a deck's scene)")
+        plain = read_deck(src.path)
+    except DeckError:
+        plain = None
+    if plain is None or len(src.decks) != 1 or plain.values != src.decks[0].values:
+        kind = "job deck" if len(src.decks) > 1 or src.program else f"{src.card_format} deck"
+        raise CLIError(f"{src.name}: a {kind}; {command} reads a text deck of one $DATA "
+                       f"section: `{PROG} punch {given} --to text --out deck.dat` (with "
+                       "--section N for a job deck) writes one")
+    return given if Path(given).exists() else src.path
 
 
 def _with_progress(args, engine, source):
@@ -143,44 +219,25 @@ def _add_card_options(p: argparse.ArgumentParser) -> None:
                    "default for binary images) or 029; text cards are taken as they stand")
 
 
-def _load_job(args):
-    """``args.deck`` as a plain or a job deck; says on stderr what the source is and what the
-    deck reader warns of."""
-    from deck_emulator.legacy.jobdeck import read_job
-
-    job = read_job(args.deck, getattr(args, "card_format", "auto"),
-                   getattr(args, "keypunch", None))
-    if job.source_verdict:
-        _say(f"{job.path}: {job.source_verdict}")
-    for deck in job.decks:
-        for warning in deck.warnings:
-            _say(f"{deck.path}: warning: {warning}")
-    return job
-
-
-def _load_one_deck(args):
-    """The one data deck of ``args.deck``; DeckError if it holds several $DATA sections."""
-    from deck_emulator.legacy.deck import DeckError
-
-    job = _load_job(args)
-    if len(job.decks) != 1:
-        raise DeckError(f"this command takes one $DATA section and the deck holds "
-                        f"{len(job.decks)}; `run` runs each in turn", path=job.path)
-    return job.decks[0]
-
-
 def _cmd_punch(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.cardimage import write_images
     from deck_emulator.legacy.deck import DeckError
     from deck_emulator.legacy.jobdeck import data_deck_texts, job_deck_texts
 
-    job = _load_job(args)
+    src = _source(args, "punch", kinds=("deck",))
     _check_out(args)
-    texts = (job_deck_texts(list(job.decks)) if args.job else data_deck_texts(list(job.decks)))
+    texts = (job_deck_texts(list(src.decks)) if args.job else data_deck_texts(list(src.decks)))
     try:
         data = write_images(texts, args.to, args.code)
     except DeckError as err:
         raise DeckError(f"cannot punch in the {args.code} code: {err}") from None
+    if args.json:  # the punched cards as text, whatever the format they were punched in
+        from deck_emulator.present.answers import envelope
+
+        _json(args, envelope("punch", src.name, settings={"to": args.to, "code": args.code,
+                                                          "job": args.job},
+                             notes=src.notes, cards=texts, bytes=len(data)))
+        return 0
     if args.out:
         from deck_emulator.files import write_file
 
@@ -204,13 +261,14 @@ def _add_punch(sub: argparse._SubParsersAction) -> None:
         "card images, in the 026 or 029 keypunch code.  --job punches a whole IBSYS job "
         "deck: control cards, the listing's FORTRAN source and the data.",
     )
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    _add_card_options(p)
+    _add_source(p, help="a shipped deck's name (steel40), a deck file (text or card images), "
+                "or a job deck; a scene file is refused (`scene` and `core` take scenes)")
     p.add_argument("--to", choices=FORMATS, default="text", help="card format to punch")
     p.add_argument("--code", choices=sorted(CODES), default="026",
                    help="keypunch code of the punched holes (default 026)")
     p.add_argument("--job", action="store_true", help="punch a whole IBSYS job deck")
     p.add_argument("--out", metavar="FILE", help="write to FILE (default: stdout)")
+    _add_json_option(p, "the punched cards' texts")
     p.set_defaults(func=_cmd_punch)
 
 
@@ -271,10 +329,9 @@ def _positive_number_text(text: str) -> str:
 def _cmd_parse(args: argparse.Namespace) -> int:
     from deck_emulator.present.answers import parse_answer, render_parse
 
-    _refuse_scene(args.deck, "parse")
-    deck = _load_one_deck(args)
-    if args.json:  # name -> value, READ order (docs/json.md: the units are the table's)
-        sys.stdout.write(json.dumps(deck.values) + "\n")
+    deck = _source(args, "parse", kinds=("deck",)).deck("parse")
+    if args.json:  # the envelope; values: name -> value in READ order, cards with units
+        sys.stdout.write(json.dumps(parse_answer(deck), indent=2) + "\n")
         return 0
     sys.stdout.write(render_parse(parse_answer(deck)))
     return 0
@@ -288,11 +345,11 @@ def _add_parse(sub: argparse._SubParsersAction) -> None:
         description="Read a $DATA card deck (8 cards, FORMAT(8F10.5)) with the 1967 input "
         "rules and print the values under their READ-list names.",
     )
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    _add_card_options(p)
+    _add_source(p)
     p.add_argument(
         "--json", action="store_true",
-        help="print one JSON object, name -> value, in READ order (docs/json.md)")
+        help="print one JSON object: values (name -> value, READ order) and the cards' fields "
+        "with their columns and units (docs/json.md)")
     p.set_defaults(func=_cmd_parse)
 
 
@@ -333,24 +390,38 @@ def _describe(run) -> str:
 def _cmd_run(args: argparse.Namespace) -> int:
     from deck_emulator.legacy.printer import render_asa
 
-    _refuse_scene(args.deck, "run")
-    job = _load_job(args)
+    src = _source(args, "run", kinds=("deck",))
     _check_out(args)
+    _check_trajectory(args)
+    if args.trajectory and len(src.decks) != 1:
+        raise CLIError(f"--trajectory writes one run's trajectory and {src.name} holds "
+                       f"{len(src.decks)} $DATA sections: choose one with --section N")
     if args.pages:
         from deck_emulator.files import check_output_file
 
         check_output_file(args.pages)
-    engine = _emulator(args, trace=False)
-    records, text, failed = [], "", None
-    for deck in job.decks:  # a job deck's $DATA sections, in turn
+    engine = _emulator(args, trace=bool(args.trajectory))
+    records, text, failed, sections = [], "", None, []
+    for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
         out = _with_progress(args, engine, deck)
         run = out.raw
         records += run.records
         text += render_asa(run.records) if args.render else run.text()
         _say(f"{deck.path}: {_describe(run)}")
+        sections.append({"deck": str(deck.path), "settings": _describe(run),
+                         "records": list(run.records), "stopped": out.error})
+        _write_trajectory(args, out)
         if out.error is not None:
             failed = (out, deck.path)
             break
+    if args.json:
+        from deck_emulator.present.answers import envelope
+
+        text = json.dumps(envelope(
+            "run", src.name, settings={"precision": args.precision,
+                                       "errata": list(args.erratum)},
+            status="stopped" if failed else "ok", notes=src.notes, sections=sections),
+            indent=2) + "\n"
     _emit(args, text)
     if args.pages:
         from deck_emulator.legacy.pages import write_pdf
@@ -365,8 +436,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _add_emulator_options(p: argparse.ArgumentParser) -> None:
     from deck_emulator.legacy.emulator import Limits
 
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
-    _add_card_options(p)
+    _add_source(p)
     p.add_argument("--precision", choices=PRECISIONS, default="double",
                    help="arithmetic: double (IEEE binary64, as the r8 goldens), single (IEEE "
                    "binary32, as the r4 goldens, trapping), ibm7094 (the 1967 machine's 36-bit words)")
@@ -430,6 +500,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--render", action="store_true",
                    help="render ASA carriage control (1 = form feed, 0 = blank line, + = "
                    "overprint) as the POSIX asa utility does, instead of the raw records")
+    _add_json_option(p, "the printout's records, per $DATA section,")
+    _add_trajectory_option(p)
     p.set_defaults(func=_cmd_run)
 
 
@@ -439,11 +511,12 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 def _cmd_summary(args: argparse.Namespace) -> int:
     from deck_emulator.present.answers import outcome_answer, render_outcome
 
-    _refuse_scene(args.deck, "summary")
-    deck = _load_one_deck(args)
+    deck = _source(args, "summary", kinds=("deck",)).deck("summary")
     _check_out(args)
+    _check_trajectory(args)
     engine = _emulator(args)
     out = _with_progress(args, engine, deck)
+    _write_trajectory(args, out)
     if out.error is not None:
         raise _failed(out, deck.path)
     from deck_emulator.engine import errata
@@ -504,6 +577,7 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
     )
     _add_emulator_options(p)
     _add_answer_options(p)
+    _add_trajectory_option(p)
     _add_quiet_option(p)
     p.set_defaults(func=_cmd_summary)
 
@@ -512,12 +586,11 @@ def _add_summary(sub: argparse._SubParsersAction) -> None:
 
 
 def _cmd_diff(args: argparse.Namespace) -> int:
-    from deck_emulator.legacy.deck import read_deck
     from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
 
-    _refuse_scene(args.deck, "diff", why=" (it runs both engines, and the emulator runs "
-                  "only decks)")
-    deck = read_deck(args.deck)
+    src = _source(args, "diff", kinds=("deck",))
+    deck = src.deck("diff")
+    engine_scene(deck, name=src.name)  # the core must be able to solve it: exit 2 before work
     _check_out(args)
     if args.resume and not args.store:
         raise CLIError("--resume needs --store DIR (the folder the runs were stored in)")
@@ -529,7 +602,15 @@ def _cmd_diff(args: argparse.Namespace) -> int:
                          quiet=args.quiet, desc=f"{PROG}: diff")
     except DiffStopped as exc:
         raise RunFailed(str(exc)) from None
-    _emit(args, json.dumps(data, indent=2) + "\n" if args.json else format_diff(data))
+    if args.json:
+        from deck_emulator.present.answers import envelope
+
+        settings = {k: data.pop(k) for k in ("precision", "errata", "core_method", "core_rtol",
+                                             "ed_tolerance_scaled")}
+        data.pop("deck")
+        _json(args, envelope("diff", src.name, settings=settings, **data))
+        return 0
+    _emit(args, format_diff(data))
     return 0
 
 
@@ -542,7 +623,7 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
         "core's legacy preset; then both again as the step is halved k = 0..K times, with the "
         "observed order of convergence.",
     )
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    _add_source(p)
     p.add_argument("--precision", default="double", choices=PRECISIONS,
                    help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
     _add_erratum_option(p)
@@ -562,73 +643,39 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_cmd_diff)
 
 
-def _load_scene(path: str):
+def engine_scene(source, name: str = ""):
+    """The scene the core would solve for ``source`` (a scene or a deck); a deck or scene the
+    core cannot solve (a zero mass, no impact point S ...) is bad input: one line, exit 2."""
     from deck_emulator.core.scene import Scene, SceneError
-    from deck_emulator.legacy.deck import read_deck
 
     try:
-        if _is_scene(path):
-            try:
-                text = Path(path).read_text()
-                _finite_numbers(text)
-                return Scene.from_toml(text)
-            except (ValueError, KeyError, TypeError) as exc:
-                import re
-
-                message = str(exc)
-                missing = (re.findall(r"'(\w+)'", message)
-                           if "required positional" in message else [])
-                if missing:
-                    message = "missing " + ", ".join(f"[{m}]" for m in missing)
-                raise CLIError(f"{path}: not a scene: {message}") from None
-            except OSError as exc:
-                raise CLIError(f"{path}: cannot read: {exc.strerror or exc}") from None
-        return Scene.from_deck(read_deck(path), name=Path(path).stem)
+        if isinstance(source, Scene):
+            return source.checked()
+        return Scene.from_deck(source, name=name)
     except SceneError as exc:
-        raise CLIError(f"{path}: {exc}") from None
-
-
-def _finite_numbers(text: str) -> None:
-    """A scene's numbers must be finite (TOML allows inf and nan): ValueError naming the key."""
-    import math
-    import tomllib
-
-    def walk(node, where):
-        if isinstance(node, dict):
-            for k, v in node.items():
-                walk(v, f"{where}.{k}" if where else k)
-        elif isinstance(node, list):
-            for i, v in enumerate(node):
-                walk(v, f"{where}[{i}]")
-        elif isinstance(node, float) and not math.isfinite(node):
-            raise ValueError(f"{where} = {node}: not a finite number")
-
-    try:
-        walk(tomllib.loads(text), "")
-    except tomllib.TOMLDecodeError:
-        return  # Scene.from_toml says what is wrong with the TOML itself
+        where = name or getattr(source, "path", None) or "the deck"
+        raise CLIError(f"{where}: the core cannot solve it: {exc}") from None
 
 
 def _cmd_core(args: argparse.Namespace) -> int:
     from deck_emulator.engine import CoreEngine
     from deck_emulator.present.answers import outcome_answer, render_outcome
 
-    scene = _load_scene(args.scene)  # a bad scene or deck: exit 2 before any work
-    source = scene
-    if not _is_scene(args.scene):
-        from deck_emulator.legacy.deck import read_deck
-
-        source = read_deck(args.scene)  # the deck's 64 values: the occupant risk, XL axes
+    src = _source(args, "core")
+    source = src.scene_or_deck("core")
+    engine_scene(source)  # a deck the core cannot solve: exit 2 before any work
     _check_out(args)
+    _check_trajectory(args)
     engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol)
     out = _with_progress(args, engine, source)
+    _write_trajectory(args, out)
     if out.error is not None:
-        raise _failed(out, args.scene)
+        raise _failed(out, src.name)
     used = out.raw.method
     settings = {"preset": args.preset,
                 "method": f"{used} (auto)" if args.method == "auto" else used,
                 "rtol": args.rtol, "atol": args.atol}
-    answer = outcome_answer(out, command="core", source=args.scene, settings=settings)
+    answer = outcome_answer(out, command="core", source=src.name, settings=settings)
     answer["notes"] += _odd_deck_notes(out) + list(getattr(out.raw, "notes", ()) or ())
     _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
     return 0
@@ -639,7 +686,7 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("core", help="solve a deck or a scene (.toml) with the modern core",
                        description="The same model solved with quaternions, solve_ivp and located "
                        "events. Presets: legacy (the listing's quirks) or physical (none).")
-    p.add_argument("scene", metavar="DECK_OR_TOML", help="a card deck or a scene file (.toml)")
+    _add_source(p)
     _add_preset_option(p)
     p.add_argument("--method", default="auto",
                    choices=("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA"),
@@ -650,13 +697,23 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--atol", type=_tolerance, default=1e-10,
                    help="absolute tolerance, 0 < ATOL < 1 (default 1e-10)")
     _add_answer_options(p)
+    _add_trajectory_option(p)
     _add_quiet_option(p)
     p.set_defaults(func=_cmd_core)
 
 
 def _cmd_scene(args: argparse.Namespace) -> int:
-    scene = _load_scene(args.deck)
+    src = _source(args, "scene")
+    scene = engine_scene(src.scene_or_deck("scene"), name=src.stem)
     _check_out(args)
+    if args.json:
+        import tomllib
+
+        from deck_emulator.present.answers import envelope
+
+        _json(args, envelope("scene", src.name, notes=src.notes,
+                             scene=tomllib.loads(scene.to_toml())))
+        return 0
     _emit(args, scene.to_toml())
     return 0
 
@@ -664,8 +721,9 @@ def _cmd_scene(args: argparse.Namespace) -> int:
 @_subcommand
 def _add_scene(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("scene", help="write a deck's scene as TOML (to edit by hand, then `core`)")
-    p.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    _add_source(p)
     p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    _add_json_option(p, "the scene (the TOML's tables)")
     p.set_defaults(func=_cmd_scene)
 
 
@@ -684,8 +742,12 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     from deck_emulator.core import assembly as asm
     from deck_emulator.engine import assemblies as bridge
 
-    if args.json and args.what != "core":
-        raise CLIError(f"--json goes with 'core' (a run's outcome), not with '{args.what}'")
+    from deck_emulator.present.answers import envelope
+
+    def answer(status="ok", notes=(), **result):
+        _json(args, envelope("assembly", args.description, status=status, notes=notes,
+                             settings={"what": args.what, "speed_mph": args.speed_mph,
+                                       "alpha_deg": args.alpha_deg}, **result))
 
     try:
         a, extra, _ = asm.load_assembly(args.description)
@@ -696,16 +758,31 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
 
         scene = ct.crash_scene()
         if args.what == "scene":
+            if args.json:
+                import tomllib
+
+                answer(scene=tomllib.loads(scene.to_toml()))
+                return 0
             _emit(args, scene.to_toml())
             return 0
         if args.what in ("deck", "emulator"):
             raise CLIError(f"cannot run on the listing: {asm.scene_runs_on_listing(scene)}")
         res, loss, r70 = ct.table10(scene)  # res: the run's Outcome
+        if args.json:
+            answer(hit={"message": res.hit_message, "time_s": res.hit_time_s},
+                   at_loss_of_contact=loss, at_70_ms=r70)
+            return 0
         rows = [f"{k}: at loss of contact {loss[k]:.4f}, at 70 ms {r70[k]:.4f}" for k in loss]
         _emit(args, f"hit: {res.hit_message} at {_ms(res.hit_time_s)}\n" + "\n".join(rows) + "\n")
         return 0
     template = (f"steel{args.speed_mph}" + ("" if args.alpha_deg == 0 else f"_a{args.alpha_deg}"))
     mp = asm.mass_properties(a)
+    if args.what == "props" and args.json:
+        answer(name=a.name, weight_lb=mp.weight_lb, mass_slug=mp.mass_slug, wall_in=mp.wall_in,
+               inertia_slug_ft2=[mp.A, mp.B, mp.C], delta_rad=mp.delta_rad,
+               cm_height_ft=mp.cm_height_ft, cm_offset_ft=mp.cm_offset_ft,
+               points_ft={k: list(p) for k, p in mp.points.items()})
+        return 0
     if args.what == "props":
         lines = [f"{a.name}: weight {mp.weight_lb:.2f} lb, W {mp.mass_slug:.5f} slug, wall "
                  f"{mp.wall_in:.4f} in, A {mp.A:.2f}, B {mp.B:.2f}, C {mp.C:.3f} slug ft^2, "
@@ -716,13 +793,22 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
         return 0
     scene = bridge.to_scene(a, mp, template=template)
     if args.what == "scene":
+        if args.json:
+            import tomllib
+
+            answer(scene=tomllib.loads(scene.to_toml()))
+            return 0
         _emit(args, scene.to_toml())
         return 0
     reason = asm.scene_runs_on_listing(scene)
     if args.what in ("deck", "emulator") and reason is not None:
         raise CLIError(f"cannot run on the listing: {reason}")
     if args.what == "deck":
-        _emit(args, bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template)))
+        values = bridge.to_deck_values(a, mp, template=template)
+        if args.json:
+            answer(values=values, cards=bridge.to_deck_text(values).splitlines())
+            return 0
+        _emit(args, bridge.to_deck_text(values))
         return 0
     if args.what == "emulator":
         from deck_emulator.engine import EmulatorEngine
@@ -730,7 +816,11 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
 
         deck = parse_deck(bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template)))
         out = EmulatorEngine(errata=tuple(args.erratum), trace=False).run(deck)
-        _emit(args, out.raw.text())
+        if args.json:
+            answer(status="stopped" if out.error else "ok",
+                   notes=[_stopped(out)] if out.error else [], records=list(out.raw.records))
+        else:
+            _emit(args, out.raw.text())
         if out.error:
             _say(f"error: {_stopped(out)}")
             return EXIT_RUN_FAILED
@@ -767,8 +857,7 @@ def _add_assembly(sub: argparse._SubParsersAction) -> None:
                    help="the approach angle: one of the report's three (default 0)")
     _add_erratum_option(p)
     _add_preset_option(p)
-    p.add_argument("--json", action="store_true",
-                   help="with core: the outcome as one JSON object (as deck-emulator core --json)")
+    _add_json_option(p, "what it prints (with core: the outcome, as deck-emulator core --json)")
     p.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
     p.set_defaults(func=_cmd_assembly)
 
@@ -784,14 +873,23 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.present.plot import _cmd_plot as plot, check_plot_outputs
 
     check_plot_outputs(args.out, args.animate)
-    args.source = None
-    if args.engine != "core" or args.pulse:
-        _refuse_scene(args.deck, "plot" + (" --pulse" if args.pulse else ""),
-                      why=" (the emulator draws only decks; --engine core draws a scene)")
-    elif _is_scene(args.deck):
-        args.source = _load_scene(args.deck)
+    command = "plot" + (" --pulse" if args.pulse else "")
+    emulator = args.engine != "core" or args.pulse
+    src = _source(args, command, kinds=("deck",) if emulator else ("deck", "scene"))
+    args.source = src.scene_or_deck(command)
+    args.name = src.name
     with busy(f"{PROG}: plot", quiet=args.quiet):
-        return plot(args)
+        status = plot(args)
+    if args.json:
+        from deck_emulator.present.answers import envelope
+
+        sys.stdout.write(json.dumps(envelope(
+            "plot", src.name, settings={"engine": args.engine, "view": args.view,
+                                        "pulse": args.pulse, "errata": list(args.erratum),
+                                        "preset": args.preset},
+            status="stopped" if status else "ok", notes=src.notes,
+            outputs=[args.out] + ([args.animate] if args.animate else [])), indent=2) + "\n")
+    return status
 
 
 @_subcommand
@@ -806,8 +904,7 @@ def _add_plot(sub: argparse._SubParsersAction) -> None:
         "names an erratum. Exit status 3 if a run stopped early (the picture shows what it "
         "computed).",
     )
-    p.add_argument("deck", metavar="DECK_OR_SCENE",
-                   help="deck file, e.g. decks/steel40.dat; a scene file with --engine core")
+    _add_source(p, help=SOURCE_HELP + "; a scene with --engine core")
     p.add_argument("--out", required=True, metavar="FILE.png",
                    help="the picture to write: .png, .svg, .pdf (any format matplotlib writes)")
     p.add_argument("--engine", choices=("emulator", "core"), default="emulator",
@@ -822,6 +919,7 @@ def _add_plot(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--every", type=_positive_float, metavar="MS",
                    help="draw the post every MS milliseconds (default: about 20 instants)")
     _add_quiet_option(p)
+    _add_json_option(p, "what was drawn and written")
 
     p.set_defaults(func=_cmd_plot)
 
@@ -849,9 +947,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         raise CLIError("--angles must be in [0, 90) degrees")
     if not 0 <= args.vvb_decimals <= 5:
         raise CLIError("--vvb-decimals must be 0 to 5")
-    if args.base_deck:
-        _refuse_scene(args.base_deck, "sweep --base-deck")
-    base = Path(args.base_deck) if args.base_deck else POSTS[args.post]
+    base = (Path(_deck_file(args.base_deck, "sweep --base-deck")) if args.base_deck
+            else POSTS[args.post])
     base_deck = read_deck(base)  # bad deck -> DeckError, before any work
     for s in speeds:  # every VVB/ALPHA must punch: fail before running anything
         for a in angles:
@@ -869,10 +966,28 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     with OutputSet(directory=args.out) as outputs:
         outputs.write("sweep.csv", write_csv(rows))
         outputs.write("sweep.md", render_markdown(rows, command=command, engine=args.engine))
-    failed = sum(bool(r["error"]) for r in rows)
-    _say(f"{len(rows)} scenes ({args.engine}) in {wall:.1f} s on "
-         f"{args.jobs or os.cpu_count()} job(s); {failed} stopped early; wrote "
-         f"{Path(args.out) / 'sweep.csv'} and {Path(args.out) / 'sweep.md'}")
+    failed = [r for r in rows if r["error"]]
+    where = f"on {args.scheduler}" if args.scheduler else f"on {args.jobs or os.cpu_count()} job(s)"
+    _say(f"{len(rows)} scenes ({args.engine}) in {wall:.1f} s {where}; {len(failed)} stopped "
+         f"early; wrote {Path(args.out) / 'sweep.csv'} and {Path(args.out) / 'sweep.md'}")
+    if args.json:
+        from deck_emulator.present.answers import envelope
+
+        _json(argparse.Namespace(), envelope(
+            "sweep", str(args.base_deck or args.post), settings={
+                "engine": args.engine, **{k: list(v) if isinstance(v, tuple) else v
+                                          for k, v in options.items()},
+                "speeds_mph": list(speeds), "angles_deg": list(angles)},
+            status="stopped" if failed else "ok",
+            notes=[r["stopped_hint"] for r in failed if r["stopped_hint"]][:1],
+            outputs=[str(Path(args.out) / "sweep.csv"), str(Path(args.out) / "sweep.md")],
+            scenes=len(rows), stopped=[r["scene"] for r in failed]))
+    if failed:  # the tables are written, the stopped rows marked and not rated: exit 3
+        for hint in dict.fromkeys(r["stopped_hint"] for r in failed if r["stopped_hint"]):
+            _say(f"stopped scenes: {hint}")
+        _say("error: " + ", ".join(r["scene"] for r in failed) + " stopped early (their rows "
+             "say why; no ratings for them)")
+        return EXIT_RUN_FAILED
     return 0
 
 
@@ -890,7 +1005,9 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--post", choices=("steel",), default="steel",
                    help="the post (the report's steel post: its deck steel40, shipped with the "
                    "package)")
-    p.add_argument("--base-deck", metavar="DECK", help="another base deck instead of --post's")
+    p.add_argument("--base-deck", metavar="SOURCE",
+                   help="another base deck instead of --post's: a shipped deck's name or a "
+                   "text deck file")
     p.add_argument("--speeds", required=True, metavar="MPH,...",
                    help="vehicle speeds in mph: 20,40 or 10:60:10 (stop included)")
     p.add_argument("--angles", required=True, metavar="DEG,...",
@@ -904,6 +1021,7 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--vvb-decimals", type=int, default=2, metavar="N",
                    help="decimals VVB is cut to (default 2, as the report's deck: -58.66)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_json_option(p, "what ran and what was written")
     _add_cluster_options(p)
     p.add_argument("--out", required=True, metavar="DIR",
                    help="directory for sweep.csv and sweep.md (and the scene store, "
@@ -922,12 +1040,13 @@ def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
         description="Sample the inputs the report takes as estimates (base friction and its "
         "travel, CK, CT, FCONST, WV; and any --input NAME=LO:HI), run every sample on one "
         "engine on a Dask cluster, and write DIR/sensitivity.csv and .md (Sobol S1 and ST with "
-        "95%% confidence, for N and N/2), a bar chart of the indices and a map of what the post "
+        "95% confidence, for N and N/2), a bar chart of the indices and a map of what the post "
         "hits first over the two most influential inputs. Scenes are stored as they finish in "
         "DIR/scenes/; --resume runs only the missing ones.",
     )
-    p.add_argument("--deck", action="append", metavar="DECK",
-                   help="shipped deck name or path; repeat for several (default steel40)")
+    p.add_argument("--deck", action="append", metavar="SOURCE",
+                   help="a shipped deck's name or a text deck file; repeat for several "
+                   "(default steel40)")
     p.add_argument("--engine", choices=("core", "emulator"), default="core",
                    help="default core: the emulator's deck has no base-friction field")
     _add_preset_option(p)
@@ -941,6 +1060,8 @@ def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
                    help="N = 16 (128 scenes with the default inputs): a first look in about a "
                    "minute on two cores; wide intervals")
     p.add_argument("--seed", type=int, default=0, help="the sample's seed (default 0)")
+    _add_json_option(p, "what ran and what was written")
+    _add_quiet_option(p)
     p.add_argument("--jobs", type=_positive_int, metavar="N",
                    help="workers of the embedded cluster (default: all cores)")
     _add_cluster_options(p)
@@ -949,7 +1070,13 @@ def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
     def run(args):
         from deck_emulator.studies.sensitivity import run_command
 
-        return run_command(args)
+        for deck in args.deck or ():  # shipped names stay names (the outputs are named by them)
+            _deck_file(deck, "sensitivity --deck")
+        status = run_command(args)
+        if args.json and status in (0, EXIT_RUN_FAILED):
+            _json(argparse.Namespace(), _outputs_answer("sensitivity", args.deck or ["steel40"],
+                                                        args.out, status))
+        return status
 
     p.set_defaults(func=run)
 
@@ -969,14 +1096,17 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
 
     def run(args):
         from deck_emulator.files import check_output_dir
-        from deck_emulator.legacy.deck import read_deck
         from deck_emulator.studies.study_cli import _cmd_study
 
         if getattr(args, "deck", None):
-            _refuse_scene(args.deck, f"study {args.study}")
-            read_deck(args.deck)
+            args.deck = _deck_file(args.deck, f"study {args.study}")
         check_output_dir(args.out)  # before any work, and before the study makes the folder
-        return _cmd_study(args)
+        status = _cmd_study(args)
+        if args.json:
+            _json(argparse.Namespace(), _outputs_answer(f"study {args.study}",
+                                                        getattr(args, "deck", None) or "steel40",
+                                                        args.out, status))
+        return status
 
     def common(q):
         q.add_argument("--out", required=True, metavar="DIR", help="directory for the outputs")
@@ -986,6 +1116,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                        help="worker processes (default: os.cpu_count())")
         _add_cluster_options(q)
         _add_quiet_option(q)
+        _add_json_option(q, "what ran and what was written")
         q.set_defaults(func=run)
 
     e = studies.add_parser(
@@ -995,7 +1126,8 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
         "0.0004/2**k (k = 0..6; the listing's ED tolerance and a tightened one), in the IBM 7094 "
         "arithmetic at k = 0, and the core with DOP853, RK45 and Radau at rtol 1e-3 ... 1e-11, "
         "all against the core at rtol 1e-12 (itself checked with Radau and LSODA at 1e-13).")
-    e.add_argument("deck", metavar="DECK", help="deck file, e.g. decks/steel40.dat")
+    e.add_argument("deck", metavar="SOURCE",
+                   help="a shipped deck's name (steel40) or a text deck file")
     common(e)
     s = studies.add_parser(
         "stability", help="stiff springs against H, and extreme scenes, for the emulator and "
@@ -1004,11 +1136,21 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
         "3.3e4 to 1e10 lb/ft against H; speeds 5-120 mph; approach angles to 90 deg; delta = 0; "
         "the start-up THA; A = B = C; light and heavy posts; base friction; THB near 90 deg), "
         "each run by the emulator and the core, with how it ended.")
-    s.add_argument("--deck", metavar="DECK", default=None,
-                   help="base deck (default: the report's deck steel40, shipped with the package)")
+    s.add_argument("--deck", metavar="SOURCE", default=None,
+                   help="base deck: a shipped deck's name or a text deck file (default: the "
+                   "report's deck steel40)")
     common(s)
 
 
+
+
+def _outputs_answer(command: str, source, out_dir, status: int) -> dict:
+    """The JSON answer of a command that writes a folder: the files it holds."""
+    from deck_emulator.present.answers import envelope
+
+    files = sorted(str(p) for p in Path(out_dir).iterdir() if p.is_file()
+                   and not p.name.startswith("."))
+    return envelope(command, source, status="stopped" if status else "ok", outputs=files)
 
 
 # --------------------------------------------------------------------------- main

@@ -151,6 +151,34 @@ class Outcome:
             p = self.points[name][self.at(t)]
         return tuple(float(x) for x in self.to_l(p))
 
+    def trajectory_frame(self):
+        """The run as a :class:`pandas.DataFrame`, one row per sample (the emulator's accepted
+        steps; the core's dense solution on its sampling grid): ``t_s``, ``phase``
+        (``contact`` or ``free``), every named point in the road axes (``P_xx_ft`` ...) and in
+        the report's axes (``P_xl_ft`` ...), the mass centre ``CM``, the shaft's tilt from the
+        vertical and its heading in plan (``shaft_tilt_deg``, ``shaft_heading_deg``: the line
+        Q->P, the same definition for both engines), and the car (``car_position_ft`` SV,
+        ``car_velocity_ft_s`` VV along XV)."""
+        import pandas as pd
+
+        cols: dict[str, np.ndarray] = {"t_s": self.t,
+                                       "phase": np.where(self.free, "free", "contact")}
+        for name, xyz in self.points.items():
+            xyz = np.asarray(xyz, dtype=float)
+            xl = self.to_l(xyz) if xyz.size else xyz
+            for i, (road, report) in enumerate((("xx", "xl"), ("yy", "yl"), ("zz", "zl"))):
+                cols[f"{name}_{road}_ft"] = xyz[:, i]
+                if name != "CM":
+                    cols[f"{name}_{report}_ft"] = xl[:, i]
+        if "P" in self.points and "Q" in self.points:
+            axis = np.asarray(self.points["P"], float) - np.asarray(self.points["Q"], float)
+            horizontal = np.hypot(axis[:, 0], axis[:, 1])
+            cols["shaft_tilt_deg"] = np.degrees(np.arctan2(horizontal, axis[:, 2]))
+            cols["shaft_heading_deg"] = np.degrees(np.arctan2(axis[:, 1], axis[:, 0]))
+        cols["car_position_ft"] = self.sv
+        cols["car_velocity_ft_s"] = self.vv
+        return pd.DataFrame(cols)
+
     def contact_history(self):
         """(t, vv) up to the end of the contact with the car (the whole run if it never ends)."""
         lost = self.vehicle_contact_lost_s

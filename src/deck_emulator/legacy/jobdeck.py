@@ -82,6 +82,9 @@ def _shown(s: Statement) -> str:
     return f"{s.label + ' ' if s.label else ''}{s.text}"
 
 
+_DIFFERS = "source: NOT the listing's program"
+
+
 def compare_source(source: list[tuple[int, str]]) -> str:
     """One line: whether the source cards ((file card number, text) pairs) are the
     listing's program, or the first statement where they differ."""
@@ -116,6 +119,11 @@ class Job:
     decks: tuple[Deck, ...]
     source_verdict: str | None = None
     control_cards: tuple[str, ...] = field(default=(), repr=False)
+
+    @property
+    def program_differs(self) -> bool:
+        """The deck carries FORTRAN that is not the listing's program."""
+        return bool(self.source_verdict) and self.source_verdict.startswith(_DIFFERS)
 
 
 def read_job(path, card_format: str = "auto", keypunch: str | None = None) -> Job:

@@ -16,7 +16,20 @@ from __future__ import annotations
 from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.
-SCHEMA = 1
+SCHEMA = 2
+
+#: The keys every command's JSON answer begins with (docs/json.md): the schema's version, the
+#: command, what it was given, how it ran, ``"ok"`` or ``"stopped"`` (exit status 3), and the
+#: notes a reader must see; the command's own keys follow.
+ENVELOPE = ("schema", "command", "source", "settings", "status", "notes")
+
+
+def envelope(command: str, source, *, settings: dict | None = None, status: str = "ok",
+             notes=(), **result) -> dict:
+    """A JSON answer: the :data:`ENVELOPE` keys, then the command's ``result`` keys."""
+    return {"schema": SCHEMA, "command": command, "source": source,
+            "settings": dict(settings or {}), "status": status, "notes": list(notes),
+            **result}
 
 #: The terminal points' coordinates (ft, the printout's five decimals).
 POINT_DIGITS = 5
@@ -51,20 +64,16 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
         risk = quantities.values(out, OCCUPANT_RISK)
     terminal = {k: [round(float(v), POINT_DIGITS) for v in p]
                 for k, p in (out.terminal or {}).items() if p is not None}
-    return {
-        "schema": SCHEMA,
-        "command": command,
-        "source": source,
-        "engine": out.engine,
-        "settings": settings,
-        "errata": list(out.errata),
-        "events": [e.as_dict() for e in out.events],
-        "quantities": quantities_,
-        "terminal_xl_yl_zl_ft": terminal,
-        "occupant_risk": risk,
-        "criteria": criteria_answer() if risk is not None else None,
-        "notes": [],
-    }
+    return envelope(
+        command, source, settings=settings, status="stopped" if out.error else "ok",
+        engine=out.engine,
+        errata=list(out.errata),
+        events=[e.as_dict() for e in out.events],
+        quantities=quantities_,
+        terminal_xl_yl_zl_ft=terminal,
+        occupant_risk=risk,
+        criteria=criteria_answer() if risk is not None else None,
+    )
 
 
 def _table(rows: list[tuple[str, ...]], heads: tuple[str, ...], right: set[int]) -> list[str]:
@@ -123,8 +132,7 @@ def parse_answer(deck) -> dict:
             fields.append({"name": name, "columns": [first, last], "value": deck[name],
                            "unit": DECK_UNITS.get(name, "")})
         cards.append({"card": card_no, "fields": fields})
-    return {"schema": SCHEMA, "command": "parse", "source": str(deck.path),
-            "values": dict(deck.values), "cards": cards}
+    return envelope("parse", str(deck.path), values=dict(deck.values), cards=cards)
 
 
 def _field(value: float) -> str:

@@ -835,7 +835,7 @@ def _run_for_plot(deck, engine, args) -> Outcome:
                else dict(preset=args.preset))
     res = engine_for(engine, **options).run(deck)
     if res.error:
-        print(f"deck-emulator: {getattr(deck, 'path', None) or args.deck}: the {engine} "
+        print(f"deck-emulator: {getattr(deck, 'path', None) or args.name}: the {engine} "
               f"stopped early: {res.error}"
               + (f"; {res.hint}" if res.hint else ""), file=sys.stderr)
     return res
@@ -843,12 +843,11 @@ def _run_for_plot(deck, engine, args) -> Outcome:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.errors import UsageError as CLIError
-    from deck_emulator.legacy.deck import read_deck
 
     if args.every is not None and not args.every > 0:
         raise CLIError("--every must be positive (ms)")
     check_plot_outputs(args.out, args.animate)
-    deck = getattr(args, "source", None) or read_deck(args.deck)  # a deck, or a scene (core)
+    deck = args.source  # a deck, or a scene (core): read by the command line
     out = Path(args.out)
     gif = Path(args.animate) if args.animate else None
     every = None if args.every is None else args.every / 1000.0

@@ -187,29 +187,37 @@ def diff_decks(cases, *, jobs=None, scheduler=None, store_dir=None, resume=False
 
 
 def _diff_result(deck, options: dict, steps: list[dict]) -> dict:
-    for step in steps:
-        if step["stopped"]:
-            raise DiffStopped(step["stopped"])
-    convergence = [step["row"] for step in steps]
+    """The diff of one deck from its ks' steps. A run that stops at k = 0 leaves nothing to
+    compare (:class:`DiffStopped`); one that stops at a smaller step is a row that says so
+    (``stopped``), and the observed orders use the consecutive rows that ran."""
+    if steps[0]["stopped"]:
+        raise DiffStopped(steps[0]["stopped"])
+    convergence = [step["row"] if not step["stopped"] else
+                   {"k": step["k"], "h_s": H0 / 2**step["k"], "stopped": step["stopped"]}
+                   for step in steps]
+    stopped = [r for r in convergence if r.get("stopped")]
     first = steps[0]
     emu, core_row, row0 = first["emulator"], first["core"], first["row"]
     if "printed" in first:
         emu = first["printed"]["emulator"]
         row0 = dict(row0, max_trajectory_diff_ft=first["printed"]["max_trajectory_diff_ft"])
     orders = {}
+    ran = [(a, b) for a, b in zip(convergence, convergence[1:])
+           if not a.get("stopped") and not b.get("stopped")]
     for key in ("hit_time_diff_s", "terminal_points_diff_ft", "max_trajectory_diff_ft"):
-        pairs = [(a[key], b[key]) for a, b in zip(convergence, convergence[1:]) if a[key] > 0 and b[key] > 0]
+        pairs = [(a[key], b[key]) for a, b in ran if a[key] > 0 and b[key] > 0]
         orders[key] = [math.log2(a / b) for a, b in pairs]
     return {
         "deck": str(deck.path),
         "precision": options.get("precision", "double"),
         "errata": list(errata_policy.resolve(options.get("errata", ()))),
-        "core_method": "/".join(sorted({step["method"] for step in steps})),
+        "core_method": "/".join(sorted({step["method"] for step in steps if not step["stopped"]})),
         "core_rtol": options.get("rtol", 1e-10),
         "emulator": emu,
         "core": core_row,
-        "max_trajectory_diff_ft": row0["max_trajectory_diff_ft"],
+        "max_trajectory_diff_as_printed_ft": row0["max_trajectory_diff_ft"],
         "convergence": convergence,
+        "stopped_from_k": stopped[0]["k"] if stopped else None,
         "observed_order": orders,
         "ed_tolerance_scaled": options.get("tighten_ed", True),
     }
@@ -244,15 +252,27 @@ def format_diff(d: dict) -> str:
             row(f"terminal {axis} of {p} (ft)", a, b, "{:.4f}")
     lines.append(f"hit: emulator {e['hit']}")
     lines.append(f"     core     {c['hit']}")
-    lines.append(f"largest distance between the mass-centre trajectories: {d['max_trajectory_diff_ft']:.4f} ft")
+    lines.append("largest distance between the mass-centre trajectories (the listing as "
+                 f"printed, ED's tolerance .0001 rad): {d['max_trajectory_diff_as_printed_ft']:.4f} ft")
     lines += ["", "as H is halved (emulator step literals / 2**k; core start-up over the same step; "
               + ("ED tolerance 1e-6 rad / 4**k" if d["ed_tolerance_scaled"] else "ED tolerance .0001 as printed")
               + "):",
               f"{'k':>2}{'H (s)':>12}{'hit time diff (s)':>20}{'terminal diff (ft)':>20}{'trajectory diff (ft)':>22}"]
     for r in d["convergence"]:
+        if r.get("stopped"):
+            lines.append(f"{r['k']:>2}{r['h_s']:>12.3e}   stopped: {r['stopped']}")
+            continue
         lines.append(f"{r['k']:>2}{r['h_s']:>12.3e}{r['hit_time_diff_s']:>20.3e}"
                      f"{r['terminal_points_diff_ft']:>20.3e}{r['max_trajectory_diff_ft']:>22.3e}"
                      + ("" if r["same_hit"] else "   (different hit)"))
+    if d["ed_tolerance_scaled"]:
+        lines.append("(the k = 0 row runs ED at 1e-6 rad, like the rows below it; the side by "
+                     "side above is the listing as printed, ED at .0001 rad: hence two k = 0 "
+                     "trajectory differences)")
+    if d.get("stopped_from_k") is not None:
+        lines.append(f"note: the emulator ({', '.join(d['errata']) or 'no errata'}) cannot run "
+                     f"this deck from k = {d['stopped_from_k']} on (the rows say why); the orders "
+                     "below use the rows that ran")
     for key, label in (("hit_time_diff_s", "hit time"), ("terminal_points_diff_ft", "terminal points"),
                        ("max_trajectory_diff_ft", "trajectory")):
         ords = d["observed_order"][key]

@@ -630,6 +630,7 @@ def run_command(args) -> int:
             base_task={"deck": deck, "engine": args.engine, "preset": args.preset},
             outputs=list(OUTCOMES), store_dir=out / "scenes" / label, seed=args.seed,
             jobs=args.jobs, scheduler=args.scheduler, resume=args.resume, desc=label,
+            progress=False if getattr(args, "quiet", False) else None,
         )
         studies.append((label, args.engine, st))
         print(f"deck-emulator sensitivity: {label}: {len(st.tasks)} scenes, {st.ran} run now, "

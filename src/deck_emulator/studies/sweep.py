@@ -209,6 +209,7 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
     row["roof_clearance_where"] = (c.roof_where or "") if c else ""
     row["line_meets_car_time_s"] = c.touch_time_s if c else None
     row["line_meets_car_surface"] = (c.touch_surface or "") if c else ""
+    row["stopped_hint"] = (res.hint or "") if res.error else ""  # what would let it run
     row["run_s"] = res.run_s
     for key, _, _ in REPORT_ROWS:
         rep = None if report is None else report.get(key)

@@ -1,0 +1,47 @@
+"""The package from Python: :func:`run`, the command line's defaults, one call.
+
+    >>> import deck_emulator
+    >>> out = deck_emulator.run("steel40")                  # the emulator, the listing as printed
+    >>> out.hit_message
+    'THE POST HAS HIT THE GROUND WITH POINT R'
+    >>> core = deck_emulator.run("steel40", engine="core")  # the modern core, legacy preset
+    >>> frame = core.trajectory_frame()                     # a pandas DataFrame
+
+The outcome is an :class:`~deck_emulator.engine.outcome.Outcome`: its events, the registry's
+quantities (:func:`deck_emulator.engine.quantities.value`), the typed scene that ran, and its
+trajectory.
+"""
+
+from __future__ import annotations
+
+from .engines import engine_for
+from .outcome import Outcome
+from .sources import load_source
+
+__all__ = ["run", "CORE_DEFAULTS"]
+
+#: The core's settings when none are given: those of ``deck-emulator core``.
+CORE_DEFAULTS = {"preset": "legacy", "method": "auto", "rtol": 1e-10, "atol": 1e-10}
+
+
+def run(source, engine: str = "emulator", *, section: int | None = None,
+        card_format: str = "auto", keypunch: str | None = None,
+        listing_program: bool = False, **options) -> Outcome:
+    """Run SOURCE (a shipped deck's name, a deck or job deck file in any card format, a scene
+    file, or a :class:`~deck_emulator.legacy.deck.Deck` or
+    :class:`~deck_emulator.core.scene.Scene` object) on ``engine`` and return its outcome.
+
+    ``options`` are the engine's (:class:`~deck_emulator.engine.EmulatorEngine`: ``precision``,
+    ``errata`` ...; :class:`~deck_emulator.engine.CoreEngine`: ``preset``, ``method``, ``rtol``,
+    ``atol`` ...), with the command line's defaults (:data:`CORE_DEFAULTS`). A run that cannot
+    end is an outcome whose ``error`` says why; bad input raises
+    :class:`~deck_emulator.legacy.deck.DeckError` or :class:`~deck_emulator.errors.UsageError`."""
+    if engine == "core":
+        options = {**CORE_DEFAULTS, **options}
+    if hasattr(source, "values") or hasattr(source, "post"):  # a Deck or a Scene already
+        return engine_for(engine, **options).run(source)
+    kinds = ("deck",) if engine == "emulator" else ("deck", "scene")
+    src = load_source(source, card_format=card_format, keypunch=keypunch, section=section,
+                      listing_program=listing_program, kinds=kinds, command=f"the {engine}")
+    target = src.deck("run") if engine == "emulator" else src.scene_or_deck(f"the {engine}")
+    return engine_for(engine, **options).run(target, name=src.stem)

@@ -1,0 +1,216 @@
+"""What a command or a caller is given to run: one way to name it, every kind of input.
+
+:func:`load_source` takes a SOURCE as the user writes it and reads it whole:
+
+* a shipped deck's name (``steel40``, ``steel40.dat``: :mod:`deck_emulator.decks`), when no
+  file of that name exists;
+* a card deck file: text, or card images in any format (:mod:`deck_emulator.legacy.cardimage`,
+  found or named with ``card_format``), a plain deck or a whole IBSYS job deck with one or more
+  ``$DATA`` sections (``section`` picks one, counted from 1);
+* a scene file (TOML with tables: :class:`~deck_emulator.core.scene.Scene`).
+
+A job deck that carries its own FORTRAN is run only if that FORTRAN is the listing's program:
+the emulator *is* the listing, so running another program's deck through it would print the
+listing's answers under that deck's name. ``listing_program=True`` runs the listing's program
+on the deck's data anyway, and :attr:`Source.notes` says so first.
+
+Every refusal is a :class:`~deck_emulator.legacy.deck.DeckError` or
+:class:`~deck_emulator.errors.UsageError` with one line naming the file and what to do.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from deck_emulator.errors import UsageError
+
+__all__ = ["Source", "load_source", "is_scene_file", "SCENE_MAX_BYTES"]
+
+#: A scene file larger than this is refused before it is read (a scene is a few kB).
+SCENE_MAX_BYTES = 1 << 20
+
+
+@dataclass(frozen=True)
+class Source:
+    """A SOURCE read whole. ``kind``: ``"deck"`` (``decks``: its ``$DATA`` sections, the
+    chosen one alone with ``section``) or ``"scene"`` (``scene``). ``name``: what to call it
+    in outputs (the file as given, or the shipped deck's name); ``path``: the file read.
+    ``notes``: what the reader says the user must know (the job deck's program, warnings)."""
+
+    given: str
+    name: str
+    path: str
+    kind: str
+    decks: tuple = ()
+    scene: object = None
+    card_format: str = ""
+    program: str | None = None
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def stem(self) -> str:
+        return Path(self.path).stem
+
+    def deck(self, command: str = "this command"):
+        """The one data deck (a job deck with several sections needs ``section``)."""
+        from deck_emulator.legacy.deck import DeckError
+
+        if self.kind != "deck":
+            raise UsageError(self.refusal(command))
+        if len(self.decks) != 1:
+            raise DeckError(f"{command} takes one $DATA section and the deck holds "
+                            f"{len(self.decks)}: choose one with --section N (1 to "
+                            f"{len(self.decks)})", path=self.name)
+        return self.decks[0]
+
+    def scene_or_deck(self, command: str = "this command"):
+        """What the core runs: the scene, or the one data deck."""
+        return self.scene if self.kind == "scene" else self.deck(command)
+
+    def refusal(self, command: str) -> str:
+        """One line: why ``command`` (which runs the 1967 program) cannot take a scene, and
+        the conversion that would let it."""
+        return (f"{self.name}: a scene file; {command} runs the 1967 program, which reads card "
+                f"decks: run the scene on the core (`deck-emulator core {self.given}`), or give "
+                f"the deck it was made from (`deck-emulator scene DECK` writes a deck's scene)")
+
+
+def is_scene_file(path) -> bool:
+    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
+    import tomllib
+
+    if str(path).endswith(".toml"):
+        return os.path.isfile(path)
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(SCENE_MAX_BYTES)
+        parsed = tomllib.loads(data.decode("utf-8"))
+    except (OSError, ValueError):
+        return False
+    return any(isinstance(v, dict) for v in parsed.values())
+
+
+def _shipped(given: str) -> Path | None:
+    from deck_emulator import decks
+
+    name = given[:-4] if given.endswith(".dat") else given
+    if "/" in name or os.sep in name:
+        return None
+    try:
+        return decks.path(name)
+    except KeyError:
+        return None
+
+
+def _resolve(given: str) -> tuple[str, Path]:
+    """(name shown, file) of a SOURCE: the file if it exists, else a shipped deck."""
+    from deck_emulator import decks
+    from deck_emulator.legacy.deck import DeckError
+
+    if not given:
+        raise UsageError("an empty SOURCE: give a deck or scene file, or a shipped deck's name")
+    p = Path(given)
+    if p.exists():
+        return given, p
+    shipped = _shipped(given)
+    if shipped is not None:
+        return Path(given).stem, shipped
+    raise DeckError(f"no such file, and no shipped deck of that name (shipped: "
+                    f"{', '.join(decks.names())})", path=given)
+
+
+def _read_scene(name: str, path: Path):
+    import tomllib
+
+    from deck_emulator.core.scene import Scene, SceneError
+
+    try:
+        size = path.stat().st_size
+        if size > SCENE_MAX_BYTES:
+            raise UsageError(f"{name}: a scene file of {size} bytes; scenes are a few kB "
+                             f"(at most {SCENE_MAX_BYTES} bytes are read)")
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise UsageError(f"{name}: cannot read: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{name}: not a scene: not UTF-8 text ({exc.reason} at byte "
+                         f"{exc.start})") from None
+    try:
+        _finite_numbers(tomllib.loads(text))
+        return Scene.from_toml(text)
+    except (SceneError, ValueError, KeyError, TypeError, OverflowError) as exc:
+        import re
+
+        message = str(exc)
+        missing = re.findall(r"'(\w+)'", message) if "required positional" in message else []
+        if missing:
+            message = "missing " + ", ".join(f"[{m}]" for m in missing)
+        raise UsageError(f"{name}: not a scene: {message}") from None
+
+
+def _finite_numbers(tree) -> None:
+    """A scene's numbers must be finite (TOML allows inf and nan): ValueError naming the key."""
+
+    def walk(node, where):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                walk(v, f"{where}.{k}" if where else k)
+        elif isinstance(node, list):
+            for i, v in enumerate(node):
+                walk(v, f"{where}[{i}]")
+        elif isinstance(node, float) and not math.isfinite(node):
+            raise ValueError(f"{where} = {node}: not a finite number")
+
+    walk(tree, "")
+
+
+def load_source(given, *, card_format: str = "auto", keypunch: str | None = None,
+                section: int | None = None, listing_program: bool = False,
+                kinds: tuple[str, ...] = ("deck", "scene"), command: str = "this command"
+                ) -> Source:
+    """Read SOURCE ``given`` (see the module docstring). ``kinds``: what the caller can use;
+    a scene given where only decks are meant is refused with :meth:`Source.refusal`."""
+    from deck_emulator.legacy.deck import DeckError
+    from deck_emulator.legacy.jobdeck import read_job
+
+    given = os.fspath(given)
+    name, path = _resolve(given)
+    if is_scene_file(path):
+        if section is not None:
+            raise UsageError(f"{name}: --section chooses a $DATA section of a job deck; "
+                             "a scene file has none")
+        src = Source(given, name, str(path), "scene", scene=_read_scene(name, path))
+        if "scene" not in kinds:
+            raise UsageError(src.refusal(command))
+        return src
+    job = read_job(str(path), card_format, keypunch)
+    notes = []
+    if job.source_verdict:
+        if job.program_differs and not listing_program:
+            raise DeckError(f"{job.source_verdict}. The emulator runs only the listing's "
+                            "program; --listing-program runs it on this deck's data anyway",
+                            path=name)
+        if job.program_differs:
+            notes.append(f"{name}: --listing-program: the LISTING's program runs on this job "
+                         f"deck's data, not the deck's own FORTRAN ({job.source_verdict})")
+        else:
+            notes.append(f"{name}: {job.source_verdict}")
+    decks_ = job.decks
+    if Path(given) != path:  # a shipped deck, named by its name
+        import dataclasses
+
+        decks_ = tuple(dataclasses.replace(d, path=name) for d in decks_)
+    if section is not None:
+        if not 1 <= section <= len(decks_):
+            raise DeckError(f"--section {section}: the deck holds {len(decks_)} $DATA "
+                            f"section(s)", path=name)
+        decks_ = (decks_[section - 1],)
+    for deck in decks_:
+        notes += [f"{deck.path}: warning: {w}" for w in deck.warnings]
+    if "deck" not in kinds:
+        raise UsageError(f"{name}: a card deck; this command takes a scene file")
+    return Source(given, name, str(path), "deck", decks=tuple(decks_),
+                  card_format=job.card_format, program=job.source_verdict, notes=tuple(notes))
