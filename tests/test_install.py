@@ -119,6 +119,23 @@ def test_every_readme_command_runs_installed(installed, argv, made):
         assert proc.stdout.strip()
 
 
+def test_shipped_decks_by_name_from_another_folder(installed):
+    """After pip install, a shipped deck is named, not found in a checkout: run, summary,
+    core and the Python API take ``steel40`` from any folder."""
+    exe, work = installed
+    run = _run([str(exe), "run", "steel40"], cwd=work)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout == (ROOT / "golden" / "steel40.r8.txt").read_text()
+    for command in ("summary", "core"):
+        proc = _run([str(exe), command, "steel40", "--json", "--quiet"], cwd=work)
+        assert proc.returncode == 0, proc.stderr
+        assert json.loads(proc.stdout)["source"] == "steel40"
+    python = exe.parent / "python"
+    api = _run([str(python), "-c", "import deck_emulator; print(deck_emulator.run('steel40')"
+                ".hit_message)"], cwd=work)
+    assert api.stdout.strip() == "THE POST HAS HIT THE GROUND WITH POINT R", api.stderr
+
+
 def test_sweep_and_study_need_no_base_deck_path(installed):
     exe, work = installed
     sweep = _run([str(exe), "sweep", "--speeds", "40", "--angles", "0", "--jobs", "1",

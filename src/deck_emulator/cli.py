@@ -114,6 +114,12 @@ def _check_out(args) -> None:
         check_output_file(args.out)
 
 
+def _add_jobs_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--jobs", type=_positive_int, default=None, metavar="N",
+                   help="worker processes of the embedded Dask cluster (default: every core, "
+                   f"{os.cpu_count() or 1} here)")
+
+
 def _add_cluster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on an existing Dask cluster (its scheduler's address, "
@@ -298,6 +304,25 @@ def _positive_float(text: str) -> float:
     return x
 
 
+def _speed_mph(text: str) -> float:
+    x = _positive_float(text)
+    if not 1.0 <= x <= 200.0:
+        raise argparse.ArgumentTypeError(f"a speed from 1 to 200 mph, not {text}")
+    return x
+
+
+def _angle_deg(text: str) -> float:
+    import math
+
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(x) and 0.0 <= x < 90.0):
+        raise argparse.ArgumentTypeError(f"an angle from 0 to below 90 degrees, not {text}")
+    return x
+
+
 def _tolerance(text: str) -> float:
     x = _positive_float(text)
     if x >= 1:
@@ -399,7 +424,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if args.pages:
         from deck_emulator.files import check_output_file
 
+        if not args.pages.lower().endswith(".pdf"):
+            raise CLIError(f"--pages {args.pages}: the pages are a PDF; name a .pdf file")
+        if args.out and Path(args.out).resolve() == Path(args.pages).resolve():
+            raise CLIError("--out and --pages name the same file")
         check_output_file(args.pages)
+    elif args.paper != "plain":
+        raise CLIError("--paper is the paper of --pages: give --pages FILE.pdf")
     engine = _emulator(args, trace=bool(args.trajectory))
     records, text, failed, sections = [], "", None, []
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
@@ -422,11 +453,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
                                        "errata": list(args.erratum)},
             status="stopped" if failed else "ok", notes=src.notes, sections=sections),
             indent=2) + "\n"
-    _emit(args, text)
+    if not args.pages or args.out or args.json:  # --pages alone: the pages, not the text
+        _emit(args, text)
     if args.pages:
         from deck_emulator.legacy.pages import write_pdf
 
         write_pdf(records, args.pages, paper=args.paper)
+        _say(f"wrote the line printer's pages to {args.pages}")
     if failed is not None:
         _say(f"error: {_failed(*failed)}")
         return EXIT_RUN_FAILED
@@ -491,7 +524,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     _add_emulator_options(p)
     p.add_argument("--out", metavar="FILE", help="write the printout to FILE")
     p.add_argument("--pages", metavar="FILE.pdf",
-                   help="also lay the printout out as the line printer's pages, as PDF")
+                   help="lay the printout out as the line printer's pages, as PDF (the text "
+                   "goes to --out if given, and not to the terminal)")
     p.add_argument("--paper", choices=("plain", "striped"), default="plain",
                    help="the fan-fold paper of --pages (default plain)")
 
@@ -633,8 +667,7 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
                    help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default 1e-10)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
-    p.add_argument("--jobs", type=_positive_int, metavar="N",
-                   help="worker processes of the embedded cluster (default: every core)")
+    _add_jobs_option(p)
     p.add_argument("--store", metavar="DIR",
                    help="keep the runs in DIR as they finish (default: a temporary folder)")
     _add_cluster_options(p)
@@ -775,7 +808,17 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
         rows = [f"{k}: at loss of contact {loss[k]:.4f}, at 70 ms {r70[k]:.4f}" for k in loss]
         _emit(args, f"hit: {res.hit_message} at {_ms(res.hit_time_s)}\n" + "\n".join(rows) + "\n")
         return 0
-    template = (f"steel{args.speed_mph}" + ("" if args.alpha_deg == 0 else f"_a{args.alpha_deg}"))
+    # the car: the report's deck of that speed and angle where there is one, else steel40's
+    # car with VVB and ALPHA set by the sweep's rules (the report's deck's decimals)
+    from deck_emulator import decks
+    from deck_emulator.studies.sweep import alpha_for, vvb_for
+
+    template = (f"steel{args.speed_mph:g}" + ("" if args.alpha_deg == 0
+                                               else f"_a{args.alpha_deg:g}"))
+    car = {}
+    if template not in decks.names():
+        template = "steel40"
+        car = dict(speed_ft_s=abs(vvb_for(args.speed_mph)), alpha_rad=alpha_for(args.alpha_deg))
     mp = asm.mass_properties(a)
     if args.what == "props" and args.json:
         answer(name=a.name, weight_lb=mp.weight_lb, mass_slug=mp.mass_slug, wall_in=mp.wall_in,
@@ -791,7 +834,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
         lines += [f"  {k}: ({p[0]:.4f}, {p[1]:.4f}, {p[2]:.4f}) ft" for k, p in mp.points.items()]
         _emit(args, "\n".join(lines) + "\n")
         return 0
-    scene = bridge.to_scene(a, mp, template=template)
+    scene = bridge.to_scene(a, mp, template=template, **car)
     if args.what == "scene":
         if args.json:
             import tomllib
@@ -804,7 +847,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     if args.what in ("deck", "emulator") and reason is not None:
         raise CLIError(f"cannot run on the listing: {reason}")
     if args.what == "deck":
-        values = bridge.to_deck_values(a, mp, template=template)
+        values = bridge.to_deck_values(a, mp, template=template, **car)
         if args.json:
             answer(values=values, cards=bridge.to_deck_text(values).splitlines())
             return 0
@@ -814,7 +857,8 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
         from deck_emulator.engine import EmulatorEngine
         from deck_emulator.legacy.deck import parse_deck
 
-        deck = parse_deck(bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template)))
+        deck = parse_deck(bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template,
+                                                                    **car)))
         out = EmulatorEngine(errata=tuple(args.erratum), trace=False).run(deck)
         if args.json:
             answer(status="stopped" if out.error else "ok",
@@ -832,7 +876,8 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     if out.error is not None:
         raise _failed(out, args.description)
     settings = {"preset": args.preset, "method": out.raw.method,
-                "car": f"{args.speed_mph} mph at {args.alpha_deg} deg ({template}'s car)"}
+                "car": f"{args.speed_mph:g} mph at {args.alpha_deg:g} deg ({template}'s car"
+                       + (", VVB and ALPHA set)" if car else ")")}
     answer = outcome_answer(out, command="assembly", source=a.name, settings=settings)
     answer["notes"] += list(out.raw.notes)
     _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
@@ -851,10 +896,12 @@ def _add_assembly(sub: argparse._SubParsersAction) -> None:
     p.add_argument("what", nargs="?", default="props",
                    choices=("props", "deck", "scene", "core", "emulator"),
                    help="what to print or run (default props)")
-    p.add_argument("--speed-mph", type=int, choices=(20, 40), default=40,
-                   help="the car's speed: one of the report's two (default 40)")
-    p.add_argument("--alpha-deg", type=int, choices=(0, 15, 30), default=0,
-                   help="the approach angle: one of the report's three (default 0)")
+    p.add_argument("--speed-mph", type=_speed_mph, default=40.0, metavar="MPH",
+                   help="the car's speed in mph, any from 1 to 200 (default 40; the report's "
+                   "20 and 40 take its own decks' car)")
+    p.add_argument("--alpha-deg", type=_angle_deg, default=0.0, metavar="DEG",
+                   help="the approach angle in degrees, 0 to 89 (default 0; the report ran 0, "
+                   "15 and 30)")
     _add_erratum_option(p)
     _add_preset_option(p)
     _add_json_option(p, "what it prints (with core: the outcome, as deck-emulator core --json)")
@@ -873,6 +920,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.present.plot import _cmd_plot as plot, check_plot_outputs
 
     check_plot_outputs(args.out, args.animate)
+    if args.animate and (args.view in ("3d", "all") or args.pulse):
+        raise CLIError(f"--animate draws the side or the plan view, not "
+                       f"{'the pulse' if args.pulse else '--view ' + args.view}: give "
+                       "--view side or --view plan")
     command = "plot" + (" --pulse" if args.pulse else "")
     emulator = args.engine != "core" or args.pulse
     src = _source(args, command, kinds=("deck",) if emulator else ("deck", "scene"))
@@ -1016,8 +1067,7 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
                    help="which engine runs the scenes (default emulator)")
     _add_erratum_option(p)
     _add_preset_option(p)
-    p.add_argument("--jobs", type=_positive_int, metavar="N",
-                   help="worker processes (default: all cores, %d here)" % (os.cpu_count() or 1))
+    _add_jobs_option(p)
     p.add_argument("--vvb-decimals", type=int, default=2, metavar="N",
                    help="decimals VVB is cut to (default 2, as the report's deck: -58.66)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -1062,8 +1112,7 @@ def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="the sample's seed (default 0)")
     _add_json_option(p, "what ran and what was written")
     _add_quiet_option(p)
-    p.add_argument("--jobs", type=_positive_int, metavar="N",
-                   help="workers of the embedded cluster (default: all cores)")
+    _add_jobs_option(p)
     _add_cluster_options(p)
     p.add_argument("--out", required=True, metavar="DIR", help="directory for the results")
 
@@ -1112,8 +1161,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
         q.add_argument("--out", required=True, metavar="DIR", help="directory for the outputs")
         q.add_argument("--quick", action="store_true",
                        help="a small grid (seconds, for tests) instead of the full study")
-        q.add_argument("--jobs", type=_positive_int, default=None, metavar="N",
-                       help="worker processes (default: os.cpu_count())")
+        _add_jobs_option(q)
         _add_cluster_options(q)
         _add_quiet_option(q)
         _add_json_option(q, "what ran and what was written")

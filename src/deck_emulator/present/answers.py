@@ -14,6 +14,7 @@ decelerations as the report tabulates them (two decimals); times in ms with one 
 from __future__ import annotations
 
 from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
+from deck_emulator.units import DECK_UNITS
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.
 SCHEMA = 2
@@ -149,22 +150,3 @@ def render_parse(a: dict) -> str:
         lines += ["", f"card {card['card']}"]
         lines += ["  " + s for s in _table(rows, ("columns", "name", "value", "unit"), {2})]
     return "\n".join(lines) + "\n"
-
-
-#: The deck's quantities and their units (TTI Report 75-9's nomenclature; ft, lb, slug, s,
-#: rad). Names not listed are pure numbers.
-DECK_UNITS = {
-    **dict.fromkeys(('V1B', 'V2B', 'V3B', 'VVB'), 'ft/s'),
-    **dict.fromkeys(('F1B', 'F2B', 'F3B', 'FNA', 'FSB', 'FCONST'), 'lb'),
-    **dict.fromkeys(('PSIDB', 'THDB', 'PHIDB', 'W1B', 'W2B', 'W3B'), 'rad/s'),
-    **dict.fromkeys(('W', 'WV'), 'slug'),
-    **dict.fromkeys(('A', 'B', 'C'), 'slug·ft²'),
-    **dict.fromkeys(('G',), 'ft/s²'),
-    **dict.fromkeys(('XCMB', 'YCMB', 'ZCMB', 'HEIGHT', 'SVB', 'XSO', 'YYSO', 'ZZSO', 'XPO',
-                     'YYPO', 'ZZPO', 'XQO', 'YYQO', 'ZZQO', 'SVO', 'HLEN', 'TLEN', 'YLFEN',
-                     'YRFEN', 'TRLEN', 'HTRV', 'HTV', 'HHV', 'XRO', 'YYRO', 'ZZRO', 'XCO', 'YYCO',
-                     'ZZCO', 'XTO', 'YYTO', 'ZZTO'), 'ft'),
-    **dict.fromkeys(('CK', 'CT'), 'lb/ft'),
-    **dict.fromkeys(('PSIB', 'THB', 'PHIB', 'ALPHA', 'DELTA'), 'rad'),
-    **dict.fromkeys(('T1B', 'T2B', 'T3B'), 'lb·ft'),
-}

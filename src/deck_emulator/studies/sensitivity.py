@@ -56,6 +56,7 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.units import DECK_UNITS, deck_label
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
 from deck_emulator.studies.distributed import (
     SceneStore,
@@ -527,8 +528,8 @@ def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") ->
                         marker=markers.get(s, "P"), label=f"{s} ({len(k)})")
     if sc is not None:
         fig.colorbar(sc, ax=ax, label="least clearance above the roof (ft)")
-    ax.set_xlabel(inputs[0])
-    ax.set_ylabel(inputs[1])
+    ax.set_xlabel(deck_label(inputs[0]))  # a READ-list name with its listing unit
+    ax.set_ylabel(deck_label(inputs[1]))
     ax.legend(fontsize=7, title="post hits first", title_fontsize=7)
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
@@ -580,6 +581,10 @@ def parse_input(text: str) -> InputRange:
         raise ValueError(
             f"--input {name!r}: not a deck (READ-list) name nor one of {sorted(SCENE_INPUTS)}"
         )
+    if name in NAMES and DECK_UNITS.get(name) == "rad" and max(abs(lo), abs(hi)) > 2 * math.pi:
+        raise ValueError(f"--input {text!r}: {name} is in radians (the listing's unit), and "
+                         f"{max(abs(lo), abs(hi)):g} rad is more than a turn; degrees? "
+                         f"{math.radians(lo):.5f}:{math.radians(hi):.5f} rad is {lo:g}:{hi:g} deg")
     return InputRange(name, lo, hi, None, SCENE_INPUTS.get(name, "deck input"))
 
 
