@@ -177,7 +177,7 @@ def test_core_error_at_rtol_1e10_below_a_micro_foot(error_dir):
     for r in core:
         assert r["status"] == "hit"
         assert _num(r["err_traj_ft"]) < 1e-6, r
-        assert _num(r["err_hit_s"]) < 1e-6, r
+        assert _num(r["err_hit_time_s"]) < 1e-6, r
 
 
 def test_reference_error_is_known_and_small(error_dir):
@@ -220,7 +220,7 @@ def test_work_precision_picture_shows_the_csv(error_run):
     for series in every:
         (line,) = [ln for ln in ax.lines if ln.get_label().startswith(series)]
         xy = np.array([[_num(r["wall_s"]), _num(r["err_traj_ft"])] for r in hits(series)])
-        np.testing.assert_allclose(line.get_xydata(), xy, rtol=1e-12)
+        np.testing.assert_allclose(line.get_xydata(), xy, rtol=1e-11)  # the CSV: 12 digits
         checked += _check_markers(img, mapper, ax, line, xy, renderer)
     assert checked > 0
     emulator = [s for s in every
@@ -232,11 +232,11 @@ def test_work_precision_picture_shows_the_csv(error_run):
         (line,) = [ln for ln in bx.lines if ln.get_label().startswith(series)]
         h = [_num(r["h_s"]) for r in ok]
         xy = np.c_[h, [_num(r["err_traj_ft"]) for r in ok]]
-        np.testing.assert_allclose(line.get_xydata(), xy, rtol=1e-12)
+        np.testing.assert_allclose(line.get_xydata(), xy, rtol=1e-11)  # the CSV: 12 digits
         ref0 = bx.lines[bx.lines.index(line) + 1]  # the same, against the k = 0 reference
         assert ref0.get_color() == line.get_color() and ref0.get_linestyle() == "--"
         xy0 = np.c_[h, [_num(r["err_traj_ref0_ft"]) for r in ok]]
-        np.testing.assert_allclose(ref0.get_xydata(), xy0, rtol=1e-12)
+        np.testing.assert_allclose(ref0.get_xydata(), xy0, rtol=1e-11)  # the CSV: 12 digits
         # right: H and the errors do not depend on the machine
         assert _check_markers(img, mapper, bx, line, xy, renderer) > 0, series
         assert _check_markers(img, mapper, bx, ref0, xy0, renderer, hollow=True) > 0, series
@@ -307,7 +307,7 @@ def test_stability_map_shows_the_csv(stability_run):
         xy = (_num(r["CK_lb_ft"]), _num(r["H_s"]))
         colour = key[r["emulator_class"]]
         cells = [c for c in ax.collections if len(c.get_offsets()) == 1
-                 and np.allclose(c.get_offsets()[0], xy, rtol=1e-12)
+                 and np.allclose(c.get_offsets()[0], xy, rtol=1e-11)  # the CSV's 12 digits
                  and np.allclose(c.get_facecolor()[0], colour)]
         assert len(cells) == 1, (r["scene"], r["emulator_class"])
         if _finite(r["launch_ke_rel_diff"]):
@@ -328,7 +328,7 @@ def test_stability_map_shows_the_csv(stability_run):
         sel = [r for r in stiff if int(r["k"]) == k and _finite(r["launch_ke_rel_diff"])]
         xy = np.array([[_num(r["h_omega"]), abs(_num(r["launch_ke_rel_diff"]))] for r in sel])
         (line,) = [ln for ln in lines if ln.get_xydata().shape == xy.shape
-                   and np.allclose(ln.get_xydata(), xy, rtol=1e-12)]
+                   and np.allclose(ln.get_xydata(), xy, rtol=1e-11)]  # the CSV's 12 digits
         assert f"{_num(sel[0]['H_s']) * 1e6:.0f}" in line.get_label()
         checked += _check_markers(img, mapper, bx, line, xy, renderer)
     assert checked >= len(stiff) / 2
@@ -377,13 +377,13 @@ def test_extreme_scenes_picture_shows_the_csv(stability_run):
             # the cell's text: the hit time
             if r[f"{engine}_status"] == "hit":
                 (text,) = [t for t in ax.texts if np.allclose(t.get_position(), (x, y))]
-                assert f"{_num(r[f'{engine}_hit_s']):.3f} s" in text.get_text(), text.get_text()
+                assert f"{_num(r[f'{engine}_hit_time_s']):.3f} s" in text.get_text(), text.get_text()
         drift = [t for t in ax.texts
                  if math.isclose(t.get_position()[1], y) and t.get_position()[0] > 1]
-        if _finite(r["emulator_free_drift"]):
+        if _finite(r["emulator_free_flight_energy_drift"]):
             (text,) = drift
             shown = float(text.get_text().rstrip(" %"))
-            assert math.isclose(shown, 100 * _num(r["emulator_free_drift"]), rel_tol=0.05)
+            assert math.isclose(shown, 100 * _num(r["emulator_free_flight_energy_drift"]), rel_tol=0.05)
         else:
             assert not drift, r["scene"]
     # a core that ended with a hit: one light green

@@ -101,7 +101,9 @@ def test_csv_has_a_row_per_scene_and_every_column(small_sweep):
         "max_decel_g",
         "XPL",
         "ZQL",
-        "time_to_hit_ground_ms",
+        "hit_time_s",
+        "hit_surface",
+        "report_time_to_hit_ground_ms",
         "oiv_m_s",
         "ora_g",
         "body_clearance_ft",
@@ -111,6 +113,8 @@ def test_csv_has_a_row_per_scene_and_every_column(small_sweep):
         "diff_XPL",
     ):
         assert col in rows[0]
+    # each quantity once, in one unit: the hit's time in s (the report's own rows keep ms)
+    assert "time_to_hit_ground_ms" not in rows[0] and "time_to_hit_car_ms" not in rows[0]
     for r in rows:
         assert r["engine"] == "emulator" and r["error"] == ""
         assert r["hit"].startswith("hit ")

@@ -7,7 +7,7 @@ Errors of a run against a reference:
 * ``err_traj_ft``: the largest distance between the post's mass-centre trajectories -- at the
   emulator's accepted steps (the reference's dense output interpolated there), or on a fixed
   grid of 2001 times for a core run -- over the time both runs cover;
-* ``err_hit_s``: the difference of the hit times;
+* ``err_hit_time_s``: the difference of the hit times;
 * ``err_R_ft``: the distance between the luminaire point R of the two runs at their hits.
 
 The emulator and the core's legacy preset are not the same discretisation of the start-up kick
@@ -63,7 +63,7 @@ SERIES_IBM = "legacy, ED as printed (IBM 7094)"
 COLUMNS = [
     "series", "engine", "method", "precision", "k", "h_s", "rtol", "atol", "ed_tolerance",
     "status", "guard", "error", "hit", "hit_time_s", "reference",
-    "err_traj_ft", "err_hit_s", "err_R_ft", "err_traj_ref0_ft", "err_hit_ref0_s", "err_R_ref0_ft",
+    "err_traj_ft", "err_hit_time_s", "err_R_ft", "err_traj_ref0_ft", "err_hit_time_ref0_s", "err_R_ref0_ft",
     "wall_s", "wall_reps_s", "reps", "steps", "nfev",
 ]
 
@@ -105,9 +105,9 @@ def _core_errors(res, ref) -> dict:
     t_end = min(res.trajectory.t_end, ref.trajectory.t_end)
     grid = np.linspace(0.0, t_end, GRID_POINTS)
     d = np.linalg.norm(res.trajectory.mass_centre(grid) - ref.trajectory.mass_centre(grid), axis=0)
-    out = {"err_traj_ft": float(d.max()), "err_hit_s": math.nan, "err_R_ft": math.nan}
+    out = {"err_traj_ft": float(d.max()), "err_hit_time_s": math.nan, "err_R_ft": math.nan}
     if res.hit and ref.hit:
-        out["err_hit_s"] = abs(res.hit_time_s - ref.hit_time_s)
+        out["err_hit_time_s"] = abs(res.hit_time_s - ref.hit_time_s)
         out["err_R_ft"] = float(np.linalg.norm(
             res.trajectory.point("R", res.hit_time_s) - ref.trajectory.point("R", ref.hit_time_s)))
     return out
@@ -117,14 +117,14 @@ def _emulator_errors(run, hit_time, ref) -> dict:
     t, xyz = emulator_trajectory(run)
     traj = ref.trajectory
     keep = (t >= traj.t_start) & (t <= traj.t_end)
-    out = {"err_traj_ft": math.nan, "err_hit_s": math.nan, "err_R_ft": math.nan}
+    out = {"err_traj_ft": math.nan, "err_hit_time_s": math.nan, "err_R_ft": math.nan}
     if keep.any():
         out["err_traj_ft"] = float(np.max(np.linalg.norm(xyz[:, keep] - traj.mass_centre(t[keep]),
                                                          axis=0)))
     if hit_time is not None and ref.hit:
         last = run.trace[-1]
         r_emu = np.array([last["XR"], last["YYR"], last["ZZR"]])
-        out["err_hit_s"] = abs(hit_time - ref.hit_time_s)
+        out["err_hit_time_s"] = abs(hit_time - ref.hit_time_s)
         out["err_R_ft"] = float(np.linalg.norm(r_emu - traj.point("R", ref.hit_time_s)))
     return out
 
@@ -190,7 +190,7 @@ def _task_emulator(spec):
     if first["status"] == "hit":
         row.update(_emulator_errors(run, hit_time, reference(deck_path, k)))
         ref0 = _emulator_errors(run, hit_time, reference(deck_path, 0))
-        row.update(err_traj_ref0_ft=ref0["err_traj_ft"], err_hit_ref0_s=ref0["err_hit_s"],
+        row.update(err_traj_ref0_ft=ref0["err_traj_ft"], err_hit_time_ref0_s=ref0["err_hit_time_s"],
                    err_R_ref0_ft=ref0["err_R_ft"])
     return row
 
@@ -212,7 +212,7 @@ def _task_core(spec):
     if res is not None:
         errs = _core_errors(res, ref)
         row.update(errs, hit=res.hit_message or "", hit_time_s=res.hit_time_s, nfev=res.nfev)
-        row.update(err_traj_ref0_ft=errs["err_traj_ft"], err_hit_ref0_s=errs["err_hit_s"],
+        row.update(err_traj_ref0_ft=errs["err_traj_ft"], err_hit_time_ref0_s=errs["err_hit_time_s"],
                    err_R_ref0_ft=errs["err_R_ft"])
     return row
 
@@ -293,7 +293,7 @@ def _summarise(rows, p) -> dict:
         orders[series] = {
             "vs_h": fit_slope(h, [r["err_traj_ft"] for r in ok]),
             "vs_h_ref0": fit_slope(h, [r.get("err_traj_ref0_ft", math.nan) for r in ok]),
-            "vs_h_hit": fit_slope(h, [r.get("err_hit_s", math.nan) for r in ok]),
+            "vs_h_hit": fit_slope(h, [r.get("err_hit_time_s", math.nan) for r in ok]),
             "vs_h_R": fit_slope(h, [r.get("err_R_ft", math.nan) for r in ok]),
             "vs_time": fit_slope([r["wall_s"] for r in ok], [r["err_traj_ft"] for r in ok]),
             "pairwise": [math.log2(a["err_traj_ft"] / b["err_traj_ft"])
@@ -485,7 +485,7 @@ def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
         md_table(["reference", "checked with", "trajectory (ft)", "hit time (s)", "R at the hit (ft)",
                   "check's time (s)"],
                  [[r["reference"], f"{r['method']} rtol {r['rtol']:g}", fmt(r.get("err_traj_ft")),
-                   fmt(r.get("err_hit_s")), fmt(r.get("err_R_ft")), fmt(r.get("wall_s"))]
+                   fmt(r.get("err_hit_time_s")), fmt(r.get("err_R_ft")), fmt(r.get("wall_s"))]
                   for r in checks]),
         "",
         "The emulator with its step literals divided by 2**k is **not** the same discretisation "
@@ -516,7 +516,7 @@ def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
         status = (r["hit"].replace("THE POST HAS HIT THE ", "").lower() if r["status"] == "hit"
                   else f"**{r['status']}**" + (f" ({r['guard']})" if r["guard"] != r["status"]
                                                 else "") + f": {r['error'][:100]}")
-        table.append([r["series"], what, status, fmt(r.get("err_traj_ft")), fmt(r.get("err_hit_s")),
+        table.append([r["series"], what, status, fmt(r.get("err_traj_ft")), fmt(r.get("err_hit_time_s")),
                       fmt(r.get("err_R_ft")), fmt(r.get("err_traj_ref0_ft")), fmt(r["wall_s"]),
                       r.get("steps") or r.get("nfev") or ""])
     lines += [md_table(["series", "run", "end", "traj (ft)", "hit (s)", "R (ft)",

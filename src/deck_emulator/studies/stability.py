@@ -63,13 +63,13 @@ AGREE_KE = 0.10
 COLUMNS = [
     "scene", "group", "description", "CK_lb_ft", "k", "H_s", "h_omega", "speed_mph", "alpha_deg",
     "emulator_class", "emulator_status", "emulator_guard", "emulator_error", "emulator_hit",
-    "emulator_hit_s", "emulator_release_s", "emulator_launch_ke_ftlb", "emulator_free_drift",
+    "emulator_hit_time_s", "emulator_vehicle_contact_lost_s", "emulator_launch_ke_ftlb", "emulator_free_flight_energy_drift",
     "emulator_wall_s", "emulator_steps",
-    "core_status", "core_error", "core_hit", "core_hit_s", "core_release_s", "core_launch_ke_ftlb",
-    "core_free_drift", "core_wall_s", "core_nfev",
-    "core_warnings", "core_lowest_at_release_ft", "core_base_travel_ft", "hit_diff_s", "launch_ke_rel_diff", "traj_diff_ft",
+    "core_status", "core_error", "core_hit", "core_hit_time_s", "core_vehicle_contact_lost_s", "core_launch_ke_ftlb",
+    "core_free_flight_energy_drift", "core_wall_s", "core_nfev",
+    "core_warnings", "core_lowest_at_release_ft", "core_base_travel_ft", "hit_time_diff_s", "launch_ke_rel_diff", "traj_diff_ft",
     "ed_tolerance", "core_notes",
-    "physical_status", "physical_error", "physical_hit", "physical_hit_s", "physical_notes",
+    "physical_status", "physical_error", "physical_hit", "physical_hit_time_s", "physical_notes",
 ]
 
 
@@ -152,11 +152,11 @@ def _task_emulator(spec, deck) -> dict:
     message, hit_time = emulator_hit(out)
     release = next((e.time_s for e in run.events if e.kind is EventKind.LOST_VEHICLE), None)
     row = {"emulator_status": out["status"], "emulator_guard": out["guard"],
-           "emulator_error": out["error"], "emulator_hit": message, "emulator_hit_s": hit_time,
-           "emulator_release_s": release, "emulator_wall_s": out["wall_s"],
+           "emulator_error": out["error"], "emulator_hit": message, "emulator_hit_time_s": hit_time,
+           "emulator_vehicle_contact_lost_s": release, "emulator_wall_s": out["wall_s"],
            "emulator_steps": len(run.trace), "_t": t, "_xyz": xyz}
     e = energies(out)
-    row["emulator_launch_ke_ftlb"], row["emulator_free_drift"] = e["launch_ke_ftlb"], e["free_drift"]
+    row["emulator_launch_ke_ftlb"], row["emulator_free_flight_energy_drift"] = e["launch_ke_ftlb"], e["free_drift"]
     return row
 
 
@@ -181,13 +181,13 @@ def _task_core(spec, deck) -> dict:
     pres = phys["result"]
     row.update(physical_status=phys["status"], physical_error=phys["error"],
                physical_hit=pres.hit_message or "" if pres is not None else "",
-               physical_hit_s=pres.hit_time_s if pres is not None else None,
+               physical_hit_time_s=pres.hit_time_s if pres is not None else None,
                physical_notes="; ".join(getattr(pres, "notes", ())) if pres is not None else "")
     if res is not None:
         e = energies(out)
-        row.update(core_hit=res.hit_message or "", core_hit_s=res.hit_time_s,
-                   core_release_s=res.vehicle_contact_lost_s, core_nfev=res.nfev,
-                   core_launch_ke_ftlb=e["launch_ke_ftlb"], core_free_drift=e["free_drift"])
+        row.update(core_hit=res.hit_message or "", core_hit_time_s=res.hit_time_s,
+                   core_vehicle_contact_lost_s=res.vehicle_contact_lost_s, core_nfev=res.nfev,
+                   core_launch_ke_ftlb=e["launch_ke_ftlb"], core_free_flight_energy_drift=e["free_drift"])
         traj = res.trajectory
         if res.vehicle_contact_lost_s is not None:
             depth = res.scene.environment.ground_depth_ft
@@ -213,7 +213,7 @@ def classify(row: dict) -> str:
         return "no hit"
     if row.get("core_status") != "hit":
         return "hit (core failed)"
-    dt = abs(row["emulator_hit_s"] - row["core_hit_s"])
+    dt = abs(row["emulator_hit_time_s"] - row["core_hit_time_s"])
     dke = row.get("launch_ke_rel_diff", math.nan)
     if row["emulator_hit"].strip() != row["core_hit"].strip():
         return "other hit"
@@ -237,8 +237,8 @@ def _merge(spec, emu, core) -> dict:
             row["traj_diff_ft"] = float(np.max(np.linalg.norm(xyz[:, keep] - cm, axis=0)))
     for key in ("_t", "_xyz", "_grid", "_cm"):
         row.pop(key, None)
-    if emu and core and emu.get("emulator_hit_s") is not None and core.get("core_hit_s") is not None:
-        row["hit_diff_s"] = emu["emulator_hit_s"] - core["core_hit_s"]
+    if emu and core and emu.get("emulator_hit_time_s") is not None and core.get("core_hit_time_s") is not None:
+        row["hit_time_diff_s"] = emu["emulator_hit_time_s"] - core["core_hit_time_s"]
     ke_e, ke_c = row.get("emulator_launch_ke_ftlb"), row.get("core_launch_ke_ftlb")
     if ke_e is not None and ke_c and np.isfinite(ke_e) and np.isfinite(ke_c):
         row["launch_ke_rel_diff"] = ke_e / ke_c - 1.0
@@ -443,7 +443,7 @@ def _cell_text(r, engine):
         if cls == "n/a":
             return "not a deck input"
         if r.get("emulator_status") == "hit":
-            return f"{_short(r['emulator_hit'])} at {r['emulator_hit_s']:.3f} s"
+            return f"{_short(r['emulator_hit'])} at {r['emulator_hit_time_s']:.3f} s"
         when = _time_of(r.get("emulator_error", ""))
         reason = (r.get("emulator_error") or "").split(" at label", 1)[0]
         if r.get("emulator_guard") == "arithmetic":
@@ -452,7 +452,7 @@ def _cell_text(r, engine):
             cls = f"{r['emulator_guard']} guard"
         return cls + (f", t = {float(when):.3g} s" if when else "")
     if r.get(f"{engine}_status") == "hit":
-        return f"{_short(r[f'{engine}_hit'])} at {r[f'{engine}_hit_s']:.3f} s"
+        return f"{_short(r[f'{engine}_hit'])} at {r[f'{engine}_hit_time_s']:.3f} s"
     if r.get(f"{engine}_status") == "no hit":
         return f"no hit in {CORE_T_MAX_S:g} s"
     err = r.get(f"{engine}_error") or "?"
@@ -479,7 +479,7 @@ def _plot_extremes(rows, path: Path) -> None:
         for j, engine in enumerate(("emulator", "core")):
             ax.add_patch(plt.Rectangle((j * 0.5, y - 0.42), 0.49, 0.84, color=colours[j], alpha=0.85))
             ax.text(j * 0.5 + 0.245, y, _cell_text(r, engine), ha="center", va="center", fontsize=8)
-        drift = r.get("emulator_free_drift")
+        drift = r.get("emulator_free_flight_energy_drift")
         if _finite(drift):
             ax.text(1.005, y, f"{100 * drift:+.2g} %", ha="left", va="center", fontsize=8)
     ax.text(0.245, n - 0.2, "emulator (k = 0, as printed)", ha="center", fontsize=9.5, weight="bold")
@@ -552,7 +552,7 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
             r["emulator_class"], _cell_text(r, "emulator"), _cell_text(r, "core"),
             _cell_text(r, "physical"),
             fmt(r.get("launch_ke_rel_diff"), "+.1%"), fmt(r.get("traj_diff_ft"), ".2g"),
-            fmt(r.get("emulator_free_drift"), "+.2e"), fmt(r.get("core_free_drift"), "+.1e"),
+            fmt(r.get("emulator_free_flight_energy_drift"), "+.2e"), fmt(r.get("core_free_flight_energy_drift"), "+.1e"),
         ])
     lines += [md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
                         "core's end, physical preset",
@@ -653,7 +653,7 @@ def failure_modes(rows, summary) -> list[str]:
             below = _finite(low) and low < 0
             out.append(
                 f"**Core: no hit** (`{r['scene']}`, {r['description']}): the car lets go only at "
-                f"{r.get('core_release_s') or math.nan:.3g} s"
+                f"{r.get('core_vehicle_contact_lost_s') or math.nan:.3g} s"
                 + (f", when the post is already {-low:.1f} ft through the ground (neither program "
                    "checks the ground during the contact), so free flight starts below the "
                    "ground and nothing is ever hit" if below else "")
@@ -694,7 +694,7 @@ def failure_modes(rows, summary) -> list[str]:
                 f"{_cell_text(r, 'core')} (as printed: {_cell_text(base, 'core')}). Figure: {EXT}.")
     thb = [r for r in rows if r["group"] == "theta near 90 deg" and base
            and r.get("emulator_hit") == base.get("emulator_hit")
-           and r.get("emulator_hit_s") == base.get("emulator_hit_s")]
+           and r.get("emulator_hit_time_s") == base.get("emulator_hit_time_s")]
     if thb:
         r = thb[-1]
         others = ", ".join("`" + x["scene"] + "`" for x in thb[:-1])
@@ -712,16 +712,16 @@ def failure_modes(rows, summary) -> list[str]:
             f"{_cell_text(r, 'emulator')}, core {_cell_text(r, 'core')}; launch energy "
             f"{fmt(r.get('launch_ke_rel_diff'), '+.1%')}, mass centres up to "
             f"{fmt(r.get('traj_diff_ft'), '.2g')} ft apart. Figure: {EXT}.")
-    drifts = [r for r in rows if _finite(r.get("emulator_free_drift"))]
+    drifts = [r for r in rows if _finite(r.get("emulator_free_flight_energy_drift"))]
     if drifts:
-        r = max(drifts, key=lambda r: abs(r["emulator_free_drift"]))
-        c = [abs(x["core_free_drift"]) for x in rows if _finite(x.get("core_free_drift"))]
-        b = f" (`base`: {100 * base['emulator_free_drift']:+.2g} %)" if base and _finite(
-            base.get("emulator_free_drift")) else ""
+        r = max(drifts, key=lambda r: abs(r["emulator_free_flight_energy_drift"]))
+        c = [abs(x["core_free_flight_energy_drift"]) for x in rows if _finite(x.get("core_free_flight_energy_drift"))]
+        b = f" (`base`: {100 * base['emulator_free_flight_energy_drift']:+.2g} %)" if base and _finite(
+            base.get("emulator_free_flight_energy_drift")) else ""
         out.append(
             "**Energy drift in free flight.** With gravity alone the post's energy should stay "
             f"constant; the emulator's explicit steps add energy{b}, most in `{r['scene']}` "
-            f"({100 * r['emulator_free_drift']:+.2g} %); the core's largest relative drift is "
+            f"({100 * r['emulator_free_flight_energy_drift']:+.2g} %); the core's largest relative drift is "
             f"{max(c, default=math.nan):.1e}. Figure: {EXT} (last column).")
     return out
 
@@ -742,7 +742,7 @@ def other_findings(rows) -> list[str]:
         if r["group"] not in ("stiff", "theta near 90 deg") and r["emulator_class"] == "same hit, off":
             out.append(
                 f"`{r['scene']}` ({r['description']}): the same hit, "
-                f"{abs(r['hit_diff_s']):.3f} s {'later' if r['hit_diff_s'] > 0 else 'earlier'} "
+                f"{abs(r['hit_time_diff_s']):.3f} s {'later' if r['hit_time_diff_s'] > 0 else 'earlier'} "
                 f"than the core's (emulator {_cell_text(r, 'emulator')}, core "
                 f"{_cell_text(r, 'core')}; mass centres up to {fmt(r.get('traj_diff_ft'), '.2g')} ft "
                 "apart, of the order of the listing's own accuracy at H = 0.0004 s, see the error "
