@@ -168,3 +168,23 @@ def test_the_reports_deck_diffs_with_no_options(capsys):
     assert re.search(r"^ 1 .*stopped: the emulator stopped at k = 1", out, re.M)
     assert "--erratum ed-direction lets it run" in out
     assert "cannot run this deck from k = 1 on" in out
+
+
+def test_a_sweep_with_a_stopped_scene_writes_its_tables_rates_nothing_for_it_and_exits_3(
+        tmp_path, capsys):
+    """steel40 at 15 deg needs the ed-direction erratum (decks/README.md): without it the scene
+    stops early. The tables are written, its row says why and what would let it run, no
+    rating is given for it, exit 3."""
+    import csv
+
+    out = tmp_path / "sw"
+    assert main(["sweep", "--speeds", "40", "--angles", "0,15", "--jobs", "1", "--quiet",
+                 "--out", str(out)]) == 3
+    err = capsys.readouterr().err
+    assert "steel40_a15 stopped early" in err and "--erratum ed-direction" in err
+    rows = {r["scene"]: r for r in csv.DictReader((out / "sweep.csv").open())}
+    stopped, ran = rows["steel40_a15"], rows["steel40"]
+    assert stopped["error"] and "ed-direction" in stopped["stopped_hint"]
+    assert stopped["oiv_rating"] == stopped["ora_rating"] == ""
+    assert ran["error"] == "" and ran["oiv_rating"] and ran["stopped_hint"] == ""
+    assert (out / "sweep.md").is_file()

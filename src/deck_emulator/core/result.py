@@ -208,7 +208,7 @@ class CoreResult:
             "delta_v_contact_mph": self.delta_v_contact_mph,
             "max_decel_g": self.max_decel_g,
             "max_decel_time_s": self.max_decel_time_s,
-            "terminal_points_xl_yl_zl_ft": {
+            "terminal_xl_yl_zl_ft": {
                 k: (list(v) if v is not None else None) for k, v in self.terminal_points_ft.items()
             },
             "planar": self.planar,

@@ -562,8 +562,20 @@ class Scene:
         return header + tomli_w.dumps(_plain(self))
 
     @classmethod
+    def read(cls, path) -> "Scene":
+        """Read a scene file (:meth:`from_toml` takes its text)."""
+        from pathlib import Path
+
+        return cls.from_toml(Path(path).read_text(encoding="utf-8"))
+
+    @classmethod
     def from_toml(cls, text: str) -> "Scene":
-        """Read a scene from TOML text (the layout :meth:`to_toml` writes)."""
+        """Read a scene from TOML text (the layout :meth:`to_toml` writes); a file's path is
+        refused with what to call instead (:meth:`read`)."""
+        if not isinstance(text, str) or ("\n" not in text and "=" not in text
+                                         and str(text).endswith(".toml")):
+            raise SceneError(f"{text!r}: from_toml takes the TOML text; Scene.read(path) "
+                             "reads a file")
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:

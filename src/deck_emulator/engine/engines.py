@@ -11,6 +11,7 @@ what was computed up to then.
 
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -386,5 +387,11 @@ def engine_for(name: str, **options):
 
 
 def run_engine(source, engine: str = "emulator", *, name: str = "", **options) -> Outcome:
-    """One run of the named engine on a deck (or, for the core, a scene)."""
+    """One run of the named engine on a deck or a scene object, or on anything SOURCE names
+    (a path, a shipped deck's name: :func:`deck_emulator.engine.sources.load_source`)."""
+    if isinstance(source, (str, os.PathLike)):
+        from .sources import load_source
+
+        src = load_source(source, kinds=("deck",) if engine == "emulator" else ("deck", "scene"))
+        source = src.deck() if engine == "emulator" else src.scene_or_deck()
     return engine_for(engine, **options).run(source, name=name)

@@ -92,10 +92,20 @@ def _quantity_rows(values: dict) -> list[tuple[str, ...]]:
             for k, v in values.items()]
 
 
+def _setting(v) -> str:
+    """A setting as a person reads it: ``sincos chop, decimal round`` for a mapping, the
+    items of a list joined, anything else as it stands."""
+    if isinstance(v, dict):
+        return ", ".join(f"{k} {x}" for k, x in v.items())
+    if isinstance(v, (list, tuple)):
+        return ", ".join(map(str, v)) or "none"
+    return str(v)
+
+
 def render_outcome(a: dict) -> str:
     """The table of ``summary`` / ``core``."""
     lines = [f"{a['source']}: the {a['engine']}"]
-    lines += [f"  {k}: {v}" for k, v in a["settings"].items()]
+    lines += [f"  {k}: {_setting(v)}" for k, v in a["settings"].items()]
     lines += [f"note: {n}" for n in a["notes"]]
     lines += ["", "events"]
     lines += [f"  {e['sentence']}" for e in a["events"]] or ["  none"]

@@ -49,7 +49,7 @@ def outcome_summary(out) -> dict:
     return {
         "hit": out.hit.short() if out.hit else None,
         **quantities.values(out, COMPARED),
-        "terminal_points_xl_yl_zl_ft": {p: tuple(out.terminal[p]) for p in POINTS},
+        "terminal_xl_yl_zl_ft": {p: tuple(out.terminal[p]) for p in POINTS},
     }
 
 
@@ -75,7 +75,7 @@ def max_trajectory_distance(run, result) -> float:
 
 
 def _terminal_distance(a: dict, b: dict) -> float:
-    return max(math.dist(a["terminal_points_xl_yl_zl_ft"][p], b["terminal_points_xl_yl_zl_ft"][p])
+    return max(math.dist(a["terminal_xl_yl_zl_ft"][p], b["terminal_xl_yl_zl_ft"][p])
                for p in POINTS)
 
 
@@ -247,8 +247,8 @@ def format_diff(d: dict) -> str:
     row("max_decel_every_step_g (g)", e["max_decel_every_step_g"],
         c["max_decel_every_step_g"], "{:.4f}")
     for p in POINTS:
-        for axis, a, b in zip(("XL", "YL", "ZL"), e["terminal_points_xl_yl_zl_ft"][p],
-                              c["terminal_points_xl_yl_zl_ft"][p]):
+        for axis, a, b in zip(("XL", "YL", "ZL"), e["terminal_xl_yl_zl_ft"][p],
+                              c["terminal_xl_yl_zl_ft"][p]):
             row(f"terminal {axis} of {p} (ft)", a, b, "{:.4f}")
     lines.append(f"hit: emulator {e['hit']}")
     lines.append(f"     core     {c['hit']}")
