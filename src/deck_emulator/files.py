@@ -93,11 +93,18 @@ def _check_folder(folder: Path, user_path) -> None:
         raise OutputError(user_path, f"the folder {folder} is not writable", errno.EACCES)
 
 
+def _not_empty(path) -> None:
+    """An empty path names nothing (``Path("")`` is the current folder): refused."""
+    if os.fspath(path) in ("", b""):
+        raise OutputError("''", "an empty path names no file or folder", errno.ENOENT)
+
+
 def check_output_file(path) -> None:
     """Fail now (:class:`OutputError`) if ``path`` cannot be written later: its folder must
     exist and be writable and it must not be a folder.  An existing special file (character
     device, FIFO) is fine if writable; a symbolic link is checked at its target."""
     user = path
+    _not_empty(path)
     target = _resolve(Path(path))
     try:
         st = os.stat(target)
@@ -117,6 +124,7 @@ def check_output_file(path) -> None:
 def check_output_dir(path) -> None:
     """Fail now (:class:`OutputError`) unless ``path`` is a writable folder, or does not exist
     and its parent is a writable folder (it will be created)."""
+    _not_empty(path)
     p = Path(path)
     if p.exists():
         if not p.is_dir():
@@ -300,6 +308,7 @@ def write_file(path, data: str | bytes) -> None:
     ``/dev/stdout``, a FIFO): written as a stream, never replaced.  A symbolic link: its target
     is written (see the module's notes).  Errors raise :class:`OutputError` naming ``path``."""
     user = path
+    _not_empty(path)
     target = _resolve(Path(path))
     raw = _as_bytes(data)
     st = _existing(target, user)

@@ -78,6 +78,8 @@ __all__ = [
     "ishigami_task",
     "ishigami_indices",
     "write_outputs",
+    "check_options",
+    "MAX_N",
 ]
 
 # =================================================================================== inputs
@@ -572,6 +574,8 @@ def parse_input(text: str) -> InputRange:
     except ValueError:
         raise ValueError(f"--input {text!r}: use NAME=LO:HI") from None
     name = name.strip()
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ValueError(f"--input {text!r}: LO and HI must be finite numbers")
     if not lo < hi:
         raise ValueError(f"--input {text!r}: LO must be below HI")
     from deck_emulator.legacy.deck import NAMES
@@ -581,6 +585,23 @@ def parse_input(text: str) -> InputRange:
             f"--input {name!r}: not a deck (READ-list) name nor one of {sorted(SCENE_INPUTS)}"
         )
     return InputRange(name, lo, hi, None, SCENE_INPUTS.get(name, "deck input"))
+
+
+#: Largest base sample N (2**16: 524,288 scenes with the six default inputs).
+MAX_N = 1 << 16
+
+
+def check_options(n: int | None, seed: int) -> None:
+    """The study's N and seed, before any work: ``ValueError`` (one line) unless N is a power
+    of two in [2, :data:`MAX_N`] (``None``: the default) and the seed is an integer >= 0 (the
+    Sobol' sequence's scrambling and the bootstrap take no negative seed)."""
+    if n is not None:
+        if isinstance(n, bool) or not isinstance(n, int) or n < 2 or n & (n - 1):
+            raise ValueError(f"-N {n}: N must be a power of two >= 2 (2, 4, 8 ... 256)")
+        if n > MAX_N:
+            raise ValueError(f"-N {n}: at most {MAX_N} (N (D + 2) scenes are run)")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"--seed {seed}: the seed must be an integer >= 0")
 
 
 def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
@@ -605,16 +626,20 @@ def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
 
 def run_command(args) -> int:
     """``deck-emulator sensitivity`` (options: see the CLI)."""
+    from deck_emulator.files import OutputError, check_output_dir
+
     try:
+        check_options(args.n, args.seed)
         extra = [parse_input(t) for t in args.input or []]
         inputs, notes = choose_inputs(args.engine, extra, defaults=not args.only)
-    except ValueError as exc:
+        check_output_dir(args.out)  # before any work: a missing parent is refused, not made
+    except (ValueError, OutputError) as exc:
         print(f"deck-emulator sensitivity: {exc}", file=sys.stderr)
         return 2
     if not inputs:
         print("deck-emulator sensitivity: no inputs", file=sys.stderr)
         return 2
-    n = args.n if args.n else (16 if args.quick else 256)
+    n = args.n if args.n is not None else (16 if args.quick else 256)
     deck_names = args.deck or ["steel40"]
     problem = problem_for(inputs)
     out = Path(args.out)
