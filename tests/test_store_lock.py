@@ -71,9 +71,11 @@ def _stop(proc: subprocess.Popen) -> None:
 
 def test_a_store_another_run_holds_is_neither_used_nor_deleted(tmp_path):
     out = tmp_path / "out"
-    store = output_store(out, resume=True)
-    SceneStore(store).write_batch([{"scene_id": "a", "task_json": "{}", "status": "ok"}])
+    SceneStore(out / ".scenes").write_batch([{"scene_id": "a", "task_json": "{}",
+                                               "status": "ok"}])
+    store = output_store(out, resume=True)  # an existing store: locked by this process
     kept = SceneStore(store).files()
+    assert len(kept) == 1
     # this test's process holds the folder now: a second process must be refused
     holder = _start(tmp_path, "second", f"""
         import sys
@@ -100,8 +102,9 @@ def test_the_lock_is_released_when_its_holder_is_killed(tmp_path):
     holder = _start(tmp_path, "holder", f"""
         import time
         from deck_emulator.studies.distributed import SceneStore, output_store
-        store = output_store({str(out)!r}, resume=False)
-        SceneStore(store).write_batch([{{"scene_id": "a", "task_json": "{{}}", "status": "ok"}}])
+        SceneStore({str(out / ".scenes")!r}).write_batch(
+            [{{"scene_id": "a", "task_json": "{{}}", "status": "ok"}}])
+        output_store({str(out)!r}, resume=True)
         print("held", flush=True)
         time.sleep(120)
         """)

@@ -50,8 +50,8 @@ Progress: a ``tqdm`` bar on stderr, only when stderr is a terminal: scenes done,
 One run at a time on a store
 ----------------------------
 A store folder is *locked* by the process that uses it (an exclusive ``flock`` on
-``store_dir/.lock``, held by :func:`output_store` for the rest of the process and by
-:func:`run_scenes` while it runs): a second process that asks for the same folder -- two
+``store_dir/.lock``, held by :func:`output_store` for the rest of the process when the store
+exists, and by :func:`run_scenes` while it runs): a second process that asks for the same folder -- two
 ``--resume`` runs, or a new run on a folder a resume is filling -- is refused at once with
 :class:`StoreBusy`, in one line naming the folder and the holder's pid; it does not wait.  The
 kernel releases the lock when its process ends, however it ends (``kill -9`` included), so a
@@ -216,13 +216,16 @@ def scene_id(task: dict) -> str:
 
 def output_store(out_dir, resume: bool) -> Path:
     """The scene store of a command's output folder (:data:`deck_emulator.studies.SCENE_STORE`
-    in it), locked by this process until it ends (:func:`store_lock`; :class:`StoreBusy` when
-    another run holds it); a new run (no ``resume``) starts it empty."""
+    in it).  An existing store is locked by this process until it ends (:func:`store_lock`;
+    :class:`StoreBusy` when another run holds it) and, for a new run (no ``resume``), emptied;
+    a store not made yet is left to :func:`run_scenes`, which locks it as it makes it."""
     import shutil
 
     from deck_emulator.studies import SCENE_STORE
 
     store = Path(out_dir) / SCENE_STORE
+    if not store.exists():
+        return store  # nothing to keep or delete; run_scenes locks it when it makes it
     _acquire(store)  # held for the rest of the process: the command's runs go in it
     if not resume:
         for child in store.iterdir():
