@@ -163,3 +163,16 @@ def test_the_same_seed_gives_byte_identical_tables(tmp_path, seed):
         tables.append(sa.indices_csv([{**r, "deck": "-", "engine": "-"} for r in st.indices]))
     assert tables[0] == tables[1]
     assert "nan" not in tables[0].lower()
+
+
+def test_a_study_whose_every_scene_fails_exits_3_without_tables(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    out = tmp_path / "study"
+    # a post of negative mass: the core refuses every scene of the range
+    code = main(["sensitivity", "-N", "2", "--only", "--input", "W=-1:-0.5", "--jobs", "1",
+                 "--out", str(out)])
+    assert code == 3
+    err = capsys.readouterr().err
+    assert "every scene failed" in err and "mass must be positive" in err
+    assert not (out / "sensitivity.csv").exists() and not (out / "sensitivity.md").exists()

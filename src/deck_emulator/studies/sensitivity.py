@@ -79,6 +79,7 @@ __all__ = [
     "ishigami_indices",
     "write_outputs",
     "check_options",
+    "all_failed",
     "MAX_N",
 ]
 
@@ -344,6 +345,26 @@ def run_study(
     study.ran = len(store.ids()) - before
     study.indices = analyse(problem, Y, sizes, seed=seed)
     return study
+
+
+def all_failed(study: Study) -> str | None:
+    """The first scene's error when no scene of ``study`` ran to its end (each failed, or its
+    engine stopped early: the inputs' ranges left the model's domain, e.g. ``--input
+    W=-1:-0.5``), else ``None``."""
+    rows = study.store.by_id()
+    got = [rows.get(scene_id(t)) for t in study.tasks]
+
+    def why(r):  # None: the scene ran to its end
+        if r is None:
+            return "not run"
+        if r.get("status") != "ok":
+            return r.get("error") or "failed"
+        return r.get("engine_error") or None  # the engine stopped early
+
+    reasons = [why(r) for r in got]
+    if not reasons or any(x is None for x in reasons):
+        return None
+    return str(reasons[0]).splitlines()[0][:200]
 
 
 def bootstrap_seed(seed: int) -> int:
@@ -659,6 +680,11 @@ def run_command(args) -> int:
         studies.append((label, args.engine, st))
         print(f"deck-emulator sensitivity: {label}: {len(st.tasks)} scenes, {st.ran} run now, "
               f"{st.wall_s:.1f} s", file=sys.stderr)
+        failed = all_failed(st)
+        if failed is not None:  # no index can come of it: a run that could not end, exit 3
+            print(f"deck-emulator sensitivity: error: {label}: every scene failed ({failed}); "
+                  "no table written", file=sys.stderr)
+            return 3
     wall = time.perf_counter() - started
     tail = getattr(args, "argv_tail", None) or (
         sys.argv[2:] if sys.argv[1:2] == ["sensitivity"] else [])
