@@ -209,3 +209,48 @@ def test_a_cluster_whose_workers_all_go_ends_the_run_and_keeps_what_was_stored(s
         assert time.monotonic() - started < 90
     stored = Counter(r["scene_id"] for r in store.rows())
     assert 0 < len(stored) < len(tasks) and set(stored.values()) == {1}
+
+
+SLOW_COMMAND = """
+import sys
+from deck_emulator import signals
+from deck_emulator.studies.distributed import run_scenes
+import stub_engine
+
+def main():
+    tasks = [{{"i": i, "sleep": 0.2}} for i in range(400)]
+    run_scenes(tasks, stub_engine.work, store_dir={store!r}, jobs=2, flush_s=0.0,
+               progress=False)
+    return 0
+
+if __name__ == "__main__":  # Dask starts its workers by spawning
+    sys.exit(signals.run(main))
+"""
+
+
+def test_a_terminal_ctrl_c_prints_no_worker_traceback(stub, tmp_path):
+    """Ctrl-C at a terminal reaches the whole process group, the workers included: the
+    command ends with 130 and one line, and no worker prints a KeyboardInterrupt traceback."""
+    from procs import sigint_as_on_a_terminal
+
+    store_dir = tmp_path / "s"
+    script = tmp_path / "command.py"
+    script.write_text(SLOW_COMMAND.format(store=str(store_dir)))
+    err_path = tmp_path / "stderr.txt"
+    proc = subprocess.Popen([sys.executable, str(script)], start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=open(err_path, "w"),
+                            preexec_fn=sigint_as_on_a_terminal)
+    try:
+        deadline = time.monotonic() + 120
+        while len(SceneStore(store_dir).rows()) < 4:  # the workers are busy
+            assert proc.poll() is None, err_path.read_text()[-2000:]
+            assert time.monotonic() < deadline
+            time.sleep(0.05)
+        os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole group
+        proc.wait(timeout=60)
+        time.sleep(1.0)  # what the workers print on their way out
+    finally:
+        _stop(proc)
+    err = err_path.read_text()
+    assert proc.returncode == 130, err[-2000:]
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err[-3000:]

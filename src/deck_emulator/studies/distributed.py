@@ -428,6 +428,8 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
             processes=True,
             dashboard_address=None,
             silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
+            # workers ignore a terminal's Ctrl-C: the command handles it and closes them
+            preload=["deck_emulator.studies.worker_preload"],
         )
     client = Client(cluster)
     try:
