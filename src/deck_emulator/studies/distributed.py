@@ -582,13 +582,13 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
 
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
                       quiet: bool = False, scheduler: str | None = None,
-                      resume: bool = False) -> list[dict]:
+                      resume: bool = False, worker_wait_s: float = WORKER_WAIT_S) -> list[dict]:
     """``[fn(t) for t in tasks]`` on the one scene runner
     (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``
     workers, or the one at ``scheduler``), the costliest tasks (their ``cost``) submitted first
     so that no long run is left for last, every row stored in ``store_dir`` as it finishes
     (``resume``: only the tasks not stored yet run; ``None``: a temporary folder, gone at the
-    end); rows in the tasks' order. A row travels
+    end; ``worker_wait_s``: as :func:`run_scenes`); rows in the tasks' order. A row travels
     as JSON (its arrays as lists). A task that could not run (its ``fn`` raised, its worker
     died) is an error naming it: a study cannot make its tables without it."""
     import functools
@@ -601,7 +601,7 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
         store = run_scenes(order, functools.partial(_json_row, fn),
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
-                           progress=False if quiet else None)
+                           progress=False if quiet else None, worker_wait_s=worker_wait_s)
         stored = store.by_id()
     rows = []
     for t in tasks:
