@@ -1,6 +1,5 @@
 """The post-assembly builder against closed forms and against the report's steel deck."""
 
-import dataclasses
 import math
 
 import numpy as np
@@ -10,7 +9,6 @@ from deck_emulator.core.assembly import (
     G_FT_S2,
     Arm,
     Assembly,
-    BaseMass,
     Shaft,
     arm_properties,
     assembly_names,

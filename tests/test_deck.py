@@ -528,3 +528,41 @@ def test_random_numeric_fields(fields):
 def test_eight_blank_cards_are_a_deck_of_zeros():
     deck = parse_deck("\n" * 8)
     assert set(deck.values.values()) == {0.0}
+
+
+# ------------------------------------------------------------------ files cut short (issue 23)
+
+
+@pytest.mark.parametrize("size", [700, 690, 640, 600])
+def test_a_deck_cut_short_is_refused_naming_the_card(size):
+    # The shipped deck's 9 lines are 81 bytes each ($DATA and 8 cards of 80 columns, each
+    # ended by LF): a cut at byte `size` stops inside data card (size // 81), column
+    # size % 81 -- computed here from the file's layout, not from the reader.
+    data = STEEL40.read_bytes()
+    assert data.count(b"\n") == 9 and len(data) == 9 * 81
+    cut = data[:size]
+    card, column = size // 81, size % 81
+    with pytest.raises(DeckError) as info:
+        parse_deck(cut, path="cut.dat")
+    message = str(info.value)
+    assert f"card {card}" in message and f"after column {column}" in message
+    assert "cut short" in message and "\n" not in message
+
+
+def test_a_whole_last_card_without_a_line_end_still_reads():
+    data = STEEL40.read_bytes()
+    assert parse_deck(data.rstrip(b"\n")).values == parse_deck(data).values
+    # a short card with its line end is a card padded with blanks (the documented rule)
+    short = data.replace(b"1200.0    \n", b"1200.0\n")
+    assert parse_deck(short)["FCONST"] == 1200.0
+
+
+def test_a_utf8_byte_order_mark_is_named_by_every_reader():
+    from deck_emulator.legacy.cardimage import detect_format
+    from deck_emulator.legacy.jobdeck import parse_job
+
+    data = b"\xef\xbb\xbf" + STEEL40.read_bytes()
+    for read in (lambda: detect_format(data), lambda: parse_job(data), lambda: parse_deck(data)):
+        with pytest.raises(DeckError, match="byte-order mark") as info:
+            read()
+        assert "parity" not in str(info.value)

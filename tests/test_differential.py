@@ -7,7 +7,6 @@ printouts compared byte for byte, and how each run ended compared too.
 from __future__ import annotations
 
 import shutil
-import sys
 from pathlib import Path
 
 import pytest

@@ -203,3 +203,25 @@ def test_report_table_column_matches_the_seed(deck_name):
             assert want == cell
         else:
             assert want == float(cell), field
+
+
+# ---- a printed value that overflows its field (issue 23) ------------------------------
+
+
+def test_an_overflowed_terminal_value_reads_as_none_and_is_named(text, deck):
+    # F15.5 prints a value of 10**9 ft or more as a field of asterisks; the last block's
+    # XRFA (record 4743 of the golden) made so must not break the extraction.
+    lines = text.split("\n")
+    k = max(i for i, line in enumerate(lines) if "THE VALUE OF XRFA IS" in line)
+    lines[k] = lines[k].split(" IS ")[0] + " IS " + "*" * 15
+    out = extract("\n".join(lines), deck)
+    assert out.terminal["R"].XL is None
+    assert out.terminal["R"].YL is not None and out.terminal["P"].XL is not None
+    assert any("XRFA overflowed" in n for n in out.notes)
+
+
+def test_a_damaged_value_is_a_named_extract_error(text, deck):
+    damaged = text.replace("THE VALUE OF XRFA IS    0.34894", "THE VALUE OF XRFA IS    0.3#894", 1)
+    assert damaged != text
+    with pytest.raises(ExtractError, match="XRFA"):
+        extract(damaged, deck)

@@ -8,8 +8,6 @@ import signal
 import stat
 import subprocess
 import sys
-import tempfile
-import textwrap
 import threading
 from pathlib import Path
 
@@ -473,3 +471,13 @@ def test_signal_removes_temporaries_and_sets_the_status(tmp_path, sig, code):
     assert p.returncode == code, err
     assert "Traceback" not in err
     assert sorted(os.listdir(tmp_path)) == ["a.txt"] and (tmp_path / "a.txt").read_text() == "old"
+
+
+def test_an_empty_path_is_refused_not_taken_for_the_current_folder(tmp_path, monkeypatch):
+    from deck_emulator.files import OutputError, check_output_file
+
+    monkeypatch.chdir(tmp_path)
+    for check in (check_output_dir, check_output_file):
+        with pytest.raises(OutputError, match="empty path"):
+            check("")
+    assert list(tmp_path.iterdir()) == []

@@ -4,7 +4,6 @@ pulse through the computed decelerations); the command's options and messages.""
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import matplotlib
@@ -407,3 +406,50 @@ def test_twin_plan_view_draws_the_second_arm(tmp_path):
         spots = spots[~in_boxes(spots, labels) & ~near_points(spots, ends[1:], STAR_PX)]
         assert len(spots) > 10, arm
         assert colour_near(img, spots, plot.HIT_COLOUR).all(), arm
+
+
+# ---- exit statuses and bounds (issue 23) ----------------------------------------------
+
+
+def _zero_mass_deck(tmp_path):
+    # card 2, columns 21-30: W (the post's mass, slug) = 0 -- a deck the core refuses and
+    # on which the listing divides by zero at its first step (`run` exits 3 on it)
+    lines = (Path(__file__).resolve().parents[1] / "decks" / "steel40.dat").read_text().split("\n")
+    assert lines[2][20:30] == "15.1      "
+    lines[2] = lines[2][:20] + "0.0       " + lines[2][30:]
+    deck = tmp_path / "w0.dat"
+    deck.write_text("\n".join(lines))
+    return deck
+
+
+def test_a_run_that_stops_before_its_first_step_exits_3_as_run_does(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    deck = _zero_mass_deck(tmp_path)
+    out = tmp_path / "p.png"
+    assert main(["run", str(deck), "--out", str(tmp_path / "r.txt")]) == 3
+    assert main(["plot", str(deck), "--out", str(out)]) == 3
+    assert not out.exists()
+    # the core refuses the scene before any run, as `core` does: bad input
+    assert main(["core", str(deck)]) == 2
+    assert main(["plot", str(deck), "--engine", "core", "--out", str(out)]) == 2
+    assert not out.exists()
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("every", [1e-300, 0.05, float("inf"), float("nan")])
+def test_every_is_bounded_before_the_run(every):
+    from deck_emulator.errors import UsageError
+    from deck_emulator.present.plot import check_every
+
+    with pytest.raises(UsageError) as info:
+        check_every(every)
+    assert "\n" not in str(info.value)
+
+
+def test_every_in_range_passes():
+    from deck_emulator.present.plot import MIN_EVERY_MS, check_every
+
+    for every in (None, MIN_EVERY_MS, 1.6, 20.0):
+        check_every(every)

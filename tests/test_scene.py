@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import tomllib
 from pathlib import Path
 
@@ -220,3 +221,62 @@ def test_the_deck_scene_mapping_goes_both_ways():
         back = Scene.from_deck(deck).deck_values()
         assert set(back) == set(DECK_FIELDS)
         assert {k: deck[k] for k in DECK_FIELDS} == back, name
+
+
+# ---- scene files answered key by key (issue 23) ---------------------------------------
+
+def _deck_scene_text() -> str:
+    from deck_emulator.legacy.deck import read_deck
+
+    return Scene.from_deck(read_deck(STEEL40_DECK), name="steel40").to_toml()
+
+
+STEEL40_DECK = Path(__file__).resolve().parents[1] / "decks" / "steel40.dat"
+
+
+@pytest.mark.parametrize("old,new,key", [
+    ("mass_slug = 15.1", "mass_slug = " + "9" * 400, "post.mass_slug"),
+    ("mass_slug = 15.1", "mass_slug = inf", "post.mass_slug"),
+    ("mass_slug = 15.1", "mass_slug = nan", "post.mass_slug"),
+])
+def test_numbers_beyond_a_double_or_not_finite_name_the_key(old, new, key):
+    text = _deck_scene_text()
+    assert old in text
+    with pytest.raises(SceneError, match=re.escape(key)) as info:
+        Scene.from_toml(text.replace(old, new, 1))
+    assert "\n" not in str(info.value)
+
+
+def test_a_zero_attitude_quaternion_names_the_key():
+    data = tomllib.loads(_deck_scene_text())
+    for q in ([0.0, 0.0, 0.0, 0.0], [1e-300, 0.0, 0.0, 0.0]):
+        data["initial"]["attitude_wxyz"] = q
+        import tomli_w
+
+        with pytest.raises(SceneError, match=re.escape("initial.attitude_wxyz")):
+            Scene.from_toml(tomli_w.dumps(data))
+
+
+def test_a_missing_table_is_named():
+    with pytest.raises(SceneError, match=r"lacks post, environment"):
+        Scene.from_toml('name = "x"\n')
+
+
+def test_scene_files_are_size_capped_and_utf8(tmp_path):
+    from deck_emulator.core.scene import MAX_SCENE_BYTES, read_scene
+
+    good = tmp_path / "s.toml"
+    good.write_text(_deck_scene_text())
+    assert read_scene(good).post.mass_slug == 15.1  # the deck's W (card 1)
+    big = tmp_path / "big.toml"
+    big.write_bytes(good.read_bytes() + b"#" * MAX_SCENE_BYTES)
+    with pytest.raises(SceneError, match="larger than"):
+        read_scene(big)
+    bom = tmp_path / "bom.toml"
+    bom.write_bytes(b"\xef\xbb\xbf" + good.read_bytes())
+    with pytest.raises(SceneError, match="byte-order mark"):
+        read_scene(bom)
+    latin = tmp_path / "latin.toml"
+    latin.write_bytes(good.read_bytes() + b"# \xe9\n")
+    with pytest.raises(SceneError, match="not UTF-8"):
+        read_scene(latin)

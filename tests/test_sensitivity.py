@@ -4,7 +4,6 @@ one engine adapter."""
 
 from __future__ import annotations
 
-import argparse
 import math
 
 import pytest
@@ -105,3 +104,74 @@ def test_the_confidence_intervals_are_the_same_at_every_run():
     first, second = (analyse(problem, Y, [16], seed=0) for _ in range(2))
     assert [r["S1_conf"] for r in first] == [r["S1_conf"] for r in second]
     assert all(np.isfinite(r["S1_conf"]) for r in first)
+
+
+# ---- options checked before any work; the same seed, the same bytes (issue 23) ---------
+
+
+@pytest.mark.parametrize("n,seed,needle", [
+    (0, 0, "power of two"), (3, 0, "power of two"), (1, 0, "power of two"),
+    (-4, 0, "power of two"), (1 << 20, 0, "at most"), (16, -1, "seed"),
+])
+def test_n_and_seed_are_checked(n, seed, needle):
+    with pytest.raises(ValueError, match=needle) as info:
+        sa.check_options(n, seed)
+    assert "\n" not in str(info.value)
+
+
+def test_good_n_and_seed_pass():
+    for n in (None, 2, 16, 256, sa.MAX_N):
+        sa.check_options(n, 0)
+    sa.check_options(16, 12345)
+
+
+@pytest.mark.parametrize("text", ["W=-inf:inf", "W=nan:1", "W=0:inf"])
+def test_input_bounds_must_be_finite(text):
+    with pytest.raises(ValueError, match="finite"):
+        sa.parse_input(text)
+
+
+@pytest.mark.parametrize("extra", [["-N", "0"], ["-N", "3"], ["--seed", "-1"],
+                                   ["--input", "W=-inf:inf"]])
+def test_bad_options_exit_2_and_write_nothing(tmp_path, capsys, extra):
+    from deck_emulator.cli import main
+
+    out = tmp_path / "study"
+    assert main(["sensitivity", *extra, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_a_missing_parent_folder_is_refused(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    assert main(["sensitivity", "--out", str(tmp_path / "a" / "missing" / "d")]) == 2
+    assert not (tmp_path / "a").exists()
+    assert "does not exist" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("seed", [0, 7])
+def test_the_same_seed_gives_byte_identical_tables(tmp_path, seed):
+    problem = {"num_vars": 3, "names": ["x1", "x2", "x3"], "bounds": [[-math.pi, math.pi]] * 3}
+    tables = []
+    for k, jobs in enumerate((1, 2)):  # other workers, other order of finishing
+        st = sa.run_study(problem, 32, sa.ishigami_task, base_task={"a": 7.0, "b": 0.1},
+                          outputs=["y"], store_dir=tmp_path / f"s{k}", seed=seed, jobs=jobs,
+                          digits=False, progress=False)
+        tables.append(sa.indices_csv([{**r, "deck": "-", "engine": "-"} for r in st.indices]))
+    assert tables[0] == tables[1]
+    assert "nan" not in tables[0].lower()
+
+
+def test_a_study_whose_every_scene_fails_exits_3_without_tables(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    out = tmp_path / "study"
+    # a post of negative mass: the core refuses every scene of the range
+    code = main(["sensitivity", "-N", "2", "--only", "--input", "W=-1:-0.5", "--jobs", "1",
+                 "--out", str(out)])
+    assert code == 3
+    err = capsys.readouterr().err
+    assert "every scene failed" in err and "mass must be positive" in err
+    assert not (out / "sensitivity.csv").exists() and not (out / "sensitivity.md").exists()

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import csv
 import itertools
 import math
@@ -12,7 +11,6 @@ import numpy as np
 import pytest
 from matplotlib.colors import to_rgba
 
-from deck_emulator.studies import study_cli as study
 from deck_emulator.studies.error import COLUMNS as ERROR_COLUMNS
 from deck_emulator.studies.stability import COLUMNS as STABILITY_COLUMNS
 from pictures import (

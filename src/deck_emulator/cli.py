@@ -292,6 +292,13 @@ def _nonnegative_int(text: str) -> int:
     return n
 
 
+def _max_k(text: str) -> int:
+    k = _nonnegative_int(text)
+    if k > 8:
+        raise argparse.ArgumentTypeError(f"at most 8 (2**8 times the listing's steps), not {k}")
+    return k
+
+
 def _positive_float(text: str) -> float:
     import math
 
@@ -323,10 +330,15 @@ def _angle_deg(text: str) -> float:
     return x
 
 
+#: The smallest tolerance the core takes: below it (about 45 ulps of 1.0) the step-size
+#: control of solve_ivp cannot meet it and ends in infinities, naming nothing.
+MIN_TOLERANCE = 1e-14
+
+
 def _tolerance(text: str) -> float:
     x = _positive_float(text)
-    if x >= 1:
-        raise argparse.ArgumentTypeError(f"must be below 1, not {text}")
+    if not MIN_TOLERANCE <= x < 1:
+        raise argparse.ArgumentTypeError(f"must be from {MIN_TOLERANCE:g} to below 1, not {text}")
     return x
 
 
@@ -426,8 +438,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         if not args.pages.lower().endswith(".pdf"):
             raise CLIError(f"--pages {args.pages}: the pages are a PDF; name a .pdf file")
-        if args.out and Path(args.out).resolve() == Path(args.pages).resolve():
-            raise CLIError("--out and --pages name the same file")
+        from deck_emulator.files import check_distinct
+
+        check_distinct(args.out, args.pages)  # --out X --pages X: refused before any work
         check_output_file(args.pages)
     elif args.paper != "plain":
         raise CLIError("--paper is the paper of --pages: give --pages FILE.pdf")
@@ -453,12 +466,18 @@ def _cmd_run(args: argparse.Namespace) -> int:
                                        "errata": list(args.erratum)},
             status="stopped" if failed else "ok", notes=src.notes, sections=sections),
             indent=2) + "\n"
-    if not args.pages or args.out or args.json:  # --pages alone: the pages, not the text
+    if not args.pages:
         _emit(args, text)
-    if args.pages:
+    else:  # the printout (if asked for) and its pages: one set, both written or neither
+        from deck_emulator.files import OutputSet
         from deck_emulator.legacy.pages import write_pdf
 
-        write_pdf(records, args.pages, paper=args.paper)
+        with OutputSet() as outputs:
+            if args.out:
+                outputs.write(args.out, text)
+            elif args.json:
+                sys.stdout.write(text)
+            write_pdf(records, args.pages, paper=args.paper, outputs=outputs)
         _say(f"wrote the line printer's pages to {args.pages}")
     if failed is not None:
         _say(f"error: {_failed(*failed)}")
@@ -661,8 +680,9 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--precision", default="double", choices=PRECISIONS,
                    help="the emulator's arithmetic at k = 0 (must run the deck to its end)")
     _add_erratum_option(p)
-    p.add_argument("--max-k", type=_nonnegative_int, default=4, metavar="K",
-                   help="halve the step up to K times, K >= 0 (default 4)")
+    p.add_argument("--max-k", type=_max_k, default=4, metavar="K",
+                   help="halve the step up to K times, 0 <= K <= 8 (default 4; K = 8 runs "
+                   "the listing's 2,054 steps 256 times over)")
     p.add_argument("--rtol", type=_tolerance, default=1e-10,
                    help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default 1e-10)")
     p.add_argument("--as-printed-ed", action="store_true",
@@ -789,7 +809,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     if a is None:  # the crash test
         from deck_emulator.studies import crash_test as ct
 
-        scene = ct.crash_scene()
+        scene = ct.crash_scene(extra["crash_test"])  # the description's own crash test
         if args.what == "scene":
             if args.json:
                 import tomllib
@@ -1148,7 +1168,10 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
         from deck_emulator.studies.study_cli import _cmd_study
 
         if getattr(args, "deck", None):
+            from deck_emulator.legacy.deck import read_deck
+
             args.deck = _deck_file(args.deck, f"study {args.study}")
+            engine_scene(read_deck(args.deck), name=args.deck)  # both engines run it: exit 2
         check_output_dir(args.out)  # before any work, and before the study makes the folder
         status = _cmd_study(args)
         if args.json:
@@ -1205,7 +1228,15 @@ def _outputs_answer(command: str, source, out_dir, status: int) -> dict:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse's parser, but a usage error is one line (and exit status 2)."""
+    """argparse's parser, but a usage error is one line (and exit status 2), and a negative
+    number in exponent form (``--tha-start -1e-5``) is a value, not an option."""
+
+    def __init__(self, *args, **kwargs):
+        import re
+
+        super().__init__(*args, **kwargs)
+        # argparse's own pattern knows -1 and -.5 but not -1e-5
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
     def error(self, message: str):
         self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")

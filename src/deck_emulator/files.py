@@ -7,9 +7,12 @@ never at the cost of something that is not ours.
   beside it, flushed and fsynced, renamed over the target, and the folder fsynced: a reader,
   a crash or a kill sees the old file or the new one, never part of one.  An existing path that
   is not a regular file (a character device such as ``/dev/null`` or ``/dev/stdout``, a FIFO,
-  a socket) is written as a stream and never replaced: it is not ours to replace.
+  a socket) is written as a stream and never replaced: it is not ours to replace.  A FIFO
+  that no reader opens within :data:`FIFO_WAIT_S` is an :class:`OutputError`, not a wait
+  for ever.
 * :class:`OutputSet`: several files committed as one unit (a picture and its animation; a
-  study's CSV, figures and report), optionally as a directory.
+  printout and its PDF; a study's CSV, figures and report), optionally as a directory.
+  :func:`check_distinct` refuses two outputs on one file before any work.
 
 Symbolic links: a link given as the output is written *through*: the file it points to is
 written (atomically, via its resolved path, in the resolved file's folder) and the link stays
@@ -42,6 +45,7 @@ __all__ = [
     "OutputSet",
     "check_output_dir",
     "check_output_file",
+    "check_distinct",
     "write_file",
     "write_atomic",
 ]
@@ -93,11 +97,18 @@ def _check_folder(folder: Path, user_path) -> None:
         raise OutputError(user_path, f"the folder {folder} is not writable", errno.EACCES)
 
 
+def _not_empty(path) -> None:
+    """An empty path names nothing (``Path("")`` is the current folder): refused."""
+    if os.fspath(path) in ("", b""):
+        raise OutputError("''", "an empty path names no file or folder", errno.ENOENT)
+
+
 def check_output_file(path) -> None:
     """Fail now (:class:`OutputError`) if ``path`` cannot be written later: its folder must
     exist and be writable and it must not be a folder.  An existing special file (character
     device, FIFO) is fine if writable; a symbolic link is checked at its target."""
     user = path
+    _not_empty(path)
     target = _resolve(Path(path))
     try:
         st = os.stat(target)
@@ -114,9 +125,32 @@ def check_output_file(path) -> None:
     _check_folder(target.parent if str(target.parent) else Path("."), user)
 
 
+def check_distinct(*paths) -> None:
+    """Fail now (:class:`OutputError`) when two of a command's outputs name one file (the
+    same path, or two paths that resolve to one file: a link, ``./x`` and ``x``); ``None``
+    entries (an output not asked for) are skipped.  Special files (``/dev/null``) may be
+    named twice: they are streams, not files replaced."""
+    seen: dict[str, object] = {}
+    for p in paths:
+        if p is None:
+            continue
+        _not_empty(p)
+        real = os.path.realpath(p)
+        try:
+            if _is_stream(os.stat(real)):
+                continue
+        except OSError:
+            pass
+        if real in seen:
+            raise OutputError(p, f"it names the same file as {seen[real]}: two outputs "
+                              "cannot share a path", errno.EEXIST)
+        seen[real] = p
+
+
 def check_output_dir(path) -> None:
     """Fail now (:class:`OutputError`) unless ``path`` is a writable folder, or does not exist
     and its parent is a writable folder (it will be created)."""
+    _not_empty(path)
     p = Path(path)
     if p.exists():
         if not p.is_dir():
@@ -242,12 +276,43 @@ def _signals_held():
             signal.raise_signal(noted[0])  # its own handler now: KeyboardInterrupt, Terminated
 
 
-def _stream_write(target: Path, user, data: bytes) -> None:
-    """Write ``data`` into an existing special file (device, FIFO) without replacing it."""
+#: Longest wait (s) for a reader to open a FIFO named as an output.
+FIFO_WAIT_S = 10.0
+
+
+def _open_stream(target: Path, user) -> int:
+    """A write descriptor on an existing special file.  A FIFO is opened without blocking,
+    retried until a reader has it open, for at most :data:`FIFO_WAIT_S` (an ``open`` of a
+    FIFO without a reader would block for ever)."""
+    import fcntl
+    import time
+
+    flags = os.O_WRONLY | getattr(os, "O_CLOEXEC", 0)
     try:
-        fd = os.open(target, os.O_WRONLY | getattr(os, "O_CLOEXEC", 0))
+        fifo = stat.S_ISFIFO(os.stat(target).st_mode)
     except OSError as exc:
         raise OutputError(user, _reason(exc), exc.errno) from None
+    deadline = time.monotonic() + FIFO_WAIT_S
+    while True:
+        try:
+            fd = os.open(target, flags | (os.O_NONBLOCK if fifo else 0))
+            break
+        except OSError as exc:
+            if fifo and exc.errno == errno.ENXIO and time.monotonic() < deadline:
+                time.sleep(0.02)
+                continue
+            if fifo and exc.errno == errno.ENXIO:
+                raise OutputError(user, f"no reader opened the FIFO in {FIFO_WAIT_S:g} s",
+                                  errno.ENXIO) from None
+            raise OutputError(user, _reason(exc), exc.errno) from None
+    if fifo:  # a reader is there: write as usual, waiting when the pipe is full
+        fcntl.fcntl(fd, fcntl.F_SETFL, fcntl.fcntl(fd, fcntl.F_GETFL) & ~os.O_NONBLOCK)
+    return fd
+
+
+def _stream_write(target: Path, user, data: bytes) -> None:
+    """Write ``data`` into an existing special file (device, FIFO) without replacing it."""
+    fd = _open_stream(target, user)
     try:
         view = memoryview(data)
         while view:
@@ -260,10 +325,7 @@ def _stream_write(target: Path, user, data: bytes) -> None:
 
 
 def _stream_copy(src: Path, target: Path, user) -> None:
-    try:
-        fd = os.open(target, os.O_WRONLY | getattr(os, "O_CLOEXEC", 0))
-    except OSError as exc:
-        raise OutputError(user, _reason(exc), exc.errno) from None
+    fd = _open_stream(target, user)
     try:
         with open(src, "rb") as fh, os.fdopen(fd, "wb", closefd=False) as out:
             shutil.copyfileobj(fh, out, 1 << 20)
@@ -300,6 +362,7 @@ def write_file(path, data: str | bytes) -> None:
     ``/dev/stdout``, a FIFO): written as a stream, never replaced.  A symbolic link: its target
     is written (see the module's notes).  Errors raise :class:`OutputError` naming ``path``."""
     user = path
+    _not_empty(path)
     target = _resolve(Path(path))
     raw = _as_bytes(data)
     st = _existing(target, user)
@@ -490,6 +553,12 @@ class OutputSet:
             plans.append((stage, real, user, st))
             if st is None or not _is_stream(st):
                 _mode_as_open(stage, st)
+        # Devices and FIFOs first: they are what fails (a full device, a FIFO nobody reads;
+        # see _open_stream), and a stream cannot be taken back -- so no regular file of the
+        # set is replaced unless every stream took its bytes.
+        for stage, real, user, st in plans:
+            if st is not None and _is_stream(st):
+                _stream_copy(stage, real, user)
         folders = set()
         with _signals_held():
             for stage, real, user, st in plans:
@@ -504,9 +573,8 @@ class OutputSet:
                 folders.add(real.parent)
         for folder in folders:
             _fsync_dir(folder)
-        for stage, real, user, st in plans:  # devices and FIFOs last: they may block
+        for stage, real, user, st in plans:
             if st is not None and _is_stream(st):
-                _stream_copy(stage, real, user)
                 with contextlib.suppress(OSError):
                     stage.unlink()
         self._remove_stage_dir()

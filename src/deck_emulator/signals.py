@@ -17,6 +17,15 @@ Usage from a command's ``main()``::
             return code
 
 or simply ``return signals.run(_main, argv)``.
+
+A signal is never swallowed.  Python cannot raise an exception out of a garbage-collector
+callback, a ``__del__`` or a weakref callback: one raised there is printed ("Exception ignored
+in ...") and dropped, and the program went on as if no signal had come (a sweep asleep for
+ever in Dask's start-up; a study that exited 0).  So each signal is noted as *pending* until
+its exception reaches :func:`run`; while one is pending, SIGALRM is armed every
+:data:`REDELIVER_S` seconds and raises it again -- unless it is on its way out already (being
+handled: a ``finally`` or ``with`` exit running on its account, which must not be cut).  A
+command that returns while a signal is pending ends with that signal's status all the same.
 """
 
 from __future__ import annotations
@@ -25,7 +34,7 @@ import signal
 import sys
 
 __all__ = ["Terminated", "install_signal_handlers", "exit_status", "run",
-           "EXIT_SIGINT", "EXIT_SIGTERM"]
+           "EXIT_SIGINT", "EXIT_SIGTERM", "REDELIVER_S"]
 
 EXIT_SIGINT = 128 + signal.SIGINT  # 130
 EXIT_SIGTERM = 128 + signal.SIGTERM  # 143
@@ -40,20 +49,71 @@ class Terminated(BaseException):
         super().__init__(f"terminated by {signal.Signals(signum).name}")
 
 
+#: Seconds after which a signal whose exception has not reached :func:`run` is raised again.
+REDELIVER_S = 0.5
+
+#: Signals raised as exceptions that have not reached :func:`run` yet (first first).
+_pending: list[int] = []
+
+
+def _exception(signum: int) -> BaseException:
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
+
+
+def _arm() -> None:
+    try:
+        signal.signal(signal.SIGALRM, _redeliver)
+        signal.setitimer(signal.ITIMER_REAL, REDELIVER_S)
+    except (ValueError, OSError, AttributeError):  # not the main thread; no SIGALRM here
+        pass
+
+
+def _disarm() -> None:
+    _pending.clear()
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+    except (ValueError, OSError, AttributeError):
+        pass
+
+
+def _on_its_way(exc: BaseException | None) -> bool:
+    """True when a signal's exception is being handled now (in the chain of the exception
+    being handled): it is propagating, its cleanups are running."""
+    seen = 0
+    while exc is not None and seen < 100:
+        if isinstance(exc, (KeyboardInterrupt, Terminated)):
+            return True
+        exc, seen = exc.__context__, seen + 1
+    return False
+
+
 def _raise(signum, frame):
-    raise Terminated(signum)
+    if signum not in _pending:
+        _pending.append(signum)
+    _arm()
+    raise _exception(signum)
+
+
+def _redeliver(signum, frame):
+    if not _pending:
+        return
+    _arm()
+    if _on_its_way(sys.exc_info()[1]):
+        return  # propagating: its finally blocks run; look again later
+    raise _exception(_pending[0])
 
 
 def install_signal_handlers() -> None:
-    """SIGTERM and SIGHUP raise :class:`Terminated`; SIGINT raises KeyboardInterrupt (Python's
-    default, restored if it was changed, but left ignored if our parent ignores it, as a shell
-    does for a background job).  Only possible from the main thread; elsewhere a no-op."""
+    """SIGTERM and SIGHUP raise :class:`Terminated`; SIGINT raises KeyboardInterrupt (as
+    Python's default does, but left ignored if our parent ignores it, as a shell does for a
+    background job); each noted until :func:`run` sees it (the module docstring).  Only
+    possible from the main thread; elsewhere a no-op."""
     try:
         signal.signal(signal.SIGTERM, _raise)
         if hasattr(signal, "SIGHUP") and signal.getsignal(signal.SIGHUP) is not signal.SIG_IGN:
             signal.signal(signal.SIGHUP, _raise)
-        if signal.getsignal(signal.SIGINT) not in (signal.SIG_IGN, signal.default_int_handler):
-            signal.signal(signal.SIGINT, signal.default_int_handler)
+        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+            signal.signal(signal.SIGINT, _raise)  # KeyboardInterrupt, noted until it is seen
     except ValueError:  # not the main thread
         pass
 
@@ -72,12 +132,19 @@ def run(fn, *args, **kwargs) -> int:
     """``fn(*args, **kwargs)`` with the handlers installed; a SIGINT/SIGTERM becomes its exit
     status (one line on stderr), after every ``finally`` has run."""
     install_signal_handlers()
+    _disarm()
     try:
-        return fn(*args, **kwargs)
-    except (KeyboardInterrupt, Terminated) as exc:
-        name = "interrupted" if isinstance(exc, KeyboardInterrupt) else str(exc)
-        try:
-            print(f"deck-emulator: {name}", file=sys.stderr, flush=True)
-        except (OSError, ValueError):
-            pass
-        return exit_status(exc)
+        status = fn(*args, **kwargs)
+        if not _pending:
+            return status
+        exc = _exception(_pending[0])  # swallowed on the way and never raised again in time
+    except (KeyboardInterrupt, Terminated) as caught:
+        exc = caught
+    finally:
+        _disarm()
+    name = "interrupted" if isinstance(exc, KeyboardInterrupt) else str(exc)
+    try:
+        print(f"deck-emulator: {name}", file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass
+    return exit_status(exc)

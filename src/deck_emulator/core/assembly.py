@@ -101,6 +101,8 @@ __all__ = [
     "calibrate_on_steel_deck",
     "CALIBRATION_SCALES",
     "arm_properties",
+    "crash_test_description",
+    "MAX_DESCRIPTION_BYTES",
 ]
 
 IN = 1.0 / 12.0
@@ -377,44 +379,196 @@ def mass_properties(a: Assembly) -> MassProperties:
 # description files (TOML)
 
 
-def _take(cls, data: dict, where: str):
-    known = set(cls.__dataclass_fields__)
-    unknown = set(data) - known
+#: Largest description file read (bytes): the shipped ones are under 3 kB.
+MAX_DESCRIPTION_BYTES = 1_000_000
+
+# The domain of every key: (kind, lower, lower inclusive, optional).  kind "num" is a
+# finite number (TOML integer or float, not a boolean); a lower bound of None is none.
+_POSITIVE = ("num", 0.0, False, False)
+_NON_NEGATIVE = ("num", 0.0, True, False)
+_FINITE = ("num", None, True, False)
+_FIELDS: dict[str, dict[str, tuple]] = {
+    "shaft": {
+        "density_lb_ft3": _POSITIVE, "base_od_in": _POSITIVE, "top_od_in": _POSITIVE,
+        "length_ft": _POSITIVE, "wall_in": ("num", 0.0, False, True),
+    },
+    "base": {"weight_lb": _NON_NEGATIVE, "height_ft": _NON_NEGATIVE},
+    "arm": {
+        "reach_ft": _NON_NEGATIVE, "rise_ft": _FINITE, "weight_lb": _NON_NEGATIVE,
+        "luminaire_weight_lb": _NON_NEGATIVE, "side": ("side",), "shape": ("shape",),
+        "control": ("pair",), "attach_below_top_ft": _NON_NEGATIVE,
+    },
+    "top level": {
+        "name": ("str",), "total_weight_lb": ("num", 0.0, False, True),
+        "s_height_ft": _NON_NEGATIVE, "t_height_ft": _NON_NEGATIVE, "c_height_ft": _NON_NEGATIVE,
+        "pedestal_ft": _NON_NEGATIVE, "gravity_ft_s2": _POSITIVE, "notes": ("str",),
+    },
+}
+_REQUIRED = {
+    "shaft": ("density_lb_ft3", "base_od_in", "top_od_in", "length_ft"),
+    "arm": ("reach_ft", "rise_ft", "weight_lb", "luminaire_weight_lb"),
+    "base": (), "top level": ("name",),
+}
+
+
+def _number(value: Any, key: str) -> float:
+    """A TOML number as a finite float, or an :class:`AssemblyError` naming ``key``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise AssemblyError(f"{key} must be a number, not {type(value).__name__} {value!r:.40}")
+    try:
+        x = float(value)
+    except OverflowError:
+        raise AssemblyError(f"{key} = {value!s:.40} is beyond the range of a double") from None
+    if not math.isfinite(x):
+        raise AssemblyError(f"{key} must be finite, not {x}")
+    return x
+
+
+def _checked(value: Any, rule: tuple, key: str):
+    kind = rule[0]
+    if kind == "num":
+        _, low, inclusive, _ = rule
+        x = _number(value, key)
+        if low is not None and (x < low or (x == low and not inclusive)):
+            raise AssemblyError(f"{key} = {x:g} must be {'>=' if inclusive else '>'} {low:g}")
+        return x
+    if kind == "str":
+        if not isinstance(value, str):
+            raise AssemblyError(f"{key} must be a string, not {type(value).__name__}")
+        return value
+    if kind == "side":
+        x = _number(value, key)
+        if x not in (-1.0, 1.0):
+            raise AssemblyError(f"{key} = {x:g} must be -1 or +1")
+        return x
+    if kind == "shape":
+        if value not in ("straight", "bezier"):
+            raise AssemblyError(f"{key} = {value!r:.40} must be \"straight\" or \"bezier\"")
+        return value
+    if kind == "pair":
+        if not isinstance(value, list) or len(value) != 2:
+            raise AssemblyError(f"{key} must be a list of two numbers")
+        return tuple(_number(x, f"{key}[{i}]") for i, x in enumerate(value))
+    raise AssertionError(kind)  # pragma: no cover
+
+
+def _take(cls, data: Any, where: str):
+    """The dataclass ``cls`` of one table, every key checked against its domain."""
+    return cls(**_checked_table(data, where))
+
+
+def _checked_table(data: Any, where: str) -> dict[str, Any]:
+    """The keys of one table, each checked against its domain (:data:`_FIELDS`)."""
+    if not isinstance(data, dict):
+        raise AssemblyError(f"[{where}] must be a table, not {type(data).__name__}")
+    rules = _FIELDS[where]
+    unknown = set(data) - set(rules)
     if unknown:
         raise AssemblyError(f"unknown key(s) in [{where}]: {', '.join(sorted(unknown))}")
-    kw = {}
-    for k, v in data.items():
-        if isinstance(v, list):
-            v = tuple(float(x) for x in v)
-        elif isinstance(v, int) and not isinstance(v, bool):
-            v = float(v)
-        kw[k] = v
-    try:
-        return cls(**kw)
-    except TypeError as exc:
-        raise AssemblyError(f"[{where}]: {exc}") from None
+    missing = [k for k in _REQUIRED[where] if k not in data]
+    if missing:
+        raise AssemblyError(f"[{where}] lacks {', '.join(missing)}")
+    prefix = "" if where == "top level" else f"{where}."
+    return {k: _checked(v, rules[k], prefix + k) for k, v in data.items()}
 
 
-def assembly_from_toml(text: str) -> tuple[Assembly, dict[str, Any]]:
-    """(assembly, the file's other tables: ``[run]``, ``[crash_test]`` ...) of a description."""
+def _check_geometry(a: Assembly) -> None:
+    """Relations between keys that no single key's domain holds."""
+    L = a.shaft.length_ft
+    if a.shaft.wall_in is not None and a.shaft.wall_in > min(a.shaft.base_od_in, a.shaft.top_od_in) / 2:
+        raise AssemblyError(f"shaft.wall_in = {a.shaft.wall_in:g} is thicker than the tube's radius")
+    for k, arm in enumerate(a.arms, 1):
+        if arm.attach_below_top_ft > L:
+            raise AssemblyError(f"arm {k}: attach_below_top_ft = {arm.attach_below_top_ft:g} is "
+                                f"below the shaft's base (length_ft = {L:g})")
+        if math.hypot(arm.reach_ft, arm.rise_ft + arm.attach_below_top_ft) == 0.0:
+            raise AssemblyError(f"arm {k}: reach_ft and rise_ft give an arm of no length")
+    for key in ("s_height_ft", "t_height_ft", "c_height_ft"):
+        if getattr(a, key) > L:
+            raise AssemblyError(f"{key} = {getattr(a, key):g} is above the shaft's top "
+                                f"(shaft.length_ft = {L:g})")
+
+
+#: The keys of a crash-test description (``[crash_test]`` and ``[crash_test.leaf_spring]``).
+_CRASH_FIELDS = {
+    "post_weight_lb": _POSITIVE, "post_length_ft": _POSITIVE, "cm_from_base_ft": _POSITIVE,
+    "transverse_inertia_slug_ft2": _POSITIVE, "axial_inertia_slug_ft2": _POSITIVE,
+    "vehicle_weight_lb": _POSITIVE, "vehicle_speed_ft_s": _POSITIVE,
+    "impact_height_ft": _NON_NEGATIVE, "base_on_ground": ("bool",),
+    "normal_force_release_ft": _NON_NEGATIVE, "gravity_ft_s2": _POSITIVE,
+}
+_LEAF_FIELDS = {
+    "loading_stiffness_lb_per_ft": ("pair",), "knee_ft": _POSITIVE, "stop_ft": _POSITIVE,
+    "unloading_stiffness_lb_per_ft": ("pair",), "unloading_knee_ft": _NON_NEGATIVE,
+}
+
+
+def crash_test_description(table: Any) -> dict[str, Any]:
+    """The ``[crash_test]`` table of a description, every key present and checked against
+    its domain (:class:`AssemblyError` naming the first that is not)."""
+    if not isinstance(table, dict):
+        raise AssemblyError("[crash_test] must be a table")
+    out: dict[str, Any] = {}
+    for where, rules, data in (("crash_test", _CRASH_FIELDS, table),
+                               ("crash_test.leaf_spring", _LEAF_FIELDS, table.get("leaf_spring"))):
+        if not isinstance(data, dict):
+            raise AssemblyError(f"[{where}] must be a table")
+        extra = set(data) - set(rules) - ({"leaf_spring"} if where == "crash_test" else set())
+        if extra:
+            raise AssemblyError(f"unknown key(s) in [{where}]: {', '.join(sorted(extra))}")
+        missing = [k for k in rules if k not in data]
+        if missing:
+            raise AssemblyError(f"[{where}] lacks {', '.join(missing)}")
+        got = {}
+        for k, rule in rules.items():
+            if rule[0] == "bool":
+                if not isinstance(data[k], bool):
+                    raise AssemblyError(f"{where}.{k} must be true or false")
+                got[k] = data[k]
+            else:
+                got[k] = _checked(data[k], rule, f"{where}.{k}")
+                if rule[0] == "pair" and min(got[k]) <= 0:
+                    raise AssemblyError(f"{where}.{k} must be two stiffnesses > 0")
+        if where == "crash_test":
+            out.update(got)
+        else:
+            out["leaf_spring"] = got
+    if out["cm_from_base_ft"] >= out["post_length_ft"]:
+        raise AssemblyError("crash_test.cm_from_base_ft must lie inside the post (< post_length_ft)")
+    if out["impact_height_ft"] > out["post_length_ft"]:
+        raise AssemblyError("crash_test.impact_height_ft is above the post's top (post_length_ft)")
+    if out["leaf_spring"]["stop_ft"] < out["leaf_spring"]["knee_ft"]:
+        raise AssemblyError("crash_test.leaf_spring.stop_ft must be >= knee_ft")
+    return out
+
+
+def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
+    """(assembly, the file's other tables: ``[run]``, ``[source]``) of a description, or
+    (``None``, ``{"name": ..., "crash_test": checked table}``) of a crash-test description.
+    A text with neither ``[shaft]`` nor ``[crash_test]`` is refused."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise AssemblyError(f"not valid TOML: {exc}") from None
     if "shaft" not in data:
-        return None, data  # not a support assembly (e.g. the crash test's description)
-    arms = tuple(_take(Arm, x, "arm") for x in data.get("arm", []))
+        if "crash_test" not in data:
+            raise AssemblyError("not a description: it has neither a [shaft] nor a "
+                                "[crash_test] table")
+        unknown = set(data) - {"name", "crash_test", "notes", "source"}
+        if unknown:
+            raise AssemblyError(f"unknown key(s) beside [crash_test]: {', '.join(sorted(unknown))}")
+        if not isinstance(data.get("name", ""), str):
+            raise AssemblyError("name must be a string")
+        return None, {**data, "crash_test": crash_test_description(data["crash_test"])}
+    arm_list = data.get("arm", [])
+    if not isinstance(arm_list, list):
+        raise AssemblyError("arm must be an array of tables ([[arm]])")
+    arms = tuple(_take(Arm, x, "arm") for x in arm_list)
     top = {k: v for k, v in data.items() if k not in ("shaft", "arm", "base", "run", "source")}
-    asm = _take(
-        Assembly,
-        {
-            **top,
-            "shaft": _take(Shaft, data["shaft"], "shaft"),
-            "base": _take(BaseMass, data.get("base", {}), "base"),
-        },
-        "top level",
-    )
-    asm = Assembly(**{**asm.__dict__, "arms": arms})
+    asm = Assembly(**_checked_table(top, "top level"), arms=arms,
+                   shaft=_take(Shaft, data["shaft"], "shaft"),
+                   base=_take(BaseMass, data.get("base", {}), "base"))
+    _check_geometry(asm)
     extra = {k: data[k] for k in ("run", "source") if k in data}
     return asm, extra
 
@@ -427,13 +581,28 @@ def assembly_names() -> list[str]:
     return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
 
 
-def load_assembly(name_or_path: str):
-    """(assembly or None, extra tables, text) of a shipped description (by name) or a file."""
-    import importlib.resources
+def _read_description(path: str) -> str:
+    """A description file's text: at most :data:`MAX_DESCRIPTION_BYTES`, UTF-8."""
     from pathlib import Path
 
+    with Path(path).open("rb") as f:
+        raw = f.read(MAX_DESCRIPTION_BYTES + 1)
+    if len(raw) > MAX_DESCRIPTION_BYTES:
+        raise AssemblyError(f"{path}: larger than {MAX_DESCRIPTION_BYTES} bytes; not a description")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise AssemblyError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+
+
+def load_assembly(name_or_path: str):
+    """(assembly or None, extra tables, text) of a shipped description (by name) or a file;
+    for a crash-test description the assembly is ``None`` and ``extra["crash_test"]`` is its
+    checked table (:func:`crash_test_description`)."""
+    import importlib.resources
+
     if name_or_path.endswith(".toml"):
-        text = Path(name_or_path).read_text()
+        text = _read_description(name_or_path)
     else:
         f = importlib.resources.files("deck_emulator.assemblies") / f"{name_or_path}.toml"
         if not f.is_file():

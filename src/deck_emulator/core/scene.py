@@ -33,6 +33,7 @@ emulator and the core can be traced to one option.
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, is_dataclass, replace
@@ -63,6 +64,8 @@ __all__ = [
     "LISTING_NORMAL_RELEASE_FT",
     "DECK_FIELDS",
     "SceneError",
+    "read_scene",
+    "MAX_SCENE_BYTES",
 ]
 
 Vec3 = tuple[float, float, float]
@@ -435,6 +438,10 @@ class Scene:
                 out.append(f"{what} must be positive, got {value!r}")
         if self.vehicle is not None and not self.vehicle.mass_slug > 0.0:
             out.append(f"vehicle mass must be positive, got {self.vehicle.mass_slug!r}")
+        q = self.initial.attitude_wxyz
+        if not math.isfinite(sum(c * c for c in q)) or not sum(c * c for c in q) > 0.0:
+            out.append(f"initial.attitude_wxyz = {list(q)} is not a rotation (a quaternion "
+                       "of non-zero, finite length)")
         return out
 
     def checked(self) -> "Scene":
@@ -628,7 +635,7 @@ def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
     kwargs = {}
     for f in fields(cls):
         if f.name not in data:
-            continue  # default (required fields fail below with a clear message)
+            continue  # its default
         value = data[f.name]
         tp = hints[f.name]
         args = typing.get_args(tp)
@@ -652,6 +659,13 @@ def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
             kwargs[f.name] = value
         else:  # pragma: no cover - no other field types
             raise SceneError(f"{path}: unsupported type {tp!r}")
+    import dataclasses
+
+    missing = [f.name for f in fields(cls) if f.name not in data
+               and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+    if missing:
+        lacks = ", ".join(f"{where}.{m}" if where else m for m in missing)
+        raise SceneError(f"[{where or 'top level'}] lacks {lacks}")
     try:
         return cls(**kwargs)
     except TypeError as exc:
@@ -659,9 +673,38 @@ def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
 
 
 def _number(value: Any, path: str) -> float:
+    """A TOML number as a finite float (TOML allows inf, nan and integers beyond a double's
+    range): :class:`SceneError` naming ``path`` otherwise."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneError(f"{path} must be a number, got {value!r}")
-    return float(value)
+        raise SceneError(f"{path} must be a number, got {value!r:.40}")
+    try:
+        x = float(value)
+    except OverflowError:
+        raise SceneError(f"{path} = {value!s:.40}...: beyond the range of a double") from None
+    if not math.isfinite(x):
+        raise SceneError(f"{path} = {x}: not a finite number")
+    return x
+
+
+#: Largest scene file read (bytes), as for decks: a scene TOML is about 2 kB.
+MAX_SCENE_BYTES = 1 << 20
+
+
+def read_scene(path: str | os.PathLike[str]) -> "Scene":
+    """The scene of a TOML file: at most :data:`MAX_SCENE_BYTES` read, UTF-8 without a
+    byte-order mark, every key checked (:meth:`Scene.from_toml`).  :class:`SceneError` (one
+    line) for what the file holds; ``OSError`` when it cannot be read."""
+    with open(path, "rb") as handle:
+        data = handle.read(MAX_SCENE_BYTES + 1)
+    if len(data) > MAX_SCENE_BYTES:
+        raise SceneError(f"file is larger than {MAX_SCENE_BYTES} bytes; a scene TOML is a few kB")
+    if data.startswith(b"\xef\xbb\xbf"):
+        raise SceneError("starts with a UTF-8 byte-order mark; save it as plain UTF-8")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"not UTF-8 text (byte {exc.start})") from None
+    return Scene.from_toml(text)
 
 
 # --------------------------------------------------------------------------------------

@@ -135,9 +135,10 @@ class EmulatorEngine:
             out.hit_message = event_message(out.hit)
         if self.trace and run.trace:
             _emulator_arrays(out, run.trace, d)
-        _printed_quantities(out, run, deck)
+        printed_notes = _printed_quantities(out, run, deck)
         if run.error is None:
             out.flags = _listing_flags(out)
+        out.flags += [n for n in printed_notes if "overflow" in n]  # a field printed as ****
         return out
 
 
@@ -190,10 +191,11 @@ def _printed_quantities(out: Outcome, run, deck) -> None:
     try:
         printed = extract(run.records, deck)
     except (ExtractError, ZeroDivisionError):
-        return
+        return []
     out.delta_v_crush_mph = printed.delta_v_crush_mph
     out.max_decel_g = printed.max_decel_g
     out.terminal = {k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()}
+    return list(printed.notes)
 
 
 def _listing_flags(out: Outcome) -> list[str]:

@@ -20,7 +20,6 @@ Every refusal is a :class:`~deck_emulator.legacy.deck.DeckError` or
 
 from __future__ import annotations
 
-import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,7 +28,8 @@ from deck_emulator.errors import UsageError
 
 __all__ = ["Source", "load_source", "is_scene_file", "SCENE_MAX_BYTES"]
 
-#: A scene file larger than this is refused before it is read (a scene is a few kB).
+#: How much of a file is read to tell a scene from a deck (a scene is a few kB; reading one
+#: whole is capped in :func:`deck_emulator.core.scene.read_scene`).
 SCENE_MAX_BYTES = 1 << 20
 
 
@@ -123,24 +123,12 @@ def _resolve(given: str) -> tuple[str, Path]:
 
 
 def _read_scene(name: str, path: Path):
-    import tomllib
-
-    from deck_emulator.core.scene import Scene, SceneError
+    from deck_emulator.core.scene import SceneError, read_scene
 
     try:
-        size = path.stat().st_size
-        if size > SCENE_MAX_BYTES:
-            raise UsageError(f"{name}: a scene file of {size} bytes; scenes are a few kB "
-                             f"(at most {SCENE_MAX_BYTES} bytes are read)")
-        text = path.read_text(encoding="utf-8")
+        return read_scene(path)  # size-capped, UTF-8, every key checked
     except OSError as exc:
         raise UsageError(f"{name}: cannot read: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise UsageError(f"{name}: not a scene: not UTF-8 text ({exc.reason} at byte "
-                         f"{exc.start})") from None
-    try:
-        _finite_numbers(tomllib.loads(text))
-        return Scene.from_toml(text)
     except (SceneError, ValueError, KeyError, TypeError, OverflowError) as exc:
         import re
 
@@ -149,22 +137,6 @@ def _read_scene(name: str, path: Path):
         if missing:
             message = "missing " + ", ".join(f"[{m}]" for m in missing)
         raise UsageError(f"{name}: not a scene: {message}") from None
-
-
-def _finite_numbers(tree) -> None:
-    """A scene's numbers must be finite (TOML allows inf and nan): ValueError naming the key."""
-
-    def walk(node, where):
-        if isinstance(node, dict):
-            for k, v in node.items():
-                walk(v, f"{where}.{k}" if where else k)
-        elif isinstance(node, list):
-            for i, v in enumerate(node):
-                walk(v, f"{where}[{i}]")
-        elif isinstance(node, float) and not math.isfinite(node):
-            raise ValueError(f"{where} = {node}: not a finite number")
-
-    walk(tree, "")
 
 
 def load_source(given, *, card_format: str = "auto", keypunch: str | None = None,

@@ -245,6 +245,9 @@ def _simulator_guess(data: bytes) -> str:
     return mode
 
 
+_UTF8_BOM = b"\xef\xbb\xbf"
+
+
 def detect_format(data: bytes, path=None) -> str:
     """The card format of ``data``, when it is unambiguous; else :class:`DeckError`."""
     if not data:
@@ -258,6 +261,9 @@ def detect_format(data: bytes, path=None) -> str:
         fits.append(name)
     if len(fits) == 1:
         return fits[0]
+    if data.startswith(_UTF8_BOM):
+        raise DeckError("the file starts with a UTF-8 byte-order mark (bytes EF BB BF): save "
+                        "the deck as plain ASCII", path=path)
     if len(fits) > 1:
         raise DeckError(f"the card format is ambiguous: the file reads as {' and as '.join(fits)}"
                         "; say which with --card-format", path=path)

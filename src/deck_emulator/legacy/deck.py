@@ -233,8 +233,12 @@ def parse_deck(text: str | bytes, path: str | None = None) -> Deck:
     lines = text.split("\n")
     if lines and lines[-1] == "":
         lines.pop()  # the final newline ends the last card; it is not a card
+        unended = None
+    else:
+        unended = len(lines)  # the last line has no line end (or the text is empty)
 
     data_cards: list[str] = []
+    last_is_data = False
     for line_no, line in enumerate(lines, start=1):
         if line.endswith("\r"):
             line = line[:-1]
@@ -267,6 +271,7 @@ def parse_deck(text: str | bytes, path: str | None = None) -> Deck:
         _check_characters(line, card_no=card_no, line_no=line_no, control=is_control, path=path)
         if not is_control:
             data_cards.append(line)
+        last_is_data = not is_control
 
     if len(data_cards) < N_CARDS and not any(card.strip(" ") for card in data_cards):
         if not data_cards:
@@ -276,6 +281,20 @@ def parse_deck(text: str | bytes, path: str | None = None) -> Deck:
         raise DeckError(
             f"empty deck: {detail}; expected 8 cards in FORMAT(8F10.5), "
             f"card 1 holding {', '.join(READ_LIST[0])}",
+            path=path,
+        )
+    if unended and last_is_data and len(data_cards[-1]) < CARD_COLUMNS:
+        # A short card is a card padded with blanks -- when its line ends.  A last line that
+        # stops short of column 80 with no line end is a file cut short: its missing
+        # columns (and cards) would read as zeros, or worse (trailing blanks are zeros).
+        number, columns = len(data_cards), len(data_cards[-1])
+        field_no = min(columns // FIELD_WIDTH + 1, FIELDS_PER_CARD)
+        raise DeckError(
+            f"the file ends after column {columns} with no line end, so "
+            f"{READ_LIST[number - 1][field_no - 1]} and the fields after it are incomplete: "
+            f"it looks cut short (end a short card with a line end, or give all 80 columns)",
+            card=number,
+            line=unended,
             path=path,
         )
     if len(data_cards) < N_CARDS:

@@ -194,9 +194,11 @@ class ED:
                 cur = lab  # the label being executed (named by any error)
                 iterations += 1
                 if iterations > max_iterations:
+                    shown = ", ".join(f"{n} = {ar.to_float(x):.6g}" for n, x in
+                                      (("D", D), ("DH", DH), ("H", H)) if x is not None)
                     raise EmulatorError(
                         f"ED's root search did not converge in {max_iterations} iterations "
-                        f"(D = {ar.to_float(D):.6g}, DH = {ar.to_float(DH):.6g}, H = {ar.to_float(H):.6g})",
+                        f"({shown or 'before D was set'})",
                         label=f"ED {lab}", guard="ed_iterations")
                 if lab == 0:
                     lab = IF(L - 25, 21, 21, 22)  # IF(L-25)21,21,22  (integer)

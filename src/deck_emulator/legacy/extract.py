@@ -225,10 +225,14 @@ def _records(printout) -> list[str]:
     raise TypeError(f"cannot read a printout from {type(printout).__name__}")
 
 
-def _number(text: str) -> float | None:
+def _number(text: str, label: str, record: int) -> float | None:
     if set(text) <= {"*"}:
         return None  # field overflow: F10.5 / F15.5 filled with asterisks
-    return float(text)
+    try:
+        return float(text)
+    except ValueError:
+        raise ExtractError(f"record {record + 1}: THE VALUE OF {label} IS {text[:20]!r}: "
+                           "not a number (a damaged printout?)") from None
 
 
 def parse_printout(printout) -> list[Block | Message]:
@@ -259,7 +263,7 @@ def parse_printout(printout) -> list[Block | Message]:
             if cur is None:  # values without a page eject before them (a cut printout)
                 cur, start = {}, i
             for label, text in found:
-                cur[LABEL_VARIABLE.get(label, label)] = _number(text)
+                cur[LABEL_VARIABLE.get(label, label)] = _number(text, label, i)
     close()
     return items
 
@@ -363,6 +367,11 @@ def extract(printout, deck) -> Outcome:
             v = term.values
             terminal[p] = PointL(conv(v.get(f"X{p}FA"), xq0), conv(v.get(f"YY{p}FA"), yq0),
                                  conv(v.get(f"ZZ{p}FA"), h, +1))
+            starred = [n for n in (f"X{p}FA", f"YY{p}FA", f"ZZ{p}FA")
+                       if n in v and v[n] is None]
+            if starred:
+                notes.append(f"terminal point {p} unknown: {', '.join(starred)} overflowed "
+                             "its printed field (all *)")
 
     return Outcome(
         events=tuple(events), hit=hit, hit_time_s=hit_time, final_time_s=final_time,

@@ -114,13 +114,41 @@ def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
     return fig
 
 
-def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain") -> int:
-    """Write the printout's forms to ``path`` as PDF; return the number of pages."""
-    from matplotlib import rc_context
-    from matplotlib.backends.backend_pdf import PdfPages
+def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain", *,
+              outputs=None) -> int:
+    """Write the printout's forms to ``path`` as PDF, through the one writer; return the
+    number of pages.
+
+    ``outputs``: an open :class:`~deck_emulator.files.OutputSet` to stage the PDF in, so that
+    it is committed with the set's other files (the printout itself: both or neither);
+    without it the PDF is committed alone.  Either way a kill leaves the old file or the new
+    one whole, and a PDF that cannot be made (a full disk: ``zlib.error`` or ``OSError`` from
+    the PDF backend) is an :class:`~deck_emulator.files.OutputError` naming ``path``, with
+    nothing left behind."""
+    import zlib
+
+    from deck_emulator.files import OutputError, OutputSet
 
     if paper not in ("plain", "striped"):
         raise ValueError(f"paper must be plain or striped, not {paper!r}")
+    if outputs is None:
+        with OutputSet() as own:
+            return write_pdf(records, path, paper, outputs=own)
+    stage = outputs.path(path)
+    try:
+        return _render_pdf(records, stage, paper)
+    except OutputError:
+        raise
+    except (OSError, zlib.error, MemoryError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+        raise OutputError(path, f"the PDF could not be written: {reason}",
+                          getattr(exc, "errno", None)) from None
+
+
+def _render_pdf(records: list[str], path, paper: str) -> int:
+    from matplotlib import rc_context
+    from matplotlib.backends.backend_pdf import PdfPages
+
     forms = layout(records)
     with rc_context(_RC), PdfPages(path) as pdf:
         for form in forms:

@@ -63,7 +63,9 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
     risk = None
     if out.scene is not None and out.t.size and quantities.value("oiv_m_s", out) is not None:
         risk = quantities.values(out, OCCUPANT_RISK)
-    terminal = {k: [round(float(v), POINT_DIGITS) for v in p]
+    # a coordinate the printout could not hold (its field overflowed: ****) is None; the
+    # outcome's flags name it
+    terminal = {k: [None if v is None else round(float(v), POINT_DIGITS) for v in p]
                 for k, p in (out.terminal or {}).items() if p is not None}
     return envelope(
         command, source, settings=settings, status="stopped" if out.error else "ok",
@@ -112,7 +114,7 @@ def render_outcome(a: dict) -> str:
     lines += [""] + _table(_quantity_rows(a["quantities"]), ("outcome", "name", "value", "unit"),
                            {2})
     if a["terminal_xl_yl_zl_ft"]:
-        rows = [(k, *(f"{x:.{POINT_DIGITS}f}" for x in p))
+        rows = [(k, *("*" * 10 if x is None else f"{x:.{POINT_DIGITS}f}" for x in p))
                 for k, p in a["terminal_xl_yl_zl_ft"].items()]
         lines += ["", "at the hit (ft, the report's XL, YL, ZL axes)"]
         lines += ["  " + s for s in _table(rows, ("point", "XL", "YL", "ZL"), {1, 2, 3})]

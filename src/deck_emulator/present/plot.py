@@ -87,11 +87,36 @@ def _mpl():
 # ====================================================================== geometry helpers
 
 
+#: Most instants a picture draws the post at (``--every`` finer than the run allows is refused).
+MAX_INSTANTS = 2000
+#: Finest ``--every`` (ms) taken before the run: the listing prints every 1.6 ms.
+MIN_EVERY_MS = 0.1
+
+
+def check_every(every_ms: float | None) -> None:
+    """``--every`` before any work: ``None`` (the default), or a finite number of ms at least
+    :data:`MIN_EVERY_MS`; ``UsageError`` (one line) otherwise."""
+    from deck_emulator.errors import UsageError
+
+    if every_ms is None:
+        return
+    if not (math.isfinite(every_ms) and every_ms > 0):
+        raise UsageError(f"--every {every_ms:g}: must be a positive, finite number of ms")
+    if every_ms < MIN_EVERY_MS:
+        raise UsageError(f"--every {every_ms:g}: at least {MIN_EVERY_MS:g} ms (the listing "
+                         "prints every 1.6 ms)")
+
+
 def instants(res: Outcome, every: float | None = None) -> list[int]:
-    """Sample indices at regular instants from t = 0 to the end (the end included)."""
+    """Sample indices at regular instants from t = 0 to the end (the end included); at most
+    :data:`MAX_INSTANTS` of them (``ValueError`` beyond)."""
     end = res.end_time_s
     if every is None:
         every = next((s for s in (0.01, 0.02, 0.025, 0.05, 0.1, 0.2) if end / s <= 20), 0.5)
+    if end / every > MAX_INSTANTS:
+        raise ValueError(f"--every {1000 * every:g} ms draws the post {end / every:.0f} times "
+                         f"over the run's {1000 * end:g} ms; at most {MAX_INSTANTS}: a larger "
+                         "--every")
     ts = np.arange(0.0, end + 1e-9, every)
     idx = sorted({res.at(t) for t in ts} | {len(res.t) - 1})
     return idx
@@ -844,10 +869,16 @@ def _run_for_plot(deck, engine, args) -> Outcome:
 def _cmd_plot(args: argparse.Namespace) -> int:
     from deck_emulator.errors import UsageError as CLIError
 
-    if args.every is not None and not args.every > 0:
-        raise CLIError("--every must be positive (ms)")
+    check_every(args.every)
     check_plot_outputs(args.out, args.animate)
     deck = args.source  # a deck, or a scene (core): read by the command line
+    if args.engine == "core" and not args.pulse and hasattr(deck, "values"):
+        # the core refuses such a deck's scene as `core` does: bad input (2), before any run
+        from deck_emulator.core.scene import Scene
+
+        problems = Scene.from_deck(deck, checked=False).problems()
+        if problems:
+            raise CLIError(f"{getattr(deck, 'path', None) or args.name}: {problems[0]}")
     out = Path(args.out)
     gif = Path(args.animate) if args.animate else None
     every = None if args.every is None else args.every / 1000.0
@@ -863,7 +894,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _draw_plot(args, deck, out, every, files):
     """Run the engine(s) and stage the picture in ``files``: (exit status, the main result)."""
-    from deck_emulator.errors import UsageError as CLIError
+    from deck_emulator.errors import RunFailed, UsageError as CLIError
 
     if args.pulse:
         results = []
@@ -873,15 +904,19 @@ def _draw_plot(args, deck, out, every, files):
             except ImportError as exc:  # the core not installed: the emulator alone
                 print(f"deck-emulator: the {engine} is not available ({exc})", file=sys.stderr)
         results = [r for r in results if r.t.size]
-        if not results:
-            raise CLIError("no engine produced a velocity history")
+        if not results:  # every run stopped before its first step: as `run` says, exit 3
+            raise RunFailed("no engine produced a velocity history")
         _savefig(figure_pulse(results), files.path(out))
         main = next((r for r in results if r.engine == args.engine), results[0])
         status = 3 if any(r.error for r in results) else 0
     else:
         main = _run_for_plot(deck, args.engine, args)
-        if not main.t.size:
-            raise CLIError(f"the {args.engine} produced no trajectory: {main.error}")
+        if not main.t.size:  # the run stopped before its first step: as `run` says, exit 3
+            raise RunFailed(f"the {args.engine} produced no trajectory: {main.error}")
+        try:
+            instants(main, every)  # too many instants for --every: said before drawing
+        except ValueError as exc:
+            raise CLIError(str(exc)) from None
         _savefig(figure_trajectory(main, args.view, every), files.path(out))
         status = 3 if main.error else 0
     return status, main

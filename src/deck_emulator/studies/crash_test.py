@@ -44,19 +44,25 @@ __all__ = ["crash_description", "crash_scene", "state_row", "table10", "table9_s
 G = G_FT_S2  # the report's gravity (units.py)
 
 
-def crash_description() -> dict:
-    """The ``[crash_test]`` table of the shipped description."""
-    _, extra, text = load_assembly("crash_test")
-    import tomllib
+def crash_description(name_or_path: str = "crash_test") -> dict:
+    """The checked ``[crash_test]`` table of a crash-test description: the shipped one by
+    default, or a user's file (``.toml``); :class:`~deck_emulator.core.assembly.AssemblyError`
+    when the file is not a crash-test description or a value is out of its domain."""
+    from deck_emulator.core.assembly import AssemblyError
 
-    return tomllib.loads(text)["crash_test"]
+    asm, extra, _ = load_assembly(name_or_path)
+    if asm is not None:
+        raise AssemblyError(f"{name_or_path}: a support assembly, not a crash-test description")
+    return extra["crash_test"]
 
 
-def crash_scene(**changes) -> Scene:
-    """The crash-test scene; keyword arguments override the description's values
-    (``impact_height_ft=2.0``, ``unloading_knee_ft=...``, ``normal_force_release_ft=0`` for
-    no normal force, ``base_on_ground=False`` ...)."""
-    d = crash_description()
+def crash_scene(description: dict | None = None, **changes) -> Scene:
+    """The crash-test scene of ``description`` (a checked ``[crash_test]`` table, as
+    :func:`crash_description` or ``load_assembly(...)[1]["crash_test"]`` gives; the shipped
+    one when ``None``); keyword arguments override its values (``impact_height_ft=2.0``,
+    ``unloading_knee_ft=...``, ``normal_force_release_ft=0`` for no normal force,
+    ``base_on_ground=False`` ...)."""
+    d = crash_description() if description is None else description
     spring = dict(d["leaf_spring"])
     for k in list(changes):
         if k in spring:

@@ -46,6 +46,27 @@ Dask's ``KilledWorker`` message. Neither stops the other scenes. Failed scenes c
 resume does not run them again (``retry_failed=True`` does).
 
 Progress: a ``tqdm`` bar on stderr, only when stderr is a terminal: scenes done, failed, rate.
+
+One run at a time on a store
+----------------------------
+A store folder is *locked* by the process that uses it (an exclusive ``flock`` on
+``store_dir/.lock``, held by :func:`output_store` for the rest of the process when the store
+exists, and by :func:`run_scenes` while it runs): a second process that asks for the same folder -- two
+``--resume`` runs, or a new run on a folder a resume is filling -- is refused at once with
+:class:`StoreBusy`, in one line naming the folder and the holder's pid; it does not wait.  The
+kernel releases the lock when its process ends, however it ends (``kill -9`` included), so a
+killed run never leaves a folder locked.  No command deletes a store another run holds:
+:func:`output_store` takes the lock before it empties the folder.
+
+Bounds
+------
+At most ``max_scenes`` (default :data:`MAX_SCENES`) scenes a call (:class:`SceneLimitError`,
+before anything runs).  On an external scheduler (``scheduler=``), the run waits at most
+``worker_wait_s`` (default :data:`WORKER_WAIT_S`) for a worker: at the start, and whenever
+every worker is gone while scenes remain; then it ends with
+:class:`~deck_emulator.errors.RunFailed` naming the scheduler (the scenes completed so far
+stay stored; ``--resume`` runs the rest).  An address Dask cannot reach or parse is a
+:class:`ClusterError`.
 """
 
 from __future__ import annotations
@@ -63,6 +84,8 @@ import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from deck_emulator.errors import RunFailed, UsageError
+
 __all__ = [
     "run_longest_first",
     "output_store",
@@ -70,7 +93,13 @@ __all__ = [
     "SceneStore",
     "run_scenes",
     "StoreError",
+    "StoreBusy",
+    "SceneLimitError",
+    "ClusterError",
+    "store_lock",
     "META_COLUMNS",
+    "MAX_SCENES",
+    "WORKER_WAIT_S",
 ]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
@@ -79,8 +108,83 @@ RESULTS = "results"
 BATCH_MAX = 256
 
 
-class StoreError(RuntimeError):
-    """A store that cannot be used as asked (e.g. results exist and ``resume`` was not given)."""
+#: Most scenes one call of :func:`run_scenes` takes.
+MAX_SCENES = 1_000_000
+#: Longest wait (s) for a worker of an external cluster before the run ends as failed.
+WORKER_WAIT_S = 60.0
+LOCK_NAME = ".lock"
+
+
+class StoreError(UsageError, RuntimeError):
+    """A store that cannot be used as asked (e.g. results exist and ``resume`` was not given):
+    bad input, exit status 2, nothing run."""
+
+
+class StoreBusy(StoreError):
+    """Another live process holds the store folder (:func:`store_lock`)."""
+
+
+class SceneLimitError(UsageError, ValueError):
+    """More scenes than a call takes (``max_scenes``)."""
+
+
+class ClusterError(UsageError, ValueError):
+    """The scheduler's address cannot be parsed or reached: bad input, exit status 2."""
+
+
+# ================================================================================ the lock
+
+#: store folder (resolved) -> [open lock file descriptor, depth]: the locks this process holds
+_HELD: dict[str, list[int]] = {}
+
+
+def _acquire(store_dir) -> str:
+    """Take (or take again: it counts) this process's lock on ``store_dir``; the folder is
+    made if need be.  :class:`StoreBusy` when another process holds it."""
+    import fcntl
+
+    folder = Path(store_dir)
+    folder.mkdir(parents=True, exist_ok=True)
+    key = os.path.realpath(folder)
+    if key in _HELD:
+        _HELD[key][1] += 1
+        return key
+    fd = os.open(folder / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        holder = os.pread(fd, 32, 0).decode("ascii", "replace").strip() or "?"
+        os.close(fd)
+        raise StoreBusy(f"{store_dir} is in use by another run (pid {holder}): wait for it to "
+                        "end, or use another folder") from None
+    except BaseException:
+        os.close(fd)
+        raise
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    _HELD[key] = [fd, 1]
+    return key
+
+
+def _release(key: str) -> None:
+    held = _HELD.get(key)
+    if held is None:
+        return
+    held[1] -= 1
+    if held[1] <= 0:
+        del _HELD[key]
+        os.close(held[0])  # closing the descriptor releases the flock
+
+
+@contextlib.contextmanager
+def store_lock(store_dir):
+    """Hold the exclusive lock of a store folder for the ``with`` block (re-entrant in one
+    process); :class:`StoreBusy` at once when another process holds it."""
+    key = _acquire(store_dir)
+    try:
+        yield Path(store_dir)
+    finally:
+        _release(key)
 
 
 def _canonical(task: dict) -> str:
@@ -112,14 +216,25 @@ def scene_id(task: dict) -> str:
 
 def output_store(out_dir, resume: bool) -> Path:
     """The scene store of a command's output folder (:data:`deck_emulator.studies.SCENE_STORE`
-    in it); a new run (no ``resume``) starts it empty."""
+    in it).  An existing store is locked by this process until it ends (:func:`store_lock`;
+    :class:`StoreBusy` when another run holds it) and, for a new run (no ``resume``), emptied;
+    a store not made yet is left to :func:`run_scenes`, which locks it as it makes it."""
     import shutil
 
     from deck_emulator.studies import SCENE_STORE
 
     store = Path(out_dir) / SCENE_STORE
-    if not resume and store.exists():
-        shutil.rmtree(store)
+    if not store.exists():
+        return store  # nothing to keep or delete; run_scenes locks it when it makes it
+    _acquire(store)  # held for the rest of the process: the command's runs go in it
+    if not resume:
+        for child in store.iterdir():
+            if child.name == LOCK_NAME:
+                continue
+            if child.is_dir() and not child.is_symlink():
+                shutil.rmtree(child)
+            else:
+                child.unlink()
     return store
 
 
@@ -283,15 +398,26 @@ class _Bar:
 
 
 @contextlib.contextmanager
-def _client(jobs: int | None, scheduler: str | None):
+def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORKER_WAIT_S):
     from distributed import Client, LocalCluster
 
     if scheduler:
-        client = Client(scheduler)
         try:
+            client = Client(scheduler, timeout=max(1.0, worker_wait_s))
+        except (ValueError, OSError, TimeoutError) as exc:
+            why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ClusterError(f"--scheduler {scheduler}: cannot reach the scheduler: "
+                               f"{why}") from None
+        try:
+            try:
+                client.wait_for_workers(1, timeout=worker_wait_s)
+            except (TimeoutError, OSError):
+                raise RunFailed(f"the scheduler at {scheduler} has no worker: none joined in "
+                                f"{worker_wait_s:g} s") from None
             yield client
         finally:
-            client.close()
+            with contextlib.suppress(Exception):
+                client.close()
         return
     n = max(1, int(jobs or os.cpu_count() or 1))
     with warnings.catch_warnings():  # "port 8787 in use": another cluster's HTTP server
@@ -302,6 +428,8 @@ def _client(jobs: int | None, scheduler: str | None):
             processes=True,
             dashboard_address=None,
             silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
+            # workers ignore a terminal's Ctrl-C: the command handles it and closes them
+            preload=["deck_emulator.studies.worker_preload"],
         )
     client = Client(cluster)
     try:
@@ -326,6 +454,8 @@ def run_scenes(
     retry_failed: bool = False,
     flush_s: float = 1.0,
     chunk: int = 1,
+    max_scenes: int = MAX_SCENES,
+    worker_wait_s: float = WORKER_WAIT_S,
 ) -> SceneStore:
     """Run every task not yet in the store with ``fn`` on Dask and store each result.
 
@@ -336,8 +466,29 @@ def run_scenes(
     refused (:class:`StoreError`) rather than mixed with. ``chunk``: scenes per Dask task
     (default 1; more for scenes of a few milliseconds, where the scheduler's cost per task --
     about a millisecond -- would dominate; a chunk whose worker dies is run again whole).
+    ``max_scenes``, ``worker_wait_s``: the bounds of the module docstring.  The store folder is
+    locked for the call (:class:`StoreBusy` when another process holds it).
     Returns the :class:`SceneStore`.
     """
+    if len(tasks) > max_scenes:
+        raise SceneLimitError(f"{len(tasks)} scenes asked for; at most {max_scenes} in one run")
+    with store_lock(store_dir):
+        return _run_locked(tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler,
+                           resume=resume, desc=desc, progress=progress,
+                           retry_failed=retry_failed, flush_s=flush_s, chunk=chunk,
+                           worker_wait_s=worker_wait_s)
+
+
+def _workers(client) -> int:
+    """How many workers the client's scheduler has now (a failed question counts as none)."""
+    try:
+        return len(client.nthreads())
+    except Exception:  # noqa: BLE001 - a scheduler gone too: no worker
+        return 0
+
+
+def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress, retry_failed,
+                flush_s, chunk, worker_wait_s) -> SceneStore:
     store = SceneStore(store_dir)
     store.dir.mkdir(parents=True, exist_ok=True)
     store.clean_temporaries()
@@ -368,8 +519,36 @@ def run_scenes(
             store.write_batch(batch)
         last = time.monotonic()
 
+    def completed(client, ac):
+        """The futures as they complete; on an external cluster, a run whose every worker
+        has been gone for ``worker_wait_s`` ends (RunFailed) instead of waiting for ever."""
+        if not scheduler:
+            yield from ac
+            return
+        alone_since = None
+        checked = time.monotonic()
+        while not ac.is_empty():
+            if ac.has_ready():
+                yield from ac.next_batch(block=False)
+                alone_since = None
+                continue
+            time.sleep(0.05)
+            now = time.monotonic()
+            if now - checked < 1.0:
+                continue
+            checked = now
+            if _workers(client):
+                alone_since = None
+            elif alone_since is None:
+                alone_since = now
+            elif now - alone_since >= worker_wait_s:
+                raise RunFailed(f"every worker of the scheduler at {scheduler} is gone ("
+                                f"{worker_wait_s:g} s without one) with {len(futures)} "
+                                "task(s) left: the scenes completed are stored; --resume "
+                                "runs the rest")
+
     try:
-        with _client(jobs, scheduler) as client:
+        with _client(jobs, scheduler, worker_wait_s) as client:
             from distributed import as_completed
 
             futures = {}
@@ -379,7 +558,7 @@ def run_scenes(
                 fut = client.submit(_call_many, fn, [t for _, t in group],
                                     key=f"scenes-{group[0][0]}-{len(group)}", pure=False)
                 futures[fut] = group
-            for fut in as_completed(list(futures)):
+            for fut in completed(client, as_completed(list(futures))):
                 group = futures.pop(fut)
                 try:
                     rows = fut.result()
@@ -403,13 +582,13 @@ def run_scenes(
 
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
                       quiet: bool = False, scheduler: str | None = None,
-                      resume: bool = False) -> list[dict]:
+                      resume: bool = False, worker_wait_s: float = WORKER_WAIT_S) -> list[dict]:
     """``[fn(t) for t in tasks]`` on the one scene runner
     (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``
     workers, or the one at ``scheduler``), the costliest tasks (their ``cost``) submitted first
     so that no long run is left for last, every row stored in ``store_dir`` as it finishes
     (``resume``: only the tasks not stored yet run; ``None``: a temporary folder, gone at the
-    end); rows in the tasks' order. A row travels
+    end; ``worker_wait_s``: as :func:`run_scenes`); rows in the tasks' order. A row travels
     as JSON (its arrays as lists). A task that could not run (its ``fn`` raised, its worker
     died) is an error naming it: a study cannot make its tables without it."""
     import functools
@@ -422,7 +601,7 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
         store = run_scenes(order, functools.partial(_json_row, fn),
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
-                           progress=False if quiet else None)
+                           progress=False if quiet else None, worker_wait_s=worker_wait_s)
         stored = store.by_id()
     rows = []
     for t in tasks:

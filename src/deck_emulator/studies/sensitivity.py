@@ -79,6 +79,9 @@ __all__ = [
     "ishigami_task",
     "ishigami_indices",
     "write_outputs",
+    "check_options",
+    "all_failed",
+    "MAX_N",
 ]
 
 # =================================================================================== inputs
@@ -345,6 +348,26 @@ def run_study(
     return study
 
 
+def all_failed(study: Study) -> str | None:
+    """The first scene's error when no scene of ``study`` ran to its end (each failed, or its
+    engine stopped early: the inputs' ranges left the model's domain, e.g. ``--input
+    W=-1:-0.5``), else ``None``."""
+    rows = study.store.by_id()
+    got = [rows.get(scene_id(t)) for t in study.tasks]
+
+    def why(r):  # None: the scene ran to its end
+        if r is None:
+            return "not run"
+        if r.get("status") != "ok":
+            return r.get("error") or "failed"
+        return r.get("engine_error") or None  # the engine stopped early
+
+    reasons = [why(r) for r in got]
+    if not reasons or any(x is None for x in reasons):
+        return None
+    return str(reasons[0]).splitlines()[0][:200]
+
+
 def bootstrap_seed(seed: int) -> int:
     """The seed of SALib's bootstrap of the confidence intervals, drawn from ``seed``: never 0,
     which SALib takes as "no seed" (``if seed:``), so that the intervals of seed 0 -- the
@@ -573,6 +596,8 @@ def parse_input(text: str) -> InputRange:
     except ValueError:
         raise ValueError(f"--input {text!r}: use NAME=LO:HI") from None
     name = name.strip()
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ValueError(f"--input {text!r}: LO and HI must be finite numbers")
     if not lo < hi:
         raise ValueError(f"--input {text!r}: LO must be below HI")
     from deck_emulator.legacy.deck import NAMES
@@ -586,6 +611,23 @@ def parse_input(text: str) -> InputRange:
                          f"{max(abs(lo), abs(hi)):g} rad is more than a turn; degrees? "
                          f"{math.radians(lo):.5f}:{math.radians(hi):.5f} rad is {lo:g}:{hi:g} deg")
     return InputRange(name, lo, hi, None, SCENE_INPUTS.get(name, "deck input"))
+
+
+#: Largest base sample N (2**16: 524,288 scenes with the six default inputs).
+MAX_N = 1 << 16
+
+
+def check_options(n: int | None, seed: int) -> None:
+    """The study's N and seed, before any work: ``ValueError`` (one line) unless N is a power
+    of two in [2, :data:`MAX_N`] (``None``: the default) and the seed is an integer >= 0 (the
+    Sobol' sequence's scrambling and the bootstrap take no negative seed)."""
+    if n is not None:
+        if isinstance(n, bool) or not isinstance(n, int) or n < 2 or n & (n - 1):
+            raise ValueError(f"-N {n}: N must be a power of two >= 2 (2, 4, 8 ... 256)")
+        if n > MAX_N:
+            raise ValueError(f"-N {n}: at most {MAX_N} (N (D + 2) scenes are run)")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"--seed {seed}: the seed must be an integer >= 0")
 
 
 def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
@@ -610,16 +652,20 @@ def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
 
 def run_command(args) -> int:
     """``deck-emulator sensitivity`` (options: see the CLI)."""
+    from deck_emulator.files import OutputError, check_output_dir
+
     try:
+        check_options(args.n, args.seed)
         extra = [parse_input(t) for t in args.input or []]
         inputs, notes = choose_inputs(args.engine, extra, defaults=not args.only)
-    except ValueError as exc:
+        check_output_dir(args.out)  # before any work: a missing parent is refused, not made
+    except (ValueError, OutputError) as exc:
         print(f"deck-emulator sensitivity: {exc}", file=sys.stderr)
         return 2
     if not inputs:
         print("deck-emulator sensitivity: no inputs", file=sys.stderr)
         return 2
-    n = args.n if args.n else (16 if args.quick else 256)
+    n = args.n if args.n is not None else (16 if args.quick else 256)
     deck_names = args.deck or ["steel40"]
     problem = problem_for(inputs)
     out = Path(args.out)
@@ -640,6 +686,11 @@ def run_command(args) -> int:
         studies.append((label, args.engine, st))
         print(f"deck-emulator sensitivity: {label}: {len(st.tasks)} scenes, {st.ran} run now, "
               f"{st.wall_s:.1f} s", file=sys.stderr)
+        failed = all_failed(st)
+        if failed is not None:  # no index can come of it: a run that could not end, exit 3
+            print(f"deck-emulator sensitivity: error: {label}: every scene failed ({failed}); "
+                  "no table written", file=sys.stderr)
+            return 3
     wall = time.perf_counter() - started
     tail = getattr(args, "argv_tail", None) or (
         sys.argv[2:] if sys.argv[1:2] == ["sensitivity"] else [])

@@ -114,8 +114,14 @@ def scene_deck(base: Deck, speed_mph: float, angle_deg: float, vvb_decimals: int
     return base.with_values(VVB=vvb_for(speed_mph, vvb_decimals), ALPHA=alpha_for(angle_deg))
 
 
+#: The most values one grid may hold (a sweep is speeds x angles of them): counted before
+#: a range is expanded, so a tiny step is refused instead of filling the memory.
+MAX_GRID = 10_000
+
+
 def parse_grid(text: str) -> list[float]:
-    """'20,40' or '0:45:5' (start:stop:step, stop included) or a mix: '10,20:60:10'."""
+    """'20,40' or '0:45:5' (start:stop:step, stop included) or a mix: '10,20:60:10'; every
+    value finite, at most :data:`MAX_GRID` of them."""
     out: list[float] = []
     for part in text.split(","):
         part = part.strip()
@@ -126,14 +132,24 @@ def parse_grid(text: str) -> list[float]:
             if len(bits) != 3:
                 raise ValueError(f"range {part!r}: use start:stop:step")
             a, b, s = (float(x) for x in bits)
+            if not all(map(math.isfinite, (a, b, s))):
+                raise ValueError(f"range {part!r}: not finite")
             if s <= 0:
                 raise ValueError(f"range {part!r}: step must be positive")
+            if (b - a) / s + 1 > MAX_GRID:
+                raise ValueError(f"range {part!r}: {math.floor((b - a) / s) + 1:.3g} values, "
+                                 f"more than {MAX_GRID}")
             k = 0
             while a + k * s <= b + 1e-9 * max(1.0, abs(b)):
                 out.append(round(a + k * s, 10))
                 k += 1
         else:
-            out.append(float(part))
+            x = float(part)
+            if not math.isfinite(x):
+                raise ValueError(f"{part!r}: not finite")
+            out.append(x)
+        if len(out) > MAX_GRID:
+            raise ValueError(f"more than {MAX_GRID} values")
     if not out:
         raise ValueError("empty list")
     return sorted(set(out))
