@@ -26,11 +26,8 @@ from pathlib import Path
 
 from deck_emulator.errors import UsageError
 
-__all__ = ["Source", "load_source", "is_scene_file", "SCENE_MAX_BYTES"]
+__all__ = ["Source", "load_source", "is_scene_file"]
 
-#: How much of a file is read to tell a scene from a deck (a scene is a few kB; reading one
-#: whole is capped in :func:`deck_emulator.core.scene.read_scene`).
-SCENE_MAX_BYTES = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -82,11 +79,13 @@ def is_scene_file(path) -> bool:
     """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
     import tomllib
 
+    from deck_emulator.core.scene import MAX_SCENE_BYTES  # a scene file is at most this
+
     if str(path).endswith(".toml"):
         return os.path.isfile(path)
     try:
         with open(path, "rb") as fh:
-            data = fh.read(SCENE_MAX_BYTES)
+            data = fh.read(MAX_SCENE_BYTES)
         parsed = tomllib.loads(data.decode("utf-8"))
     except (OSError, ValueError):
         return False
