@@ -1112,7 +1112,7 @@ def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
         "engine on a Dask cluster, and write DIR/sensitivity.csv and .md (Sobol S1 and ST with "
         "95% confidence, for N and N/2), a bar chart of the indices and a map of what the post "
         "hits first over the two most influential inputs. Scenes are stored as they finish in "
-        "DIR/scenes/; --resume runs only the missing ones.",
+        f"DIR/{SCENE_STORE}/; --resume runs only the missing ones.",
     )
     p.add_argument("--deck", action="append", metavar="SOURCE",
                    help="a shipped deck's name or a text deck file; repeat for several "

@@ -56,6 +56,7 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.studies import SCENE_STORE
 from deck_emulator.units import DECK_UNITS, deck_label
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
 from deck_emulator.studies.distributed import (
@@ -679,7 +680,7 @@ def run_command(args) -> int:
         st = run_study(
             problem, n, scene_task,
             base_task={"deck": deck, "engine": args.engine, "preset": args.preset},
-            outputs=list(OUTCOMES), store_dir=out / "scenes" / label, seed=args.seed,
+            outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=args.seed,
             jobs=args.jobs, scheduler=args.scheduler, resume=args.resume, desc=label,
             progress=False if getattr(args, "quiet", False) else None,
         )
