@@ -394,6 +394,19 @@ def _bad_inputs(tmp_path: Path) -> dict[str, list[str]]:
                                          "--quick", "--out", str(d / "se")],
         "sweep base: no such": ["sweep", "--speeds", "40", "--angles", "0",
                                 "--base-deck", "steel99", "--out", str(d / "sw")],
+        "assembly speed 0": ["assembly", "steel", "core", "--speed-mph", "0"],
+        "assembly angle 90": ["assembly", "steel", "core", "--alpha-deg", "90"],
+        "assembly angle text": ["assembly", "steel", "core", "--alpha-deg", "steep"],
+        "assembly of a deck": ["assembly", STEEL40],
+        "diff max-k 9": ["diff", STEEL40, "--max-k", "9"],
+        "pages not a pdf": ["run", STEEL40, "--pages", str(d / "p.png")],
+        "paper without pages": ["run", STEEL40, "--paper", "striped"],
+        "animate the 3-d view": ["plot", STEEL40, "--out", str(d / "x.png"), "--view", "3d",
+                                 "--animate", str(d / "x.gif")],
+        "diff resume without store": ["diff", STEEL40, "--resume"],
+        "grid of inf": ["sweep", "--speeds", "inf", "--angles", "0", "--out", str(d / "sw")],
+        "grid too fine": ["sweep", "--speeds", "20:40:1e-300", "--angles", "0",
+                          "--out", str(d / "sw")],
     }
     if os.geteuid() != 0:  # root writes anywhere
         cases["out: read-only folder"] = ["summary", STEEL40, "--out", str(ro / "s.txt")]

@@ -223,7 +223,8 @@ def _draw_post(ax, res: Outcome, idx: list[int], axes: tuple[int, int]):
     p = _post_l(res, hi)
     ax.plot(p[:, a], p[:, b], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
     _name_points(ax, res, 0, axes)
-    _name_points(ax, res, hi, axes)
+    if hi != 0:  # a run that ended at its first sample: its points are named once
+        _name_points(ax, res, hi, axes)
 
 
 def _draw_side(ax, res: Outcome, idx: list[int]):
@@ -471,7 +472,8 @@ def _legend_handles(res: Outcome, idx):
             )
         )
     h += [
-        _mpl().Patch(fc="0.85", ec=CAR_COLOUR, label="car at the hit (listing's outline)"),
+        _mpl().Patch(fc="0.85", ec=CAR_COLOUR, label=f"car at the {'hit' if res.hit else 'end'} "
+                     "(listing's outline)"),
         _mpl().Line2D([], [], color="tab:cyan", lw=3, label="windshield (at SV)"),
         _mpl().Line2D([], [], color="saddlebrown", lw=1.5, label="ground"),
     ]

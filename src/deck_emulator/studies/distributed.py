@@ -381,12 +381,17 @@ class _Bar:
     """The package's progress display (:func:`deck_emulator.parallel.progress_bar`) with a
     count of failed scenes; ``enabled=False`` silences it."""
 
-    def __init__(self, total: int, initial: int, desc: str, enabled: bool | None):
+    def __init__(self, total: int, initial: int, desc: str, enabled: bool | None,
+                 eta: bool = True):
         from deck_emulator.parallel import progress_bar
 
         self.failed = 0
+        # no time left shown where the scenes' costs differ and the costliest go first: the
+        # rate of the first ones says nothing of the rest (it said 5 min for a 55 s study)
+        shape = {} if eta else {"bar_format": "{l_bar}{bar}| {n_fmt}/{total_fmt} "
+                                              "[{elapsed}{postfix}]"}
         self.bar = progress_bar(total, desc=desc, unit="scene", quiet=enabled is False,
-                                initial=initial, dynamic_ncols=True, smoothing=0.1)
+                                initial=initial, dynamic_ncols=True, smoothing=0.1, **shape)
 
     def step(self, failed: bool):
         self.failed += failed
@@ -456,6 +461,7 @@ def run_scenes(
     chunk: int = 1,
     max_scenes: int = MAX_SCENES,
     worker_wait_s: float = WORKER_WAIT_S,
+    eta: bool = True,
 ) -> SceneStore:
     """Run every task not yet in the store with ``fn`` on Dask and store each result.
 
@@ -467,7 +473,8 @@ def run_scenes(
     (default 1; more for scenes of a few milliseconds, where the scheduler's cost per task --
     about a millisecond -- would dominate; a chunk whose worker dies is run again whole).
     ``max_scenes``, ``worker_wait_s``: the bounds of the module docstring.  The store folder is
-    locked for the call (:class:`StoreBusy` when another process holds it).
+    locked for the call (:class:`StoreBusy` when another process holds it). ``eta``: show
+    the time left on the progress bar (not for tasks of unequal cost run costliest first).
     Returns the :class:`SceneStore`.
     """
     if len(tasks) > max_scenes:
@@ -476,7 +483,7 @@ def run_scenes(
         return _run_locked(tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler,
                            resume=resume, desc=desc, progress=progress,
                            retry_failed=retry_failed, flush_s=flush_s, chunk=chunk,
-                           worker_wait_s=worker_wait_s)
+                           worker_wait_s=worker_wait_s, eta=eta)
 
 
 def _workers(client) -> int:
@@ -488,7 +495,7 @@ def _workers(client) -> int:
 
 
 def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress, retry_failed,
-                flush_s, chunk, worker_wait_s) -> SceneStore:
+                flush_s, chunk, worker_wait_s, eta=True) -> SceneStore:
     store = SceneStore(store_dir)
     store.dir.mkdir(parents=True, exist_ok=True)
     store.clean_temporaries()
@@ -501,7 +508,7 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
     for t in tasks:
         unique.setdefault(scene_id(t), t)
     todo = [(sid, t) for sid, t in unique.items() if sid not in done_ids]
-    bar = _Bar(len(unique), len(unique) - len(todo), desc, progress)
+    bar = _Bar(len(unique), len(unique) - len(todo), desc, progress, eta=eta)
     if not todo:
         bar.close()
         return store
@@ -601,7 +608,8 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
         store = run_scenes(order, functools.partial(_json_row, fn),
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
-                           progress=False if quiet else None, worker_wait_s=worker_wait_s)
+                           progress=False if quiet else None, worker_wait_s=worker_wait_s,
+                           eta=False)
         stored = store.by_id()
     rows = []
     for t in tasks:
