@@ -191,7 +191,9 @@ def test_a_cluster_whose_workers_all_go_ends_the_run_and_keeps_what_was_stored(s
     from distributed import LocalCluster
 
     tasks = [{"i": i, "sleep": 0.3} for i in range(40)]
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+    # the worker in its own process: an in-process worker shares this process's threads with
+    # the client's IO loop, whose start then waited past distributed's 10 s on a loaded machine
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster:
         store = SceneStore(tmp_path / "s")
 
