@@ -299,14 +299,21 @@ def _max_k(text: str) -> int:
     return k
 
 
-def _positive_float(text: str) -> float:
+def _finite_float(text: str) -> float:
     import math
 
     try:
         x = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(x) and x > 0):
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"must be a finite number, not {text}")
+    return x
+
+
+def _positive_float(text: str) -> float:
+    x = _finite_float(text)
+    if not x > 0:
         raise argparse.ArgumentTypeError(f"must be a positive finite number, not {text}")
     return x
 
@@ -319,13 +326,8 @@ def _speed_mph(text: str) -> float:
 
 
 def _angle_deg(text: str) -> float:
-    import math
-
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(x) and 0.0 <= x < 90.0):
+    x = _finite_float(text)
+    if not 0.0 <= x < 90.0:
         raise argparse.ArgumentTypeError(f"an angle from 0 to below 90 degrees, not {text}")
     return x
 

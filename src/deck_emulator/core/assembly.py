@@ -412,16 +412,11 @@ _REQUIRED = {
 
 
 def _number(value: Any, key: str) -> float:
-    """A TOML number as a finite float, or an :class:`AssemblyError` naming ``key``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise AssemblyError(f"{key} must be a number, not {type(value).__name__} {value!r:.40}")
-    try:
-        x = float(value)
-    except OverflowError:
-        raise AssemblyError(f"{key} = {value!s:.40} is beyond the range of a double") from None
-    if not math.isfinite(x):
-        raise AssemblyError(f"{key} must be finite, not {x}")
-    return x
+    """A TOML number as a finite float, or an :class:`AssemblyError` naming ``key`` (the
+    scene files' check, :func:`deck_emulator.core.scene.toml_number`)."""
+    from deck_emulator.core.scene import toml_number
+
+    return toml_number(value, key, AssemblyError)
 
 
 def _checked(value: Any, rule: tuple, key: str):

@@ -672,18 +672,22 @@ def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
         raise SceneError(f"[{where or 'top level'}]: {exc}") from exc
 
 
-def _number(value: Any, path: str) -> float:
+def toml_number(value: Any, path: str, error: type[Exception] = SceneError) -> float:
     """A TOML number as a finite float (TOML allows inf, nan and integers beyond a double's
-    range): :class:`SceneError` naming ``path`` otherwise."""
+    range): ``error`` (a scene's :class:`SceneError`, an assembly's ``AssemblyError``)
+    naming ``path`` otherwise."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneError(f"{path} must be a number, got {value!r:.40}")
+        raise error(f"{path} must be a number, got {value!r:.40}")
     try:
         x = float(value)
     except OverflowError:
-        raise SceneError(f"{path} = {value!s:.40}...: beyond the range of a double") from None
+        raise error(f"{path} = {value!s:.40}...: beyond the range of a double") from None
     if not math.isfinite(x):
-        raise SceneError(f"{path} = {x}: not a finite number")
+        raise error(f"{path} = {x}: not a finite number")
     return x
+
+
+_number = toml_number
 
 
 #: Largest scene file read (bytes), as for decks: a scene TOML is about 2 kB.

@@ -290,15 +290,10 @@ def engine_times(deck, *, reps: int = 3) -> dict:
     """Median wall times (s) of ``reps`` runs of deck: the emulator (double, ED towards its
     root), the core's legacy preset at rtol = atol = 1e-10 and at its default tolerances."""
     import statistics
-    import time
+    import timeit
 
     def median(run):
-        times = []
-        for _ in range(reps):
-            t0 = time.perf_counter()
-            run()
-            times.append(time.perf_counter() - t0)
-        return statistics.median(times)
+        return statistics.median(timeit.repeat(run, number=1, repeat=reps))
 
     emulator = EmulatorEngine(errata=(errata_policy.ED_DIRECTION,), trace=False)
     tight, default = CoreEngine(rtol=1e-10, atol=1e-10), CoreEngine()
