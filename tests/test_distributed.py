@@ -11,7 +11,6 @@ import sys
 import textwrap
 import time
 from collections import Counter
-from pathlib import Path
 
 import pytest
 
@@ -19,39 +18,8 @@ from procs import sigint_as_on_a_terminal
 
 from deck_emulator.studies.distributed import SceneStore, StoreError, run_scenes, scene_id
 
-SRC = Path(__file__).resolve().parent.parent / "src"
 
 # The stub "engine" lives in its own module so that Dask's worker processes can import it.
-STUB = textwrap.dedent(
-    '''
-    import os, signal, time
-    def work(task):
-        if task.get("fail"):
-            raise ValueError(f"scene {task['i']} fails on purpose")
-        kill = task.get("kill_marker")
-        if kill and not os.path.exists(kill):
-            with open(kill, "w") as fh:
-                fh.write(str(os.getpid()))
-            os.kill(os.getpid(), signal.SIGKILL)  # this worker dies in the middle of the scene
-        time.sleep(task.get("sleep", 0.0))
-        return {"y": task["i"] * 0.5, "square": task["i"] ** 2}
-    '''
-)
-
-
-@pytest.fixture
-def stub(tmp_path, monkeypatch):
-    (tmp_path / "stub_engine.py").write_text(STUB)
-    monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(tmp_path), str(SRC)]))
-    import importlib
-
-    import stub_engine
-
-    importlib.reload(stub_engine)
-    return stub_engine
-
-
 def _digests(store: SceneStore) -> dict:
     return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in store.files()}
 

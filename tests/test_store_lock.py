@@ -13,7 +13,6 @@ import textwrap
 import threading
 import time
 from collections import Counter
-from pathlib import Path
 
 import pytest
 
@@ -27,30 +26,6 @@ from deck_emulator.studies.distributed import (
     run_scenes,
     scene_id,
 )
-
-SRC = Path(__file__).resolve().parent.parent / "src"
-
-STUB = textwrap.dedent(
-    '''
-    import time
-    def work(task):
-        time.sleep(task.get("sleep", 0.0))
-        return {"y": task["i"] * 0.5}
-    '''
-)
-
-
-@pytest.fixture
-def stub(tmp_path, monkeypatch):
-    (tmp_path / "stub_engine.py").write_text(STUB)
-    monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(tmp_path), str(SRC)]))
-    import importlib
-
-    import stub_engine
-
-    importlib.reload(stub_engine)
-    return stub_engine
 
 
 def _start(tmp_path, name: str, body: str) -> subprocess.Popen:
