@@ -299,6 +299,18 @@ def test_several_data_sections_are_decks_in_turn():
     assert "same program" in job.source_verdict
 
 
+def test_a_job_deck_cut_short_in_its_last_data_section_is_refused():
+    """Cut inside the second $DATA section's last card (the file ends at its column 52, no line
+    end): that card's missing fields are not read as zeros (a plain deck says the same)."""
+    texts = job_deck_texts([read_deck(STEEL40), read_deck(ROOT / "decks" / "steel20.dat")])
+    last = max(i for i, t in enumerate(texts) if t.strip() and not t.startswith("$"))
+    cut = "\n".join(texts[:last]) + "\n" + texts[last][:52]
+    with pytest.raises(DeckError, match=r"\$DATA section 2 .*card 8: .*cut short"):
+        parse_job(cut.encode())
+    whole = "\n".join(texts[:last] + [texts[last].ljust(80)])  # all 80 columns, no line end
+    assert len(parse_job(whole.encode()).decks) == 2
+
+
 def test_a_changed_statement_is_named():
     texts = job_deck_texts([read_deck(STEEL40)])
     i = texts.index("      HI=0.0004")

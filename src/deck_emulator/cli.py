@@ -1143,7 +1143,11 @@ def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
 
         for deck in args.deck or ():  # shipped names stay names (the outputs are named by them)
             _deck_file(deck, "sensitivity --deck")
-        status = run_command(args)
+        try:
+            status = run_command(args)
+        except RunFailed as exc:  # said as every command says it; the JSON still answers
+            print(f"{PROG}: error: {exc}", file=sys.stderr)
+            status = EXIT_RUN_FAILED
         if args.json and status in (0, EXIT_RUN_FAILED):
             _json(argparse.Namespace(), _outputs_answer("sensitivity", args.deck or ["steel40"],
                                                         args.out, status))
@@ -1275,6 +1279,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     return signals.run(_main, argv)
 
 
+#: the options that name a file or folder to write (an empty value is refused)
+_PATH_OPTIONS = ("out", "pages", "animate", "trajectory", "store")
+
+
 def _main(argv: Sequence[str] | None = None) -> int:
     from deck_emulator.legacy.deck import DeckError
 
@@ -1283,6 +1291,10 @@ def _main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # usage errors (2) and --help (0)
         return exc.code if isinstance(exc.code, int) else 2
+    for option in _PATH_OPTIONS:  # '--out ""' would name the current folder or stdout
+        if getattr(args, option, None) == "":
+            print(f"{PROG}: error: --{option}: an empty path names no file", file=sys.stderr)
+            return EXIT_BAD_INPUT
     try:
         with warnings.catch_warnings():  # numpy's divide-by-zero and the like: the notes say why
             warnings.simplefilter("ignore", RuntimeWarning)

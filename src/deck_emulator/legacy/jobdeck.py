@@ -192,10 +192,15 @@ def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
     if not sections:
         raise DeckError("job deck without a $DATA (or $ENTRY) card: no data cards for the "
                         "8 READ statements", path=path)
+    # a text file that ends inside its last $DATA section with no line end may be cut short:
+    # that section is read as the file ends, so the deck reader's cut-short check sees it
+    unended = (images.format == "text" and not data.endswith((b"\n", b"\r"))
+               and state == "data" and not _is_control(texts[-1]))
     decks = []
     for index, (number, cards) in enumerate(sections, start=1):
         where = f"{path + ': ' if path else ''}$DATA section {index} (card {number} of the file)"
-        decks.append(parse_deck("\n".join(cards) + ("\n" if cards else ""), path=where))
+        end = "" if (unended and index == len(sections)) or not cards else "\n"
+        decks.append(parse_deck("\n".join(cards) + end, path=where))
     verdict = compare_source(source) if source else None
     return Job(path, images.format, tuple(decks), verdict, tuple(controls))
 

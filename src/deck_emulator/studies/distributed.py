@@ -479,11 +479,40 @@ def run_scenes(
     """
     if len(tasks) > max_scenes:
         raise SceneLimitError(f"{len(tasks)} scenes asked for; at most {max_scenes} in one run")
-    with store_lock(store_dir):
-        return _run_locked(tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler,
-                           resume=resume, desc=desc, progress=progress,
-                           retry_failed=retry_failed, flush_s=flush_s, chunk=chunk,
-                           worker_wait_s=worker_wait_s, eta=eta)
+    made = _missing_folders(store_dir)
+    try:
+        with store_lock(store_dir):
+            return _run_locked(tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler,
+                               resume=resume, desc=desc, progress=progress,
+                               retry_failed=retry_failed, flush_s=flush_s, chunk=chunk,
+                               worker_wait_s=worker_wait_s, eta=eta)
+    except BaseException:
+        _remove_if_unused(made)  # a run that stored nothing leaves no folder behind
+        raise
+
+
+def _missing_folders(folder) -> list[Path]:
+    """The folders from ``folder`` up that do not exist yet (the deepest first)."""
+    missing = []
+    path = Path(folder).absolute()
+    while not path.exists():
+        missing.append(path)
+        path = path.parent
+    return missing
+
+
+def _remove_if_unused(folders: list[Path]) -> None:
+    """Remove the folders a failed run made, deepest first, while each holds nothing but its
+    lock file and an empty results folder (a stored scene keeps it: --resume runs the rest)."""
+    for folder in folders:
+        try:
+            results = folder / RESULTS
+            if results.is_dir() and not any(results.iterdir()):
+                results.rmdir()
+            (folder / LOCK_NAME).unlink(missing_ok=True)
+            folder.rmdir()  # OSError when anything else is in it: kept
+        except OSError:
+            return
 
 
 def _workers(client) -> int:

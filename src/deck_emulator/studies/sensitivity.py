@@ -653,6 +653,7 @@ def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
 
 def run_command(args) -> int:
     """``deck-emulator sensitivity`` (options: see the CLI)."""
+    from deck_emulator.errors import RunFailed, UsageError
     from deck_emulator.files import OutputError, check_output_dir
 
     try:
@@ -660,12 +661,10 @@ def run_command(args) -> int:
         extra = [parse_input(t) for t in args.input or []]
         inputs, notes = choose_inputs(args.engine, extra, defaults=not args.only)
         check_output_dir(args.out)  # before any work: a missing parent is refused, not made
-    except (ValueError, OutputError) as exc:
-        print(f"deck-emulator sensitivity: {exc}", file=sys.stderr)
-        return 2
+    except (ValueError, OutputError) as exc:  # the CLI prints it as every command does
+        raise UsageError(str(exc)) from None
     if not inputs:
-        print("deck-emulator sensitivity: no inputs", file=sys.stderr)
-        return 2
+        raise UsageError("no inputs: give --input, or leave out --only")
     n = args.n if args.n is not None else (16 if args.quick else 256)
     deck_names = args.deck or ["steel40"]
     problem = problem_for(inputs)
@@ -689,9 +688,7 @@ def run_command(args) -> int:
               f"{st.wall_s:.1f} s", file=sys.stderr)
         failed = all_failed(st)
         if failed is not None:  # no index can come of it: a run that could not end, exit 3
-            print(f"deck-emulator sensitivity: error: {label}: every scene failed ({failed}); "
-                  "no table written", file=sys.stderr)
-            return 3
+            raise RunFailed(f"{label}: every scene failed ({failed}); no table written")
     wall = time.perf_counter() - started
     tail = getattr(args, "argv_tail", None) or (
         sys.argv[2:] if sys.argv[1:2] == ["sensitivity"] else [])
