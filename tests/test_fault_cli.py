@@ -94,3 +94,33 @@ def test_a_users_crash_test_is_the_one_that_runs(tmp_path, capsys):
     empty.write_text("")
     assert main(["assembly", str(empty), "core"]) == 2
     _one_line(capsys.readouterr().err)
+
+
+def test_a_cluster_without_workers_ends_a_sweep_within_worker_wait(tmp_path, capsys):
+    """A scheduler no worker ever joins: the sweep ends with exit 3 after --worker-wait, names
+    the scheduler, and leaves no folder (it stored nothing)."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        argv = ["sweep", "--speeds", "20", "--angles", "0", "--quiet", "--out",
+                str(tmp_path / "sw"), "--scheduler", cluster.scheduler_address,
+                "--worker-wait", "1"]
+        assert main(argv) == 3
+    line = _one_line(capsys.readouterr().err)
+    assert "has no worker: none joined in 1 s" in line and cluster.scheduler_address in line
+    assert not (tmp_path / "sw").exists()
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["run", "steel40", "--out", ""], "--out: an empty path"),
+    (["run", "steel40", "--pages", ""], "--pages: an empty path"),
+    (["sweep", "--speeds", "20", "--angles", "0", "--out", "{tmp}/sw", "--worker-wait", "5"],
+     "--worker-wait: only with --scheduler"),
+    (["sensitivity", "--quick", "--out", "{tmp}/a/missing/d"], "does not exist"),
+])
+def test_refused_before_any_work(argv, says, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    assert main(argv) == 2
+    assert says in _one_line(capsys.readouterr().err)
+    assert list(tmp_path.iterdir()) == []

@@ -20,6 +20,7 @@ from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.studies.distributed import (
     ClusterError,
     SceneLimitError,
+    Scheduler,
     SceneStore,
     StoreBusy,
     output_store,
@@ -149,6 +150,7 @@ def test_an_address_dask_cannot_use_is_a_cluster_error(tmp_path):
         run_scenes([{"i": 1}], len, store_dir=tmp_path / "s", scheduler="nonsense",
                    progress=False)
     assert isinstance(info.value, UsageError) and "\n" not in str(info.value)
+    assert not (tmp_path / "s").exists()  # a run that stored nothing leaves no folder
 
 
 def test_a_cluster_without_workers_ends_the_run_within_its_bound(stub, tmp_path):
@@ -160,6 +162,10 @@ def test_a_cluster_without_workers_ends_the_run_within_its_bound(stub, tmp_path)
             run_scenes([{"i": 1}], stub.work, store_dir=tmp_path / "s",
                        scheduler=cluster.scheduler_address, worker_wait_s=1.0, progress=False)
         assert time.monotonic() - started < 60
+        # the command line's --worker-wait is the same bound, through the Scheduler value
+        with pytest.raises(RunFailed, match="none joined in 1 s"):
+            run_scenes([{"i": 1}], stub.work, store_dir=tmp_path / "t", progress=False,
+                       scheduler=Scheduler(cluster.scheduler_address, worker_wait_s=1.0))
 
 
 def test_a_cluster_whose_workers_all_go_ends_the_run_and_keeps_what_was_stored(stub, tmp_path):

@@ -124,8 +124,27 @@ def _add_cluster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on an existing Dask cluster (its scheduler's address, "
                    "tcp://host:8786) instead of an embedded one of --jobs workers")
+    p.add_argument("--worker-wait", type=_worker_wait, metavar="SECONDS",
+                   help="with --scheduler: how long to wait for a worker, at the start and "
+                   "whenever every worker is gone, before the run ends with exit status 3 "
+                   "(default 60)")
     p.add_argument("--resume", action="store_true",
                    help="run only the scenes not yet stored in the output directory")
+
+
+def _cluster(args):
+    """The external cluster the options name (None: the embedded one); imported when asked,
+    so that a command that runs no study does not load the scene runner."""
+    from deck_emulator.studies.distributed import scheduler_of
+
+    return scheduler_of(args)
+
+
+def _worker_wait(text: str) -> float:
+    value = _finite_float(text)
+    if not 1.0 <= value <= 86400.0:
+        raise argparse.ArgumentTypeError(f"{text}: from 1 to 86400 seconds")
+    return value
 
 
 #: What SOURCE may be, said once for every command's help.
@@ -653,7 +672,7 @@ def _cmd_diff(args: argparse.Namespace) -> int:
         data = diff_deck(deck, precision=args.precision, errata=tuple(args.erratum),
                          ks=range(args.max_k + 1), rtol=args.rtol, atol=args.rtol,
                          tighten_ed=not args.as_printed_ed, jobs=args.jobs,
-                         scheduler=args.scheduler, store_dir=args.store, resume=args.resume,
+                         scheduler=_cluster(args), store_dir=args.store, resume=args.resume,
                          quiet=args.quiet, desc=f"{PROG}: diff")
     except DiffStopped as exc:
         raise RunFailed(str(exc)) from None
@@ -1033,7 +1052,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     rows = sweep(speeds, angles, engine=args.engine, options=options, post=args.post,
                  base=base, jobs=args.jobs, vvb_decimals=args.vvb_decimals, quiet=args.quiet,
-                 store_dir=store, scheduler=args.scheduler, resume=args.resume)
+                 store_dir=store, scheduler=_cluster(args), resume=args.resume)
     wall = time.perf_counter() - started
     command = "deck-emulator sweep " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["sweep"] else ""
     with OutputSet(directory=args.out) as outputs:
@@ -1295,6 +1314,10 @@ def _main(argv: Sequence[str] | None = None) -> int:
         if getattr(args, option, None) == "":
             print(f"{PROG}: error: --{option}: an empty path names no file", file=sys.stderr)
             return EXIT_BAD_INPUT
+    if getattr(args, "worker_wait", None) is not None and not getattr(args, "scheduler", None):
+        print(f"{PROG}: error: --worker-wait: only with --scheduler (the embedded cluster's "
+              "workers start with it)", file=sys.stderr)
+        return EXIT_BAD_INPUT
     try:
         with warnings.catch_warnings():  # numpy's divide-by-zero and the like: the notes say why
             warnings.simplefilter("ignore", RuntimeWarning)

@@ -72,6 +72,7 @@ stay stored; ``--resume`` runs the rest).  An address Dask cannot reach or parse
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import hashlib
 import json
 import logging
@@ -100,6 +101,8 @@ __all__ = [
     "META_COLUMNS",
     "MAX_SCENES",
     "WORKER_WAIT_S",
+    "Scheduler",
+    "scheduler_of",
 ]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
@@ -130,6 +133,29 @@ class SceneLimitError(UsageError, ValueError):
 
 class ClusterError(UsageError, ValueError):
     """The scheduler's address cannot be parsed or reached: bad input, exit status 2."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Scheduler:
+    """An external Dask cluster: its scheduler's address, and how long a run waits for a worker
+    (at the start, and whenever every worker is gone while scenes remain).  Passed as
+    ``scheduler=`` wherever an address is; printed, it is the address."""
+
+    address: str
+    worker_wait_s: float = WORKER_WAIT_S
+
+    def __str__(self) -> str:
+        return self.address
+
+
+def scheduler_of(args) -> Scheduler | None:
+    """The external cluster a command's options name (``--scheduler``, ``--worker-wait``), or
+    None for the embedded one."""
+    address = getattr(args, "scheduler", None)
+    if not address:
+        return None
+    wait = getattr(args, "worker_wait", None)
+    return Scheduler(address, WORKER_WAIT_S if wait is None else float(wait))
 
 
 # ================================================================================ the lock
@@ -452,7 +478,7 @@ def run_scenes(
     *,
     store_dir: str | os.PathLike,
     jobs: int | None = None,
-    scheduler: str | None = None,
+    scheduler: str | Scheduler | None = None,
     resume: bool = False,
     desc: str = "scenes",
     progress: bool | None = None,
@@ -477,6 +503,8 @@ def run_scenes(
     the time left on the progress bar (not for tasks of unequal cost run costliest first).
     Returns the :class:`SceneStore`.
     """
+    if isinstance(scheduler, Scheduler):
+        scheduler, worker_wait_s = scheduler.address, scheduler.worker_wait_s
     if len(tasks) > max_scenes:
         raise SceneLimitError(f"{len(tasks)} scenes asked for; at most {max_scenes} in one run")
     made = _missing_folders(store_dir)
@@ -617,7 +645,7 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
 
 
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
-                      quiet: bool = False, scheduler: str | None = None,
+                      quiet: bool = False, scheduler: str | Scheduler | None = None,
                       resume: bool = False, worker_wait_s: float = WORKER_WAIT_S) -> list[dict]:
     """``[fn(t) for t in tasks]`` on the one scene runner
     (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``

@@ -63,6 +63,7 @@ from deck_emulator.studies.distributed import (
     SceneStore,
     run_scenes,
     scene_id,
+    scheduler_of,
 )
 
 __all__ = [
@@ -680,7 +681,7 @@ def run_command(args) -> int:
             problem, n, scene_task,
             base_task={"deck": deck, "engine": args.engine, "preset": args.preset},
             outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=args.seed,
-            jobs=args.jobs, scheduler=args.scheduler, resume=args.resume, desc=label,
+            jobs=args.jobs, scheduler=scheduler_of(args), resume=args.resume, desc=label,
             progress=False if getattr(args, "quiet", False) else None,
         )
         studies.append((label, args.engine, st))

@@ -19,6 +19,7 @@ import os
 import shlex
 import sys
 
+from .distributed import scheduler_of
 from .error import error_study
 from .stability import stability_study
 
@@ -41,7 +42,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
     if args.study == "error":
         read_deck(args.deck)  # DeckError -> exit status 2 before any work
         s = error_study(args.deck, args.out, quick=args.quick, jobs=args.jobs, command=cmd,
-                        quiet=args.quiet, scheduler=args.scheduler, resume=args.resume)
+                        quiet=args.quiet, scheduler=scheduler_of(args), resume=args.resume)
         o = s["orders"]
         lines = [f"observed order (listing as printed): {o['legacy, ED as printed (double)']['vs_h']:.2f}",
                  f"observed order (ED tightened): {o['legacy, ED tightened (double)']['vs_h']:.2f}"]
@@ -50,7 +51,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
         if deck:
             read_deck(deck)
         s = stability_study(args.out, quick=args.quick, jobs=args.jobs, deck_path=deck,
-                            command=cmd, quiet=args.quiet, scheduler=args.scheduler,
+                            command=cmd, quiet=args.quiet, scheduler=scheduler_of(args),
                             resume=args.resume)
         lines = [f"emulator classes: {s['classes']}"]
     for line in lines + [f"wrote {args.out} in {s['wall_s']:.0f} s"]:
