@@ -103,11 +103,28 @@ def _redeliver(signum, frame):
     raise _exception(_pending[0])
 
 
+def _unraisable(hook):
+    """``sys.unraisablehook`` that drops a signal's exception raised where Python cannot raise
+    it (a garbage-collector callback, a ``__del__``, an exit hook): it is pending and raised
+    again (the module docstring), so "Exception ignored in ..." with its traceback would only
+    be noise.  Every other unraisable exception goes to ``hook`` as before."""
+
+    def unraisable(info):
+        if isinstance(info.exc_value, (KeyboardInterrupt, Terminated)):
+            return
+        hook(info)
+
+    unraisable.deck_emulator = True
+    return unraisable
+
+
 def install_signal_handlers() -> None:
     """SIGTERM and SIGHUP raise :class:`Terminated`; SIGINT raises KeyboardInterrupt (as
     Python's default does, but left ignored if our parent ignores it, as a shell does for a
     background job); each noted until :func:`run` sees it (the module docstring).  Only
     possible from the main thread; elsewhere a no-op."""
+    if not getattr(sys.unraisablehook, "deck_emulator", False):
+        sys.unraisablehook = _unraisable(sys.unraisablehook)
     try:
         signal.signal(signal.SIGTERM, _raise)
         if hasattr(signal, "SIGHUP") and signal.getsignal(signal.SIGHUP) is not signal.SIG_IGN:

@@ -451,25 +451,51 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
                 client.close()
         return
     n = max(1, int(jobs or os.cpu_count() or 1))
-    with warnings.catch_warnings():  # "port 8787 in use": another cluster's HTTP server
-        warnings.simplefilter("ignore", UserWarning)
-        cluster = LocalCluster(
-            n_workers=n,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
-            # workers ignore a terminal's Ctrl-C: the command handles it and closes them
-            preload=["deck_emulator.studies.worker_preload"],
-        )
-    client = Client(cluster)
+    cluster = client = None
     try:
+        # workers ignore a terminal's Ctrl-C once their preload has run: the command handles
+        # it and closes them (a Ctrl-C in the second or so a worker's Python takes to start
+        # still reaches it: a spawned process gets no signal mask or handler from its parent)
+        with warnings.catch_warnings():  # "port 8787 in use": another cluster's HTTP server
+            warnings.simplefilter("ignore", UserWarning)
+            cluster = LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
+                preload=["deck_emulator.studies.worker_preload"],
+            )
+        client = Client(cluster)
         yield client
     finally:
-        with contextlib.suppress(Exception):
-            client.close()
-        with contextlib.suppress(Exception):
-            cluster.close()
+        if client is not None:
+            with contextlib.suppress(Exception):
+                client.close()
+        if cluster is not None:
+            with contextlib.suppress(Exception):
+                cluster.close()
+        else:  # a start cut short by a signal
+            _close_half_started_clusters()
+
+
+def _close_half_started_clusters() -> None:
+    """Close the clusters a start cut short by a signal left behind, and take them out of the
+    list Dask closes at the interpreter's exit.  Dask keeps every cluster it made in
+    ``SpecCluster._instances`` (a private name: Dask offers no public way) and closes them in
+    an exit hook, which fails on a cluster whose workers never left their ``init`` state
+    (``AssertionError: Status.init``) and prints a traceback after the command has said
+    'interrupted'.  The workers of such a cluster are stopped here, as far as they started."""
+    try:
+        from distributed.deploy.spec import SpecCluster
+    except ImportError:  # pragma: no cover - Dask moved it: its exit hook does the work
+        return
+    instances = getattr(SpecCluster, "_instances", None)
+    for cluster in list(instances or ()):
+        with contextlib.suppress(BaseException):
+            cluster.close(timeout=10)
+        with contextlib.suppress(BaseException):
+            instances.discard(cluster)
 
 
 def run_scenes(
