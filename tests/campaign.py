@@ -1,0 +1,354 @@
+"""The fault campaign (issue 23), kept: generators of bad, odd and mutated inputs for every
+input kind, each case run through the command line in process and held to the tool's promise:
+
+* it ends with a documented exit status: 0 computed, 2 bad input, 3 a run that could not end
+  (argparse's own 2 for a malformed option included);
+* no traceback, and a refusal (2) says so in exactly one ``deck-emulator: error:`` line;
+* a refused command writes nothing: the output paths it was given do not exist afterwards.
+
+The cases are drawn from seeded generators (``random.Random(seed)``), so a corpus is the same
+every time.  :func:`corpus` builds it: ``fast`` a sample for the default suite
+(tests/test_campaign.py), the full corpus under ``-m slow_corpus``.  Run as a script it runs a
+corpus and prints the count of cases and of broken promises per category::
+
+    python tests/campaign.py            # the full corpus
+    python tests/campaign.py --fast     # the default suite's sample
+
+Interruptions, kills, resumes and concurrent runs are not cases here: they need processes of
+their own (tests/test_kill.py, test_interrupt_startup.py, test_store_lock.py,
+test_output_sets.py, test_signals.py).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import random
+import sys
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+STEEL40 = ROOT / "decks" / "steel40.dat"
+CRASH_TEST = ROOT / "src" / "deck_emulator" / "assemblies" / "crash_test.toml"
+STATUSES = {0, 2, 3}
+
+
+@dataclass
+class Case:
+    """One command of the campaign: ``argv`` with ``{dir}`` standing for its own folder,
+    ``files`` (name -> bytes) written there first, ``outputs`` the names it may write."""
+
+    category: str
+    name: str
+    argv: list[str]
+    files: dict[str, bytes] = field(default_factory=dict)
+    outputs: tuple[str, ...] = ()
+
+
+@dataclass
+class Result:
+    case: Case
+    status: int
+    seconds: float
+    broken: list[str]
+
+
+# ------------------------------------------------------------------------------ the inputs
+
+
+def _deck_bytes() -> bytes:
+    return STEEL40.read_bytes()
+
+
+def _scene_bytes() -> bytes:
+    from deck_emulator.core.scene import Scene
+    from deck_emulator.legacy.deck import read_deck
+
+    return Scene.from_deck(read_deck(STEEL40)).to_toml().encode()
+
+
+def _mutate(data: bytes, rng: random.Random) -> tuple[str, bytes]:
+    """One random mutation of a file's bytes (its name, the bytes)."""
+    kind = rng.choice(["byte", "bytes", "cut", "drop-line", "twice-line", "swap-lines",
+                       "letters", "bom", "nul", "high", "crlf", "blank", "repeat"])
+    b = bytearray(data)
+    lines = data.split(b"\n")
+    i = rng.randrange(len(b))
+    if kind == "byte":
+        b[i] = rng.randrange(256)
+    elif kind == "bytes":
+        for _ in range(rng.randint(2, 12)):
+            b[rng.randrange(len(b))] = rng.randrange(32, 127)
+    elif kind == "cut":
+        del b[i:]
+    elif kind in ("drop-line", "twice-line", "swap-lines"):
+        j = rng.randrange(len(lines))
+        if kind == "drop-line":
+            del lines[j]
+        elif kind == "twice-line":
+            lines.insert(j, lines[j])
+        else:
+            k = rng.randrange(len(lines))
+            lines[j], lines[k] = lines[k], lines[j]
+        b = bytearray(b"\n".join(lines))
+    elif kind == "letters":
+        b[i:i + 3] = b"1E+"
+    elif kind == "bom":
+        b[:0] = b"\xef\xbb\xbf"
+    elif kind == "nul":
+        b[i:i] = b"\x00" * rng.randint(1, 40)
+    elif kind == "high":
+        b[i:i] = "é½—".encode()[: rng.randint(1, 7)]
+    elif kind == "crlf":
+        b = bytearray(bytes(b).replace(b"\n", b"\r\n"))
+    elif kind == "blank":
+        b = bytearray(b" " * rng.randint(0, 200))
+    else:
+        b = bytearray(bytes(b) * rng.randint(2, 40))
+    return kind, bytes(b)
+
+
+ODD_VALUES = [0.0, -0.0, 1e-5, -1e-5, 99999.0, -99999.0, 9999999.0, -999999.0, 123456.7]
+
+
+def _odd_deck(rng: random.Random) -> tuple[str, bytes]:
+    """A deck well formed in every column whose values are physically odd."""
+    from deck_emulator.engine.assemblies import to_deck_text
+    from deck_emulator.legacy.deck import NAMES, DeckError, read_deck
+
+    from deck_emulator.core.assembly import AssemblyError
+
+    deck = read_deck(STEEL40)
+    while True:  # values a 10-column field cannot hold are drawn again
+        names = rng.sample(list(NAMES), rng.randint(1, 3))
+        changes = {}
+        for n in names:
+            base = float(deck.values[n])
+            changes[n] = rng.choice(ODD_VALUES + [base * rng.choice([-1, 10, 100, 0.01, 1e4])])
+        try:
+            text = to_deck_text(dict(deck.with_values(**changes).values))
+        except (AssemblyError, DeckError):
+            continue
+        return ",".join(f"{n}={v:g}" for n, v in changes.items()), text.encode()
+
+
+def _toml_mutation(text: str, rng: random.Random) -> tuple[str, str]:
+    """A scene or assembly description with one key's value changed, or one key or table
+    dropped or added."""
+    lines = text.splitlines()
+    keyed = [i for i, line in enumerate(lines) if "=" in line and not line.startswith("#")]
+    i = rng.choice(keyed)
+    key = lines[i].split("=")[0].strip()
+    kind = rng.choice(["value", "value", "value", "drop", "unknown-key", "unknown-table",
+                       "not-toml", "empty"])
+    if kind == "value":
+        new = rng.choice(['"x"', "-5", "0", "nan", "inf", "-inf", "1e400", "[]", "[1, 2]",
+                          "true", "1" + "0" * 400, "{}", "-1e-300", '""', "0.0"])
+        lines[i] = f"{key} = {new}"
+        return f"{key}={new[:12]}", "\n".join(lines) + "\n"
+    if kind == "drop":
+        del lines[i]
+        return f"no {key}", "\n".join(lines) + "\n"
+    if kind == "unknown-key":
+        lines.insert(i, "colour = 3.0")
+        return "unknown key", "\n".join(lines) + "\n"
+    if kind == "unknown-table":
+        return "unknown table", text + "\n[weather]\nrain = true\n"
+    if kind == "not-toml":
+        return "not TOML", text.replace("=", ":", 1)
+    return "empty", ""
+
+
+BAD_NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1e309", "1e-300", "", "abc", "1,5", "0x10"]
+
+#: (command line, the option that takes a bad value): the options a command checks
+OPTIONS = [
+    (["run", "steel40", "--max-ed-iterations"], ""),
+    (["run", "steel40", "--tha-start"], ""),
+    (["core", "steel40", "--rtol"], ""),
+    (["core", "steel40", "--atol"], ""),
+    (["core", "steel40", "--max-step"], ""),
+    (["plot", "steel40", "--out", "{dir}/p.png", "--every"], ""),
+    (["diff", "steel40", "--max-k"], ""),
+    (["sweep", "--angles", "0", "--out", "{dir}/sw", "--speeds"], ""),
+    (["sweep", "--speeds", "20", "--out", "{dir}/sw", "--angles"], ""),
+    (["sweep", "--speeds", "20", "--angles", "0", "--out", "{dir}/sw", "--jobs"], ""),
+    (["sensitivity", "--quick", "--out", "{dir}/se", "-N"], ""),
+    (["sensitivity", "--quick", "--out", "{dir}/se", "--seed"], ""),
+    (["sensitivity", "--quick", "--out", "{dir}/se", "--input"], "W="),
+    (["assembly", "steel", "core", "--speed-mph"], ""),
+    (["assembly", "steel", "core", "--alpha-deg"], ""),
+]
+
+#: commands and the output options they take, for the output-path cases
+WRITERS = [
+    (["run", "steel40", "--out"], ()),
+    (["run", "steel40", "--pages"], ()),
+    (["core", "steel40", "--trajectory"], ()),
+    (["punch", "steel40", "--to", "cbn", "--out"], ()),
+    (["plot", "steel40", "--out"], ()),
+    (["sweep", "--speeds", "20", "--angles", "0", "--erratum", "ed-direction", "--quiet",
+      "--jobs", "1", "--out"], ()),
+]
+
+BAD_PATHS = ["{dir}/missing/x", "{dir}/file/x", "{dir}", "/dev/full", "/proc/version",
+             "{dir}/ro/x", "/dev/null/x", "{dir}/x\x00y"]
+
+
+# ------------------------------------------------------------------------------ the corpus
+
+
+def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
+    """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
+    rng = random.Random(seed)
+    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "path": 0} if fast else \
+        {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "path": 0}
+    deck = _deck_bytes()
+    cases: list[Case] = []
+
+    commands = [["parse"], ["run"], ["summary", "--quiet"], ["core"]]
+    for k in range(n["deck"]):
+        kind, data = _mutate(deck, rng)
+        cmd = commands[k % len(commands)]
+        cases.append(Case("mutated decks", f"{kind} #{k}", [cmd[0], "{dir}/d.dat", *cmd[1:]],
+                          {"d.dat": data}))
+
+    for k in range(n["odd"]):
+        what, data = _odd_deck(rng)
+        cmd = ["run", "core", "summary"][k % 3]
+        cases.append(Case("physically odd decks", what, [cmd, "{dir}/d.dat"], {"d.dat": data}))
+
+    from deck_emulator.legacy.cardimage import write_images
+    from deck_emulator.legacy.jobdeck import data_deck_texts, job_deck_texts
+    from deck_emulator.legacy.deck import read_deck
+
+    d40 = read_deck(STEEL40)
+    images = {(fmt, job): write_images((job_deck_texts if job else data_deck_texts)([d40]),
+                                       fmt, "026")
+              for fmt in ("binary", "cbn", "bcd") for job in (False, True)}
+    for k in range(n["cards"]):
+        (fmt, job), data = list(images.items())[k % len(images)]
+        kind, bad = _mutate(data, rng)
+        cmd = ["parse", "run"][k % 2]
+        cases.append(Case("mutated card images", f"{fmt}{' job' if job else ''} {kind} #{k}",
+                          [cmd, "{dir}/d.img", "--card-format", fmt], {"d.img": bad}))
+
+    scene, assembly = _scene_bytes().decode(), CRASH_TEST.read_text()
+    for k in range(n["toml"]):
+        if k % 2:
+            what, text = _toml_mutation(scene, rng)
+            cases.append(Case("scene and assembly files", f"scene {what}",
+                              ["core", "{dir}/s.toml"], {"s.toml": text.encode()}))
+        else:
+            what, text = _toml_mutation(assembly, rng)
+            cases.append(Case("scene and assembly files", f"assembly {what}",
+                              ["assembly", "{dir}/a.toml", "scene"], {"a.toml": text.encode()}))
+
+    for argv, prefix in OPTIONS:
+        values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]
+        for v in values:
+            cases.append(Case("invalid options", f"{argv[-1]} {prefix}{v!r}",
+                              [*argv, prefix + v], outputs=("sw", "se", "p.png")))
+
+    for argv, _ in WRITERS:
+        for path in (BAD_PATHS if not fast else BAD_PATHS[:3]):
+            cases.append(Case("output paths", f"{argv[0]} {argv[-1]} {path!r}",
+                              [*argv, path], {"file": b"x"}))
+    return cases
+
+
+# ------------------------------------------------------------------------------ running
+
+
+def _prepare(case: Case, folder: Path) -> list[str]:
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, data in case.files.items():
+        (folder / name).write_bytes(data)
+    ro = folder / "ro"
+    ro.mkdir(exist_ok=True)
+    os.chmod(ro, 0o555)
+    return [a.replace("{dir}", str(folder)) for a in case.argv]
+
+
+def run_case(case: Case, folder: Path) -> Result:
+    """Run one case in process and list the promises it broke."""
+    from deck_emulator.cli import main
+
+    argv = _prepare(case, folder)
+    before = {p.name for p in folder.iterdir()}
+    out, err = io.StringIO(), io.StringIO()
+    started = time.perf_counter()
+    broken = []
+    cwd = os.getcwd()
+    try:
+        os.chdir(folder)  # anything written to the current folder is seen
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                status = main(argv)
+            except SystemExit as exc:  # not expected: main returns its status
+                status = exc.code if isinstance(exc.code, int) else 2
+                broken.append("SystemExit raised")
+    except Exception as exc:  # noqa: BLE001 - the broken promise being looked for
+        status = 1
+        broken.append(f"traceback: {type(exc).__name__}: {exc}"[:200])
+    finally:
+        os.chdir(cwd)
+    seconds = time.perf_counter() - started
+    text = err.getvalue()
+    if status not in STATUSES:
+        broken.append(f"exit status {status}")
+    if "Traceback" in text:
+        broken.append("a traceback on stderr")
+    if status == 2:
+        lines = [x for x in text.splitlines() if x.startswith("deck-emulator")
+                 and "error:" in x]
+        if len(lines) != 1:
+            broken.append(f"{len(lines)} error lines for a refusal")
+        written = {p.name for p in folder.iterdir()} - before
+        if written:
+            broken.append(f"a refusal wrote {sorted(written)}")
+    with contextlib.suppress(OSError):
+        os.chmod(folder / "ro", 0o755)
+    return Result(case, status, seconds, broken)
+
+
+def run_corpus(cases: list[Case], base: Path, progress: bool = False) -> list[Result]:
+    results = []
+    for k, case in enumerate(cases):
+        results.append(run_case(case, base / f"case{k}"))
+        if progress and k % 50 == 0:
+            print(f"{k}/{len(cases)}", file=sys.stderr, flush=True)
+    return results
+
+
+def counts(results: list[Result]) -> Iterator[tuple[str, int, int, dict[int, int], float]]:
+    """Per category: cases, broken cases, cases per exit status, the longest case (s)."""
+    by: dict[str, list[Result]] = {}
+    for r in results:
+        by.setdefault(r.case.category, []).append(r)
+    for category, rs in by.items():
+        statuses: dict[int, int] = {}
+        for r in rs:
+            statuses[r.status] = statuses.get(r.status, 0) + 1
+        yield (category, len(rs), sum(bool(r.broken) for r in rs), dict(sorted(statuses.items())),
+               max(r.seconds for r in rs))
+
+
+if __name__ == "__main__":
+    import tempfile
+
+    fast = "--fast" in sys.argv
+    with tempfile.TemporaryDirectory() as tmp:
+        results = run_corpus(corpus(fast=fast), Path(tmp), progress=True)
+    print("| category | cases | broken | exit statuses | longest (s) |")
+    print("|---|---|---|---|---|")
+    for category, n, broken, statuses, longest in counts(results):
+        shown = ", ".join(f"{s}: {c}" for s, c in statuses.items())
+        print(f"| {category} | {n} | {broken} | {shown} | {longest:.1f} |")
+    for r in results:
+        if r.broken:
+            print(f"BROKEN {r.case.category} / {r.case.name}: {r.case.argv}: {r.broken}")
