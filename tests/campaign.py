@@ -255,7 +255,7 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
                               [*argv, prefix + v], outputs=("sw", "se", "p.png")))
 
     for argv, _ in WRITERS:
-        for path in (BAD_PATHS if not fast else BAD_PATHS[:3]):
+        for path in (BAD_PATHS if not fast else BAD_PATHS[:3] + BAD_PATHS[-1:]):
             cases.append(Case("output paths", f"{argv[0]} {argv[-1]} {path!r}",
                               [*argv, path], {"file": b"x"}))
     return cases

@@ -1311,8 +1311,10 @@ def _main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # usage errors (2) and --help (0)
         return exc.code if isinstance(exc.code, int) else 2
     for option in _PATH_OPTIONS:  # '--out ""' would name the current folder or stdout
-        if getattr(args, option, None) == "":
-            print(f"{PROG}: error: --{option}: an empty path names no file", file=sys.stderr)
+        value = getattr(args, option, None)
+        if value == "" or (isinstance(value, str) and "\0" in value):
+            why = "an empty path names no file" if value == "" else "a path holds no NUL byte"
+            print(f"{PROG}: error: --{option}: {why}", file=sys.stderr)
             return EXIT_BAD_INPUT
     if getattr(args, "worker_wait", None) is not None and not getattr(args, "scheduler", None):
         print(f"{PROG}: error: --worker-wait: only with --scheduler (the embedded cluster's "
