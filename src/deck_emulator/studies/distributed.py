@@ -453,11 +453,12 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
     n = max(1, int(jobs or os.cpu_count() or 1))
     cluster = client = None
     try:
-        # workers ignore a terminal's Ctrl-C once their preload has run: the command handles
-        # it and closes them (a Ctrl-C in the second or so a worker's Python takes to start
-        # still reaches it: a spawned process gets no signal mask or handler from its parent)
-        with warnings.catch_warnings():  # "port 8787 in use": another cluster's HTTP server
-            warnings.simplefilter("ignore", UserWarning)
+        # workers ignore a terminal's Ctrl-C: the command handles it and closes them.  The
+        # preload says so once Dask has started in the worker; the variable, seen by the
+        # package as the spawned worker imports it (deck_emulator/__init__.py), about a
+        # second earlier.  It is set only while the workers are spawned.
+        with warnings.catch_warnings(), _worker_environment():
+            warnings.simplefilter("ignore", UserWarning)  # "port 8787 in use": another HTTP
             cluster = LocalCluster(
                 n_workers=n,
                 threads_per_worker=1,
@@ -479,6 +480,26 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
             _close_half_started_clusters()
 
 
+#: in the environment of the worker processes an embedded cluster spawns (and only there):
+#: they ignore SIGINT from their first import of the package
+WORKER_ENV = "DECK_EMULATOR_SPAWNED_WORKER"
+
+
+@contextlib.contextmanager
+def _worker_environment():
+    """:data:`WORKER_ENV` set for the block (the processes spawned in it inherit it), then
+    taken away again, so that no other child of the command sees it."""
+    before = os.environ.get(WORKER_ENV)
+    os.environ[WORKER_ENV] = "1"
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop(WORKER_ENV, None)
+        else:
+            os.environ[WORKER_ENV] = before
+
+
 def _close_half_started_clusters() -> None:
     """Close the clusters a start cut short by a signal left behind, and take them out of the
     list Dask closes at the interpreter's exit.  Dask keeps every cluster it made in
@@ -490,6 +511,10 @@ def _close_half_started_clusters() -> None:
         from distributed.deploy.spec import SpecCluster
     except ImportError:  # pragma: no cover - Dask moved it: its exit hook does the work
         return
+    # the start's abandoned tasks ("Nanny failed to start" for a worker the signal ended as
+    # it started) are reported by asyncio as they are collected, after the command has said
+    # 'interrupted': the command is ending on a signal, and those reports are only noise
+    logging.getLogger("asyncio").setLevel(logging.CRITICAL)
     instances = getattr(SpecCluster, "_instances", None)
     for cluster in list(instances or ()):
         with contextlib.suppress(BaseException):
