@@ -124,3 +124,17 @@ def test_refused_before_any_work(argv, says, tmp_path, capsys, monkeypatch):
     assert main(argv) == 2
     assert says in _one_line(capsys.readouterr().err)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_cores_bounds_are_options(tmp_path, capsys):
+    """core's --max-wall and --max-time bound one run (the library's bounds, named): a wall
+    time too short for the run is a named stop (3); a simulated time bound ends the
+    trajectory there."""
+    assert main(["core", "steel40", "--max-wall", "0.001", "--quiet"]) == 3
+    assert "max_wall_s = 0.001 s of wall time" in _one_line(capsys.readouterr().err)
+    csv = tmp_path / "t.csv"
+    assert main(["core", "steel40", "--max-time", "0.05", "--quiet", "--trajectory",
+                 str(csv)]) == 0
+    import pandas as pd
+
+    assert pd.read_csv(csv)["t_s"].max() <= 0.05

@@ -740,7 +740,8 @@ def _cmd_core(args: argparse.Namespace) -> int:
     engine_scene(source)  # a deck the core cannot solve: exit 2 before any work
     _check_out(args)
     _check_trajectory(args)
-    engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol)
+    engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol,
+                        t_max_s=args.max_time, max_wall_s=args.max_wall)
     out = _with_progress(args, engine, source)
     _write_trajectory(args, out)
     if out.error is not None:
@@ -757,6 +758,8 @@ def _cmd_core(args: argparse.Namespace) -> int:
 
 @_subcommand
 def _add_core(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.core.bounds import DEFAULT_MAX_WALL_S, DEFAULT_T_MAX_S
+
     p = sub.add_parser("core", help="solve a deck or a scene (.toml) with the modern core",
                        description="The same model solved with quaternions, solve_ivp and located "
                        "events. Presets: legacy (the listing's quirks) or physical (none).")
@@ -770,6 +773,11 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
                    help="relative tolerance, 0 < RTOL < 1 (default 1e-10)")
     p.add_argument("--atol", type=_tolerance, default=1e-10,
                    help="absolute tolerance, 0 < ATOL < 1 (default 1e-10)")
+    p.add_argument("--max-time", type=_positive_float, default=DEFAULT_T_MAX_S, metavar="S",
+                   help="stop when simulated time passes S seconds (default %(default)s)")
+    p.add_argument("--max-wall", type=_positive_float, default=DEFAULT_MAX_WALL_S, metavar="S",
+                   help="stop when the run has taken S seconds of wall time (default "
+                   "%(default)s)")
     _add_answer_options(p)
     _add_trajectory_option(p)
     _add_quiet_option(p)

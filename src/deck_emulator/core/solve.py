@@ -57,12 +57,12 @@ __all__ = [
 DEFAULT_METHOD = "auto"
 DEFAULT_RTOL = 1e-12
 DEFAULT_ATOL = 1e-12
-DEFAULT_MAX_STEP_S = 0.005
-DEFAULT_T_MAX_S = 10.0
-#: bound on the right-hand-side evaluations of one run (DOP853 takes about 12 a step)
-DEFAULT_MAX_EVALUATIONS = 5_000_000
-#: bound on the wall time of one run (s)
-DEFAULT_MAX_WALL_S = 60.0
+from .bounds import (  # noqa: E402 - the bounds, written once where the CLI reads them too
+    DEFAULT_MAX_EVALUATIONS,
+    DEFAULT_MAX_STEP_S,
+    DEFAULT_MAX_WALL_S,
+    DEFAULT_T_MAX_S,
+)
 
 LISTING_MESSAGES = {
     "first spring lost": "THE POST HAS LOST CONTACT WITH FIRST SPRING",

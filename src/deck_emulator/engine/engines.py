@@ -248,7 +248,8 @@ class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
     ``options``: a :class:`~deck_emulator.core.scene.ModelOptions` instead of a preset;
     ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's
-    (default: the core's); ``t_max_s``: simulated time at most (default: the core's);
+    (default: the core's); ``t_max_s``: simulated time at most, ``max_wall_s``: wall time
+    at most (default: the core's);
     ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
     ``trace``: sample them at all."""
 
@@ -258,6 +259,7 @@ class CoreEngine:
     rtol: float | None = None
     atol: float | None = None
     t_max_s: float | None = None
+    max_wall_s: float | None = None
     sample_contact_s: float = 0.0002
     sample_free_s: float = 0.001
     trace: bool = True
@@ -285,7 +287,8 @@ class CoreEngine:
         from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, simulate
         from deck_emulator.core.pair_hits import joint_ground_hit
 
-        bounds = {} if self.t_max_s is None else {"t_max_s": self.t_max_s}
+        bounds = {k: v for k, v in (("t_max_s", self.t_max_s), ("max_wall_s", self.max_wall_s))
+                  if v is not None}
         return joint_ground_hit(
             simulate(self.scene(source), self.model_options(), method=self.method,
                      rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, **bounds))
