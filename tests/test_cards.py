@@ -391,11 +391,42 @@ def check_first_page(pdf: Path, records: list[str]) -> None:
         assert text.strip() == want
         assert x == pytest.approx(margin + (position - 1) * 7.2, abs=0.01)  # 10 to the inch
         assert y == pytest.approx(792 - line * 12 + 0.04 * 72, abs=0.01)  # 6 lines an inch
-    # the face advances 1/10 inch a character: PDF's standard Courier is 600/1000 em wide
-    # a character (the PDF reference's standard 14 fonts), so at 12 points 7.2 points
+    # the face, embedded: DejaVu Sans Mono's glyphs advance 1233/2048 em (read from the font
+    # file below), so 1/10 inch at 72 / 10 / (1233/2048) points
     fonts = [ref.get_object() for ref in page["/Resources"]["/Font"].values()]
-    assert [f["/BaseFont"] for f in fonts] == ["/Courier"]
-    assert {size for *_, size in seen} == {12.0}
+    assert [f["/BaseFont"].split("+")[-1] for f in fonts] == ["DejaVuSansMono"]
+    descendant = fonts[0]["/DescendantFonts"][0].get_object()
+    assert "/FontFile2" in descendant["/FontDescriptor"].get_object()  # embedded, TrueType
+    assert {round(size, 4) for *_, size in seen} == {round(7.2 * 2048 / 1233, 4)}
+
+
+def test_the_printers_face_advances_a_tenth_of_an_inch():
+    """The advance pages.py writes down, read from the font file matplotlib ships."""
+    from pathlib import Path as P
+
+    import matplotlib
+    from matplotlib.ft2font import FT2Font
+
+    from deck_emulator.legacy import pages
+
+    font = FT2Font(str(P(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSansMono.ttf"))
+    advances = {font.load_char(ord(c)).horiAdvance for c in "0123456789.-+ ABCXYZ*"}
+    assert advances == {1233} and font.units_per_EM == 2048
+    assert pages.FONT_SIZE_PT * pages._ADVANCE_EM == pytest.approx(7.2)
+
+
+def test_the_same_printout_gives_the_same_pdf_bytes(tmp_path, monkeypatch):
+    from deck_emulator.legacy.pages import write_pdf
+
+    records = ["1", " THE VALUE OF VVA IS       -58.60262", "0", " T = 0.0016"] * 30
+    monkeypatch.delenv("SOURCE_DATE_EPOCH", raising=False)
+    write_pdf(records, tmp_path / "a.pdf", metadata={"Title": "t"})
+    write_pdf(records, tmp_path / "b.pdf", metadata={"Title": "t"})
+    assert (tmp_path / "a.pdf").read_bytes() == (tmp_path / "b.pdf").read_bytes()
+    assert b"/CreationDate" not in (tmp_path / "a.pdf").read_bytes()
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "0")  # reproducible builds' date: 1970-01-01
+    write_pdf(records, tmp_path / "c.pdf")
+    assert b"/CreationDate (D:19700101000000Z)" in (tmp_path / "c.pdf").read_bytes()
 
 
 def test_pages_layout_obeys_carriage_control(tmp_path):

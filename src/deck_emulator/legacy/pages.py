@@ -19,8 +19,17 @@ The 7094's printer (an IBM 1403 on the 1401 or the 7094's own channel; facts fro
 
 Each printed line's baseline sits 1/6 inch below the previous one; line ``n`` of a form
 (1-based) has its baseline ``BASELINE_DROP`` above the bottom of its 1/6-inch band.  The face
-is PDF's standard Courier at 12 points, whose advance is exactly 1/10 inch.  ``striped`` paper
-has green bars three lines (half an inch) deep, starting with a bar on lines 1-3.
+is DejaVu Sans Mono, embedded in the PDF (the subset of it the pages use), at the size whose
+advance is exactly 1/10 inch.  It comes with matplotlib (its ``mpl-data/fonts/ttf``, licence
+``LICENSE_DEJAVU`` there: Bitstream Vera's, a free licence that allows embedding and
+redistribution, with DejaVu's changes in the public domain); PDF's standard Courier, used
+before, is not embedded, so every viewer drew the pages in a face of its own choosing.
+``striped`` paper has green bars three lines (half an inch) deep, starting with a bar on
+lines 1-3.
+
+The same records give the same bytes: the PDF carries no creation date (or the one
+``SOURCE_DATE_EPOCH`` gives, as reproducible builds set it) and names its producer by
+version; its metadata are the facts the caller passes (the provenance of the run).
 """
 
 from __future__ import annotations
@@ -38,11 +47,12 @@ PAGE_WIDTH_IN = 14.875
 PAGE_HEIGHT_IN = LINES_PER_FORM / LINES_PER_INCH  # 11
 LEFT_MARGIN_IN = (PAGE_WIDTH_IN - PRINT_POSITIONS / CHARS_PER_INCH) / 2
 BASELINE_DROP = 0.04  # inch, baseline above the bottom of the line's band
-# PDF's standard Courier (not embedded; every reader has it): 600/1000 em a character,
-# so at 12 points exactly 7.2 points, 1/10 inch -- the 1403's pitch.
-_FONT = "Courier"
-_ADVANCE_EM = 600 / 1000
-FONT_SIZE_PT = 72 / CHARS_PER_INCH / _ADVANCE_EM  # 12
+# DejaVu Sans Mono: every glyph advances 1233 of its 2048 units to the em (the font's hmtx
+# table; a test reads it from the file matplotlib ships), so at 11.96 points 7.2 points,
+# 1/10 inch -- the 1403's pitch.
+_FONT = "DejaVu Sans Mono"
+_ADVANCE_EM = 1233 / 2048
+FONT_SIZE_PT = 72 / CHARS_PER_INCH / _ADVANCE_EM  # 11.959...
 
 
 def layout(records: list[str]) -> list[list[tuple[int, str]]]:
@@ -94,7 +104,8 @@ def _paper(fig, paper: str) -> None:
                                   fill=False, color="#b0b0b0", lw=0.6))
 
 
-_RC = {"pdf.use14corefonts": True, "font.family": "monospace", "font.monospace": [_FONT]}
+# TrueType embedded as such (type 42): the glyphs are the font's own outlines
+_RC = {"pdf.fonttype": 42, "font.family": "monospace", "font.monospace": [_FONT]}
 
 
 def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
@@ -109,19 +120,20 @@ def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
             continue
         first = len(text) - len(stripped) + 1
         fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
-                 stripped.rstrip(" "), family="monospace", weight="medium", size=FONT_SIZE_PT,
+                 stripped.rstrip(" "), family="monospace", size=FONT_SIZE_PT,
                  ha="left", va="baseline")
     return fig
 
 
 def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain", *,
-              outputs=None) -> int:
+              outputs=None, metadata: dict[str, str] | None = None) -> int:
     """Write the printout's forms to ``path`` as PDF, through the one writer; return the
     number of pages.
 
     ``outputs``: an open :class:`~deck_emulator.files.OutputSet` to stage the PDF in, so that
     it is committed with the set's other files (the printout itself: both or neither);
-    without it the PDF is committed alone.  Either way a kill leaves the old file or the new
+    without it the PDF is committed alone.  ``metadata``: the PDF's document information
+    (Title, Subject, Keywords, Creator ...), strings.  Either way a kill leaves the old file or the new
     one whole, and a PDF that cannot be made (a full disk: ``zlib.error`` or ``OSError`` from
     the PDF backend) is an :class:`~deck_emulator.files.OutputError` naming ``path``, with
     nothing left behind."""
@@ -133,10 +145,10 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain",
         raise ValueError(f"paper must be plain or striped, not {paper!r}")
     if outputs is None:
         with OutputSet() as own:
-            return write_pdf(records, path, paper, outputs=own)
+            return write_pdf(records, path, paper, outputs=own, metadata=metadata)
     stage = outputs.path(path)
     try:
-        return _render_pdf(records, stage, paper)
+        return _render_pdf(records, stage, paper, metadata or {})
     except OutputError:
         raise
     except (OSError, zlib.error, MemoryError) as exc:
@@ -145,12 +157,15 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain",
                           getattr(exc, "errno", None)) from None
 
 
-def _render_pdf(records: list[str], path, paper: str) -> int:
+def _render_pdf(records: list[str], path, paper: str, metadata: dict[str, str]) -> int:
     from matplotlib import rc_context
     from matplotlib.backends.backend_pdf import PdfPages
 
+    info = dict(metadata)
+    if not os.environ.get("SOURCE_DATE_EPOCH"):
+        info["CreationDate"] = None  # none at all (matplotlib reads SOURCE_DATE_EPOCH itself)
     forms = layout(records)
-    with rc_context(_RC), PdfPages(path) as pdf:
+    with rc_context(_RC), PdfPages(path, metadata=info) as pdf:
         for form in forms:
             pdf.savefig(form_figure(form, paper))
     return len(forms)
