@@ -360,8 +360,9 @@ def test_run_a_job_deck_in_column_binary(tmp_path, capsys):
 # ------------------------------------------------------------------------- pages
 
 def check_first_page(pdf: Path, records: list[str]) -> None:
+    """The output's first form: the PDF's second page (the first is the banner page)."""
     pypdf = pytest.importorskip("pypdf")
-    page = pypdf.PdfReader(str(pdf)).pages[0]
+    page = pypdf.PdfReader(str(pdf)).pages[1]
     assert (float(page.mediabox.width), float(page.mediabox.height)) == (14.875 * 72, 11 * 72)
     seen = []
 

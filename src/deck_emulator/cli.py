@@ -479,14 +479,17 @@ def _cmd_run(args: argparse.Namespace) -> int:
         if out.error is not None:
             failed = (out, deck.path)
             break
+    from deck_emulator.engine import provenance
+
+    facts = provenance.facts(src, [s["settings"] for s in sections])
     if args.json:
         from deck_emulator.present.answers import envelope
 
         text = json.dumps(envelope(
             "run", src.name, settings={"precision": args.precision,
                                        "errata": list(args.erratum)},
-            status="stopped" if failed else "ok", notes=src.notes, sections=sections),
-            indent=2) + "\n"
+            status="stopped" if failed else "ok", notes=src.notes, provenance=facts,
+            sections=sections), indent=2) + "\n"
     if not args.pages:
         _emit(args, text)
     else:  # the printout (if asked for) and its pages: one set, both written or neither
@@ -498,7 +501,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
                 outputs.write(args.out, text)
             elif args.json:
                 sys.stdout.write(text)
-            write_pdf(records, args.pages, paper=args.paper, outputs=outputs)
+            # the banner page (the job separator) first, then the output as printed
+            write_pdf(provenance.banner_records(facts) + records, args.pages,
+                      paper=args.paper, outputs=outputs,
+                      metadata=provenance.pdf_metadata(facts))
         _say(f"wrote the line printer's pages to {args.pages}")
     if failed is not None:
         _say(f"error: {_failed(*failed)}")

@@ -46,6 +46,8 @@ class Source:
     card_format: str = ""
     program: str | None = None
     notes: tuple[str, ...] = field(default=())
+    sha256: str = ""  # of the file read
+    cards: int = 0  # a deck file's cards, control cards and source included
 
     @property
     def stem(self) -> str:
@@ -183,5 +185,8 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         notes += [f"{deck.path}: warning: {w}" for w in deck.warnings]
     if "deck" not in kinds:
         raise UsageError(f"{name}: a card deck; this command takes a scene file")
+    import hashlib
+
     return Source(given, name, str(path), "deck", decks=tuple(decks_),
-                  card_format=job.card_format, program=job.source_verdict, notes=tuple(notes))
+                  card_format=job.card_format, program=job.source_verdict, notes=tuple(notes),
+                  sha256=hashlib.sha256(path.read_bytes()).hexdigest(), cards=job.cards)

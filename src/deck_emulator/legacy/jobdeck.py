@@ -119,6 +119,7 @@ class Job:
     decks: tuple[Deck, ...]
     source_verdict: str | None = None
     control_cards: tuple[str, ...] = field(default=(), repr=False)
+    cards: int = 0  # cards in the file, control cards and source included
 
     @property
     def program_differs(self) -> bool:
@@ -159,7 +160,8 @@ def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
             deck = parse_deck(data, path=path)  # exactly the reader of text decks
         else:
             deck = parse_deck("\n".join(texts), path=path)
-        return Job(path, images.format, (deck,), None, tuple(t for t in texts if _is_control(t)))
+        return Job(path, images.format, (deck,), None, tuple(t for t in texts if _is_control(t)),
+                   cards=len(texts))
 
     sections: list[tuple[int, list[str]]] = []  # (file card number of the $DATA card, cards)
     source: list[tuple[int, str]] = []
@@ -202,7 +204,7 @@ def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
         end = "" if (unended and index == len(sections)) or not cards else "\n"
         decks.append(parse_deck("\n".join(cards) + end, path=where))
     verdict = compare_source(source) if source else None
-    return Job(path, images.format, tuple(decks), verdict, tuple(controls))
+    return Job(path, images.format, tuple(decks), verdict, tuple(controls), cards=len(texts))
 
 
 # ------------------------------------------------------------------------- writing

@@ -1,0 +1,79 @@
+"""What produced a printout, said once: the facts the banner page prints, the PDF's metadata
+carry and ``run --json`` answers (issue 26).
+
+An operator's job separator page came out of the printer before each job's output; the banner
+page here is that page, carrying what an archive needs to trust the pages that follow: the
+deck (its name, its cards, the SHA-256 of its file), the program (the listing's checksum, and
+what a job deck's own FORTRAN is), the arithmetic, the errata, this tool's version, and the
+statement that the pages are a reconstruction.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from importlib import resources
+from pathlib import Path
+
+__all__ = ["RECONSTRUCTION", "facts", "banner_records", "pdf_metadata", "listing_sha256"]
+
+#: Said on every banner page and in every answer: nothing printed in 1967 survives.
+RECONSTRUCTION = ("a reconstruction: Report 75-9 prints no output pages; these are what the "
+                  "transcribed listing prints for this deck, laid out as the line printer "
+                  "printed")
+
+
+def listing_sha256() -> str:
+    """SHA-256 of the listing the emulator follows (the package's ``luminaire.f``)."""
+    data = resources.files("deck_emulator.legacy").joinpath("luminaire.f").read_bytes()
+    return hashlib.sha256(data).hexdigest()
+
+
+def facts(source, settings: list[str]) -> dict[str, str]:
+    """The provenance of a run of ``source`` (an :class:`~deck_emulator.engine.sources.Source`
+    of kind deck) with the emulator settings ``settings`` (one line per $DATA section run, as
+    the command says them: arithmetic and errata), as ordered name -> text."""
+    from deck_emulator import __version__
+
+    program = f"the listing of Report 75-9's appendix, transcribed (luminaire.f, sha256 " \
+              f"{listing_sha256()})"
+    if source.program:
+        program += f"; the job deck's own FORTRAN: {source.program}"
+    sections = len(source.decks)
+    return {
+        "deck": source.name,
+        "deck file": source.given if Path(source.given).is_file()
+        else f"{source.name}, shipped with the tool",
+        "deck sha256": source.sha256,
+        "cards": f"{source.cards} in the file ({source.card_format or 'text'}); "
+                 f"{sections} $DATA section{'s' if sections != 1 else ''} run",
+        "program": program,
+        "run": "; ".join(dict.fromkeys(settings)) or "not run",
+        "tool": f"deck_emulator {__version__}",
+        "note": RECONSTRUCTION,
+    }
+
+
+def banner_records(provenance: dict[str, str], width: int = 131) -> list[str]:
+    """The banner page as printer records (carriage control in column 1): a form of its own,
+    the facts wrapped to the print line, the next record starting a new form."""
+    import textwrap
+
+    rule = "*" * width
+    records = ["1" + rule, " ", " DECK_EMULATOR  --  JOB SEPARATOR", " ", " " + rule, "0"]
+    label = max(len(k) for k in provenance) + 2
+    for key, text in provenance.items():
+        lines = textwrap.wrap(text, width - label - 1) or [""]
+        records.append(" " + f"{key.upper():<{label}}" + lines[0])
+        records += [" " + " " * label + more for more in lines[1:]]
+    records += ["0", " " + rule]
+    return records
+
+
+def pdf_metadata(provenance: dict[str, str]) -> dict[str, str]:
+    """The PDF's document information: the same facts, for an archive's catalogue."""
+    return {
+        "Title": f"{provenance['deck']}: line printer output of the Report 75-9 program",
+        "Subject": provenance["note"],
+        "Keywords": "; ".join(f"{k}: {v}" for k, v in provenance.items() if k != "note"),
+        "Creator": provenance["tool"],
+    }
