@@ -158,3 +158,17 @@ def test_the_listing_ships_with_the_package(installed):
     proc = _run([str(python), "-c", code], cwd=work)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout == (ROOT / "legacy" / "luminaire.f").read_text()
+
+
+def test_the_corrections_and_errata_ship_with_the_package(installed):
+    """The record and the patches a stopped run's message points to, from outside the
+    checkout: the command lists them and shows one in full."""
+    exe, work = installed
+    listed = _run([str(exe), "corrections"], cwd=work)
+    assert listed.returncode == 0, listed.stderr
+    assert "ed-direction" in listed.stdout and "DIRC1X" in listed.stdout
+    shown = _run([str(exe), "corrections", "ed-direction"], cwd=work)
+    assert shown.returncode == 0, shown.stderr
+    assert "+    1 DH=D-H" in shown.stdout
+    whole = _run([str(exe), "corrections", "--all"], cwd=work)
+    assert whole.stdout.startswith((ROOT / "legacy" / "CORRECTIONS.md").read_text())

@@ -815,6 +815,82 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_cmd_scene)
 
 
+# --------------------------------------------------------------------------- corrections
+
+
+def _cmd_corrections(args: argparse.Namespace) -> int:
+    from deck_emulator.legacy import corrections
+
+    if args.all:
+        if args.key:
+            raise CLIError("corrections: give an entry's KEY or --all, not both")
+        entries = corrections.entries()
+        if args.json:
+            from deck_emulator.present.answers import envelope
+
+            _json(args, envelope("corrections", "luminaire.f",
+                                 entries=[vars(e) for e in entries]))
+        else:
+            text = corrections.document() + "".join(
+                f"\n## errata/{n}.patch\n\n{corrections.patch(n)}" for n in corrections.ERRATA)
+            _emit(args, text)
+        return 0
+    if args.key:
+        try:
+            entry = corrections.find(args.key)
+        except KeyError:
+            keys = ", ".join(e.key for e in corrections.entries())
+            raise CLIError(f"corrections {args.key}: no such entry (there are: {keys})") from None
+        if args.json:
+            from deck_emulator.present.answers import envelope
+
+            _json(args, envelope("corrections", "luminaire.f", entries=[vars(entry)]))
+        else:
+            _emit(args, entry.text.rstrip("\n") + "\n")
+        return 0
+    entries = corrections.entries()
+    if args.json:
+        from deck_emulator.present.answers import envelope
+
+        _json(args, envelope("corrections", "luminaire.f", entries=[
+            {k: v for k, v in vars(e).items() if k != "text"} for e in entries]))
+        return 0
+    kinds = {"departure": "Departures of luminaire.f from the scanned listing",
+             "kept": "Kept as printed, although an equation differs",
+             "section": "Notes", "erratum": "Errata (applied only with --erratum NAME)"}
+    lines = []
+    for kind, heading in kinds.items():
+        chosen = [e for e in entries if e.kind == kind]
+        if chosen:
+            lines += ["", heading]
+            width = max(len(e.key) for e in chosen)
+            lines += [f"  {e.key:<{width}}  {_shorten(e.title, 100 - width)}" for e in chosen]
+    lines += ["", "deck-emulator corrections KEY shows one in full; --all the whole record."]
+    _emit(args, "\n".join(lines[1:]) + "\n")
+    return 0
+
+
+def _shorten(text: str, width: int) -> str:
+    import textwrap
+
+    return textwrap.shorten(text.replace("**", ""), width, placeholder=" ...")
+
+
+@_subcommand
+def _add_corrections(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "corrections", help="the corrections to the scanned listing and the named errata",
+        description="Every place where the transcribed listing (luminaire.f) departs from the "
+        "report's scanned listing, with its reason; what is kept as printed; the named errata "
+        "and their patches. Read from the installed package.")
+    p.add_argument("key", nargs="?", metavar="KEY",
+                   help="show one entry in full: a departure's number (8), an erratum's name "
+                   "(ed-direction) or a note's key")
+    p.add_argument("--all", action="store_true", help="the whole record and every patch")
+    _add_answer_options(p)
+    p.set_defaults(func=_cmd_corrections)
+
+
 # --------------------------------------------------------------------------- assembly
 
 

@@ -28,5 +28,6 @@ def hint(guard: str | None, errata: Iterable[str]) -> str:
     """A sentence naming the erratum that would let a stopped run go on, or ''."""
     if guard == "ed_iterations" and ED_DIRECTION not in tuple(errata):
         return (f"as printed, SUBROUTINE ED walks away from its root on this deck; "
-                f"--erratum {ED_DIRECTION} lets it run (see legacy/CORRECTIONS.md)")
+                f"--erratum {ED_DIRECTION} lets it run (deck-emulator corrections {ED_DIRECTION} "
+                "says why)")
     return ""

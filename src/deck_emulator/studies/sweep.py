@@ -469,7 +469,7 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
     if engine == "emulator" and any(r["errata"] != "none" for r in rows):
         used = sorted({r["errata"] for r in rows if r["errata"] != "none"})
         lines += ["¹ errata applied as requested on the command line: " + ", ".join(used)
-                  + " (legacy/CORRECTIONS.md).", ""]
+                  + " (why: `deck-emulator corrections NAME`).", ""]
     lines += [
         "² The listing tests only the points P, R and C against the car (labels 500-462); "
         "this is the first instant at which any place on the line Q–P–R is inside the "
