@@ -815,6 +815,80 @@ def _add_scene(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_cmd_scene)
 
 
+# --------------------------------------------------------------------------- compare
+
+
+def _printout_text(path: str) -> str:
+    from deck_emulator.legacy.deck import read_bytes
+
+    shown, data = read_bytes(path, limit=1 << 26)  # DeckError naming the file
+    return data.decode("ascii", errors="replace")
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from deck_emulator.legacy.compare import compare
+    from deck_emulator.legacy.extract import ExtractError, parse_printout
+
+    texts = []
+    for path in (args.a, args.b):
+        text = _printout_text(path)
+        try:
+            items = parse_printout(text)
+        except ExtractError as exc:
+            raise CLIError(f"{path}: {exc}") from None
+        if not items and text.strip():  # (an empty file: a run that printed nothing)
+            raise CLIError(f"{path}: not a printout of the program: no 'THE VALUE OF' line "
+                           "and no 'THE POST HAS' message")
+        texts.append(text)
+    differences = compare(*texts, tolerance=args.tolerance)
+    status = 1 if differences else 0
+    shown = differences if args.max is None else differences[:args.max]
+    if args.json:
+        from deck_emulator.present.answers import envelope
+
+        _json(args, envelope(
+            "compare", f"{args.a} {args.b}", settings={"tolerance": args.tolerance},
+            status="ok", agree=not differences, differences=[vars(d) for d in shown],
+            differences_total=len(differences)))
+        return status
+    tol = "exactly as printed" if args.tolerance == 0 else f"within {args.tolerance:g}"
+    if not differences:
+        _emit(args, f"A {args.a} and B {args.b} agree ({tol}).\n")
+        return 0
+    lines = [d.line() for d in shown]
+    more = len(differences) - len(shown)
+    lines.append(f"{len(differences)} difference(s) between A {args.a} and B {args.b} "
+                 f"(values compared {tol})" + (f"; {more} not shown (--max)" if more else ""))
+    _emit(args, "\n".join(lines) + "\n")
+    return status
+
+
+def _tolerance_value(text: str) -> float:
+    value = _finite_float(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{text}: at least 0")
+    return value
+
+
+@_subcommand
+def _add_compare(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "compare", help="compare two printouts of the program, value by value",
+        description="Read two printouts of the program (this tool's, the compiled listing's, or "
+        "one typed or scanned from another source), line them up page by page and value by "
+        "value, and print each difference with its record, variable and size. Exit status 0 "
+        "when they agree (exactly as printed, or within --tolerance), 1 when they differ, 2 "
+        "for input that is not a printout.")
+    p.add_argument("a", metavar="A", help="a printout (text, carriage control in column 1)")
+    p.add_argument("b", metavar="B", help="the printout to compare it with")
+    p.add_argument("--tolerance", type=_tolerance_value, default=0.0, metavar="X",
+                   help="values agree when they differ by at most X (default 0: exactly)")
+    p.add_argument("--max", type=_positive_int, metavar="N",
+                   help="show at most N differences (all are counted)")
+    _add_answer_options(p)
+    p.set_defaults(func=_cmd_compare)
+
+
 # --------------------------------------------------------------------------- corrections
 
 

@@ -123,6 +123,8 @@ class Block:
     kind: str
     values: Mapping[str, float | None]
     record: int  # index of its ``1`` record in the printout
+    #: index of the record each value is printed on
+    value_records: Mapping[str, int] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def time(self) -> float | None:
@@ -239,14 +241,15 @@ def parse_printout(printout) -> list[Block | Message]:
     """The printout as a list of blocks and messages, in printed order."""
     items: list[Block | Message] = []
     cur: dict | None = None
+    lines: dict[str, int] = {}
     start = 0
 
     def close():
-        nonlocal cur
+        nonlocal cur, lines
         if cur:
             kind = "contact" if "VVA" in cur else "free" if "THFAD" in cur else "unknown"
-            items.append(Block(kind, MappingProxyType(cur), start))
-        cur = None
+            items.append(Block(kind, MappingProxyType(cur), start, MappingProxyType(lines)))
+        cur, lines = None, {}
 
     for i, rec in enumerate(_records(printout)):
         if rec[:1] == "1" and rec[1:].strip() == "":  # ASA page eject: a new block
@@ -263,7 +266,9 @@ def parse_printout(printout) -> list[Block | Message]:
             if cur is None:  # values without a page eject before them (a cut printout)
                 cur, start = {}, i
             for label, text in found:
-                cur[LABEL_VARIABLE.get(label, label)] = _number(text, label, i)
+                name = LABEL_VARIABLE.get(label, label)
+                cur[name] = _number(text, label, i)
+                lines[name] = i
     close()
     return items
 
