@@ -172,3 +172,15 @@ def test_the_corrections_and_errata_ship_with_the_package(installed):
     assert "+    1 DH=D-H" in shown.stdout
     whole = _run([str(exe), "corrections", "--all"], cwd=work)
     assert whole.stdout.startswith((ROOT / "legacy" / "CORRECTIONS.md").read_text())
+
+
+def test_the_listing_and_the_banner_on_the_pages_installed(installed):
+    """run --pages --listing from outside the checkout: the listing is the package's."""
+    exe, work = installed
+    proc = _run([str(exe), "run", "steel40", "--pages", "l.pdf", "--listing", "--json"],
+                cwd=work)
+    assert proc.returncode == 0, proc.stderr
+    facts = json.loads(proc.stdout)["provenance"]
+    assert facts["deck file"] == "steel40, shipped with the tool"
+    data = (work / "l.pdf").read_bytes()
+    assert data.startswith(b"%PDF") and b"/FontFile2" in data

@@ -58,3 +58,29 @@ def test_two_runs_give_the_same_pdf(tmp_path, monkeypatch):
     for name in ("a.pdf", "b.pdf"):
         assert main(["run", "steel40", "--pages", str(tmp_path / name)]) == 0
     assert (tmp_path / "a.pdf").read_bytes() == (tmp_path / "b.pdf").read_bytes()
+
+
+def test_the_listing_is_printed_before_the_output(tmp_path, capsys):
+    """run --pages --listing: banner, then the compile listing (every card of the package's
+    luminaire.f, statement numbers counting statements, not comments or continuations), then
+    the output on a new form."""
+    pypdf = pytest.importorskip("pypdf")
+    from deck_emulator.legacy.listing import listing_records
+
+    source = (ROOT / "legacy" / "luminaire.f").read_text().splitlines()
+    records = listing_records()
+    cards = [r for r in records if r[:1] != "1" and r.strip()]
+    assert len(cards) == len([c for c in source if c.strip()])  # every card, once
+    # statements counted by hand: not a comment (C in column 1), not a continuation
+    statements = [c for c in source if c.strip() and c[:1] != "C"
+                  and (len(c) < 6 or c[5] in " 0")]
+    assert records[-1].split()[0] == str(len(statements))  # the last card (END) has the last ISN
+    pdf = tmp_path / "l.pdf"
+    assert main(["run", "steel40", "--pages", str(pdf), "--listing"]) == 0
+    pages = [p.extract_text() for p in pypdf.PdfReader(str(pdf)).pages]
+    forms = sum(r[:1] == "1" for r in records)
+    assert "JOB SEPARATOR" in pages[0]
+    assert "COMPILE LISTING" in pages[1] and "READ(5,1)V1B" in pages[1]
+    assert "THE VALUE OF VVA" in pages[1 + forms] and "COMPILE" not in pages[1 + forms]
+    assert main(["run", "steel40", "--listing"]) == 2  # the listing is printed on the pages
+    assert "--listing is printed on the pages of --pages" in capsys.readouterr().err

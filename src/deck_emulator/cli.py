@@ -463,8 +463,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         check_distinct(args.out, args.pages)  # --out X --pages X: refused before any work
         check_output_file(args.pages)
-    elif args.paper != "plain":
-        raise CLIError("--paper is the paper of --pages: give --pages FILE.pdf")
+    elif args.paper != "plain" or args.listing:
+        which = ("--paper is the paper of --pages" if args.paper != "plain"
+                 else "--listing is printed on the pages of --pages")
+        raise CLIError(f"{which}: give --pages FILE.pdf")
     engine = _emulator(args, trace=bool(args.trajectory))
     records, text, failed, sections = [], "", None, []
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
@@ -501,8 +503,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
                 outputs.write(args.out, text)
             elif args.json:
                 sys.stdout.write(text)
-            # the banner page (the job separator) first, then the output as printed
-            write_pdf(provenance.banner_records(facts) + records, args.pages,
+            # the banner page (the job separator) first, the compile listing if asked for,
+            # then the output as printed
+            listing = []
+            if args.listing:
+                from deck_emulator.legacy.listing import listing_records
+
+                listing = listing_records()
+            write_pdf(provenance.banner_records(facts) + listing + records, args.pages,
                       paper=args.paper, outputs=outputs,
                       metadata=provenance.pdf_metadata(facts))
         _say(f"wrote the line printer's pages to {args.pages}")
@@ -574,6 +582,9 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                    "goes to --out if given, and not to the terminal)")
     p.add_argument("--paper", choices=("plain", "striped"), default="plain",
                    help="the fan-fold paper of --pages (default plain)")
+    p.add_argument("--listing", action="store_true",
+                   help="with --pages: the program's FORTRAN source as a compile listing "
+                   "(cards, sequence columns, statement numbers) before the output")
 
 
     _add_quiet_option(p)

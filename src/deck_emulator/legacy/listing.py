@@ -1,0 +1,56 @@
+"""The program's source as a compile listing, for the printed pages (``run --pages --listing``).
+
+A job's printout in 1967 held the compiler's listing of the FORTRAN source before the program's
+output.  IBFTC's own listing format is not in the report, and nothing of it is claimed here:
+this is a reconstruction in the usual shape of such listings -- each source card as punched
+(columns 1-72, and its sequence columns 73-80, blank in the transcription as in the scan), an
+internal statement number (ISN) before the first card of each statement (comments and
+continuation cards get none), each ``$IBFTC`` routine starting a new form, with a heading line
+on every form.  The source is the package's ``luminaire.f`` (the transcribed listing; the
+``C$`` comment cards stand for the job's control cards, which are printed as such).
+"""
+
+from __future__ import annotations
+
+__all__ = ["listing_records", "LINES_PER_PAGE"]
+
+#: source cards on a form: a heading, a blank line, then the cards (66 lines a form)
+LINES_PER_PAGE = 60
+
+
+def _heading(routine: str, page: int) -> str:
+    title = f"$IBFTC {routine}    COMPILE LISTING (A RECONSTRUCTION: THE TRANSCRIBED SOURCE)"
+    return "1" + f"{title:<120}PAGE {page:>3}"
+
+
+def listing_records(lines: list[str] | None = None) -> list[str]:
+    """The compile listing of ``lines`` (default: the package's luminaire.f) as printer
+    records, carriage control in column 1."""
+    if lines is None:
+        from deck_emulator.legacy.jobdeck import listing_lines
+
+        lines = listing_lines()
+    records: list[str] = []
+    routine, page, on_page, isn = "MAIN", 0, 0, 0
+    for card in lines:
+        card = card.rstrip("\n")
+        control = card[1:] if card.startswith("C$") else None  # a job control card
+        new_routine = control is not None and control.startswith("$IBFTC") and isn > 0
+        if control is not None and control.startswith("$IBFTC") and len(control.split()) > 1:
+            routine = control.split()[1]
+        if page == 0 or new_routine or on_page >= LINES_PER_PAGE:
+            page += 1
+            records += [_heading(routine, page), " "]
+            on_page = 0
+        on_page += 1
+        if control is not None:
+            records.append(" " + " " * 8 + control)
+            continue
+        comment = card[:1] in ("C", "c", "*")
+        continuation = not comment and len(card) > 5 and card[5] not in (" ", "0")
+        number = ""
+        if not comment and not continuation and card.strip():
+            isn += 1
+            number = f"{isn:>5}"
+        records.append(" " + f"{number:>5}   " + card[:72].ljust(72) + card[72:80].ljust(8))
+    return records
