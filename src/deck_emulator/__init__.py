@@ -4,14 +4,17 @@ beside a modern rigid-body solution of the same model."""
 import os as _os
 import sys as _sys
 
-if _os.environ.get("DECK_EMULATOR_SPAWNED_WORKER") and "multiprocessing.spawn" in _sys.modules:
+#: in the environment of the worker processes a command's embedded Dask cluster spawns (set
+#: by deck_emulator.studies.distributed only while it spawns them)
+SPAWNED_WORKER_ENV = "DECK_EMULATOR_SPAWNED_WORKER"
+
+if _os.environ.get(SPAWNED_WORKER_ENV) and "multiprocessing.spawn" in _sys.modules:
     # A worker process of a command's embedded Dask cluster, spawned: it imports this package
     # (its parent's main module) before Dask, a second or so before Dask's preload
     # (deck_emulator.studies.worker_preload) makes it ignore SIGINT.  A terminal's Ctrl-C
     # goes to the whole process group; the command handles it and closes its workers, so a
     # worker ignores it from here on rather than print a KeyboardInterrupt traceback of its
-    # own.  The variable (studies.distributed.WORKER_ENV, spelled out: importing that here
-    # would cost every command's start) is set only while the cluster spawns its workers.
+    # own.
     import signal as _signal
 
     _signal.signal(_signal.SIGINT, _signal.SIG_IGN)

@@ -55,16 +55,27 @@ class Statement:
     line: int  # card (or line) where it starts, 1-based
 
 
+def is_comment(line: str) -> bool:
+    """A fixed-form card that holds no statement: blank, a comment (C or * in column 1), or
+    a control card ($ in column 1)."""
+    return not line[:72].strip() or line[:1] in ("C", "c", "*") or line.startswith("$")
+
+
+def is_continuation(line: str) -> bool:
+    """A statement card continuing the one before (column 6 neither blank nor zero)."""
+    return not is_comment(line) and len(line) > 5 and line[5] not in (" ", "0")
+
+
 def statements(lines: list[str], numbers: list[int] | None = None) -> list[Statement]:
     """The FORTRAN statements of fixed-form source lines (see the module docstring);
     ``numbers`` are the lines' card or line numbers (default 1, 2, ...)."""
     result: list[Statement] = []
     for number, raw in zip(numbers or range(1, len(lines) + 1), lines):
         line = raw[:72]
-        if not line.strip() or line[:1] in ("C", "c", "*") or line.startswith("$"):
+        if is_comment(line):
             continue
         body = "".join(line[6:].split())
-        if len(line) > 5 and line[5] not in (" ", "0") and result:
+        if is_continuation(line) and result:
             last = result[-1]
             result[-1] = Statement(last.label, last.text + body, last.line)
             continue

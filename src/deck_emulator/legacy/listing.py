@@ -26,9 +26,9 @@ def _heading(routine: str, page: int) -> str:
 def listing_records(lines: list[str] | None = None) -> list[str]:
     """The compile listing of ``lines`` (default: the package's luminaire.f) as printer
     records, carriage control in column 1."""
-    if lines is None:
-        from deck_emulator.legacy.jobdeck import listing_lines
+    from deck_emulator.legacy.jobdeck import is_comment, is_continuation, listing_lines
 
+    if lines is None:
         lines = listing_lines()
     records: list[str] = []
     routine, page, on_page, isn = "MAIN", 0, 0, 0
@@ -46,10 +46,8 @@ def listing_records(lines: list[str] | None = None) -> list[str]:
         if control is not None:
             records.append(" " + " " * 8 + control)
             continue
-        comment = card[:1] in ("C", "c", "*")
-        continuation = not comment and len(card) > 5 and card[5] not in (" ", "0")
         number = ""
-        if not comment and not continuation and card.strip():
+        if not is_comment(card) and not is_continuation(card):  # a statement's first card
             isn += 1
             number = f"{isn:>5}"
         records.append(" " + f"{number:>5}   " + card[:72].ljust(72) + card[72:80].ljust(8))

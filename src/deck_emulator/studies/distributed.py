@@ -85,6 +85,7 @@ import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from deck_emulator import SPAWNED_WORKER_ENV
 from deck_emulator.errors import RunFailed, UsageError
 
 __all__ = [
@@ -481,8 +482,8 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
 
 
 #: in the environment of the worker processes an embedded cluster spawns (and only there):
-#: they ignore SIGINT from their first import of the package
-WORKER_ENV = "DECK_EMULATOR_SPAWNED_WORKER"
+#: they ignore SIGINT from their first import of the package (deck_emulator/__init__.py)
+WORKER_ENV = SPAWNED_WORKER_ENV
 
 
 @contextlib.contextmanager
