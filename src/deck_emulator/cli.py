@@ -906,40 +906,33 @@ def _add_compare(sub: argparse._SubParsersAction) -> None:
 def _cmd_corrections(args: argparse.Namespace) -> int:
     from deck_emulator.legacy import corrections
 
-    if args.all:
-        if args.key:
-            raise CLIError("corrections: give an entry's KEY or --all, not both")
-        entries = corrections.entries()
-        if args.json:
-            from deck_emulator.present.answers import envelope
-
-            _json(args, envelope("corrections", "luminaire.f",
-                                 entries=[vars(e) for e in entries]))
-        else:
-            text = corrections.document() + "".join(
-                f"\n## errata/{n}.patch\n\n{corrections.patch(n)}" for n in corrections.ERRATA)
-            _emit(args, text)
-        return 0
+    if args.all and args.key:
+        raise CLIError("corrections: give an entry's KEY or --all, not both")
+    entries = corrections.entries()
     if args.key:
         try:
-            entry = corrections.find(args.key)
+            entries = [corrections.find(args.key)]
         except KeyError:
-            keys = ", ".join(e.key for e in corrections.entries())
+            keys = ", ".join(e.key for e in entries)
             raise CLIError(f"corrections {args.key}: no such entry (there are: {keys})") from None
-        if args.json:
-            from deck_emulator.present.answers import envelope
-
-            _json(args, envelope("corrections", "luminaire.f", entries=[vars(entry)]))
-        else:
-            _emit(args, entry.text.rstrip("\n") + "\n")
-        return 0
-    entries = corrections.entries()
     if args.json:
         from deck_emulator.present.answers import envelope
 
+        listed = not (args.key or args.all)  # the list: keys and titles, not the full texts
         _json(args, envelope("corrections", "luminaire.f", entries=[
-            {k: v for k, v in vars(e).items() if k != "text"} for e in entries]))
-        return 0
+            {k: v for k, v in vars(e).items() if not (listed and k == "text")}
+            for e in entries]))
+    elif args.all:
+        _emit(args, corrections.document() + "".join(
+            f"\n## errata/{n}.patch\n\n{corrections.patch(n)}" for n in corrections.ERRATA))
+    elif args.key:
+        _emit(args, entries[0].text.rstrip("\n") + "\n")
+    else:
+        _emit(args, _corrections_list(entries))
+    return 0
+
+
+def _corrections_list(entries) -> str:
     kinds = {"departure": "Departures of luminaire.f from the scanned listing",
              "kept": "Kept as printed, although an equation differs",
              "section": "Notes", "erratum": "Errata (applied only with --erratum NAME)"}
@@ -951,8 +944,7 @@ def _cmd_corrections(args: argparse.Namespace) -> int:
             width = max(len(e.key) for e in chosen)
             lines += [f"  {e.key:<{width}}  {_shorten(e.title, 100 - width)}" for e in chosen]
     lines += ["", "deck-emulator corrections KEY shows one in full; --all the whole record."]
-    _emit(args, "\n".join(lines[1:]) + "\n")
-    return 0
+    return "\n".join(lines[1:]) + "\n"
 
 
 def _shorten(text: str, width: int) -> str:
