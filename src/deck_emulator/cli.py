@@ -483,7 +483,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
             break
     from deck_emulator.engine import provenance
 
-    facts = provenance.facts(src, [s["settings"] for s in sections])
+    # what produced the printout: for the JSON answer and the pages (the version costs an
+    # importlib.metadata read, so a plain run does not ask for it)
+    facts = (provenance.facts(src, [s["settings"] for s in sections])
+             if args.json or args.pages else None)
     if args.json:
         from deck_emulator.present.answers import envelope
 
