@@ -5,6 +5,7 @@ test_deck, test_extract, test_sensitivity, test_store_lock, test_output_sets."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -128,13 +129,17 @@ def test_refused_before_any_work(argv, says, tmp_path, capsys, monkeypatch):
 
 def test_the_cores_bounds_are_options(tmp_path, capsys):
     """core's --max-wall and --max-time bound one run (the library's bounds, named): a wall
-    time too short for the run is a named stop (3); a simulated time bound ends the
-    trajectory there."""
+    time too short for the run is a named stop (3); so is a simulated time bound reached
+    with the post still in the air (the emulator's 'the post has not landed'), whose
+    trajectory ends there and is written."""
     assert main(["core", "steel40", "--max-wall", "0.001", "--quiet"]) == 3
     assert "max_wall_s = 0.001 s of wall time" in _one_line(capsys.readouterr().err)
     csv = tmp_path / "t.csv"
     assert main(["core", "steel40", "--max-time", "0.05", "--quiet", "--trajectory",
-                 str(csv)]) == 0
+                 str(csv)]) == 3
+    assert "0.05 s (--max-time) with no hit" in _one_line(capsys.readouterr().err)
     import pandas as pd
 
     assert pd.read_csv(csv)["t_s"].max() <= 0.05
+    assert main(["core", "steel40", "--max-time", "0.05", "--json"]) == 3
+    assert json.loads(capsys.readouterr().out)["status"] == "stopped"

@@ -772,7 +772,15 @@ def _cmd_core(args: argparse.Namespace) -> int:
                 "rtol": args.rtol, "atol": args.atol}
     answer = outcome_answer(out, command="core", source=src.name, settings=settings)
     answer["notes"] += _odd_deck_notes(out) + list(getattr(out.raw, "notes", ()) or ())
+    landed = out.hit_message is not None
+    if not landed:  # as the emulator says it: a run that could not end (exit status 3)
+        stop = (f"{src.name}: simulated time passed the limit of {args.max_time:g} s "
+                "(--max-time) with no hit: the post has not landed")
+        answer["status"] = "stopped"
+        answer["notes"].append(stop)
     _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
+    if not landed:
+        raise RunFailed(stop)
     return 0
 
 
