@@ -2,8 +2,9 @@
 process asleep for ever after "Exception ignored in GCDiagnosis._gc_callback ...
 KeyboardInterrupt"; an interrupted start also printed Dask's "AssertionError: Status.init" from
 its exit hook).  SIGINT goes to the whole process group, as a terminal sends it, at moments
-spread over the cluster's start; each sweep must end (130, or 0/3 when it finished first)
-within a bound far above its run time, with none of those messages, and leave no process.
+spread over the cluster's start; each sweep must end (130; or 0, or killed by the SIGINT
+itself, when it had finished first) within a bound far above its run time, with none of those
+messages, and leave no process.
 
 Not asserted: that no worker prints a KeyboardInterrupt traceback.  A spawned worker ignores
 SIGINT from its first import of the package (deck_emulator/__init__.py), but a Ctrl-C in the
@@ -54,7 +55,11 @@ def _interrupt_at(delay_s: float, out: Path) -> tuple[int | str, str]:
 def _check(delay_s: float, tmp_path: Path) -> None:
     status, err = _interrupt_at(delay_s, tmp_path / f"sw{delay_s}")
     assert status != "hung", f"a Ctrl-C at {delay_s} s: the sweep did not end in 90 s"
-    assert status in (130, 0), (delay_s, status, err)
+    # Where the Ctrl-C lands depends on the machine's speed, so every honest ending passes:
+    # 130 (interrupted, said in one line), 0 (the sweep had finished), or death by SIGINT
+    # itself (-2: it came after the command had returned, as the interpreter exited; a shell
+    # reports 130).  What must never happen does not depend on the moment.
+    assert status in (130, 0, -signal.SIGINT), (delay_s, status, err)
     assert "Exception ignored" not in err and "Status.init" not in err, err
     if status == 130:
         assert "deck-emulator: interrupted" in err
