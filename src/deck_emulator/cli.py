@@ -566,6 +566,17 @@ def _add_preset_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--preset", choices=PRESETS, default="legacy",
                    help="core model options: legacy (the listing's quirks, the default) or "
                    "physical (none)")
+    p.add_argument("--shaft-contact", action=argparse.BooleanOptionalAction, default=None,
+                   help="check the shaft Q-P and the arms as segments against the car, not "
+                   "only the points P, R, C (default: the preset's, on in physical, off in "
+                   "legacy: the listing never did it)")
+
+
+def _core_keywords(args: argparse.Namespace) -> dict:
+    """--preset and --shaft-contact as the core engine's keywords."""
+    from deck_emulator.engine import core_keywords
+
+    return core_keywords(args.preset, args.shaft_contact)
 
 
 @_subcommand
@@ -760,14 +771,14 @@ def _cmd_core(args: argparse.Namespace) -> int:
     engine_scene(source)  # a deck the core cannot solve: exit 2 before any work
     _check_out(args)
     _check_trajectory(args)
-    engine = CoreEngine(preset=args.preset, method=args.method, rtol=args.rtol, atol=args.atol,
+    engine = CoreEngine(**_core_keywords(args), method=args.method, rtol=args.rtol, atol=args.atol,
                         t_max_s=args.max_time, max_wall_s=args.max_wall)
     out = _with_progress(args, engine, source)
     _write_trajectory(args, out)
     if out.error is not None:
         raise _failed(out, src.name)
     used = out.raw.method
-    settings = {"preset": args.preset,
+    settings = {**_core_keywords(args),
                 "method": f"{used} (auto)" if args.method == "auto" else used,
                 "rtol": args.rtol, "atol": args.atol}
     answer = outcome_answer(out, command="core", source=src.name, settings=settings)
@@ -1091,10 +1102,10 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     from deck_emulator.engine import CoreEngine
     from deck_emulator.present.answers import outcome_answer, render_outcome
 
-    out = CoreEngine(preset=args.preset).run(scene, name=a.name)
+    out = CoreEngine(**_core_keywords(args)).run(scene, name=a.name)
     if out.error is not None:
         raise _failed(out, args.description)
-    settings = {"preset": args.preset, "method": out.raw.method,
+    settings = {**_core_keywords(args), "method": out.raw.method,
                 "car": f"{args.speed_mph:g} mph at {args.alpha_deg:g} deg ({template}'s car"
                        + (", VVB and ALPHA set)" if car else ")")}
     answer = outcome_answer(out, command="assembly", source=a.name, settings=settings)
@@ -1225,7 +1236,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             scene_deck(base_deck, s, a, args.vvb_decimals)
     check_output_dir(args.out)
     options = (dict(errata=tuple(args.erratum)) if args.engine == "emulator"
-               else dict(preset=args.preset))
+               else _core_keywords(args))
     store = output_store(args.out, args.resume)  # a new sweep: the scenes of the last one go
     started = time.perf_counter()
     rows = sweep(speeds, angles, engine=args.engine, options=options, post=args.post,

@@ -44,7 +44,7 @@ class Surface(str, enum.Enum):
 
 #: The post's named points (the report's letters): P top, Q base, R luminaire end of the arm,
 #: U a second luminaire, S and T the impact points of the two crush springs, C the listing's
-#: extra point; CM the mass centre.
+#: extra point; CM the mass centre; Q-P, P-R, P-U the shaft and the arms as segments.
 POINT_NAMES = {
     "P": "top P",
     "Q": "base Q",
@@ -55,6 +55,10 @@ POINT_NAMES = {
     "T": "impact point T",
     "C": "point C",
     "CM": "mass centre",
+    # segments (the core's shaft_contact option: the post checked as segments against the car)
+    "Q-P": "shaft Q-P",
+    "P-R": "arm P-R",
+    "P-U": "second arm P-U",
 }
 
 

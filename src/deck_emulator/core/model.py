@@ -37,6 +37,7 @@ from .components import (
 )
 from .kinematics import IDX_SV, IDX_VV, N_STATE, ContactMode, EventSpec, Kinematics
 from .regions import FreeFlightChecks, build_checks
+from .segments import SegmentChecks, build_segment_checks
 from .rigid import post_derivative, quat_about_axis, quat_multiply, rotation_matrix
 
 __all__ = [
@@ -62,7 +63,8 @@ class Model:
 
     Attributes: ``body_points`` (letter -> principal-axes coordinates, ft; only the
     points the scene has), ``components`` (force components of the contact phase,
-    by name), ``checks`` (:class:`~.regions.FreeFlightChecks`).
+    by name), ``checks`` (:class:`~.regions.FreeFlightChecks`), ``segment_checks``
+    (:class:`~.segments.SegmentChecks` or None).
     """
 
     def __init__(self, scene: Scene, options: ModelOptions):
@@ -116,6 +118,8 @@ class Model:
         self.components = comps
         self._regular = tuple(comps.values())
         self.checks: FreeFlightChecks = build_checks(scene, options, self)
+        #: the shaft and arms against the car (``ModelOptions.shaft_contact``), or None
+        self.segment_checks: SegmentChecks | None = build_segment_checks(scene, options, self)
 
     # -- geometry
 

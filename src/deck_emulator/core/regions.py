@@ -32,7 +32,8 @@ import numpy as np
 
 from .rigid import rotation_matrix
 
-__all__ = ["HIT_MESSAGES", "hit_message", "Region", "FreeFlightChecks", "build_checks"]
+__all__ = ["HIT_MESSAGES", "hit_message", "Region", "FreeFlightChecks", "build_checks", "CarBox",
+           "car_boxes"]
 
 #: The listing's FORMATs 97-248 (FRONT and SIDE are the core's own).
 HIT_MESSAGES = {
@@ -58,6 +59,44 @@ SLACK_FT = 1e-9
 
 def hit_message(surface: str, point: str) -> str:
     return HIT_MESSAGES[surface].format(point=point)
+
+
+@dataclass(frozen=True)
+class CarBox:
+    """One of the car's three solid boxes (the exact checks' car; the clearances' parts).
+
+    In the vehicle axes, relative to the car's reference point SV:
+    ``x0_ft <= XV - SV <= x1_ft``, ``left_ft <= YV <= right_ft``, ``ZZ <= top_ft`` (down to
+    the ground: no bottom face).  ``part`` is the clearances' name (hood, roof, trunk);
+    ``surfaces`` names the faces (front ``XV - SV = x0``, rear ``= x1``, top), each as the
+    surface the post hits when it enters the box through it; the flanks are SIDE."""
+
+    part: str
+    x0_ft: float
+    x1_ft: float
+    left_ft: float
+    right_ft: float
+    top_ft: float
+    front_surface: str
+    rear_surface: str
+    top_surface: str
+
+
+def car_boxes(body) -> tuple[CarBox, CarBox, CarBox]:
+    """The car of a :class:`~deck_emulator.core.scene.VehicleBody` as three boxes, from its
+    one outline (:meth:`~deck_emulator.core.scene.VehicleBody.outline_xv`): the hood
+    (bumper to the windshield's foot SV, up to HHV), the passenger compartment (SV to
+    XENTOP, up to HTV) and the trunk (XENTOP to the tail, up to HTRV)."""
+    o = body.outline_xv(0.0)
+    yl, yr = body.left_fender_ft, body.right_fender_ft
+    return (
+        CarBox("hood", o["XBUMP"], o["SV"], yl, yr, body.hood_height_ft,
+               "FRONT", "WINDSHIELD", "HOOD"),
+        CarBox("roof", o["SV"], o["XENTOP"], yl, yr, body.top_height_ft,
+               "WINDSHIELD", "TOP", "TOP"),
+        CarBox("trunk", o["XENTOP"], o["XTAIL"], yl, yr, body.trunk_height_ft,
+               "TOP", "TRUNK", "TRUNK"),
+    )
 
 
 @dataclass(frozen=True)
@@ -236,26 +275,16 @@ def build_checks(scene, options, model) -> FreeFlightChecks:
                     + band(htr, "TRUNK"),
                 )
             else:
-                side = [((0, 1, 0, 0), -yl, "SIDE"), ((0, -1, 0, 0), yr, "SIDE")]
-                checks.add_region(  # hood box: XBUMP <= XV <= SV, ZZ <= HHV
-                    p,
-                    "vehicle",
-                    [((1, 0, 0, -1), hl, "FRONT"), ((-1, 0, 0, 1), 0.0, "WINDSHIELD")]
-                    + side
-                    + [((0, 0, -1, 0), hh, "HOOD")],
-                )
-                checks.add_region(  # compartment: SV <= XV <= XENTOP, ZZ <= HTV
-                    p,
-                    "vehicle",
-                    [((1, 0, 0, -1), 0.0, "WINDSHIELD"), ((-1, 0, 0, 1), tl, "TOP")]
-                    + side
-                    + [((0, 0, -1, 0), ht, "TOP")],
-                )
-                checks.add_region(  # trunk: XENTOP <= XV <= XTAIL, ZZ <= HTRV
-                    p,
-                    "vehicle",
-                    [((1, 0, 0, -1), -tl, "TOP"), ((-1, 0, 0, 1), tl + trl, "TRUNK")]
-                    + side
-                    + [((0, 0, -1, 0), htr, "TRUNK")],
-                )
+                # the three boxes: XV - SV >= x0 (front face), XV - SV <= x1 (rear face),
+                # the flanks (SIDE), ZZ <= top
+                for box in car_boxes(body):
+                    checks.add_region(
+                        p,
+                        "vehicle",
+                        [((1, 0, 0, -1), 0.0 - box.x0_ft, box.front_surface),
+                         ((-1, 0, 0, 1), box.x1_ft, box.rear_surface),
+                         ((0, 1, 0, 0), -box.left_ft, "SIDE"),
+                         ((0, -1, 0, 0), box.right_ft, "SIDE"),
+                         ((0, 0, -1, 0), box.top_ft, box.top_surface)],
+                    )
     return checks.finish()

@@ -771,6 +771,10 @@ class ModelOptions:
       opposes the base's sliding velocity with the scene's force as its limit, and holds
       the base still (stick) while a smaller force would do; only inside the slip-base
       travel.  False (the listing): a constant force along ``+XX`` inside the travel.
+    * ``shaft_contact`` -- in free flight the shaft Q-P and the arms P-R, P-U (and C off
+      them) are checked as segments against the car's three solid boxes
+      (:mod:`.segments`), not only the points P, R, C: a shaft falling across the hood with
+      its ends clear of the outline hits it.  False (the listing): only the points.
     """
 
     startup_kick: StartupKick | None = None
@@ -784,6 +788,7 @@ class ModelOptions:
     cap_sliding: bool = True
     solid_ground: bool = True
     friction_reaction: bool = True
+    shaft_contact: bool = True
     name: str = "custom"
 
     def replace(self, **changes: Any) -> "ModelOptions":
@@ -806,6 +811,7 @@ LEGACY = ModelOptions(
     listing_hit_tolerances=True,
     solid_ground=False,
     friction_reaction=False,
+    shaft_contact=False,
     name="legacy",
 )
 

@@ -37,6 +37,7 @@ from .scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from .regions import hit_message
+from .segments import SEGMENT_WORDS
 from deck_emulator.units import speed_lost_mph
 
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
@@ -406,18 +407,43 @@ class _Run:
             self.segments.append(Segment(t0, t0, "free flight", None))
             return
         specs = checks.events()
+        segs = m.segment_checks
+        n_points = len(specs)
+        if segs is not None:
+            for pair in segs.inside(y0):
+                self.notes.append(
+                    f"the {SEGMENT_WORDS[pair.segment]} starts free flight ({t0:.6g} s) inside the car's "
+                    f"{pair.box.part} box (the crush the car took): checked against it only "
+                    "once it has left it"
+                )
+            specs = specs + segs.events()
         sol = self._solve(m.free_rhs(), t0, y0, self.t_max, specs, self.free_method)
         candidates = []
         for i, (te, ye) in enumerate(zip(sol.t_events, sol.y_events)):
             for tk, yk in zip(te, ye):
+                if i >= n_points:  # a segment of the post against a box of the car
+                    surface, s = segs.surface(i - n_points, yk)
+                    pair = segs.pairs[i - n_points]
+                    rank = len(checks.regions) + i - n_points  # a point's hit first
+                    candidates.append((float(tk), rank, pair.segment, surface, s))
+                    continue
                 for region, surface in checks.entered(i, yk):
-                    candidates.append((float(tk), checks.priority(region), region.point, surface))
+                    candidates.append((float(tk), checks.priority(region), region.point,
+                                       surface, None))
         t_end = float(sol.t[-1])
         if candidates:
             t_first = min(c[0] for c in candidates)
             tied = [c for c in candidates if c[0] <= t_first + 1e-12]
-            tk, _, point, surface = min(tied, key=lambda c: c[1])
+            tk, _, point, surface, s = min(tied, key=lambda c: c[1])
             self._set_hit(tk, point, surface)
+            if s is not None:
+                where = (f", {s:.3f} of the way from {point[0]} to {point[-1]}"
+                         if "-" in point else "")
+                self.notes.append(
+                    f"the {SEGMENT_WORDS[point]} hit the car's {surface.lower()} at "
+                    f"{tk:.6g} s{where} (shaft_contact: the post's segments checked against "
+                    "the car)"
+                )
             t_end = tk
         self.segments.append(Segment(t0, t_end, "free flight", sol.sol))
 

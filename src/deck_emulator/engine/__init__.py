@@ -16,12 +16,12 @@ import importlib
 _WHERE = {
     "ENGINES": "engines", "CoreEngine": "engines", "EmulatorEngine": "engines",
     "core_events": "engines", "engine_for": "engines", "run_engine": "engines",
-    "source_name": "engines", "step_literals": "engines", "Outcome": "outcome",
+    "source_name": "engines", "core_keywords": "engines", "step_literals": "engines", "Outcome": "outcome",
 }
 _MODULES = ("errata", "quantities", "safety", "energy", "assemblies", "leaf_spring")
 
 __all__ = ["ENGINES", "CoreEngine", "EmulatorEngine", "Limits", "Outcome", "core_events",
-           "engine_for", "errata", "quantities", "run_engine", "source_name"]
+           "core_keywords", "engine_for", "errata", "quantities", "run_engine", "source_name"]
 
 
 def __getattr__(name: str):

@@ -251,10 +251,12 @@ class CoreEngine:
     (default: the core's); ``t_max_s``: simulated time at most, ``max_wall_s``: wall time
     at most (default: the core's);
     ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
-    ``trace``: sample them at all."""
+    ``trace``: sample them at all; ``shaft_contact``: True or False sets the option of that
+    name (the shaft and arms checked against the car) over the preset's, None keeps it."""
 
     preset: str = "legacy"
     options: object = None
+    shaft_contact: bool | None = None
     method: str = "auto"
     rtol: float | None = None
     atol: float | None = None
@@ -268,7 +270,11 @@ class CoreEngine:
     def model_options(self):
         from deck_emulator.core.scene import PRESETS
 
-        return self.options if self.options is not None else PRESETS[self.preset]
+        opts = self.options if self.options is not None else PRESETS[self.preset]
+        if self.shaft_contact is None or self.shaft_contact == opts.shaft_contact:
+            return opts
+        return opts.replace(shaft_contact=self.shaft_contact, name=opts.name + (
+            "+shaft_contact" if self.shaft_contact else "-shaft_contact"))
 
     def scene(self, source):
         """The scene the core solves: ``source`` itself, or the deck's (a deck or a
@@ -380,6 +386,13 @@ class CoreEngine:
         else:  # force on the car along +XV; the car moves towards -XV when VVB < 0
             sign = 1.0 if car.initial_velocity_ft_s < 0 else -1.0
             out.pulse_g = force / (car.mass_slug * g) * sign
+
+
+def core_keywords(preset: str, shaft_contact: bool | None = None) -> dict:
+    """:class:`CoreEngine`'s keywords for a preset and the command line's ``--shaft-contact``
+    (``shaft_contact`` left out when None: the preset's, and a stored task keeps its key)."""
+    return {"preset": preset, **({} if shaft_contact is None else
+                                 {"shaft_contact": bool(shaft_contact)})}
 
 
 def engine_for(name: str, **options):

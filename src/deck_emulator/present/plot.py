@@ -29,7 +29,7 @@ import numpy as np
 
 from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.engine import quantities, safety
-from deck_emulator.engine import ENGINES, Outcome, engine_for
+from deck_emulator.engine import ENGINES, Outcome, core_keywords, engine_for
 from deck_emulator.events import EventKind
 from deck_emulator.units import ft_s_to_mph
 
@@ -859,7 +859,7 @@ def check_plot_outputs(out, animate=None) -> None:
 
 def _run_for_plot(deck, engine, args) -> Outcome:
     options = (dict(errata=tuple(args.erratum)) if engine == "emulator"
-               else dict(preset=args.preset))
+               else core_keywords(args.preset, getattr(args, "shaft_contact", None)))
     res = engine_for(engine, **options).run(deck)
     if res.error:
         print(f"deck-emulator: {getattr(deck, 'path', None) or args.name}: the {engine} "

@@ -192,13 +192,15 @@ def _base_deck(deck: str):
     return _DECKS[deck]
 
 
-def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=()) -> dict:
+def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=(),
+               shaft_contact: bool | None = None) -> dict:
     """THE adapter to the engine layer: the deck ``deck`` (a shipped deck's name or a path) with
     ``values`` (READ-list names -> values; on the core also :data:`SCENE_INPUTS`), run by
-    ``engine`` -> the flat row of ``result_row`` (every output the sweep has)."""
+    ``engine`` -> the flat row of ``result_row`` (every output the sweep has); ``preset`` and
+    ``shaft_contact`` (None: the preset's) are the core's."""
     import dataclasses
 
-    from deck_emulator.engine import CoreEngine, EmulatorEngine
+    from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords
     from deck_emulator.legacy.deck import NAMES
     from deck_emulator.studies.sweep import result_row
     deck_values = {k: v for k, v in values.items() if k in NAMES}
@@ -214,7 +216,7 @@ def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=()) -> 
     if engine == "emulator":
         res = EmulatorEngine(errata=tuple(errata)).run(d, name=name)
     else:
-        core = CoreEngine(preset=preset)
+        core = CoreEngine(**core_keywords(preset, shaft_contact))
         scene = None
         if scene_values:  # the deck has no friction field: the base's friction on the scene
             from deck_emulator.core.scene import BaseFriction
@@ -253,7 +255,7 @@ def outcomes_of(row: dict) -> dict:
 def scene_task(task: dict) -> dict:
     """A worker's function: ``{"deck", "engine", "preset", "inputs"}`` -> outcomes."""
     return outcomes_of(_run_scene(task["inputs"], task["engine"], task["preset"], task["deck"],
-                                  task.get("errata", ())))
+                                  task.get("errata", ()), task.get("shaft_contact")))
 
 
 # ============================================================== a function with known indices
@@ -654,6 +656,7 @@ def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
 
 def run_command(args) -> int:
     """``deck-emulator sensitivity`` (options: see the CLI)."""
+    from deck_emulator.engine import core_keywords
     from deck_emulator.errors import RunFailed, UsageError
     from deck_emulator.files import OutputError, check_output_dir
 
@@ -679,7 +682,8 @@ def run_command(args) -> int:
         label = Path(deck).stem
         st = run_study(
             problem, n, scene_task,
-            base_task={"deck": deck, "engine": args.engine, "preset": args.preset},
+            base_task={"deck": deck, "engine": args.engine,
+                       **core_keywords(args.preset, getattr(args, "shaft_contact", None))},
             outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=args.seed,
             jobs=args.jobs, scheduler=scheduler_of(args), resume=args.resume, desc=label,
             progress=False if getattr(args, "quiet", False) else None,
@@ -700,7 +704,9 @@ def run_command(args) -> int:
         "",
         f"Command: `{cmd}`" if cmd else "",
         "",
-        f"Engine **{args.engine}** (preset {args.preset}); N = {n} (and N/2 for convergence); "
+        f"Engine **{args.engine}** (preset {args.preset}"
+        + {None: "", True: ", shaft contact on", False: ", shaft contact off"}[
+            getattr(args, "shaft_contact", None)] + f"); N = {n} (and N/2 for convergence); "
         f"{n * (len(inputs) + 2)} scenes per deck; seed {args.seed}; "
         f"{wall:.0f} s wall for the scenes run now (measured under load).",
         "",

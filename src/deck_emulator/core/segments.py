@@ -1,0 +1,217 @@
+"""The shaft and the arms against the car: segments of the post checked in free flight.
+
+The listing (and :mod:`.regions`) checks only the points P, R and C against the car, so a
+shaft that falls across the hood with its ends clear of the outline goes through the car
+unseen.  Under ``ModelOptions.shaft_contact`` the core checks the post's *segments* too:
+the shaft Q-P, the arm P-R, a second arm P-U (those the scene has), and C as a point
+where it lies off them -- each against each of the car's three solid boxes
+(:func:`~.regions.car_boxes`: the one outline, the boxes of the exact point checks).  The
+car is always the solid boxes here, under either preset: the listing has no segment test
+whose tolerances could be copied.
+
+The event function
+------------------
+For a segment ``X(s) = A + s (B - A)``, ``0 <= s <= 1``, and a box with faces ``k`` (front,
+rear, two flanks, top; no bottom: the boxes reach down to the ground), let
+``g_k(X)`` be the signed distance of ``X`` to the plane of face ``k``, positive on the box's
+side (``XV - SV - x0``, ``x1 - (XV - SV)``, ``YV - left``, ``right - YV``, ``top - ZZ``).
+The event function is
+
+    h = max over s in [0, 1] of  min over k of  g_k(X(s)),
+
+the depth of the segment's deepest point inside the box (negative outside: minus the
+smallest largest-face-violation along the segment).  ``h >= 0`` exactly when some point of
+the segment is in the closed box, ``h > 0`` when one is inside it, so ``h`` crosses zero
+upwards at the first contact.  Each ``g_k`` is affine along the segment, ``a_k + b_k s``;
+``min_k`` of them is concave and piecewise linear in ``s``, so its maximum over [0, 1] is
+at ``s = 0``, ``s = 1`` or where two of the lines cross: ``h`` is computed exactly from
+those (at most 12) candidates, with no iteration.
+
+Why the root finder can use it: each ``g_k`` has a unit gradient in the point's position
+(the faces are planes of the vehicle axes, a rotation of the road axes), so ``min_k g_k``
+is 1-Lipschitz in the point, and ``h`` -- a maximum over the compact set [0, 1] of a
+function continuous in ``(s, state)`` -- satisfies ``|h - h'| <= max(|A - A'|, |B - B'|)
++ |SV - SV'|``.  Along a trajectory ``h(t)`` is therefore continuous (Lipschitz, piecewise
+smooth), and scipy's event location (a sign change bracketed between two steps, refined by
+``brentq`` on the dense output) needs only that.  The Euclidean distance of segment and
+box would not do: it is zero throughout a penetration, so it has no sign change.
+
+The surface named is the face that was crossed: at the hit, of the faces at which the
+deepest point lies (``g_k = h`` to 1e-9 ft), the one whose ``g_k`` was growing fastest
+(``g_k(t - e) ~ -e dg_k/dt`` there: the face that was the binding one just before); at an
+edge hit by a post falling straight down, the top.
+
+A segment that is already inside a box when free flight starts (right after separation the
+foot of the post can still be inside the *undeformed* outline: the crush the car took) is
+checked against that box only once it has left it -- the event fires on an upward zero
+crossing only -- as :func:`deck_emulator.engine.safety.body_clearance` counts a (segment,
+part) pair; the outcome's notes say so.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
+from .regions import CarBox, car_boxes
+from .rigid import rotation_matrix
+
+__all__ = ["SEGMENT_WORDS", "Pair", "SegmentChecks", "build_segment_checks", "segment_depth",
+           "post_segments"]
+
+#: how each checked segment is said in a sentence (events.POINT_NAMES has the same words)
+SEGMENT_WORDS = {"Q-P": "shaft Q-P", "P-R": "arm P-R", "P-U": "second arm P-U", "C": "point C"}
+
+#: faces whose depth is within this of the deepest (ft) are "at" the contact
+ACTIVE_FT = 1e-9
+#: how close to a segment C must be to count as on it (ft)
+ON_SEGMENT_FT = 1e-9
+
+
+@dataclass(frozen=True)
+class Pair:
+    """One check: ``segment`` (its label; ends ``a``, ``b``, the same letter for a point)
+    against ``box``."""
+
+    segment: str
+    a: str
+    b: str
+    box: CarBox
+
+
+def post_segments(body_points: dict) -> list[tuple[str, str, str]]:
+    """(label, end A, end B) of the post's segments: Q-P, P-R, P-U (those it has), and C as
+    a point where it lies off them (principal-axes coordinates ``body_points``)."""
+    out = [("Q-P", "Q", "P")]
+    for arm in ("R", "U"):
+        if arm in body_points:
+            out.append((f"P-{arm}", "P", arm))
+    if "C" in body_points:
+        c = np.asarray(body_points["C"], float)
+        on = False
+        for _, a, b in out:
+            pa, pb = np.asarray(body_points[a], float), np.asarray(body_points[b], float)
+            d = pb - pa
+            s = float(np.clip(np.dot(c - pa, d) / max(np.dot(d, d), 1e-300), 0.0, 1.0))
+            on = on or float(np.linalg.norm(pa + s * d - c)) <= ON_SEGMENT_FT
+        if not on:
+            out.append(("C", "C", "C"))
+    return out
+
+
+def _faces(box: CarBox, a, b, sv):
+    """(a_k, b_k) of the five faces along A + s (B - A); ``a``, ``b`` in XV, YV, ZZ."""
+    ga = np.array([a[0] - sv - box.x0_ft, box.x1_ft - (a[0] - sv), a[1] - box.left_ft,
+                   box.right_ft - a[1], box.top_ft - a[2]])
+    gb = np.array([b[0] - sv - box.x0_ft, box.x1_ft - (b[0] - sv), b[1] - box.left_ft,
+                   box.right_ft - b[1], box.top_ft - b[2]])
+    return ga, gb - ga
+
+
+def segment_depth(ga, db) -> tuple[float, float]:
+    """``max over s in [0, 1] of min_k (ga[k] + db[k] s)`` and an ``s`` where it is reached
+    (exact: endpoints and the pairwise crossings of the lines)."""
+    cand = [0.0, 1.0]
+    n = len(ga)
+    for i in range(n):
+        for j in range(i + 1, n):
+            den = db[i] - db[j]
+            if den != 0.0:
+                s = (ga[j] - ga[i]) / den
+                if 0.0 < s < 1.0:
+                    cand.append(s)
+    s = np.array(cand)
+    vals = np.min(ga[None, :] + db[None, :] * s[:, None], axis=1)
+    k = int(np.argmax(vals))
+    return float(vals[k]), float(s[k])
+
+
+FACE_SURFACES = ("front", "rear", "SIDE", "SIDE", "top")
+
+
+class SegmentChecks:
+    """The (segment, box) pairs of a model, their event functions and the surface hit."""
+
+    def __init__(self, model, pairs: list[Pair]):
+        self.model = model
+        self.pairs = pairs
+        self._cache_key = None
+        self._cache_val = None
+
+    def _vehicle_xyz(self, R, y, letter):
+        m = self.model
+        bx, by, bz = m.body_points[letter]
+        x = y[0] + R[0] * bx + R[1] * by + R[2] * bz
+        yy = y[1] + R[3] * bx + R[4] * by + R[5] * bz
+        zz = y[2] + R[6] * bx + R[7] * by + R[8] * bz
+        return (x * m.cos_a - yy * m.sin_a, x * m.sin_a + yy * m.cos_a, zz)
+
+    def depths(self, y) -> list[tuple[float, float]]:
+        """(h, s at the deepest point) of every pair at state ``y`` (cached for the last)."""
+        yl = y.tolist() if isinstance(y, np.ndarray) else list(y)
+        key = tuple(yl)
+        if key == self._cache_key:
+            return self._cache_val
+        R = rotation_matrix((yl[6], yl[7], yl[8], yl[9]))
+        pos = {}
+        out = []
+        for p in self.pairs:
+            for letter in (p.a, p.b):
+                if letter not in pos:
+                    pos[letter] = self._vehicle_xyz(R, yl, letter)
+            ga, db = _faces(p.box, pos[p.a], pos[p.b], yl[IDX_SV])
+            out.append(segment_depth(ga, db))
+        self._cache_key, self._cache_val = key, out
+        return out
+
+    def values(self, y) -> np.ndarray:
+        return np.array([h for h, _ in self.depths(y)])
+
+    def events(self) -> list[EventSpec]:
+        """One event per pair: ``h`` crossing zero upwards; recorded, not terminal (the
+        earliest of all the free flight's candidates is the hit)."""
+        return [EventSpec(f"segment {p.segment} / {p.box.part}",
+                          lambda t, y, i=i: self.depths(y)[i][0], +1.0, False)
+                for i, p in enumerate(self.pairs)]
+
+    def inside(self, y) -> list[Pair]:
+        """The pairs whose segment is inside its box at state ``y`` (``h > 0``)."""
+        return [p for p, (h, _) in zip(self.pairs, self.depths(y)) if h > 0.0]
+
+    def surface(self, i: int, y) -> tuple[str, float]:
+        """(surface, s) of pair ``i`` at the state ``y`` of its located event."""
+        p = self.pairs[i]
+        m = self.model
+        yl = y.tolist() if isinstance(y, np.ndarray) else list(y)
+        R = rotation_matrix((yl[6], yl[7], yl[8], yl[9]))
+        a, b = self._vehicle_xyz(R, yl, p.a), self._vehicle_xyz(R, yl, p.b)
+        ga, db = _faces(p.box, a, b, yl[IDX_SV])
+        h, s = segment_depth(ga, db)
+        g = ga + db * s
+        active = [k for k in range(5) if g[k] <= h + ACTIVE_FT]
+        kin = Kinematics(m, yl)
+        va, vb = np.array(kin.point_velocity(p.a)), np.array(kin.point_velocity(p.b))
+        v = (1.0 - s) * va + s * vb  # a rigid body's velocity is affine along a segment
+        vxv, vyv = v[0] * m.cos_a - v[1] * m.sin_a, v[0] * m.sin_a + v[1] * m.cos_a
+        vv = yl[IDX_VV]
+        rates = (vxv - vv, vv - vxv, vyv, -vyv, -v[2])
+        k = max(active, key=lambda j: rates[j])
+        word = FACE_SURFACES[k]
+        box = p.box
+        return ({"front": box.front_surface, "rear": box.rear_surface,
+                 "top": box.top_surface}.get(word, word), s)
+
+
+def build_segment_checks(scene, options, model) -> SegmentChecks | None:
+    """The segment checks of ``scene`` under ``options`` (``None`` when the option is off
+    or the scene has no car outline)."""
+    if not options.shaft_contact:
+        return None
+    car = scene.vehicle
+    if car is None or car.body is None:
+        return None
+    pairs = [Pair(label, a, b, box) for label, a, b in post_segments(model.body_points)
+             for box in car_boxes(car.body)]
+    return SegmentChecks(model, pairs)
