@@ -25,12 +25,17 @@ class CoreEvent:
 @dataclass(frozen=True)
 class Hit:
     """The run's end: ``surface`` GROUND, HOOD, WINDSHIELD, TOP, TRUNK (or the core's
-    FRONT, SIDE), the post ``point`` that touched it, and the listing's ``message``."""
+    FRONT, SIDE), the post ``point`` that touched it, and the listing's ``message``.  A
+    segment's hit (``ModelOptions.shaft_contact``: ``point`` Q-P, P-R, P-U) says where along
+    it (``fraction``, 0 at its first letter) and the other faces through the contact
+    (``edge``: the hit is on that edge of ``surface``)."""
 
     message: str
     time_s: float
     point: str
     surface: str
+    fraction: float | None = None
+    edge: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

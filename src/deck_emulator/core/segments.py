@@ -180,8 +180,11 @@ class SegmentChecks:
         """The pairs whose segment is inside its box at state ``y`` (``h > 0``)."""
         return [p for p, (h, _) in zip(self.pairs, self.depths(y)) if h > 0.0]
 
-    def surface(self, i: int, y) -> tuple[str, float]:
-        """(surface, s) of pair ``i`` at the state ``y`` of its located event."""
+    def surface(self, i: int, y) -> tuple[str, float, tuple[str, ...]]:
+        """(surface, s, others) of pair ``i`` at the state ``y`` of its located event: the
+        face crossed, where along the segment, and the other faces through the contact (an
+        edge: a straight segment meets a flat face first at an edge of it, or with an end,
+        unless it lies parallel to it)."""
         p = self.pairs[i]
         m = self.model
         yl = y.tolist() if isinstance(y, np.ndarray) else list(y)
@@ -198,10 +201,11 @@ class SegmentChecks:
         vv = yl[IDX_VV]
         rates = (vxv - vv, vv - vxv, vyv, -vyv, -v[2])
         k = max(active, key=lambda j: rates[j])
-        word = FACE_SURFACES[k]
         box = p.box
-        return ({"front": box.front_surface, "rear": box.rear_surface,
-                 "top": box.top_surface}.get(word, word), s)
+        words = {"front": box.front_surface, "rear": box.rear_surface, "top": box.top_surface}
+        name = [words.get(FACE_SURFACES[j], FACE_SURFACES[j]) for j in range(5)]
+        others = tuple(dict.fromkeys(name[j] for j in active if name[j] != name[k]))
+        return name[k], s, others
 
 
 def build_segment_checks(scene, options, model) -> SegmentChecks | None:

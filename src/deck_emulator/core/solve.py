@@ -23,6 +23,7 @@ segments are kept apart (no concatenated dense output with duplicate times).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
@@ -422,10 +423,10 @@ class _Run:
         for i, (te, ye) in enumerate(zip(sol.t_events, sol.y_events)):
             for tk, yk in zip(te, ye):
                 if i >= n_points:  # a segment of the post against a box of the car
-                    surface, s = segs.surface(i - n_points, yk)
+                    surface, s, others = segs.surface(i - n_points, yk)
                     pair = segs.pairs[i - n_points]
                     rank = len(checks.regions) + i - n_points  # a point's hit first
-                    candidates.append((float(tk), rank, pair.segment, surface, s))
+                    candidates.append((float(tk), rank, pair.segment, surface, (s, others)))
                     continue
                 for region, surface in checks.entered(i, yk):
                     candidates.append((float(tk), checks.priority(region), region.point,
@@ -434,11 +435,17 @@ class _Run:
         if candidates:
             t_first = min(c[0] for c in candidates)
             tied = [c for c in candidates if c[0] <= t_first + 1e-12]
-            tk, _, point, surface, s = min(tied, key=lambda c: c[1])
+            tk, _, point, surface, seg = min(tied, key=lambda c: c[1])
             self._set_hit(tk, point, surface)
-            if s is not None:
+            if seg is not None:
+                s, others = seg
+                self.hit = dataclasses.replace(self.hit, fraction=s, edge=others)
                 where = (f", {s:.3f} of the way from {point[0]} to {point[-1]}"
                          if "-" in point else "")
+                if others:
+                    where += (" (at its edge with the " + " and the ".join(
+                        o.lower() for o in others) + ": named by the face it was crossing "
+                        "fastest)")
                 self.notes.append(
                     f"the {SEGMENT_WORDS[point]} hit the car's {surface.lower()} at "
                     f"{tk:.6g} s{where} (shaft_contact: the post's segments checked against "

@@ -46,6 +46,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from deck_emulator.core.regions import car_boxes
 from deck_emulator.core.scene import VehicleBody
 from deck_emulator.units import G_FT_S2, M_PER_FT, speed_lost_mph
 
@@ -428,12 +429,9 @@ def body_clearance(
     free = np.ones(n, dtype=bool) if free is None else np.asarray(free, dtype=bool)
     idx = np.nonzero(free)[0]
     ca, sa = math.cos(alpha_rad), math.sin(alpha_rad)
-    o = body.outline_xv(sv[idx])
-    parts = (
-        ("hood", o["XBUMP"], o["SV"], body.hood_height_ft),
-        ("roof", o["SV"], o["XENTOP"], body.top_height_ft),
-        ("trunk", o["XENTOP"], o["XTAIL"], body.trunk_height_ft),
-    )
+    # the car's three boxes (the core's one definition, from the one outline), at SV
+    parts = tuple((b.part, sv[idx] + b.x0_ft, sv[idx] + b.x1_ft, b.top_ft)
+                  for b in car_boxes(body))
     t = times[idx]
     least = roof = touch = None  # (clearance, time, surface, where) / (time, surface)
     for label, A, B in _segments(points):
