@@ -265,3 +265,33 @@ def test_study_steel20_column():
     page = render([row])
     assert "| steel20 | post hits front of car | 760.4 | ground (C) |" in page
     assert "hood, edge with the front (Q-P)" in page
+
+
+def test_every_command_with_a_preset_takes_the_shaft_option():
+    """--shaft-contact / --no-shaft-contact wherever --preset is taken (default: the
+    preset's)."""
+    import argparse
+
+    from deck_emulator.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    with_preset = {name: p for name, p in sub.choices.items()
+                   if any("--preset" in a.option_strings for a in p._actions)}
+    assert {"core", "plot", "sweep", "sensitivity", "assembly"} <= set(with_preset)
+    for name, p in with_preset.items():
+        flags = {s for a in p._actions for s in a.option_strings}
+        assert {"--shaft-contact", "--no-shaft-contact"} <= flags, name
+    core = with_preset["core"]
+    assert core.parse_args(["steel20"]).shaft_contact is None
+    assert core.parse_args(["steel20", "--no-shaft-contact"]).shaft_contact is False
+
+
+def test_engine_keyword_over_the_preset():
+    from deck_emulator.engine import CoreEngine, core_keywords
+
+    assert core_keywords("legacy") == {"preset": "legacy"}
+    assert CoreEngine(preset="legacy").model_options() is LEGACY
+    on = CoreEngine(**core_keywords("legacy", True)).model_options()
+    assert on.shaft_contact and on.listing_hit_tolerances and on.name == "legacy+shaft_contact"
+    off = CoreEngine(preset="physical", shaft_contact=False).model_options()
+    assert not off.shaft_contact and off.name == "physical-shaft_contact"
