@@ -50,6 +50,7 @@ part) pair; the outcome's notes say so.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,19 +103,21 @@ def post_segments(body_points: dict) -> list[tuple[str, str, str]]:
 
 
 def _faces(box: CarBox, a, b, sv):
-    """(a_k, b_k) of the five faces along A + s (B - A); ``a``, ``b`` in XV, YV, ZZ."""
-    ga = np.array([a[0] - sv - box.x0_ft, box.x1_ft - (a[0] - sv), a[1] - box.left_ft,
-                   box.right_ft - a[1], box.top_ft - a[2]])
-    gb = np.array([b[0] - sv - box.x0_ft, box.x1_ft - (b[0] - sv), b[1] - box.left_ft,
-                   box.right_ft - b[1], box.top_ft - b[2]])
-    return ga, gb - ga
+    """(a_k, b_k) of the five faces along A + s (B - A); ``a``, ``b`` in XV, YV, ZZ (plain
+    floats: five numbers, evaluated at every step, where numpy's overhead would dominate)."""
+    ga = (a[0] - sv - box.x0_ft, box.x1_ft - (a[0] - sv), a[1] - box.left_ft,
+          box.right_ft - a[1], box.top_ft - a[2])
+    gb = (b[0] - sv - box.x0_ft, box.x1_ft - (b[0] - sv), b[1] - box.left_ft,
+          box.right_ft - b[1], box.top_ft - b[2])
+    return ga, tuple(y - x for x, y in zip(ga, gb))
 
 
 def segment_depth(ga, db) -> tuple[float, float]:
     """``max over s in [0, 1] of min_k (ga[k] + db[k] s)`` and an ``s`` where it is reached
-    (exact: endpoints and the pairwise crossings of the lines)."""
-    cand = [0.0, 1.0]
+    (exact: the maximum of a concave piecewise-linear function lies at an end of [0, 1] or
+    where two of its lines cross)."""
     n = len(ga)
+    cand = [0.0, 1.0]
     for i in range(n):
         for j in range(i + 1, n):
             den = db[i] - db[j]
@@ -122,10 +125,12 @@ def segment_depth(ga, db) -> tuple[float, float]:
                 s = (ga[j] - ga[i]) / den
                 if 0.0 < s < 1.0:
                     cand.append(s)
-    s = np.array(cand)
-    vals = np.min(ga[None, :] + db[None, :] * s[:, None], axis=1)
-    k = int(np.argmax(vals))
-    return float(vals[k]), float(s[k])
+    best, where = -math.inf, 0.0
+    for s in cand:
+        v = min(g + d * s for g, d in zip(ga, db))
+        if v > best:
+            best, where = v, s
+    return float(best), float(where)
 
 
 FACE_SURFACES = ("front", "rear", "SIDE", "SIDE", "top")
@@ -192,7 +197,7 @@ class SegmentChecks:
         a, b = self._vehicle_xyz(R, yl, p.a), self._vehicle_xyz(R, yl, p.b)
         ga, db = _faces(p.box, a, b, yl[IDX_SV])
         h, s = segment_depth(ga, db)
-        g = ga + db * s
+        g = [x + d * s for x, d in zip(ga, db)]
         active = [k for k in range(5) if g[k] <= h + ACTIVE_FT]
         kin = Kinematics(m, yl)
         va, vb = np.array(kin.point_velocity(p.a)), np.array(kin.point_velocity(p.b))
