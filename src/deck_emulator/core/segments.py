@@ -59,11 +59,8 @@ from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
 from .regions import CarBox, car_boxes
 from .rigid import rotation_matrix
 
-__all__ = ["SEGMENT_WORDS", "Pair", "SegmentChecks", "build_segment_checks", "segment_depth",
+__all__ = ["Pair", "SegmentChecks", "build_segment_checks", "segment_depth",
            "post_segments"]
-
-#: how each checked segment is said in a sentence (events.POINT_NAMES has the same words)
-SEGMENT_WORDS = {"Q-P": "shaft Q-P", "P-R": "arm P-R", "P-U": "second arm P-U", "C": "point C"}
 
 #: faces whose depth is within this of the deepest (ft) are "at" the contact
 ACTIVE_FT = 1e-9

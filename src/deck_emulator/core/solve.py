@@ -38,7 +38,7 @@ from .scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from .regions import hit_message
-from .segments import SEGMENT_WORDS
+from deck_emulator.events import POINT_NAMES
 from deck_emulator.units import speed_lost_mph
 
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
@@ -413,7 +413,8 @@ class _Run:
         if segs is not None:
             for pair in segs.inside(y0):
                 self.notes.append(
-                    f"the {SEGMENT_WORDS[pair.segment]} starts free flight ({t0:.6g} s) inside the car's "
+                    f"the {POINT_NAMES[pair.segment]} starts free flight ({t0:.6g} s) inside "
+                    "the car's "
                     f"{pair.box.part} box (the crush the car took): checked against it only "
                     "once it has left it"
                 )
@@ -447,7 +448,7 @@ class _Run:
                         o.lower() for o in others) + ": named by the face it was crossing "
                         "fastest)")
                 self.notes.append(
-                    f"the {SEGMENT_WORDS[point]} hit the car's {surface.lower()} at "
+                    f"the {POINT_NAMES[point]} hit the car's {surface.lower()} at "
                     f"{tk:.6g} s{where} (shaft_contact: the post's segments checked against "
                     "the car)"
                 )
