@@ -22,11 +22,24 @@ from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import CoreEngine, EmulatorEngine, Outcome
 from deck_emulator.engine.assemblies import to_deck_text, to_deck_values, to_scene
 from deck_emulator.engine.errata import ED_DIRECTION
+from deck_emulator.engine.quantities import values
 from deck_emulator.legacy.deck import parse_deck, read_deck
 from deck_emulator.studies.report_tables import CASES_ALL
 
 __all__ = ["column_inputs", "run_column", "column_task", "column_tasks", "template_deck",
-           "columns_row"]
+           "columns_row", "DELTA_V_CANDIDATES", "DECEL_CANDIDATES"]
+
+#: The readings of the report's "DECREASE IN VEHICLE VELOCITY" computed for every column
+#: (registry names): the report defines it nowhere; its text gives the car's law (M_v V' + FS
+#: = 0, section 3.2) and the listing prints two instants of the contact (FORMAT 355, the first
+#: spring lost; the contact lost), and the crush pulse's end is where the spring force is
+#: first capped. After the contact the car keeps its speed (section 3.8): the end of the run
+#: reads as the contact's end.
+DELTA_V_CANDIDATES = ("delta_v_crush_mph", "delta_v_first_spring_mph", "delta_v_contact_mph")
+
+#: The readings of its "MAXIMUM VEHICLE DECELERATION" (registry names): the largest FS/(WV G)
+#: as printed after the start-up steps, at every step, and the largest 10 ms average.
+DECEL_CANDIDATES = ("max_decel_g", "max_decel_every_step_g", "max_decel_10ms_g")
 
 
 def template_deck(column: str) -> str:
@@ -55,11 +68,11 @@ def column_inputs(column: str):
 
 
 def columns_row(out: Outcome) -> dict:
-    """An engine's outcome of a column, keyed like ``REPORT_ALL``'s fields: the report's ΔV
-    and deceleration (the registry's ``delta_v_crush_mph`` and ``max_decel_g``), the end
+    """An engine's outcome of a column, keyed like ``REPORT_ALL``'s fields: every candidate
+    reading of the report's ΔV and deceleration (:data:`DELTA_V_CANDIDATES`,
+    :data:`DECEL_CANDIDATES`, from the registry), the end
     (the hit as the listing words it) and its time, the terminal points XL, YL, ZL."""
-    row = {"delta_v_crush_mph": out.delta_v_crush_mph,
-           "delta_v_contact_mph": out.delta_v_contact_mph, "max_decel_g": out.max_decel_g,
+    row = {**values(out, DELTA_V_CANDIDATES + DECEL_CANDIDATES),
            "hit": out.hit_message,
            "time_ms": None if out.hit_time_s is None else 1000 * out.hit_time_s,
            "error": out.error, "errata": list(out.errata)}
@@ -89,9 +102,10 @@ def run_column(column: str) -> dict:
     if deck is not None:
         # requested for every column: the angled ones need it, and it leaves the 0° printouts
         # byte-identical (legacy/CORRECTIONS.md)
-        em = EmulatorEngine(errata=(ED_DIRECTION,), trace=False).run(deck)
+        # traced: the first spring's ΔV and the 10 ms deceleration read the car's history
+        em = EmulatorEngine(errata=(ED_DIRECTION,)).run(deck)
         out["emulator"] = columns_row(em)
-    co = CoreEngine(preset="legacy", trace=False).run(scene, name=column)
+    co = CoreEngine(preset="legacy").run(scene, name=column)
     out["core"] = columns_row(co)
     report_ms = report_time_ms_all(column)
 
