@@ -47,3 +47,80 @@ def test_the_three_delta_v_readings_are_registry_quantities_in_mph():
         assert QUANTITIES[name].unit == "mph" and name.endswith("_mph")
     for name in DECEL_CANDIDATES:
         assert QUANTITIES[name].unit == "g" and name.endswith("_g")
+
+
+# ------------------------------------------------------------------------------ provenance
+
+
+def test_provenance_covers_every_column_and_the_crash_test():
+    from deck_emulator.studies.report_full import provenance
+    from deck_emulator.studies.report_tables import CASES_ALL
+
+    for col in list(CASES_ALL) + ["crash_test"]:
+        p = provenance(col)
+        assert {"deck", "description", "fitted", "assumed", "prediction", "why"} <= set(p)
+    # no Table 11-12 column is a prediction; the crash test is one
+    assert not any(provenance(c)["prediction"] for c in CASES_ALL)
+    assert provenance("crash_test")["prediction"]
+
+
+@pytest.mark.parametrize("post, nominal_ft", [("aluminium", 30.0), ("twin", 27.75)])
+def test_what_is_called_fitted_was_read_off_the_tables(post, nominal_ft):
+    """The shipped |PQ| is the tables' own (the mean over the post's six columns, computed
+    here from the printed P and Q by hand), not the text's nominal length: so it is listed as
+    fitted."""
+    from deck_emulator.core.assembly import load_assembly
+    from deck_emulator.studies.report_full import PROVENANCE
+    from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL
+
+    pq = [math.dist([REPORT_ALL[c][f"{a}PL"] for a in "XYZ"],
+                    [REPORT_ALL[c][f"{a}QL"] for a in "XYZ"])
+          for c in CASES_ALL if CASES_ALL[c][0] == post]
+    asm, _, _ = load_assembly(post)
+    shipped = asm.shaft.length_ft
+    assert abs(shipped - sum(pq) / len(pq)) < 0.05 < abs(shipped - nominal_ft)
+    assert "|PQ|" in PROVENANCE[post]["fitted"]
+
+
+def test_twin_at_zero_degrees_marks_inputs_and_symmetry_not_matches():
+    from deck_emulator.studies.report_full import cell_kind
+
+    for col in ("twin20", "twin40"):
+        assert cell_kind(col, "YRL") == cell_kind(col, "YUL") == "input"
+        assert cell_kind(col, "YPL") == cell_kind(col, "YQL") == "symmetry"
+        assert cell_kind(col, "XPL") is None and cell_kind(col, "XQL") is None
+    # the angled twin columns are tests (no symmetry), but for the hitting point's height
+    assert cell_kind("twin40_a15", "YRL") is None
+    assert cell_kind("twin40_a15", "ZRL") == "end condition"
+    # single-arm posts: only the hitting point's height, and only where it hits the ground
+    assert cell_kind("aluminium40_a30", "ZPL") == "end condition"  # 'WITH POINT P'
+    assert cell_kind("aluminium40_a30", "ZRL") is None
+    assert cell_kind("steel20", "ZQL") is None  # hits the car: no end condition in ZL
+    assert cell_kind("steel40", "YRL") is None
+
+
+# ---------------------------------------------------------------------- doubtful cells
+
+
+def test_both_readings_of_00_39_by_hand():
+    """Table 11 aluminium 0°: P (-0.48, -6.39, 6.90), Q (-29.09, y, 3.76). By hand:
+    dx = 28.61, dz = 3.14; y = +0.39: dy = -6.78, |PQ|² = 818.5321 + 9.8596 + 45.9684;
+    y = -0.39: dy = -6.00, |PQ|² = 818.5321 + 9.8596 + 36.0."""
+    from deck_emulator.studies.report_full import rigid_distances
+
+    assert rigid_distances("aluminium20")["PQ"] == pytest.approx(math.sqrt(874.3601), abs=1e-9)
+    assert rigid_distances("aluminium20", {"YQL": -0.39})["PQ"] == pytest.approx(
+        math.sqrt(864.3917), abs=1e-9)
+
+
+def test_the_rigid_body_reading_of_a_cell_restores_the_distances():
+    """The fitted YRL of aluminium 20 mph 15° makes |PR| and |QR| what the post's other
+    columns keep (checked by recomputing both distances, not by the fitted number)."""
+    from deck_emulator.studies.report_full import as_rigid_body_requires, rigid_distances
+
+    fit = as_rigid_body_requires("aluminium20_a15", "YRL")
+    d = rigid_distances("aluminium20_a15", {"YRL": fit["value"]})
+    assert abs(d["PR"] - fit["means"]["PR"]) < 0.05
+    assert abs(d["QR"] - fit["means"]["QR"]) < 0.05
+    printed = rigid_distances("aluminium20_a15")
+    assert abs(printed["PR"] - fit["means"]["PR"]) > 0.3  # the printed R is off (0.4 ft)
