@@ -124,3 +124,45 @@ def test_the_rigid_body_reading_of_a_cell_restores_the_distances():
     assert abs(d["QR"] - fit["means"]["QR"]) < 0.05
     printed = rigid_distances("aluminium20_a15")
     assert abs(printed["PR"] - fit["means"]["PR"]) > 0.3  # the printed R is off (0.4 ft)
+
+
+# ------------------------------------------------------------------ Table 9's HIT, Table 10
+
+
+def test_hit_by_hand_from_the_reports_model_state():
+    """HIT read as the car's front to the post's top: XCM + (9 - 4.63) sin θ + SV, the post's
+    length and mass centre from section 5.2 (9 ft, 4.63 ft); the report's model at 273 ms:
+    θ 121°, XCM -7.61 (Table 8's sign), SV 11.5 ft."""
+    from deck_emulator.studies.report_page import hit_ft
+
+    by_hand = -7.61 + 4.37 * math.sin(math.radians(121.0)) + 11.5
+    assert hit_ft(-7.61, 121.0, 11.5) == pytest.approx(by_hand, abs=1e-12)
+    assert abs(by_hand - 7.55) < 0.1  # the report's printed HIT: the reading is near it
+
+
+def test_the_two_number_solution_reproduces_table_10s_contact_and_spin():
+    """The solved spring and impact height, run again, lose contact at the report's 71.8 ms
+    with its θ̇ 12.50 rad/s (Table 10's printed model column)."""
+    from deck_emulator.studies import crash_test as ct
+    from deck_emulator.studies.report_page import table10_search
+
+    got = table10_search({"search": "two"})
+    ku, s = got["x"]
+    _, loss, _ = ct.table10(ct.crash_scene(impact_height_ft=s,
+                                           unloading_stiffness_lb_per_ft=[ku, ku]))
+    assert loss["time_ms"] == pytest.approx(71.8, abs=0.05)
+    assert loss["thetadot_rad_s"] == pytest.approx(12.50, abs=0.005)
+    assert ku < 12000.0  # softer than either of section 5.2's unloading stiffnesses
+
+
+def test_section_5_2s_spring_reaches_no_pair_of_table_10s_numbers():
+    """Over the grid of impact heights, with Figure 17's stiffnesses, no run loses contact
+    within 5 ms of 71.8 with θ̇ within 1 rad/s of 12.50 (the report's model)."""
+    from deck_emulator.studies.report_page import table10_search
+
+    rows = table10_search({"search": "grid"})["rows"]
+    assert len(rows) == 12
+    for r in rows:
+        lo = r["loss"]
+        assert lo is not None
+        assert not (abs(lo["time_ms"] - 71.8) <= 5.0 and abs(lo["thetadot_rad_s"] - 12.50) <= 1.0)
