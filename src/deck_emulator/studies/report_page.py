@@ -105,12 +105,44 @@ def at_report_time_miss(run) -> float | None:
     return max(ds) if ds else None
 
 
-def geometry_spread(geo: dict, post: str, key: str):
-    """(least, largest) of ``key`` over the base-weight variants of ``post`` (core, 40 mph,
+def geometry_spread(geo: dict, post: str, mph: int, key: str):
+    """(least, largest) of ``key`` over the base-weight variants of ``post`` (core, ``mph``,
     α = 0: :func:`geometry_run`); None without them."""
-    vals = [geo[(post, label)][key] for label in BASE_VARIANTS if (post, label) in geo
-            and geo[(post, label)].get(key) is not None]
+    vals = [geo[(post, label, mph)][key] for label in BASE_VARIANTS
+            if (post, label, mph) in geo and geo[(post, label, mph)].get(key) is not None]
     return (min(vals), max(vals)) if vals else None
+
+
+def geometry_width(geo: dict, col: str, key: str):
+    """How far the base weight (0-120 lb) moves ``key`` in the post's α = 0 column of
+    ``col``'s speed (core): (width, unit); a terminal coordinate is judged by the widest of
+    XQL and ZQL; None without the runs."""
+    post, mph, _, _ = CASES_ALL[col]
+    if key == "time_ms":
+        sp = geometry_spread(geo, post, mph, "hit_time_s")
+        return None if sp is None else (1000 * (sp[1] - sp[0]), "ms")
+    if key in DELTA_V_CANDIDATES or key in DECEL_CANDIDATES:
+        sp = geometry_spread(geo, post, mph, key)
+        return None if sp is None else (sp[1] - sp[0], "mph" if key.endswith("mph") else "g")
+    sps = [geometry_spread(geo, post, mph, k) for k in ("XQL", "ZQL")]
+    if None in sps:
+        return None
+    return max(b - a for a, b in sps), "ft"
+
+
+def geometry_cause(geo, col, key, miss) -> str:
+    """'geometry inferred' where the base weight moves ``key`` (at the column's speed, α = 0)
+    by at least ``miss``; else says the miss is more than the geometry moves."""
+    w = geometry_width(geo or {}, col, key)
+    mph = CASES_ALL[col][1]
+    if w is None:
+        return "geometry inferred (not measured)"
+    nd = 0 if w[1] == "ms" else 2
+    if abs(miss) <= w[0]:
+        return (f"geometry inferred (base 0-120 lb moves it over {w[0]:.{nd}f} {w[1]} at "
+                f"{mph} mph 0°)")
+    return (f"more than the geometry moves it (base 0-120 lb: {w[0]:.{nd}f} {w[1]} at "
+            f"{mph} mph 0°)")
 
 
 def cause(col, key, rep, ours, geo=None):
@@ -128,21 +160,19 @@ def cause(col, key, rep, ours, geo=None):
     half = 0.2 if key == "time_ms" else 0.5 * 10 ** -nd
     if rep is None or ours is None or abs(ours - rep) <= half + 1e-12:
         return ""
-    geo_note = ("geometry inferred (the base weight moves it: 'How much the inferred geometry "
-                "moves the answer')")
+    causes = [geometry_cause(geo, col, key, ours - rep)] if post != "steel" else []
     if key in DELTA_V_CANDIDATES:
-        return (geo_note + "; " if post != "steel" else "") + (
-            "which reading is the report's: 'ΔV and the maximum deceleration'")
-    if key in DECEL_CANDIDATES:
-        return geo_note if post != "steel" else "unexplained (the report's own deck)"
-    causes = []
-    if post != "steel":
-        causes.append(geo_note)
-    if hits_car_at_20(col):
+        causes.append("which reading is the report's: 'ΔV and the maximum deceleration'")
+    elif key in DECEL_CANDIDATES:
+        if post == "steel":
+            causes.append("unexplained (the report's own deck)")
+    elif hits_car_at_20(col):
         causes.append("no shaft-on-car test in the listing or the core (see 'at the "
                       "report's time')")
     elif post == "steel":
         causes.append("unexplained (the report's own deck)")
+    if all(c.startswith("more than the geometry") for c in causes):
+        causes.append("unexplained")
     return "; ".join(causes)
 
 
@@ -159,8 +189,11 @@ def columns_section(lines, runs, geo):
         "when the first of R and U enters the listing's 0.1 ft ground band (a located "
         "event), the other is inside the band too, i.e. both would be seen on the ground at "
         "one step of the listing (`core/pair_hits.py`). The causes named, each backed by a "
-        "computation on this page: **geometry inferred** (aluminium, twin: the section 'How "
-        "much the inferred geometry moves the answer'), **no shaft-on-car test** (20 mph "
+        "computation on this page: **geometry inferred** (aluminium, twin: where the base "
+        "weight, 0-120 lb, moves the quantity by at least the miss in the post's α = 0 "
+        "column of the same speed, section 'How much the inferred geometry moves the "
+        "answer'; where it moves it less, the miss is called unexplained), **no "
+        "shaft-on-car test** (20 mph "
         "'hits car' columns: the core's post at the report's time, below each such column), "
         "**arithmetic** (the listing's own step and scheme: the emulator matches, the core "
         "does not); a miss none of these explains is **unexplained**. Cells that equal an "
@@ -191,6 +224,10 @@ def columns_section(lines, runs, geo):
                     and cv is not None and abs(ev - rv) <= half and abs(cv - rv) > half):
                 why = ("arithmetic (the listing's difference scheme, step 0.0004 s: the "
                        "emulator matches, the core's accurate solution does not)")
+            elif (key in DECEL_CANDIDATES and ev is not None and rv is not None
+                    and cv is not None and abs(cv - rv) <= half and abs(ev - rv) > half):
+                why = ("the listing's step, 0.0004 s (the core, the same model solved "
+                       "continuously, matches: 'ΔV and the maximum deceleration')")
             lines.append(f"| {label} | {f(rv, nd)} | {f(ev, nd)} | {f(de, nd, True)} | "
                          f"{f(cv, nd)} | {f(dc, nd, True)} | {why} |")
         lines.append(f"| end | {rep['comment'].lower()} | "
@@ -235,10 +272,12 @@ def main_cause(col, runs, geo) -> str:
         d = at_report_time_miss(runs[col])
         parts.append(f"no shaft-on-car test (at the report's time ours is within {f(d)} ft)")
     if post != "steel":
-        sp = geometry_spread(geo, post, "hit_time_s")
-        parts.append("geometry inferred" + (
-            f" (base 0-120 lb moves the 40 mph 0° end over {1000 * sp[0]:.0f}-"
-            f"{1000 * sp[1]:.0f} ms)" if sp else ""))
+        rt = report_time_ms_all(col)
+        miss = None if co["time_ms"] is None or rt is None else co["time_ms"] - rt
+        why = geometry_cause(geo, col, "time_ms", miss) if miss is not None else ""
+        if why.startswith("more than") and not hits_car_at_20(col):
+            why += ": unexplained"
+        parts.append("end: " + why if why else "geometry inferred")
     elif not hits_car_at_20(col):
         parts.append("unexplained (the report's own deck)")
     name, d = best_reading(col, co, DELTA_V_CANDIDATES)
@@ -252,7 +291,9 @@ def main_cause(col, runs, geo) -> str:
     dd = _miss(co.get("max_decel_g"), report_value(col, "max_decel_g"))
     if dd is not None and abs(dd) > FIT_DECEL_G:
         parts.append(f"max decel. {dd:+.2f} g: " + (
-            "geometry inferred (the base weight moves it)" if post != "steel"
+            geometry_cause(geo, col, "max_decel_g", dd).replace(")", "): unexplained")
+            if post != "steel" and geometry_cause(geo, col, "max_decel_g", dd).startswith("more")
+            else geometry_cause(geo, col, "max_decel_g", dd) if post != "steel"
             else "unexplained"))
     return "; ".join(parts)
 
@@ -317,22 +358,27 @@ def _geometry_variant(post: str, label: str):
     return dataclasses.replace(a, base=BaseMass(BASE_VARIANTS[label]))
 
 
+#: The speeds the geometry variants run at (α = 0; the steel deck of that speed's car).
+GEOMETRY_SPEEDS = (40, 20)
+
+
 def geometry_tasks() -> list[dict]:
-    return [{"kind": "geometry", "post": post, "variant": label, "cost": 1.0}
-            for post in ("aluminium", "twin") for label in GEOMETRY_VARIANTS]
+    return [{"kind": "geometry", "post": post, "variant": label, "mph": mph, "cost": 1.0}
+            for mph in GEOMETRY_SPEEDS for post in ("aluminium", "twin")
+            for label in GEOMETRY_VARIANTS]
 
 
 def geometry_run(task: dict) -> dict:
     """Worker of the scene runner: one variant of an inferred geometry on the core (legacy
-    preset, the steel40 deck's car): its inertias, tilt, end and base point Q, and the
-    registry's ΔV and deceleration readings."""
+    preset, the car of the steel deck of ``task["mph"]``, α = 0): its inertias, tilt, end and
+    base point Q, and the registry's ΔV and deceleration readings."""
     from deck_emulator.engine import CoreEngine
     from deck_emulator.engine.assemblies import to_scene
     from deck_emulator.engine.quantities import values
 
     v = _geometry_variant(task["post"], task["variant"])
     mp = mass_properties(v)
-    res = CoreEngine(preset="legacy").run(to_scene(v, mp, template="steel40"))
+    res = CoreEngine(preset="legacy").run(to_scene(v, mp, template=f"steel{task['mph']}"))
     q = res.terminal.get("Q")
     return {"A": mp.A, "B": mp.B, "C": mp.C, "delta_deg": mp.delta_deg, "hit": res.hit_message,
             "hit_time_s": res.hit_time_s, "XQL": None if q is None else q[0],
@@ -340,37 +386,39 @@ def geometry_run(task: dict) -> dict:
             **values(res, DELTA_V_CANDIDATES + ("max_decel_g",))}
 
 
-def base_weight_fitting(runs: dict, post: str, key: str) -> float | None:
-    """The base weight (lb) at which the core's ``key`` (40 mph, α = 0) equals the report's,
+def base_weight_fitting(runs: dict, post: str, mph: int, key: str) -> float | None:
+    """The base weight (lb) at which the core's ``key`` (``mph``, α = 0) equals the report's,
     by linear interpolation between the base-weight variants; None if the report's value is
     outside their range (``key`` must grow with the base's weight over the variants)."""
     ws = list(BASE_VARIANTS.values())
-    ys = [runs[(post, label)][key] for label in BASE_VARIANTS]
-    target = report_value(f"{post}40", key)
+    ys = [runs[(post, label, mph)][key] for label in BASE_VARIANTS]
+    target = report_value(f"{post}{mph}", key)
     if None in ys or any(b <= a for a, b in zip(ys, ys[1:])) or not ys[0] <= target <= ys[-1]:
         return None
     return float(np.interp(target, ys, ws))
 
 
 def geometry_sensitivity_section(lines, runs: dict):
-    """How much the two calibrated unknowns move the aluminium and twin 40 mph columns
-    (``runs``: (post, variant) -> :func:`geometry_run`)."""
-    lines.append("### How much the inferred geometry moves the answer (core, 40 mph, α = 0°)\n")
-    lines.append("| post | variant | A, B, C (slug ft²) | δ, deg | end | time, ms (report) | XQL, ZQL (report) | ΔV crush / first spring / contact, mph (report) | max decel., g (report) |")
-    lines.append("|---|---|---|---|---|---|---|---|---|")
-    for post in ("aluminium", "twin"):
-        col = f"{post}40"
-        rep = REPORT_ALL[col]
-        for label in GEOMETRY_VARIANTS:
-            r = runs[(post, label)]
-            t = None if r["hit_time_s"] is None else 1000 * r["hit_time_s"]
-            dvs = " / ".join(f(r[n]) for n in DELTA_V_CANDIDATES)
-            lines.append(
-                f"| {post} | {label} | {r['A']:.0f}, {r['B']:.0f}, {r['C']:.1f} | "
-                f"{r['delta_deg']:.2f} | {hit_word(r['hit'])} | {f(t, 1)} "
-                f"({rep['time_to_hit_ground_ms']}) | {f(r['XQL'])}, {f(r['ZQL'])} "
-                f"({rep['XQL']}, {rep['ZQL']}) | {dvs} ({rep['delta_v_crush_mph']:.2f}) | "
-                f"{f(r['max_decel_g'])} ({rep['max_decel_g']:.2f}) |")
+    """How much the two calibrated unknowns move the aluminium and twin 0° columns
+    (``runs``: (post, variant, mph) -> :func:`geometry_run`)."""
+    lines.append("### How much the inferred geometry moves the answer (core, α = 0°)\n")
+    lines.append("| post | mph | variant | A, B, C (slug ft²) | δ, deg | end | time, ms (report) | XQL, ZQL (report) | ΔV crush / first spring / contact, mph (report) | max decel., g (report) |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|")
+    for mph in GEOMETRY_SPEEDS:
+        for post in ("aluminium", "twin"):
+            col = f"{post}{mph}"
+            rep = REPORT_ALL[col]
+            for label in GEOMETRY_VARIANTS:
+                r = runs[(post, label, mph)]
+                t = None if r["hit_time_s"] is None else 1000 * r["hit_time_s"]
+                dvs = " / ".join(f(r[n]) for n in DELTA_V_CANDIDATES)
+                lines.append(
+                    f"| {post} | {mph} | {label} | {r['A']:.0f}, {r['B']:.0f}, {r['C']:.1f} | "
+                    f"{r['delta_deg']:.2f} | {hit_word(r['hit'])} | {f(t, 1)} "
+                    f"({f(report_time_ms_all(col), 1)}, {rep['comment'].lower()}) | "
+                    f"{f(r['XQL'])}, {f(r['ZQL'])} ({rep['XQL']}, {rep['ZQL']}) | "
+                    f"{dvs} ({rep['delta_v_crush_mph']:.2f}) | "
+                    f"{f(r['max_decel_g'])} ({rep['max_decel_g']:.2f}) |")
     lines.append("\nThe base's weight (the shaft's wall follows from the total weight) moves the "
                  "end by tens of ms and the base point by feet, and the car's ΔV and largest "
                  "deceleration by more than any of their misses: the base sits at Q, 1.0 ft "
@@ -381,28 +429,31 @@ def geometry_sensitivity_section(lines, runs: dict):
                  "the base-weight variants above; '—' outside 0-120 lb), and the deceleration "
                  "the core gives at that base: a ΔV reading is consistent with a post's tables "
                  "only where both fit at one base weight.\n")
-    lines.append("| post | reading | base that fits the report's ΔV, lb | max decel. at that base, g (report) |")
-    lines.append("|---|---|---|---|")
+    lines.append("| post | mph | reading | base that fits the report's value, lb | max decel. at that base, g (report) |")
+    lines.append("|---|---|---|---|---|")
     ws = list(BASE_VARIANTS.values())
     joint = {}
-    for post in ("aluminium", "twin"):
-        decel = [runs[(post, label)]["max_decel_g"] for label in BASE_VARIANTS]
-        rep = REPORT_ALL[f"{post}40"]["max_decel_g"]
-        for k in DELTA_V_CANDIDATES:
-            w = base_weight_fitting(runs, post, k)
-            at = None if w is None or None in decel else float(np.interp(w, ws, decel))
-            if at is not None:
-                joint.setdefault(post, []).append((abs(at - rep), at - rep, k, w))
-            lines.append(f"| {post} | ΔV {DV_SHORT[k]} | {f(w, 0)} | {f(at)} ({rep:.2f}) |")
-        w = base_weight_fitting(runs, post, "max_decel_g")
-        lines.append(f"| {post} | max decel. | {f(w, 0)} | {rep:.2f} ({rep:.2f}) |")
+    for mph in GEOMETRY_SPEEDS:
+        for post in ("aluminium", "twin"):
+            decel = [runs[(post, label, mph)]["max_decel_g"] for label in BASE_VARIANTS]
+            rep = REPORT_ALL[f"{post}{mph}"]["max_decel_g"]
+            for k in DELTA_V_CANDIDATES:
+                w = base_weight_fitting(runs, post, mph, k)
+                at = None if w is None or None in decel else float(np.interp(w, ws, decel))
+                if at is not None:
+                    joint.setdefault((post, mph), []).append((abs(at - rep), at - rep, k, w))
+                lines.append(f"| {post} | {mph} | ΔV {DV_SHORT[k]} | {f(w, 0)} | "
+                             f"{f(at)} ({rep:.2f}) |")
+            w = base_weight_fitting(runs, post, mph, "max_decel_g")
+            lines.append(f"| {post} | {mph} | max decel. | {f(w, 0)} | {rep:.2f} ({rep:.2f}) |")
     lines.append("")
-    for post, rows in joint.items():
+    for (post, mph), rows in joint.items():
         _, d, k, w = min(rows)
-        lines.append(f"* **{post}**, read jointly: the {DV_SHORT[k]} reading (ΔV fits at a base "
-                     f"of {w:.0f} lb, where the deceleration misses by {d:+.2f} g); the others "
-                     + ", ".join(f"{DV_SHORT[k2]} {d2:+.2f} g" for _, d2, k2, _ in rows
-                                 if k2 != k) + ".")
+        lines.append(f"* **{post}, {mph} mph**, read jointly: the {DV_SHORT[k]} reading (ΔV "
+                     f"fits at a base of {w:.0f} lb, where the deceleration misses by "
+                     f"{d:+.2f} g)" + ("; the others " + ", ".join(
+                         f"{DV_SHORT[k2]} {d2:+.2f} g" for _, d2, k2, _ in rows if k2 != k)
+                         if len(rows) > 1 else "") + ".")
     lines.append(
         "\nThe shipped base (61 lb) was calibrated on the steel deck's mass centre, not on "
         "these tables. Where a ΔV reading fits at a base weight at which the deceleration "
@@ -1265,7 +1316,7 @@ def write_page(page: Path, *, jobs=None, scheduler=None, store_dir=None, resume=
                              resume=resume)
     runs = {t["column"]: r for t, r in zip(tasks, rows) if t["kind"] == "column"}
     crash_rows = {t["label"]: r for t, r in zip(tasks, rows) if t["kind"] == "crash"}
-    geometry_rows = {(t["post"], t["variant"]): r for t, r in zip(tasks, rows)
+    geometry_rows = {(t["post"], t["variant"], t["mph"]): r for t, r in zip(tasks, rows)
                      if t["kind"] == "geometry"}
     table10_rows = {t["search"]: r for t, r in zip(tasks, rows) if t["kind"] == "table10"}
     lines = ["# The report's Tables 9-12, all columns, against both engines\n"]
