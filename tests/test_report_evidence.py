@@ -166,3 +166,17 @@ def test_section_5_2s_spring_reaches_no_pair_of_table_10s_numbers():
         lo = r["loss"]
         assert lo is not None
         assert not (abs(lo["time_ms"] - 71.8) <= 5.0 and abs(lo["thetadot_rad_s"] - 12.50) <= 1.0)
+
+
+def test_geometry_is_named_only_where_the_base_weight_moves_a_quantity_by_the_miss():
+    """A hand-built set of base-weight runs of twin at 20 mph whose end spans 1.000-1.010 s
+    (10 ms): a 5 ms miss is within it, a 50 ms miss is not (and is then unexplained)."""
+    from deck_emulator.studies.report_page import BASE_VARIANTS, cause, geometry_cause
+
+    geo = {("twin", label, 20): {"hit_time_s": 1.0 + 0.0025 * i}
+           for i, label in enumerate(BASE_VARIANTS)}
+    assert geometry_cause(geo, "twin20_a30", "time_ms", 5.0).startswith("geometry inferred")
+    assert "10 ms" in geometry_cause(geo, "twin20_a30", "time_ms", 5.0)
+    assert geometry_cause(geo, "twin20_a30", "time_ms", -50.0).startswith("more than")
+    # twin20_a30 ends on the ground (no shaft-on-car cause): a 50 ms miss is unexplained
+    assert cause("twin20_a30", "time_ms", 992.0, 942.0, geo).endswith("unexplained")
