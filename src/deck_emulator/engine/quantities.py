@@ -9,8 +9,11 @@ seconds; a table may show it in ms: ``scale`` and ``unit`` say how it is shown).
 
 Quantities that differ get different names:
 
-* two speed changes: ``delta_v_crush_mph`` (by the end of the crush pulse, the report's
-  "DECREASE IN VEHICLE VELOCITY") and ``delta_v_contact_mph`` (by the end of the contact);
+* three speed changes, read at three instants of the contact: ``delta_v_crush_mph`` (by the
+  end of the crush pulse, the reading that fits the report's "DECREASE IN VEHICLE VELOCITY"
+  for its own steel deck), ``delta_v_first_spring_mph`` (by the instant the post loses the
+  first spring, the listing's FORMAT 355) and ``delta_v_contact_mph`` (by the end of the
+  contact; the car keeps its speed after it, section 3.8, so this is also the end of the run);
 * three decelerations: ``max_decel_g`` (the report's: the largest spring force over WV*G
   as the listing prints it, at its print instants, after the start-up steps),
   ``max_decel_every_step_g`` (the same at every accepted step of the emulator, and over the
@@ -28,6 +31,8 @@ import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
+
+from deck_emulator.units import speed_lost_mph
 
 __all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help", "pulse",
            "clearance"]
@@ -114,6 +119,28 @@ def _of_clearance(field):
     return lambda o: None if clearance(o) is None else getattr(clearance(o), field)
 
 
+def _vv_at(o, t: float) -> float | None:
+    """The car's velocity along XV at ``t``: the core's dense solution where the outcome
+    carries one, else the outcome's samples (the emulator's accepted steps, at which its
+    events are printed), linearly between two samples."""
+    traj = getattr(o.raw, "trajectory", None)
+    if traj is not None and hasattr(traj, "vehicle"):
+        return float(traj.vehicle(t)[1])
+    if o.t.size == 0 or not o.t[0] <= t <= o.t[-1]:
+        return None
+    import numpy as np  # not at import: the command line's help reads this registry
+
+    return float(np.interp(t, o.t, o.vv))
+
+
+def _delta_v_first_spring(o):
+    t = o.first_spring_lost_s
+    if t is None or o.vv.size == 0:
+        return None
+    v = _vv_at(o, t)
+    return None if v is None else speed_lost_mph(float(o.vv[0]), v)
+
+
 def _delta_v_contact(o):
     if o.delta_v_contact_mph is not None:
         return o.delta_v_contact_mph
@@ -135,6 +162,11 @@ _REGISTRY = (
              "(emulator: read at the first printed step where FSA is cut to FCONST, as the "
              "report read its printout; core: at its located 'force cap engaged' event)",
              _attr("delta_v_crush_mph")),
+    Quantity("delta_v_first_spring_mph", "speed lost, to the first spring's loss", "mph", 2,
+             "the speed the car has lost by the instant the post loses contact with the first "
+             "spring (the listing's THE POST HAS LOST CONTACT WITH FIRST SPRING; emulator: "
+             "the car's speed at that accepted step; core: at its located event)",
+             _delta_v_first_spring),
     Quantity("delta_v_contact_mph", "speed lost, whole contact", "mph", 2,
              "the speed the car has lost by the end of its contact with the post",
              _delta_v_contact),
