@@ -717,7 +717,7 @@ def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int]):
         ax.plot(r[:, a], r[:, b], ls=(0, (2, 2)), color=REPORT_COLOUR, lw=1.2, marker="x",
                 ms=9, mew=2, zorder=5, gid="report")
     _label_points(ax, terminal_points_l(main), axes)
-    _label_points(ax, _start_points_l(main), axes, colour=START_COLOUR, dx=-12, dy=-12)
+    _label_points(ax, _start_points_l(main), axes, colour=START_COLOUR, dx=-14, dy=-2)
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, lw=0.4, alpha=0.5)
     if b == 1:
