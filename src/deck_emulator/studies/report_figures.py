@@ -326,8 +326,11 @@ def figures_page(cases: dict[str, Case], command: str) -> str:
             out.append(f"![Figure {number}{part.part}]({part.file})\n")
             for name in names:
                 case = cases[name]
-                out.append(f"`{name}` (Table {CASES_ALL[name][3]}):"
-                           + (f" the emulator cannot run it: {case.refusal}." if case.refusal
+                how = (" the report's own deck, VVB and ALPHA set." if case.post == "steel"
+                       else f" fitted: the geometry was read off Tables 11 and 12's terminal "
+                            f"coordinates (`assemblies/{case.post}.toml`).")
+                out.append(f"`{name}` (Table {CASES_ALL[name][3]}):" + how
+                           + (f" The emulator cannot run it: {case.refusal}." if case.refusal
                               else "") + "\n")
                 out += column_table(case)
                 out.append("")

@@ -122,6 +122,15 @@ def _hits_car(case, engine) -> bool | None:
     return o.hit.surface.value != "ground"
 
 
+#: The mark of a run whose post was fitted to the report's tables (the aluminium and twin
+#: posts' geometries were read off Tables 11 and 12's terminal coordinates).
+FITTED_MARK = "†"
+
+
+def _tag(label: str, post: str) -> str:
+    return label if post == "steel" else f"{label} {FITTED_MARK}"
+
+
 def _show(name: str, v) -> str:
     return quantities.QUANTITIES[name].show(v)
 
@@ -191,8 +200,8 @@ def _s54_1(cases) -> Verdict:
     flags = {"emulator": [], "core": []}
     for c in _cases(cases, speeds=(20, 30, 40)):
         vals = {e: _q(c, e, "arm_spin_release_deg") for e in ("emulator", "core")}
-        v.table.append(f"| {c.name} | {_show('arm_spin_release_deg', vals['emulator'])} | "
-                       f"{_show('arm_spin_release_deg', vals['core'])} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {_f(vals['emulator'], 1)} | "
+                       f"{_f(vals['core'], 1)} |")
         if c.post != "twin":
             for e in flags:
                 flags[e].append(None if vals[e] is None else vals[e] < 0)
@@ -242,7 +251,7 @@ def _s54_2(cases) -> Verdict:
         rep = _rep(c.name, "comment")
         if rep is not None:
             flags["report"].append("GROUND" in rep)
-        v.table.append(f"| {c.name} | {(rep or 'not run').lower()} | {cells[0]} | {cells[1]} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {rep or 'not run'} | {cells[0]} | {cells[1]} |")
     v.on = {k: tally(f) for k, f in flags.items()}
     v.verdict = overall(v.on)
     n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
@@ -272,7 +281,7 @@ def _s54_3(cases) -> Verdict:
             if y is not None:
                 (twin if c.post == "twin" else ys).append(y)
         u = _q(c, "core", "terminal_u_yl_ft")
-        v.table.append(f"| {c.name} | {_f(_rep(c.name, 'YRL'))} | {cells[0]} | {cells[1]} | "
+        v.table.append(f"| {_tag(c.name, c.post)} | {_f(_rep(c.name, 'YRL'))} | {cells[0]} | {cells[1]} | "
                        f"{_f(u)} |")
     v.on = {s: CANNOT for s in SOURCES}
     v.verdict = CANNOT
@@ -324,14 +333,14 @@ def _s54_4(cases) -> Verdict:
                 note(e, ends, f"{post} {mph} mph")
                 flags[e].append(not any(significant(d, length) for d in ends + [dr]
                                         if d is not None))
-                v.table.append(f"| {post} {mph} mph | {length:.2f} | {e} | {_f(dr)} | "
+                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {length:.2f} | {e} | {_f(dr)} | "
                                f"{_f(dcm)} | " + ", ".join(_f(d) for d in ends) + " |")
             if a.name in REPORT_ALL and b.name in REPORT_ALL:
                 ends = [_dist(_report_point(a.name, p), _report_point(b.name, p)) for p in "PQR"]
                 note("report", ends, f"{post} {mph} mph")
                 flags["report"].append(not any(significant(d, length) for d in ends
                                                if d is not None))
-                v.table.append(f"| {post} {mph} mph | {length:.2f} | report | — | — | "
+                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {length:.2f} | report | — | — | "
                                + ", ".join(_f(d) for d in ends) + " |")
     v.on = {k: tally(f) for k, f in flags.items()}
     v.verdict = overall(v.on)
@@ -380,7 +389,7 @@ def _s62_1(cases) -> Verdict:
             body = _q(c, e, "body_clearance_ft")
             through[e] += body is not None and body < 0
             cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', body)}")
-        v.table.append(f"| {c.name} | {rep.lower()} | {cells[0]} | {cells[1]} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {rep} | {cells[0]} | {cells[1]} |")
     v.on = {k: (HOLDS if count[k] == ran[k] - 1 else FAILS) if ran[k] else CANNOT
             for k in count}
     v.verdict = overall(v.on)
@@ -389,7 +398,7 @@ def _s62_1(cases) -> Verdict:
              f"{ran['core']}. Counting a shaft or arm that passes through the car's outline as a "
              f"strike (which the listing cannot see): emulator {through['emulator']}, core "
              f"{through['core']} runs do. The engines' tests are the listing's (points P, R, C, "
-             "U against the car); the report's ends its 20 mph steel runs on the shaft meeting "
+             "U against the car); the report ends its 20 mph steel runs on the shaft meeting "
              "the car's front, a test the listing as printed does not have.")
     return v
 
@@ -413,7 +422,7 @@ def _s62_2(cases) -> Verdict:
                 continue
             flags[e].append(_clears(c, e))
             cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', _q(c, e, 'body_clearance_ft'))}")
-        v.table.append(f"| {c.name} | {rep.lower()} | {cells[0]} | {cells[1]} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {rep} | {cells[0]} | {cells[1]} |")
     v.on = {k: tally(f) for k, f in flags.items()}
     v.verdict = overall(v.on)
     n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
@@ -455,7 +464,7 @@ def _s62_4(cases) -> Verdict:
                 if all(x is None for x in vals):
                     continue
                 flags[e].append(increasing(vals))
-                v.table.append(f"| {post}, {a}° | {e} | "
+                v.table.append(f"| {_tag(post, post)}, {a}° | {e} | "
                                + " | ".join(_show("launch_ke_ftlb", x) for x in vals) + " |")
     v.on = {"report": CANNOT, **{e: tally(f) for e, f in flags.items()}}
     v.verdict = overall(v.on)
@@ -506,7 +515,7 @@ def _s63_1(cases) -> Verdict:
                     ok_y = increasing(ys)
                     ok = None if ok_x is None or ok_y is None else ok_x and ok_y
                     flags[src].append(ok)
-                    v.table.append(f"| {post} {mph} mph, {p} | {src} | "
+                    v.table.append(f"| {_tag(f'{post} {mph} mph', post)}, {p} | {src} | "
                                    + ", ".join(_f(x) for x in xs) + " | "
                                    + ", ".join(_f(y) for y in ys) + " | "
                                    + ("yes" if ok else "no") + " |")
@@ -536,7 +545,7 @@ def _s63_2(cases) -> Verdict:
                 if all(y is None for y in ys):
                     continue
                 flags[e].append(increasing(ys))
-                v.table.append(f"| {post} {mph} mph | {e} | " + ", ".join(_f(y) for y in ys)
+                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {e} | " + ", ".join(_f(y) for y in ys)
                                + " |")
     v.on = {"report": CANNOT, **{e: tally(f) for e, f in flags.items()}}
     v.verdict = overall(v.on)
@@ -569,8 +578,8 @@ def _s64_1(cases) -> Verdict:
         vals = {e: _q(c, e, "arm_spin_deg") for e in ("emulator", "core")}
         for e in vals:
             flags[e].append(None if vals[e] is None else vals[e] < 0)
-        v.table.append(f"| {c.name} | {_f(rep, 1)} | {_show('arm_spin_deg', vals['emulator'])} "
-                       f"| {_show('arm_spin_deg', vals['core'])} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep, 1)} | {_f(vals['emulator'], 1)} "
+                       f"| {_f(vals['core'], 1)} |")
     v.on = {k: tally(f) for k, f in flags.items()}
     v.verdict = overall(v.on)
     n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
@@ -601,7 +610,7 @@ def _s64_2(cases) -> Verdict:
         vals = {e: _q(c, e, "luminaire_yl_shift_ft") for e in ("emulator", "core")}
         for e in vals:
             flags[e].append(None if vals[e] is None else vals[e] > 0)
-        v.table.append(f"| {c.name} | {_f(rep_shift)} | {_f(vals['emulator'])} | "
+        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep_shift)} | {_f(vals['emulator'])} | "
                        f"{_f(vals['core'])} |")
     v.on = {k: tally(f) for k, f in flags.items()}
     v.verdict = overall(v.on)
@@ -629,7 +638,7 @@ def _s64_3(cases) -> Verdict:
             flags["report"].append(None if rep is None else rep > 0)
         val = _q(c, "core", "arm_spin_deg")
         flags["core"].append(None if val is None else val > 0)
-        v.table.append(f"| {c.name} | {_f(rep, 1)} | {_show('arm_spin_deg', val)} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep, 1)} | {_f(val, 1)} |")
     v.on = {"report": tally(flags["report"]), "emulator": CANNOT, "core": tally(flags["core"])}
     v.verdict = overall(v.on)
     n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
@@ -658,7 +667,7 @@ def _s64_4(cases) -> Verdict:
             flags["report"].append(None if rep_shift is None else rep_shift < 0)
         val = _q(c, "core", "second_luminaire_yl_shift_ft")
         flags["core"].append(None if val is None else val < 0)
-        v.table.append(f"| {c.name} | {_f(rep_shift)} | {_f(val)} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep_shift)} | {_f(val)} |")
     v.on = {"report": tally(flags["report"]), "emulator": CANNOT, "core": tally(flags["core"])}
     v.verdict = overall(v.on)
     n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
@@ -684,7 +693,7 @@ def _s64_5(cases) -> Verdict:
         o = c.core
         if o.hit is not None and o.hit.surface.value == "ground":
             flags["core"].append(o.hit.point in ("R", "R&U"))
-        v.table.append(f"| {c.name} | {(rep or 'not run').lower()} | {_end(c, 'core')} |")
+        v.table.append(f"| {_tag(c.name, c.post)} | {rep or 'not run'} | {_end(c, 'core')} |")
     v.on = {"report": tally(flags["report"]), "emulator": CANNOT, "core": tally(flags["core"])}
     v.verdict = overall(v.on)
     n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
@@ -714,7 +723,7 @@ def _s64_6(cases) -> Verdict:
             for src, ys in rows:
                 ok = increasing(ys)
                 flags[src].append(ok)
-                v.table.append(f"| {post} {mph} mph | {src} | " + ", ".join(_f(y) for y in ys)
+                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {src} | " + ", ".join(_f(y) for y in ys)
                                + f" | {'yes' if ok else 'no'} |")
     v.on = {k: tally(f) for k, f in flags.items()}
     v.verdict = overall(v.on)
@@ -798,19 +807,22 @@ def verdicts_page(vs: list[Verdict], command: str) -> str:
            "Fitted to the report (beside every number below): the steel runs re-run the "
            "report's own deck; the aluminium and twin geometries were read off Tables 11 and "
            "12's own terminal coordinates, with the steel deck's base, arm shape and car; the "
-           "30 mph runs use steel40's car. The axes are the report's XL, YL, ZL (origin on the "
-           "ground under the base; the car drives to -XL; the arm reaches over the highway "
-           "along -YL, so +YL is away from the highway).\n",
+           f"30 mph runs use steel40's car. In the tables, {FITTED_MARK} marks the runs of "
+           "the aluminium and twin posts (geometry fitted to the tables). The axes are the "
+           "report's XL, YL, ZL (origin on the ground under the base; the car drives to -XL; "
+           "the arm reaches over the highway along -YL, so +YL is away from the highway).\n",
            "## Verdicts\n", "| # | section, line | statement | report's numbers | emulator | "
            "core | verdict |", "|---|---|---|---|---|---|---|"]
     for i, v in enumerate(vs, 1):
         short = v.quote if len(v.quote) <= 110 else v.quote[:107].rsplit(" ", 1)[0] + " ..."
-        out.append(f"| {i} | {v.section}, line {v.lines} | {short} | {v.on.get('report', CANNOT)}"
+        where = f"line{'s' if '-' in v.lines else ''} {v.lines}"
+        out.append(f"| {i} | {v.section}, {where} | {short} | {v.on.get('report', CANNOT)}"
                    f" | {v.on.get('emulator', CANNOT)} | {v.on.get('core', CANNOT)} | "
                    f"**{v.verdict}** |")
     out.append("")
     for i, v in enumerate(vs, 1):
-        out.append(f"## {i}. Section {v.section}, line {v.lines}\n")
+        out.append(f"## {i}. Section {v.section}, line{'s' if '-' in v.lines else ''} "
+                   f"{v.lines}\n")
         out.append(f"> {v.quote}\n")
         out.append(f"**Computation.** {v.how}\n")
         if v.table:
