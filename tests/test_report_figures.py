@@ -288,6 +288,21 @@ def test_the_terminal_pictures_draw_each_engines_post_and_the_printed_tables(cas
                 assert ok[keep & under].mean() >= 0.5, (name, axes)
 
 
+def test_where_the_report_ended_first_the_core_post_is_drawn_at_the_reports_time(cases):
+    """Figure 26c (steel, 20 mph, 30 deg): the report's run ended at 873.0 ms (Table 11, line
+    1766), ours later; the core's post at 873.0 ms is drawn through its points then."""
+    part = next(p for p in rf.FIGURES if f"{p.figure}{p.part}" == "26c")
+    fig = plot.figure_report_part(part, cases)
+    core = cases["steel20_a30"].core
+    assert core.hit_time_s > 0.874
+    want = _chain({k: core.point_l(k, 0.873) for k in "PQR"})
+    lines = _lines(fig, "at_report_time")
+    assert len(lines) == 2
+    for ln, axes in zip(lines, ((0, 1), (0, 2))):
+        np.testing.assert_array_equal(ln.get_xdata(), want[:, axes[0]])
+        np.testing.assert_array_equal(ln.get_ydata(), want[:, axes[1]])
+
+
 def test_the_trajectory_pictures_draw_the_paths_of_the_points(cases):
     """Figure 24a (aluminium 40 mph, 0 deg): each engine's paths of P and R are its own
     points over the whole run, in XL, YL, ZL."""

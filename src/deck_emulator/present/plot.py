@@ -693,11 +693,28 @@ def _label_points(ax, points: dict, axes: tuple[int, int], colour="k", dx=6, dy=
                     fontweight="bold", color=colour, zorder=8)
 
 
-def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int]):
+def _at_report_time(res: Outcome, t_s: float | None) -> dict:
+    """The core's post at the report's time of the end (name -> XL, YL, ZL), where the report
+    ended earlier than the run did (more than 1 ms): empty otherwise."""
+    if t_s is None or res.engine != "core" or res.hit_time_s is None \
+            or t_s >= res.hit_time_s - 1e-3:
+        return {}
+    got = {k: res.point_l(k, t_s) for k in ("P", "Q", "R", "U")}
+    return {k: p for k, p in got.items() if p is not None}
+
+
+def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int],
+                 report_time_s: float | None = None):
     """One view of a case: the car at the core's hit, the post at t = 0, each engine's post at
-    the end (gid ``terminal:ENGINE``), the report's terminal points (gid ``report``)."""
+    the end (gid ``terminal:ENGINE``), the report's terminal points (gid ``report``) and,
+    where the report's run ended earlier, the core's post at the report's time (gid
+    ``at_report_time``)."""
     main = outs[-1]
     a, b = axes
+    early = _chain_of(_at_report_time(main, report_time_s))
+    if len(early):
+        ax.plot(early[:, a], early[:, b], ls="-.", color=ENGINE_COLOUR["core"], lw=1.3,
+                marker="d", ms=4, zorder=3.5, gid="at_report_time")
     if b == 1:
         _car_plan(ax, main, _hit_index(main))
     else:
@@ -728,9 +745,14 @@ def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int]):
         ax.set_ylabel("ZL (ft): height above the ground")
 
 
-def _report_handles(outs: list[Outcome], report_words: str | None, trajectory=False) -> list:
+def _report_handles(outs: list[Outcome], report_words: str | None, trajectory=False,
+                    report_time_s: float | None = None) -> list:
     L = _mpl().Line2D
     h = []
+    if _at_report_time(outs[-1], report_time_s):
+        h.append(L([], [], ls="-.", color=ENGINE_COLOUR["core"], lw=1.3, marker="d", ms=4,
+                   label=f"core: post at the report's time of its end "
+                         f"({1000 * report_time_s:.1f} ms)"))
     for res in outs:
         c = ENGINE_COLOUR.get(res.engine, "k")
         h.append(L([], [], color=c, lw=ENGINE_WIDTH.get(res.engine, 2.0), marker="o",
@@ -764,15 +786,17 @@ def figure_report_terminal(rows: list[dict], title: str) -> Figure:
         axs = sub.subplots(1, 2, width_ratios=(1.25, 1.0))
         for ax, axes, view in zip(axs, ((0, 1), (0, 2)), ("plan view (XL–YL)",
                                                          "side view (XL–ZL)")):
-            _report_view(ax, row["outcomes"], row["report"], axes)
+            _report_view(ax, row["outcomes"], row["report"], axes, row.get("report_time_s"))
             ax.set_title(f"{row['label']}: {view}", fontsize=10)
-        sub.legend(handles=_report_handles(row["outcomes"], row.get("report_words")),
+        sub.legend(handles=_report_handles(row["outcomes"], row.get("report_words"),
+                                           report_time_s=row.get("report_time_s")),
                    loc="outside lower center", ncols=3, fontsize=8.5)
     return fig
 
 
 def figure_report_trajectory(outs: list[Outcome], report: dict, report_words: str | None,
-                             title: str, label: str) -> Figure:
+                             title: str, label: str, report_time_s: float | None = None
+                             ) -> Figure:
     """The report's trajectory figure (Figures 24 and 29): plan and side view of the post
     every :data:`TRAJECTORY_EVERY_S` (thin, each engine's colour) and the paths of its points
     P, R (and U) over the whole run (gid ``path:ENGINE:POINT``), over the same views as
@@ -796,9 +820,10 @@ def figure_report_trajectory(outs: list[Outcome], report: dict, report_words: st
                 path = res.to_l(np.asarray(res.points[k], dtype=float))
                 ax.plot(path[:, a], path[:, b], ls=ENGINE_STYLE.get(res.engine, "-"), color=c,
                         lw=1.6, zorder=3.5, gid=f"path:{res.engine}:{k}")
-        _report_view(ax, outs, report, axes)
+        _report_view(ax, outs, report, axes, report_time_s)
         ax.set_title(f"{label}: {view}", fontsize=10)
-    fig.legend(handles=_report_handles(outs, report_words, trajectory=True),
+    fig.legend(handles=_report_handles(outs, report_words, trajectory=True,
+                                       report_time_s=report_time_s),
                loc="outside lower center", ncols=3, fontsize=8.5)
     return fig
 
@@ -815,7 +840,7 @@ def _report_row(case, label: str) -> dict:
         words = (f"report, Table {table}: {comment}"
                  + (f" at {t_ms:.1f} ms" if t_ms is not None else ""))
     return {"label": label, "outcomes": case.outcomes, "report": report_points(case.name),
-            "report_words": words}
+            "report_words": words, "report_time_s": None if t_ms is None else t_ms / 1000.0}
 
 
 def figure_report_part(part, cases: dict) -> Figure:
@@ -833,7 +858,7 @@ def figure_report_part(part, cases: dict) -> Figure:
     if part.kind == "trajectory":
         (row,) = rows
         return figure_report_trajectory(row["outcomes"], row["report"], row["report_words"],
-                                        head, row["label"])
+                                        head, row["label"], row["report_time_s"])
     return figure_report_terminal(rows, head)
 
 
