@@ -353,6 +353,22 @@ def test_the_command_writes_every_file_it_names(cases, tmp_path, monkeypatch, ca
     assert "[verdicts.md](verdicts.md)" in page
 
 
+def test_a_folder_that_cannot_be_written_is_refused_in_one_line_before_any_run(tmp_path):
+    import os
+    import subprocess
+
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_report_figures.py"),
+                           "--out", str(blocker / "report")], capture_output=True, text=True,
+                          env=env, timeout=120)
+    assert proc.returncode == 2
+    assert proc.stdout == "" and len(proc.stderr.strip().splitlines()) == 1
+    assert str(blocker / "report") in proc.stderr and "Traceback" not in proc.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]
+
+
 def test_thirty_mph_is_run_as_the_assembly_command_runs_it(cases, capsys):
     """The study's steel post at 30 mph is the scene `deck-emulator assembly steel core
     --speed-mph 30` runs: the same end at the same time."""

@@ -875,7 +875,10 @@ def write_report_figures(out_dir, *, command: str = REPORT_COMMAND, progress=Non
     from deck_emulator.studies import report_figures as rf
     from deck_emulator.studies import report_verdicts as rv
 
+    from deck_emulator.files import check_output_dir
+
     out_dir = Path(out_dir)
+    check_output_dir(out_dir)  # before any run: OutputError, one line
     if cases is None:
         cases = rf.run_cases(progress=progress)
     written = []
