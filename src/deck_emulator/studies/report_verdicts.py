@@ -824,7 +824,7 @@ def verdicts_page(vs: list[Verdict], command: str) -> str:
         out.append(f"## {i}. Section {v.section}, line{'s' if '-' in v.lines else ''} "
                    f"{v.lines}\n")
         out.append(f"> {v.quote}\n")
-        out.append(f"**Computation.** {v.how}\n")
+        out.append(f"**Computation.** {v.how[:1].upper() + v.how[1:]}\n")
         if v.table:
             out += v.table
             out.append("")
