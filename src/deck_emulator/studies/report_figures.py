@@ -27,6 +27,7 @@ whole :class:`~deck_emulator.engine.Outcome`, not a row of the scene runner.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from deck_emulator.engine import CoreEngine, EmulatorEngine, Outcome, quantities
@@ -166,14 +167,14 @@ FIGURES: tuple[FigurePart, ...] = tuple(
 SAID_OF_ALL = (1724, "Figures 22 through 29 show the posts at various positions for different "
                      "values of the angle α and the vehicular velocity.")
 SAID_OF = {
-    24: [(1740, "From the values presented for point R in Tables 11 and 12 and from Figure 24, "
+    24: [("1740", "From the values presented for point R in Tables 11 and 12 and from Figure 24, "
                 "it is clear that regardless of the vehicular speed, type of post used, or "
                 "vehicular approach angle, the tendency is for the single luminaire support arm "
                 "to have a negative rotation (according to the right hand rule) about the ZL "
                 "axis. This rotation causes the support arm to rotate in a direction away from "
                 "the highway after the post is impacted and not strike the highway causing an "
                 "unsafe condition for other motorists.")],
-    29: [(1742, "The case involving the support post with twin luminaires shows that here the "
+    29: [("1742-1744", "The case involving the support post with twin luminaires shows that here the "
                 "tendency is for the rotation to be positive about the ZL axis. This is shown "
                 "in Figure 29. A positive rotation causes point U to displace towards the "
                 "highway but for the cases investigated this effect always causes the striking "
@@ -267,6 +268,16 @@ def column_table(case: Case) -> list[str]:
             continue
         lines.append(f"| {label} (ft) | {_num(theirs)} | "
                      + " | ".join(_num(v) for v in ours) + " |")
+    if t_ms is not None and case.core.hit_time_s is not None \
+            and t_ms / 1000.0 < case.core.hit_time_s - 1e-3:
+        rep_pts = report_points(case.name)
+        gaps = []
+        for k, xyz in rep_pts.items():
+            ours = case.core.point_l(k, t_ms / 1000.0)
+            gaps.append(f"{k} {math.dist(ours, xyz):.2f}" if ours is not None else f"{k} —")
+        lines.append(f"| the core's post at the report's {_num(t_ms, 1)} ms: distance to the "
+                     f"report's points (ft) | — | " + " | ".join(
+                         ", ".join(gaps) if o is case.core else "—" for o in outs) + " |")
     for qname in ("delta_v_crush_mph", "max_decel_g"):
         q = quantities.QUANTITIES[qname]
         ours = [q.show(quantities.value(qname, o)) for o in outs]
@@ -292,7 +303,12 @@ def figures_page(cases: dict[str, Case], command: str) -> str:
            "from the highway). Each engine's post at the hit is drawn through its points "
            "(base Q, top P, luminaire end R, second luminaire U), in the engine's colour; the "
            "report's terminal points (Tables 11, 12) are black crosses joined by a dashed line; "
-           "the post at t = 0 is grey; the car's outline is the core's at its hit.\n",
+           "the post at t = 0 is grey; the car's outline is the core's at its hit. Where the "
+           "report's run ended before ours, the core's post at the report's time of its end "
+           "is drawn dash-dotted in the core's colour, and the column's table says how far it "
+           "then is from the report's points (for the steel post at 20 mph, where the report "
+           "ended on the shaft meeting the car's front, a test the listing as printed does not "
+           "make, this is where the report's post was).\n",
            "What the pictures rest on (fitted to the report, said beside every number it "
            "touches): the steel columns re-run the report's own deck (VVB and ALPHA set); the "
            "aluminium and twin posts' geometries were read off these tables' own terminal "
@@ -312,7 +328,9 @@ def figures_page(cases: dict[str, Case], command: str) -> str:
                                            + ", ".join(p.part for p in parts) + ")"
                                            if len(parts) > 1 else "") + ".\n")
         for line, words in SAID_OF.get(number, []):
-            out.append(f"What the text says of it (line {line}): \"{words}\"\n")
+            out.append(f"What the text says of it (line{'s' if '-' in line else ''} {line}): "
+                       f"\"{words}\" These words are checked in [verdicts.md](verdicts.md) "
+                       "(Section 6.4).\n")
         if number not in SAID_OF:
             out.append("The text says nothing of this figure beyond line "
                        f"{SAID_OF_ALL[0]}.\n")
