@@ -18,7 +18,7 @@ _WHERE = {
     "core_events": "engines", "engine_for": "engines", "run_engine": "engines",
     "source_name": "engines", "core_keywords": "engines", "step_literals": "engines", "Outcome": "outcome",
 }
-_MODULES = ("errata", "quantities", "safety", "energy", "assemblies", "leaf_spring")
+_MODULES = ("errata", "quantities", "safety", "energy", "assemblies", "leaf_spring", "attitude")
 
 __all__ = ["ENGINES", "CoreEngine", "EmulatorEngine", "Limits", "Outcome", "core_events",
            "core_keywords", "engine_for", "errata", "quantities", "run_engine", "source_name"]

@@ -107,6 +107,28 @@ def _leaf(o):
     return _cached(o, "leaf", at_unloading)
 
 
+def _attitude():
+    from . import attitude
+
+    return attitude
+
+
+def _terminal(point: str, axis: int):
+    def value(o):
+        p = _attitude().point_at_end_l(o, point)
+        return None if p is None else p[axis]
+
+    return value
+
+
+def _yl_shift(point: str):
+    def value(o):
+        end, start = _attitude().point_at_end_l(o, point), _attitude().start_l(o, point)
+        return None if end is None or start is None else end[1] - start[1]
+
+    return value
+
+
 def _attr(name):
     return lambda o: getattr(o, name)
 
@@ -213,6 +235,31 @@ _REGISTRY = (
     Quantity("leaf_spring_set_ft", "leaf spring's set", "ft", 4,
              "the compression at which the leaf spring's unloading force reaches zero (the "
              "crush it keeps)", lambda o: _leaf(o)["set_ft"]),
+    Quantity("arm_spin_deg", "arm's spin about the post's axis, at the end", "deg", 1,
+             "the post's rotation about its own axis Q->P from t = 0 to the hit (right hand; "
+             "for the upright post the rotation about ZL, negative = clockwise seen from "
+             "above): the final attitude as a spin about the initial axis followed by the "
+             "smallest swing of the axis, read from P, Q, R (engine.attitude.spin_deg)",
+             lambda o: _attitude().arm_spin_deg(o, "end")),
+    Quantity("arm_spin_release_deg", "arm's spin about the post's axis, car lets go", "deg", 1,
+             "the same rotation from t = 0 to the loss of contact with the car",
+             lambda o: _attitude().arm_spin_deg(o, "release")),
+    *(Quantity(f"terminal_{p.lower()}_{ax.lower()}_ft", f"{ax} of {what} at the end", "ft", 2,
+               f"{ax} of {what} at the hit (the report's XL, YL, ZL axes: origin on the ground "
+               f"under the base, +YL away from the highway; Tables 11 and 12's {ax[0]}{p}L)",
+               _terminal(p, i))
+      for p, what in (("P", "the top P"), ("Q", "the base Q"), ("R", "the luminaire end R"),
+                      ("U", "the second luminaire end U"))
+      for i, ax in enumerate(("XL", "YL", "ZL"))),
+    *(Quantity(f"terminal_cm_{ax.lower()}_ft", f"{ax} of the mass centre at the end", "ft", 2,
+               f"{ax} of the post's mass centre at the hit (the report's axes)",
+               _terminal("CM", i))
+      for i, ax in enumerate(("XL", "YL"))),
+    *(Quantity(f"{name}_yl_shift_ft", f"{what} moved across the road", "ft", 2,
+               f"YL of {what} at the hit less its YL at t = 0 (positive: away from the "
+               "highway, the arm reaching over it along -YL)", _yl_shift(p))
+      for p, name, what in (("R", "luminaire", "the luminaire end R"),
+                            ("U", "second_luminaire", "the second luminaire end U"))),
 )
 
 #: name -> :class:`Quantity`, in the order tables show them.
