@@ -1040,15 +1040,9 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
         return 0
     # the car: the report's deck of that speed and angle where there is one, else steel40's
     # car with VVB and ALPHA set by the sweep's rules (the report's deck's decimals)
-    from deck_emulator import decks
-    from deck_emulator.studies.sweep import alpha_for, vvb_for
+    from deck_emulator.studies.sweep import car_at
 
-    template = (f"steel{args.speed_mph:g}" + ("" if args.alpha_deg == 0
-                                               else f"_a{args.alpha_deg:g}"))
-    car = {}
-    if template not in decks.names():
-        template = "steel40"
-        car = dict(speed_ft_s=abs(vvb_for(args.speed_mph)), alpha_rad=alpha_for(args.alpha_deg))
+    template, car = car_at(args.speed_mph, args.alpha_deg)
     mp = asm.mass_properties(a)
     if args.what == "props" and args.json:
         answer(name=a.name, weight_lb=mp.weight_lb, mass_slug=mp.mass_slug, wall_in=mp.wall_in,

@@ -59,18 +59,19 @@ def case_inputs(post: str, mph: float, alpha: float):
     from deck_emulator.core.assembly import load_assembly, mass_properties, scene_runs_on_listing
     from deck_emulator.engine.assemblies import to_deck_text, to_deck_values, to_scene
     from deck_emulator.legacy.deck import parse_deck
-    from deck_emulator.studies.sweep import alpha_for, vvb_for
+    from deck_emulator.studies.sweep import car_at
 
     asm, _, _ = load_assembly(post)
     mp = mass_properties(asm)
-    car = dict(speed_ft_s=abs(vvb_for(mph)), alpha_rad=alpha_for(alpha))
-    scene = to_scene(asm, mp, template="steel40", **car)
+    template, car = car_at(mph, alpha)
+    scene = to_scene(asm, mp, template=template, **car)
     scene = type(scene)(**{**scene.__dict__, "name": name})
     deck = None
     if scene_runs_on_listing(scene) is None:
-        deck = parse_deck(to_deck_text(to_deck_values(asm, mp, template="steel40", **car)),
+        deck = parse_deck(to_deck_text(to_deck_values(asm, mp, template=template, **car)),
                           path=name)
-    return deck, scene, "steel40's car, VVB and ALPHA set (as deck-emulator assembly does)"
+    return deck, scene, (f"{template}'s car" + (", VVB and ALPHA set" if car else "")
+                         + " (as deck-emulator assembly does: studies.sweep.car_at)")
 
 
 @dataclass
@@ -85,6 +86,9 @@ class Case:
     emulator: Outcome | None = None
     refusal: str | None = None  # why the listing cannot run it
     car: str = ""
+    #: the core with the shaft and the arms checked against the car (``--shaft-contact``,
+    #: which the listing never did): the same scene and preset otherwise
+    core_shaft: Outcome | None = None
 
     @property
     def outcomes(self) -> list[Outcome]:
@@ -103,12 +107,14 @@ def run_case(post: str, mph: float, alpha: float) -> Case:
     name = case_name(post, mph, alpha)
     deck, scene, car = case_inputs(post, mph, alpha)
     core = CoreEngine(preset="legacy").run(scene, name=name)
+    core_shaft = CoreEngine(preset="legacy", shaft_contact=True).run(scene, name=name)
     em = None
     if deck is not None:
         # ed-direction for every column, as report_full runs them: the angled decks need it,
         # and it leaves the 0° printouts byte-identical (legacy/CORRECTIONS.md)
         em = EmulatorEngine(errata=(ED_DIRECTION,)).run(deck, name=name)
-    return Case(name, post, mph, alpha, core, em, scene_runs_on_listing(scene), car)
+    return Case(name, post, mph, alpha, core, em, scene_runs_on_listing(scene), car,
+                core_shaft)
 
 
 @dataclass(frozen=True)

@@ -110,6 +110,20 @@ def alpha_for(angle_deg: float) -> float:
     return float(r)
 
 
+def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
+    """The car a described post meets at any speed and angle, as ``(template, car)``: the
+    report's deck of that speed and angle where one is shipped (``steel20``,
+    ``steel40_a15`` ...; ``car`` empty), else steel40's car with VVB and ALPHA set by the
+    sweep's rules (``car``: the keywords ``speed_ft_s`` and ``alpha_rad`` of
+    :func:`deck_emulator.engine.assemblies.to_scene` and ``to_deck_values``)."""
+    from deck_emulator import decks
+
+    template = f"steel{speed_mph:g}" + ("" if alpha_deg == 0 else f"_a{alpha_deg:g}")
+    if template in decks.names():
+        return template, {}
+    return "steel40", dict(speed_ft_s=abs(vvb_for(speed_mph)), alpha_rad=alpha_for(alpha_deg))
+
+
 def scene_deck(base: Deck, speed_mph: float, angle_deg: float, vvb_decimals: int = 2) -> Deck:
     return base.with_values(VVB=vvb_for(speed_mph, vvb_decimals), ALPHA=alpha_for(angle_deg))
 
