@@ -178,11 +178,13 @@ _REGISTRY = (
     Quantity("vehicle_contact_lost_s", "post leaves the car", "ms", 1,
              "time the post loses contact with the car", _attr("vehicle_contact_lost_s"),
              1000.0),
-    Quantity("delta_v_crush_mph", "speed lost, crush pulse (report's ΔV)", "mph", 2,
+    Quantity("delta_v_crush_mph", "speed lost, crush pulse", "mph", 2,
              "the speed the car has lost by the end of the crush pulse (the spring force first "
-             "capped at FCONST): the report's DECREASE IN VEHICLE VELOCITY, Tables 11 and 12 "
-             "(emulator: read at the first printed step where FSA is cut to FCONST, as the "
-             "report read its printout; core: at its located 'force cap engaged' event)",
+             "capped at FCONST): the reading of the report's DECREASE IN VEHICLE VELOCITY "
+             "(Tables 11 and 12) that fits its steel columns; the first-spring reading fits its "
+             "aluminium and twin columns (docs/report_full.md, 'ΔV and the maximum "
+             "deceleration') (emulator: read at the first printed step where FSA is cut to "
+             "FCONST; core: at its located 'force cap engaged' event)",
              _attr("delta_v_crush_mph")),
     Quantity("delta_v_first_spring_mph", "speed lost, to the first spring's loss", "mph", 2,
              "the speed the car has lost by the instant the post loses contact with the first "

@@ -938,7 +938,8 @@ def figure_pulse(results: list[Outcome]) -> Figure:
                                         "ora_g"))
             show = {k: quantities.QUANTITIES[k].show(v) for k, v in q.items()}
             crush = ("" if q["delta_v_crush_mph"] is None else
-                     f" (to the end of the crush pulse, the report's ΔV: "
+                     f" (to the end of the crush pulse, the reading that fits the report's steel "
+                     f"columns: "
                      f"{show['delta_v_crush_mph']} mph)")
             rating = f" ({m.oiv_rating})" if res.error is None else ""
             notes.append(

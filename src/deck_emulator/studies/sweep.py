@@ -25,9 +25,10 @@ Rules (stated once, here)
   The ``errata`` column says what was applied, ``error`` why a scene stopped.
 * Core: :func:`deck_emulator.core.simulate` with the ``legacy`` preset (the listing's quirks,
   the one comparable with the report) unless ``--preset physical``.
-* The report's ΔV is the speed lost by the end of the crush pulse (``extract``'s
-  ``crush_pulse_end``: where the spring force is first cut to FCONST); for the core the same
-  instant is its "force cap engaged" event. The report's maximum deceleration is the largest
+* The ΔV compared with the report's is the speed lost by the end of the crush pulse
+  (``extract``'s ``crush_pulse_end``: where the spring force is first cut to FCONST; for the
+  core its "force cap engaged" event): the reading that fits the report's steel columns
+  (docs/report_full.md shows which reading fits which post). The report's maximum deceleration is the largest
   *printed* FSA / (WV*G) (``extract``); the core's is its continuous maximum. The safety
   columns use the whole contact pulse of either engine.
 """
