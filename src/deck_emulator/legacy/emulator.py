@@ -24,7 +24,8 @@ ever, a post that never lands, and any non-finite value (see :class:`Limits`); e
 
 Speed (binary64): the values are Python floats and the sines and cosines the C library's own;
 finiteness is checked once per block, on the variables the block assigns (found in this text
-once, at import), not on every assignment. When a block leaves a NaN or an infinity, or the
+by a pattern, and kept in emulator_tables.py while this text is unchanged), not on every
+assignment. When a block leaves a NaN or an infinity, or the
 arithmetic raises, the run is replayed from the start in the checking mode, where every
 assignment is checked, so the error names the statement exactly as before; the program is
 deterministic, so the replay reaches the same point. The other arithmetics always check every
@@ -33,13 +34,10 @@ assignment (their own operations trap first anyway).
 
 from __future__ import annotations
 
-import inspect
-import linecache
 import math
 import operator
 import re
 import sys
-import traceback
 from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
@@ -1069,6 +1067,8 @@ _CHECK_STARTS = {500: "P", 112: "R", 300: "C"}
 
 
 def _frames(exc):
+    import traceback  # here: only a run that stopped reads its traceback
+
     return [f for f in traceback.extract_tb(exc.__traceback__) if f.filename == __file__]
 
 
@@ -1079,6 +1079,8 @@ def _in_ed(exc) -> bool:
 
 def _assigned_variable(exc) -> str | None:
     """The variable on the left of the statement that trapped (from the traceback's line)."""
+    import linecache
+
     for f in reversed(_frames(exc)):
         line = (f.line or linecache.getline(f.filename, f.lineno)).strip()
         if line.startswith("return D-"):
@@ -1120,13 +1122,64 @@ def _getter(names):
     return get if len(names) > 1 else (lambda v: (get(v),))
 
 
-_SOURCE = inspect.getsource(sys.modules[__name__])
+def _literals(source: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Every literal the program text writes as K("...") or KSTEP("...") (with the ones ED
+    binds), and those written as KSTEP("...")."""
+    literals = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', source))
+                            | {"2.", "0.0"}))
+    steps = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', source))))
+    return literals, steps
+
+
+def tables(source: str) -> dict:
+    """What the program reads from its own text: each block's assigned names, the literals
+    and the step literals (legacy/emulator_tables.py holds them, made by
+    ``python scripts/make_emulator_tables.py``)."""
+    literals, steps = _literals(source)
+    return {"ASSIGNED": _assigned_names(source), "LITERALS": literals, "STEP_LITERALS": steps}
+
+
+def _source_tables() -> dict:
+    """:func:`tables` of this file: read from emulator_tables.py when it was made from this very
+    text (its checksum says so), else from the text now (the pattern pass, ~2 ms, once per
+    process).  tests/test_start.py fails while emulator_tables.py is stale."""
+    import zlib
+
+    from . import emulator_tables as made
+
+    try:
+        with open(__file__, "rb") as f:
+            text = f.read()
+    except OSError:  # no source beside the bytecode: the tables made from it are all there is
+        return made.TABLES
+    if zlib.crc32(text) == made.SOURCE_CRC32 and len(text) == made.SOURCE_BYTES:
+        return made.TABLES
+    return tables(text.decode("utf-8"))
+
+
+def tables_module() -> str:
+    """The text of emulator_tables.py for this file as it is now (written by
+    ``python scripts/make_emulator_tables.py``)."""
+    import pprint
+    import zlib
+
+    with open(__file__, "rb") as f:
+        text = f.read()
+    return ('"""What legacy/emulator.py reads from its own text (see emulator.tables), made from it by\n'
+            '``python scripts/make_emulator_tables.py``: do not edit.  emulator.py uses it only while\n'
+            'the checksum below is its own text\'s, and reads its text again otherwise."""\n\n'
+            f"SOURCE_BYTES = {len(text)}\n"
+            f"SOURCE_CRC32 = {zlib.crc32(text)}\n"
+            f"TABLES = {pprint.pformat(tables(text.decode('utf-8')), width=99, compact=True)}\n")
+
+
+_TABLES = _source_tables()
 #: block method name -> a function giving the values the block assigned (integers included:
 #: they are always finite and sum with the reals).
-_ASSIGNED = {name: _getter(names) for name, names in _assigned_names(_SOURCE).items()}
+_ASSIGNED = {name: _getter(names) for name, names in _TABLES["ASSIGNED"].items()}
 #: Every literal the program text writes as K("...") or KSTEP("..."), and the ones ED binds.
-_LITERALS = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE)) | {"2.", "0.0"}))
-_STEP_LITERALS = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE))))
+_LITERALS = _TABLES["LITERALS"]
+_STEP_LITERALS = _TABLES["STEP_LITERALS"]
 
 
 def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,

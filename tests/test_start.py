@@ -1,0 +1,109 @@
+"""The emulator's start (issue 25, item 6): what a plain ``deck-emulator run`` does not load,
+and the tables the emulator would otherwise read from its own text at every start.
+
+Speed itself is measured by benchmarks/bench_emulator_start.py, never asserted here."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: Modules a plain run of a text deck must not import: the heavy libraries no run uses, and
+#: what this work took out of the run's path (fortranformat and the importlib.metadata its
+#: __init__ reads; importlib.resources, read only for the listing's text or a shipped deck's
+#: name; ctypes, for binary32's sinf/cosf only; traceback, for a stopped run only).
+NOT_IMPORTED = ("scipy", "matplotlib", "pandas", "dask", "distributed", "fortranformat",
+                "importlib.metadata", "importlib.resources", "traceback")
+
+PROBE = """
+import runpy, sys
+sys.argv = ["deck-emulator", "run", sys.argv[1]]
+try:
+    runpy.run_module("deck_emulator", run_name="__main__")
+except SystemExit as exc:
+    assert not exc.code, exc.code
+print(sorted(m for m in %r if m in sys.modules), file=sys.stderr)
+""" % (NOT_IMPORTED,)
+
+
+def test_a_plain_run_imports_none_of_what_it_does_not_need():
+    proc = subprocess.run([sys.executable, "-c", PROBE, str(ROOT / "decks" / "steel40.dat")],
+                          capture_output=True, text=True, check=True)
+    assert proc.stdout == (ROOT / "golden" / "steel40.r8.txt").read_text()  # and it did run
+    assert proc.stderr.strip().splitlines()[-1] == "[]"
+
+
+def test_double_does_not_load_ctypes_for_binary32():
+    probe = ("import sys; from deck_emulator.legacy.arithmetic import get_arithmetic; "
+             "get_arithmetic('double'); print('ctypes' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "False"
+
+
+def test_the_emulator_tables_are_made_from_the_emulator_as_it_is():
+    """legacy/emulator_tables.py is what ``python scripts/make_emulator_tables.py`` writes
+    now: after a change to legacy/emulator.py, run it (the emulator reads its own text
+    meanwhile, so a stale file costs time, never a wrong check)."""
+    from deck_emulator.legacy import emulator
+
+    made = Path(emulator.__file__).with_name("emulator_tables.py").read_text()
+    assert made == emulator.tables_module(), "run: python scripts/make_emulator_tables.py"
+    assert emulator._TABLES == emulator.tables(Path(emulator.__file__).read_text())
+
+
+def test_a_stale_table_is_not_used(monkeypatch):
+    """With a checksum that is not the text's, the tables come from the text."""
+    from deck_emulator.legacy import emulator, emulator_tables
+
+    monkeypatch.setattr(emulator_tables, "SOURCE_CRC32", emulator_tables.SOURCE_CRC32 ^ 1)
+    monkeypatch.setattr(emulator_tables, "TABLES", {"ASSIGNED": {}, "LITERALS": (),
+                                                    "STEP_LITERALS": ()})
+    assert emulator._source_tables() == emulator.tables(Path(emulator.__file__).read_text())
+
+
+_DIGITS = st.text("0123456789", min_size=1, max_size=6)
+_FIELDS = st.builds(
+    lambda sign, mant, exp: (sign + mant + exp)[:10],
+    st.sampled_from(["", "+", "-"]),
+    st.one_of(_DIGITS, st.builds(lambda a, b: a + "." + b, st.text("0123456789", max_size=4),
+                                 st.text("0123456789", max_size=4)).filter(lambda t: t != ".")),
+    st.one_of(st.just(""), st.builds(lambda e, s, d: e + s + d, st.sampled_from(["E", "D", ""]),
+                                     st.sampled_from(["", "+", "-"]),
+                                     st.text("0123456789", min_size=1, max_size=3))
+              .filter(lambda t: t[0] in "ED" or t[0] in "+-")),
+)
+
+
+@settings(max_examples=2000, deadline=None)
+@given(_FIELDS)
+def test_fortranformat_reads_every_field_the_deck_reader_accepts(text):
+    """The deck reader decides which texts are numbers by its own pattern and no longer asks
+    fortranformat (an independent F10.5 reader) for each field: every field the pattern
+    accepts, fortranformat reads too, to the same number (to its double rounding)."""
+    from fortranformat import FortranRecordReader
+
+    from deck_emulator.legacy.deck import DeckError, _NUMBER_RE, _read_field
+
+    if not _NUMBER_RE.fullmatch(text):
+        return
+    theirs = FortranRecordReader("(F10.5)").read(text)[0]
+    assert theirs is not None
+    try:
+        ours, _ = _read_field(text.rjust(10), name="X", card=1, columns=(1, 10), path=None)
+    except DeckError:  # out of binary64's range: fortranformat gives inf or 0 there
+        assert not math.isfinite(theirs) or abs(theirs) < 1e-290
+        return
+    if not math.isfinite(theirs) or (theirs == 0) != (ours == 0):
+        # fortranformat converts before applying the implied decimal point ('2E308' is 2E303,
+        # in range, to gfortran and to the deck reader; fortranformat overflows): deck.py says so
+        assert "." not in text and abs(ours) > 1e290 or abs(ours) < 1e-290
+        return
+    assert math.isclose(ours, theirs, rel_tol=1e-15)
