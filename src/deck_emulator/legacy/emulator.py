@@ -528,15 +528,33 @@ class Program:
         v.PSIDA = v.W3A-(cos(v.THA))*v.PHIDA
         return 124
 
+    def _rotation(self, SQ, ET, ZE, CH):
+        """The nine parenthesised rotation terms of a point's statements (eq. 3.21), from the
+        rotation parameters (SQUIG, ETA, ZETA, CHI), in the order _point uses them: every
+        point of a step has the same nine, so they are computed once per step.  Each is the
+        listing's own grouping, and the same operations on the same operands give the same
+        value in every arithmetic (X**2 is one multiplication, X*X, in each), so the points
+        come out bit for bit as if each statement computed them (the goldens and the ibm7094
+        printouts check it).  One thing differs: the 7094's underflow count (never printed)
+        counts an underflowing square once per step rather than once per use."""
+        P2 = self.P2
+        SQ2, ET2, ZE2, CH2 = P2(SQ), P2(ET), P2(ZE), P2(CH)
+        SQET, ZECH, SQZE, ETCH, ETZE, SQCH = (SQ*ET), (ZE*CH), (SQ*ZE), (ET*CH), (ET*ZE), (SQ*CH)
+        return ((SQ2-ET2-ZE2+CH2), (SQET-ZECH), (SQZE+ETCH),
+                (SQET+ZECH), (-SQ2+ET2-ZE2+CH2), (ETZE-SQCH),
+                (SQZE-ETCH), (ETZE+SQCH), (-SQ2-ET2+ZE2+CH2))
+
     def _point(self, XO, YO, ZO, CM, ROT):
         """The three statements XxA=..., YxA=..., ZxA=... of a point of the post (eq. 3.21),
-        written once with the listing's grouping; ROT = (SQUIG, ETA, ZETA, CHI)."""
-        K2, P2 = self.K("2."), self.P2
-        SQ, ET, ZE, CH = ROT
+        written once with the listing's grouping; ROT = self._rotation(SQUIG, ETA, ZETA, CHI):
+        XxA=XCMA+(XxO)*(SQUIGA**2-ETAA**2-ZETAA**2+CHIA**2)+(2.*YxO)*((SQUIGA*ETAA)-(ZETAA*CHIA))
+        +(2.*ZxO)*((SQUIGA*ZETAA)+(ETAA*CHIA)), and likewise YxA and ZxA."""
+        K2 = self.K("2.")
+        R11, R12, R13, R21, R22, R23, R31, R32, R33 = ROT
         XCM, YCM, ZCM = CM
-        X = XCM+(XO)*(P2(SQ)-P2(ET)-P2(ZE)+P2(CH))+(K2*YO)*((SQ*ET)-(ZE*CH))+(K2*ZO)*((SQ*ZE)+(ET*CH))
-        Y = YCM+(K2*XO)*((SQ*ET)+(ZE*CH))+(YO)*(-P2(SQ)+P2(ET)-P2(ZE)+P2(CH))+(K2*ZO)*((ET*ZE)-(SQ*CH))
-        Z = ZCM+(K2*XO)*((SQ*ZE)-(ET*CH))+(K2*YO)*((ET*ZE)+(SQ*CH))+(ZO)*(-P2(SQ)-P2(ET)+P2(ZE)+P2(CH))
+        X = XCM+(XO)*(R11)+(K2*YO)*(R12)+(K2*ZO)*(R13)
+        Y = YCM+(K2*XO)*(R21)+(YO)*(R22)+(K2*ZO)*(R23)
+        Z = ZCM+(K2*XO)*(R31)+(K2*YO)*(R32)+(ZO)*(R33)
         return X, Y, Z
 
     def L124(self):  # 124: velocities, translations, direction cosines, points, differences
@@ -572,7 +590,7 @@ class Program:
         v.ETAA = sin(THA/K2)*cos((PSIA-PHIA)/K2)
         v.ZETAA = cos(THA/K2)*sin((PSIA+PHIA)/K2)
         v.CHIA = cos(THA/K2)*cos((PSIA+PHIA)/K2)
-        rot, cm = (v.SQUIGA, v.ETAA, v.ZETAA, v.CHIA), (v.XCMA, v.YCMA, v.ZCMA)
+        rot, cm = self._rotation(v.SQUIGA, v.ETAA, v.ZETAA, v.CHIA), (v.XCMA, v.YCMA, v.ZCMA)
         v.XPA, v.YPA, v.ZPA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
         v.YYPA = v.YPA*cos(DELTA)-v.ZPA*sin(DELTA)
         v.ZZPA = v.YPA*sin(DELTA)+v.ZPA*cos(DELTA)
@@ -890,7 +908,7 @@ class Program:
         v.ETAFA = sin(THFA/K2)*cos((PSIFA-PHIFA)/K2)
         v.ZETAFA = cos(THFA/K2)*sin((PSIFA+PHIFA)/K2)
         v.CHIFA = cos(THFA/K2)*cos((PSIFA+PHIFA)/K2)
-        rot, cm = (v.SQUIFA, v.ETAFA, v.ZETAFA, v.CHIFA), (v.XCMFA, v.YCMFA, v.ZCMFA)
+        rot, cm = self._rotation(v.SQUIFA, v.ETAFA, v.ZETAFA, v.CHIFA), (v.XCMFA, v.YCMFA, v.ZCMFA)
         ALPHA = v.ALPHA
         v.XPFA, v.YPFA, v.ZPFA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
         v.YYPFA = v.YPFA*cos(DELTA)-v.ZPFA*sin(DELTA)
