@@ -151,8 +151,11 @@ class ED:
     (and gfortran with -fno-automatic -finit-local-zero). Returns D."""
 
     def __init__(self, ar: Arithmetic, errata: tuple[str, ...], max_iterations: int,
-                 tolerance: str = ".0001"):
+                 tolerance: str = ".0001", *, check: bool = True):
         self.ar = ar
+        # check D and DH after every label (the checking mode); binary64's unchecked run leaves
+        # it to the block that called ED (L44, L57 assign D: a non-finite D replays the run)
+        self.check = check
         self.L = 0
         self.DH = ar.decimal("0.0")
         self.H = ar.decimal("0.0")
@@ -177,7 +180,7 @@ class ED:
 
         if getattr(ar, "native_float", False):
             IF = _if_float  # noqa: F811  (the same three-way branch, on a float)
-        isfinite = ar.isfinite
+        isfinite, check = ar.isfinite, self.check
 
         # +1 where the erratum makes labels 1 and 15 step towards the root
         up = self.towards_root
@@ -250,7 +253,7 @@ class ED:
                     D = DH  # 20 D=DH
                     L = L + 1
                     return D
-                if not isfinite(DH) or (D is not None and not isfinite(D)):
+                if check and (not isfinite(DH) or (D is not None and not isfinite(D))):
                     raise _NonFinite("DH" if not isfinite(DH) else "D")
         finally:
             self.L, self.DH, self.H = L, DH, H
@@ -302,7 +305,8 @@ class Program:
         if self.check_blocks:
             self.IF = _if_float
         self.free_flight = False
-        self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
+        self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance,
+                     check=not self.check_blocks)
         self.ed_tolerance = ed_tolerance
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
         self.printer = Printer(self.ar.exact, rounding, binary=getattr(self.ar, "binary", False))
@@ -415,26 +419,30 @@ class Program:
                 else:
                     lab = blocks[lab]()
             return
-        # binary64: each block's assigned reals are checked when the block ends
+        # binary64: each block's assigned reals are checked when the block ends.  One look-up
+        # a label: label -> (block, the getter of its assigned values), label -> (check,
+        # targets, the point a series of checks starts on); the IF is _if_float's, inline.
         v, isfinite = self.v, math.isfinite
-        assigned = {lab: _ASSIGNED[fn.__name__] for lab, fn in blocks.items() if fn.__name__ in _ASSIGNED}
+        steps = {lab: (fn, _ASSIGNED.get(fn.__name__)) for lab, fn in blocks.items()}
+        tests = {lab: (*check, _CHECK_STARTS.get(lab)) for lab, check in checks.items()}
         lab = "START"
         while lab is not None:
             self.label = lab
-            if lab in checks:
-                if lab in _CHECK_STARTS:
-                    self.checked_point = _CHECK_STARTS[lab]
-                x, neg, zero, pos = checks[lab]
-                lab = IF(x(), neg, zero, pos)
+            test = tests.get(lab)
+            if test is not None:
+                x, neg, zero, pos, point = test
+                if point is not None:
+                    self.checked_point = point
+                x = x()
+                lab = neg if x < 0 else pos if x > 0 else zero  # IF(x)neg,zero,pos
                 continue
+            block, got = steps[lab]
             try:
-                nxt = blocks[lab]()
+                nxt = block()
             except EmulatorError:  # a guard: genuine only if the block's values are finite
-                got = assigned.get(lab)
                 if got is not None and not isfinite(sum(got(v))):
                     raise _Replay from None
                 raise
-            got = assigned.get(lab)
             if got is not None and not isfinite(sum(got(v))):
                 raise _Replay  # (or the sum overflowed: the replay then runs to the end)
             lab = nxt
