@@ -149,3 +149,27 @@ def test_like_signed_fad_is_the_54_bit_sum_chopped():
         got = a + b
         assert got.sign == s
         assert got.exact() == (-1) ** s * Word.from_fraction(exact, "chop").exact()
+
+
+def test_every_variable_the_program_names_starts_at_its_zero():
+    """_Vars has no __getattr__ fallback (it slows every read): the variables are set to zero
+    up front, from the table.  An AST walk of the emulator's text (not the pattern the table
+    is made with) finds every v.NAME, and each is zero in a fresh program, INTEGER for I-N."""
+    import ast
+
+    from deck_emulator.legacy import emulator
+    from deck_emulator.legacy.deck import read_deck
+
+    tree = ast.parse(Path(emulator.__file__).read_text())
+    named = {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)
+             and ((isinstance(n.value, ast.Name) and n.value.id == "v")
+                  or (isinstance(n.value, ast.Attribute) and n.value.attr == "v"))}
+    assert named and named <= set(emulator._VARIABLES)
+    for precision in ("double", "single", "ibm7094"):
+        program = emulator.Program(read_deck(ROOT / "decks" / "steel40.dat"), precision)
+        for name in named:
+            value = getattr(program.v, name)
+            if name[0] in "IJKLMN":
+                assert type(value) is int and value == 0, name
+            else:
+                assert type(value) is not int and program.ar.sign(value) == 0, name

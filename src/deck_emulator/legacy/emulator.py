@@ -102,17 +102,18 @@ class Run:
 class _Vars:
     """The variables of one program unit. A variable read before any assignment is zero, as in
     the 7094's cleared core (and gfortran's -fno-automatic -finit-local-zero): INTEGER by
-    FORTRAN's implicit rule (I-N) or REAL. Assignments are not checked here: the label machine
-    checks each block's variables when the block ends (see Program._dispatch)."""
+    FORTRAN's implicit rule (I-N) or REAL. Every variable the program text names (``v.NAME``,
+    found in this file's text: emulator_tables.py) is set to its zero when the unit is made,
+    so that no read needs a ``__getattr__`` fallback (whose mere presence makes every
+    attribute read of the class about twice as slow in CPython). Assignments are not checked
+    here: the label machine checks each block's variables when the block ends (see
+    Program._dispatch)."""
 
     def __init__(self, isfinite, zero):
         object.__setattr__(self, "_isfinite", isfinite)
         object.__setattr__(self, "_zero", zero)
-
-    def __getattr__(self, name):  # only for names never assigned
-        if name.startswith("_"):
-            raise AttributeError(name)
-        return 0 if name[0] in "IJKLMN" else self._zero
+        for name in _VARIABLES:
+            object.__setattr__(self, name, 0 if name[0] in "IJKLMN" else zero)
 
 
 class _CheckedVars(_Vars):
@@ -1158,11 +1159,13 @@ def _literals(source: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 
 def tables(source: str) -> dict:
-    """What the program reads from its own text: each block's assigned names, the literals
-    and the step literals (legacy/emulator_tables.py holds them, made by
+    """What the program reads from its own text: each block's assigned names, the literals,
+    the step literals and the variables it names (legacy/emulator_tables.py holds them, made by
     ``python scripts/make_emulator_tables.py``)."""
     literals, steps = _literals(source)
-    return {"ASSIGNED": _assigned_names(source), "LITERALS": literals, "STEP_LITERALS": steps}
+    variables = tuple(sorted(set(re.findall(r"\bv\.([A-Z][A-Z0-9]*)\b", source))))
+    return {"ASSIGNED": _assigned_names(source), "LITERALS": literals, "STEP_LITERALS": steps,
+            "VARIABLES": variables}
 
 
 def _source_tables() -> dict:
@@ -1206,6 +1209,8 @@ _ASSIGNED = {name: _getter(names) for name, names in _TABLES["ASSIGNED"].items()
 #: Every literal the program text writes as K("...") or KSTEP("..."), and the ones ED binds.
 _LITERALS = _TABLES["LITERALS"]
 _STEP_LITERALS = _TABLES["STEP_LITERALS"]
+#: Every variable the program text names as v.NAME (each unit starts with them all zero).
+_VARIABLES = _TABLES["VARIABLES"]
 
 
 def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,

@@ -2,8 +2,8 @@
 ``python scripts/make_emulator_tables.py``: do not edit.  emulator.py uses it only while
 the checksum below is its own text's, and reads its text again otherwise."""
 
-SOURCE_BYTES = 53972
-SOURCE_CRC32 = 1732323568
+SOURCE_BYTES = 54454
+SOURCE_CRC32 = 1179127510
 TABLES = {'ASSIGNED': {'L101': ['FFXA'],
               'L106': ['FFYA', 'FSXA', 'FSYA', 'F1A', 'F2A', 'F3A', 'TXA', 'TYA', 'TZA', 'T1A',
                        'T2A', 'T3A', 'LL', 'Q', 'E'],
@@ -53,4 +53,30 @@ TABLES = {'ASSIGNED': {'L101': ['FFXA'],
  'LITERALS': ('.0004', '0.0', '0.000022', '0.0002', '0.0004', '0.0016', '0.004', '0.008', '0.01',
               '0.0545', '0.083333', '0.1', '0.25', '0.4166', '0.8', '1.0', '10000.0', '1320.0',
               '2.', '3.1', '300.0', '57.3', '635.0'),
- 'STEP_LITERALS': ('.0004', '0.000022', '0.0002', '0.0004')}
+ 'STEP_LITERALS': ('.0004', '0.000022', '0.0002', '0.0004'),
+ 'VARIABLES': ('A', 'ALPHA', 'B', 'C', 'CARLEN', 'CFA', 'CHIA', 'CHIFA', 'CK', 'CT', 'D', 'DELTA',
+               'DIFF', 'DIFFB', 'DIFFT', 'DIRC1X', 'DIRC1Y', 'DIRC1Z', 'DIRC2X', 'DIRC2Y',
+               'DIRC2Z', 'DIRC3X', 'DIRC3Y', 'DIRC3Z', 'E', 'ETAA', 'ETAFA', 'F1A', 'F1B', 'F1FB',
+               'F2A', 'F2B', 'F2FB', 'F3A', 'F3B', 'F3FB', 'FCONST', 'FFXA', 'FFYA', 'FNA', 'FNAC',
+               'FSA', 'FSB', 'FSXA', 'FSYA', 'G', 'H', 'HEIGHT', 'HHV', 'HI', 'HLEN', 'HTRV',
+               'HTV', 'I', 'K', 'LL', 'M', 'N', 'NAME', 'PFORK', 'PFORKF', 'PHIA', 'PHIAD', 'PHIB',
+               'PHIDA', 'PHIDB', 'PHIDFA', 'PHIDFB', 'PHIFA', 'PHIFAD', 'PHIFB', 'POSLEN', 'PSIA',
+               'PSIAD', 'PSIB', 'PSIDA', 'PSIDB', 'PSIDFA', 'PSIDFB', 'PSIFA', 'PSIFAD', 'PSIFB',
+               'Q', 'S1A', 'S1FA', 'S2A', 'S2FA', 'S3A', 'S3FA', 'SQUIFA', 'SQUIGA', 'SVA', 'SVB',
+               'SVFA', 'SVFB', 'SVO', 'T', 'T1A', 'T1B', 'T2A', 'T2B', 'T3A', 'T3B', 'TDISP', 'TF',
+               'THA', 'THAD', 'THB', 'THDA', 'THDB', 'THDFA', 'THDFB', 'THFA', 'THFAD', 'THFB',
+               'TLEN', 'TRLEN', 'TXA', 'TYA', 'TZA', 'V1A', 'V1B', 'V1FA', 'V1FB', 'V2A', 'V2B',
+               'V2FA', 'V2FB', 'V3A', 'V3B', 'V3FA', 'V3FB', 'VVA', 'VVB', 'VVFA', 'VVFB', 'W',
+               'W1A', 'W1B', 'W1FA', 'W1FB', 'W2A', 'W2B', 'W2FA', 'W2FB', 'W3A', 'W3B', 'W3FA',
+               'W3FB', 'WV', 'XBUMP', 'XCFA', 'XCMA', 'XCMB', 'XCMFA', 'XCMFB', 'XCO', 'XENTOP',
+               'XPA', 'XPFA', 'XPO', 'XQA', 'XQFA', 'XQO', 'XRA', 'XRFA', 'XRO', 'XSA', 'XSO',
+               'XTA', 'XTAIL', 'XTO', 'XVCFA', 'XVPFA', 'XVRA', 'XVRFA', 'XVSA', 'XVSO', 'XVTA',
+               'XVTO', 'YCFA', 'YCMA', 'YCMB', 'YCMFA', 'YCMFB', 'YCO', 'YLFEN', 'YPA', 'YPFA',
+               'YPO', 'YQA', 'YQFA', 'YQO', 'YRA', 'YRFA', 'YRFEN', 'YRO', 'YSA', 'YSO', 'YTA',
+               'YTO', 'YVCFA', 'YVPFA', 'YVRA', 'YVRFA', 'YVSA', 'YVTA', 'YYCFA', 'YYCMA',
+               'YYCMFA', 'YYCO', 'YYPA', 'YYPFA', 'YYPO', 'YYQA', 'YYQFA', 'YYQO', 'YYRA', 'YYRFA',
+               'YYRO', 'YYSA', 'YYSO', 'YYTA', 'YYTO', 'ZCFA', 'ZCMA', 'ZCMB', 'ZCMFA', 'ZCMFB',
+               'ZCO', 'ZETAA', 'ZETAFA', 'ZPA', 'ZPFA', 'ZPO', 'ZQA', 'ZQFA', 'ZQO', 'ZRA', 'ZRFA',
+               'ZRO', 'ZSA', 'ZSO', 'ZTA', 'ZTO', 'ZZCFA', 'ZZCMA', 'ZZCMFA', 'ZZCO', 'ZZPA',
+               'ZZPFA', 'ZZPO', 'ZZQA', 'ZZQFA', 'ZZQO', 'ZZRA', 'ZZRFA', 'ZZRO', 'ZZSA', 'ZZSO',
+               'ZZTA', 'ZZTO')}
