@@ -52,21 +52,21 @@ def test_the_emulator_tables_are_made_from_the_emulator_as_it_is():
     """legacy/emulator_tables.py is what ``python scripts/make_emulator_tables.py`` writes
     now: after a change to legacy/emulator.py, run it (the emulator reads its own text
     meanwhile, so a stale file costs time, never a wrong check)."""
-    from deck_emulator.legacy import emulator
+    from deck_emulator.legacy import emulator, emulator_text
 
     made = Path(emulator.__file__).with_name("emulator_tables.py").read_text()
-    assert made == emulator.tables_module(), "run: python scripts/make_emulator_tables.py"
-    assert emulator._TABLES == emulator.tables(Path(emulator.__file__).read_text())
+    assert made == emulator_text.module_text(), "run: python scripts/make_emulator_tables.py"
+    assert emulator._TABLES == emulator_text.tables(Path(emulator.__file__).read_text())
 
 
 def test_a_stale_table_is_not_used(monkeypatch):
     """With a checksum that is not the text's, the tables come from the text."""
-    from deck_emulator.legacy import emulator, emulator_tables
+    from deck_emulator.legacy import emulator, emulator_tables, emulator_text
 
     monkeypatch.setattr(emulator_tables, "SOURCE_CRC32", emulator_tables.SOURCE_CRC32 ^ 1)
     monkeypatch.setattr(emulator_tables, "TABLES", {"ASSIGNED": {}, "LITERALS": (),
-                                                    "STEP_LITERALS": ()})
-    assert emulator._source_tables() == emulator.tables(Path(emulator.__file__).read_text())
+                                                    "STEP_LITERALS": (), "VARIABLES": ()})
+    assert emulator._source_tables() == emulator_text.tables(Path(emulator.__file__).read_text())
 
 
 _DIGITS = st.text("0123456789", min_size=1, max_size=6)

@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import math
 import operator
-import re
 import sys
 from dataclasses import dataclass, field
 
@@ -1123,86 +1122,31 @@ def _assigned_variable(exc) -> str | None:
     return None
 
 
-_BLOCK = re.compile(r"^    def (L\w+)\(self\):.*?(?=^    def |^\S)", re.M | re.S)
-_TARGET = re.compile(r"^\s+((?:self\.)?v\.\w+(?:\s*,\s*v\.\w+)*)\s*=(?!=)", re.M)
-
-
-def _assigned_names(source: str) -> dict[str, list[str]]:
-    """Block method name -> the names it assigns (``v.NAME = ...``, ``self.v.NAME = ...``,
-    ``v.A, v.B, v.C = ...``), read from the program text by a pattern (an AST walk costs more
-    at import; tests/test_emulator.py checks that the two agree)."""
-    out = {}
-    for m in _BLOCK.finditer(source):
-        names = []
-        for t in _TARGET.finditer(m.group(0)):
-            for part in t.group(1).split(","):
-                name = part.strip().rsplit(".", 1)[1]
-                if name not in names:
-                    names.append(name)
-        if names:
-            out[m.group(1)] = names
-    return out
-
-
 def _getter(names):
     get = operator.attrgetter(*names)
     return get if len(names) > 1 else (lambda v: (get(v),))
 
 
-def _literals(source: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """Every literal the program text writes as K("...") or KSTEP("...") (with the ones ED
-    binds), and those written as KSTEP("...")."""
-    literals = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', source))
-                            | {"2.", "0.0"}))
-    steps = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', source))))
-    return literals, steps
-
-
-def tables(source: str) -> dict:
-    """What the program reads from its own text: each block's assigned names, the literals,
-    the step literals and the variables it names (legacy/emulator_tables.py holds them, made by
-    ``python scripts/make_emulator_tables.py``)."""
-    literals, steps = _literals(source)
-    variables = tuple(sorted(set(re.findall(r"\bv\.([A-Z][A-Z0-9]*)\b", source))))
-    return {"ASSIGNED": _assigned_names(source), "LITERALS": literals, "STEP_LITERALS": steps,
-            "VARIABLES": variables}
-
-
 def _source_tables() -> dict:
-    """:func:`tables` of this file: read from emulator_tables.py when it was made from this very
-    text (its checksum says so), else from the text now (the pattern pass, ~2 ms, once per
-    process).  tests/test_start.py fails while emulator_tables.py is stale."""
-    import zlib
-
+    """What the program reads from its own text (:func:`deck_emulator.legacy.emulator_text.tables`
+    of this file): from emulator_tables.py when it was made from this very text (its checksum
+    says so), else from the text now (the pattern pass, ~2 ms, once per process).
+    tests/test_start.py fails while emulator_tables.py is stale."""
     from . import emulator_tables as made
+    from .emulator_text import read_tables
 
-    try:
-        with open(__file__, "rb") as f:
-            text = f.read()
-    except OSError:  # no source beside the bytecode: the tables made from it are all there is
-        return made.TABLES
-    if zlib.crc32(text) == made.SOURCE_CRC32 and len(text) == made.SOURCE_BYTES:
-        return made.TABLES
-    return tables(text.decode("utf-8"))
-
-
-def tables_module() -> str:
-    """The text of emulator_tables.py for this file as it is now (written by
-    ``python scripts/make_emulator_tables.py``)."""
-    import pprint
-    import zlib
-
-    with open(__file__, "rb") as f:
-        text = f.read()
-    return ('"""What legacy/emulator.py reads from its own text (see emulator.tables), made from it by\n'
-            '``python scripts/make_emulator_tables.py``: do not edit.  emulator.py uses it only while\n'
-            'the checksum below is its own text\'s, and reads its text again otherwise."""\n\n'
-            f"SOURCE_BYTES = {len(text)}\n"
-            f"SOURCE_CRC32 = {zlib.crc32(text)}\n"
-            f"TABLES = {pprint.pformat(tables(text.decode('utf-8')), width=99, compact=True)}\n")
+    return read_tables(__file__, made)
 
 
 _TABLES = _source_tables()
+
+
+def __getattr__(name):  # the pattern reader (tests/test_emulator.py), imported when asked
+    if name == "_assigned_names":
+        from .emulator_text import _assigned_names
+
+        return _assigned_names
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 #: block method name -> a function giving the values the block assigned (integers included:
 #: they are always finite and sum with the reals).
 _ASSIGNED = {name: _getter(names) for name, names in _TABLES["ASSIGNED"].items()}

@@ -1,9 +1,9 @@
-"""What legacy/emulator.py reads from its own text (see emulator.tables), made from it by
-``python scripts/make_emulator_tables.py``: do not edit.  emulator.py uses it only while
-the checksum below is its own text's, and reads its text again otherwise."""
+"""What legacy/emulator.py reads from its own text (legacy/emulator_text.py), made from
+it by ``python scripts/make_emulator_tables.py``: do not edit.  The emulator uses it
+only while the checksum below is its text's, and reads its text again otherwise."""
 
-SOURCE_BYTES = 54454
-SOURCE_CRC32 = 1179127510
+SOURCE_BYTES = 51921
+SOURCE_CRC32 = 2742975376
 TABLES = {'ASSIGNED': {'L101': ['FFXA'],
               'L106': ['FFYA', 'FSXA', 'FSYA', 'F1A', 'F2A', 'F3A', 'TXA', 'TYA', 'TZA', 'T1A',
                        'T2A', 'T3A', 'LL', 'Q', 'E'],
