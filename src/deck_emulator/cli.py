@@ -481,12 +481,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
         if out.error is not None:
             failed = (out, deck.path)
             break
-    from deck_emulator.engine import provenance
-
     # what produced the printout: for the JSON answer and the pages (the version costs an
-    # importlib.metadata read, so a plain run does not ask for it)
-    facts = (provenance.facts(src, [s["settings"] for s in sections])
-             if args.json or args.pages else None)
+    # importlib.metadata read, and the module importlib.resources, so a plain run asks neither)
+    facts = None
+    if args.json or args.pages:
+        from deck_emulator.engine import provenance
+
+        facts = provenance.facts(src, [s["settings"] for s in sections])
     if args.json:
         from deck_emulator.present.answers import envelope
 

@@ -16,8 +16,6 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
-
 from deck_emulator.events import Event, EventKind, Surface
 from deck_emulator.units import speed_lost_mph
 
@@ -143,6 +141,8 @@ class EmulatorEngine:
 
 
 def _emulator_arrays(out: Outcome, rows, d) -> None:
+    import numpy as np  # here, not at the top: a run without a trace (deck-emulator run) needs none
+
     init = _initial_points(d)
     n = len(rows) + 1
     t = np.empty(n)
@@ -359,6 +359,8 @@ class CoreEngine:
         return out
 
     def _arrays(self, out: Outcome, r) -> None:
+        import numpy as np
+
         traj = r.trajectory
         t_end = float(traj.t_end)
         lost = out.vehicle_contact_lost_s

@@ -108,7 +108,6 @@ def _shipped(given: str) -> Path | None:
 
 def _resolve(given: str) -> tuple[str, Path]:
     """(name shown, file) of a SOURCE: the file if it exists, else a shipped deck."""
-    from deck_emulator import decks
     from deck_emulator.legacy.deck import DeckError
 
     if not given:
@@ -119,6 +118,8 @@ def _resolve(given: str) -> tuple[str, Path]:
     shipped = _shipped(given)
     if shipped is not None:
         return Path(given).stem, shipped
+    from deck_emulator import decks  # (importlib.resources: only when a name is not a file)
+
     raise DeckError(f"no such file, and no shipped deck of that name (shipped: "
                     f"{', '.join(decks.names())})", path=given)
 

@@ -3,7 +3,9 @@
 MAIN begins with eight ``READ(5,n)`` statements, each with ``FORMAT(8F10.5)``: eight
 80-column cards, eight 10-column fields per card.  The input semantics reproduced here:
 
-* every field is ``F10.5``, converted by :mod:`fortranformat`'s ``FortranRecordReader``;
+* every field is ``F10.5``: the exact decimal it means, correctly rounded to binary64, as
+  gfortran's REAL*8 read converts it (which texts are numbers: ``_NUMBER_RE``; fortranformat's
+  ``FortranRecordReader`` reads every text it accepts, tests/test_deck.py checks);
 * leading blanks are ignored, embedded and trailing blanks read as zeros (``-58.66    ``
   is ``-58.660000``; ``1.5E2     `` is ``1.5E200000``), an all-blank field is 0.0;
 * a field without a decimal point gets the implied one: ``     12345`` reads 0.12345;
@@ -12,9 +14,9 @@ MAIN begins with eight ``READ(5,n)`` statements, each with ``FORMAT(8F10.5)``: e
 * ``$`` control cards (``$DATA``, ``$IBJOB`` ...) before the first data card are skipped;
 * LF or CRLF line ends, with or without a final newline.
 
-fortranformat's own blank-as-zero mode (BZ) also turns *leading* blanks into zeros, so
-``'    -58.66'`` would fail; the blanks are therefore mapped here and the field handed over
-without any blank in it.
+The blanks are mapped here (fortranformat's own blank-as-zero mode, BZ, would also turn
+*leading* blanks into zeros, so ``'    -58.66'`` would fail), and the field is read without
+any blank in it.
 
 Anything else is an error: :class:`DeckError`, naming the card, the columns and the
 READ-list name where that applies.  No other exception escapes :func:`read_deck` or
@@ -29,8 +31,6 @@ import re
 import unicodedata
 from dataclasses import dataclass, field as _dc_field
 from decimal import Decimal, localcontext
-
-from fortranformat import FortranRecordReader, FortranRecordWriter
 
 __all__ = [
     "READ_LIST",
@@ -76,8 +76,10 @@ _MAX_BYTES = 1 << 20
 _FORMAT = "(F10.5)"
 _DECIMALS = 5  # the .5 of F10.5: implied decimal places, and the minimum in `fields`
 
-# One number after the 1967 blank handling (no blank left in it).  This only decides
-# *whether* the text is a number FORTRAN IV accepts; the conversion is fortranformat's.
+# One number after the 1967 blank handling (no blank left in it): whether the text is a number
+# FORTRAN IV accepts.  (fortranformat's reader, once asked here too, accepted every text this
+# accepts -- tests/test_deck.py checks it -- so it is no longer imported for a read: its import
+# cost every run ~40 ms, most of it importlib.metadata for its __version__.)
 # Exponent: E or D with an optional sign, or a bare sign (``1.5+2`` is 1.5E+2).
 _NUMBER_RE = re.compile(
     r"(?P<mantissa>[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"
@@ -377,16 +379,6 @@ def _build(cards: list[str], path: str | None) -> Deck:
     return Deck(path=path, values=values, fields=fields, cards=tuple(cards), warnings=warnings)
 
 
-_READER = None
-
-
-def _reader() -> FortranRecordReader:
-    global _READER
-    if _READER is None:
-        _READER = FortranRecordReader(_FORMAT)
-    return _READER
-
-
 def _read_field(raw: str, *, name: str, card: int, columns, path) -> tuple[float, str]:
     """Value and exact decimal text of one 10-column field, 1967 rules."""
     where = dict(card=card, columns=columns, field=name, path=path)
@@ -409,13 +401,6 @@ def _read_field(raw: str, *, name: str, card: int, columns, path) -> tuple[float
             raise _out_of_range(raw, text, where)
         mantissa = mantissa.scaleb(exponent)
     exact = mantissa
-
-    try:
-        converted = _reader().read(text)[0]
-    except Exception:  # fortranformat raises ValueError, but be sure nothing else escapes
-        raise DeckError(f"not a number: {raw!r}", **where) from None
-    if converted is None:
-        raise DeckError(f"not a number: {raw!r}", **where)
 
     # The range is that of the number the field means, the implied decimal point applied
     # first, as gfortran's REAL*8 read does: '     1E309' is 1E304, in range.  fortranformat
@@ -455,11 +440,15 @@ _PUNCH_FORMATS = (
 )
 
 
-_WRITERS: dict[str, FortranRecordWriter] = {}
+_WRITERS: dict = {}
 
 
-def _writer(fmt: str) -> FortranRecordWriter:
+def _writer(fmt: str):
+    """fortranformat's writer of ``fmt`` (imported here: only punching a changed field needs
+    it)."""
     if fmt not in _WRITERS:
+        from fortranformat import FortranRecordWriter
+
         _WRITERS[fmt] = FortranRecordWriter(fmt)
     return _WRITERS[fmt]
 

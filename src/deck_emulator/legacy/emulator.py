@@ -24,7 +24,8 @@ ever, a post that never lands, and any non-finite value (see :class:`Limits`); e
 
 Speed (binary64): the values are Python floats and the sines and cosines the C library's own;
 finiteness is checked once per block, on the variables the block assigns (found in this text
-once, at import), not on every assignment. When a block leaves a NaN or an infinity, or the
+by a pattern, and kept in emulator_tables.py while this text is unchanged), not on every
+assignment. When a block leaves a NaN or an infinity, or the
 arithmetic raises, the run is replayed from the start in the checking mode, where every
 assignment is checked, so the error names the statement exactly as before; the program is
 deterministic, so the replay reaches the same point. The other arithmetics always check every
@@ -33,13 +34,9 @@ assignment (their own operations trap first anyway).
 
 from __future__ import annotations
 
-import inspect
-import linecache
 import math
 import operator
-import re
 import sys
-import traceback
 from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
@@ -104,17 +101,18 @@ class Run:
 class _Vars:
     """The variables of one program unit. A variable read before any assignment is zero, as in
     the 7094's cleared core (and gfortran's -fno-automatic -finit-local-zero): INTEGER by
-    FORTRAN's implicit rule (I-N) or REAL. Assignments are not checked here: the label machine
-    checks each block's variables when the block ends (see Program._dispatch)."""
+    FORTRAN's implicit rule (I-N) or REAL. Every variable the program text names (``v.NAME``,
+    found in this file's text: emulator_tables.py) is set to its zero when the unit is made,
+    so that no read needs a ``__getattr__`` fallback (whose mere presence makes every
+    attribute read of the class about twice as slow in CPython). Assignments are not checked
+    here: the label machine checks each block's variables when the block ends (see
+    Program._dispatch)."""
 
     def __init__(self, isfinite, zero):
         object.__setattr__(self, "_isfinite", isfinite)
         object.__setattr__(self, "_zero", zero)
-
-    def __getattr__(self, name):  # only for names never assigned
-        if name.startswith("_"):
-            raise AttributeError(name)
-        return 0 if name[0] in "IJKLMN" else self._zero
+        for name in _VARIABLES:
+            object.__setattr__(self, name, 0 if name[0] in "IJKLMN" else zero)
 
 
 class _CheckedVars(_Vars):
@@ -153,8 +151,11 @@ class ED:
     (and gfortran with -fno-automatic -finit-local-zero). Returns D."""
 
     def __init__(self, ar: Arithmetic, errata: tuple[str, ...], max_iterations: int,
-                 tolerance: str = ".0001"):
+                 tolerance: str = ".0001", *, check: bool = True):
         self.ar = ar
+        # check D and DH after every label (the checking mode); binary64's unchecked run leaves
+        # it to the block that called ED (L44, L57 assign D: a non-finite D replays the run)
+        self.check = check
         self.L = 0
         self.DH = ar.decimal("0.0")
         self.H = ar.decimal("0.0")
@@ -179,7 +180,7 @@ class ED:
 
         if getattr(ar, "native_float", False):
             IF = _if_float  # noqa: F811  (the same three-way branch, on a float)
-        isfinite = ar.isfinite
+        isfinite, check = ar.isfinite, self.check
 
         # +1 where the erratum makes labels 1 and 15 step towards the root
         up = self.towards_root
@@ -252,7 +253,7 @@ class ED:
                     D = DH  # 20 D=DH
                     L = L + 1
                     return D
-                if not isfinite(DH) or (D is not None and not isfinite(D)):
+                if check and (not isfinite(DH) or (D is not None and not isfinite(D))):
                     raise _NonFinite("DH" if not isfinite(DH) else "D")
         finally:
             self.L, self.DH, self.H = L, DH, H
@@ -304,7 +305,8 @@ class Program:
         if self.check_blocks:
             self.IF = _if_float
         self.free_flight = False
-        self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance)
+        self.ed = ED(self.ar, self.errata, limits.ed_iterations, ed_tolerance,
+                     check=not self.check_blocks)
         self.ed_tolerance = ed_tolerance
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
         self.printer = Printer(self.ar.exact, rounding, binary=getattr(self.ar, "binary", False))
@@ -417,26 +419,30 @@ class Program:
                 else:
                     lab = blocks[lab]()
             return
-        # binary64: each block's assigned reals are checked when the block ends
+        # binary64: each block's assigned reals are checked when the block ends.  One look-up
+        # a label: label -> (block, the getter of its assigned values), label -> (check,
+        # targets, the point a series of checks starts on); the IF is _if_float's, inline.
         v, isfinite = self.v, math.isfinite
-        assigned = {lab: _ASSIGNED[fn.__name__] for lab, fn in blocks.items() if fn.__name__ in _ASSIGNED}
+        steps = {lab: (fn, _ASSIGNED.get(fn.__name__)) for lab, fn in blocks.items()}
+        tests = {lab: (*check, _CHECK_STARTS.get(lab)) for lab, check in checks.items()}
         lab = "START"
         while lab is not None:
             self.label = lab
-            if lab in checks:
-                if lab in _CHECK_STARTS:
-                    self.checked_point = _CHECK_STARTS[lab]
-                x, neg, zero, pos = checks[lab]
-                lab = IF(x(), neg, zero, pos)
+            test = tests.get(lab)
+            if test is not None:
+                x, neg, zero, pos, point = test
+                if point is not None:
+                    self.checked_point = point
+                x = x()
+                lab = neg if x < 0 else pos if x > 0 else zero  # IF(x)neg,zero,pos
                 continue
+            block, got = steps[lab]
             try:
-                nxt = blocks[lab]()
+                nxt = block()
             except EmulatorError:  # a guard: genuine only if the block's values are finite
-                got = assigned.get(lab)
                 if got is not None and not isfinite(sum(got(v))):
                     raise _Replay from None
                 raise
-            got = assigned.get(lab)
             if got is not None and not isfinite(sum(got(v))):
                 raise _Replay  # (or the sum overflowed: the replay then runs to the end)
             lab = nxt
@@ -530,15 +536,33 @@ class Program:
         v.PSIDA = v.W3A-(cos(v.THA))*v.PHIDA
         return 124
 
+    def _rotation(self, SQ, ET, ZE, CH):
+        """The nine parenthesised rotation terms of a point's statements (eq. 3.21), from the
+        rotation parameters (SQUIG, ETA, ZETA, CHI), in the order _point uses them: every
+        point of a step has the same nine, so they are computed once per step.  Each is the
+        listing's own grouping, and the same operations on the same operands give the same
+        value in every arithmetic (X**2 is one multiplication, X*X, in each), so the points
+        come out bit for bit as if each statement computed them (the goldens and the ibm7094
+        printouts check it).  One thing differs: the 7094's underflow count (never printed)
+        counts an underflowing square once per step rather than once per use."""
+        P2 = self.P2
+        SQ2, ET2, ZE2, CH2 = P2(SQ), P2(ET), P2(ZE), P2(CH)
+        SQET, ZECH, SQZE, ETCH, ETZE, SQCH = (SQ*ET), (ZE*CH), (SQ*ZE), (ET*CH), (ET*ZE), (SQ*CH)
+        return ((SQ2-ET2-ZE2+CH2), (SQET-ZECH), (SQZE+ETCH),
+                (SQET+ZECH), (-SQ2+ET2-ZE2+CH2), (ETZE-SQCH),
+                (SQZE-ETCH), (ETZE+SQCH), (-SQ2-ET2+ZE2+CH2))
+
     def _point(self, XO, YO, ZO, CM, ROT):
         """The three statements XxA=..., YxA=..., ZxA=... of a point of the post (eq. 3.21),
-        written once with the listing's grouping; ROT = (SQUIG, ETA, ZETA, CHI)."""
-        K2, P2 = self.K("2."), self.P2
-        SQ, ET, ZE, CH = ROT
+        written once with the listing's grouping; ROT = self._rotation(SQUIG, ETA, ZETA, CHI):
+        XxA=XCMA+(XxO)*(SQUIGA**2-ETAA**2-ZETAA**2+CHIA**2)+(2.*YxO)*((SQUIGA*ETAA)-(ZETAA*CHIA))
+        +(2.*ZxO)*((SQUIGA*ZETAA)+(ETAA*CHIA)), and likewise YxA and ZxA."""
+        K2 = self.K("2.")
+        R11, R12, R13, R21, R22, R23, R31, R32, R33 = ROT
         XCM, YCM, ZCM = CM
-        X = XCM+(XO)*(P2(SQ)-P2(ET)-P2(ZE)+P2(CH))+(K2*YO)*((SQ*ET)-(ZE*CH))+(K2*ZO)*((SQ*ZE)+(ET*CH))
-        Y = YCM+(K2*XO)*((SQ*ET)+(ZE*CH))+(YO)*(-P2(SQ)+P2(ET)-P2(ZE)+P2(CH))+(K2*ZO)*((ET*ZE)-(SQ*CH))
-        Z = ZCM+(K2*XO)*((SQ*ZE)-(ET*CH))+(K2*YO)*((ET*ZE)+(SQ*CH))+(ZO)*(-P2(SQ)-P2(ET)+P2(ZE)+P2(CH))
+        X = XCM+(XO)*(R11)+(K2*YO)*(R12)+(K2*ZO)*(R13)
+        Y = YCM+(K2*XO)*(R21)+(YO)*(R22)+(K2*ZO)*(R23)
+        Z = ZCM+(K2*XO)*(R31)+(K2*YO)*(R32)+(ZO)*(R33)
         return X, Y, Z
 
     def L124(self):  # 124: velocities, translations, direction cosines, points, differences
@@ -574,7 +598,7 @@ class Program:
         v.ETAA = sin(THA/K2)*cos((PSIA-PHIA)/K2)
         v.ZETAA = cos(THA/K2)*sin((PSIA+PHIA)/K2)
         v.CHIA = cos(THA/K2)*cos((PSIA+PHIA)/K2)
-        rot, cm = (v.SQUIGA, v.ETAA, v.ZETAA, v.CHIA), (v.XCMA, v.YCMA, v.ZCMA)
+        rot, cm = self._rotation(v.SQUIGA, v.ETAA, v.ZETAA, v.CHIA), (v.XCMA, v.YCMA, v.ZCMA)
         v.XPA, v.YPA, v.ZPA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
         v.YYPA = v.YPA*cos(DELTA)-v.ZPA*sin(DELTA)
         v.ZZPA = v.YPA*sin(DELTA)+v.ZPA*cos(DELTA)
@@ -892,7 +916,7 @@ class Program:
         v.ETAFA = sin(THFA/K2)*cos((PSIFA-PHIFA)/K2)
         v.ZETAFA = cos(THFA/K2)*sin((PSIFA+PHIFA)/K2)
         v.CHIFA = cos(THFA/K2)*cos((PSIFA+PHIFA)/K2)
-        rot, cm = (v.SQUIFA, v.ETAFA, v.ZETAFA, v.CHIFA), (v.XCMFA, v.YCMFA, v.ZCMFA)
+        rot, cm = self._rotation(v.SQUIFA, v.ETAFA, v.ZETAFA, v.CHIFA), (v.XCMFA, v.YCMFA, v.ZCMFA)
         ALPHA = v.ALPHA
         v.XPFA, v.YPFA, v.ZPFA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
         v.YYPFA = v.YPFA*cos(DELTA)-v.ZPFA*sin(DELTA)
@@ -1069,6 +1093,8 @@ _CHECK_STARTS = {500: "P", 112: "R", 300: "C"}
 
 
 def _frames(exc):
+    import traceback  # here: only a run that stopped reads its traceback
+
     return [f for f in traceback.extract_tb(exc.__traceback__) if f.filename == __file__]
 
 
@@ -1079,6 +1105,8 @@ def _in_ed(exc) -> bool:
 
 def _assigned_variable(exc) -> str | None:
     """The variable on the left of the statement that trapped (from the traceback's line)."""
+    import linecache
+
     for f in reversed(_frames(exc)):
         line = (f.line or linecache.getline(f.filename, f.lineno)).strip()
         if line.startswith("return D-"):
@@ -1094,39 +1122,39 @@ def _assigned_variable(exc) -> str | None:
     return None
 
 
-_BLOCK = re.compile(r"^    def (L\w+)\(self\):.*?(?=^    def |^\S)", re.M | re.S)
-_TARGET = re.compile(r"^\s+((?:self\.)?v\.\w+(?:\s*,\s*v\.\w+)*)\s*=(?!=)", re.M)
-
-
-def _assigned_names(source: str) -> dict[str, list[str]]:
-    """Block method name -> the names it assigns (``v.NAME = ...``, ``self.v.NAME = ...``,
-    ``v.A, v.B, v.C = ...``), read from the program text by a pattern (an AST walk costs more
-    at import; tests/test_emulator.py checks that the two agree)."""
-    out = {}
-    for m in _BLOCK.finditer(source):
-        names = []
-        for t in _TARGET.finditer(m.group(0)):
-            for part in t.group(1).split(","):
-                name = part.strip().rsplit(".", 1)[1]
-                if name not in names:
-                    names.append(name)
-        if names:
-            out[m.group(1)] = names
-    return out
-
-
 def _getter(names):
     get = operator.attrgetter(*names)
     return get if len(names) > 1 else (lambda v: (get(v),))
 
 
-_SOURCE = inspect.getsource(sys.modules[__name__])
+def _source_tables() -> dict:
+    """What the program reads from its own text (:func:`deck_emulator.legacy.emulator_text.tables`
+    of this file): from emulator_tables.py when it was made from this very text (its checksum
+    says so), else from the text now (the pattern pass, ~2 ms, once per process).
+    tests/test_start.py fails while emulator_tables.py is stale."""
+    from . import emulator_tables as made
+    from .emulator_text import read_tables
+
+    return read_tables(__file__, made)
+
+
+_TABLES = _source_tables()
+
+
+def __getattr__(name):  # the pattern reader (tests/test_emulator.py), imported when asked
+    if name == "_assigned_names":
+        from .emulator_text import _assigned_names
+
+        return _assigned_names
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 #: block method name -> a function giving the values the block assigned (integers included:
 #: they are always finite and sum with the reals).
-_ASSIGNED = {name: _getter(names) for name, names in _assigned_names(_SOURCE).items()}
+_ASSIGNED = {name: _getter(names) for name, names in _TABLES["ASSIGNED"].items()}
 #: Every literal the program text writes as K("...") or KSTEP("..."), and the ones ED binds.
-_LITERALS = tuple(sorted(set(re.findall(r'\bK(?:STEP)?\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE)) | {"2.", "0.0"}))
-_STEP_LITERALS = tuple(sorted(set(re.findall(r'\bKSTEP\("([-+.\dE]*\d[-+.\dE]*)"\)', _SOURCE))))
+_LITERALS = _TABLES["LITERALS"]
+_STEP_LITERALS = _TABLES["STEP_LITERALS"]
+#: Every variable the program text names as v.NAME (each unit starts with them all zero).
+_VARIABLES = _TABLES["VARIABLES"]
 
 
 def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_scale_k: int = 0,

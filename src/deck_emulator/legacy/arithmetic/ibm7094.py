@@ -120,7 +120,10 @@ class Word:
     mixing a Word with a Python or NumPy number raises ``TypeError``.
     """
 
-    __slots__ = ("sign", "characteristic", "fraction")
+    # The fields live in private slots, read-only from outside through the properties below;
+    # the operators build their results by setting the slots directly (two to three times
+    # faster than a guarded __setattr__, and the one place words are made: _make, _pack).
+    __slots__ = ("_s", "_c", "_f")
     __array_ufunc__ = None  # NumPy: refuse mixed operations instead of making object arrays
 
     def __init__(self, sign: int, characteristic: int, fraction: int):
@@ -134,17 +137,19 @@ class Word:
                 raise ValueError("a zero fraction needs characteristic 0 (the normal zero)")
         elif not _FNORM <= fraction < _FLIM:
             raise ValueError(f"fraction {fraction:o} (octal) is not a normalised 27-bit fraction")
-        _set_s(self, sign)
-        _set_ch(self, characteristic)
-        _set_f(self, fraction)
+        self._s = sign
+        self._c = characteristic
+        self._f = fraction
 
-    def __setattr__(self, name, value):
-        raise AttributeError("Word is immutable")
-
-    __delattr__ = __setattr__
+    #: 0 or 1 (1 for minus)
+    sign = property(lambda self: self._s, doc="0 or 1 (1 for minus)")
+    #: 0..255, the binary exponent + 128
+    characteristic = property(lambda self: self._c, doc="0..255: the binary exponent + 128")
+    #: the 27-bit fraction (2**26 <= fraction < 2**27, or 0 for a zero)
+    fraction = property(lambda self: self._f, doc="the 27-bit fraction, normalised, or 0")
 
     def __reduce__(self):
-        return (Word, (self.sign, self.characteristic, self.fraction))
+        return (Word, (self._s, self._c, self._f))
 
     def __copy__(self):
         return self
@@ -157,7 +162,7 @@ class Word:
         """The 36-bit word as 12 octal digits: sign bit first, then the characteristic, then
         the fraction (the first three digits are sign+characteristic, the last nine the
         fraction)."""
-        return f"{(self.sign << 8) | self.characteristic:03o}{self.fraction:09o}"
+        return f"{(self._s << 8) | self._c:03o}{self._f:09o}"
 
     @classmethod
     def from_octal(cls, text: str) -> "Word":
@@ -183,14 +188,14 @@ class Word:
     # --- conversions --------------------------------------------------------------------------
     def __float__(self) -> float:
         # exact: 27 significant bits and exponents -155..+100 fit in binary64
-        v = math.ldexp(self.fraction, self.characteristic - _SCALE)
-        return -v if self.sign else v
+        v = math.ldexp(self._f, self._c - _SCALE)
+        return -v if self._s else v
 
     def exact(self) -> Fraction:
         """The exact value (a minus zero gives 0)."""
-        e = self.characteristic - _SCALE
-        q = Fraction(self.fraction << e) if e >= 0 else Fraction(self.fraction, 1 << -e)
-        return -q if self.sign else q
+        e = self._c - _SCALE
+        q = Fraction(self._f << e) if e >= 0 else Fraction(self._f, 1 << -e)
+        return -q if self._s else q
 
     def __repr__(self) -> str:
         return f"Word({float(self)!r}, octal={self.octal()})"
@@ -201,13 +206,13 @@ class Word:
         return format(float(self), spec)
 
     def __bool__(self) -> bool:
-        return self.fraction != 0
+        return self._f != 0
 
     # --- ordering: by value, minus zero equal to zero -----------------------------------------
     def _key(self) -> int:
         # normalised words order by (characteristic, fraction) within a sign
-        k = (self.characteristic << _N_FR) | self.fraction if self.fraction else 0
-        return -k if self.sign else k
+        k = (self._c << _N_FR) | self._f if self._f else 0
+        return -k if self._s else k
 
     def __eq__(self, other):
         if type(other) is Word:
@@ -248,50 +253,50 @@ class Word:
 
     # --- sign operations: CHS/CLS and SSP only touch the sign bit [SIMH op_pse] ------------------
     def __neg__(self):
-        return _make(self.sign ^ 1, self.characteristic, self.fraction)
+        return _make(self._s ^ 1, self._c, self._f)
 
     def __pos__(self):
         return self
 
     def __abs__(self):
-        return _make(0, self.characteristic, self.fraction) if self.sign else self
+        return _make(0, self._c, self._f) if self._s else self
 
     # --- FAD / FSB -------------------------------------------------------------------------------
     def __add__(self, other):
         if type(other) is not Word:
             return NotImplemented
-        return _fad(self.sign, self.characteristic, self.fraction,
-                    other.sign, other.characteristic, other.fraction)
+        return _fad(self._s, self._c, self._f,
+                    other._s, other._c, other._f)
 
     def __sub__(self, other):
         if type(other) is not Word:
             return NotImplemented
         # FSB is FAD with the storage operand's sign inverted [SIMH i7094_cpu.c, case 00302]
-        return _fad(self.sign, self.characteristic, self.fraction,
-                    other.sign ^ 1, other.characteristic, other.fraction)
+        return _fad(self._s, self._c, self._f,
+                    other._s ^ 1, other._c, other._f)
 
     # --- FMP -------------------------------------------------------------------------------------
     def __mul__(self, other):
         if type(other) is not Word:
             return NotImplemented
         # [SIMH op_fmp] the MQ operand (self: LDQ A; FMP B) times the storage operand
-        s = self.sign ^ other.sign
-        f1, f2 = self.fraction, other.fraction
+        s = self._s ^ other._s
+        f1, f2 = self._f, other._f
         if not f1 or not f2:
             # SR a normal zero: signed zero at once; MQ zero: the product's high part is
             # zero and the characteristic is cleared -- no spill either way
             return _ZEROS[s]
         p = f1 * f2  # the exact 54-bit product of two fractions in [1/2, 1): in [1/4, 1)
-        ch = self.characteristic + other.characteristic - _BIAS
+        ch = self._c + other._c - _BIAS
         if p < _DNORM:  # at most one normalising shift
             p <<= 1
             ch -= 1
         # AC keeps the high 27 bits: the exact product chopped (the MQ gets the rest)
         if 0 <= ch <= _M_CH:  # _pack's common case, inline
             w = _new(Word)
-            _set_s(w, s)
-            _set_ch(w, ch)
-            _set_f(w, p >> _N_FR)
+            w._s = s
+            w._c = ch
+            w._f = p >> _N_FR
             return w
         return _pack(s, ch, p >> _N_FR)
 
@@ -300,16 +305,16 @@ class Word:
         if type(other) is not Word:
             return NotImplemented
         # [SIMH op_fdv] AC (self) divided by the storage operand; the quotient goes to the MQ
-        s = self.sign ^ other.sign
-        f2 = other.fraction
+        s = self._s ^ other._s
+        f2 = other._f
         if not f2:
             # |AC| >= 2|SR|: divide check.  The hardware sets the indicator and leaves a
             # signed-zero quotient (see the module docstring); here it is a fault.
             raise ArithmeticFault("IBM 7094 FDP divide check: division by zero")
-        f1 = self.fraction
+        f1 = self._f
         if not f1:
             return _ZEROS[s]  # MQ = sign only
-        ch = self.characteristic
+        ch = self._c
         if f1 >= f2:  # |AC| >= |SR|: AC fraction shifted right one place first
             num = f1 << (_N_FR - 1)
             ch += 1
@@ -317,21 +322,18 @@ class Word:
             num = f1 << _N_FR
         # fp_fracdiv: 54-bit dividend / 27-bit divisor; the quotient is the exact quotient
         # chopped, already normalised because both fractions are
-        return _pack(s, ch - other.characteristic + _BIAS, num // f2)
+        return _pack(s, ch - other._c + _BIAS, num // f2)
 
 
-# Fast construction, bypassing the immutability guard: slot descriptors set the fields.
-_set_s = Word.__dict__["sign"].__set__
-_set_ch = Word.__dict__["characteristic"].__set__
-_set_f = Word.__dict__["fraction"].__set__
+# Fast construction: a bare object, its private slots set (no __init__ checks).
 _new = object.__new__
 
 
 def _make(s: int, ch: int, f: int) -> Word:
     w = _new(Word)
-    _set_s(w, s)
-    _set_ch(w, ch)
-    _set_f(w, f)
+    w._s = s
+    w._c = ch
+    w._f = f
     return w
 
 
@@ -359,9 +361,9 @@ def _pack(s: int, ch: int, f: int) -> Word:
         INDICATORS.underflows += 1
         return _ZEROS[s]
     w = _new(Word)
-    _set_s(w, s)
-    _set_ch(w, ch)
-    _set_f(w, f)
+    w._s = s
+    w._c = ch
+    w._f = f
     return w
 
 
@@ -372,6 +374,24 @@ def _fad(s1: int, c1: int, f1: int, s2: int, c2: int, f2: int) -> Word:
     # larger they are swapped, so with equal characteristics op1 stays the AC.
     if c1 > c2:
         s1, c1, f1, s2, c2, f2 = s2, c2, f2, s1, c1, f1
+    if s1 == s2:
+        # Like signs, the common case, in 27-bit integers: the high 27 bits of the AC:MQ sum
+        # below are f2 + (f1 >> gap) exactly (the low 27 bits of f2's place are zero, so the
+        # bits of the shifted operand below the AC never carry into it), and at most one
+        # carry shift follows; no normalising shift can (f2 is normalised, or both are zero).
+        f = f2 + (f1 >> (c2 - c1))
+        if f >= _FLIM:  # carry out of the pair: shift right once
+            f >>= 1
+            c2 += 1
+        if not f:
+            return _ZEROS[s2]  # both operands zero: "true zero" with the sign
+        if c2 <= _M_CH:  # _pack's common case, inline (c2 >= c1 >= 0)
+            w = _new(Word)
+            w._s = s2
+            w._c = c2
+            w._f = f
+            return w
+        return _pack(s2, c2, f)
     # Both fractions sit in the 54-bit AC:MQ pair (MQ cleared first), the high 27 bits
     # holding the fraction.  The smaller operand is shifted right through the pair; bits
     # shifted past its low end are lost -- the one place FAD is not "exact then chop":
@@ -409,9 +429,9 @@ def _fad(s1: int, c1: int, f1: int, s2: int, c2: int, f2: int) -> Word:
     # the AC keeps the high 27 bits: chopped
     if 0 <= c2 <= _M_CH:  # _pack's common case, inline
         w = _new(Word)
-        _set_s(w, s)
-        _set_ch(w, c2)
-        _set_f(w, d >> _N_FR)
+        w._s = s
+        w._c = c2
+        w._f = d >> _N_FR
         return w
     return _pack(s, c2, d >> _N_FR)
 
@@ -534,18 +554,18 @@ def _sincos_scaled(f: int, ch: int, want_cos: bool, w: int) -> tuple[int, int]:
 
 
 def _sincos_word(x: Word, want_cos: bool, nearest: bool) -> Word:
-    if not x.fraction:
+    if not x._f:
         return ONE if want_cos else x  # cos 0 = 1 and sin(+-0) = +-0 exactly
-    w = 64 + max(0, _BIAS - x.characteristic)  # ~64 significant bits even for tiny x
+    w = 64 + max(0, _BIAS - x._c)  # ~64 significant bits even for tiny x
     while True:
-        v, err = _sincos_scaled(x.fraction, x.characteristic, want_cos, w)
+        v, err = _sincos_scaled(x._f, x._c, want_cos, w)
         lo, hi = v - err, v + err
         if (lo > 0) == (hi > 0) and lo != 0 and hi != 0:
             a = _from_ratio(abs(lo), 1 << w, lo < 0, nearest)
             b = _from_ratio(abs(hi), 1 << w, hi < 0, nearest)
-            if a.sign == b.sign and a.characteristic == b.characteristic \
-                    and a.fraction == b.fraction:
-                if x.sign and not want_cos:
+            if a._s == b._s and a._c == b._c \
+                    and a._f == b._f:
+                if x._s and not want_cos:
                     return -a  # sin is odd
                 return a
         w *= 2
@@ -567,14 +587,27 @@ def _sincos_libm(x: Word, want_cos: bool, nearest: bool) -> Word | None:
     if not 2.0**-120 < abs(v) < 2.0**120:  # near the words' range (and 0): the exact way
         return None
     a = abs(v)
-    lo, hi = a * (1.0 - _LIBM_MARGIN), a * (1.0 + _LIBM_MARGIN)
-    n1, d1 = lo.as_integer_ratio()
-    n2, d2 = hi.as_integer_ratio()
-    w1 = _from_ratio(n1, d1, v < 0, nearest)
-    w2 = _from_ratio(n2, d2, v < 0, nearest)
-    if w1.characteristic == w2.characteristic and w1.fraction == w2.fraction:
-        return w1
+    c1, f1 = _float_word(a * (1.0 - _LIBM_MARGIN), nearest)
+    c2, f2 = _float_word(a * (1.0 + _LIBM_MARGIN), nearest)
+    if c1 == c2 and f1 == f2:
+        return _make(1 if v < 0 else 0, c1, f1)
     return None
+
+
+def _float_word(y: float, nearest: bool) -> tuple[int, int]:
+    """(characteristic, fraction) of the word for the positive binary64 ``y`` (2**-120 < y <
+    2**120), chopped or rounded to nearest with ties away from zero: what :func:`_from_ratio`
+    gives for y's exact ratio, read off ``math.frexp`` (y = m * 2**e, 1/2 <= m < 1, so the
+    fraction is m * 2**27, exact in binary64, chopped; its remainder is exact too)."""
+    m, e = math.frexp(y)
+    t = m * _FLIM
+    f = int(t)
+    if nearest and t - f >= 0.5:
+        f += 1
+        if f == _FLIM:
+            f = _FNORM
+            e += 1
+    return e + _BIAS, f
 
 
 @functools.lru_cache(maxsize=1 << 14)
@@ -672,17 +705,17 @@ class IBM7094Arithmetic(Arithmetic):
     def sin(self, x: Word) -> Word:
         if type(x) is not Word:
             raise TypeError(f"sin of {type(x).__name__}, not Word")
-        return _sin_cached(x.sign, x.characteristic, x.fraction, self._sin_nearest)
+        return _sin_cached(x._s, x._c, x._f, self._sin_nearest)
 
     def cos(self, x: Word) -> Word:
         if type(x) is not Word:
             raise TypeError(f"cos of {type(x).__name__}, not Word")
-        return _cos_cached(x.characteristic, x.fraction, self._sin_nearest)  # cos is even
+        return _cos_cached(x._c, x._f, self._sin_nearest)  # cos is even
 
     def sign(self, x: Word) -> int:
-        if not x.fraction:
+        if not x._f:
             return 0  # either zero
-        return -1 if x.sign else 1
+        return -1 if x._s else 1
 
     def isfinite(self, x) -> bool:
         if type(x) is not Word:

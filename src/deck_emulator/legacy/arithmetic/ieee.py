@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import math
 from fractions import Fraction
 
@@ -34,6 +32,9 @@ class DoubleArithmetic(Arithmetic):
 
 
 def _libm():
+    import ctypes  # here: only binary32 calls sinf/cosf (ctypes.util costs a double run ~3 ms)
+    import ctypes.util
+
     path = ctypes.util.find_library("m")
     lib = ctypes.CDLL(path)
     for fn in ("sinf", "cosf"):

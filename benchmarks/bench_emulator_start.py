@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""The emulator's start (issue 25, item 6): whole-process times against a plain transcription.
+
+    python benchmarks/bench_emulator_start.py [--repeat 7] [--ibm7094-repeat 7]
+
+Prints, measured in this one run, the median wall time of the whole process (interpreter
+start, imports, the run, the printout written to /dev/null) of
+
+* ``python -c pass`` (the floor);
+* ``python benchmarks/plain_listing.py decks/steel40.dat``: the listing transcribed into plain
+  Python floats, its output formatted by ``%`` (the reference; tests/test_plain_listing.py
+  checks that it prints the r8 golden and the emulator's printout byte for byte);
+* ``deck-emulator run decks/steel40.dat`` and the same with ``--precision ibm7094``;
+
+then the ratio of ``run`` to the transcription and whether each target is met: ``run`` within
+2x the transcription, ``--precision ibm7094`` at most 1.5 s; the targets are judged on the
+median wall time, and again on the median CPU time (user + system, from ``os.wait4``), which
+other people's work on a shared machine inflates less.
+
+The processes run with their bytecode cached, as an installed package's is (the environment's
+PYTHONDONTWRITEBYTECODE is dropped and PYTHONPYCACHEPREFIX points into a temporary folder, so
+the checkout is left untouched); one unmeasured run of each fills the cache.  The commands
+alternate within each repetition, so that a change in the machine's load falls on all of
+them alike.  Times are wall-clock: say how loaded the machine was when quoting them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+DECK = str(ROOT / "decks" / "steel40.dat")
+RUN_TARGET_RATIO = 2.0  # run / transcription, at most
+IBM7094_TARGET_S = 1.5  # run --precision ibm7094, at most
+
+
+def commands() -> dict[str, list[str]]:
+    py = sys.executable
+    return {
+        "python -c pass (floor)": [py, "-c", "pass"],
+        "plain transcription": [py, str(ROOT / "benchmarks" / "plain_listing.py"), DECK],
+        "deck-emulator run steel40": [py, "-m", "deck_emulator", "run", DECK],
+        "run steel40 --precision ibm7094": [py, "-m", "deck_emulator", "run", DECK,
+                                            "--precision", "ibm7094"],
+    }
+
+
+def environment(cache: str) -> dict[str, str]:
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env["PYTHONPYCACHEPREFIX"] = cache
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
+    return env
+
+
+def measure(argv: list[str], env: dict[str, str]) -> tuple[float, float]:
+    """(wall s, CPU s: user + system) of one whole process."""
+    started = time.perf_counter()
+    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall_s = time.perf_counter() - started
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode:
+        raise SystemExit(f"bench_emulator_start: {' '.join(argv)} exited {proc.returncode}")
+    return wall_s, usage.ru_utime + usage.ru_stime
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=7, help="runs of each command (default 7)")
+    ap.add_argument("--ibm7094-repeat", type=int, default=7,
+                    help="runs of the ibm7094 command (default 7, ~1.5 s each)")
+    args = ap.parse_args(argv)
+    cmds = commands()
+    walls: dict[str, list[float]] = {name: [] for name in cmds}
+    cpus: dict[str, list[float]] = {name: [] for name in cmds}
+    with tempfile.TemporaryDirectory() as cache:
+        env = environment(cache)
+        for argv_ in cmds.values():  # fill the bytecode cache, unmeasured
+            measure(argv_, env)
+        for i in range(max(args.repeat, args.ibm7094_repeat)):
+            for name, argv_ in cmds.items():
+                wanted = args.ibm7094_repeat if "ibm7094" in name else args.repeat
+                if i < wanted:
+                    wall_s, cpu_s = measure(argv_, env)
+                    walls[name].append(wall_s)
+                    cpus[name].append(cpu_s)
+    med = {name: statistics.median(t) for name, t in walls.items()}
+    cpu = {name: statistics.median(t) for name, t in cpus.items()}
+    print(f"{'command (whole process)':<34}{'median s':>10}{'min s':>8}{'CPU s':>8}{'runs':>6}")
+    for name, t in walls.items():
+        print(f"{name:<34}{med[name]:>10.3f}{min(t):>8.3f}{cpu[name]:>8.3f}{len(t):>6}")
+    print("(median and min: wall time; CPU s: the median of user + system time, which a busy "
+          "machine inflates less)")
+    print()
+    for what, m in (("wall", med), ("CPU", cpu)):
+        ratio = m["deck-emulator run steel40"] / m["plain transcription"]
+        ibm = m["run steel40 --precision ibm7094"]
+        print(f"{what:>4}: run / transcription {ratio:.2f} (target at most "
+              f"{RUN_TARGET_RATIO:g}): {'met' if ratio <= RUN_TARGET_RATIO else 'NOT met'}; "
+              f"run --precision ibm7094 {ibm:.3f} s (target at most {IBM7094_TARGET_S:g} s): "
+              f"{'met' if ibm <= IBM7094_TARGET_S else 'NOT met'}")
+    print(f"(load average at the end: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; "
+          f"{os.cpu_count()} CPUs)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
