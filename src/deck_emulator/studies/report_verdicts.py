@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 from deck_emulator.engine import attitude, quantities
 from deck_emulator.engine.safety import CRITERIA
-from deck_emulator.studies.report_figures import ANGLES, POSTS, Case, case_name
+from deck_emulator.studies.report_figures import ANGLES, POSTS, Case, _num, case_name
 from deck_emulator.studies.report_tables import REPORT_ALL, SOURCE
 
 __all__ = ["Verdict", "HOLDS", "FAILS", "CANNOT", "tally", "increasing", "significant",
@@ -135,12 +135,7 @@ def _show(name: str, v) -> str:
     return quantities.QUANTITIES[name].show(v)
 
 
-def _f(v, nd=2) -> str:
-    if v is None:
-        return "—"
-    if round(v, nd) == 0:
-        v = 0.0
-    return f"{v:.{nd}f}"
+_f = _num  # a number as the figures' page shows it (one rule: report_figures._num)
 
 
 def _rep(name: str, fld: str):
