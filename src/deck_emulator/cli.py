@@ -200,8 +200,9 @@ def _deck_file(given: str, command: str) -> str:
     return given if Path(given).exists() else src.path
 
 
-def _with_progress(args, engine, source):
-    """``engine.run(source)`` with the progress display (stderr, a terminal only)."""
+def _with_progress(args, engine, source, *, execute: bool = False):
+    """``engine.run(source)`` with the progress display (stderr, a terminal only);
+    ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome)."""
     from deck_emulator.parallel import busy
 
     if engine.name != "emulator":
@@ -213,7 +214,7 @@ def _with_progress(args, engine, source):
         return f"step {programs[0].step}" if programs else ""
 
     with busy(f"{PROG}: emulator running", quiet=getattr(args, "quiet", False), status=status):
-        return engine.run(source, watch=programs.append)
+        return (engine.execute if execute else engine.run)(source, watch=programs.append)
 
 
 def _add_quiet_option(p: argparse.ArgumentParser) -> None:
@@ -470,15 +471,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
     engine = _emulator(args, trace=bool(args.trajectory))
     records, text, failed, sections = [], "", None, []
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
-        out = _with_progress(args, engine, deck)
-        run = out.raw
+        done = _with_progress(args, engine, deck, execute=True)
+        run = done.run
+        # the Outcome only where it is used (a trajectory, a stopped run's reasons): a plain
+        # run prints the program's records and loads no numpy
+        out = engine.outcome_of(done, deck) if args.trajectory or done.stopped else None
         records += run.records
         text += render_asa(run.records) if args.render else run.text()
         _say(f"{deck.path}: {_describe(run)}")
         sections.append({"deck": str(deck.path), "settings": _describe(run),
-                         "records": list(run.records), "stopped": out.error})
-        _write_trajectory(args, out)
-        if out.error is not None:
+                         "records": list(run.records), "stopped": out and out.error})
+        if out is not None:
+            _write_trajectory(args, out)
+        if done.stopped:
             failed = (out, deck.path)
             break
     # what produced the printout: for the JSON answer and the pages (the version costs an

@@ -15,12 +15,17 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from deck_emulator.events import Event, EventKind, Surface
 from deck_emulator.units import speed_lost_mph
 
 from . import errata as errata_policy
-from .outcome import Outcome
+
+# Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
+# `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
+if TYPE_CHECKING:
+    from .outcome import Outcome
 
 ENGINES = ("emulator", "core")
 
@@ -52,6 +57,23 @@ def step_literals() -> tuple[str, ...]:
     from deck_emulator.legacy.emulator import STEP_LITERALS
 
     return STEP_LITERALS
+
+
+@dataclass(frozen=True)
+class Execution:
+    """One run of the program, before it is an :class:`Outcome`: its ``run`` (the records,
+    the printout's text, the events), the guard that stopped it (``error``, an
+    ``EmulatorError``) or a defect of ours (``defect``, with ``record_defects``), and how long
+    the program's loop took (``run_s``)."""
+
+    run: object
+    error: Exception | None = None
+    defect: str | None = None
+    run_s: float = 0.0
+
+    @property
+    def stopped(self) -> bool:
+        return self.error is not None or self.defect is not None
 
 
 @dataclass(frozen=True)
@@ -87,9 +109,11 @@ class EmulatorEngine:
                        ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
                        trace=self.trace)
 
-    def run(self, deck, *, name: str = "", watch=None) -> Outcome:
-        """``watch``: called with the program before it runs (a progress display may read
-        its ``step`` from another thread; nothing is added to the program's loop)."""
+    def execute(self, deck, *, watch=None) -> "Execution":
+        """The program's run alone, without the :class:`Outcome` (which :meth:`outcome_of`
+        makes from it): what the plain ``deck-emulator run`` prints.  ``watch``: called with
+        the program before it runs (a progress display may read its ``step`` from another
+        thread; nothing is added to the program's loop)."""
         from deck_emulator.legacy.emulator import EmulatorError
 
         program = self.program(deck)
@@ -106,19 +130,28 @@ class EmulatorEngine:
                 raise
             run = program.run_
             defect = f"{type(exc).__name__}: {exc} (label {program.label}, step {program.step})"
-        run_s = time.perf_counter() - started
-        out = self.outcome(run, deck, name=name)
-        out.run_s = run_s
-        if error is not None:
-            out.error, out.guard = str(error), error.guard
-            out.hint = errata_policy.hint(error.guard, run.errata)
-        elif defect is not None:
-            out.error, out.guard = defect, "crash"
+        return Execution(run, error, defect, time.perf_counter() - started)
+
+    def run(self, deck, *, name: str = "", watch=None) -> Outcome:
+        """``watch``: as :meth:`execute`."""
+        return self.outcome_of(self.execute(deck, watch=watch), deck, name=name)
+
+    def outcome_of(self, done: "Execution", deck, *, name: str = "") -> Outcome:
+        """The :class:`Outcome` of an :meth:`execute` of ``deck``."""
+        out = self.outcome(done.run, deck, name=name)
+        out.run_s = done.run_s
+        if done.error is not None:
+            out.error, out.guard = str(done.error), done.error.guard
+            out.hint = errata_policy.hint(done.error.guard, done.run.errata)
+        elif done.defect is not None:
+            out.error, out.guard = done.defect, "crash"
         return out
 
     def outcome(self, run, deck, *, name: str = "") -> Outcome:
         """An emulator ``Run`` of ``deck`` as an :class:`Outcome`."""
         from deck_emulator.core.scene import Scene
+
+        from .outcome import Outcome
 
         d = dict(deck.values)
         out = Outcome("emulator", name or source_name(deck),
@@ -332,6 +365,8 @@ class CoreEngine:
 
         scene = (source if isinstance(source, Scene)
                  else Scene.from_deck(source, name=source_name(source), checked=False))
+        from .outcome import Outcome
+
         out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
                       arithmetic="IEEE double")
         started = time.perf_counter()

@@ -79,12 +79,22 @@ class Source:
 
 def is_scene_file(path) -> bool:
     """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
+    if str(path).endswith(".toml"):
+        return os.path.isfile(path)
+    # A table in TOML needs a '[' (a header) or an '=' (a key): a file read whole with neither
+    # (a card deck of numbers) is no scene, and is told so without loading the TOML parser.
+    head_bytes = 1 << 16
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(head_bytes)
+    except OSError:
+        return False
+    if len(head) < head_bytes and b"=" not in head and b"[" not in head:
+        return False
     import tomllib
 
     from deck_emulator.core.scene import MAX_SCENE_BYTES  # a scene file is at most this
 
-    if str(path).endswith(".toml"):
-        return os.path.isfile(path)
     try:
         with open(path, "rb") as fh:
             data = fh.read(MAX_SCENE_BYTES)
