@@ -467,7 +467,7 @@ def test_absent_base_friction_is_never_evaluated(monkeypatch):
     def boom(*args, **kwargs):
         raise AssertionError("base friction evaluated although the scene has none")
 
-    monkeypatch.setattr(core_model.BaseFriction, "apply", boom)
+    monkeypatch.setattr(core_model.BaseFriction, "pack", boom)
     monkeypatch.setattr(core_model.BaseFriction, "events", boom)
     monkeypatch.setattr(core_model.BaseFriction, "active_at", boom)
     s = steel40()

@@ -1,9 +1,9 @@
 """Force components of the contact phase (eq. 3.28-3.31, 3.15).
 
-Each component has ``apply(t, kin, mode, acc)``, adding its force and torque about the
-mass centre (road axes) and its force on the car into ``acc`` = (Fx, Fy, Fz, Tx, Ty, Tz,
-F_vehicle), and ``events(model, mode)``, the located events it needs.  The model builds
-only the components its scene has.
+Each component has ``pack(P)``, writing its numbers into the parameter vector of the
+compiled force laws (:func:`~.laws.contact_loads` evaluates them, each only where the
+scene's model packed it), and ``events(model, mode)``, the located events it needs.  The
+model builds only the components its scene has.
 """
 
 from __future__ import annotations
@@ -12,8 +12,10 @@ import math
 from typing import TYPE_CHECKING
 
 from .scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
+import numpy as np
+
+from . import laws
 from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
-from .rigid import rotate
 
 if TYPE_CHECKING:
     from .model import Model
@@ -33,25 +35,14 @@ __all__ = [
 LISTING_FRICTION_LB = LISTING_BASE_FRICTION.force_lb
 
 
-def _add_force(acc, force, arm) -> None:
-    fx, fy, fz = force
-    ax, ay, az = arm
-    acc[0] += fx
-    acc[1] += fy
-    acc[2] += fz
-    acc[3] += ay * fz - az * fy
-    acc[4] += az * fx - ax * fz
-    acc[5] += ax * fy - ay * fx
-
-
 class Gravity:
     name = "gravity"
 
     def __init__(self, weight_lb: float):
         self.weight_lb = weight_lb
 
-    def apply(self, t, kin, mode, acc) -> None:
-        acc[2] -= self.weight_lb
+    def pack(self, P) -> None:
+        P[laws.P_WEIGHT] = self.weight_lb
 
     def events(self, model, mode) -> list[EventSpec]:
         return []
@@ -66,9 +57,10 @@ class BaseNormalForce:
         self.force_lb = force_lb
         self.release_ft = release_ft
 
-    def apply(self, t, kin, mode, acc) -> None:
-        if mode.normal_on:
-            _add_force(acc, (0.0, 0.0, self.force_lb), kin.arm("Q"))
+    def pack(self, P) -> None:
+        P[laws.P_HAS_NORMAL] = 1.0
+        P[laws.P_FN] = self.force_lb
+        P[laws.P_FN_RELEASE] = self.release_ft
 
     def events(self, model, mode) -> list[EventSpec]:
         if not mode.normal_on:
@@ -98,23 +90,15 @@ class BaseFriction:
         self.reaction = reaction
         self.override: float | None = None
 
-    def force(self, mode) -> float:
-        """The friction force along ``+XX`` (lb) in ``mode``."""
-        if not mode.friction_on:
-            return 0.0
-        if self.override is not None:
-            return self.override
-        if not self.reaction:
-            return self.force_lb
-        if mode.friction_stick:  # pragma: no cover - the stick force always comes as override
-            return 0.0
-        return -self.force_lb * mode.friction_sign
+    def force(self, mode, model) -> float:
+        """The friction force along ``+XX`` (lb) in ``mode`` (:func:`~.laws.friction_force`)."""
+        return laws.friction_force(model.law_parameters, model.mode_vector(mode))
 
-    def apply(self, t, kin, mode, acc) -> None:
-        if mode.friction_on:
-            f = self.force(mode)
-            if f != 0.0:
-                _add_force(acc, (f, 0.0, 0.0), kin.arm("Q"))
+    def pack(self, P) -> None:
+        P[laws.P_HAS_FRICTION] = 1.0
+        P[laws.P_FR] = self.force_lb
+        P[laws.P_FR_WINDOW] = self.window_ft
+        P[laws.P_FR_REACTION] = 1.0 if self.reaction else 0.0
 
     def events(self, model, mode) -> list[EventSpec]:
         f = lambda t, y: model.base_travel(y) + self.window_ft  # noqa: E731
@@ -136,12 +120,11 @@ class StartupKickLoad:
     def __init__(self, kick):
         self.kick = kick
 
-    def apply(self, t, kin, mode, acc) -> None:
-        f = rotate(kin.R, (self.kick.body_force_1_lb, 0.0, 0.0))
-        acc[0] += f[0]
-        acc[1] += f[1]
-        acc[2] += f[2]
-        acc[6] += self.kick.vehicle_force_lb
+    def pack(self, P) -> None:
+        P[laws.P_HAS_KICK] = 1.0
+        P[laws.P_KICK_F1] = self.kick.body_force_1_lb
+        P[laws.P_KICK_FV] = self.kick.vehicle_force_lb
+        P[laws.P_KICK_FS] = self.kick.first_step_spring_force_lb
 
     def events(self, model, mode) -> list[EventSpec]:
         return []
@@ -170,6 +153,7 @@ class VehicleContact:
         self.listing_diff = options.listing_diff
         # XVSO, XVTO: the points' initial XV coordinates
         self.xv0 = {k: model.initial_xv(k) for k in self.stiffness}
+        self.model = model
         # the spring force set by :mod:`.sliding` while the cap's switching surface is held
         self.override: float | None = None
 
@@ -181,11 +165,13 @@ class VehicleContact:
 
     def compression(self, kin, letter) -> float:
         """``(SVO - SV) - (XVO - XV)`` of point S or T (ft); positive: crushed."""
-        return (self.sv_contact - kin.y[IDX_SV]) - (self.xv0[letter] - self._xv(kin, letter))
+        return laws.compression(self.sv_contact, kin.y[IDX_SV], self.xv0[letter],
+                                self._xv(kin, letter))
 
     def diff(self, kin, letter) -> float:
         """The listing's ``DIFF`` (S) or ``DIFFT`` (T): ``|XV - XVO| - |SV - SVO|``."""
-        return abs(self._xv(kin, letter) - self.xv0[letter]) - abs(kin.y[IDX_SV] - self.sv_contact)
+        return laws.listing_diff(self.sv_contact, kin.y[IDX_SV], self.xv0[letter],
+                                 self._xv(kin, letter))
 
     def separation(self, kin, letter) -> float:
         """Crosses zero upwards when the point leaves the car: ``DIFF`` under the listing's
@@ -197,31 +183,31 @@ class VehicleContact:
         vx, vy, _ = kin.point_velocity("S")
         dxv = self._xv(kin, "S") - self.xv0["S"]
         dsv = kin.y[IDX_SV] - self.sv_contact
-        return (
-            math.copysign(1.0, dxv) * (vx * self.cos_a - vy * self.sin_a)
-            - math.copysign(1.0, dsv) * kin.y[IDX_VV]
-        )
+        return laws.diff_rate(dxv, dsv, vx * self.cos_a - vy * self.sin_a, kin.y[IDX_VV])
 
     def spring_force(self, kin, mode) -> float:
-        """``FS`` (lb) in this mode."""
-        if mode.window == "first_step":
-            return self.kick.first_step_spring_force_lb
+        """``FS`` (lb) in this mode (:func:`~.laws.contact_spring_force`)."""
+        model = self.model
+        M = model.mode_vector(mode)
         if self.override is not None:
-            return self.override
-        letter = mode.contact_point
-        kx = self.stiffness[letter] * self.compression(kin, letter)
-        fs = abs(kx) if self.absolute else max(0.0, kx)
-        fs *= self.factor
-        if mode.cap_engaged and self.cap_lb is not None and fs > self.cap_lb:
-            fs = self.cap_lb
-        return fs
+            M = M.copy()
+            M[laws.M_SPRING_OVERRIDE] = self.override
+        return laws.contact_spring_force(np.asarray(kin.y, dtype=float), kin.R,
+                                         model.law_parameters, M)
 
-    def apply(self, t, kin, mode, acc) -> None:
-        fs = self.spring_force(kin, mode)
-        if fs != 0.0:
-            d = self.direction
-            _add_force(acc, (fs * d[0], fs * d[1], 0.0), kin.arm(mode.contact_point))
-        acc[6] += fs
+    def pack(self, P) -> None:
+        P[laws.P_HAS_CONTACT] = 1.0
+        P[laws.P_K_S] = self.stiffness["S"]
+        P[laws.P_K_T] = self.stiffness.get("T", 0.0)
+        P[laws.P_HAS_T] = 1.0 if self.has_t else 0.0
+        P[laws.P_SV_CONTACT] = self.sv_contact
+        P[laws.P_XV0_S] = self.xv0["S"]
+        P[laws.P_XV0_T] = self.xv0.get("T", 0.0)
+        P[laws.P_FACTOR] = self.factor
+        P[laws.P_ABSOLUTE] = 1.0 if self.absolute else 0.0
+        P[laws.P_CAP] = math.nan if self.cap_lb is None else self.cap_lb
+        P[laws.P_LISTING_DIFF] = 1.0 if self.listing_diff else 0.0
+        P[laws.P_SWITCH] = self.switch_ft
 
     # -- events
 

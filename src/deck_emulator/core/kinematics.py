@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
+from . import laws as _laws
 from .rigid import N_POST, rotate, rotation_matrix
 
 if TYPE_CHECKING:
@@ -102,8 +103,4 @@ class Kinematics:
         """Point velocity, road axes (ft/s): ``R (V + omega x r_body)``."""
         y = self.y
         bx, by, bz = self.model.body_points[letter]
-        w1, w2, w3 = y[10], y[11], y[12]
-        return rotate(
-            self.R,
-            (y[3] + w2 * bz - w3 * by, y[4] + w3 * bx - w1 * bz, y[5] + w1 * by - w2 * bx),
-        )
+        return _laws.point_velocity(self.R, y[3], y[4], y[5], y[10], y[11], y[12], bx, by, bz)

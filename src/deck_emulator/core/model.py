@@ -38,7 +38,10 @@ from .components import (
 from .kinematics import IDX_SV, IDX_VV, N_STATE, ContactMode, EventSpec, Kinematics
 from .regions import FreeFlightChecks, build_checks
 from .segments import SegmentChecks, build_segment_checks
-from .rigid import post_derivative, quat_about_axis, quat_multiply, rotation_matrix
+import numpy as np
+
+from . import laws
+from .rigid import quat_about_axis, quat_multiply
 
 __all__ = [
     "IDX_SV",
@@ -120,18 +123,74 @@ class Model:
         self.checks: FreeFlightChecks = build_checks(scene, options, self)
         #: the shaft and arms against the car (``ModelOptions.shaft_contact``), or None
         self.segment_checks: SegmentChecks | None = build_segment_checks(scene, options, self)
+        #: the compiled laws' parameter vector (:mod:`.laws`)
+        self.law_parameters = self._pack()
+        self._leaf = getattr(comps.get("vehicle contact"), "leaf", None) is not None
+        self._modes: dict[ContactMode, np.ndarray] = {}
+
+    def _pack(self) -> np.ndarray:
+        P = np.zeros(laws.N_P)
+        P[laws.P_MASS] = self.mass
+        P[laws.P_I1], P[laws.P_I2], P[laws.P_I3] = self.inertia
+        P[laws.P_WV] = self.vehicle_mass
+        P[laws.P_COS], P[laws.P_SIN] = self.cos_a, self.sin_a
+        for k, letter in enumerate(laws.LETTERS):
+            if letter in self.body_points:
+                j = laws.P_POINTS + 3 * k
+                P[j : j + 3] = self.body_points[letter]
+        P[laws.P_CAP] = math.nan
+        P[laws.P_Q0X] = self._q0[0]
+        P[laws.P_DEPTH] = self.scene.environment.ground_depth_ft
+        for c in self.components.values():
+            c.pack(P)
+        kick = getattr(self, "kick_load", None)
+        if kick is not None:
+            kick.pack(P)
+        return P
+
+    def mode_vector(self, mode: ContactMode) -> np.ndarray:
+        """The compiled laws' mode vector of ``mode`` (:mod:`.laws`; kept per mode)."""
+        M = self._modes.get(mode)
+        if M is None:
+            M = np.full(laws.N_M, math.nan)
+            M[laws.M_POINT] = laws.AT_S if mode.contact_point == "S" else laws.AT_T
+            M[laws.M_NORMAL_ON] = float(mode.normal_on)
+            M[laws.M_FRICTION_ON] = float(mode.friction_on)
+            M[laws.M_CAP_ENGAGED] = float(mode.cap_engaged)
+            M[laws.M_WINDOW] = {None: laws.WINDOW_NONE, "kick": laws.WINDOW_KICK,
+                                "first_step": laws.WINDOW_FIRST_STEP}[mode.window]
+            M[laws.M_FRICTION_STICK] = float(mode.friction_stick)
+            M[laws.M_FRICTION_SIGN] = mode.friction_sign
+            M.setflags(write=False)
+            self._modes[mode] = M
+        return M
+
+    def _mode_now(self, y, mode: ContactMode) -> np.ndarray:
+        """``mode``'s vector with the overrides the sliding modes set and a leaf spring's
+        force (its own law, :mod:`.leaf_spring`)."""
+        M = self.mode_vector(mode)
+        contact = self.components.get("vehicle contact")
+        friction = self.components.get("base friction")
+        spring = contact.override if contact is not None else None
+        fric = friction.override if friction is not None else None
+        if spring is None and fric is None and not self._leaf:
+            return M
+        M = M.copy()
+        if spring is not None:
+            M[laws.M_SPRING_OVERRIDE] = spring
+        if fric is not None:
+            M[laws.M_FRICTION_OVERRIDE] = fric
+        if self._leaf and mode.window != "kick":
+            M[laws.M_FS_GIVEN] = contact.spring_force(Kinematics(self, y), mode)
+        return M
 
     # -- geometry
 
     def point_position(self, kin: Kinematics, letter: str):
         """Road-axes position of point ``letter`` (every point look-up goes through here)."""
         bx, by, bz = self.body_points[letter]
-        R, y = kin.R, kin.y
-        return (
-            y[0] + R[0] * bx + R[1] * by + R[2] * bz,
-            y[1] + R[3] * bx + R[4] * by + R[5] * bz,
-            y[2] + R[6] * bx + R[7] * by + R[8] * bz,
-        )
+        y = kin.y
+        return laws.point_position(y[0], y[1], y[2], kin.R, bx, by, bz)
 
     def initial_xv(self, letter: str) -> float:
         x, y, _ = self.point_position(Kinematics(self, self.y0), letter)
@@ -205,30 +264,25 @@ class Model:
         return mode
 
     def loads(self, t, kin: Kinematics, mode: ContactMode):
-        """(Fx, Fy, Fz, Tx, Ty, Tz, F_vehicle) in the contact phase, road axes."""
-        acc = [0.0] * 7
-        comps = (self.kick_load,) if mode.window == "kick" else self._regular
-        for c in comps:
-            c.apply(t, kin, mode, acc)
-        return acc
+        """(Fx, Fy, Fz, Tx, Ty, Tz, F_vehicle) in the contact phase, road axes
+        (:func:`~.laws.contact_loads`)."""
+        acc = np.empty(7)
+        y = np.asarray(kin.y, dtype=float)
+        laws.contact_loads(t, y, self.law_parameters, self._mode_now(kin.y, mode), acc)
+        return acc.tolist()
 
     def contact_rhs(self, mode: ContactMode):
-        mass, inertia, wv = self.mass, self.inertia, self.vehicle_mass
-
-        def fun(t, y):
-            y = y.tolist()
-            kin = Kinematics(self, y)
-            acc = self.loads(t, kin, mode)
-            d = post_derivative(y, kin.R, acc[0:3], acc[3:6], mass, inertia)
-            d.append(y[IDX_VV])
-            d.append(acc[6] / wv)
-            return d
-
-        return fun
+        P = self.law_parameters
+        derivative = laws.contact_derivative
+        if self._leaf:
+            return lambda t, y: derivative(t, y, P, self._mode_now(y, mode))
+        M = self.mode_vector(mode)
+        return lambda t, y: derivative(t, y, P, M)
 
     def vehicle_force(self, t, y, mode: ContactMode) -> float:
         """Force on the car along ``+XV`` (lb)."""
-        return self.loads(t, Kinematics(self, y), mode)[6]
+        y = np.asarray(y, dtype=float)
+        return laws.vehicle_force(t, y, self.law_parameters, self._mode_now(y, mode))
 
     def contact_events(self, mode: ContactMode) -> list[EventSpec]:
         out = []
@@ -271,19 +325,9 @@ class Model:
     # -- free flight
 
     def free_rhs(self):
-        mass, inertia, weight = self.mass, self.inertia, self.weight
-        gravity = (0.0, 0.0, -weight)
-        zero = (0.0, 0.0, 0.0)
-
-        def fun(t, y):
-            y = y.tolist()
-            R = rotation_matrix((y[6], y[7], y[8], y[9]))
-            d = post_derivative(y, R, gravity, zero, mass, inertia)
-            d.append(y[IDX_VV])
-            d.append(0.0)
-            return d
-
-        return fun
+        P = self.law_parameters
+        derivative = laws.free_derivative
+        return lambda t, y: derivative(t, y, P)
 
 
 def assemble(scene: Scene, options: ModelOptions) -> Model:

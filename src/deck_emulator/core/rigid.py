@@ -10,8 +10,9 @@ State of the post (13 numbers), all in the units of the scene (ft, slug, s, rad)
 
 No Euler angles anywhere: nothing is singular at theta = 0 or cos psi = 0.
 
-The functions here use plain Python floats: for 3-vectors that is several times faster
-than NumPy, and the right-hand side is called tens of thousands of times per run.
+The rotation and the equations of motion are the compiled laws of :mod:`.laws` (written
+once, for the scipy path and the compiled batch alike); the small helpers here use plain
+Python floats: for 3-vectors that is several times faster than NumPy.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from . import laws as _laws
 
 __all__ = [
     "N_POST",
@@ -61,16 +64,10 @@ def quat_about_axis(axis, angle_rad):
 
 
 def rotation_matrix(q):
-    """Row-major 3x3 (a flat 9-tuple) of the normalised quaternion ``q``: body -> road.
-
-    It is eq. 3.21 with ``(w, x, y, z) = (chi, xi, eta, zeta)``.
-    """
-    w, x, y, z = quat_normalised(q)
-    return (
-        w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
-        2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
-        2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z,
-    )  # fmt: skip
+    """Row-major 3x3 (a flat 9-tuple) of the normalised quaternion ``q``: body -> road
+    (eq. 3.21; the compiled law :func:`~.laws.rotation_matrix`)."""
+    w, x, y, z = q
+    return _laws.rotation_matrix(float(w), float(x), float(y), float(z))
 
 
 def rotate(R, v):
@@ -92,36 +89,16 @@ def rotate_back(R, v):
 
 
 def post_derivative(y, R, force_road, torque_road, mass, inertia):
-    """Time derivative of the 13 post states (eq. 3.16, 3.17 and the kinematics).
+    """Time derivative of the 13 post states (eq. 3.16, 3.17 and the kinematics; the
+    compiled law :func:`~.laws.post_derivative`).
 
     ``force_road``: total force, ``torque_road``: total torque about the mass centre,
     both in road components.  Returns a list of 13 floats.
     """
-    v1, v2, v3 = y[3], y[4], y[5]
-    qw, qx, qy, qz = y[6], y[7], y[8], y[9]
-    w1, w2, w3 = y[10], y[11], y[12]
-    a, b, c = inertia
-    f1, f2, f3 = rotate_back(R, force_road)
-    t1, t2, t3 = rotate_back(R, torque_road)
-    vx, vy, vz = rotate(R, (v1, v2, v3))
-    return [
-        vx,
-        vy,
-        vz,
-        # eq. 3.16: M (V' + omega x V) = F
-        f1 / mass - (w2 * v3 - w3 * v2),
-        f2 / mass - (w3 * v1 - w1 * v3),
-        f3 / mass - (w1 * v2 - w2 * v1),
-        # q' = q (x) (0, omega) / 2
-        0.5 * (-qx * w1 - qy * w2 - qz * w3),
-        0.5 * (qw * w1 + qy * w3 - qz * w2),
-        0.5 * (qw * w2 - qx * w3 + qz * w1),
-        0.5 * (qw * w3 + qx * w2 - qy * w1),
-        # eq. 3.17: A w1' - (B - C) w2 w3 = T1 ...
-        ((b - c) * w2 * w3 + t1) / a,
-        ((c - a) * w3 * w1 + t2) / b,
-        ((a - b) * w1 * w2 + t3) / c,
-    ]
+    out = np.empty(N_POST)
+    _laws.post_derivative(np.asarray(y[:N_POST], dtype=float), tuple(R), *force_road,
+                          *torque_road, mass, *inertia, out)
+    return out.tolist()
 
 
 def kinetic_energy(y, mass, inertia):

@@ -240,7 +240,7 @@ def friction_force(model, t, y, mode) -> float:
     if mode.friction_stick:
         r = Filippov(model, mode).solve(t, y)
         return r["force"][r["sliders"].index("stick")]
-    return comp.force(mode)
+    return comp.force(mode, model)
 
 
 def _ground_events(model):

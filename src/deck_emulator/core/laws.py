@@ -1,0 +1,315 @@
+"""The model's force laws and equations of motion, written once, compiled.
+
+Both roads call these functions: the scipy path (:mod:`.model`, :mod:`.sliding`, one call
+per right-hand-side evaluation) and the compiled batch (:mod:`.batch`, from compiled code).
+They are numba ``@njit`` functions over plain floats and float arrays.  Why numba: it
+installs as a wheel, compiles plain Python arithmetic to machine code with IEEE semantics
+(no fast-math: the operations happen in the order written, so the scipy path's outcomes
+did not move by one bit when its arithmetic moved here), and its functions can be called
+both from Python and from other compiled functions -- JAX would need the whole model
+rewritten as array programs and cannot hold the contact modes' branching cheaply.
+
+``cache=True`` keeps the machine code next to this file (``__pycache__``) or, where that
+is read-only, in numba's user cache; where no cache can be written at all the functions
+are compiled in each process instead (:func:`_jit`), never an error.
+
+A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``, filled by
+:meth:`~.model.Model.law_parameters`), the contact mode into a mode vector ``M`` (``M_*``,
+:meth:`~.model.Model.mode_vector`).  The state ``y`` has the layout of
+:class:`~.result.Trajectory` (15 numbers).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "rotation_matrix", "point_position", "point_velocity", "post_derivative",
+    "contact_loads", "contact_derivative", "free_derivative", "spring_force",
+    "compression", "listing_diff", "diff_rate", "N_P", "N_M", "LETTERS",
+]
+
+
+def _jit(fn):
+    """``njit(cache=True)``, or plain ``njit`` where numba finds no place to cache."""
+    try:
+        return njit(cache=True)(fn)
+    except RuntimeError:  # "cannot cache function ...: no locator available"
+        return njit(fn)
+
+
+#: the post's points in the parameter vector, in this order
+LETTERS = "PQRCSTU"
+
+# -- parameter vector P
+P_MASS, P_I1, P_I2, P_I3, P_WV, P_WEIGHT, P_COS, P_SIN = range(8)
+P_POINTS = 8  # 3 numbers per letter of LETTERS (principal axes, ft)
+(P_FN, P_FN_RELEASE, P_FR, P_FR_WINDOW, P_FR_REACTION, P_K_S, P_K_T, P_SV_CONTACT, P_XV0_S,
+ P_XV0_T, P_FACTOR, P_ABSOLUTE, P_CAP, P_KICK_F1, P_KICK_FV, P_KICK_FS, P_Q0X, P_DEPTH,
+ P_HAS_NORMAL, P_HAS_FRICTION, P_HAS_CONTACT, P_HAS_T, P_LISTING_DIFF, P_SWITCH,
+ P_HAS_KICK) = range(P_POINTS + 3 * len(LETTERS), P_POINTS + 3 * len(LETTERS) + 25)
+N_P = P_HAS_KICK + 1
+
+# -- mode vector M (booleans as 0.0 / 1.0; NaN: "not set")
+(M_POINT, M_NORMAL_ON, M_FRICTION_ON, M_CAP_ENGAGED, M_WINDOW, M_FRICTION_STICK,
+ M_FRICTION_SIGN, M_SPRING_OVERRIDE, M_FRICTION_OVERRIDE, M_FS_GIVEN) = range(10)
+N_M = 10
+#: M_WINDOW values
+WINDOW_NONE, WINDOW_KICK, WINDOW_FIRST_STEP = 0.0, 1.0, 2.0
+#: M_POINT values (the spring acts at S or at T)
+AT_S, AT_T = 0.0, 1.0
+
+
+@_jit
+def rotation_matrix(w, x, y, z):
+    """Row-major 3x3 (a flat 9-tuple) of the normalised quaternion: body -> road.
+
+    It is eq. 3.21 with ``(w, x, y, z) = (chi, xi, eta, zeta)``."""
+    n = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w * n, x * n, y * n, z * n
+    return (
+        w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
+        2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
+        2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z,
+    )  # fmt: skip
+
+
+@_jit
+def point_position(y0, y1, y2, R, bx, by, bz):
+    """Road-axes position of the body point ``(bx, by, bz)`` (principal axes, ft)."""
+    return (
+        y0 + R[0] * bx + R[1] * by + R[2] * bz,
+        y1 + R[3] * bx + R[4] * by + R[5] * bz,
+        y2 + R[6] * bx + R[7] * by + R[8] * bz,
+    )
+
+
+@_jit
+def point_velocity(R, v1, v2, v3, w1, w2, w3, bx, by, bz):
+    """Road-axes velocity of a body point: ``R (V + omega x r_body)``."""
+    u1 = v1 + w2 * bz - w3 * by
+    u2 = v2 + w3 * bx - w1 * bz
+    u3 = v3 + w1 * by - w2 * bx
+    return (
+        R[0] * u1 + R[1] * u2 + R[2] * u3,
+        R[3] * u1 + R[4] * u2 + R[5] * u3,
+        R[6] * u1 + R[7] * u2 + R[8] * u3,
+    )
+
+
+@_jit
+def _arm(R, bx, by, bz):
+    return (
+        R[0] * bx + R[1] * by + R[2] * bz,
+        R[3] * bx + R[4] * by + R[5] * bz,
+        R[6] * bx + R[7] * by + R[8] * bz,
+    )
+
+
+@_jit
+def post_derivative(y, R, f0, f1, f2, t0, t1, t2, mass, a, b, c, out):
+    """Time derivative of the 13 post states into ``out[:13]`` (eq. 3.16, 3.17 and the
+    kinematics): force ``f`` and torque ``t`` about the mass centre in road components."""
+    v1, v2, v3 = y[3], y[4], y[5]
+    qw, qx, qy, qz = y[6], y[7], y[8], y[9]
+    w1, w2, w3 = y[10], y[11], y[12]
+    # road -> body: R.T @ f
+    g1 = R[0] * f0 + R[3] * f1 + R[6] * f2
+    g2 = R[1] * f0 + R[4] * f1 + R[7] * f2
+    g3 = R[2] * f0 + R[5] * f1 + R[8] * f2
+    h1 = R[0] * t0 + R[3] * t1 + R[6] * t2
+    h2 = R[1] * t0 + R[4] * t1 + R[7] * t2
+    h3 = R[2] * t0 + R[5] * t1 + R[8] * t2
+    out[0] = R[0] * v1 + R[1] * v2 + R[2] * v3
+    out[1] = R[3] * v1 + R[4] * v2 + R[5] * v3
+    out[2] = R[6] * v1 + R[7] * v2 + R[8] * v3
+    # eq. 3.16: M (V' + omega x V) = F
+    out[3] = g1 / mass - (w2 * v3 - w3 * v2)
+    out[4] = g2 / mass - (w3 * v1 - w1 * v3)
+    out[5] = g3 / mass - (w1 * v2 - w2 * v1)
+    # q' = q (x) (0, omega) / 2
+    out[6] = 0.5 * (-qx * w1 - qy * w2 - qz * w3)
+    out[7] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
+    out[8] = 0.5 * (qw * w2 - qx * w3 + qz * w1)
+    out[9] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
+    # eq. 3.17: A w1' - (B - C) w2 w3 = T1 ...
+    out[10] = ((b - c) * w2 * w3 + h1) / a
+    out[11] = ((c - a) * w3 * w1 + h2) / b
+    out[12] = ((a - b) * w1 * w2 + h3) / c
+
+
+@_jit
+def _add_force(acc, fx, fy, fz, ax, ay, az):
+    acc[0] += fx
+    acc[1] += fy
+    acc[2] += fz
+    acc[3] += ay * fz - az * fy
+    acc[4] += az * fx - ax * fz
+    acc[5] += ax * fy - ay * fx
+
+
+@_jit
+def _rot(y):
+    return rotation_matrix(y[6], y[7], y[8], y[9])
+
+
+@_jit
+def point_xv(y, R, P, k):
+    """``XV`` of point number ``k`` of :data:`LETTERS` (the car's axis, ft)."""
+    j = P_POINTS + 3 * k
+    x, yy, _ = point_position(y[0], y[1], y[2], R, P[j], P[j + 1], P[j + 2])
+    return x * P[P_COS] - yy * P[P_SIN]
+
+
+@_jit
+def compression(sv_contact, sv, xv0, xv):
+    """``(SVO - SV) - (XVO - XV)`` of a point (ft); positive: crushed (eq. 3.13-3.15)."""
+    return (sv_contact - sv) - (xv0 - xv)
+
+
+@_jit
+def listing_diff(sv_contact, sv, xv0, xv):
+    """The listing's ``DIFF`` (S) or ``DIFFT`` (T): ``|XV - XVO| - |SV - SVO|``."""
+    return abs(xv - xv0) - abs(sv - sv_contact)
+
+
+@_jit
+def diff_rate(dxv, dsv, vxv, vv):
+    """``d DIFF/dt`` given ``XV - XVO``, ``SV - SVO`` and their rates (ft/s)."""
+    return math.copysign(1.0, dxv) * vxv - math.copysign(1.0, dsv) * vv
+
+
+@_jit
+def spring_force(k, x, factor, absolute, cap_engaged, cap):
+    """``FS`` (lb) of a crush spring of stiffness ``k`` at compression ``x`` (eq. 3.15):
+    ``|k x|`` (the listing) or ``max(0, k x)``, times ``factor``, capped at ``cap``
+    (NaN: no cap) while the cap is engaged."""
+    kx = k * x
+    fs = abs(kx) if absolute else max(0.0, kx)
+    fs *= factor
+    if cap_engaged and not math.isnan(cap) and fs > cap:
+        fs = cap
+    return fs
+
+
+@_jit
+def _letter_index(point):
+    return 4 if point == AT_S else 5  # S or T in LETTERS
+
+
+@_jit
+def contact_spring_force(y, R, P, M):
+    """The crush spring's force (lb) in mode ``M`` (window, override, point, cap)."""
+    if not math.isnan(M[M_FS_GIVEN]):
+        return M[M_FS_GIVEN]
+    if M[M_WINDOW] == WINDOW_FIRST_STEP:
+        return P[P_KICK_FS]
+    if not math.isnan(M[M_SPRING_OVERRIDE]):
+        return M[M_SPRING_OVERRIDE]
+    at_s = M[M_POINT] == AT_S
+    k = P[P_K_S] if at_s else P[P_K_T]
+    xv0 = P[P_XV0_S] if at_s else P[P_XV0_T]
+    x = compression(P[P_SV_CONTACT], y[13], xv0, point_xv(y, R, P, _letter_index(M[M_POINT])))
+    return spring_force(k, x, P[P_FACTOR], P[P_ABSOLUTE] != 0.0, M[M_CAP_ENGAGED] != 0.0,
+                        P[P_CAP])
+
+
+@_jit
+def friction_force(P, M):
+    """The base friction along ``+XX`` (lb) in mode ``M`` (section 3.3): the listing's
+    constant force, or Coulomb friction slipping against ``M_FRICTION_SIGN``, or the
+    reaction that holds a sticking base (``M_FRICTION_OVERRIDE``)."""
+    if M[M_FRICTION_ON] == 0.0:
+        return 0.0
+    if not math.isnan(M[M_FRICTION_OVERRIDE]):
+        return M[M_FRICTION_OVERRIDE]
+    if P[P_FR_REACTION] == 0.0:
+        return P[P_FR]
+    if M[M_FRICTION_STICK] != 0.0:
+        return 0.0
+    return -P[P_FR] * M[M_FRICTION_SIGN]
+
+
+@_jit
+def contact_loads(t, y, P, M, acc):
+    """(Fx, Fy, Fz, Tx, Ty, Tz, F_vehicle) of the contact phase into ``acc`` (road axes,
+    torques about the mass centre, ``torque = r x F``; eq. 3.28-3.31): gravity, the base's
+    normal force and friction at Q, the crush spring at S or T -- each only if the scene
+    has it (``P_HAS_*``) -- or, in the start-up kick's window, the kick alone."""
+    for i in range(7):
+        acc[i] = 0.0
+    R = _rot(y)
+    if M[M_WINDOW] == WINDOW_KICK:
+        f1 = P[P_KICK_F1]
+        fx, fy, fz = _arm(R, f1, 0.0, 0.0)
+        acc[0] += fx
+        acc[1] += fy
+        acc[2] += fz
+        acc[6] += P[P_KICK_FV]
+        return
+    acc[2] -= P[P_WEIGHT]
+    jq = P_POINTS + 3 * 1
+    if P[P_HAS_NORMAL] != 0.0 and M[M_NORMAL_ON] != 0.0:
+        ax, ay, az = _arm(R, P[jq], P[jq + 1], P[jq + 2])
+        _add_force(acc, 0.0, 0.0, P[P_FN], ax, ay, az)
+    if P[P_HAS_FRICTION] != 0.0 and M[M_FRICTION_ON] != 0.0:
+        f = friction_force(P, M)
+        if f != 0.0:
+            ax, ay, az = _arm(R, P[jq], P[jq + 1], P[jq + 2])
+            _add_force(acc, f, 0.0, 0.0, ax, ay, az)
+    if P[P_HAS_CONTACT] != 0.0:
+        fs = contact_spring_force(y, R, P, M)
+        if fs != 0.0:
+            j = P_POINTS + 3 * _letter_index(M[M_POINT])
+            ax, ay, az = _arm(R, P[j], P[j + 1], P[j + 2])
+            _add_force(acc, fs * -P[P_COS], fs * P[P_SIN], 0.0, ax, ay, az)
+        acc[6] += fs
+
+
+@_jit
+def contact_derivative_with(t, y, P, M, acc, out):
+    """The contact phase's state derivative into ``out`` (the loads left in ``acc``)."""
+    contact_loads(t, y, P, M, acc)
+    R = _rot(y)
+    post_derivative(y, R, acc[0], acc[1], acc[2], acc[3], acc[4], acc[5],
+                    P[P_MASS], P[P_I1], P[P_I2], P[P_I3], out)
+    out[13] = y[14]
+    out[14] = acc[6] / P[P_WV]
+
+
+@_jit
+def contact_derivative(t, y, P, M):
+    """The contact phase's state derivative (15 numbers): the car feels ``+FS`` along
+    ``XV`` (``VV' = FS/WV``, the listing's ``VVA=VVB+(H/WV)*FSB``)."""
+    acc = np.empty(7)
+    out = np.empty(15)
+    contact_derivative_with(t, y, P, M, acc, out)
+    return out
+
+
+@_jit
+def free_derivative_into(y, P, out):
+    R = _rot(y)
+    post_derivative(y, R, 0.0, 0.0, -P[P_WEIGHT], 0.0, 0.0, 0.0,
+                    P[P_MASS], P[P_I1], P[P_I2], P[P_I3], out)
+    out[13] = y[14]
+    out[14] = 0.0
+
+
+@_jit
+def free_derivative(t, y, P):
+    """Free flight: gravity alone; the car coasts."""
+    out = np.empty(15)
+    free_derivative_into(y, P, out)
+    return out
+
+
+@_jit
+def vehicle_force(t, y, P, M):
+    """Force on the car along ``+XV`` (lb) in mode ``M``."""
+    acc = np.empty(7)
+    contact_loads(t, y, P, M, acc)
+    return acc[6]
