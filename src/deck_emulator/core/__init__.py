@@ -26,6 +26,7 @@ _WHERE = {
     "DEFAULT_ATOL": "solve", "DEFAULT_RTOL": "solve", "CoreError": "solve",
     "free_flight": "solve", "simulate": "solve",
     "check_outcome": "checks", "check_summary": "checks",
+    "simulate_batch": "batch",
 }
 
 
@@ -43,6 +44,7 @@ def __dir__():
 
 __all__ = [
     "simulate",
+    "simulate_batch",
     "free_flight",
     "assemble",
     "Model",

@@ -67,7 +67,8 @@ class BaseNormalForce:
             return []
         return [
             EventSpec(
-                "normal force released", lambda t, y: model.base_travel(y) + self.release_ft, -1.0
+                "normal force released", lambda t, y: model.base_travel(y) + self.release_ft, -1.0,
+                code=(laws.EV_BASE_TRAVEL, self.release_ft),
             )
         ]
 
@@ -102,9 +103,10 @@ class BaseFriction:
 
     def events(self, model, mode) -> list[EventSpec]:
         f = lambda t, y: model.base_travel(y) + self.window_ft  # noqa: E731
+        code = (laws.EV_BASE_TRAVEL, self.window_ft)
         if mode.friction_on:
-            return [EventSpec("base friction ends", f, -1.0)]
-        return [EventSpec("base friction resumes", f, +1.0)]
+            return [EventSpec("base friction ends", f, -1.0, code=code)]
+        return [EventSpec("base friction resumes", f, +1.0, code=code)]
 
     def active_at(self, model, y) -> bool:
         return model.base_travel(y) + self.window_ft > 0.0
@@ -219,6 +221,7 @@ class VehicleContact:
                     "first spring lost",
                     lambda t, y: self.separation(Kinematics(model, y), "S"),
                     +1.0,
+                    code=(laws.EV_SEPARATION, float(laws.LETTERS.index("S"))),
                 )
             )
         if self.has_t and mode.contact_point == "S" and self.switch_ft > 0.0:
@@ -227,6 +230,7 @@ class VehicleContact:
                     "spring force moves to T",
                     lambda t, y: self.diff(Kinematics(model, y), "S") - self.switch_ft,
                     +1.0,
+                    code=(laws.EV_DIFF_S, self.switch_ft),
                 )
             )
         if self.has_t and mode.first_spring_lost:
@@ -235,12 +239,14 @@ class VehicleContact:
                     "vehicle contact lost",
                     lambda t, y: self.separation(Kinematics(model, y), "T"),
                     +1.0,
+                    code=(laws.EV_SEPARATION, float(laws.LETTERS.index("T"))),
                 )
             )
         if mode.cap_armed and self.cap_lb is not None:
             f = lambda t, y: self.diff_rate(Kinematics(model, y))  # noqa: E731
+            code = (laws.EV_DIFF_RATE, 0.0)
             if mode.cap_engaged:
-                out.append(EventSpec("force cap released", f, -1.0))
+                out.append(EventSpec("force cap released", f, -1.0, code=code))
             else:
-                out.append(EventSpec("force cap engaged", f, +1.0))
+                out.append(EventSpec("force cap engaged", f, +1.0, code=code))
         return out

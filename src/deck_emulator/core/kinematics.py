@@ -57,15 +57,21 @@ class ContactMode:
 
 
 class EventSpec:
-    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``)."""
+    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``).
 
-    __slots__ = ("name", "function", "direction", "terminal")
+    ``code``: the same function among the compiled laws' events, ``(EV_* code, argument)``
+    (:func:`~.laws.contact_event`), or None where it has none (the batch's compiled
+    integrator then leaves the segment to ``solve_ivp``)."""
 
-    def __init__(self, name: str, function: Callable, direction: float, terminal: bool = True):
+    __slots__ = ("name", "function", "direction", "terminal", "code")
+
+    def __init__(self, name: str, function: Callable, direction: float, terminal: bool = True,
+                 code: tuple[int, float] | None = None):
         self.name = name
         self.function = function
         self.direction = direction
         self.terminal = terminal
+        self.code = code
 
     def __call__(self, t, y):
         return self.function(t, y)

@@ -313,3 +313,78 @@ def vehicle_force(t, y, P, M):
     acc = np.empty(7)
     contact_loads(t, y, P, M, acc)
     return acc[6]
+
+
+# --------------------------------------------------------------------------------------
+# event functions (the located events of both phases), by code
+
+#: ``base_travel(y) + arg``: the normal force's release and the friction's window
+EV_BASE_TRAVEL = 0
+#: a crush-spring point leaves the car (``arg``: its index in LETTERS)
+EV_SEPARATION = 1
+#: ``DIFF`` of S minus ``arg``: the spring force moves to T
+EV_DIFF_S = 2
+#: ``dDIFF/dt`` of S: the force cap engages or releases
+EV_DIFF_RATE = 3
+#: ``-(ZZ + depth)`` of point ``arg``: it reaches the ground (``solid_ground``)
+EV_GROUND = 4
+#: ``arg * v_Q`` along XX: the base stops sliding
+EV_BASE_VELOCITY = 5
+#: free flight: row ``arg`` of the checks' matrix (:class:`~.regions.FreeFlightChecks`)
+EV_ROW = 6
+
+
+@_jit
+def base_travel(y, R, P):
+    """``XQ - XQ0``: the base's travel along ``XX`` (ft)."""
+    j = P_POINTS + 3
+    return point_position(y[0], y[1], y[2], R, P[j], P[j + 1], P[j + 2])[0] - P[P_Q0X]
+
+
+@_jit
+def contact_event(code, arg, y, P):
+    """The value of a contact-phase event function (codes ``EV_*``) at state ``y``."""
+    R = _rot(y)
+    if code == EV_BASE_TRAVEL:
+        return base_travel(y, R, P) + arg
+    if code == EV_SEPARATION:
+        k = int(arg)
+        at_s = k == 4
+        xv0 = P[P_XV0_S] if at_s else P[P_XV0_T]
+        xv = point_xv(y, R, P, k)
+        if P[P_LISTING_DIFF] != 0.0:
+            return listing_diff(P[P_SV_CONTACT], y[13], xv0, xv)
+        return -compression(P[P_SV_CONTACT], y[13], xv0, xv)
+    if code == EV_DIFF_S:
+        return listing_diff(P[P_SV_CONTACT], y[13], P[P_XV0_S], point_xv(y, R, P, 4)) - arg
+    if code == EV_DIFF_RATE:
+        j = P_POINTS + 3 * 4
+        bx, by, bz = P[j], P[j + 1], P[j + 2]
+        vx, vy, _ = point_velocity(R, y[3], y[4], y[5], y[10], y[11], y[12], bx, by, bz)
+        dxv = point_xv(y, R, P, 4) - P[P_XV0_S]
+        dsv = y[13] - P[P_SV_CONTACT]
+        return diff_rate(dxv, dsv, vx * P[P_COS] - vy * P[P_SIN], y[14])
+    if code == EV_GROUND:
+        j = P_POINTS + 3 * int(arg)
+        return -(point_position(y[0], y[1], y[2], R, P[j], P[j + 1], P[j + 2])[2]
+                 + P[P_DEPTH])
+    if code == EV_BASE_VELOCITY:
+        j = P_POINTS + 3
+        bx, by, bz = P[j], P[j + 1], P[j + 2]
+        return arg * point_velocity(R, y[3], y[4], y[5], y[10], y[11], y[12], bx, by, bz)[0]
+    return math.nan
+
+
+@_jit
+def check_coordinates(y, P, letters, z):
+    """``XV, YV, ZZ`` of each point ``letters[i]`` (indices into LETTERS) into
+    ``z[3i:3i+3]``, and ``SV`` into ``z[-1]``: the free-flight checks' variables."""
+    R = _rot(y)
+    ca, sa = P[P_COS], P[P_SIN]
+    for i in range(letters.size):
+        j = P_POINTS + 3 * letters[i]
+        x, yy, zz = point_position(y[0], y[1], y[2], R, P[j], P[j + 1], P[j + 2])
+        z[3 * i] = x * ca - yy * sa
+        z[3 * i + 1] = x * sa + yy * ca
+        z[3 * i + 2] = zz
+    z[z.size - 1] = y[13]

@@ -277,7 +277,9 @@ class Model:
         if self._leaf:
             return lambda t, y: derivative(t, y, P, self._mode_now(y, mode))
         M = self.mode_vector(mode)
-        return lambda t, y: derivative(t, y, P, M)
+        fun = lambda t, y: derivative(t, y, P, M)  # noqa: E731
+        fun.law = ("contact", M)  # the batch's compiled integrator runs the same law
+        return fun
 
     def vehicle_force(self, t, y, mode: ContactMode) -> float:
         """Force on the car along ``+XV`` (lb)."""
@@ -327,7 +329,9 @@ class Model:
     def free_rhs(self):
         P = self.law_parameters
         derivative = laws.free_derivative
-        return lambda t, y: derivative(t, y, P)
+        fun = lambda t, y: derivative(t, y, P)  # noqa: E731
+        fun.law = ("free flight", None)
+        return fun
 
 
 def assemble(scene: Scene, options: ModelOptions) -> Model:

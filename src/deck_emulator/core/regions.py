@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .rigid import rotation_matrix
+from . import laws
 
 __all__ = ["HIT_MESSAGES", "hit_message", "Region", "FreeFlightChecks", "build_checks", "CarBox",
            "car_boxes"]
@@ -148,6 +148,8 @@ class FreeFlightChecks:
             A[i, -1] = c[3]
         self.A = A
         self.const = np.array(self.row_const)
+        #: the points' indices among the compiled laws' letters (:func:`~.laws.check_coordinates`)
+        self.letters = np.array([laws.LETTERS.index(p) for p in self.points], dtype=np.int64)
         ground_rows = {r for reg in self.regions if reg.kind == "ground" for r in reg.rows}
         self.terminal = [i in ground_rows for i in range(n)]
         return self
@@ -160,20 +162,9 @@ class FreeFlightChecks:
         key = tuple(yl)
         if key == self._cache_key:
             return self._cache_val
-        R = rotation_matrix((yl[6], yl[7], yl[8], yl[9]))
         z = np.empty(3 * len(self.points) + 1)
-        m = self.model
-        ca, sa = m.cos_a, m.sin_a
-        bp = m.body_points
-        for i, letter in enumerate(self.points):
-            bx, by, bz = bp[letter]
-            x = yl[0] + R[0] * bx + R[1] * by + R[2] * bz
-            yy = yl[1] + R[3] * bx + R[4] * by + R[5] * bz
-            zz = yl[2] + R[6] * bx + R[7] * by + R[8] * bz
-            z[3 * i] = x * ca - yy * sa
-            z[3 * i + 1] = x * sa + yy * ca
-            z[3 * i + 2] = zz
-        z[-1] = yl[13]
+        laws.check_coordinates(np.asarray(yl, dtype=float), self.model.law_parameters,
+                               self.letters, z)
         val = self.A @ z + self.const
         self._cache_key, self._cache_val = key, val
         return val
@@ -183,7 +174,8 @@ class FreeFlightChecks:
 
         out = []
         for i, terminal in enumerate(self.terminal):
-            out.append(EventSpec(f"row {i}", lambda t, y, i=i: self.values(y)[i], +1.0, terminal))
+            out.append(EventSpec(f"row {i}", lambda t, y, i=i: self.values(y)[i], +1.0, terminal,
+                                 code=(laws.EV_ROW, float(i))))
         return out
 
     def inside(self, y) -> list[tuple[Region, str]]:

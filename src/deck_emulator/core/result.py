@@ -190,6 +190,11 @@ class CoreResult:
     no_hit_reason: str | None = None
     ground_passage: dict | None = None
     max_decel_after_startup_g: float | None = None
+    #: who integrated the run: "scipy" (``solve_ivp``), "compiled" (:mod:`.dop853`, the
+    #: batch), or "compiled+scipy" (a batch run some of whose segments the compiled
+    #: integrator cannot do -- a sliding mode, a leaf spring, a stiff contact, the shaft's
+    #: segments against the car -- were solved by ``solve_ivp``)
+    integrator: str = "scipy"
 
     @property
     def hit_message(self) -> str | None:
@@ -225,4 +230,5 @@ class CoreResult:
             "notes": list(self.notes),
             "no_hit_reason": self.no_hit_reason,
             "ground_passage": dict(self.ground_passage) if self.ground_passage else None,
+            "integrator": self.integrator,
         }

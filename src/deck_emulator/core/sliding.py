@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from . import laws
 from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
 from .rigid import post_derivative, rotate
 
@@ -254,6 +255,7 @@ def _ground_events(model):
                 f"ground reached by {p}",
                 lambda t, y, p=p: -(model.point_position(Kinematics(model, y), p)[2] + depth),
                 +1.0,
+                code=(laws.EV_GROUND, float(laws.LETTERS.index(p))),
             )
         )
     return out
@@ -298,6 +300,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
                 "base stops sliding",
                 lambda t, y: sign * Kinematics(model, y).point_velocity("Q")[0],
                 -1.0,
+                code=(laws.EV_BASE_VELOCITY, sign),
             )
         )
     if model.options.solid_ground:

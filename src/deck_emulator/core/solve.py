@@ -465,39 +465,45 @@ class _Run:
     def max_vehicle_force(self, after_startup: bool = False):
         """Largest force on the car over the contact segments: (lb, time s); with
         ``after_startup``, over those after the start-up kick's window."""
-        m = self.model
         best = (-math.inf, None)
         for seg in self.segments:
             if seg.phase != "contact" or seg.t1 <= seg.t0:
                 continue
             if after_startup and seg.mode is not None and seg.mode.window is not None:
                 continue
-            mode = seg.mode
-            ts = np.asarray(seg.solution.ts)
-            fine = np.unique(
-                np.concatenate([np.linspace(a, b, 9) for a, b in zip(ts[:-1], ts[1:])])
-            )
-            ys = seg.solution(fine)
-            f = np.array(
-                [sliding.vehicle_force(m, tk, ys[:, k], mode) for k, tk in enumerate(fine)]
-            )
-            k = int(np.argmax(f))
-            fk, tk = f[k], fine[k]
-            lo, hi = fine[max(k - 1, 0)], fine[min(k + 1, len(fine) - 1)]
-            if hi > lo:
-                r = minimize_scalar(
-                    lambda s, sol=seg.solution, mode=mode: -sliding.vehicle_force(
-                        m, s, sol(s), mode
-                    ),
-                    bounds=(lo, hi),
-                    method="bounded",
-                    options={"xatol": 1e-12},
-                )
-                if -r.fun > fk:
-                    fk, tk = -r.fun, float(r.x)
+            fk, tk = self._segment_max_force(seg)
             if fk > best[0]:
                 best = (fk, float(tk))
         return best
+
+    def _segment_max_force(self, seg):
+        """(lb, s): the largest force on the car over one contact segment: on a grid of 9
+        points a step, then refined by a bounded Brent search around the grid's best."""
+        m = self.model
+        mode = seg.mode
+        ts = np.asarray(seg.solution.ts)
+        fine = np.unique(
+            np.concatenate([np.linspace(a, b, 9) for a, b in zip(ts[:-1], ts[1:])])
+        )
+        ys = seg.solution(fine)
+        f = np.array(
+            [sliding.vehicle_force(m, tk, ys[:, k], mode) for k, tk in enumerate(fine)]
+        )
+        k = int(np.argmax(f))
+        fk, tk = f[k], fine[k]
+        lo, hi = fine[max(k - 1, 0)], fine[min(k + 1, len(fine) - 1)]
+        if hi > lo:
+            r = minimize_scalar(
+                lambda s, sol=seg.solution, mode=mode: -sliding.vehicle_force(
+                    m, s, sol(s), mode
+                ),
+                bounds=(lo, hi),
+                method="bounded",
+                options={"xatol": 1e-12},
+            )
+            if -r.fun > fk:
+                fk, tk = -r.fun, float(r.x)
+        return fk, tk
 
 
 def _heights(m, ys, name):
@@ -658,10 +664,18 @@ def simulate(
     (wall time): a run that reaches the last two ends in one ``CoreError`` line.
     ``check``: every outcome goes through :func:`~.checks.check_outcome` first; a failed
     check raises ``CoreError`` naming it."""
+    return _simulate_with(_Run, scene, options, method, rtol, atol, max_step_s, t_max_s,
+                          max_evaluations, max_wall_s, check)
+
+
+def _simulate_with(run_class, scene, options, method, rtol, atol, max_step_s, t_max_s,
+                   max_evaluations, max_wall_s, check) -> CoreResult:
+    """:func:`simulate` with the run's integration by ``run_class`` (a :class:`_Run`)."""
     started = time.perf_counter()
     check_inertia(scene)
     model = assemble(scene, options)
-    run = _Run(model, method, rtol, atol, max_step_s, t_max_s, max_evaluations, max_wall_s)
+    run = run_class(model, method, rtol, atol, max_step_s, t_max_s, max_evaluations,
+                    max_wall_s)
     if scene.vehicle is None:
         run.free_flight(0.0, model.y0)
     else:
@@ -672,7 +686,11 @@ def simulate(
             run.free_flight(t, y)
         if run.ground_passage is not None:
             run.report_ground_passage()
-    return _checked(_result(run, scene, options, started), check)
+    result = _result(run, scene, options, started)
+    integrator = getattr(run, "integrator", None)
+    if integrator is not None:
+        result = dataclasses.replace(result, integrator=integrator())
+    return _checked(result, check)
 
 
 def free_flight(

@@ -1,0 +1,361 @@
+"""Many scenes through the compiled core: :func:`simulate_batch`.
+
+Each scene is run exactly as :func:`~.solve.simulate` runs it -- the same contact modes,
+the same events and transitions (:mod:`.sliding`, :meth:`~.model.Model.transition`), the
+same hit rules and summary -- but its segments are integrated by the compiled DOP853
+(:mod:`.dop853`) over the compiled force laws (:mod:`.laws`), each scene with its own
+adaptive step and its own located events, and the car's largest force is found in
+compiled code too.  Only the bookkeeping between segments (a handful per scene) is Python.
+
+A segment the compiled integrator cannot do is solved by ``solve_ivp`` inside the same
+run, and the result says so (``CoreResult.integrator == "compiled+scipy"``):
+
+* a Filippov sliding mode (the ``FCONST`` cap holding, the base sticking: the physical
+  preset's ``cap_sliding`` and ``friction_reaction``);
+* a leaf spring (the crash test's car: its hysteresis law is Python);
+* a stiff contact (``method="auto"`` chooses Radau there) and a segment on which the
+  explicit step met a non-finite number (scipy's path then re-solves it with Radau);
+* free flight with ``shaft_contact`` (the shaft's segments against the car's boxes).
+
+Scenes are grouped by their component set (the force laws and checks their model has);
+each group runs one after another, and within it no scene evaluates a law it lacks (the
+laws branch on what the scene's parameter vector says it has).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from types import SimpleNamespace
+
+import numpy as np
+
+from . import dop853, laws
+from .laws import _jit
+from .scene import PHYSICAL, ModelOptions, Scene
+from .solve import (
+    DEFAULT_ATOL,
+    DEFAULT_MAX_EVALUATIONS,
+    DEFAULT_MAX_STEP_S,
+    DEFAULT_RTOL,
+    DEFAULT_T_MAX_S,
+    CoreError,
+    _Run,
+    _simulate_with,
+)
+
+__all__ = ["simulate_batch", "component_key", "CompiledSolution", "time_per_scene"]
+
+
+class CompiledSolution:
+    """The dense output of a compiled segment, as ``scipy``'s ``OdeSolution`` answers:
+    ``ts`` (the steps' ends) and ``solution(t)`` -> (15,) or (15, n)."""
+
+    __slots__ = ("ts", "t_old", "h", "y_old", "F")
+
+    def __init__(self, ts, t_old, h, y_old, F):
+        self.ts, self.t_old, self.h, self.y_old, self.F = ts, t_old, h, y_old, F
+
+    def __call__(self, t):
+        tq = np.atleast_1d(np.asarray(t, dtype=float))
+        out = dop853.dense_eval(self.ts, self.t_old, self.h, self.y_old, self.F, tq)
+        return out[:, 0] if np.ndim(t) == 0 else out
+
+
+# --------------------------------------------------------------------------------------
+# the largest force on the car over a compiled segment (solve._Run._segment_max_force)
+
+_SQRT_EPS = math.sqrt(2.2e-16)
+_GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
+
+
+@_jit
+def _force_at(s, ts, t_old, h, y_old, F, P, M, tmp):
+    seg = min(max(np.searchsorted(ts, s) - 1, 0), t_old.size - 1)
+    dop853._interp(t_old[seg], h[seg], y_old[seg], F[seg], s, tmp)
+    return laws.vehicle_force(s, tmp, P, M)
+
+
+@_jit
+def _fminbound_neg_force(x1, x2, xatol, maxfun, ts, t_old, h, y_old, F, P, M, tmp):
+    """scipy's ``minimize_scalar(method="bounded")`` (Brent's bounded search,
+    ``scipy.optimize._optimize._minimize_scalar_bounded``) of ``-force``, transcribed."""
+    a, b = x1, x2
+    fulc = a + _GOLDEN * (b - a)
+    nfc, xf = fulc, fulc
+    rat = e = 0.0
+    x = xf
+    fx = -_force_at(x, ts, t_old, h, y_old, F, P, M, tmp)
+    num = 1
+    ffulc = fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
+    tol2 = 2.0 * tol1
+    while abs(xf - xm) > (tol2 - 0.5 * (b - a)):
+        golden = True
+        if abs(e) > tol1:
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r = e
+            e = rat
+            if (abs(p) < abs(0.5 * q * r)) and (p > q * (a - xf)) and (p < q * (b - xf)):
+                rat = (p + 0.0) / q
+                x = xf + rat
+                if ((x - a) < tol2) or ((b - x) < tol2):
+                    si = np.sign(xm - xf) + (1.0 if (xm - xf) == 0 else 0.0)
+                    rat = tol1 * si
+            else:
+                golden = True
+        if golden:
+            if xf >= xm:
+                e = a - xf
+            else:
+                e = b - xf
+            rat = _GOLDEN * e
+        si = np.sign(rat) + (1.0 if rat == 0 else 0.0)
+        x = xf + si * max(abs(rat), tol1)
+        fu = -_force_at(x, ts, t_old, h, y_old, F, P, M, tmp)
+        num += 1
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = xf, fx
+            xf, fx = x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if (fu <= fnfc) or (nfc == xf):
+                fulc, ffulc = nfc, fnfc
+                nfc, fnfc = x, fu
+            elif (fu <= ffulc) or (fulc == xf) or (fulc == nfc):
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
+        tol2 = 2.0 * tol1
+        if num >= maxfun:
+            break
+    return xf, fx
+
+
+@_jit
+def segment_max_force(ts, t_old, h, y_old, F, P, M):
+    """(lb, s): the grid of 9 points a step, its best, then the bounded search between
+    the best's neighbours (as :meth:`~.solve._Run._segment_max_force`)."""
+    n_steps = ts.size - 1
+    grid = np.empty(8 * n_steps + 1)
+    for k in range(n_steps):
+        grid[8 * k: 8 * k + 9] = np.linspace(ts[k], ts[k + 1], 9)
+    fine = np.unique(grid)
+    tmp = np.empty(y_old.shape[1])
+    best_k = 0
+    best_f = -np.inf
+    for k in range(fine.size):
+        fk = _force_at(fine[k], ts, t_old, h, y_old, F, P, M, tmp)
+        if fk > best_f or k == 0:
+            best_f = fk
+            best_k = k
+    fk, tk = best_f, fine[best_k]
+    lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
+    if hi > lo:
+        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
+        if -fx > fk:
+            fk, tk = -fx, x
+    return fk, tk
+
+
+# --------------------------------------------------------------------------------------
+# a run whose segments the compiled integrator solves
+
+
+_NO_ROWS = np.zeros((0, 1))
+_NO_CONST = np.zeros(0)
+_NO_LETTERS = np.zeros(0, dtype=np.int64)
+
+
+class _CompiledRun(_Run):
+    """:class:`~.solve._Run` with ``solve_ivp`` replaced by :func:`.dop853.solve` wherever
+    the segment's law and every event have compiled forms."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.compiled_segments = 0
+        self.scipy_segments: list[str] = []
+
+    def integrator(self) -> str:
+        if not self.scipy_segments:
+            return "compiled"
+        return "compiled+scipy" if self.compiled_segments else "scipy"
+
+    def _solve(self, fun, t0, y0, t1, events, method=None):
+        method = method or self.method
+        law = getattr(fun, "law", None)
+        why = None
+        if method != "DOP853":
+            why = f"{method} (stiff contact)"
+        elif law is None:
+            why = "a sliding mode or a leaf spring"
+        elif any(e.code is None for e in events):
+            why = "events without a compiled form"
+        if why is not None:
+            return self._by_scipy(why, fun, t0, y0, t1, events, method)
+        m = self.model
+        phase = dop853.PHASE_CONTACT if law[0] == "contact" else dop853.PHASE_FREE
+        M = law[1] if law[1] is not None else m.mode_vector(_DEFAULT_MODE)
+        EV = np.array([[e.code[0], e.code[1], e.direction, 1.0 if e.terminal else 0.0]
+                       for e in events], dtype=float).reshape(-1, 4)
+        if phase == dop853.PHASE_FREE and len(events):
+            rows_a, rows_c, letters = m.checks.A, m.checks.const, m.checks.letters
+        else:
+            rows_a, rows_c, letters = _NO_ROWS, _NO_CONST, _NO_LETTERS
+        budget = -1 if self.max_evaluations is None else self.max_evaluations - self._evals
+        max_step = self.max_step if self.max_step is not None else np.inf
+        (status, nfev, ts, t_old, h, y_old, F, rec_k, rec_t, rec_y) = dop853.solve(
+            phase, float(t0), np.asarray(y0, dtype=float), float(t1), m.law_parameters, M,
+            EV, rows_a, rows_c, letters, float(self.rtol), float(self.atol), float(max_step),
+            int(budget),
+        )
+        if status == dop853.STATUS_NOT_FINITE:
+            # an explicit step met a non-finite number: the scipy path's own remedy
+            return self._by_scipy("a non-finite explicit step", fun, t0, y0, t1, events,
+                                  method)
+        self._evals += nfev
+        self.nfev += nfev
+        if status == dop853.STATUS_BUDGET:
+            raise CoreError(
+                f"run stopped: the run needed more than max_evaluations = "
+                f"{self.max_evaluations} right-hand-side evaluations (at t = {ts[-1]:.6g} s)"
+            )
+        if status == dop853.STATUS_FAILED:
+            raise CoreError(
+                f"integration failed at t = {float(ts[-1])!r} s: Required step size is less "
+                "than spacing between numbers."
+            )
+        self.compiled_segments += 1
+        sol = CompiledSolution(ts, t_old, h, y_old, F)
+        y_end = sol(ts[-1]) if len(t_old) else np.asarray(y0, dtype=float)
+        t_events = [rec_t[rec_k == i] for i in range(len(events))]
+        y_events = [rec_y[rec_k == i] for i in range(len(events))]
+        return SimpleNamespace(
+            t=ts, y=y_end[:, None], sol=sol, t_events=t_events, y_events=y_events,
+            nfev=nfev, status=1 if status == dop853.STATUS_EVENT else 0, message="",
+        )
+
+    def _by_scipy(self, why, fun, t0, y0, t1, events, method):
+        sol = super()._solve(fun, t0, y0, t1, events, method)
+        self.scipy_segments.append(why)
+        self.notes.append(f"solve_ivp, not the compiled integrator, from t = {t0:.6g} s to "
+                          f"{float(sol.t[-1]):.6g} s: {why}")
+        return sol
+
+    def _segment_max_force(self, seg):
+        sol = seg.solution
+        if (not isinstance(sol, CompiledSolution) or seg.mode is None or seg.mode.cap_sliding
+                or self.model._leaf):
+            return super()._segment_max_force(seg)
+        M = self.model.mode_vector(seg.mode)
+        return segment_max_force(sol.ts, sol.t_old, sol.h, sol.y_old, sol.F,
+                                 self.model.law_parameters, M)
+
+
+def _default_mode():
+    from .kinematics import ContactMode
+
+    return ContactMode()
+
+
+_DEFAULT_MODE = _default_mode()
+
+
+def component_key(scene: Scene, options: ModelOptions) -> tuple:
+    """What a scene's model is made of: its force components, its points, its car checks
+    and the options that switch laws on -- the batch's grouping key."""
+    v = scene.vehicle
+    base = scene.base
+    return (
+        tuple(sorted(scene.post.points())),
+        v is not None,
+        v is not None and getattr(v, "leaf_spring", None) is not None,
+        v is not None and v.second_spring is not None,
+        v is not None and v.body is not None,
+        base is not None and base.normal_force_lb != 0.0,
+        base is not None and (options.listing_friction or base.friction is not None),
+        options,
+    )
+
+
+def simulate_batch(
+    scenes,
+    options: ModelOptions = PHYSICAL,
+    *,
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
+    max_step_s: float = DEFAULT_MAX_STEP_S,
+    t_max_s: float = DEFAULT_T_MAX_S,
+    max_evaluations: int | None = DEFAULT_MAX_EVALUATIONS,
+    method: str = "auto",
+    check: bool = True,
+) -> list:
+    """Run every scene of ``scenes`` through the compiled core; one item per scene, in
+    their order: a :class:`~.result.CoreResult` (``integrator`` says which integrator
+    ran it) or the :class:`~.solve.CoreError` (or ``ValueError``, ``ArithmeticError``)
+    the scene met -- one scene's failure does not stop the batch.
+
+    ``options`` is one preset for all, or a sequence of one per scene.  The keywords are
+    :func:`~.solve.simulate`'s (``method="auto"``: DOP853, the contact of a stiff scene by
+    scipy's Radau).  Scenes are run grouped by :func:`component_key`."""
+    scenes = list(scenes)
+    if isinstance(options, ModelOptions):
+        per_scene = [options] * len(scenes)
+    else:
+        per_scene = list(options)
+        if len(per_scene) != len(scenes):
+            raise ValueError(f"{len(per_scene)} options for {len(scenes)} scenes")
+    groups: dict[tuple, list[int]] = {}
+    for i, (s, o) in enumerate(zip(scenes, per_scene)):
+        groups.setdefault(component_key(s, o), []).append(i)
+    out: list = [None] * len(scenes)
+    for members in groups.values():
+        for i in members:
+            try:
+                out[i] = _simulate_with(
+                    _CompiledRun, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
+                    t_max_s, max_evaluations, None, check,
+                )
+            except (CoreError, ValueError, ArithmeticError) as exc:
+                out[i] = exc
+    return out
+
+
+def time_per_scene(scenes, options: ModelOptions, *, repeats: int = 5) -> dict:
+    """Process CPU time per scene (s) of both paths on ``scenes`` after a warm-up run:
+    ``{"compiled": median, "scipy": median, "ratio": scipy / compiled, "n": scenes}``,
+    medians over ``repeats`` repetitions (for the benchmark)."""
+    from .solve import simulate
+
+    scenes = list(scenes)
+    simulate_batch(scenes[:1], options)  # warm-up: load or compile the laws
+    simulate(scenes[0], options)
+
+    def per_scene(run) -> float:
+        times = []
+        for _ in range(repeats):
+            t0 = time.process_time()
+            run()
+            times.append((time.process_time() - t0) / len(scenes))
+        return float(np.median(times))
+
+    compiled = per_scene(lambda: simulate_batch(scenes, options))
+    scipy_s = per_scene(lambda: [simulate(s, options) for s in scenes])
+    return {"compiled": compiled, "scipy": scipy_s, "ratio": scipy_s / compiled,
+            "n": len(scenes)}

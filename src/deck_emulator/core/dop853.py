@@ -1,0 +1,460 @@
+"""DOP853, compiled: the scipy path's explicit method, callable from compiled code.
+
+Why our own: ``scipy.integrate.solve_ivp`` cannot be called from compiled code (its
+steps are Python), and numba has no ODE solver; a batch of small problems spends nearly
+all of scipy's time in that Python.  So this module transcribes the method scipy uses --
+the explicit Runge-Kutta pair of order 8(5,3) of Dormand and Prince as implemented by
+Hairer (E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential Equations I:
+Nonstiff Problems", 2nd ed., Springer 1993, section II.10; code DOP853), in the form of
+``scipy.integrate._ivp.rk.DOP853``: scipy's own tableau (imported from
+``scipy.integrate._ivp.dop853_coefficients``, not copied), its error norm (the 5th- and
+3rd-order estimates combined), its step-size control (safety 0.9, factors 0.2-10, no
+growth after a rejection), its first-step choice and its 7th-degree dense output -- and
+``solve_ivp``'s event handling: an event is active where its function changes sign in
+the direction asked over a step; its root is found on the dense output by Brent's method
+(a transcription of scipy's ``brentq``, ``xtol = rtol = 4 eps``); the integration stops at
+the first terminal root.  The tests check the order (error ratio ~ 2^8 as the step
+halves) and compare whole runs with scipy's.
+
+The right-hand side and the events are the model's compiled laws (:mod:`.laws`), chosen
+by ``phase`` (contact or free flight) with the scene's parameter vector ``P`` and the
+contact mode's vector ``M``; the events are rows ``(code, arg, direction, terminal)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.integrate._ivp import dop853_coefficients as _coef
+
+from . import laws
+from .laws import _jit
+
+__all__ = ["PHASE_CONTACT", "PHASE_FREE", "solve", "fixed_steps", "dense_eval", "brentq",
+           "STATUS_FINISHED", "STATUS_EVENT", "STATUS_FAILED", "STATUS_BUDGET",
+           "STATUS_NOT_FINITE"]
+
+PHASE_CONTACT = 0
+PHASE_FREE = 1
+
+STATUS_FINISHED = 0  # reached t_bound
+STATUS_EVENT = 1  # a terminal event
+STATUS_FAILED = -1  # step size too small
+STATUS_BUDGET = -2  # more right-hand-side evaluations than allowed
+STATUS_NOT_FINITE = -3  # the state or the error estimate is not finite
+
+N_STAGES = _coef.N_STAGES
+N_EXT = _coef.N_STAGES_EXTENDED
+N_F = _coef.INTERPOLATOR_POWER
+_A = np.ascontiguousarray(_coef.A)  # (16, 16): rows 13-15 are scipy's A_EXTRA
+_B = np.ascontiguousarray(_coef.B)
+_C = np.ascontiguousarray(_coef.C)
+_E3 = np.ascontiguousarray(_coef.E3)
+_E5 = np.ascontiguousarray(_coef.E5)
+_D = np.ascontiguousarray(_coef.D)
+SAFETY = 0.9
+MIN_FACTOR = 0.2
+MAX_FACTOR = 10.0
+ERROR_EXPONENT = -1.0 / 8.0  # -1 / (error estimator order 7 + 1)
+EPS = np.finfo(float).eps
+N = 15  # the core's state
+
+
+@_jit
+def _rhs(phase, t, y, P, M, acc, out):
+    if phase == PHASE_CONTACT:
+        laws.contact_derivative_with(t, y, P, M, acc, out)
+    else:
+        laws.free_derivative_into(y, P, out)
+
+
+@_jit
+def _event(k, t, y, P, EV, rows_a, rows_c, letters, z):
+    code = int(EV[k, 0])
+    if code == laws.EV_ROW:
+        laws.check_coordinates(y, P, letters, z)
+        r = int(EV[k, 1])
+        s = 0.0
+        for j in range(z.size):
+            s += rows_a[r, j] * z[j]
+        return s + rows_c[r]
+    return laws.contact_event(code, EV[k, 1], y, P)
+
+
+@_jit
+def _norm(x):
+    return math.sqrt(np.sum(x * x)) / math.sqrt(x.size)
+
+
+@_jit
+def _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new):
+    """One step of the 8th-order formula (scipy's ``rk_step``): stages into ``K``."""
+    n = y.size
+    K[0, :] = f
+    for s in range(1, N_STAGES):
+        for i in range(n):
+            dy = 0.0
+            for j in range(s):
+                dy += K[j, i] * _A[s, j]
+            ytmp[i] = y[i] + dy * h
+        _rhs(phase, t + _C[s] * h, ytmp, P, M, acc, K[s])
+    for i in range(n):
+        d = 0.0
+        for j in range(N_STAGES):
+            d += K[j, i] * _B[j]
+        y_new[i] = y[i] + h * d
+    _rhs(phase, t + h, y_new, P, M, acc, K[N_STAGES])
+
+
+@_jit
+def _error_norm(K, h, scale):
+    n = scale.size
+    e5 = 0.0
+    e3 = 0.0
+    for i in range(n):
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(N_STAGES + 1):
+            a5 += K[j, i] * _E5[j]
+            a3 += K[j, i] * _E3[j]
+        a5 /= scale[i]
+        a3 /= scale[i]
+        e5 += a5 * a5
+        e3 += a3 * a3
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+
+
+@_jit
+def _dense(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, F):
+    """The step's interpolant (scipy's ``DOP853._dense_output_impl``) into ``F`` (7, n)."""
+    n = y.size
+    for s in range(N_STAGES + 1, N_EXT):
+        for i in range(n):
+            dy = 0.0
+            for j in range(s):
+                dy += K[j, i] * _A[s, j]
+            ytmp[i] = y_old[i] + dy * h
+        _rhs(phase, t_old + _C[s] * h, ytmp, P, M, acc, K[s])
+    for i in range(n):
+        dlt = y[i] - y_old[i]
+        F[0, i] = dlt
+        F[1, i] = h * K[0, i] - dlt
+        F[2, i] = 2 * dlt - h * (f[i] + K[0, i])
+        for r in range(N_F - 3):
+            d = 0.0
+            for j in range(N_EXT):
+                d += _D[r, j] * K[j, i]
+            F[3 + r, i] = h * d
+
+
+@_jit
+def _interp(t_old, h, y_old, F, t, out):
+    x = (t - t_old) / h
+    n = y_old.size
+    for i in range(n):
+        v = 0.0
+        for r in range(N_F - 1, -1, -1):
+            v += F[r, i]
+            if (N_F - 1 - r) % 2 == 0:
+                v *= x
+            else:
+                v *= 1 - x
+        out[i] = v + y_old[i]
+
+
+@_jit
+def dense_eval(ts, t_old, h, y_old, F, tq):
+    """States (n, m) at times ``tq`` from stored steps (scipy's ``OdeSolution``: the
+    step is found by ``searchsorted(ts, t, 'left') - 1``, clipped)."""
+    m = tq.size
+    n = y_old.shape[1]
+    out = np.empty((n, m))
+    tmp = np.empty(n)
+    nseg = t_old.size
+    for k in range(m):
+        ind = np.searchsorted(ts, tq[k]) - 1
+        seg = min(max(ind, 0), nseg - 1)
+        _interp(t_old[seg], h[seg], y_old[seg], F[seg], tq[k], tmp)
+        out[:, k] = tmp
+    return out
+
+
+@_jit
+def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, z, ytmp,
+           xtol, rtol, maxiter):
+    """Root of event ``k`` on the step's dense output in [a, b]: scipy's ``brentq``
+    (``scipy/optimize/Zeros/brentq.c``, itself Brent 1973), transcribed."""
+    xpre, xcur = a, b
+    xblk = 0.0
+    fblk = 0.0
+    spre = 0.0
+    scur = 0.0
+    _interp(t_old, h, y_old, F, xpre, ytmp)
+    fpre = _event(k, xpre, ytmp, P, EV, rows_a, rows_c, letters, z)
+    _interp(t_old, h, y_old, F, xcur, ytmp)
+    fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, z)
+    if fpre == 0.0:
+        return xpre
+    if fcur == 0.0:
+        return xcur
+    for _ in range(maxiter):
+        if fpre != 0.0 and fcur != 0.0 and (math.copysign(1.0, fpre) != math.copysign(1.0, fcur)):
+            xblk = xpre
+            fblk = fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre = xcur
+            xcur = xblk
+            xblk = xpre
+            fpre = fcur
+            fcur = fblk
+            fblk = fpre
+        delta = (xtol + rtol * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0.0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):
+                spre = scur
+                scur = stry
+            else:
+                spre = sbis
+                scur = sbis
+        else:
+            spre = sbis
+            scur = sbis
+        xpre = xcur
+        fpre = fcur
+        if abs(scur) > delta:
+            xcur += scur
+        else:
+            xcur += delta if sbis > 0 else -delta
+        _interp(t_old, h, y_old, F, xcur, ytmp)
+        fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, z)
+    return xcur
+
+
+@_jit
+def _grow(a, need):
+    if need <= a.shape[0]:
+        return a
+    shape = (max(need, 2 * a.shape[0]),) + a.shape[1:]
+    b = np.empty(shape, dtype=a.dtype)
+    b[: a.shape[0]] = a
+    return b
+
+
+@_jit
+def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol, max_step,
+          max_nfev):
+    """Integrate from ``(t0, y0)`` towards ``t_bound`` (> t0) as ``solve_ivp(...,
+    method="DOP853", dense_output=True, events=...)`` does.
+
+    ``EV`` (n_events, 4): code, arg, direction, terminal (1.0/0.0) of each event.
+    Returns (status, nfev, ts (steps + 1), t_old, h, y_old (steps, n), F (steps, 7, n),
+    event rows recorded (index, time) and their states (k, n))."""
+    n = y0.size
+    acc = np.empty(7)
+    K = np.empty((N_EXT, n))
+    ytmp = np.empty(n)
+    y_new = np.empty(n)
+    scale = np.empty(n)
+    z = np.empty(3 * letters.size + 1)
+    n_ev = EV.shape[0]
+    cap = 64
+    ts = np.empty(cap + 1)
+    t_olds = np.empty(cap)
+    hs = np.empty(cap)
+    y_olds = np.empty((cap, n))
+    Fs = np.empty((cap, N_F, n))
+    rec_k = np.empty(8, dtype=np.int64)
+    rec_t = np.empty(8)
+    rec_y = np.empty((8, n))
+    n_rec = 0
+    nsteps = 0
+
+    y = y0.copy()
+    t = t0
+    f = np.empty(n)
+    _rhs(phase, t, y, P, M, acc, f)
+    nfev = 1
+    ts[0] = t0
+    # first step (scipy's select_initial_step, error estimator order 7)
+    interval = abs(t_bound - t0)
+    if interval == 0.0:
+        return (STATUS_FINISHED, nfev, ts[:1], t_olds[:0], hs[:0], y_olds[:0], Fs[:0],
+                rec_k[:0], rec_t[:0], rec_y[:0])
+    for i in range(n):
+        scale[i] = atol + abs(y[i]) * rtol
+    d0 = _norm(y / scale)
+    d1 = _norm(f / scale)
+    if d0 < 1e-5 or d1 < 1e-5:
+        h0 = 1e-6
+    else:
+        h0 = 0.01 * d0 / d1
+    h0 = min(h0, interval)
+    for i in range(n):
+        ytmp[i] = y[i] + h0 * f[i]
+    f1 = np.empty(n)
+    _rhs(phase, t0 + h0, ytmp, P, M, acc, f1)
+    nfev += 1
+    d2 = _norm((f1 - f) / scale) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+    h_abs = min(100 * h0, h1, interval, max_step)
+
+    g = np.empty(n_ev)
+    g_new = np.empty(n_ev)
+    for k in range(n_ev):
+        g[k] = _event(k, t, y, P, EV, rows_a, rows_c, letters, z)
+    roots = np.empty(n_ev)
+    active = np.empty(n_ev, dtype=np.int64)
+
+    status = 99
+    while status == 99:
+        # -- one step (scipy's RungeKutta._step_impl)
+        min_step = 10 * abs(np.nextafter(t, np.inf) - t)
+        if h_abs > max_step:
+            h_abs = max_step
+        elif h_abs < min_step:
+            h_abs = min_step
+        rejected = False
+        while True:
+            if h_abs < min_step:
+                return (STATUS_FAILED, nfev, ts[: nsteps + 1], t_olds[:nsteps], hs[:nsteps],
+                        y_olds[:nsteps], Fs[:nsteps], rec_k[:n_rec], rec_t[:n_rec],
+                        rec_y[:n_rec])
+            h = h_abs
+            t_new = t + h
+            if t_new - t_bound > 0:
+                t_new = t_bound
+            h = t_new - t
+            h_abs = abs(h)
+            _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new)
+            nfev += N_STAGES
+            for i in range(n):
+                scale[i] = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+            err = _error_norm(K, h, scale)
+            if not math.isfinite(err):
+                return (STATUS_NOT_FINITE, nfev, ts[: nsteps + 1], t_olds[:nsteps],
+                        hs[:nsteps], y_olds[:nsteps], Fs[:nsteps], rec_k[:n_rec],
+                        rec_t[:n_rec], rec_y[:n_rec])
+            if err < 1:
+                if err == 0:
+                    factor = MAX_FACTOR
+                else:
+                    factor = min(MAX_FACTOR, SAFETY * err ** ERROR_EXPONENT)
+                if rejected:
+                    factor = min(1.0, factor)
+                h_abs *= factor
+                break
+            h_abs *= max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)
+            rejected = True
+        t_old = t
+        y_old = y.copy()
+        t = t_new
+        y[:] = y_new
+        f[:] = K[N_STAGES]
+        if t - t_bound >= 0:
+            status = STATUS_FINISHED
+        # -- the step's dense output
+        ts = _grow(ts, nsteps + 2)
+        t_olds = _grow(t_olds, nsteps + 1)
+        hs = _grow(hs, nsteps + 1)
+        y_olds = _grow(y_olds, nsteps + 1)
+        Fs = _grow(Fs, nsteps + 1)
+        _dense(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, Fs[nsteps])
+        nfev += N_EXT - N_STAGES - 1
+        t_olds[nsteps] = t_old
+        hs[nsteps] = h
+        y_olds[nsteps] = y_old
+        Fst = Fs[nsteps]
+        nsteps += 1
+        ts[nsteps] = t
+        for i in range(n):
+            if not math.isfinite(y[i]):
+                return (STATUS_NOT_FINITE, nfev, ts[: nsteps + 1], t_olds[:nsteps],
+                        hs[:nsteps], y_olds[:nsteps], Fs[:nsteps], rec_k[:n_rec],
+                        rec_t[:n_rec], rec_y[:n_rec])
+        # -- events (solve_ivp's find_active_events and handle_events)
+        n_act = 0
+        for k in range(n_ev):
+            g_new[k] = _event(k, t, y, P, EV, rows_a, rows_c, letters, z)
+            up = g[k] <= 0 and g_new[k] >= 0
+            down = g[k] >= 0 and g_new[k] <= 0
+            d = EV[k, 2]
+            if (up and d > 0) or (down and d < 0) or ((up or down) and d == 0):
+                active[n_act] = k
+                n_act += 1
+        if n_act > 0:
+            for a in range(n_act):
+                roots[a] = brentq(active[a], t_old, t, t_old, h, y_old, Fst, P, EV, rows_a,
+                                  rows_c, letters, z, ytmp, 4 * EPS, 4 * EPS, 100)
+            keep = n_act
+            terminal = False
+            for a in range(n_act):
+                if EV[active[a], 3] != 0.0:
+                    terminal = True
+            if terminal:
+                order = np.argsort(roots[:n_act], kind="mergesort")
+                act2 = active[:n_act][order].copy()
+                roots2 = roots[:n_act][order].copy()
+                for a in range(n_act):
+                    active[a] = act2[a]
+                    roots[a] = roots2[a]
+                for a in range(n_act):
+                    if EV[active[a], 3] != 0.0:
+                        keep = a + 1
+                        break
+            rec_k = _grow(rec_k, n_rec + keep)
+            rec_t = _grow(rec_t, n_rec + keep)
+            rec_y = _grow(rec_y, n_rec + keep)
+            for a in range(keep):
+                rec_k[n_rec] = active[a]
+                rec_t[n_rec] = roots[a]
+                _interp(t_old, h, y_old, Fst, roots[a], ytmp)
+                rec_y[n_rec] = ytmp
+                n_rec += 1
+            if terminal:
+                status = STATUS_EVENT
+                t = roots[keep - 1]
+                _interp(t_old, h, y_old, Fst, t, y)
+                ts[nsteps] = t
+        g[:] = g_new
+        if status == 99 and max_nfev >= 0 and nfev > max_nfev:
+            return (STATUS_BUDGET, nfev, ts[: nsteps + 1], t_olds[:nsteps], hs[:nsteps],
+                    y_olds[:nsteps], Fs[:nsteps], rec_k[:n_rec], rec_t[:n_rec],
+                    rec_y[:n_rec])
+    return (status, nfev, ts[: nsteps + 1], t_olds[:nsteps], hs[:nsteps], y_olds[:nsteps],
+            Fs[:nsteps], rec_k[:n_rec], rec_t[:n_rec], rec_y[:n_rec])
+
+
+@_jit
+def fixed_steps(phase, t0, y0, h, n_steps, P, M):
+    """``n_steps`` steps of the 8th-order formula with the fixed step ``h`` (no error
+    control): the order test's road."""
+    n = y0.size
+    acc = np.empty(7)
+    K = np.empty((N_EXT, n))
+    ytmp = np.empty(n)
+    y_new = np.empty(n)
+    y = y0.copy()
+    f = np.empty(n)
+    t = t0
+    for _ in range(n_steps):
+        _rhs(phase, t, y, P, M, acc, f)
+        _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new)
+        y[:] = y_new
+        t += h
+    return y

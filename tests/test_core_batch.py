@@ -1,0 +1,342 @@
+"""The compiled core (core/laws.py, core/dop853.py, core/batch.py) against the scipy path.
+
+The scipy path (``simulate``: ``solve_ivp``) is the reference: the batch must find the same
+events (name, in the same order), the same hit (point, surface) and the same times and
+positions within stated tolerances, at the default settings (rtol = atol = 1e-12).  The
+compiled DOP853's order is checked on a problem with a closed-form solution.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from deck_emulator.core import LEGACY, PHYSICAL, simulate, simulate_batch
+from deck_emulator.core import dop853, laws
+from deck_emulator.core import model as core_model
+from deck_emulator.core.batch import time_per_scene
+from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
+from deck_emulator.decks import path as deck_path
+from deck_emulator.legacy.deck import read_deck
+
+from test_scene import STEEL40, steel40
+
+#: the tolerances the batch holds against the scipy path at the default settings
+TIME_TOL_S = 1e-6
+POSITION_TOL_FT = 1e-4
+DELTA_V_TOL_MPH = 1e-6
+DECEL_TOL_G = 1e-6
+
+
+def assert_same(ref, got, label=""):
+    """``got`` (the batch) answers as ``ref`` (the scipy path) does."""
+    assert not isinstance(got, Exception), f"{label}: {got}"
+    assert [e.name for e in got.events] == [e.name for e in ref.events], label
+    for a, b in zip(ref.events, got.events):
+        assert abs(a.time_s - b.time_s) <= TIME_TOL_S, (label, a, b)
+        assert a.message == b.message, label
+    assert (ref.hit is None) == (got.hit is None), label
+    if ref.hit is not None:
+        assert (got.hit.point, got.hit.surface, got.hit.message) == (
+            ref.hit.point, ref.hit.surface, ref.hit.message), label
+        assert abs(got.hit.time_s - ref.hit.time_s) <= TIME_TOL_S, label
+    for k, p in ref.terminal_points_ft.items():
+        q = got.terminal_points_ft[k]
+        assert (p is None) == (q is None), (label, k)
+        if p is not None:
+            assert max(abs(x - y) for x, y in zip(p, q)) <= POSITION_TOL_FT, (label, k, p, q)
+    for name, tol in (("delta_v_contact_mph", DELTA_V_TOL_MPH), ("max_decel_g", DECEL_TOL_G),
+                      ("max_decel_after_startup_g", DECEL_TOL_G),
+                      ("vehicle_contact_lost_s", TIME_TOL_S), ("first_spring_lost_s", TIME_TOL_S)):
+        a, b = getattr(ref, name), getattr(got, name)
+        assert (a is None) == (b is None), (label, name)
+        if a is not None:
+            assert abs(a - b) <= tol, (label, name, a, b)
+    # the crush ΔV (engine/engines.py): the car's velocity at the force cap, from the trajectory
+    cap = next((e.time_s for e in ref.events if e.name == "force cap engaged"), None)
+    if cap is not None:
+        va = ref.trajectory.vehicle(cap)[1]
+        vb = got.trajectory.vehicle(cap)[1]
+        assert abs(va - vb) <= 1e-6, label
+
+
+def both(scenes, options):
+    refs = [simulate(s, options) for s in scenes]
+    return refs, simulate_batch(scenes, options)
+
+
+# --------------------------------------------------------------------------------------
+# the shipped decks and assemblies
+
+DECKS = ("steel20", "steel20_a15", "steel20_a30", "steel40", "steel40_a15", "steel40_a30")
+
+
+@pytest.mark.parametrize("options", [LEGACY, PHYSICAL], ids=["legacy", "physical"])
+def test_shipped_decks_same_as_scipy(options):
+    scenes = [Scene.from_deck(read_deck(str(deck_path(d))), name=d) for d in DECKS]
+    refs, got = both(scenes, options)
+    for d, a, b in zip(DECKS, refs, got):
+        assert_same(a, b, d)
+        # legacy runs wholly compiled; the physical preset's sliding modes and shaft contact
+        # are scipy's (said in the result)
+        assert b.integrator == ("compiled" if options is LEGACY else "compiled+scipy")
+        assert a.integrator == "scipy"
+
+
+def test_shipped_assemblies_and_crash_test_same_as_scipy():
+    from deck_emulator.core.assembly import load_assembly
+    from deck_emulator.engine.assemblies import to_scene
+    from deck_emulator.studies.crash_test import crash_scene
+
+    scenes = [to_scene(load_assembly(a)[0]) for a in ("steel", "twin", "aluminium")]
+    for options in (LEGACY, PHYSICAL):
+        refs, got = both(scenes, options)
+        for a, b in zip(refs, got):
+            assert_same(a, b, f"{a.scene.name} {options.name}")
+    crash = crash_scene()
+    refs, got = both([crash], PHYSICAL)
+    assert_same(refs[0], got[0], "crash test")
+    assert got[0].integrator == "compiled+scipy"  # the leaf spring is scipy's
+
+
+# --------------------------------------------------------------------------------------
+# the stability study's extreme grid
+
+
+def _grid_scene(spec):
+    """The core's scene and options of one of the stability study's scenes (as its
+    ``_task_core`` builds them)."""
+    from deck_emulator.studies.common import matched_options
+    from deck_emulator.studies.stability import H0
+
+    deck = read_deck(str(deck_path("steel40"))).with_values(**spec["deck"])
+    scene = Scene.from_deck(deck)
+    options = matched_options(H0 / 2 ** spec["k"])
+    if spec["tha"] is not None:
+        options = dataclasses.replace(options, startup_kick=dataclasses.replace(
+            options.startup_kick, tilt_at_step_rad=float(spec["tha"])))
+    if spec["friction"] != "listing":
+        friction = (None if spec["friction"] == 0.0 else
+                    BaseFriction(spec["friction"], LISTING_BASE_FRICTION.slip_window_ft))
+        scene = dataclasses.replace(scene, base=dataclasses.replace(scene.base, friction=friction))
+        options = dataclasses.replace(options, listing_friction=False)
+    return spec["scene"], scene, options
+
+
+def _grid(quick):
+    from deck_emulator.studies.stability import scenes
+
+    base = read_deck(str(deck_path("steel40"))).values
+    return [_grid_scene(s) for s in scenes(base, quick)]
+
+
+def _check_grid(grid):
+    for name, scene, options in grid:
+        try:
+            ref = simulate(scene, options)
+        except Exception as exc:  # the reference refuses the scene: so must the batch
+            got = simulate_batch([scene], options)[0]
+            assert isinstance(got, Exception), (name, exc)
+            continue
+        got = simulate_batch([scene], options)[0]
+        assert_same(ref, got, name)
+        for preset in (PHYSICAL,):
+            try:
+                ref = simulate(scene, preset)
+            except Exception:
+                continue
+            assert_same(ref, simulate_batch([scene], preset)[0], f"{name} physical")
+
+
+def test_extreme_grid_quick_same_as_scipy():
+    _check_grid(_grid(quick=True))
+
+
+@pytest.mark.slow_corpus
+def test_extreme_grid_full_same_as_scipy():
+    _check_grid(_grid(quick=False))
+
+
+# --------------------------------------------------------------------------------------
+# a random sample of perturbed scenes (fixed seed)
+
+
+def perturbed_scenes(n=30, seed=25):
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        v = dict(STEEL40)
+        for key in ("W", "WV", "CK", "CT", "FNA"):
+            v[key] = STEEL40[key] * float(rng.uniform(0.7, 1.3))
+        # the moments together, C no smaller relatively: they stay a rigid body's
+        f = float(rng.uniform(0.8, 1.2))
+        v["A"], v["B"] = STEEL40["A"] * f, STEEL40["B"] * f
+        v["C"] = STEEL40["C"] * f * float(rng.uniform(1.0, 1.3))
+        v["VVB"] = -float(rng.uniform(20.0, 90.0))
+        v["ALPHA"] = float(rng.uniform(0.0, 0.6))
+        v["DELTA"] = STEEL40["DELTA"] * float(rng.uniform(0.0, 1.5))
+        out.append(Scene.from_deck(v))
+    return out
+
+
+def test_perturbed_sample_same_as_scipy():
+    scenes = perturbed_scenes()
+    refs, got = both(scenes, LEGACY)
+    for i, (a, b) in enumerate(zip(refs, got)):
+        assert_same(a, b, f"perturbed {i}")
+        # wholly compiled, but for the cap's sliding mode (Filippov), which is scipy's
+        by_scipy = [n for n in b.notes if n.startswith("solve_ivp, not the compiled")]
+        assert (b.integrator == "compiled") == (not by_scipy)
+        assert all(n.endswith("a sliding mode or a leaf spring") for n in by_scipy)
+        assert not by_scipy or any(n.startswith("cap holding") for n in b.notes)
+    refs, got = both(scenes[:8], PHYSICAL)
+    for i, (a, b) in enumerate(zip(refs, got)):
+        assert_same(a, b, f"perturbed {i} physical")
+
+
+def test_batch_answers_in_order_with_errors_in_place():
+    bad = Scene.from_deck(dict(STEEL40, A=1e12))  # no rigid body: CoreError
+    good = steel40()
+    out = simulate_batch([good, bad, good], LEGACY)
+    assert isinstance(out[1], Exception) and "triangle inequality" in str(out[1])
+    assert out[0].hit_message == out[2].hit_message == simulate(good, LEGACY).hit_message
+
+
+# --------------------------------------------------------------------------------------
+# what a scene lacks is never evaluated, in the batch too
+
+
+def test_absent_base_friction_is_never_evaluated_in_the_batch(monkeypatch):
+    def boom(*args, **kwargs):
+        raise AssertionError("base friction evaluated although the scene has none")
+
+    monkeypatch.setattr(core_model.BaseFriction, "pack", boom)
+    monkeypatch.setattr(core_model.BaseFriction, "events", boom)
+    monkeypatch.setattr(core_model.BaseFriction, "active_at", boom)
+    s = steel40()
+    no_friction = dataclasses.replace(s, base=dataclasses.replace(s.base, friction=None))
+    for options in (LEGACY, PHYSICAL):
+        options = dataclasses.replace(options, listing_friction=False)
+        (r,) = simulate_batch([no_friction], options)
+        assert r.hit is not None
+        assert not any(e.name.startswith("base friction") for e in r.events)
+    with pytest.raises(AssertionError, match="base friction evaluated"):
+        simulate_batch([s], PHYSICAL)
+
+
+def test_absent_laws_are_never_evaluated_by_compiled_code(monkeypatch):
+    """The compiled laws cannot be monkeypatched: instead every parameter of what the
+    scene lacks (the friction, the second spring, the point R) is NaN.  A law that read
+    one would spread the NaN into the state; the run is the same as without the poison."""
+    real = core_model.Model._pack
+    values = dict(STEEL40, XRO=0.0, YYRO=0.0, ZZRO=0.0, CT=0.0)
+    s = Scene.from_deck(values)
+    s = dataclasses.replace(s, base=dataclasses.replace(s.base, friction=None))
+    options = dataclasses.replace(LEGACY, listing_friction=False)
+    clean = simulate_batch([s], options)[0]
+
+    def poisoned(self):
+        P = real(self)
+        assert "base friction" not in self.components and "R" not in self.body_points
+        P[[laws.P_FR, laws.P_FR_WINDOW, laws.P_FR_REACTION, laws.P_K_T, laws.P_XV0_T]] = np.nan
+        j = laws.P_POINTS + 3 * laws.LETTERS.index("R")
+        P[j:j + 3] = np.nan
+        return P
+
+    monkeypatch.setattr(core_model.Model, "_pack", poisoned)
+    got = simulate_batch([s], options)[0]
+    assert got.integrator == "compiled"
+    assert got.events == clean.events
+    assert got.terminal_points_ft == clean.terminal_points_ft
+    assert got.terminal_points_ft["R"] is None
+
+
+# --------------------------------------------------------------------------------------
+# the compiled DOP853
+
+
+def _top(omega3=20.0):
+    """An axisymmetric post (A = B) spinning about its axis, with a transverse angular
+    velocity: torque-free, so ``w1 + i w2`` turns at ``lambda = (C - A) w3 / A`` (Euler's
+    equations in closed form)."""
+    P = np.zeros(laws.N_P)
+    P[laws.P_MASS], P[laws.P_WV], P[laws.P_WEIGHT] = 1.0, 1.0, 32.174
+    P[laws.P_I1], P[laws.P_I2], P[laws.P_I3] = 2.0, 2.0, 1.0
+    y0 = np.zeros(15)
+    y0[6] = 1.0
+    y0[10], y0[11], y0[12] = 1.5, -0.5, omega3
+    lam = (P[laws.P_I3] - P[laws.P_I1]) * omega3 / P[laws.P_I1]
+    return P, y0, lam
+
+
+def test_dop853_order_is_eight():
+    """Hairer's DOP853 (scipy's tableau) is of order 8: as the fixed step halves, the error
+    at t = 1 falls by 2^8 = 256 (here: the transverse angular velocity against its closed
+    form, and the whole state against a 16 times finer run)."""
+    P, y0, lam = _top()
+    M = np.full(laws.N_M, math.nan)
+    T = 1.0
+    exact = np.array([y0[10] * math.cos(lam * T) - y0[11] * math.sin(lam * T),
+                      y0[10] * math.sin(lam * T) + y0[11] * math.cos(lam * T)])
+    errs, states = [], {}
+    for n in (16, 32, 64, 1024):
+        y = dop853.fixed_steps(dop853.PHASE_FREE, 0.0, y0, T / n, n, P, M)
+        states[n] = y
+        errs.append(float(np.max(np.abs(y[10:12] - exact))))
+    ratios = [errs[i] / errs[i + 1] for i in range(2)]
+    assert all(200.0 < r < 330.0 for r in ratios), (errs, ratios)
+    whole = [float(np.max(np.abs(states[n] - states[1024]))) for n in (16, 32, 64)]
+    ratios = [whole[i] / whole[i + 1] for i in range(2)]
+    assert all(200.0 < r < 330.0 for r in ratios), (whole, ratios)
+
+
+def test_dop853_adaptive_meets_its_tolerance_and_scipys_steps():
+    """Adaptive: at rtol = atol = 1e-10 the top's angular velocity is right to ~1e-9 and the
+    step count is scipy's DOP853's on the same problem (the same controller)."""
+    from scipy.integrate import solve_ivp
+
+    P, y0, lam = _top()
+    M = np.full(laws.N_M, math.nan)
+    no_ev = np.zeros((0, 4))
+    r = dop853.solve(dop853.PHASE_FREE, 0.0, y0, 1.0, P, M, no_ev, np.zeros((0, 1)),
+                     np.zeros(0), np.zeros(0, dtype=np.int64), 1e-10, 1e-10, np.inf, -1)
+    assert r[0] == dop853.STATUS_FINISHED
+    ts = r[2]
+    y_end = dop853.dense_eval(ts, r[3], r[4], r[5], r[6], np.array([1.0]))[:, 0]
+    exact = y0[10] * math.cos(lam) - y0[11] * math.sin(lam)
+    assert abs(y_end[10] - exact) < 1e-8
+    ref = solve_ivp(lambda t, y: laws.free_derivative(t, y, P), (0.0, 1.0), y0,
+                    method="DOP853", rtol=1e-10, atol=1e-10, dense_output=True)
+    assert abs(len(ts) - len(ref.t)) <= 1
+    assert abs(r[1] - ref.nfev) <= 16  # one step's stages, at most
+
+
+def test_brentq_transcription_finds_scipys_roots():
+    """An event located on the dense output: the car's crush point's ground crossing of
+    a free flight, by the compiled Brent and by scipy's brentq on the same interpolant."""
+    from scipy.optimize import brentq
+
+    P, y0, _ = _top(omega3=0.0)
+    y0[2] = 1.0  # the mass centre 1 ft up, falling freely: z = 1 - g t^2 / 2
+    M = np.full(laws.N_M, math.nan)
+    EV = np.array([[laws.EV_GROUND, float(laws.LETTERS.index("P")), 1.0, 1.0]])
+    r = dop853.solve(dop853.PHASE_FREE, 0.0, y0, 2.0, P, M, EV, np.zeros((0, 1)), np.zeros(0),
+                     np.zeros(0, dtype=np.int64), 1e-12, 1e-12, np.inf, -1)
+    assert r[0] == dop853.STATUS_EVENT
+    t_hit = float(r[8][0])
+    assert abs(t_hit - math.sqrt(2.0 / 32.174)) < 1e-12
+    f = lambda t: 1.0 - 0.5 * 32.174 * t * t  # noqa: E731
+    assert abs(t_hit - brentq(f, 0.0, 2.0, xtol=1e-15)) < 1e-12
+
+
+# --------------------------------------------------------------------------------------
+# the measurement function runs (its numbers are the benchmark's, not a test's)
+
+
+def test_time_per_scene_reports_both_paths():
+    out = time_per_scene([steel40()], LEGACY, repeats=1)
+    assert set(out) == {"compiled", "scipy", "ratio", "n"}
+    assert out["n"] == 1 and out["compiled"] > 0.0 and out["scipy"] > 0.0
