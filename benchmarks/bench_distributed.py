@@ -4,7 +4,8 @@
     python benchmarks/bench_distributed.py [--scenes 10000] [--emulator-scenes N] [--workers 1,2]
 
 Every scene is the steel post at 40 mph (``steel40``) with its crush spring CK changed (so no two
-scenes are the same), run through the sensitivity study's task function -- the same path as
+scenes are the same), run through the sensitivity study's batch function (a Dask task is a
+batch of scenes, the core's through ``CoreEngine.run_batch``) -- the same path as
 ``deck-emulator sensitivity`` -- into a fresh store. The time is the whole of
 ``run_scenes``: cluster start, scheduling, the scenes, the writing of the store.
 
@@ -22,7 +23,7 @@ import tempfile
 import time
 
 from deck_emulator.studies.distributed import run_scenes
-from deck_emulator.studies.sensitivity import scene_task
+from deck_emulator.studies.sensitivity import scene_tasks
 from deck_emulator.units import S_PER_HOUR
 
 TARGET = 10_000
@@ -40,8 +41,8 @@ def tasks(engine: str, n: int) -> list[dict]:
 def measure(engine: str, n: int, workers: int) -> tuple[float, int]:
     with tempfile.TemporaryDirectory() as d:
         started = time.perf_counter()
-        store = run_scenes(tasks(engine, n), scene_task, store_dir=d, jobs=workers,
-                           progress=False, desc=engine)
+        store = run_scenes(tasks(engine, n), scene_tasks, store_dir=d, jobs=workers,
+                           progress=False, desc=engine, many=True)
         wall = time.perf_counter() - started
         rows = store.rows()
         failed = sum(r["status"] != "ok" for r in rows)

@@ -22,5 +22,17 @@ STUB = textwrap.dedent(
             os.kill(os.getpid(), signal.SIGKILL)  # this worker dies in the middle of the scene
         time.sleep(task.get("sleep", 0.0))
         return {"y": task["i"] * 0.5, "square": task["i"] ** 2}
+    def work_many(tasks):
+        """A batch function (run_scenes(many=True)): one answer per task, an exception for
+        a task that fails; a task with "spoils" makes the whole call raise."""
+        if len(tasks) > 1 and any(t.get("spoils") for t in tasks):
+            raise RuntimeError("this batch cannot be run together")
+        out = []
+        for t in tasks:
+            try:
+                out.append({**work(t), "batch": len(tasks)})
+            except Exception as exc:
+                out.append(exc)
+        return out
     '''
 )

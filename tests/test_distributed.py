@@ -138,3 +138,51 @@ def test_an_existing_cluster_by_its_scheduler_address(stub, tmp_path):
         rows = _check_complete(store, tasks)
         assert sorted(r["square"] for r in rows) == [i * i for i in range(12)]
         assert cluster.status.name == "running"  # the cluster is theirs: left running
+
+
+def test_batch_size_is_about_four_tasks_a_worker_within_bounds():
+    from deck_emulator.studies.distributed import BATCH_TASK_MAX, batch_size
+
+    # ceil(n / (4 workers)), worked by hand
+    assert batch_size(1, 2) == 1
+    assert batch_size(8, 2) == 1
+    assert batch_size(9, 2) == 2
+    assert batch_size(100, 2) == 13
+    assert batch_size(10_000, 2) == BATCH_TASK_MAX == 64
+    assert batch_size(500, 2) == 63 and batch_size(505, 2) == 64
+    assert batch_size(0, 0) == 1
+
+
+def test_scenes_run_in_batches_and_are_stored_one_row_each(stub, tmp_path):
+    """23 tasks on one worker: batches of ceil(23 / 4) = 6 (6, 6, 6, 5), each given to the
+    batch function in one call; a task that fails is its own failed row; a batch that cannot
+    run together runs again one task at a time; the store holds one row per scene."""
+    tasks = [{"i": i, "fail": i == 4, "spoils": i == 20} for i in range(23)]
+    store = run_scenes(tasks, stub.work_many, store_dir=tmp_path / "s", jobs=1,
+                       progress=False, many=True)
+    rows = {r["scene_id"]: r for r in _check_complete(store, tasks)}
+    got = [rows[scene_id(t)] for t in tasks]
+    assert got[4]["status"] == "failed" and "scene 4 fails on purpose" in got[4]["error"]
+    assert [r["status"] for r in got].count("ok") == 22
+    assert [r["batch"] for r in got[:18] if r["status"] == "ok"] == [6] * 17
+    assert [r["batch"] for r in got[18:]] == [1] * 5  # the spoilt batch, one at a time
+    assert [r["y"] for r in got if r["status"] == "ok"] == [i * 0.5 for i in range(23) if i != 4]
+    # resumed per scene: a lost scene runs again alone, the others are kept
+    kept = SceneStore(tmp_path / "s").rows()
+    before = _digests(store)
+    run_scenes(tasks, stub.work_many, store_dir=tmp_path / "s", resume=True, progress=False,
+               many=True)
+    assert _digests(store) == before and SceneStore(tmp_path / "s").rows() == kept
+    more = tasks + [{"i": 23}]
+    run_scenes(more, stub.work_many, store_dir=tmp_path / "s", resume=True, progress=False,
+               many=True, jobs=1)
+    rows = {r["scene_id"]: r for r in _check_complete(store, more)}
+    assert rows[scene_id(more[-1])]["batch"] == 1 and rows[scene_id(more[-1])]["y"] == 11.5
+
+
+def test_a_plain_function_runs_in_batches_too(stub, tmp_path):
+    tasks = [{"i": i} for i in range(9)]
+    store = run_scenes(tasks, stub.work, store_dir=tmp_path / "s", jobs=1, progress=False,
+                       chunk=4)
+    rows = _check_complete(store, tasks)
+    assert sorted(r["square"] for r in rows) == [i * i for i in range(9)]

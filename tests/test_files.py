@@ -248,7 +248,8 @@ def started(*args, **kwargs):
     print("ENGINE STARTED", flush=True)
     os._exit(99)
 
-engines.EmulatorEngine.run = engines.CoreEngine.run = distributed.run_scenes = started
+engines.EmulatorEngine.run = engines.CoreEngine.run = engines.CoreEngine.run_batch = started
+distributed.run_scenes = started
 from deck_emulator.cli import main
 sys.exit(main(sys.argv[1:]))
 """

@@ -18,7 +18,7 @@ that point.  The points:
 * ``set-staged``: an :class:`~deck_emulator.files.OutputSet` has every file staged and nothing
   renamed (the start of its commit);
 * ``runs``: the first run's result is back from the workers, the others are still out;
-* ``stored``: the sweep's scene store holds its first batch (one scene), the others are still
+* ``stored``: the sweep's scene store holds its first batch (one Dask task's scenes), the others are still
   out.
 
 The commands that take tens of seconds are marked ``slow_corpus``."""
@@ -158,7 +158,7 @@ elif POINT == "stored":
     _run_scenes, _write_batch = distributed.run_scenes, distributed.SceneStore.write_batch
 
     def run_scenes(*a, **k):
-        k["flush_s"] = 0.0  # a batch per finished scene (chunk 1): the first batch is one scene
+        k["flush_s"] = 0.0  # a file per finished Dask task: the first holds its scenes alone
         return _run_scenes(*a, **k)
 
     def write_batch(self, rows):
@@ -559,9 +559,9 @@ def test_sweep_interrupted_leaves_no_temporary_and_no_worker(tmp_path, sig, code
 
 
 def test_sweep_killed_then_resumed_runs_each_scene_once(tmp_path):
-    """SIGKILL of the whole sweep once its first scene is stored (the others still running on
-    the workers), then --resume: the stored scene is kept as it was (no file changed), only the
-    eleven missing ones run, and the table has every scene once."""
+    """SIGKILL of the whole sweep once its first batch of scenes is stored (the others still
+    running on the workers), then --resume: the stored scenes are kept as they were (no file
+    changed), only the missing ones run, and the table has every scene once."""
     import csv
 
     from deck_emulator.studies.distributed import SceneStore
@@ -570,10 +570,10 @@ def test_sweep_killed_then_resumed_runs_each_scene_once(tmp_path):
             "--jobs", "2", "--quiet", "--out", str(tmp_path / "out")]
     p = killed(with_workers(pause_at(tmp_path, "stored", argv), 2))
     store = SceneStore(tmp_path / "out" / ".scenes")
-    assert [str(f) for f in store.files()] == [p.info["batch"]] and p.info["rows"] == 1
+    assert [str(f) for f in store.files()] == [p.info["batch"]]
     files = {f.name: sha(f) for f in store.files()}
     first = [r["scene_id"] for r in store.rows()]
-    assert len(first) == 1
+    assert len(first) == p.info["rows"] and 1 <= len(first) < 12
 
     done = subprocess.run(CLI + argv + ["--resume"], cwd=ROOT, env=env(), capture_output=True,
                           text=True, timeout=900)
@@ -581,8 +581,8 @@ def test_sweep_killed_then_resumed_runs_each_scene_once(tmp_path):
     after = {f.name: sha(f) for f in store.files()}
     assert all(after[name] == h for name, h in files.items())  # nothing stored was rewritten
     ids = [r["scene_id"] for r in store.rows()]
-    assert len(ids) == 12 and len(set(ids)) == 12 and ids.count(first[0]) == 1  # the
-    # eleven others ran once each, the stored one not again
+    assert len(ids) == 12 and len(set(ids)) == 12 and all(ids.count(f) == 1 for f in first)
+    # the others ran once each, the stored ones not again
     rows = list(csv.DictReader(io.StringIO((tmp_path / "out" / "sweep.csv").read_text())))
     scenes = [(float(r["speed_mph"]), float(r["angle_deg"])) for r in rows]
     assert sorted(scenes) == sorted({(s, a) for s in range(20, 50, 5) for a in (0, 15)})

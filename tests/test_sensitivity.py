@@ -80,6 +80,27 @@ def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
     assert changed["delta_v_contact_mph"] != pytest.approx(plain["delta_v_contact_mph"], rel=1e-6)
 
 
+def test_a_batch_of_scenes_gives_each_its_own_outcomes():
+    """The worker's batch function (the core's scenes through CoreEngine.run_batch, grouped by
+    engine: the friction inputs make another engine) gives every task what scene_task gives it
+    alone; an unknown input fails its task only."""
+    base = {"deck": "steel40", "engine": "core", "preset": "legacy"}
+    tasks = [{**base, "inputs": {"WV": 80.0}},
+             {**base, "inputs": {"friction_lb": 700.0, "CK": 30000.0}},
+             {**base, "inputs": {"NOPE": 1.0}},
+             {**base, "inputs": {"WV": 120.0, "FCONST": 9000.0}},
+             {**base, "engine": "emulator", "inputs": {"WV": 90.0}}]
+    together = sa.scene_tasks(tasks)
+    assert isinstance(together[2], ValueError) and "NOPE" in str(together[2])
+    for i, task in enumerate(tasks):
+        if i == 2:
+            continue
+        a, b = dict(together[i]), dict(sa.scene_task(task))
+        assert a.pop("engine_run_s") > 0 and b.pop("engine_run_s") > 0
+        assert a == b and a["engine_error"] == "" and a["hit_surface"] != "NONE", i
+    assert together[0]["delta_v_crush_mph"] != together[3]["delta_v_crush_mph"]
+
+
 def test_subcommand_registers():
     from deck_emulator.cli import build_parser
 
@@ -120,7 +141,7 @@ def test_n_and_seed_are_checked(n, seed, needle):
 
 
 def test_good_n_and_seed_pass():
-    for n in (None, 2, 16, 256, sa.MAX_N):
+    for n in (None, 2, 16, 256, 1024, sa.MAX_N):  # 1024: the issue's 8,192-scene study
         sa.check_options(n, 0)
     sa.check_options(16, 12345)
 

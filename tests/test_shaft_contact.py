@@ -267,6 +267,19 @@ def test_study_steel20_column():
     assert "hood, edge with the front (Q-P)" in page
 
 
+def test_the_studys_batch_gives_each_column_its_own_row():
+    """The scene runner's batch function runs the columns of each shaft setting together
+    (CoreEngine.run_batch) and gives each task the row it gets alone."""
+    from deck_emulator.studies.shaft_contact import run_task, run_tasks, tasks
+
+    todo = tasks(("steel20", "steel40"))
+    todo = [todo[1], todo[0], todo[3], todo[2]]  # the settings interleaved, out of order
+    together = run_tasks(todo)
+    assert [(r["column"], r["shaft_contact"]) for r in together] == [
+        (t["column"], t["shaft_contact"]) for t in todo]
+    assert together == [run_task(t) for t in todo]
+
+
 def test_every_command_with_a_preset_takes_the_shaft_option():
     """--shaft-contact / --no-shaft-contact wherever --preset is taken (default: the
     preset's)."""

@@ -19,17 +19,24 @@ ROOT = Path(__file__).resolve().parent.parent
 #: what this work took out of the run's path (fortranformat and the importlib.metadata its
 #: __init__ reads; importlib.resources, read only for the listing's text or a shipped deck's
 #: name; ctypes, for binary32's sinf/cosf only; traceback, for a stopped run only).
+#: Then what the command line's start took out (issue 25, item 6): the other subcommands'
+#: parsers and what they import (the answers and the quantity registry: dataclasses,
+#: inspect), json (for --json only), hashlib (a deck's sha256, for provenance only), typing.
 NOT_IMPORTED = ("scipy", "matplotlib", "pandas", "dask", "distributed", "fortranformat",
-                "importlib.metadata", "importlib.resources", "traceback")
+                "importlib.metadata", "importlib.resources", "traceback",
+                "deck_emulator.present", "deck_emulator.engine.quantities",
+                "deck_emulator.studies", "json", "hashlib", "typing")
 
+# (what the interpreter's own start loaded, before the run, does not count)
 PROBE = """
 import runpy, sys
+before = set(sys.modules)
 sys.argv = ["deck-emulator", "run", sys.argv[1]]
 try:
     runpy.run_module("deck_emulator", run_name="__main__")
 except SystemExit as exc:
     assert not exc.code, exc.code
-print(sorted(m for m in %r if m in sys.modules), file=sys.stderr)
+print(sorted(m for m in %r if m in set(sys.modules) - before), file=sys.stderr)
 """ % (NOT_IMPORTED,)
 
 
@@ -173,3 +180,29 @@ def test_every_variable_the_program_names_starts_at_its_zero():
                 assert type(value) is int and value == 0, name
             else:
                 assert type(value) is not int and program.ar.sign(value) == 0, name
+
+
+def _subparsers(parser):
+    import argparse
+
+    action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return action.choices
+
+
+def test_one_subcommands_parser_is_the_whole_parsers():
+    """A command line that names a subcommand is parsed by a parser holding that one alone
+    (cli.build_parser(name)): its help, and what it makes of a command line, are the whole
+    parser's."""
+    from deck_emulator import cli
+
+    whole = _subparsers(cli.build_parser())
+    assert list(whole) == list(cli._SUBCOMMANDS)
+    argv = ["run", "steel40", "--precision", "ibm7094", "--sincos", "round", "--erratum",
+            "ed-direction", "--tha-start", "-1e-5", "--quiet"]
+    assert (vars(cli.build_parser("run").parse_args(argv))
+            == vars(cli.build_parser().parse_args(argv)))
+    for name, parser in whole.items():
+        alone = _subparsers(cli.build_parser(name))
+        assert list(alone) == [name]
+        assert alone[name].format_help() == parser.format_help(), name
+        assert alone[name].format_usage() == parser.format_usage(), name

@@ -182,3 +182,23 @@ def test_bad_grid_is_refused_before_any_run(tmp_path):
     with pytest.raises(CLIError):
         args.func(args)
     assert not (tmp_path / "x").exists()
+
+
+def test_a_batch_of_scenes_gives_the_rows_of_its_scenes_one_by_one():
+    """The worker's batch (the core's scenes through CoreEngine.run_batch, the emulator's one
+    after another) gives each scene the row it gets alone; only the run times differ."""
+    base = str(ROOT / "decks" / "steel40.dat")
+    jobs = [dict(base=base, speed=float(s), angle=float(a), engine=e, options=o, post="steel",
+                 vvb_decimals=2)
+            for s, a, e, o in ((40, 0, "core", {"preset": "legacy"}),
+                               (20, 15, "emulator", {"errata": ["ed-direction"]}),
+                               (30, 15, "core", {"preset": "legacy"}),
+                               (40, 30, "core", {"preset": "physical"}))]
+    together = sweep._scene_rows(jobs)
+    alone = [sweep._scene_rows([j])[0] for j in jobs]
+    assert [r["engine"] for r in together] == ["core", "emulator", "core", "core"]
+    assert all(r["error"] == "" and r["hit"] for r in together)
+    for a, b in zip(together, alone):
+        a, b = dict(a), dict(b)
+        assert a.pop("run_s") > 0 and b.pop("run_s") > 0
+        assert a == b

@@ -14,7 +14,6 @@ command builds its whole output before writing it, so an error leaves stdout emp
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import warnings
@@ -22,9 +21,6 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from deck_emulator.errors import RunFailed, UsageError
-from deck_emulator.present.answers import definitions_help
-from deck_emulator.studies import SCENE_STORE
-from deck_emulator.units import G_FT_S2
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -37,12 +33,14 @@ PRESETS = ("legacy", "physical")
 VIEWS = ("side", "plan", "3d", "all")
 CLIError = UsageError  # the name the commands below use
 
-# Functions that add one subcommand's parser; main() calls each of them in order.
-_SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = []
+# Functions that add one subcommand's parser, by the subcommand's name (the function's
+# ``_add_<name>``), in the order of the help; build_parser() calls each of them, or only the one
+# a command line names.
+_SUBCOMMANDS: dict[str, Callable[[argparse._SubParsersAction], None]] = {}
 
 
 def _subcommand(add: Callable[[argparse._SubParsersAction], None]):
-    _SUBCOMMANDS.append(add)
+    _SUBCOMMANDS[add.__name__.removeprefix("_add_")] = add
     return add
 
 
@@ -59,10 +57,17 @@ def _emit(args, text: str) -> None:
         sys.stdout.write(text)
 
 
+def _json_text(answer: dict) -> str:
+    """A command's JSON answer as text (json is imported only where an answer is one)."""
+    import json
+
+    return json.dumps(answer, indent=2) + "\n"
+
+
 def _json(args, answer: dict) -> None:
     """A command's JSON answer (the envelope of :func:`deck_emulator.present.answers.envelope`)
     on stdout or in --out."""
-    _emit(args, json.dumps(answer, indent=2) + "\n")
+    _emit(args, _json_text(answer))
 
 
 def _add_json_option(p: argparse.ArgumentParser, what: str = "the answer") -> None:
@@ -390,6 +395,8 @@ def _cmd_parse(args: argparse.Namespace) -> int:
 
     deck = _source(args, "parse", kinds=("deck",)).deck("parse")
     if args.json:  # the envelope; values: name -> value in READ order, cards with units
+        import json
+
         sys.stdout.write(json.dumps(parse_answer(deck), indent=2) + "\n")
         return 0
     sys.stdout.write(render_parse(parse_answer(deck)))
@@ -494,6 +501,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         facts = provenance.facts(src, [s["settings"] for s in sections])
     if args.json:
+        import json
+
         from deck_emulator.present.answers import envelope
 
         text = json.dumps(envelope(
@@ -639,7 +648,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
         settings.pop("assumptions")
     answer = outcome_answer(out, command="summary", source=str(deck.path), settings=settings)
     answer["notes"] += _odd_deck_notes(out) + list(out.flags)
-    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
+    _emit(args, _json_text(answer) if args.json else render_outcome(answer))
     return 0
 
 
@@ -657,6 +666,8 @@ def _odd_deck_notes(out) -> list[str]:
             notes.append(f"{name} = {values[name]:g} slug ft^2: a principal moment of inertia of "
                          "the post is not positive, so the run is not physical")
     if values.get("G", 1.0) <= 0:
+        from deck_emulator.units import G_FT_S2
+
         notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is {G_FT_S2:g}); a "
                      "deceleration in g divides by WV*G, so the printed ones are not given, and "
                      "the post comes down only by the motion the car gave it")
@@ -677,6 +688,8 @@ def _failed(out, source) -> RunFailed:
 
 @_subcommand
 def _add_summary(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.present.answers import definitions_help
+
     p = sub.add_parser(
         "summary",
         help="run a deck and print its outcomes (events, hit, delta-V, deceleration, P/Q/R)",
@@ -795,7 +808,7 @@ def _cmd_core(args: argparse.Namespace) -> int:
                 "(--max-time) with no hit: the post has not landed")
         answer["status"] = "stopped"
         answer["notes"].append(stop)
-    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
+    _emit(args, _json_text(answer) if args.json else render_outcome(answer))
     if not landed:
         raise RunFailed(stop)
     return 0
@@ -1110,7 +1123,7 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
                        + (", VVB and ALPHA set)" if car else ")")}
     answer = outcome_answer(out, command="assembly", source=a.name, settings=settings)
     answer["notes"] += list(out.raw.notes)
-    _emit(args, json.dumps(answer, indent=2) + "\n" if args.json else render_outcome(answer))
+    _emit(args, _json_text(answer) if args.json else render_outcome(answer))
     return 0
 
 
@@ -1162,6 +1175,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     with busy(f"{PROG}: plot", quiet=args.quiet):
         status = plot(args)
     if args.json:
+        import json
+
         from deck_emulator.present.answers import envelope
 
         sys.stdout.write(json.dumps(envelope(
@@ -1274,6 +1289,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 @_subcommand
 def _add_sweep(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.studies import SCENE_STORE
+
     p = sub.add_parser(
         "sweep",
         help="run a grid of speeds and approach angles and tabulate it like Tables 11 and 12",
@@ -1314,6 +1331,8 @@ def _add_sweep(sub: argparse._SubParsersAction) -> None:
 
 @_subcommand
 def _add_sensitivity(sub: argparse._SubParsersAction) -> None:
+    from deck_emulator.studies import SCENE_STORE
+
     p = sub.add_parser(
         "sensitivity",
         help="Sobol indices of the outcome over the report's uncertain inputs",
@@ -1466,7 +1485,12 @@ class _Version(argparse.Action):
         parser.exit(0)
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line's parser; with ``command`` (a subcommand's name), one whose
+    only subcommand is that one: it parses a command line that starts with that name as the
+    whole parser does (argparse gives everything after the name to its subparser), and
+    building it skips the other subcommands' parsers and what they import (about 10 ms of
+    every start).  The top-level help and usage errors need the whole parser."""
     parser = _Parser(
         prog=PROG,
         description="Emulator of the 1967 TTI luminaire-support impact program (Report 75-9).",
@@ -1474,8 +1498,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version, nargs=0,
                         help="print the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for add in _SUBCOMMANDS:
-        add(sub)
+    for name, add in _SUBCOMMANDS.items():
+        if command is None or name == command:
+            add(sub)
     return parser
 
 
@@ -1494,7 +1519,8 @@ _PATH_OPTIONS = ("out", "pages", "animate", "trajectory", "store")
 def _main(argv: Sequence[str] | None = None) -> int:
     from deck_emulator.legacy.deck import DeckError
 
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(argv[0] if argv and argv[0] in _SUBCOMMANDS else None)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # usage errors (2) and --help (0)

@@ -15,7 +15,6 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from deck_emulator.events import Event, EventKind, Surface
 from deck_emulator.units import speed_lost_mph
@@ -24,6 +23,8 @@ from . import errata as errata_policy
 
 # Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
 # `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
+# (typing.TYPE_CHECKING's value at run time, without importing typing: ~2 ms of the start)
+TYPE_CHECKING = False
 if TYPE_CHECKING:
     from .outcome import Outcome
 
@@ -276,6 +277,15 @@ def core_events(result) -> list[Event]:
     return sorted(events, key=lambda e: e.time_s)
 
 
+def _run_errors() -> tuple[type[Exception], ...]:
+    """What ends one core run as an outcome with an ``error`` instead of raising: the core's
+    ``CoreError`` (imported here: the plain emulator run needs no core), ``ValueError`` (a
+    scene the core refuses: ``SceneError``), ``ArithmeticError``."""
+    from deck_emulator.core import CoreError
+
+    return (CoreError, ValueError, ArithmeticError)
+
+
 @dataclass(frozen=True)
 class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
@@ -285,7 +295,11 @@ class CoreEngine:
     at most (default: the core's);
     ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
     ``trace``: sample them at all; ``shaft_contact``: True or False sets the option of that
-    name (the shaft and arms checked against the car) over the preset's, None keeps it."""
+    name (the shaft and arms checked against the car) over the preset's, None keeps it;
+    ``batched``: how :meth:`run_batch` solves its scenes -- True: the compiled batched core
+    (``deck_emulator.core.simulate_batch``), False: one :meth:`simulate` after another (the
+    scipy path, the reference), None: the batched core when the package has it and ``method``
+    is ``auto`` (it is its own method), else the scipy path."""
 
     preset: str = "legacy"
     options: object = None
@@ -298,6 +312,7 @@ class CoreEngine:
     sample_contact_s: float = 0.0002
     sample_free_s: float = 0.001
     trace: bool = True
+    batched: bool | None = None
     name = "core"
 
     def model_options(self):
@@ -358,25 +373,104 @@ class CoreEngine:
             scene, state, t0_s, self.model_options(), method=self.method,
             rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, t_max_s=self.t_max_s))
 
+    def run_batch(self, sources, *, names=None) -> list[Outcome]:
+        """``[self.run(s, name=n) for s, n in zip(sources, names)]``, the scenes solved
+        together (:meth:`_simulate_many`: the compiled batched core where :attr:`batched`
+        asks for it, else one after another).  Each outcome is made as :meth:`run` makes it
+        (:meth:`_outcome`); a scene that cannot run is an outcome with its ``error``, as in
+        :meth:`run`, and spoils none of the others.  ``names``: one per source (default: each
+        source's own, :func:`source_name`).  An outcome's ``run_s`` is the scene's own time
+        on the scipy path, the batch's time shared evenly on the batched one."""
+        sources = list(sources)
+        names = [""] * len(sources) if names is None else list(names)
+        if len(names) != len(sources):
+            raise ValueError(f"{len(names)} names for {len(sources)} scenes")
+        errors = _run_errors()
+        scenes: list = []  # the checked scene, or why there is none (as simulate raises it)
+        for source in sources:
+            try:
+                scenes.append(self.scene(source))
+            except errors as exc:
+                scenes.append(exc)
+        solved = self._simulate_many([s for s in scenes if not isinstance(s, Exception)])
+        done = iter(solved)
+        return [self._outcome(source, name or source_name(source),
+                              *((scene, 0.0) if isinstance(scene, Exception) else next(done)))
+                for source, name, scene in zip(sources, names, scenes)]
+
+    def _batch_solver(self):
+        """The compiled batched core's ``simulate_batch`` when :attr:`batched` asks for it and
+        the package has it, else None (the scipy path).  ``batched=True`` without it is an
+        error, not a silent fall-back."""
+        if self.batched is False or (self.batched is None and self.method != "auto"):
+            return None
+        import deck_emulator.core as core
+
+        solver = getattr(core, "simulate_batch", None)
+        if solver is None and self.batched:
+            raise ValueError("batched=True: this deck_emulator.core has no simulate_batch")
+        return solver
+
+    def _simulate_many(self, scenes: list) -> list[tuple[object, float]]:
+        """THE plug-in point of :meth:`run_batch`: checked scenes -> one ``(CoreResult or
+        the exception that ended it, seconds)`` per scene, in order.  The compiled core
+        (:meth:`_batch_solver`) takes the whole list at once; a batch it cannot take as a
+        whole (it raised) runs again one scene at a time on the scipy path, so one bad scene
+        costs the others nothing."""
+        from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL
+        from deck_emulator.core.pair_hits import joint_ground_hit
+
+        if not scenes:
+            return []
+        errors = _run_errors()
+        solver = self._batch_solver()
+        if solver is not None:
+            started = time.perf_counter()
+            try:
+                got = list(solver(scenes, self.model_options(), rtol=self.rtol or DEFAULT_RTOL,
+                                  atol=self.atol or DEFAULT_ATOL,
+                                  **({} if self.t_max_s is None else {"t_max_s": self.t_max_s})))
+            except errors:
+                got = None
+            if got is not None and len(got) == len(scenes):
+                each = (time.perf_counter() - started) / len(scenes)
+                return [(r if isinstance(r, Exception) else joint_ground_hit(r), each)
+                        for r in got]
+        out = []
+        for scene in scenes:
+            started = time.perf_counter()
+            try:
+                r = self.simulate(scene)
+            except errors as exc:
+                r = exc
+            out.append((r, time.perf_counter() - started))
+        return out
+
     def _run(self, source, name: str, solve) -> Outcome:
-        from deck_emulator.core import CoreError
-
-        from deck_emulator.core.scene import Scene
-
-        scene = (source if isinstance(source, Scene)
-                 else Scene.from_deck(source, name=source_name(source), checked=False))
-        from .outcome import Outcome
-
-        out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
-                      arithmetic="IEEE double")
+        errors = _run_errors()
         started = time.perf_counter()
         try:
             r = solve()
-        except (CoreError, ValueError, ArithmeticError) as exc:
-            out.error = f"{type(exc).__name__}: {exc}"
-            out.run_s = time.perf_counter() - started
+        except errors as exc:
+            r = exc
+        return self._outcome(source, name, r, time.perf_counter() - started)
+
+    def _outcome(self, source, name: str, r, run_s: float) -> Outcome:
+        """THE one place a core result (or the exception that ended its run) becomes an
+        :class:`Outcome` of ``source`` (a deck or a scene), for :meth:`run`,
+        :meth:`run_free_flight` and :meth:`run_batch` alike."""
+        from deck_emulator.core.scene import Scene
+
+        from .outcome import Outcome
+
+        scene = (source if isinstance(source, Scene)
+                 else Scene.from_deck(source, name=source_name(source), checked=False))
+        out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
+                      arithmetic="IEEE double")
+        out.run_s = run_s
+        if isinstance(r, Exception):
+            out.error = f"{type(r).__name__}: {r}"
             return out
-        out.run_s = time.perf_counter() - started
         out.hit_message = r.hit_message
         out.raw = r
         out.events = core_events(r)

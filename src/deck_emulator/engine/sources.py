@@ -46,8 +46,18 @@ class Source:
     card_format: str = ""
     program: str | None = None
     notes: tuple[str, ...] = field(default=())
-    sha256: str = ""  # of the file read
+    data: bytes | None = field(default=None, repr=False, compare=False)  # a deck file's, as read
     cards: int = 0  # a deck file's cards, control cards and source included
+
+    @property
+    def sha256(self) -> str:
+        """Of the deck file as read ("" for a scene); computed when asked (provenance), so
+        that a plain run does not load hashlib (~2 ms of its start)."""
+        if self.data is None:
+            return ""
+        import hashlib
+
+        return hashlib.sha256(self.data).hexdigest()
 
     @property
     def stem(self) -> str:
@@ -157,8 +167,8 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
                 ) -> Source:
     """Read SOURCE ``given`` (see the module docstring). ``kinds``: what the caller can use;
     a scene given where only decks are meant is refused with :meth:`Source.refusal`."""
-    from deck_emulator.legacy.deck import DeckError
-    from deck_emulator.legacy.jobdeck import read_job
+    from deck_emulator.legacy.deck import DeckError, read_bytes
+    from deck_emulator.legacy.jobdeck import MAX_BYTES, parse_job
 
     given = os.fspath(given)
     name, path = _resolve(given)
@@ -170,7 +180,8 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         if "scene" not in kinds:
             raise UsageError(src.refusal(command))
         return src
-    job = read_job(str(path), card_format, keypunch)
+    shown, data = read_bytes(str(path), limit=MAX_BYTES)  # read once: parsed, and hashed if asked
+    job = parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
     notes = []
     if job.source_verdict:
         if job.program_differs and not listing_program:
@@ -196,8 +207,6 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         notes += [f"{deck.path}: warning: {w}" for w in deck.warnings]
     if "deck" not in kinds:
         raise UsageError(f"{name}: a card deck; this command takes a scene file")
-    import hashlib
-
     return Source(given, name, str(path), "deck", decks=tuple(decks_),
                   card_format=job.card_format, program=job.source_verdict, notes=tuple(notes),
-                  sha256=hashlib.sha256(path.read_bytes()).hexdigest(), cards=job.cards)
+                  data=data, cards=job.cards)

@@ -41,7 +41,8 @@ from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck,
 __all__ = ["Job", "read_job", "parse_job", "Statement", "statements", "listing_lines",
            "compare_source", "job_deck_texts", "data_deck_texts"]
 
-_MAX_BYTES = 1 << 22
+#: the largest deck file read (a job deck with its source is ~100 KB)
+MAX_BYTES = 1 << 22
 LISTING_NAME = "legacy/luminaire.f"
 # Control cards that end a section and start none.
 _DATA_STARTS = ("$DATA", "$ENTRY")
@@ -141,7 +142,7 @@ class Job:
 
 def read_job(path, card_format: str = "auto", keypunch: str | None = None) -> Job:
     """Read a deck file (plain or job deck, any card format).  DeckError for bad input."""
-    shown, data = read_bytes(path, limit=_MAX_BYTES)
+    shown, data = read_bytes(path, limit=MAX_BYTES)
     return parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
 
 

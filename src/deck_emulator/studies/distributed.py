@@ -35,6 +35,12 @@ Safety stated exactly: after ``kill -9`` of the client, at most the last ``flush
 completed scenes are lost (not stored) and will run again on resume; no scene is stored twice. The
 files are not ``fsync``-ed: a process crash loses nothing written, a power cut may.
 
+A Dask task is a *batch* of scenes (:func:`batch_size`: about four tasks per worker, at most
+:data:`BATCH_TASK_MAX` scenes each), run by ``fn`` one after another or, with ``many=True``,
+by one call of ``fn`` on the whole list (how core scenes reach ``CoreEngine.run_batch``).  The
+store, the progress bar and ``--resume`` still count scenes: each scene of a batch is its own
+row.
+
 Scene identity is :func:`scene_id`: a SHA-256 of the task as canonical JSON (sorted keys, floats
 by ``repr``), so the same task dict gives the same id in any process or run. Tasks with the same id
 are run once.
@@ -102,6 +108,8 @@ __all__ = [
     "META_COLUMNS",
     "MAX_SCENES",
     "WORKER_WAIT_S",
+    "BATCH_TASK_MAX",
+    "batch_size",
     "Scheduler",
     "scheduler_of",
 ]
@@ -387,21 +395,64 @@ def _call(fn: Callable[[dict], dict], task: dict) -> dict:
     started = time.perf_counter()
     try:
         out = fn(task)
-        if not isinstance(out, dict):
-            raise TypeError(f"fn returned {type(out).__name__}, not a dict")
+    except Exception as exc:  # noqa: BLE001 - a scene that fails is a row
+        out = exc
+    return _row_of(out, time.perf_counter() - started)
+
+
+def _row_of(out, run_s: float) -> dict:
+    """One task's stored row: ``out`` (its outcomes, or the exception that ended it)."""
+    if isinstance(out, Exception):
+        tb = traceback.format_exception_only(type(out), out)[-1].strip()
+        row = {"status": "failed", "error": tb}
+    elif not isinstance(out, dict):
+        row = {"status": "failed", "error": f"TypeError: fn returned {type(out).__name__}, "
+                                            "not a dict"}
+    else:
         row = {f"{k}": _plain(v) for k, v in out.items() if k not in META_COLUMNS}
         row.update(status="ok", error=None)
-    except Exception as exc:  # noqa: BLE001 - a scene that fails is a row
-        tb = traceback.format_exception_only(type(exc), exc)[-1].strip()
-        row = {"status": "failed", "error": tb}
-    row["run_s"] = time.perf_counter() - started
+    row["run_s"] = run_s
     row["worker"] = f"{os.uname().nodename}:{os.getpid()}"
     return row
 
 
-def _call_many(fn: Callable[[dict], dict], tasks: list[dict]) -> list[dict]:
-    """On the worker: a chunk of tasks, one row each."""
-    return [_call(fn, t) for t in tasks]
+def _call_many(fn: Callable, tasks: list[dict], many: bool = False) -> list[dict]:
+    """On the worker: a batch of tasks, one row each.  ``many``: ``fn`` takes the whole list
+    and returns one dict (or the exception that ended it) per task, in order; a batch it
+    cannot take as a whole (it raised, or answered the wrong count) runs again one task at a
+    time (``fn([task])``), so that one bad task fails alone.  A row's ``run_s`` is then the
+    batch's time shared evenly."""
+    if not many:
+        return [_call(fn, t) for t in tasks]
+    started = time.perf_counter()
+    try:
+        outs = list(fn(tasks))
+        if len(outs) != len(tasks):
+            raise ValueError(f"fn answered {len(outs)} rows for {len(tasks)} tasks")
+    except Exception:  # noqa: BLE001 - the batch as a whole: each task again, alone
+        return [_call(lambda t: _only(fn([t])), t) for t in tasks]
+    share = (time.perf_counter() - started) / len(tasks)
+    return [_row_of(out, share) for out in outs]
+
+
+def _only(outs):
+    """The one answer of a batch function called with one task."""
+    (out,) = outs
+    if isinstance(out, Exception):
+        raise out
+    return out
+
+
+#: Most scenes in one Dask task (:func:`batch_size`).
+BATCH_TASK_MAX = 64
+
+
+def batch_size(scenes: int, workers: int) -> int:
+    """Scenes per Dask task: about four tasks per worker, so that the scheduler's cost per
+    task (about a millisecond) is paid seldom while every worker still has work to the end,
+    and a task whose worker dies costs at most :data:`BATCH_TASK_MAX` scenes run again:
+    ``ceil(scenes / (4 workers))`` clipped to 1 .. :data:`BATCH_TASK_MAX`."""
+    return max(1, min(BATCH_TASK_MAX, math.ceil(scenes / (4 * max(1, workers)))))
 
 
 class _Bar:
@@ -536,10 +587,11 @@ def run_scenes(
     progress: bool | None = None,
     retry_failed: bool = False,
     flush_s: float = 1.0,
-    chunk: int = 1,
+    chunk: int | None = None,
     max_scenes: int = MAX_SCENES,
     worker_wait_s: float = WORKER_WAIT_S,
     eta: bool = True,
+    many: bool = False,
 ) -> SceneStore:
     """Run every task not yet in the store with ``fn`` on Dask and store each result.
 
@@ -548,8 +600,11 @@ def run_scenes(
     all cores); ignored when ``scheduler`` (an address) is given. ``resume``: run only the tasks
     whose :func:`scene_id` is not stored yet; without it, a store that already holds results is
     refused (:class:`StoreError`) rather than mixed with. ``chunk``: scenes per Dask task
-    (default 1; more for scenes of a few milliseconds, where the scheduler's cost per task --
-    about a millisecond -- would dominate; a chunk whose worker dies is run again whole).
+    (default: :func:`batch_size` of the scenes to run and the cluster's workers; a task whose
+    worker dies is run again whole); each scene is still stored, counted and resumed on its
+    own. ``many``: ``fn`` takes a task's whole batch, a list of task dicts, and returns one
+    dict (or exception) per task, in order (:func:`_call_many`): how a batch of core scenes
+    reaches ``CoreEngine.run_batch`` in one call.
     ``max_scenes``, ``worker_wait_s``: the bounds of the module docstring.  The store folder is
     locked for the call (:class:`StoreBusy` when another process holds it). ``eta``: show
     the time left on the progress bar (not for tasks of unequal cost run costliest first).
@@ -565,7 +620,7 @@ def run_scenes(
             return _run_locked(tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler,
                                resume=resume, desc=desc, progress=progress,
                                retry_failed=retry_failed, flush_s=flush_s, chunk=chunk,
-                               worker_wait_s=worker_wait_s, eta=eta)
+                               worker_wait_s=worker_wait_s, eta=eta, many=many)
     except BaseException:
         _remove_if_unused(made)  # a run that stored nothing leaves no folder behind
         raise
@@ -604,7 +659,7 @@ def _workers(client) -> int:
 
 
 def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress, retry_failed,
-                flush_s, chunk, worker_wait_s, eta=True) -> SceneStore:
+                flush_s, chunk, worker_wait_s, eta=True, many=False) -> SceneStore:
     store = SceneStore(store_dir)
     store.dir.mkdir(parents=True, exist_ok=True)
     store.clean_temporaries()
@@ -668,10 +723,11 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
             from distributed import as_completed
 
             futures = {}
-            size = max(1, int(chunk))
+            size = (batch_size(len(todo), _workers(client) or 1) if chunk is None
+                    else max(1, int(chunk)))
             for k in range(0, len(todo), size):
                 group = todo[k : k + size]
-                fut = client.submit(_call_many, fn, [t for _, t in group],
+                fut = client.submit(_call_many, fn, [t for _, t in group], many,
                                     key=f"scenes-{group[0][0]}-{len(group)}", pure=False)
                 futures[fut] = group
             for fut in completed(client, as_completed(list(futures))):
@@ -698,7 +754,8 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
 
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
                       quiet: bool = False, scheduler: str | Scheduler | None = None,
-                      resume: bool = False, worker_wait_s: float = WORKER_WAIT_S) -> list[dict]:
+                      resume: bool = False, worker_wait_s: float = WORKER_WAIT_S,
+                      many: bool = False) -> list[dict]:
     """``[fn(t) for t in tasks]`` on the one scene runner
     (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``
     workers, or the one at ``scheduler``), the costliest tasks (their ``cost``) submitted first
@@ -706,7 +763,9 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
     (``resume``: only the tasks not stored yet run; ``None``: a temporary folder, gone at the
     end; ``worker_wait_s``: as :func:`run_scenes`); rows in the tasks' order. A row travels
     as JSON (its arrays as lists). A task that could not run (its ``fn`` raised, its worker
-    died) is an error naming it: a study cannot make its tables without it."""
+    died) is an error naming it: a study cannot make its tables without it.  ``many``: ``fn``
+    takes a list of tasks and returns one row (or exception) per task, as :func:`run_scenes`'s
+    ``many`` (the studies' core scenes reach ``CoreEngine.run_batch`` so)."""
     import functools
     import tempfile
 
@@ -714,11 +773,11 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
 
     order = sorted(tasks, key=lambda t: -t["cost"])
     with tempfile.TemporaryDirectory(prefix="scenes-") as tmp:
-        store = run_scenes(order, functools.partial(_json_row, fn),
+        store = run_scenes(order, functools.partial(_json_rows if many else _json_row, fn),
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
                            progress=False if quiet else None, worker_wait_s=worker_wait_s,
-                           eta=False)
+                           eta=False, many=many)
         stored = store.by_id()
     rows = []
     for t in tasks:
@@ -739,6 +798,13 @@ def _label(task: dict) -> str:
 def _json_row(fn, task: dict) -> dict:
     """On a worker: one task's row as JSON (numpy arrays and scalars as plain values)."""
     return {"row_json": json.dumps(fn(task), default=_plain_json)}
+
+
+def _json_rows(fn, tasks: list[dict]) -> list:
+    """On a worker: a batch's rows as JSON, by one call of ``fn`` on the batch (an exception
+    in its answer stays the failure of its task)."""
+    return [out if isinstance(out, Exception) else
+            {"row_json": json.dumps(out, default=_plain_json)} for out in fn(tasks)]
 
 
 def _plain_json(v):

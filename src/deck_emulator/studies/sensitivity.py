@@ -41,7 +41,9 @@ emulator the friction inputs are dropped (and said so).
 Every input value is rounded to six significant digits before it is used, so that a sampled
 value can be punched in an ``F10.5`` field and read back exactly.
 
-All engine calls go through :func:`_run_scene`, the one adapter to the engine layer.
+All engine calls go through :func:`_run_scenes`, the one adapter to the engine layer; a Dask
+task is a batch of scenes (:func:`scene_tasks`), the core's run together by
+``CoreEngine.run_batch``.
 """
 
 from __future__ import annotations
@@ -78,6 +80,7 @@ __all__ = [
     "run_study",
     "analyse",
     "scene_task",
+    "scene_tasks",
     "ishigami_task",
     "ishigami_indices",
     "write_outputs",
@@ -192,17 +195,17 @@ def _base_deck(deck: str):
     return _DECKS[deck]
 
 
-def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=(),
-               shaft_contact: bool | None = None) -> dict:
-    """THE adapter to the engine layer: the deck ``deck`` (a shipped deck's name or a path) with
-    ``values`` (READ-list names -> values; on the core also :data:`SCENE_INPUTS`), run by
-    ``engine`` -> the flat row of ``result_row`` (every output the sweep has); ``preset`` and
-    ``shaft_contact`` (None: the preset's) are the core's."""
+def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
+             shaft_contact: bool | None = None):
+    """What one scene runs: ``(engine, deck, name, scene)`` -- the engine object, the deck
+    ``deck`` (a shipped deck's name or a path) with ``values`` (READ-list names -> values; on
+    the core also :data:`SCENE_INPUTS`), its name, and the core's scene where the deck cannot
+    hold the values (the base's friction), else None.  ``preset`` and ``shaft_contact`` (None:
+    the preset's) are the core's."""
     import dataclasses
 
     from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords
     from deck_emulator.legacy.deck import NAMES
-    from deck_emulator.studies.sweep import result_row
     deck_values = {k: v for k, v in values.items() if k in NAMES}
     scene_values = {k: v for k, v in values.items() if k in SCENE_INPUTS}
     unknown = set(values) - set(deck_values) - set(scene_values)
@@ -214,22 +217,57 @@ def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=(),
     d = base.with_values(**deck_values) if deck_values else base
     name = Path(deck).stem
     if engine == "emulator":
-        res = EmulatorEngine(errata=tuple(errata)).run(d, name=name)
-    else:
-        core = CoreEngine(**core_keywords(preset, shaft_contact))
-        scene = None
-        if scene_values:  # the deck has no friction field: the base's friction on the scene
-            from deck_emulator.core.scene import BaseFriction
+        return EmulatorEngine(errata=tuple(errata)), d, name, None
+    core = CoreEngine(**core_keywords(preset, shaft_contact))
+    scene = None
+    if scene_values:  # the deck has no friction field: the base's friction on the scene
+        from deck_emulator.core.scene import BaseFriction
 
-            scene = core.scene(d)
-            friction = BaseFriction(
-                force_lb=scene_values.get("friction_lb", LISTING_FRICTION_LB),
-                slip_window_ft=scene_values.get("friction_travel_ft", LISTING_FRICTION_TRAVEL_FT))
-            scene = dataclasses.replace(
-                scene, base=dataclasses.replace(scene.base, friction=friction))
-            core = CoreEngine(options=core.model_options().replace(listing_friction=False))
-        res = core.run(d, name=name, scene=scene)
-    return result_row(res, res.speed_mph, res.angle_deg)  # of the scene that ran
+        scene = core.scene(d)
+        friction = BaseFriction(
+            force_lb=scene_values.get("friction_lb", LISTING_FRICTION_LB),
+            slip_window_ft=scene_values.get("friction_travel_ft", LISTING_FRICTION_TRAVEL_FT))
+        scene = dataclasses.replace(
+            scene, base=dataclasses.replace(scene.base, friction=friction))
+        core = CoreEngine(options=core.model_options().replace(listing_friction=False))
+    return core, d, name, scene
+
+
+def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=(),
+               shaft_contact: bool | None = None) -> dict:
+    """THE adapter to the engine layer for one scene (:func:`_run_scenes` of one): the deck
+    ``deck`` with ``values`` run by ``engine`` -> the flat row of ``result_row`` (every output
+    the sweep has)."""
+    (row,) = _run_scenes([_prepare(values, engine, preset, deck, errata, shaft_contact)])
+    return row
+
+
+def _run_scenes(prepared: list) -> list[dict]:
+    """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their ``result_row``s,
+    in order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
+    emulator's one after another (the 1967 program runs one deck at a time)."""
+    from deck_emulator.engine import CoreEngine
+    from deck_emulator.studies.sweep import result_row
+
+    outcomes: list = [None] * len(prepared)
+    groups: list[tuple[object, list[int]]] = []  # engines are compared, not hashed
+    for i, (engine, *_) in enumerate(prepared):
+        for e, members in groups:
+            if e == engine:
+                members.append(i)
+                break
+        else:
+            groups.append((engine, [i]))
+    for engine, members in groups:
+        if isinstance(engine, CoreEngine):
+            got = engine.run_batch([prepared[i][3] if prepared[i][3] is not None
+                                    else prepared[i][1] for i in members],
+                                   names=[prepared[i][2] for i in members])
+        else:
+            got = [engine.run(prepared[i][1], name=prepared[i][2]) for i in members]
+        for i, res in zip(members, got):
+            outcomes[i] = res
+    return [result_row(res, res.speed_mph, res.angle_deg) for res in outcomes]  # as ran
 
 
 def outcomes_of(row: dict) -> dict:
@@ -256,6 +294,22 @@ def scene_task(task: dict) -> dict:
     """A worker's function: ``{"deck", "engine", "preset", "inputs"}`` -> outcomes."""
     return outcomes_of(_run_scene(task["inputs"], task["engine"], task["preset"], task["deck"],
                                   task.get("errata", ()), task.get("shaft_contact")))
+
+
+def scene_tasks(tasks: list[dict]) -> list:
+    """A worker's batch function (``run_scenes(many=True)``): :func:`scene_task` of each task,
+    the core's scenes run together; a task that cannot be prepared (an unknown input) is its
+    exception, in its place."""
+    prepared: list = []
+    for task in tasks:
+        try:
+            prepared.append(_prepare(task["inputs"], task["engine"], task["preset"],
+                                     task["deck"], task.get("errata", ()),
+                                     task.get("shaft_contact")))
+        except Exception as exc:  # noqa: BLE001 - that task's failure, stored as its row
+            prepared.append(exc)
+    rows = iter(_run_scenes([p for p in prepared if not isinstance(p, Exception)]))
+    return [p if isinstance(p, Exception) else outcomes_of(next(rows)) for p in prepared]
 
 
 # ============================================================== a function with known indices
@@ -321,10 +375,13 @@ def run_study(
     desc: str = "scenes",
     progress: bool | None = None,
     convergence: bool = True,
-    chunk: int = 1,
+    chunk: int | None = None,
+    many: bool = False,
 ) -> Study:
     """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
-    for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample)."""
+    for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample).
+    ``chunk``, ``many``: as :func:`run_scenes` (``many``: ``fn`` takes a batch of tasks, as
+    :func:`scene_tasks`)."""
     X = sample(problem, n, seed=seed)
     tasks = tasks_for(problem, X, base_task, digits=digits)
     store = SceneStore(store_dir)
@@ -332,7 +389,7 @@ def run_study(
     started = time.perf_counter()
     store = run_scenes(
         tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler, resume=resume,
-        desc=desc, progress=progress, chunk=chunk,
+        desc=desc, progress=progress, chunk=chunk, many=many,
     )
     wall = time.perf_counter() - started
     rows = store.by_id()
@@ -681,7 +738,7 @@ def run_command(args) -> int:
         _base_deck(deck)  # a bad deck fails here, before any work
         label = Path(deck).stem
         st = run_study(
-            problem, n, scene_task,
+            problem, n, scene_tasks, many=True,
             base_task={"deck": deck, "engine": args.engine,
                        **core_keywords(args.preset, getattr(args, "shaft_contact", None))},
             outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=args.seed,

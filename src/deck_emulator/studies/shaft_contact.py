@@ -37,9 +37,27 @@ def run_task(task: dict) -> dict:
     """One column under the ``legacy`` preset with ``task["shaft_contact"]`` set: the end (the
     hit event's surface, point or segment, time, sentence), the core's words on a segment's
     hit, and the largest difference from the report's printed terminal coordinates."""
-    column, shaft = task["column"], bool(task["shaft_contact"])
-    _, scene = column_inputs(column)
-    out = CoreEngine(preset="legacy", shaft_contact=shaft, trace=False).run(scene, name=column)
+    return run_tasks([task])[0]
+
+
+def run_tasks(tasks: list[dict]) -> list[dict]:
+    """:func:`run_task` of each task, the columns of one setting of the shaft test run
+    together (``CoreEngine.run_batch``): the scene runner's batch function."""
+    rows: list = [None] * len(tasks)
+    for shaft in (False, True):
+        members = [i for i, t in enumerate(tasks) if bool(t["shaft_contact"]) is shaft]
+        if not members:
+            continue
+        columns = [tasks[i]["column"] for i in members]
+        outs = CoreEngine(preset="legacy", shaft_contact=shaft, trace=False).run_batch(
+            [column_inputs(c)[1] for c in columns], names=columns)
+        for i, column, out in zip(members, columns, outs):
+            rows[i] = _row(column, shaft, out)
+    return rows
+
+
+def _row(column: str, shaft: bool, out) -> dict:
+    """:func:`run_task`'s row of one column's outcome."""
     hit = out.hit
     t = quantities.value("hit_time_s", out)
     ours = columns_row(out)
@@ -79,9 +97,9 @@ def rows(columns=COLUMNS, *, jobs=None, scheduler=None, store_dir=None, resume=F
     from deck_emulator.studies.distributed import run_longest_first
 
     todo = tasks(columns)
-    got = run_longest_first(run_task, todo, jobs=jobs, desc="shaft_contact",
+    got = run_longest_first(run_tasks, todo, jobs=jobs, desc="shaft_contact",
                             store_dir=store_dir, quiet=quiet, scheduler=scheduler,
-                            resume=resume)
+                            resume=resume, many=True)
     by = {(t["column"], t["shaft_contact"]): r for t, r in zip(todo, got)}
     return [{"column": c, "report_comment": REPORT_ALL[c]["comment"],
              "report_time_ms": report_time_ms_all(c),

@@ -262,24 +262,55 @@ COLUMNS: tuple[str, ...] = tuple(
 )
 
 
-def _scene_job(job: dict) -> dict:
-    """Worker: one scene -> its row (plain data, picklable)."""
+def _scene_of(job: dict) -> tuple[Deck, str]:
+    """A job's deck and name."""
     deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"], job["vvb_decimals"])
-    name = scene_name(job["speed"], job["angle"], job["post"])
-    engine = engine_for(job["engine"], **job["options"])
+    return deck, scene_name(job["speed"], job["angle"], job["post"])
+
+
+def _scene_rows(jobs: list[dict]) -> list[dict]:
+    """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
+    scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
+    where there is one); the emulator's run one after another (the 1967 program runs one deck
+    at a time).  A scene that cannot run is a row saying why, not a crash."""
+    decks = [_scene_of(job) for job in jobs]
+    groups: dict[str, list[int]] = {}
+    for i, job in enumerate(jobs):
+        groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
+                          []).append(i)
+    outcomes: list = [None] * len(jobs)
+    for members in groups.values():
+        first = jobs[members[0]]
+        engine = engine_for(first["engine"], **first["options"])
+        if first["engine"] == "core":
+            try:
+                got = engine.run_batch([decks[i][0] for i in members],
+                                       names=[decks[i][1] for i in members])
+            except Exception:  # noqa: BLE001 - the batch as a whole: each scene alone below
+                got = [None] * len(members)
+        else:
+            got = [None] * len(members)
+        for i, res in zip(members, got):
+            outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
+    rows = []
+    for job, (deck, name), res in zip(jobs, decks, outcomes):
+        report = _report_for(name, deck) if job["post"] == "steel" else None
+        rows.append(result_row(res, job["speed"], job["angle"], report))
+    return rows
+
+
+def _run_one(engine, engine_name: str, deck: Deck, name: str) -> Outcome:
     try:
-        res = engine.run(deck, name=name)
+        return engine.run(deck, name=name)
     except Exception as exc:  # noqa: BLE001 - a scene that cannot run is a row, not a crash
-        res = Outcome(job["engine"], name, Scene.from_deck(deck, name=name, checked=False),
-                      error=f"{type(exc).__name__}: {exc}")
-    report = _report_for(name, deck) if job["post"] == "steel" else None
-    return result_row(res, job["speed"], job["angle"], report)
+        return Outcome(engine_name, name, Scene.from_deck(deck, name=name, checked=False),
+                       error=f"{type(exc).__name__}: {exc}")
 
 
-def _stored_scene_job(job: dict) -> dict:
-    """Worker (Dask): one scene -> its row, as JSON in one column (the store's own columns,
-    such as ``error`` and ``run_s``, never mix with the row's)."""
-    return {"row_json": json.dumps(_scene_job(job))}
+def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
+    """Worker (Dask): a batch of scenes -> one row each, as JSON in one column (the store's own
+    columns, such as ``error`` and ``run_s``, never mix with the row's)."""
+    return [{"row_json": json.dumps(row)} for row in _scene_rows(jobs)]
 
 
 def sweep(
@@ -301,7 +332,8 @@ def sweep(
     sorted by speed, then angle.
 
     The scenes run on Dask (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded
-    cluster of ``jobs`` workers, or the one at ``scheduler``) and are stored as they finish in
+    cluster of ``jobs`` workers, or the one at ``scheduler``), a batch of scenes a task (the
+    core's through ``CoreEngine.run_batch``), and are stored as they finish in
     ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
     import tempfile
 
@@ -312,9 +344,9 @@ def sweep(
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
     with tempfile.TemporaryDirectory(prefix="sweep-") as tmp:
-        store = run_scenes(todo, _stored_scene_job, store_dir=store_dir or tmp, jobs=jobs,
+        store = run_scenes(todo, _stored_scene_jobs, store_dir=store_dir or tmp, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
-                           progress=False if quiet else None)
+                           progress=False if quiet else None, many=True)
         stored = store.by_id()
     rows = []
     for job in todo:
