@@ -340,3 +340,36 @@ def test_time_per_scene_reports_both_paths():
     out = time_per_scene([steel40()], LEGACY, repeats=1)
     assert set(out) == {"compiled", "scipy", "ratio", "n"}
     assert out["n"] == 1 and out["compiled"] > 0.0 and out["scipy"] > 0.0
+
+
+# --------------------------------------------------------------------------------------
+# through the engine: CoreEngine.run_batch hands its scenes to simulate_batch
+
+
+@pytest.mark.parametrize("trace", [False, True])
+def test_engine_batch_outcomes_match_the_reference_path(trace):
+    from deck_emulator.engine import CoreEngine
+
+    decks = [read_deck(str(deck_path(d))) for d in ("steel40", "steel20_a15", "steel40_a30")]
+    decks.append(decks[0].with_values(W=0.0))  # refused: an outcome with its error
+    batched = CoreEngine(trace=trace, batched=True).run_batch(decks)
+    reference = CoreEngine(trace=trace, batched=False)
+    for d, got in zip(decks, batched):
+        ref = reference.run(d)
+        assert got.error == ref.error
+        if ref.error is not None:
+            continue
+        assert got.raw.integrator == "compiled" and ref.raw.integrator == "scipy"
+        assert got.hit_message == ref.hit_message
+        assert [(e.kind, e.point, e.surface) for e in got.events] == [
+            (e.kind, e.point, e.surface) for e in ref.events]
+        assert all(abs(a.time_s - b.time_s) <= TIME_TOL_S for a, b in zip(got.events, ref.events))
+        for name in ("delta_v_contact_mph", "delta_v_crush_mph", "max_decel_g"):
+            a, b = getattr(got, name), getattr(ref, name)
+            assert (a is None) == (b is None) and (a is None or abs(a - b) <= 1e-6), name
+        for k, p in ref.terminal.items():
+            assert max(abs(x - y) for x, y in zip(p, got.terminal[k])) <= POSITION_TOL_FT, k
+        if trace:  # the sampled arrays come from the compiled dense output
+            assert got.t.shape == ref.t.shape or abs(got.t[-1] - ref.t[-1]) <= TIME_TOL_S
+            n = min(len(got.t), len(ref.t)) - 2
+            assert np.max(np.abs(got.points["P"][:n] - ref.points["P"][:n])) <= POSITION_TOL_FT

@@ -83,6 +83,25 @@ def _event(k, t, y, P, EV, rows_a, rows_c, letters, z):
 
 
 @_jit
+def _events_all(t, y, P, EV, rows_a, rows_c, letters, z, g):
+    """Every event's value into ``g`` (the checks' coordinates computed once)."""
+    have_z = False
+    for k in range(EV.shape[0]):
+        code = int(EV[k, 0])
+        if code == laws.EV_ROW:
+            if not have_z:
+                laws.check_coordinates(y, P, letters, z)
+                have_z = True
+            r = int(EV[k, 1])
+            s = 0.0
+            for j in range(z.size):
+                s += rows_a[r, j] * z[j]
+            g[k] = s + rows_c[r]
+        else:
+            g[k] = laws.contact_event(code, EV[k, 1], y, P)
+
+
+@_jit
 def _norm(x):
     return math.sqrt(np.sum(x * x)) / math.sqrt(x.size)
 
@@ -316,8 +335,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol,
 
     g = np.empty(n_ev)
     g_new = np.empty(n_ev)
-    for k in range(n_ev):
-        g[k] = _event(k, t, y, P, EV, rows_a, rows_c, letters, z)
+    _events_all(t, y, P, EV, rows_a, rows_c, letters, z, g)
     roots = np.empty(n_ev)
     active = np.empty(n_ev, dtype=np.int64)
 
@@ -389,8 +407,8 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol,
                         rec_t[:n_rec], rec_y[:n_rec])
         # -- events (solve_ivp's find_active_events and handle_events)
         n_act = 0
+        _events_all(t, y, P, EV, rows_a, rows_c, letters, z, g_new)
         for k in range(n_ev):
-            g_new[k] = _event(k, t, y, P, EV, rows_a, rows_c, letters, z)
             up = g[k] <= 0 and g_new[k] >= 0
             down = g[k] >= 0 and g_new[k] <= 0
             d = EV[k, 2]
