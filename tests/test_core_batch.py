@@ -302,7 +302,8 @@ def test_dop853_adaptive_meets_its_tolerance_and_scipys_steps():
     M = np.full(laws.N_M, math.nan)
     no_ev = np.zeros((0, 4))
     r = dop853.solve(dop853.PHASE_FREE, 0.0, y0, 1.0, P, M, no_ev, np.zeros((0, 1)),
-                     np.zeros(0), np.zeros(0, dtype=np.int64), 1e-10, 1e-10, np.inf, -1)
+                     np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 7)), 1e-10, 1e-10,
+                     np.inf, -1)
     assert r[0] == dop853.STATUS_FINISHED
     ts = r[2]
     y_end = dop853.dense_eval(ts, r[3], r[4], r[5], r[6], np.array([1.0]))[:, 0]
@@ -324,7 +325,7 @@ def test_brentq_transcription_finds_scipys_roots():
     M = np.full(laws.N_M, math.nan)
     EV = np.array([[laws.EV_GROUND, float(laws.LETTERS.index("P")), 1.0, 1.0]])
     r = dop853.solve(dop853.PHASE_FREE, 0.0, y0, 2.0, P, M, EV, np.zeros((0, 1)), np.zeros(0),
-                     np.zeros(0, dtype=np.int64), 1e-12, 1e-12, np.inf, -1)
+                     np.zeros(0, dtype=np.int64), np.zeros((0, 7)), 1e-12, 1e-12, np.inf, -1)
     assert r[0] == dop853.STATUS_EVENT
     t_hit = float(r[8][0])
     assert abs(t_hit - math.sqrt(2.0 / 32.174)) < 1e-12

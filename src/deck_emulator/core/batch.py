@@ -15,7 +15,6 @@ run, and the result says so (``CoreResult.integrator == "compiled+scipy"``):
 * a leaf spring (the crash test's car: its hysteresis law is Python);
 * a stiff contact (``method="auto"`` chooses Radau there) and a segment on which the
   explicit step met a non-finite number (scipy's path then re-solves it with Radau);
-* free flight with ``shaft_contact`` (the shaft's segments against the car's boxes).
 
 Scenes are grouped by their component set (the force laws and checks their model has);
 each group runs one after another, and within it no scene evaluates a law it lacks (the
@@ -181,6 +180,7 @@ def segment_max_force(ts, t_old, h, y_old, F, P, M):
 _NO_ROWS = np.zeros((0, 1))
 _NO_CONST = np.zeros(0)
 _NO_LETTERS = np.zeros(0, dtype=np.int64)
+_NO_PAIRS = np.zeros((0, 7))
 
 
 class _CompiledRun(_Run):
@@ -218,11 +218,13 @@ class _CompiledRun(_Run):
             rows_a, rows_c, letters = m.checks.A, m.checks.const, m.checks.letters
         else:
             rows_a, rows_c, letters = _NO_ROWS, _NO_CONST, _NO_LETTERS
+        pairs = m.segment_checks.table if m.segment_checks is not None else _NO_PAIRS
         budget = -1 if self.max_evaluations is None else self.max_evaluations - self._evals
         max_step = self.max_step if self.max_step is not None else np.inf
         (status, nfev, ts, t_old, h, y_old, F, rec_k, rec_t, rec_y) = dop853.solve(
             phase, float(t0), np.asarray(y0, dtype=float), float(t1), m.law_parameters, M,
-            EV, rows_a, rows_c, letters, float(self.rtol), float(self.atol), float(max_step),
+            EV, rows_a, rows_c, letters, pairs, float(self.rtol), float(self.atol),
+            float(max_step),
             int(budget),
         )
         if status == dop853.STATUS_NOT_FINITE:

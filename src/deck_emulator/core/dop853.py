@@ -70,7 +70,7 @@ def _rhs(phase, t, y, P, M, acc, out):
 
 
 @_jit
-def _event(k, t, y, P, EV, rows_a, rows_c, letters, z):
+def _event(k, t, y, P, EV, rows_a, rows_c, letters, pairs, z):
     code = int(EV[k, 0])
     if code == laws.EV_ROW:
         laws.check_coordinates(y, P, letters, z)
@@ -79,20 +79,26 @@ def _event(k, t, y, P, EV, rows_a, rows_c, letters, z):
         for j in range(z.size):
             s += rows_a[r, j] * z[j]
         return s + rows_c[r]
+    if code == laws.EV_SEGMENT:
+        laws.check_coordinates(y, P, letters, z)
+        return laws.pair_depth(z, pairs[int(EV[k, 1])])[0]
     return laws.contact_event(code, EV[k, 1], y, P)
 
 
 @_jit
-def _events_all(t, y, P, EV, rows_a, rows_c, letters, z, g):
+def _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g):
     """Every event's value into ``g`` (the checks' coordinates computed once)."""
     have_z = False
     for k in range(EV.shape[0]):
         code = int(EV[k, 0])
-        if code == laws.EV_ROW:
+        if code == laws.EV_ROW or code == laws.EV_SEGMENT:
             if not have_z:
                 laws.check_coordinates(y, P, letters, z)
                 have_z = True
             r = int(EV[k, 1])
+            if code == laws.EV_SEGMENT:
+                g[k] = laws.pair_depth(z, pairs[r])[0]
+                continue
             s = 0.0
             for j in range(z.size):
                 s += rows_a[r, j] * z[j]
@@ -202,7 +208,7 @@ def dense_eval(ts, t_old, h, y_old, F, tq):
 
 
 @_jit
-def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, z, ytmp,
+def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, pairs, z, ytmp,
            xtol, rtol, maxiter):
     """Root of event ``k`` on the step's dense output in [a, b]: scipy's ``brentq``
     (``scipy/optimize/Zeros/brentq.c``, itself Brent 1973), transcribed."""
@@ -212,9 +218,9 @@ def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, z, ytmp,
     spre = 0.0
     scur = 0.0
     _interp(t_old, h, y_old, F, xpre, ytmp)
-    fpre = _event(k, xpre, ytmp, P, EV, rows_a, rows_c, letters, z)
+    fpre = _event(k, xpre, ytmp, P, EV, rows_a, rows_c, letters, pairs, z)
     _interp(t_old, h, y_old, F, xcur, ytmp)
-    fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, z)
+    fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, pairs, z)
     if fpre == 0.0:
         return xpre
     if fcur == 0.0:
@@ -258,7 +264,7 @@ def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, z, ytmp,
         else:
             xcur += delta if sbis > 0 else -delta
         _interp(t_old, h, y_old, F, xcur, ytmp)
-        fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, z)
+        fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, pairs, z)
     return xcur
 
 
@@ -273,12 +279,14 @@ def _grow(a, need):
 
 
 @_jit
-def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol, max_step,
-          max_nfev):
+def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol, atol,
+          max_step, max_nfev):
     """Integrate from ``(t0, y0)`` towards ``t_bound`` (> t0) as ``solve_ivp(...,
     method="DOP853", dense_output=True, events=...)`` does.
 
-    ``EV`` (n_events, 4): code, arg, direction, terminal (1.0/0.0) of each event.
+    ``EV`` (n_events, 4): code, arg, direction, terminal (1.0/0.0) of each event; the
+    free flight's checks: ``rows_a``, ``rows_c`` (their matrix and constants), ``letters``
+    (their points), ``pairs`` (the shaft's segment/box pairs, :func:`~.laws.pair_depth`).
     Returns (status, nfev, ts (steps + 1), t_old, h, y_old (steps, n), F (steps, 7, n),
     event rows recorded (index, time) and their states (k, n))."""
     n = y0.size
@@ -335,7 +343,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol,
 
     g = np.empty(n_ev)
     g_new = np.empty(n_ev)
-    _events_all(t, y, P, EV, rows_a, rows_c, letters, z, g)
+    _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g)
     roots = np.empty(n_ev)
     active = np.empty(n_ev, dtype=np.int64)
 
@@ -407,7 +415,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol,
                         rec_t[:n_rec], rec_y[:n_rec])
         # -- events (solve_ivp's find_active_events and handle_events)
         n_act = 0
-        _events_all(t, y, P, EV, rows_a, rows_c, letters, z, g_new)
+        _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g_new)
         for k in range(n_ev):
             up = g[k] <= 0 and g_new[k] >= 0
             down = g[k] >= 0 and g_new[k] <= 0
@@ -418,7 +426,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, rtol, atol,
         if n_act > 0:
             for a in range(n_act):
                 roots[a] = brentq(active[a], t_old, t, t_old, h, y_old, Fst, P, EV, rows_a,
-                                  rows_c, letters, z, ytmp, 4 * EPS, 4 * EPS, 100)
+                                  rows_c, letters, pairs, z, ytmp, 4 * EPS, 4 * EPS, 100)
             keep = n_act
             terminal = False
             for a in range(n_act):

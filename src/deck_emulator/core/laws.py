@@ -332,6 +332,8 @@ EV_GROUND = 4
 EV_BASE_VELOCITY = 5
 #: free flight: row ``arg`` of the checks' matrix (:class:`~.regions.FreeFlightChecks`)
 EV_ROW = 6
+#: free flight: the depth of segment/box pair ``arg`` (:class:`~.segments.SegmentChecks`)
+EV_SEGMENT = 7
 
 
 @_jit
@@ -388,3 +390,78 @@ def check_coordinates(y, P, letters, z):
         z[3 * i + 1] = x * sa + yy * ca
         z[3 * i + 2] = zz
     z[z.size - 1] = y[13]
+
+
+# --------------------------------------------------------------------------------------
+# the shaft's segments against the car's boxes (ModelOptions.shaft_contact; :mod:`.segments`)
+
+#: the box's faces along a segment, the order of :data:`.segments.FACE_SURFACES`
+N_FACES = 5
+
+
+@_jit
+def segment_faces(ax, ay, az, bx, by, bz, sv, x0, x1, left, right, top):
+    """``(ga, db)``: the five faces' functions at the segment's end A and their change to
+    end B (``a``, ``b`` in XV, YV, ZZ; the box ``x0 <= XV - SV <= x1``, ``left <= YV <=
+    right``, ``ZZ <= top``)."""
+    ga = np.empty(N_FACES)
+    db = np.empty(N_FACES)
+    ga[0] = ax - sv - x0
+    ga[1] = x1 - (ax - sv)
+    ga[2] = ay - left
+    ga[3] = right - ay
+    ga[4] = top - az
+    gb0 = bx - sv - x0
+    gb1 = x1 - (bx - sv)
+    gb2 = by - left
+    gb3 = right - by
+    gb4 = top - bz
+    db[0] = gb0 - ga[0]
+    db[1] = gb1 - ga[1]
+    db[2] = gb2 - ga[2]
+    db[3] = gb3 - ga[3]
+    db[4] = gb4 - ga[4]
+    return ga, db
+
+
+@_jit
+def segment_depth(ga, db):
+    """``max over s in [0, 1] of min_k (ga[k] + db[k] s)`` and an ``s`` where it is reached
+    (exact: the maximum of a concave piecewise-linear function lies at an end of [0, 1] or
+    where two of its lines cross)."""
+    n = ga.size
+    cand = np.empty(2 + n * (n - 1) // 2)
+    cand[0] = 0.0
+    cand[1] = 1.0
+    nc = 2
+    for i in range(n):
+        for j in range(i + 1, n):
+            den = db[i] - db[j]
+            if den != 0.0:
+                s = (ga[j] - ga[i]) / den
+                if 0.0 < s < 1.0:
+                    cand[nc] = s
+                    nc += 1
+    best, where = -np.inf, 0.0
+    for c in range(nc):
+        s = cand[c]
+        v = ga[0] + db[0] * s
+        for k in range(1, n):
+            w = ga[k] + db[k] * s
+            if w < v:
+                v = w
+        if v > best:
+            best, where = v, s
+    return best, where
+
+
+@_jit
+def pair_depth(z, pair):
+    """(h, s) of one segment/box pair from the checks' coordinates ``z``
+    (:func:`check_coordinates`); ``pair``: the ends' positions in ``z``'s points, the box's
+    x0, x1, left, right, top."""
+    i, j = int(pair[0]), int(pair[1])
+    ga, db = segment_faces(z[3 * i], z[3 * i + 1], z[3 * i + 2], z[3 * j], z[3 * j + 1],
+                           z[3 * j + 2], z[z.size - 1], pair[2], pair[3], pair[4], pair[5],
+                           pair[6])
+    return segment_depth(ga, db)

@@ -57,7 +57,7 @@ import numpy as np
 
 from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
 from .regions import CarBox, car_boxes
-from .rigid import rotation_matrix
+from . import laws
 
 __all__ = ["Pair", "SegmentChecks", "build_segment_checks", "segment_depth",
            "post_segments"]
@@ -100,34 +100,17 @@ def post_segments(body_points: dict) -> list[tuple[str, str, str]]:
 
 
 def _faces(box: CarBox, a, b, sv):
-    """(a_k, b_k) of the five faces along A + s (B - A); ``a``, ``b`` in XV, YV, ZZ (plain
-    floats: five numbers, evaluated at every step, where numpy's overhead would dominate)."""
-    ga = (a[0] - sv - box.x0_ft, box.x1_ft - (a[0] - sv), a[1] - box.left_ft,
-          box.right_ft - a[1], box.top_ft - a[2])
-    gb = (b[0] - sv - box.x0_ft, box.x1_ft - (b[0] - sv), b[1] - box.left_ft,
-          box.right_ft - b[1], box.top_ft - b[2])
-    return ga, tuple(y - x for x, y in zip(ga, gb))
+    """(ga, db) of the five faces along A + s (B - A) (:func:`~.laws.segment_faces`);
+    ``a``, ``b`` in XV, YV, ZZ."""
+    return laws.segment_faces(a[0], a[1], a[2], b[0], b[1], b[2], sv, box.x0_ft, box.x1_ft,
+                              box.left_ft, box.right_ft, box.top_ft)
 
 
 def segment_depth(ga, db) -> tuple[float, float]:
     """``max over s in [0, 1] of min_k (ga[k] + db[k] s)`` and an ``s`` where it is reached
-    (exact: the maximum of a concave piecewise-linear function lies at an end of [0, 1] or
-    where two of its lines cross)."""
-    n = len(ga)
-    cand = [0.0, 1.0]
-    for i in range(n):
-        for j in range(i + 1, n):
-            den = db[i] - db[j]
-            if den != 0.0:
-                s = (ga[j] - ga[i]) / den
-                if 0.0 < s < 1.0:
-                    cand.append(s)
-    best, where = -math.inf, 0.0
-    for s in cand:
-        v = min(g + d * s for g, d in zip(ga, db))
-        if v > best:
-            best, where = v, s
-    return float(best), float(where)
+    (:func:`~.laws.segment_depth`)."""
+    h, s = laws.segment_depth(np.asarray(ga, dtype=float), np.asarray(db, dtype=float))
+    return float(h), float(s)
 
 
 FACE_SURFACES = ("front", "rear", "SIDE", "SIDE", "top")
@@ -141,14 +124,19 @@ class SegmentChecks:
         self.pairs = pairs
         self._cache_key = None
         self._cache_val = None
+        # each pair as the compiled laws take it: its ends' positions among the free-flight
+        # checks' points (their coordinates, :func:`~.laws.check_coordinates`), its box
+        points = model.checks.points
+        self.table = np.array([[points.index(p.a), points.index(p.b), p.box.x0_ft, p.box.x1_ft,
+                                p.box.left_ft, p.box.right_ft, p.box.top_ft] for p in pairs],
+                              dtype=float).reshape(-1, 7)
 
-    def _vehicle_xyz(self, R, y, letter):
-        m = self.model
-        bx, by, bz = m.body_points[letter]
-        x = y[0] + R[0] * bx + R[1] * by + R[2] * bz
-        yy = y[1] + R[3] * bx + R[4] * by + R[5] * bz
-        zz = y[2] + R[6] * bx + R[7] * by + R[8] * bz
-        return (x * m.cos_a - yy * m.sin_a, x * m.sin_a + yy * m.cos_a, zz)
+    def _coordinates(self, yl):
+        checks = self.model.checks
+        z = np.empty(3 * len(checks.points) + 1)
+        laws.check_coordinates(np.asarray(yl, dtype=float), self.model.law_parameters,
+                               checks.letters, z)
+        return z
 
     def depths(self, y) -> list[tuple[float, float]]:
         """(h, s at the deepest point) of every pair at state ``y`` (cached for the last)."""
@@ -156,15 +144,8 @@ class SegmentChecks:
         key = tuple(yl)
         if key == self._cache_key:
             return self._cache_val
-        R = rotation_matrix((yl[6], yl[7], yl[8], yl[9]))
-        pos = {}
-        out = []
-        for p in self.pairs:
-            for letter in (p.a, p.b):
-                if letter not in pos:
-                    pos[letter] = self._vehicle_xyz(R, yl, letter)
-            ga, db = _faces(p.box, pos[p.a], pos[p.b], yl[IDX_SV])
-            out.append(segment_depth(ga, db))
+        z = self._coordinates(yl)
+        out = [laws.pair_depth(z, row) for row in self.table]
         self._cache_key, self._cache_val = key, out
         return out
 
@@ -175,7 +156,8 @@ class SegmentChecks:
         """One event per pair: ``h`` crossing zero upwards; recorded, not terminal (the
         earliest of all the free flight's candidates is the hit)."""
         return [EventSpec(f"segment {p.segment} / {p.box.part}",
-                          lambda t, y, i=i: self.depths(y)[i][0], +1.0, False)
+                          lambda t, y, i=i: self.depths(y)[i][0], +1.0, False,
+                          code=(laws.EV_SEGMENT, float(i)))
                 for i, p in enumerate(self.pairs)]
 
     def inside(self, y) -> list[Pair]:
@@ -190,11 +172,12 @@ class SegmentChecks:
         p = self.pairs[i]
         m = self.model
         yl = y.tolist() if isinstance(y, np.ndarray) else list(y)
-        R = rotation_matrix((yl[6], yl[7], yl[8], yl[9]))
-        a, b = self._vehicle_xyz(R, yl, p.a), self._vehicle_xyz(R, yl, p.b)
+        z = self._coordinates(yl)
+        ia, ib = int(self.table[i][0]), int(self.table[i][1])
+        a, b = z[3 * ia: 3 * ia + 3], z[3 * ib: 3 * ib + 3]
         ga, db = _faces(p.box, a, b, yl[IDX_SV])
         h, s = segment_depth(ga, db)
-        g = [x + d * s for x, d in zip(ga, db)]
+        g = [float(x + d * s) for x, d in zip(ga, db)]
         active = [k for k in range(5) if g[k] <= h + ACTIVE_FT]
         kin = Kinematics(m, yl)
         va, vb = np.array(kin.point_velocity(p.a)), np.array(kin.point_velocity(p.b))
