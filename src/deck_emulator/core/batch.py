@@ -10,9 +10,6 @@ compiled code too.  Only the bookkeeping between segments (a handful per scene) 
 A segment the compiled integrator cannot do is solved by ``solve_ivp`` inside the same
 run, and the result says so (``CoreResult.integrator == "compiled+scipy"``):
 
-* a Filippov sliding mode (the ``FCONST`` cap holding, the base sticking: the physical
-  preset's ``cap_sliding`` and ``friction_reaction``);
-* a leaf spring (the crash test's car: its hysteresis law is Python);
 * a stiff contact (``method="auto"`` chooses Radau there) and a segment on which the
   explicit step met a non-finite number (scipy's path then re-solves it with Radau);
 
@@ -72,7 +69,7 @@ _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
 def _force_at(s, ts, t_old, h, y_old, F, P, M, tmp):
     seg = min(max(np.searchsorted(ts, s) - 1, 0), t_old.size - 1)
     dop853._interp(t_old[seg], h[seg], y_old[seg], F[seg], s, tmp)
-    return laws.vehicle_force(s, tmp, P, M)
+    return laws.sliding_vehicle_force(s, tmp, P, M)
 
 
 @_jit
@@ -204,7 +201,7 @@ class _CompiledRun(_Run):
         if method != "DOP853":
             why = f"{method} (stiff contact)"
         elif law is None:
-            why = "a sliding mode or a leaf spring"
+            why = "a right-hand side without a compiled form"
         elif any(e.code is None for e in events):
             why = "events without a compiled form"
         if why is not None:
@@ -262,8 +259,7 @@ class _CompiledRun(_Run):
 
     def _segment_max_force(self, seg):
         sol = seg.solution
-        if (not isinstance(sol, CompiledSolution) or seg.mode is None or seg.mode.cap_sliding
-                or self.model._leaf):
+        if not isinstance(sol, CompiledSolution) or seg.mode is None:
             return super()._segment_max_force(seg)
         M = self.model.mode_vector(seg.mode)
         return segment_max_force(sol.ts, sol.t_old, sol.h, sol.y_old, sol.F,

@@ -70,7 +70,7 @@ def _rhs(phase, t, y, P, M, acc, out):
 
 
 @_jit
-def _event(k, t, y, P, EV, rows_a, rows_c, letters, pairs, z):
+def _event(k, t, y, P, M, EV, rows_a, rows_c, letters, pairs, z):
     code = int(EV[k, 0])
     if code == laws.EV_ROW:
         laws.check_coordinates(y, P, letters, z)
@@ -82,11 +82,11 @@ def _event(k, t, y, P, EV, rows_a, rows_c, letters, pairs, z):
     if code == laws.EV_SEGMENT:
         laws.check_coordinates(y, P, letters, z)
         return laws.pair_depth(z, pairs[int(EV[k, 1])])[0]
-    return laws.contact_event(code, EV[k, 1], y, P)
+    return laws.contact_event(code, EV[k, 1], t, y, P, M)
 
 
 @_jit
-def _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g):
+def _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g):
     """Every event's value into ``g`` (the checks' coordinates computed once)."""
     have_z = False
     for k in range(EV.shape[0]):
@@ -104,7 +104,7 @@ def _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g):
                 s += rows_a[r, j] * z[j]
             g[k] = s + rows_c[r]
         else:
-            g[k] = laws.contact_event(code, EV[k, 1], y, P)
+            g[k] = laws.contact_event(code, EV[k, 1], t, y, P, M)
 
 
 @_jit
@@ -208,7 +208,7 @@ def dense_eval(ts, t_old, h, y_old, F, tq):
 
 
 @_jit
-def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, pairs, z, ytmp,
+def brentq(k, a, b, t_old, h, y_old, F, P, M, EV, rows_a, rows_c, letters, pairs, z, ytmp,
            xtol, rtol, maxiter):
     """Root of event ``k`` on the step's dense output in [a, b]: scipy's ``brentq``
     (``scipy/optimize/Zeros/brentq.c``, itself Brent 1973), transcribed."""
@@ -218,9 +218,9 @@ def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, pairs, z
     spre = 0.0
     scur = 0.0
     _interp(t_old, h, y_old, F, xpre, ytmp)
-    fpre = _event(k, xpre, ytmp, P, EV, rows_a, rows_c, letters, pairs, z)
+    fpre = _event(k, xpre, ytmp, P, M, EV, rows_a, rows_c, letters, pairs, z)
     _interp(t_old, h, y_old, F, xcur, ytmp)
-    fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, pairs, z)
+    fcur = _event(k, xcur, ytmp, P, M, EV, rows_a, rows_c, letters, pairs, z)
     if fpre == 0.0:
         return xpre
     if fcur == 0.0:
@@ -264,7 +264,7 @@ def brentq(k, a, b, t_old, h, y_old, F, P, EV, rows_a, rows_c, letters, pairs, z
         else:
             xcur += delta if sbis > 0 else -delta
         _interp(t_old, h, y_old, F, xcur, ytmp)
-        fcur = _event(k, xcur, ytmp, P, EV, rows_a, rows_c, letters, pairs, z)
+        fcur = _event(k, xcur, ytmp, P, M, EV, rows_a, rows_c, letters, pairs, z)
     return xcur
 
 
@@ -343,7 +343,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol
 
     g = np.empty(n_ev)
     g_new = np.empty(n_ev)
-    _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g)
+    _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g)
     roots = np.empty(n_ev)
     active = np.empty(n_ev, dtype=np.int64)
 
@@ -415,7 +415,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol
                         rec_t[:n_rec], rec_y[:n_rec])
         # -- events (solve_ivp's find_active_events and handle_events)
         n_act = 0
-        _events_all(t, y, P, EV, rows_a, rows_c, letters, pairs, z, g_new)
+        _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g_new)
         for k in range(n_ev):
             up = g[k] <= 0 and g_new[k] >= 0
             down = g[k] >= 0 and g_new[k] <= 0
@@ -425,7 +425,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol
                 n_act += 1
         if n_act > 0:
             for a in range(n_act):
-                roots[a] = brentq(active[a], t_old, t, t_old, h, y_old, Fst, P, EV, rows_a,
+                roots[a] = brentq(active[a], t_old, t, t_old, h, y_old, Fst, P, M, EV, rows_a,
                                   rows_c, letters, pairs, z, ytmp, 4 * EPS, 4 * EPS, 100)
             keep = n_act
             terminal = False

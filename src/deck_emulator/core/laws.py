@@ -33,6 +33,65 @@ __all__ = [
 ]
 
 
+#: the modules whose compiled functions call one another (their cache is one)
+COMPILED_MODULES = ("laws.py", "dop853.py", "batch.py")
+
+
+def _install_cache_locator() -> None:
+    """numba stamps a cached function with its own file's content only, so a compiled
+    function of dop853.py would keep the old copy of a law changed in laws.py.  Our
+    functions' caches are stamped with all of :data:`COMPILED_MODULES` instead (in the
+    package's ``__pycache__``, else numba's user-wide directory).  numba's locator list is
+    not a public interface: if it is not there, numba's own stamps stand."""
+    import functools
+    import hashlib
+    import os
+
+    try:
+        from numba.core import caching
+    except ImportError:  # pragma: no cover
+        return
+    here = os.path.dirname(os.path.abspath(__file__))
+    ours = {os.path.join(here, name) for name in COMPILED_MODULES}
+
+    @functools.lru_cache(maxsize=1)
+    def stamp():
+        h = hashlib.sha256()
+        for path in sorted(ours):
+            with open(path, "rb") as f:
+                h.update(f.read())
+        return h.hexdigest()
+
+    class _Ours:
+        def get_source_stamp(self):
+            return stamp()
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            if os.path.abspath(py_file) not in ours:
+                return None
+            return super().from_function(py_func, py_file)
+
+    try:
+        class UserProvided(_Ours, caching.UserProvidedCacheLocator):  # NUMBA_CACHE_DIR
+            pass
+
+        class InTree(_Ours, caching.InTreeCacheLocator):
+            pass
+
+        class UserWide(_Ours, caching.UserWideCacheLocator):
+            pass
+
+        classes = caching._CacheImpl._locator_classes
+    except AttributeError:  # pragma: no cover - another numba
+        return
+    if isinstance(classes, list) and not any(c.__name__ == "InTree" for c in classes):
+        classes[0:0] = [UserProvided, InTree, UserWide]
+
+
+_install_cache_locator()
+
+
 def _jit(fn):
     """``njit(cache=True)``, or plain ``njit`` where numba finds no place to cache."""
     try:
@@ -50,13 +109,15 @@ P_POINTS = 8  # 3 numbers per letter of LETTERS (principal axes, ft)
 (P_FN, P_FN_RELEASE, P_FR, P_FR_WINDOW, P_FR_REACTION, P_K_S, P_K_T, P_SV_CONTACT, P_XV0_S,
  P_XV0_T, P_FACTOR, P_ABSOLUTE, P_CAP, P_KICK_F1, P_KICK_FV, P_KICK_FS, P_Q0X, P_DEPTH,
  P_HAS_NORMAL, P_HAS_FRICTION, P_HAS_CONTACT, P_HAS_T, P_LISTING_DIFF, P_SWITCH,
- P_HAS_KICK) = range(P_POINTS + 3 * len(LETTERS), P_POINTS + 3 * len(LETTERS) + 25)
-N_P = P_HAS_KICK + 1
+ P_HAS_KICK, P_HAS_LEAF, P_LEAF_K1, P_LEAF_K2, P_LEAF_KNEE, P_LEAF_STOP, P_LEAF_U1, P_LEAF_U2,
+ P_LEAF_UKNEE) = range(P_POINTS + 3 * len(LETTERS), P_POINTS + 3 * len(LETTERS) + 33)
+N_P = P_LEAF_UKNEE + 1
 
 # -- mode vector M (booleans as 0.0 / 1.0; NaN: "not set")
 (M_POINT, M_NORMAL_ON, M_FRICTION_ON, M_CAP_ENGAGED, M_WINDOW, M_FRICTION_STICK,
- M_FRICTION_SIGN, M_SPRING_OVERRIDE, M_FRICTION_OVERRIDE, M_FS_GIVEN) = range(10)
-N_M = 10
+ M_FRICTION_SIGN, M_SPRING_OVERRIDE, M_FRICTION_OVERRIDE, M_CAP_SLIDING,
+ M_LEAF_PEAK) = range(11)
+N_M = 11
 #: M_WINDOW values
 WINDOW_NONE, WINDOW_KICK, WINDOW_FIRST_STEP = 0.0, 1.0, 2.0
 #: M_POINT values (the spring acts at S or at T)
@@ -171,6 +232,13 @@ def compression(sv_contact, sv, xv0, xv):
 
 
 @_jit
+def compression_rate(vv, vxv):
+    """The rate of :func:`compression` (ft/s) given the car's and the point's velocity
+    along ``XV``."""
+    return -vv + vxv
+
+
+@_jit
 def listing_diff(sv_contact, sv, xv0, xv):
     """The listing's ``DIFF`` (S) or ``DIFFT`` (T): ``|XV - XVO| - |SV - SVO|``."""
     return abs(xv - xv0) - abs(sv - sv_contact)
@@ -196,6 +264,49 @@ def spring_force(k, x, factor, absolute, cap_engaged, cap):
 
 
 @_jit
+def leaf_loading_force(x, k1, k2, knee, stop):
+    """The leaf spring's loading curve ``F_L(x)`` (lb; :mod:`.leaf_spring`)."""
+    if x <= 0.0:
+        return 0.0
+    if x <= knee:
+        return k1 * x
+    xe = min(x, stop)
+    return k1 * knee + k2 * (xe - knee)
+
+
+@_jit
+def leaf_knee_force(x_m, k1, k2, knee, stop, u1, uknee):
+    """(knee compression, force there) on the unloading line from ``x_m``."""
+    xk = min(x_m, uknee)
+    return xk, leaf_loading_force(x_m, k1, k2, knee, stop) - u1 * (x_m - xk)
+
+
+@_jit
+def leaf_unloading_force(x, x_m, k1, k2, knee, stop, u1, u2, uknee):
+    """The unloading line from the largest compression ``x_m``, never below zero."""
+    xk, fk = leaf_knee_force(x_m, k1, k2, knee, stop, u1, uknee)
+    if x >= xk:
+        f = leaf_loading_force(x_m, k1, k2, knee, stop) - u1 * (x_m - x)
+    else:
+        f = fk - u2 * (xk - x)
+    return max(f, 0.0)
+
+
+@_jit
+def leaf_force(x, x_peak, k1, k2, knee, stop, u1, u2, uknee):
+    """Leaf spring force at compression ``x`` given the peak so far (NaN: loading)."""
+    if math.isnan(x_peak) or x >= x_peak:
+        return leaf_loading_force(x, k1, k2, knee, stop)
+    return leaf_unloading_force(x, x_peak, k1, k2, knee, stop, u1, u2, uknee)
+
+
+@_jit
+def _leaf_at(x, x_peak, P):
+    return leaf_force(x, x_peak, P[P_LEAF_K1], P[P_LEAF_K2], P[P_LEAF_KNEE], P[P_LEAF_STOP],
+                      P[P_LEAF_U1], P[P_LEAF_U2], P[P_LEAF_UKNEE])
+
+
+@_jit
 def _letter_index(point):
     return 4 if point == AT_S else 5  # S or T in LETTERS
 
@@ -203,8 +314,9 @@ def _letter_index(point):
 @_jit
 def contact_spring_force(y, R, P, M):
     """The crush spring's force (lb) in mode ``M`` (window, override, point, cap)."""
-    if not math.isnan(M[M_FS_GIVEN]):
-        return M[M_FS_GIVEN]
+    if P[P_HAS_LEAF] != 0.0:  # the leaf spring at S (no window, override or cap of its own)
+        x = compression(P[P_SV_CONTACT], y[13], P[P_XV0_S], point_xv(y, R, P, 4))
+        return P[P_FACTOR] * _leaf_at(x, M[M_LEAF_PEAK], P)
     if M[M_WINDOW] == WINDOW_FIRST_STEP:
         return P[P_KICK_FS]
     if not math.isnan(M[M_SPRING_OVERRIDE]):
@@ -270,14 +382,138 @@ def contact_loads(t, y, P, M, acc):
 
 
 @_jit
-def contact_derivative_with(t, y, P, M, acc, out):
-    """The contact phase's state derivative into ``out`` (the loads left in ``acc``)."""
+def plain_derivative(t, y, P, M, acc, out):
+    """The contact phase's state derivative into ``out`` with the forces of ``M`` as they
+    are (no sliding mode solved for; the loads left in ``acc``)."""
     contact_loads(t, y, P, M, acc)
     R = _rot(y)
     post_derivative(y, R, acc[0], acc[1], acc[2], acc[3], acc[4], acc[5],
                     P[P_MASS], P[P_I1], P[P_I2], P[P_I3], out)
     out[13] = y[14]
     out[14] = acc[6] / P[P_WV]
+
+
+@_jit
+def sliders(M):
+    """(cap slides, base sticks): the Filippov sliding modes of ``M`` (:mod:`.sliding`)."""
+    cap = M[M_CAP_SLIDING] == 1.0
+    stick = M[M_FRICTION_ON] != 0.0 and M[M_FRICTION_STICK] != 0.0
+    return cap, stick
+
+
+@_jit
+def point_acceleration(y, R, d, bx, by, bz):
+    """Road-axes acceleration (ft/s^2) of the body point ``(bx, by, bz)`` given the state
+    derivative ``d``: ``R (omega x (V + omega x r) + V' + omega' x r)``."""
+    v1, v2, v3 = y[3], y[4], y[5]
+    w1, w2, w3 = y[10], y[11], y[12]
+    u1 = v1 + w2 * bz - w3 * by
+    u2 = v2 + w3 * bx - w1 * bz
+    u3 = v3 + w1 * by - w2 * bx
+    dw1, dw2, dw3 = d[10], d[11], d[12]
+    a1 = w2 * u3 - w3 * u2 + d[3] + dw2 * bz - dw3 * by
+    a2 = w3 * u1 - w1 * u3 + d[4] + dw3 * bx - dw1 * bz
+    a3 = w1 * u2 - w2 * u1 + d[5] + dw1 * by - dw2 * bx
+    return _arm(R, a1, a2, a3)
+
+
+@_jit
+def _sigma_dot(cap, y, R, P, d):
+    """The rate of a sliding surface's function: ``d(dDIFF/dt)/dt`` of S (the cap) or the
+    base's acceleration along XX (sticking)."""
+    if cap:
+        j = P_POINTS + 3 * 4
+        ax, ay, _ = point_acceleration(y, R, d, P[j], P[j + 1], P[j + 2])
+        dxv = point_xv(y, R, P, 4) - P[P_XV0_S]
+        dsv = y[13] - P[P_SV_CONTACT]
+        return diff_rate(dxv, dsv, ax * P[P_COS] - ay * P[P_SIN], d[14])
+    j = P_POINTS + 3
+    return point_acceleration(y, R, d, P[j], P[j + 1], P[j + 2])[0]
+
+
+@_jit
+def filippov(t, y, P, M, d, lam, force, lo, hi, diag):
+    """The sliding forces of mode ``M`` at ``(t, y)`` (Filippov's convex combination,
+    :class:`~.sliding.Filippov`): the state derivative into ``d``; per slider (the cap
+    first, then the base) ``lam`` (unclamped place of its force between its bounds), its
+    ``force``, bounds ``lo``, ``hi`` and ``diag`` (d sigma_dot / d lam: > 0 where it
+    attracts).  Returns the number of sliders (0, 1 or 2)."""
+    cap, stick = sliders(M)
+    R = _rot(y)
+    n = 0
+    kind = np.empty(2, dtype=np.bool_)  # True: the cap
+    if cap:
+        Mhi = M.copy()
+        Mhi[M_CAP_ENGAGED] = 0.0
+        Mhi[M_CAP_SLIDING] = 0.0
+        lo[n] = P[P_CAP]
+        hi[n] = contact_spring_force(y, R, P, Mhi)
+        kind[n] = True
+        n += 1
+    if stick:
+        lo[n] = -P[P_FR]
+        hi[n] = P[P_FR]
+        kind[n] = False
+        n += 1
+    acc = np.empty(7)
+    d0 = np.empty(15)
+    Mw = M.copy()
+    for i in range(n):
+        Mw[M_SPRING_OVERRIDE if kind[i] else M_FRICTION_OVERRIDE] = lo[i]
+    plain_derivative(t, y, P, Mw, acc, d0)
+    sig0 = np.empty(2)
+    for j in range(n):
+        sig0[j] = _sigma_dot(kind[j], y, R, P, d0)
+    cols = np.empty((2, 15))
+    A = np.zeros((2, 2))
+    for i in range(n):
+        for k in range(n):
+            Mw[M_SPRING_OVERRIDE if kind[k] else M_FRICTION_OVERRIDE] = hi[k] if k == i else lo[k]
+        plain_derivative(t, y, P, Mw, acc, cols[i])
+        for j in range(n):
+            A[j, i] = _sigma_dot(kind[j], y, R, P, cols[i]) - sig0[j]
+    if n == 1:
+        lam[0] = -sig0[0] / A[0, 0] if A[0, 0] != 0.0 else 1.0
+    elif n == 2:
+        det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+        if det == 0.0:
+            lam[0], lam[1] = 1.0, 0.5
+        else:
+            lam[0] = (-sig0[0] * A[1, 1] + sig0[1] * A[0, 1]) / det
+            lam[1] = (-sig0[1] * A[0, 0] + sig0[0] * A[1, 0]) / det
+    d[:] = d0
+    for i in range(n):
+        li = min(max(lam[i], 0.0), 1.0)
+        if li != 0.0:
+            for k in range(15):
+                d[k] = d[k] + li * (cols[i, k] - d0[k])
+        force[i] = lo[i] + li * (hi[i] - lo[i])
+        diag[i] = A[i, i]
+    return n
+
+
+@_jit
+def contact_derivative_with(t, y, P, M, acc, out):
+    """The contact phase's state derivative into ``out``: :func:`plain_derivative`, or in
+    a sliding mode the Filippov derivative (:func:`filippov`)."""
+    cap, stick = sliders(M)
+    if cap or stick:
+        s = np.empty(2)
+        filippov(t, y, P, M, out, s, np.empty(2), np.empty(2), np.empty(2), np.empty(2))
+        return
+    plain_derivative(t, y, P, M, acc, out)
+
+
+@_jit
+def sliding_vehicle_force(t, y, P, M):
+    """Force on the car along ``+XV`` (lb) in mode ``M``, the cap's sliding force while it
+    holds (:func:`.sliding.vehicle_force`)."""
+    if M[M_CAP_SLIDING] == 1.0 and M[M_WINDOW] != WINDOW_KICK:
+        f = np.empty(2)
+        filippov(t, y, P, M, np.empty(15), np.empty(2), f, np.empty(2), np.empty(2),
+                 np.empty(2))
+        return f[0]
+    return vehicle_force(t, y, P, M)
 
 
 @_jit
@@ -334,6 +570,16 @@ EV_BASE_VELOCITY = 5
 EV_ROW = 6
 #: free flight: the depth of segment/box pair ``arg`` (:class:`~.segments.SegmentChecks`)
 EV_SEGMENT = 7
+#: slider ``arg``'s ``lam`` (its force at its lower bound)
+EV_LAM = 8
+#: slider ``arg``'s ``lam - 1`` (its force at its upper bound)
+EV_LAM_UPPER = 9
+#: slider ``arg``'s ``hi - lo`` (the cap no longer binds)
+EV_SPAN = 10
+#: the compression of S minus ``arg`` (the leaf spring reloads, or lets go)
+EV_COMPRESSION = 11
+#: the compression rate of S (the leaf spring starts to unload)
+EV_COMPRESSION_RATE = 12
 
 
 @_jit
@@ -344,8 +590,19 @@ def base_travel(y, R, P):
 
 
 @_jit
-def contact_event(code, arg, y, P):
-    """The value of a contact-phase event function (codes ``EV_*``) at state ``y``."""
+def contact_event(code, arg, t, y, P, M):
+    """The value of a contact-phase event function (codes ``EV_*``) at ``(t, y)``."""
+    if code == EV_LAM or code == EV_LAM_UPPER or code == EV_SPAN:
+        lam = np.empty(2)
+        lo = np.empty(2)
+        hi = np.empty(2)
+        filippov(t, y, P, M, np.empty(15), lam, np.empty(2), lo, hi, np.empty(2))
+        i = int(arg)
+        if code == EV_LAM:
+            return lam[i]
+        if code == EV_LAM_UPPER:
+            return lam[i] - 1.0
+        return hi[i] - lo[i]
     R = _rot(y)
     if code == EV_BASE_TRAVEL:
         return base_travel(y, R, P) + arg
@@ -370,6 +627,13 @@ def contact_event(code, arg, y, P):
         j = P_POINTS + 3 * int(arg)
         return -(point_position(y[0], y[1], y[2], R, P[j], P[j + 1], P[j + 2])[2]
                  + P[P_DEPTH])
+    if code == EV_COMPRESSION:
+        return compression(P[P_SV_CONTACT], y[13], P[P_XV0_S], point_xv(y, R, P, 4)) - arg
+    if code == EV_COMPRESSION_RATE:
+        j = P_POINTS + 3 * 4
+        vx, vy, _ = point_velocity(R, y[3], y[4], y[5], y[10], y[11], y[12], P[j], P[j + 1],
+                                   P[j + 2])
+        return compression_rate(y[14], vx * P[P_COS] - vy * P[P_SIN])
     if code == EV_BASE_VELOCITY:
         j = P_POINTS + 3
         bx, by, bz = P[j], P[j + 1], P[j + 2]

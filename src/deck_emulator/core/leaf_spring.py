@@ -22,7 +22,10 @@ force is a function of the state within each segment and the integration stays s
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
+
+from . import laws
 
 from .components import VehicleContact
 from .kinematics import IDX_VV, EventSpec, Kinematics
@@ -32,38 +35,30 @@ __all__ = ["loading_force", "unloading_force", "leaf_force", "zero_force_set", "
            "LeafSpringContact"]
 
 
-def loading_force(x: float, s: LeafSpring) -> float:
+def _numbers(s: LeafSpring):
     k1, k2 = s.loading_stiffness_lb_per_ft
-    if x <= 0.0:
-        return 0.0
-    if x <= s.knee_ft:
-        return k1 * x
-    xe = min(x, s.stop_ft)
-    return k1 * s.knee_ft + k2 * (xe - s.knee_ft)
+    u1, u2 = s.unloading_stiffness_lb_per_ft
+    return k1, k2, s.knee_ft, s.stop_ft, u1, u2, s.unloading_knee_ft
+
+
+def loading_force(x: float, s: LeafSpring) -> float:
+    k1, k2, knee, stop, _, _, _ = _numbers(s)
+    return laws.leaf_loading_force(x, k1, k2, knee, stop)
 
 
 def _knee_force(x_m: float, s: LeafSpring) -> tuple[float, float]:
     """(knee compression, force there) on the unloading line from ``x_m``."""
-    u1, _ = s.unloading_stiffness_lb_per_ft
-    xk = min(x_m, s.unloading_knee_ft)
-    return xk, loading_force(x_m, s) - u1 * (x_m - xk)
+    k1, k2, knee, stop, u1, _, uknee = _numbers(s)
+    return laws.leaf_knee_force(x_m, k1, k2, knee, stop, u1, uknee)
 
 
 def unloading_force(x: float, x_m: float, s: LeafSpring) -> float:
-    u1, u2 = s.unloading_stiffness_lb_per_ft
-    xk, fk = _knee_force(x_m, s)
-    if x >= xk:
-        f = loading_force(x_m, s) - u1 * (x_m - x)
-    else:
-        f = fk - u2 * (xk - x)
-    return max(f, 0.0)
+    return laws.leaf_unloading_force(x, x_m, *_numbers(s))
 
 
 def leaf_force(x: float, x_peak: float | None, s: LeafSpring) -> float:
     """Spring force at compression ``x`` given the peak so far (``None``: loading)."""
-    if x_peak is None or x >= x_peak:
-        return loading_force(x, s)
-    return unloading_force(x, x_peak, s)
+    return laws.leaf_force(x, math.nan if x_peak is None else x_peak, *_numbers(s))
 
 
 def zero_force_set(x_m: float, s: LeafSpring) -> float:
@@ -111,22 +106,31 @@ class LeafSpringContact(VehicleContact):
 
     def compression_rate(self, kin) -> float:
         vx, vy, _ = kin.point_velocity("S")
-        return -kin.y[IDX_VV] + (vx * self.cos_a - vy * self.sin_a)
+        return laws.compression_rate(kin.y[IDX_VV], vx * self.cos_a - vy * self.sin_a)
 
     def spring_force(self, kin, mode) -> float:
         x = self.compression(kin, "S")
         return self.factor * leaf_force(x, mode.spring_peak_ft, self.leaf)
 
+    def pack(self, P) -> None:
+        super().pack(P)
+        P[laws.P_HAS_LEAF] = 1.0
+        (P[laws.P_LEAF_K1], P[laws.P_LEAF_K2], P[laws.P_LEAF_KNEE], P[laws.P_LEAF_STOP],
+         P[laws.P_LEAF_U1], P[laws.P_LEAF_U2], P[laws.P_LEAF_UKNEE]) = _numbers(self.leaf)
+
     def events(self, model, mode) -> list[EventSpec]:
         comp = lambda t, y: self.compression(Kinematics(model, y), "S")  # noqa: E731
         if mode.spring_peak_ft is None:
             return [EventSpec("leaf spring unloads",
-                              lambda t, y: self.compression_rate(Kinematics(model, y)), -1.0)]
+                              lambda t, y: self.compression_rate(Kinematics(model, y)), -1.0,
+                              code=(laws.EV_COMPRESSION_RATE, 0.0))]
         x_m = mode.spring_peak_ft
         x0 = zero_force_set(x_m, self.leaf)
         return [
-            EventSpec("leaf spring reloads", lambda t, y: comp(t, y) - x_m, +1.0),
-            EventSpec("first spring lost", lambda t, y: comp(t, y) - x0, -1.0),
+            EventSpec("leaf spring reloads", lambda t, y: comp(t, y) - x_m, +1.0,
+                      code=(laws.EV_COMPRESSION, x_m)),
+            EventSpec("first spring lost", lambda t, y: comp(t, y) - x0, -1.0,
+                      code=(laws.EV_COMPRESSION, x0)),
         ]
 
     def transition(self, model, mode, name, y):

@@ -125,7 +125,6 @@ class Model:
         self.segment_checks: SegmentChecks | None = build_segment_checks(scene, options, self)
         #: the compiled laws' parameter vector (:mod:`.laws`)
         self.law_parameters = self._pack()
-        self._leaf = getattr(comps.get("vehicle contact"), "leaf", None) is not None
         self._modes: dict[ContactMode, np.ndarray] = {}
 
     def _pack(self) -> np.ndarray:
@@ -161,27 +160,27 @@ class Model:
                                 "first_step": laws.WINDOW_FIRST_STEP}[mode.window]
             M[laws.M_FRICTION_STICK] = float(mode.friction_stick)
             M[laws.M_FRICTION_SIGN] = mode.friction_sign
+            M[laws.M_CAP_SLIDING] = float(mode.cap_sliding)
+            if mode.spring_peak_ft is not None:
+                M[laws.M_LEAF_PEAK] = mode.spring_peak_ft
             M.setflags(write=False)
             self._modes[mode] = M
         return M
 
     def _mode_now(self, y, mode: ContactMode) -> np.ndarray:
-        """``mode``'s vector with the overrides the sliding modes set and a leaf spring's
-        force (its own law, :mod:`.leaf_spring`)."""
+        """``mode``'s vector with the overrides the sliding modes set."""
         M = self.mode_vector(mode)
         contact = self.components.get("vehicle contact")
         friction = self.components.get("base friction")
         spring = contact.override if contact is not None else None
         fric = friction.override if friction is not None else None
-        if spring is None and fric is None and not self._leaf:
+        if spring is None and fric is None:
             return M
         M = M.copy()
         if spring is not None:
             M[laws.M_SPRING_OVERRIDE] = spring
         if fric is not None:
             M[laws.M_FRICTION_OVERRIDE] = fric
-        if self._leaf and mode.window != "kick":
-            M[laws.M_FS_GIVEN] = contact.spring_force(Kinematics(self, y), mode)
         return M
 
     # -- geometry
@@ -274,8 +273,6 @@ class Model:
     def contact_rhs(self, mode: ContactMode):
         P = self.law_parameters
         derivative = laws.contact_derivative
-        if self._leaf:
-            return lambda t, y: derivative(t, y, P, self._mode_now(y, mode))
         M = self.mode_vector(mode)
         fun = lambda t, y: derivative(t, y, P, M)  # noqa: E731
         fun.law = ("contact", M)  # the batch's compiled integrator runs the same law

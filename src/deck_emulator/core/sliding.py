@@ -31,9 +31,11 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
+
 from . import laws
 from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
-from .rigid import post_derivative, rotate
+from .rigid import post_derivative
 
 __all__ = [
     "Filippov",
@@ -54,19 +56,10 @@ _INSIDE = 1e-9
 
 def point_acceleration(model, kin: Kinematics, d, letter: str):
     """Road-axes acceleration (ft/s^2) of post point ``letter`` given the state derivative
-    ``d``: ``R (omega x (V + omega x r) + V' + omega' x r)``."""
-    y = kin.y
+    ``d`` (:func:`~.laws.point_acceleration`)."""
     bx, by, bz = model.body_points[letter]
-    v1, v2, v3 = y[3], y[4], y[5]
-    w1, w2, w3 = y[10], y[11], y[12]
-    u1 = v1 + w2 * bz - w3 * by
-    u2 = v2 + w3 * bx - w1 * bz
-    u3 = v3 + w1 * by - w2 * bx
-    dw1, dw2, dw3 = d[10], d[11], d[12]
-    a1 = w2 * u3 - w3 * u2 + d[3] + dw2 * bz - dw3 * by
-    a2 = w3 * u1 - w1 * u3 + d[4] + dw3 * bx - dw1 * bz
-    a3 = w1 * u2 - w2 * u1 + d[5] + dw1 * by - dw2 * bx
-    return rotate(kin.R, (a1, a2, a3))
+    return laws.point_acceleration(np.asarray(kin.y, dtype=float), kin.R,
+                                   np.asarray(d, dtype=float), bx, by, bz)
 
 
 class _CapSlider:
@@ -77,23 +70,6 @@ class _CapSlider:
     def __init__(self, model):
         self.comp = model.components["vehicle contact"]
 
-    def bounds(self, model, kin, mode):
-        c = self.comp
-        hi = c.spring_force(kin, replace(mode, cap_engaged=False, cap_sliding=False))
-        return c.cap_lb, hi
-
-    def sigma(self, model, kin):
-        return self.comp.diff_rate(kin)
-
-    def sigma_dot(self, model, kin, d):
-        c = self.comp
-        ax, ay, _ = point_acceleration(model, kin, d, "S")
-        dxv = c._xv(kin, "S") - c.xv0["S"]
-        dsv = kin.y[IDX_VV - 1] - c.sv_contact
-        return math.copysign(1.0, dxv) * (ax * c.cos_a - ay * c.sin_a) - math.copysign(
-            1.0, dsv
-        ) * d[IDX_VV]
-
 
 class _StickSlider:
     """The base's surface ``v_Q = 0`` along ``XX`` (Coulomb friction sticking)."""
@@ -102,16 +78,6 @@ class _StickSlider:
 
     def __init__(self, model):
         self.comp = model.components["base friction"]
-
-    def bounds(self, model, kin, mode):
-        f = self.comp.force_lb
-        return -f, f
-
-    def sigma(self, model, kin):
-        return kin.point_velocity("Q")[0]
-
-    def sigma_dot(self, model, kin, d):
-        return point_acceleration(model, kin, d, "Q")[0]
 
 
 def _sliders(model, mode: ContactMode):
@@ -155,45 +121,18 @@ class Filippov:
         key = (t, tuple(yl))
         if key == self._key:
             return self._val
-        m, mode, sl = self.model, self.mode, self.sliders
-        kin = Kinematics(m, yl)
-        bounds = [s.bounds(m, kin, mode) for s in sl]
-        lo = [b[0] for b in bounds]
-        d0, acc0 = _derivative(m, mode, t, kin, sl, lo)
-        sig0 = [s.sigma_dot(m, kin, d0) for s in sl]
-        cols, M = [], [[0.0] * len(sl) for _ in sl]
-        for i, (a, b) in enumerate(bounds):
-            vals = list(lo)
-            vals[i] = b
-            di, _ = _derivative(m, mode, t, kin, sl, vals)
-            cols.append(di)
-            for j, s in enumerate(sl):
-                M[j][i] = s.sigma_dot(m, kin, di) - sig0[j]
+        m, sl = self.model, self.sliders
         n = len(sl)
-        if n == 1:
-            lam = [-sig0[0] / M[0][0] if M[0][0] != 0.0 else 1.0]
-        else:
-            det = M[0][0] * M[1][1] - M[0][1] * M[1][0]
-            if det == 0.0:
-                lam = [1.0, 0.5]
-            else:
-                lam = [
-                    (-sig0[0] * M[1][1] + sig0[1] * M[0][1]) / det,
-                    (-sig0[1] * M[0][0] + sig0[0] * M[1][0]) / det,
-                ]
-        lamc = [min(max(x, 0.0), 1.0) for x in lam]
-        d = list(d0)
-        for i, li in enumerate(lamc):
-            if li:
-                di = cols[i]
-                d = [dk + li * (dik - d0k) for dk, dik, d0k in zip(d, di, d0)]
-        force = [a + li * (b - a) for (a, b), li in zip(bounds, lamc)]
+        d = np.empty(15)
+        lam, force, lo, hi, diag = (np.empty(2) for _ in range(5))
+        laws.filippov(t, np.asarray(yl, dtype=float), m.law_parameters,
+                      m._mode_now(yl, self.mode), d, lam, force, lo, hi, diag)
         val = {
-            "d": d,
-            "lam": lam,
-            "force": force,
-            "bounds": bounds,
-            "diag": [M[i][i] for i in range(n)],
+            "d": d.tolist(),
+            "lam": lam[:n].tolist(),
+            "force": force[:n].tolist(),
+            "bounds": list(zip(lo[:n].tolist(), hi[:n].tolist())),
+            "diag": diag[:n].tolist(),
             "sliders": [s.name for s in sl],
         }
         self._key, self._val = key, val
@@ -215,7 +154,9 @@ def contact_rhs(model, mode: ContactMode):
     if not _sliders(model, mode):
         return model.contact_rhs(mode)
     fil = Filippov(model, mode)
-    return lambda t, y: fil.solve(t, y)["d"]
+    fun = lambda t, y: fil.solve(t, y)["d"]  # noqa: E731
+    fun.law = ("contact", model.mode_vector(mode))  # the batch's compiled integrator
+    return fun
 
 
 def spring_force(model, t, y, mode) -> float:
@@ -275,6 +216,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
                     f"{s.name} sliding ends at lower bound",
                     lambda t, y, i=i: fil.solve(t, y)["lam"][i],
                     -1.0,
+                    code=(laws.EV_LAM, float(i)),
                 )
             )
             out.append(
@@ -282,6 +224,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
                     f"{s.name} sliding ends at upper bound",
                     lambda t, y, i=i: fil.solve(t, y)["lam"][i] - 1.0,
                     +1.0,
+                    code=(laws.EV_LAM_UPPER, float(i)),
                 )
             )
             if s.name == "cap":
@@ -290,6 +233,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
                         "cap sliding ends: cap not binding",
                         lambda t, y, i=i: (lambda b: b[1] - b[0])(fil.solve(t, y)["bounds"][i]),
                         -1.0,
+                        code=(laws.EV_SPAN, float(i)),
                     )
                 )
     comp = model.components.get("base friction")
