@@ -505,6 +505,17 @@ def contact_derivative_with(t, y, P, M, acc, out):
 
 
 @_jit
+def vehicle_forces(ts, ys, P, M):
+    """:func:`vehicle_force` at each time ``ts[k]`` and state ``ys[:, k]``."""
+    out = np.empty(ts.size)
+    y = np.empty(ys.shape[0])
+    for k in range(ts.size):
+        y[:] = ys[:, k]
+        out[k] = vehicle_force(ts[k], y, P, M)
+    return out
+
+
+@_jit
 def sliding_vehicle_force(t, y, P, M):
     """Force on the car along ``+XV`` (lb) in mode ``M``, the cap's sliding force while it
     holds (:func:`.sliding.vehicle_force`)."""

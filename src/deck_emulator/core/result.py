@@ -129,9 +129,8 @@ class Trajectory:
                 continue
             n = max(math.ceil((seg.t1 - seg.t0) / step_s), 2)
             tt = np.linspace(seg.t0, seg.t1, n + 1)
-            ys = seg.solution(tt)
-            fs.append([self._model.vehicle_force(tk, ys[:, k], seg.mode)
-                       for k, tk in enumerate(tt)])
+            ys = np.ascontiguousarray(seg.solution(tt), dtype=float)
+            fs.append(self._model.vehicle_forces(tt, ys, seg.mode))
             ts.append(tt)
         if not ts:
             return np.zeros(0), np.zeros(0)
