@@ -40,14 +40,14 @@ from .solve import (
     _simulate_with,
 )
 
-__all__ = ["simulate_batch", "component_key", "CompiledSolution", "time_per_scene"]
+__all__ = ["CompiledSolution", "component_key", "simulate_batch", "time_per_scene"]
 
 
 class CompiledSolution:
     """The dense output of a compiled segment, as ``scipy``'s ``OdeSolution`` answers:
     ``ts`` (the steps' ends) and ``solution(t)`` -> (15,) or (15, n)."""
 
-    __slots__ = ("ts", "t_old", "h", "y_old", "F")
+    __slots__ = ("F", "h", "t_old", "ts", "y_old")
 
     def __init__(self, ts, t_old, h, y_old, F):
         self.ts, self.t_old, self.h, self.y_old, self.F = ts, t_old, h, y_old, F

@@ -31,9 +31,19 @@ from scipy.integrate._ivp import dop853_coefficients as _coef
 from . import laws
 from .laws import _jit
 
-__all__ = ["PHASE_CONTACT", "PHASE_FREE", "solve", "fixed_steps", "dense_eval", "brentq",
-           "STATUS_FINISHED", "STATUS_EVENT", "STATUS_FAILED", "STATUS_BUDGET",
-           "STATUS_NOT_FINITE"]
+__all__ = [
+    "PHASE_CONTACT",
+    "PHASE_FREE",
+    "STATUS_BUDGET",
+    "STATUS_EVENT",
+    "STATUS_FAILED",
+    "STATUS_FINISHED",
+    "STATUS_NOT_FINITE",
+    "brentq",
+    "dense_eval",
+    "fixed_steps",
+    "solve",
+]
 
 PHASE_CONTACT = 0
 PHASE_FREE = 1

@@ -27,9 +27,20 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "rotation_matrix", "point_position", "point_velocity", "post_derivative",
-    "contact_loads", "contact_derivative", "free_derivative", "spring_force",
-    "compression", "listing_diff", "diff_rate", "N_P", "N_M", "LETTERS",
+    "LETTERS",
+    "N_M",
+    "N_P",
+    "compression",
+    "contact_derivative",
+    "contact_loads",
+    "diff_rate",
+    "free_derivative",
+    "listing_diff",
+    "point_position",
+    "point_velocity",
+    "post_derivative",
+    "rotation_matrix",
+    "spring_force",
 ]
 
 
