@@ -26,7 +26,7 @@ from deck_emulator.core import (
 )
 from deck_emulator.core import model as core_model
 from deck_emulator.core.batch import time_per_scene
-from deck_emulator.core.scene import LISTING_BASE_FRICTION, BaseFriction, Scene
+from deck_emulator.core.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.legacy.deck import read_deck
 
@@ -112,23 +112,12 @@ def test_shipped_assemblies_and_crash_test_same_as_scipy():
 
 
 def _grid_scene(spec):
-    """The core's scene and options of one of the stability study's scenes (as its
-    ``_task_core`` builds them)."""
-    from deck_emulator.studies.common import matched_options
-    from deck_emulator.studies.stability import H0
+    """The core's scene and options of one of the stability study's scenes (the study's own
+    ``core_case``)."""
+    from deck_emulator.studies.stability import core_case
 
     deck = read_deck(str(deck_path("steel40"))).with_values(**spec["deck"])
-    scene = Scene.from_deck(deck)
-    options = matched_options(H0 / 2 ** spec["k"])
-    if spec["tha"] is not None:
-        options = dataclasses.replace(options, startup_kick=dataclasses.replace(
-            options.startup_kick, tilt_at_step_rad=float(spec["tha"])))
-    if spec["friction"] != "listing":
-        friction = (None if spec["friction"] == 0.0 else
-                    BaseFriction(spec["friction"], LISTING_BASE_FRICTION.slip_window_ft))
-        scene = dataclasses.replace(scene, base=dataclasses.replace(scene.base, friction=friction))
-        options = dataclasses.replace(options, listing_friction=False)
-    return spec["scene"], scene, options
+    return (spec["scene"], *core_case(spec, deck))
 
 
 def _grid(quick):

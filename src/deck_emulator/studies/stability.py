@@ -25,24 +25,30 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.events import EventKind
-from deck_emulator.legacy.deck import read_deck
-from deck_emulator.units import FT_S_PER_MPH
-from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
+from deck_emulator.core.scene import (
+    LISTING_BASE_FRICTION,
+    PHYSICAL,
+    BaseFriction,
+    Scene,
+)
 from deck_emulator.engine import Limits
-from deck_emulator.core.scene import LISTING_BASE_FRICTION, PHYSICAL, BaseFriction, Scene
-
+from deck_emulator.events import EventKind
 from deck_emulator.files import OutputSet, check_output_dir
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.distributed import output_store
+from deck_emulator.units import FT_S_PER_MPH
+
 from .common import (
     ERRATA,
     H0,
     agg_backend,
     cpu_count,
+    csv_text,
     default_deck,
     emulator_hit,
-    energies,
     emulator_trajectory,
+    energies,
     fmt,
     machine,
     machine_line,
@@ -51,7 +57,6 @@ from .common import (
     run_core,
     run_emulator,
     run_longest_first,
-    csv_text,
 )
 
 LIMITS = Limits(ed_iterations=20000, halvings=30, time_s=3.0)
@@ -160,7 +165,10 @@ def _task_emulator(spec, deck) -> dict:
     return row
 
 
-def _task_core(spec, deck) -> dict:
+def core_case(spec, deck):
+    """The core's scene and model options for one scene of the grid (``spec`` from
+    :func:`scenes`, ``deck`` its deck): the listing's step matched, the start-up tilt and the
+    base's friction as the spec says."""
     scene = Scene.from_deck(deck)
     options = matched_options(H0 / 2 ** spec["k"])
     if spec["tha"] is not None:
@@ -171,6 +179,11 @@ def _task_core(spec, deck) -> dict:
                     BaseFriction(spec["friction"], LISTING_BASE_FRICTION.slip_window_ft))
         scene = dataclasses.replace(scene, base=dataclasses.replace(scene.base, friction=friction))
         options = dataclasses.replace(options, listing_friction=False)
+    return scene, options
+
+
+def _task_core(spec, deck) -> dict:
+    scene, options = core_case(spec, deck)
     out = run_core(scene, options, rtol=CORE_RTOL, t_max_s=CORE_T_MAX_S)
     res = out["result"]
     row = {"core_status": out["status"], "core_error": out["error"], "core_wall_s": out["wall_s"],
