@@ -171,8 +171,25 @@ class ED:
         ar, K2 = self.ar, self.K2
         sin, cos, sign = ar.sin, ar.cos, ar.sign
 
+        # DF(D)=D-((HI/2.)*(W3A+(COS((HI/2.)*(W2A*COS(D)+W1A*SIN(D)+THDB)+THB)/SIN((HI/2.)*
+        # (W2A*COS(D)+W1A*SIN(D)+THDB)+THB))*(W1A*COS(D)-W2A*SIN(D))+PSIDB)+PSIB): each
+        # subexpression the statement function writes twice is computed once, in the order of
+        # its first appearance (the same operations on the same operands: the same value, and a
+        # fault at the same point), and DF of the argument it was last called with is that
+        # value again (labels 3 and 4 ask DF(DH) twice): the same printout, bit for bit
+        last = [None, None]
+
         def DF(D):
-            return D-((HI/K2)*(W3A+(cos((HI/K2)*(W2A*cos(D)+W1A*sin(D)+THDB)+THB)/sin((HI/K2)*(W2A*cos(D)+W1A*sin(D)+THDB)+THB))*(W1A*cos(D)-W2A*sin(D))+PSIDB)+PSIB)  # noqa: E501
+            if D is last[0]:
+                return last[1]
+            h2 = HI/K2
+            cD = cos(D)
+            a = W2A*cD
+            sD = sin(D)
+            x = h2*(a+W1A*sD+THDB)+THB
+            value = D-(h2*(W3A+(cos(x)/sin(x))*(W1A*cD-W2A*sD)+PSIDB)+PSIB)
+            last[0], last[1] = D, value
+            return value
 
         def IF(x, neg, zero, pos):
             s = sign(x) if type(x) is not int else (x > 0) - (x < 0)
@@ -492,6 +509,9 @@ class Program:
         v.ZCO = -v.YYCO*sin(v.DELTA)+v.ZZCO*cos(v.DELTA)
         v.XVSO = v.XSO*cos(v.ALPHA)-v.YYSO*sin(v.ALPHA)
         v.XVTO = v.XTO*cos(v.ALPHA)-v.YYTO*sin(v.ALPHA)
+        # DELTA and ALPHA never change after the READ: their cosines and sines, just computed
+        # above, serve the free flight's every COS(DELTA) ... SIN(ALPHA) (the same values)
+        self.trig_delta_alpha = (cos(v.DELTA), sin(v.DELTA), cos(v.ALPHA), sin(v.ALPHA))
         if self.check_blocks and not all(map(math.isfinite, (getattr(v, n) for n in d.values))):
             raise _Replay
         return 125
@@ -886,11 +906,12 @@ class Program:
         v.PHIDFA = (-K("1.0")/sin(v.THFA))*v.PFORKF
         v.PSIDFA = v.W3FA-(cos(v.THFA))*v.PHIDFA
         # FORCE CALCULATIONS (FREE)
-        W, G, DELTA = v.W, v.G, v.DELTA
+        W, G = v.W, v.G
+        cosD, sinD, cosA, sinA = self.trig_delta_alpha
         THFB, PHIFB, PSIFB = v.THFB, v.PHIFB, v.PSIFB
-        v.F1FB = W*G*cos(DELTA)*sin(THFB)*cos(PSIFB)-W*G*sin(DELTA)*(cos(PHIFB)*sin(PSIFB)+cos(THFB)*sin(PHIFB)*cos(PSIFB))  # noqa: E501
-        v.F2FB = -W*G*cos(DELTA)*sin(THFB)*sin(PSIFB)-W*G*sin(DELTA)*(cos(PHIFB)*cos(PSIFB)-cos(THFB)*sin(PHIFB)*sin(PSIFB))  # noqa: E501
-        v.F3FB = -W*G*cos(DELTA)*cos(THFB)-W*G*sin(DELTA)*sin(THFB)*sin(PHIFB)
+        v.F1FB = W*G*cosD*sin(THFB)*cos(PSIFB)-W*G*sinD*(cos(PHIFB)*sin(PSIFB)+cos(THFB)*sin(PHIFB)*cos(PSIFB))  # noqa: E501
+        v.F2FB = -W*G*cosD*sin(THFB)*sin(PSIFB)-W*G*sinD*(cos(PHIFB)*cos(PSIFB)-cos(THFB)*sin(PHIFB)*sin(PSIFB))  # noqa: E501
+        v.F3FB = -W*G*cosD*cos(THFB)-W*G*sinD*sin(THFB)*sin(PHIFB)
         # LINEAR VELOCITY CALCUALTIIONS (FREE)
         v.V1FA = H*((v.F1FB/W)+v.V2FB*v.W3FB-v.V3FB*v.W2FB)+v.V1FB
         v.V2FA = H*((v.F2FB/W)+v.V3FB*v.W1FB-v.V1FB*v.W3FB)+v.V2FB
@@ -909,33 +930,32 @@ class Program:
         v.XCMFA = (S1FA)*((-sin(PHIFA))*(sin(PSIFA))+((cos(THFA))*(cos(PHIFA))*(cos(PSIFA))))+(S2FA)*((-sin(PHIFA))*(cos(PSIFA))-((cos(THFA))*(cos(PHIFA))*sin(PSIFA)))+(S3FA)*((sin(THFA))*cos(PHIFA))+v.XCMFB  # noqa: E501
         v.YCMFA = (S1FA)*((cos(PHIFA))*(sin(PSIFA))+((cos(THFA))*(sin(PHIFA))*cos(PSIFA)))+(S2FA)*((cos(PHIFA))*(cos(PSIFA))-((cos(THFA))*(sin(PHIFA))*sin(PSIFA)))+(S3FA)*((sin(THFA))*sin(PHIFA))+v.YCMFB  # noqa: E501
         v.ZCMFA = (S1FA)*(-sin(THFA))*(cos(PSIFA))+((S2FA)*(sin(THFA))*(sin(PSIFA)))+(S3FA)*(cos(THFA))+v.ZCMFB  # noqa: E501
-        v.YYCMFA = v.YCMFA*cos(DELTA)-v.ZCMFA*sin(DELTA)
-        v.ZZCMFA = v.YCMFA*sin(DELTA)+v.ZCMFA*cos(DELTA)
+        v.YYCMFA = v.YCMFA*cosD-v.ZCMFA*sinD
+        v.ZZCMFA = v.YCMFA*sinD+v.ZCMFA*cosD
         # CALCULATION OF ROTATION PARAMETERS (FREE)
         v.SQUIFA = sin(THFA/K2)*sin((PSIFA-PHIFA)/K2)
         v.ETAFA = sin(THFA/K2)*cos((PSIFA-PHIFA)/K2)
         v.ZETAFA = cos(THFA/K2)*sin((PSIFA+PHIFA)/K2)
         v.CHIFA = cos(THFA/K2)*cos((PSIFA+PHIFA)/K2)
         rot, cm = self._rotation(v.SQUIFA, v.ETAFA, v.ZETAFA, v.CHIFA), (v.XCMFA, v.YCMFA, v.ZCMFA)
-        ALPHA = v.ALPHA
         v.XPFA, v.YPFA, v.ZPFA = self._point(v.XPO, v.YPO, v.ZPO, cm, rot)
-        v.YYPFA = v.YPFA*cos(DELTA)-v.ZPFA*sin(DELTA)
-        v.ZZPFA = v.YPFA*sin(DELTA)+v.ZPFA*cos(DELTA)
-        v.XVPFA = v.XPFA*cos(ALPHA)-v.YYPFA*sin(ALPHA)
-        v.YVPFA = v.XPFA*sin(ALPHA)+v.YYPFA*cos(ALPHA)
+        v.YYPFA = v.YPFA*cosD-v.ZPFA*sinD
+        v.ZZPFA = v.YPFA*sinD+v.ZPFA*cosD
+        v.XVPFA = v.XPFA*cosA-v.YYPFA*sinA
+        v.YVPFA = v.XPFA*sinA+v.YYPFA*cosA
         v.XQFA, v.YQFA, v.ZQFA = self._point(v.XQO, v.YQO, v.ZQO, cm, rot)
-        v.YYQFA = v.YQFA*cos(DELTA)-v.ZQFA*sin(DELTA)
-        v.ZZQFA = v.YQFA*sin(DELTA)+v.ZQFA*cos(DELTA)
+        v.YYQFA = v.YQFA*cosD-v.ZQFA*sinD
+        v.ZZQFA = v.YQFA*sinD+v.ZQFA*cosD
         v.XRFA, v.YRFA, v.ZRFA = self._point(v.XRO, v.YRO, v.ZRO, cm, rot)
-        v.YYRFA = v.YRFA*cos(DELTA)-v.ZRFA*sin(DELTA)
-        v.ZZRFA = v.YRFA*sin(DELTA)+v.ZRFA*cos(DELTA)
-        v.XVRFA = v.XRFA*cos(ALPHA)-v.YYRFA*sin(ALPHA)
-        v.YVRFA = v.XRFA*sin(ALPHA)+v.YYRFA*cos(ALPHA)
+        v.YYRFA = v.YRFA*cosD-v.ZRFA*sinD
+        v.ZZRFA = v.YRFA*sinD+v.ZRFA*cosD
+        v.XVRFA = v.XRFA*cosA-v.YYRFA*sinA
+        v.YVRFA = v.XRFA*sinA+v.YYRFA*cosA
         v.XCFA, v.YCFA, v.ZCFA = self._point(v.XCO, v.YCO, v.ZCO, cm, rot)
-        v.YYCFA = v.YCFA*cos(DELTA)-v.ZCFA*sin(DELTA)
-        v.ZZCFA = v.YCFA*sin(DELTA)+v.ZCFA*cos(DELTA)
-        v.XVCFA = v.XCFA*cos(ALPHA)-v.YYCFA*sin(ALPHA)
-        v.YVCFA = v.XCFA*sin(ALPHA)+v.YYCFA*cos(ALPHA)
+        v.YYCFA = v.YCFA*cosD-v.ZCFA*sinD
+        v.ZZCFA = v.YCFA*sinD+v.ZCFA*cosD
+        v.XVCFA = v.XCFA*cosA-v.YYCFA*sinA
+        v.YVCFA = v.XCFA*sinA+v.YYCFA*cosA
         v.E = v.E+self.KSTEP("0.0002")
         return self.IF(v.E-K("0.008"), 77, 80, 80)
 
@@ -1109,7 +1129,7 @@ def _assigned_variable(exc) -> str | None:
 
     for f in reversed(_frames(exc)):
         line = (f.line or linecache.getline(f.filename, f.lineno)).strip()
-        if line.startswith("return D-"):
+        if f.name == "DF":  # ED's statement function, whichever of its lines trapped
             return "DF"
         if "=" in line and not line.startswith(("return", "if ", "elif ")):
             target = line.split("=", 1)[0].strip()
