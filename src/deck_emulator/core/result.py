@@ -97,27 +97,26 @@ class Trajectory:
 
     def rotation(self, t) -> np.ndarray:
         """Body -> road rotation matrices, (3, 3) or (n, 3, 3)."""
-        q = self.state(t)[6:10]
-        w, x, y, z = q
-        R = np.array(
-            [
-                [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-                [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
-            ]
-        )
-        return np.moveaxis(R, -1, 0) if R.ndim == 3 else R
+        return _rotation_matrices(self.state(t)[6:10])
 
     def point(self, name: str, t) -> np.ndarray:
         """Position of post point ``name`` (P, Q, S, T, R, C) in XX, YY, ZZ, ft."""
-        body = np.asarray(self._model.body_points[name])
-        s = self.state(t)
-        R = self.rotation(t)
-        return s[0:3] + (R @ body if R.ndim == 2 else (R @ body).T)
+        return self.points(t, (name,))[name]
 
-    def points(self, t) -> dict[str, np.ndarray]:
-        """All the post's points at ``t``, by name."""
-        return {k: self.point(k, t) for k in self.point_names}
+    def points(self, t, names=None) -> dict[str, np.ndarray]:
+        """The post's points ``names`` (default: all) at ``t``, by name: the state and its
+        rotation evaluated once for all of them."""
+        return self.points_of(self.state(t), names)
+
+    def points_of(self, state: np.ndarray, names=None) -> dict[str, np.ndarray]:
+        """The post's points ``names`` (default: all) in the state(s) ``state`` (a
+        :meth:`state` answer), by name."""
+        R = _rotation_matrices(state[6:10])
+        out = {}
+        for k in self.point_names if names is None else names:
+            body = np.asarray(self._model.body_points[k])
+            out[k] = state[0:3] + (R @ body if R.ndim == 2 else (R @ body).T)
+        return out
 
     def contact_force(self, step_s: float) -> tuple[np.ndarray, np.ndarray]:
         """The force on the car along ``+XV`` (lb) over the contact segments, sampled at
@@ -139,6 +138,20 @@ class Trajectory:
     def vehicle(self, t) -> np.ndarray:
         """Car position SV (ft) and velocity VV (ft/s) along XV: shape (2,) or (2, n)."""
         return self.state(t)[13:15]
+
+
+def _rotation_matrices(q: np.ndarray) -> np.ndarray:
+    """Body -> road rotation matrices of unit quaternions ``q`` (w, x, y, z): (4,) -> (3, 3),
+    (4, n) -> (n, 3, 3)."""
+    w, x, y, z = q
+    R = np.array(
+        [
+            [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
+        ]
+    )
+    return np.moveaxis(R, -1, 0) if R.ndim == 3 else R
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ emulator and the core can be traced to one option.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import tomllib
@@ -615,7 +616,10 @@ def _plain(obj: Any) -> dict:
     return out
 
 
+@functools.cache
 def _field_types(cls: type) -> dict[str, Any]:
+    """A scene class's field types, resolved once a class (typing.get_type_hints evaluates
+    every annotation's text each time: most of the time Scene.from_deck took)."""
     import typing
 
     return typing.get_type_hints(cls)

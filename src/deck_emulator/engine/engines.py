@@ -500,10 +500,11 @@ class CoreEngine:
                                np.arange(t_c, t_end, self.sample_free_s), edges, [t_c, t_end]])
         t = np.unique(np.clip(grid, t0, t_end))
         out.t = t
-        allp = traj.points(t)
+        state = traj.state(t)  # evaluated once for the points, the mass centre and the car
+        allp = traj.points_of(state)
         out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C", "U") if k in allp}
-        out.points["CM"] = np.asarray(traj.mass_centre(t)).T
-        veh = traj.vehicle(t)
+        out.points["CM"] = np.asarray(state[0:3]).T
+        veh = state[13:15]
         out.sv, out.vv = np.asarray(veh[0]), np.asarray(veh[1])
         out.free = t > t_c + 1e-12
         if "C" in out.points and out.hit_time_s is not None:
