@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Core scenes per second, both paths, in one run: the scipy loop and the batched core.
 
-    python benchmarks/bench_core_batch.py [--repeat 5] [--full]
+    python benchmarks/bench_core_batch.py [--repeat 5] [--full | --commands]
 
 Prints, for 1 and 100 scenes (and 10,000 with ``--full``):
 
@@ -15,9 +15,13 @@ Prints, for 1 and 100 scenes (and 10,000 with ``--full``):
 * the ratio of the time per scene to the compiled listing's (gfortran, REAL*8, the flags of
   scripts/make_goldens.py, steel40: the median of ``--repeat`` whole-process runs, start-up
   included; the one scene is steel40 too, the batches are the sweep's scenes);
-* with ``--full``, the whole commands: ``deck-emulator sweep`` of 10,000 core scenes
-  (:data:`SWEEP_GRID`) and ``deck-emulator sensitivity --deck steel40 -N 1024`` (8,192 core
-  scenes), both ``--jobs 2``, timed as subprocesses.
+* with ``--full`` (or ``--commands``, which leaves out the 10,000 scenes in process: the scipy
+  path's take about 16 minutes), the whole commands: ``deck-emulator sweep`` of 10,000 core
+  scenes (:data:`SWEEP_GRID`) and ``deck-emulator sensitivity --deck steel40 -N 1024`` (8,192
+  core scenes), both ``--jobs 2``, timed as subprocesses; for the sensitivity, which input
+  decides the ΔV to the end of contact (the largest total index ST, from its
+  ``sensitivity.csv``), to hold beside docs/sensitivity.md's N = 256 answer (the car's mass
+  WV).
 
 The scenes are the sweep's (``deck_emulator.studies.sweep.scene_deck``: steel40 with VVB and
 ALPHA changed), spread evenly over :data:`SWEEP_GRID`.  Times are wall-clock and depend on the
@@ -118,11 +122,33 @@ def _timed(cmd: list[str]) -> tuple[float, int, str]:
     return time.perf_counter() - t0, proc.returncode, proc.stderr.strip()[-300:]
 
 
+def _deciding_input(table: Path, output: str) -> str | None:
+    """For each deck of a sensitivity.csv, the input with the largest total index ST of
+    ``output`` at the largest N, with its ST and interval; None when there is no table."""
+    import csv
+
+    if not table.is_file():
+        return None
+    rows = [r for r in csv.DictReader(table.open()) if r["output"] == output and r["ST"]]
+    said = []
+    for deck in dict.fromkeys(r["deck"] for r in rows):
+        mine = [r for r in rows if r["deck"] == deck]
+        n = max(int(r["N"]) for r in mine)
+        mine = sorted((r for r in mine if int(r["N"]) == n), key=lambda r: -float(r["ST"]))
+        top = mine[0]
+        rest = ", ".join(f"{r['input']} {float(r['ST']):.2f}" for r in mine[1:])
+        said.append(f"{deck}, {output}, N = {n}: {top['input']} decides it (ST "
+                    f"{float(top['ST']):.2f} ± {float(top['ST_conf']):.2f}); then {rest}")
+    return "; ".join(said) or None
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--full", action="store_true",
                     help="also 10,000 scenes in process and the two whole commands (long)")
+    ap.add_argument("--commands", action="store_true",
+                    help="also the two whole commands (not the 10,000 scenes in process)")
     ap.add_argument("--measure", nargs=2, metavar=("PATH", "N"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.measure:  # a child: one measurement, as JSON
@@ -155,7 +181,7 @@ def main(argv=None) -> int:
             ratio = "—" if compiled is None else f"{per / compiled:.1f}"
             print(f"| {path} | {n} | {m['wall_s']:.3f} | {m['cpu_s']:.3f} | {n / m['wall_s']:.1f}"
                   f" | {per * 1e3:.1f} | {ratio} | {m['failed']} | {m['maxrss_mb']:.0f} |")
-    if args.full:
+    if args.full or args.commands:
         cli = [sys.executable, "-m", "deck_emulator"]
         print("\nWhole commands (subprocesses, --jobs 2):\n")
         with tempfile.TemporaryDirectory() as tmp:
@@ -170,6 +196,10 @@ def main(argv=None) -> int:
                 dt, status, err = _timed(cmd)
                 said = "" if status == 0 else f" (exit status {status}: {err})"
                 print(f"* {label}: {dt:.1f} s, {count / dt:.1f} scenes/s{said}")
+            decides = _deciding_input(Path(tmp) / "sensitivity" / "sensitivity.csv",
+                                      "delta_v_contact_mph")
+            if decides:
+                print(f"* sensitivity's answer: {decides}")
     print(f"\nload average at the end: {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
     return 0
 
