@@ -21,11 +21,13 @@ ROOT = Path(__file__).resolve().parent.parent
 #: name; ctypes, for binary32's sinf/cosf only; traceback, for a stopped run only).
 #: Then what the command line's start took out (issue 25, item 6): the other subcommands'
 #: parsers and what they import (the answers and the quantity registry: dataclasses,
-#: inspect), json (for --json only), hashlib (a deck's sha256, for provenance only), typing.
+#: inspect), json (for --json only), hashlib (a deck's sha256, for provenance only), typing;
+#: shutil (argparse's way to the terminal's width), the IBM 7094's arithmetic and fractions.
 NOT_IMPORTED = ("scipy", "matplotlib", "pandas", "dask", "distributed", "fortranformat",
                 "importlib.metadata", "importlib.resources", "traceback",
                 "deck_emulator.present", "deck_emulator.engine.quantities",
-                "deck_emulator.studies", "json", "hashlib", "typing")
+                "deck_emulator.studies", "json", "hashlib", "typing", "shutil",
+                "deck_emulator.legacy.arithmetic.ibm7094", "fractions")
 
 # (what the interpreter's own start loaded, before the run, does not count)
 PROBE = """

@@ -897,21 +897,21 @@ class Program:
         v.D = self.ed(v.W1FA, v.W2FA, v.W3FA, v.THDFB, v.PHIDFB, v.PSIDFB, v.HI, v.PSIFB, v.THFB)
         v.PSIFA = v.D
         v.PSIFAD = v.PSIFA*K("57.3")
-        v.PFORKF = (v.W1FA*cos(v.PSIFA))-(v.W2FA*sin(v.PSIFA))
-        v.THFA = (H/K2)*(v.W2FA*cos(v.PSIFA)+v.W1FA*sin(v.PSIFA)+v.THDFB)+v.THFB
+        v.PFORKF = (v.W1FA*(cos_PSIFA := cos(v.PSIFA)))-(v.W2FA*(sin_PSIFA := sin(v.PSIFA)))
+        v.THFA = (H/K2)*(v.W2FA*cos_PSIFA+v.W1FA*sin_PSIFA+v.THDFB)+v.THFB
         v.THFAD = v.THFA*K("57.3")
-        v.PHIFA = (H/K2)*((((sin(v.THFA))*v.PFORKF)/((cos(v.THFA))*cos(v.THFA)-K("1.0")))+v.PHIDFB)+v.PHIFB
+        v.PHIFA = (H/K2)*(((((sin_THFA := sin(v.THFA)))*v.PFORKF)/(((cos_THFA := cos(v.THFA)))*cos_THFA-K("1.0")))+v.PHIDFB)+v.PHIFB
         v.PHIFAD = v.PHIFA*K("57.3")
-        v.THDFA = (v.W2FA/cos(v.PSIFA))+((sin(v.PSIFA))/cos(v.PSIFA))*v.PFORKF
-        v.PHIDFA = (-K("1.0")/sin(v.THFA))*v.PFORKF
-        v.PSIDFA = v.W3FA-(cos(v.THFA))*v.PHIDFA
+        v.THDFA = (v.W2FA/cos_PSIFA)+((sin_PSIFA)/cos_PSIFA)*v.PFORKF
+        v.PHIDFA = (-K("1.0")/sin_THFA)*v.PFORKF
+        v.PSIDFA = v.W3FA-(cos_THFA)*v.PHIDFA
         # FORCE CALCULATIONS (FREE)
         W, G = v.W, v.G
         cosD, sinD, cosA, sinA = self.trig_delta_alpha
         THFB, PHIFB, PSIFB = v.THFB, v.PHIFB, v.PSIFB
-        v.F1FB = W*G*cosD*sin(THFB)*cos(PSIFB)-W*G*sinD*(cos(PHIFB)*sin(PSIFB)+cos(THFB)*sin(PHIFB)*cos(PSIFB))  # noqa: E501
-        v.F2FB = -W*G*cosD*sin(THFB)*sin(PSIFB)-W*G*sinD*(cos(PHIFB)*cos(PSIFB)-cos(THFB)*sin(PHIFB)*sin(PSIFB))  # noqa: E501
-        v.F3FB = -W*G*cosD*cos(THFB)-W*G*sinD*sin(THFB)*sin(PHIFB)
+        v.F1FB = W*G*cosD*(sin_THFB := sin(THFB))*(cos_PSIFB := cos(PSIFB))-W*G*sinD*((cos_PHIFB := cos(PHIFB))*(sin_PSIFB := sin(PSIFB))+(cos_THFB := cos(THFB))*(sin_PHIFB := sin(PHIFB))*cos_PSIFB)  # noqa: E501
+        v.F2FB = -W*G*cosD*sin_THFB*sin_PSIFB-W*G*sinD*(cos_PHIFB*cos_PSIFB-cos_THFB*sin_PHIFB*sin_PSIFB)  # noqa: E501
+        v.F3FB = -W*G*cosD*cos_THFB-W*G*sinD*sin_THFB*sin_PHIFB
         # LINEAR VELOCITY CALCUALTIIONS (FREE)
         v.V1FA = H*((v.F1FB/W)+v.V2FB*v.W3FB-v.V3FB*v.W2FB)+v.V1FB
         v.V2FA = H*((v.F2FB/W)+v.V3FB*v.W1FB-v.V1FB*v.W3FB)+v.V2FB
@@ -927,9 +927,9 @@ class Program:
         # X,Y,Z TRANSLATIONS OF MASS CENTER (FREE)
         THFA, PHIFA, PSIFA = v.THFA, v.PHIFA, v.PSIFA
         S1FA, S2FA, S3FA = v.S1FA, v.S2FA, v.S3FA
-        v.XCMFA = (S1FA)*((-sin(PHIFA))*(sin(PSIFA))+((cos(THFA))*(cos(PHIFA))*(cos(PSIFA))))+(S2FA)*((-sin(PHIFA))*(cos(PSIFA))-((cos(THFA))*(cos(PHIFA))*sin(PSIFA)))+(S3FA)*((sin(THFA))*cos(PHIFA))+v.XCMFB  # noqa: E501
-        v.YCMFA = (S1FA)*((cos(PHIFA))*(sin(PSIFA))+((cos(THFA))*(sin(PHIFA))*cos(PSIFA)))+(S2FA)*((cos(PHIFA))*(cos(PSIFA))-((cos(THFA))*(sin(PHIFA))*sin(PSIFA)))+(S3FA)*((sin(THFA))*sin(PHIFA))+v.YCMFB  # noqa: E501
-        v.ZCMFA = (S1FA)*(-sin(THFA))*(cos(PSIFA))+((S2FA)*(sin(THFA))*(sin(PSIFA)))+(S3FA)*(cos(THFA))+v.ZCMFB  # noqa: E501
+        v.XCMFA = (S1FA)*((-(sin_PHIFA := sin(PHIFA)))*(sin_PSIFA)+((cos_THFA)*((cos_PHIFA := cos(PHIFA)))*(cos_PSIFA)))+(S2FA)*((-sin_PHIFA)*(cos_PSIFA)-((cos_THFA)*(cos_PHIFA)*sin_PSIFA))+(S3FA)*((sin_THFA)*cos_PHIFA)+v.XCMFB  # noqa: E501
+        v.YCMFA = (S1FA)*((cos_PHIFA)*(sin_PSIFA)+((cos_THFA)*(sin_PHIFA)*cos_PSIFA))+(S2FA)*((cos_PHIFA)*(cos_PSIFA)-((cos_THFA)*(sin_PHIFA)*sin_PSIFA))+(S3FA)*((sin_THFA)*sin_PHIFA)+v.YCMFB  # noqa: E501
+        v.ZCMFA = (S1FA)*(-sin_THFA)*(cos_PSIFA)+((S2FA)*(sin_THFA)*(sin_PSIFA))+(S3FA)*(cos_THFA)+v.ZCMFB  # noqa: E501
         v.YYCMFA = v.YCMFA*cosD-v.ZCMFA*sinD
         v.ZZCMFA = v.YCMFA*sinD+v.ZCMFA*cosD
         # CALCULATION OF ROTATION PARAMETERS (FREE)

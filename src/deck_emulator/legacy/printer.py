@@ -12,9 +12,8 @@ misrounds some values next to a tie; an arithmetic may also choose to truncate
 
 from __future__ import annotations
 
+import numbers
 import re
-from fractions import Fraction
-
 
 from deck_emulator.events import Event, EventKind, Surface
 
@@ -162,8 +161,11 @@ def f_field(digits: str, negative: bool, w: int) -> str:
     return text.rjust(w)
 
 
-def rounded_digits(exact: Fraction, decimals: int, rounding: str = "nearest") -> str:
-    """|exact| rounded to ``decimals`` places as gfortran does (ties to even), or chopped."""
+def rounded_digits(exact: numbers.Rational, decimals: int, rounding: str = "nearest") -> str:
+    """|exact| (a :class:`fractions.Fraction`) rounded to ``decimals`` places as gfortran does
+    (ties to even), or chopped."""
+    from fractions import Fraction  # (here: a binary64 run prints without it)
+
     scaled = abs(exact) * 10**decimals
     whole, rest = divmod(scaled, 1)
     if rounding == "nearest":
@@ -175,7 +177,7 @@ def rounded_digits(exact: Fraction, decimals: int, rounding: str = "nearest") ->
     return s[:len(s) - decimals] + "." + s[len(s) - decimals:]
 
 
-def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> float:
+def printable(exact: numbers.Rational, decimals: int, rounding: str = "nearest") -> float:
     """The float that prints ``exact`` as gfortran would, for a writer that rounds correctly
     (fortranformat rounds exact ties away from zero, and misrounds values just off a tie:
     binary64 5.0000000000000004e-06 as F15.5 gives 0.00000 where gfortran gives 0.00001)."""
@@ -183,19 +185,24 @@ def printable(exact: Fraction, decimals: int, rounding: str = "nearest") -> floa
     sign = -1 if exact < 0 else 1
     if whole == 0:
         return sign * 1e-300  # keeps gfortran's '-0.00000' for a small negative value
+    from fractions import Fraction
+
     return float(sign * Fraction(whole, 10**decimals))
 
 
 class Printer:
     """Collects the records one run writes to unit 6.
 
-    ``exact`` gives a value's exact value as a Fraction and ``rounding`` says how the digits
+    ``exact`` gives a value's exact value as a Fraction (default: ``Fraction`` itself) and
+    ``rounding`` says how the digits
     are chosen from it. ``binary=True`` says the values are IEEE binary floats (or convert to a
     binary64 exactly): their digits then come from Python's formatting, which is correctly
     rounded from the exact binary value with exact ties to even, as gfortran's; a minus zero
     prints as ``-0.00000``, as gfortran prints it."""
 
-    def __init__(self, exact=Fraction, rounding: str = "nearest", *, binary: bool = False):
+    def __init__(self, exact=None, rounding: str = "nearest", *, binary: bool = False):
+        if exact is None:
+            from fractions import Fraction as exact
         self._exact = exact
         self._rounding = rounding
         self._binary = binary and rounding == "nearest"

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-from fractions import Fraction
 
 
 class ArithmeticFault(ArithmeticError):
@@ -61,7 +60,11 @@ class Arithmetic:
     def isfinite(self, x) -> bool:
         return math.isfinite(x)
 
-    def exact(self, x) -> Fraction:
+    def exact(self, x):
+        """``x``'s exact value, a :class:`fractions.Fraction` (imported here: a run that never
+        asks does not load it)."""
+        from fractions import Fraction
+
         return Fraction(float(x))
 
     def to_float(self, x) -> float:
@@ -79,6 +82,8 @@ _REGISTRY: dict[str, object] = {}
 
 #: The arithmetics' names, in the order the CLI offers them.
 ARITHMETICS = ("double", "single", "ibm7094")
+#: the module of the package that registers each arithmetic, imported when first asked for
+_MODULES = {"double": "ieee", "single": "ieee", "ibm7094": "ibm7094"}
 
 
 def register(name: str, factory) -> None:
@@ -88,10 +93,10 @@ def register(name: str, factory) -> None:
 
 def get_arithmetic(name: str, **options) -> Arithmetic:
     """The arithmetic called ``name`` (``double``, ``single`` or ``ibm7094``)."""
-    if not _REGISTRY:  # the interface alone was imported: load the implementations
+    if name not in _REGISTRY and name in _MODULES:  # its implementation registers itself
         import importlib
 
-        importlib.import_module(__package__)
+        importlib.import_module(f"{__package__}.{_MODULES[name]}")
     try:
         factory = _REGISTRY[name]
     except KeyError:

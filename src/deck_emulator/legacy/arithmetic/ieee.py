@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 
 from .base import Arithmetic, register
 
@@ -59,6 +58,9 @@ class SingleArithmetic(Arithmetic):
         self._m = _libm()
 
     def decimal(self, text: str):
+        # (binary32's rounding only: fractions is no part of a double run)
+        from fractions import Fraction
+
         exact = Fraction(text)
         c = np.float32(float(exact))
         # decimal -> binary64 -> binary32 can round twice; pick the truly nearest binary32
