@@ -164,12 +164,10 @@ def f_field(digits: str, negative: bool, w: int) -> str:
 def rounded_digits(exact: numbers.Rational, decimals: int, rounding: str = "nearest") -> str:
     """|exact| (a :class:`fractions.Fraction`) rounded to ``decimals`` places as gfortran does
     (ties to even), or chopped."""
-    from fractions import Fraction  # (here: a binary64 run prints without it)
-
     scaled = abs(exact) * 10**decimals
     whole, rest = divmod(scaled, 1)
-    if rounding == "nearest":
-        if rest > Fraction(1, 2) or (rest == Fraction(1, 2) and whole % 2):
+    if rounding == "nearest":  # rest against one half, exactly, in the rational's own type
+        if 2 * rest > 1 or (2 * rest == 1 and whole % 2):
             whole += 1
     elif rounding != "truncate":
         raise ValueError(f"unknown output rounding {rounding!r}")
@@ -194,8 +192,7 @@ class Printer:
     """Collects the records one run writes to unit 6.
 
     ``exact`` gives a value's exact value as a Fraction (default: ``Fraction`` itself) and
-    ``rounding`` says how the digits
-    are chosen from it. ``binary=True`` says the values are IEEE binary floats (or convert to a
+    ``rounding`` says how the digits are chosen from it. ``binary=True`` says the values are IEEE binary floats (or convert to a
     binary64 exactly): their digits then come from Python's formatting, which is correctly
     rounded from the exact binary value with exact ties to even, as gfortran's; a minus zero
     prints as ``-0.00000``, as gfortran prints it."""

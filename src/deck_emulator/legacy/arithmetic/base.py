@@ -80,10 +80,10 @@ class Arithmetic:
 #: name -> factory(**options); filled by the implementations' modules (see the package).
 _REGISTRY: dict[str, object] = {}
 
-#: The arithmetics' names, in the order the CLI offers them.
-ARITHMETICS = ("double", "single", "ibm7094")
-#: the module of the package that registers each arithmetic, imported when first asked for
+#: Each arithmetic's name, in the order the CLI offers them, and the module of this package
+#: that registers it (imported when the arithmetic is first asked for).
 _MODULES = {"double": "ieee", "single": "ieee", "ibm7094": "ibm7094"}
+ARITHMETICS = tuple(_MODULES)
 
 
 def register(name: str, factory) -> None:
