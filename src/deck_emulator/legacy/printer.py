@@ -192,10 +192,10 @@ class Printer:
     """Collects the records one run writes to unit 6.
 
     ``exact`` gives a value's exact value as a Fraction (default: ``Fraction`` itself) and
-    ``rounding`` says how the digits are chosen from it. ``binary=True`` says the values are IEEE binary floats (or convert to a
-    binary64 exactly): their digits then come from Python's formatting, which is correctly
-    rounded from the exact binary value with exact ties to even, as gfortran's; a minus zero
-    prints as ``-0.00000``, as gfortran prints it."""
+    ``rounding`` says how the digits are chosen from it. ``binary=True`` says the values are
+    IEEE binary floats (or convert to a binary64 exactly): their digits then come from Python's
+    formatting, which is correctly rounded from the exact binary value with exact ties to even,
+    as gfortran's; a minus zero prints as ``-0.00000``, as gfortran prints it."""
 
     def __init__(self, exact=None, rounding: str = "nearest", *, binary: bool = False):
         if exact is None:
