@@ -24,7 +24,7 @@ import time
 
 from deck_emulator.studies.distributed import run_scenes
 from deck_emulator.studies.sensitivity import scene_tasks
-from deck_emulator.units import S_PER_HOUR
+from deck_emulator.vocabulary.units import S_PER_HOUR
 
 TARGET = 10_000
 

@@ -100,6 +100,42 @@ def test_unit_factors_are_written_in_units_py_only():
     assert found == []
 
 
+
+#: A tolerance, step or sampling default written as a number: ``rtol=1e-9``, ``RTOL = 1e-12``,
+#: ``default=1e-10``, ``step_s: float = 0.0004``.  vocabulary/defaults.py is the one place.
+_DEFAULT_LITERAL = re.compile(r"(rtol|atol|RTOL|ATOL)[A-Za-z_]*\s*[:=]\s*(float\s*=\s*)?[0-9.]+e-[0-9]+"
+                              r"|default=1e-[0-9]+|(step|sample)[A-Za-z_]*_s\s*(:\s*float)?\s*=\s*[0-9.]+\b")
+
+
+def test_defaults_are_written_in_the_defaults_module_only():
+    found = []
+    for path in (ROOT / "src").rglob("*.py"):
+        if path.name == "defaults.py":
+            continue
+        for i, line in enumerate(path.read_text().splitlines(), 1):
+            if _DEFAULT_LITERAL.search(line.split("#", 1)[0]):
+                found.append(f"{path.relative_to(ROOT)}:{i}: {line.strip()}")
+    assert found == []
+
+
+def test_every_door_to_the_core_is_the_same_run():
+    """``CoreEngine()``, ``deck_emulator.run(..., engine="core")`` and ``deck-emulator core``
+    take their settings from one defaults module, so they are one run: the same hit time to
+    the last bit (not a tolerance: the same computation)."""
+    import json
+
+    import deck_emulator
+    from deck_emulator.engine import CoreEngine
+    from deck_emulator.engine.sources import load_source
+
+    cli = subprocess.run([sys.executable, "-m", "deck_emulator", "core", "steel40", "--json"],
+                         capture_output=True, text=True, timeout=300, check=True)
+    answer = json.loads(cli.stdout)
+    api = deck_emulator.run("steel40", engine="core")
+    engine = CoreEngine().run(load_source("steel40").deck())
+    assert answer["quantities"]["hit_time_s"] == api.hit_time_s == engine.hit_time_s
+    assert api.hit_time_s is not None
+
 def _one_road() -> dict:
     import tomllib
 

@@ -133,7 +133,7 @@ def test_non_finite_value_names_the_statement():
 
 
 def test_trace_and_events_follow_the_printout():
-    from deck_emulator.events import EventKind, Surface
+    from deck_emulator.vocabulary.events import EventKind, Surface
     from deck_emulator.legacy.printer import event_message
 
     run = run_deck(read_deck(ROOT / "decks" / "steel40.dat"))
@@ -208,7 +208,7 @@ def test_a_car_hit_names_the_point_that_met_the_surface(name, surface, height):
     """The listing's car messages do not name the point; the event does, from the check the
     program was in. Checked by geometry: at the hit the named point lies in the listing's
     0.1 ft band about that surface's height (decks made for these labels, tests/decks)."""
-    from deck_emulator.events import Surface
+    from deck_emulator.vocabulary.events import Surface
 
     deck = read_deck(ROOT / "tests" / "decks" / f"{name}.dat")
     run = run_deck(deck, errata=("ed-direction",))

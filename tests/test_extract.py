@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.units import FT_S_PER_MPH
+from deck_emulator.vocabulary.units import FT_S_PER_MPH
 from deck_emulator.legacy.extract import (
     DELTA_V_CANDIDATES,
     ExtractError,

@@ -11,7 +11,7 @@ from deck_emulator.core.scene import DECK_FIELDS, DeckScene, Scene, SceneError
 from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import CoreEngine, EmulatorEngine
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.units import speed_lost_mph
+from deck_emulator.vocabulary.units import speed_lost_mph
 
 STEEL40 = deck_path("steel40")
 

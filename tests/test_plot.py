@@ -12,10 +12,10 @@ import pytest
 from PIL import Image
 
 from deck_emulator.present import plot
-from deck_emulator.events import EventKind
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.engine import run_engine
-from deck_emulator.units import ft_s_to_mph
+from deck_emulator.vocabulary.units import ft_s_to_mph
 from pictures import (
     Mapper,
     axes_box,

@@ -12,7 +12,7 @@ import pytest
 
 from deck_emulator.engine.outcome import Outcome
 from deck_emulator.engine.quantities import QUANTITIES, value
-from deck_emulator.events import Event, EventKind
+from deck_emulator.vocabulary.events import Event, EventKind
 
 MPH = 88.0 / 60.0  # ft/s in one mph (written out: the hand computation's own factor)
 

@@ -27,7 +27,7 @@ from deck_emulator.core.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import attitude, quantities
 from deck_emulator.engine.outcome import Outcome
-from deck_emulator.events import Event, EventKind, Surface
+from deck_emulator.vocabulary.events import Event, EventKind, Surface
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.present import plot
 from deck_emulator.studies import report_figures as rf

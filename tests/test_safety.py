@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from deck_emulator.core.scene import VehicleBody
-from deck_emulator.units import G_FT_S2
+from deck_emulator.vocabulary.units import G_FT_S2
 from deck_emulator.engine.safety import (
     CRITERIA,
     FT_PER_M,

@@ -21,6 +21,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.vocabulary import defaults
 
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
@@ -357,15 +358,11 @@ def _angle_deg(text: str) -> float:
     return x
 
 
-#: The smallest tolerance the core takes: below it (about 45 ulps of 1.0) the step-size
-#: control of solve_ivp cannot meet it and ends in infinities, naming nothing.
-MIN_TOLERANCE = 1e-14
-
-
 def _tolerance(text: str) -> float:
     x = _positive_float(text)
-    if not MIN_TOLERANCE <= x < 1:
-        raise argparse.ArgumentTypeError(f"must be from {MIN_TOLERANCE:g} to below 1, not {text}")
+    if not defaults.MIN_TOLERANCE <= x < 1:
+        raise argparse.ArgumentTypeError(
+            f"must be from {defaults.MIN_TOLERANCE:g} to below 1, not {text}")
     return x
 
 
@@ -666,7 +663,7 @@ def _odd_deck_notes(out) -> list[str]:
             notes.append(f"{name} = {values[name]:g} slug ft^2: a principal moment of inertia of "
                          "the post is not positive, so the run is not physical")
     if values.get("G", 1.0) <= 0:
-        from deck_emulator.units import G_FT_S2
+        from deck_emulator.vocabulary.units import G_FT_S2
 
         notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is {G_FT_S2:g}); a "
                      "deceleration in g divides by WV*G, so the printed ones are not given, and "
@@ -754,8 +751,8 @@ def _add_diff(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--max-k", type=_max_k, default=4, metavar="K",
                    help="halve the step up to K times, 0 <= K <= 8 (default 4; K = 8 runs "
                    "the listing's 2,054 steps 256 times over)")
-    p.add_argument("--rtol", type=_tolerance, default=1e-10,
-                   help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default 1e-10)")
+    p.add_argument("--rtol", type=_tolerance, default=defaults.CORE_RTOL,
+                   help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default %(default)g)")
     p.add_argument("--as-printed-ed", action="store_true",
                    help="keep ED's tolerance .0001 at every k (the scheme then does not converge)")
     _add_jobs_option(p)
@@ -816,8 +813,6 @@ def _cmd_core(args: argparse.Namespace) -> int:
 
 @_subcommand
 def _add_core(sub: argparse._SubParsersAction) -> None:
-    from deck_emulator.core.bounds import DEFAULT_MAX_WALL_S, DEFAULT_T_MAX_S
-
     p = sub.add_parser("core", help="solve a deck or a scene (.toml) with the modern core",
                        description="The same model solved with quaternions, solve_ivp and located "
                        "events. Presets: legacy (the listing's quirks) or physical (none).")
@@ -827,13 +822,13 @@ def _add_core(sub: argparse._SubParsersAction) -> None:
                    choices=("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA"),
                    help="solve_ivp's method; auto (the default): DOP853, or Radau for the "
                    "contact when the scene's springs make it stiff (the outcome says which)")
-    p.add_argument("--rtol", type=_tolerance, default=1e-10,
-                   help="relative tolerance, 0 < RTOL < 1 (default 1e-10)")
-    p.add_argument("--atol", type=_tolerance, default=1e-10,
-                   help="absolute tolerance, 0 < ATOL < 1 (default 1e-10)")
-    p.add_argument("--max-time", type=_positive_float, default=DEFAULT_T_MAX_S, metavar="S",
+    p.add_argument("--rtol", type=_tolerance, default=defaults.CORE_RTOL,
+                   help="relative tolerance, 0 < RTOL < 1 (default %(default)g)")
+    p.add_argument("--atol", type=_tolerance, default=defaults.CORE_ATOL,
+                   help="absolute tolerance, 0 < ATOL < 1 (default %(default)g)")
+    p.add_argument("--max-time", type=_positive_float, default=defaults.T_MAX_S, metavar="S",
                    help="stop when simulated time passes S seconds (default %(default)s)")
-    p.add_argument("--max-wall", type=_positive_float, default=DEFAULT_MAX_WALL_S, metavar="S",
+    p.add_argument("--max-wall", type=_positive_float, default=defaults.MAX_WALL_S, metavar="S",
                    help="stop when the run has taken S seconds of wall time (default "
                    "%(default)s)")
     _add_answer_options(p)

@@ -76,7 +76,7 @@ from typing import Any
 
 import numpy as np
 
-from deck_emulator.units import G_FT_S2
+from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = [
     "G_FT_S2",

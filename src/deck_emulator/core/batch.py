@@ -29,12 +29,15 @@ import numpy as np
 from . import dop853, laws
 from .laws import _jit
 from .scene import PHYSICAL, ModelOptions, Scene
+from deck_emulator.vocabulary.defaults import (
+    CORE_ATOL,
+    CORE_RTOL,
+    MAX_EVALUATIONS,
+    MAX_STEP_S,
+    T_MAX_S,
+)
+
 from .solve import (
-    DEFAULT_ATOL,
-    DEFAULT_MAX_EVALUATIONS,
-    DEFAULT_MAX_STEP_S,
-    DEFAULT_RTOL,
-    DEFAULT_T_MAX_S,
     CoreError,
     _Run,
     _simulate_with,
@@ -296,11 +299,11 @@ def simulate_batch(
     scenes,
     options: ModelOptions = PHYSICAL,
     *,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
-    max_step_s: float = DEFAULT_MAX_STEP_S,
-    t_max_s: float = DEFAULT_T_MAX_S,
-    max_evaluations: int | None = DEFAULT_MAX_EVALUATIONS,
+    rtol: float = CORE_RTOL,
+    atol: float = CORE_ATOL,
+    max_step_s: float = MAX_STEP_S,
+    t_max_s: float = T_MAX_S,
+    max_evaluations: int | None = MAX_EVALUATIONS,
     method: str = "auto",
     check: bool = True,
 ) -> list:

@@ -116,7 +116,7 @@ def ground_tolerance_ft(options) -> dict[str, float] | float:
 
 def check_outcome(result) -> list[str]:
     """The failed checks of core run ``result`` as sentences (empty: may be reported)."""
-    from deck_emulator.units import ft_s_to_mph
+    from deck_emulator.vocabulary.units import ft_s_to_mph
 
     scene = result.scene
     depth = scene.environment.ground_depth_ft

@@ -40,7 +40,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
-from deck_emulator.units import G_FT_S2
+from deck_emulator.vocabulary.defaults import LISTING_CAP_STEPS, LISTING_STEP_S
+from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = [
     "Vec3",
@@ -735,7 +736,7 @@ class StartupKick:
 
     pitch_rate_rad_s: float = 0.0545
     tilt_at_step_rad: float = 0.000022
-    step_s: float = 0.0004
+    step_s: float = LISTING_STEP_S
     body_force_1_lb: float = -10000.0
     vehicle_force_lb: float = 10000.0
     first_step_spring_force_lb: float = 1320.0
@@ -809,7 +810,7 @@ LEGACY = ModelOptions(
     spring_factor=0.8,
     spring_absolute=True,
     spring_switch_ft=0.01,
-    force_cap_from_s=20 * 0.0004,
+    force_cap_from_s=LISTING_CAP_STEPS * LISTING_STEP_S,
     listing_diff=True,
     listing_friction=True,
     listing_hit_tolerances=True,

@@ -38,8 +38,8 @@ from .scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from .regions import hit_message
-from deck_emulator.events import POINT_NAMES
-from deck_emulator.units import speed_lost_mph
+from deck_emulator.vocabulary.events import POINT_NAMES
+from deck_emulator.vocabulary.units import speed_lost_mph
 
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
 
@@ -49,21 +49,16 @@ __all__ = [
     "free_flight",
     "stiffness",
     "check_inertia",
-    "DEFAULT_RTOL",
-    "DEFAULT_ATOL",
-    "DEFAULT_METHOD",
-    "DEFAULT_MAX_EVALUATIONS",
-    "DEFAULT_MAX_WALL_S",
 ]
 
-DEFAULT_METHOD = "auto"
-DEFAULT_RTOL = 1e-12
-DEFAULT_ATOL = 1e-12
-from .bounds import (  # noqa: E402 - the bounds, written once where the CLI reads them too
-    DEFAULT_MAX_EVALUATIONS,
-    DEFAULT_MAX_STEP_S,
-    DEFAULT_MAX_WALL_S,
-    DEFAULT_T_MAX_S,
+from deck_emulator.vocabulary.defaults import (
+    CORE_ATOL,
+    CORE_METHOD,
+    CORE_RTOL,
+    MAX_EVALUATIONS,
+    MAX_STEP_S,
+    MAX_WALL_S,
+    T_MAX_S,
 )
 
 LISTING_MESSAGES = {
@@ -646,13 +641,13 @@ def simulate(
     scene: Scene,
     options: ModelOptions = PHYSICAL,
     *,
-    method: str = DEFAULT_METHOD,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
-    max_step_s: float = DEFAULT_MAX_STEP_S,
-    t_max_s: float = DEFAULT_T_MAX_S,
-    max_evaluations: int | None = DEFAULT_MAX_EVALUATIONS,
-    max_wall_s: float | None = DEFAULT_MAX_WALL_S,
+    method: str = CORE_METHOD,
+    rtol: float = CORE_RTOL,
+    atol: float = CORE_ATOL,
+    max_step_s: float = MAX_STEP_S,
+    t_max_s: float = T_MAX_S,
+    max_evaluations: int | None = MAX_EVALUATIONS,
+    max_wall_s: float | None = MAX_WALL_S,
     check: bool = True,
 ) -> CoreResult:
     """Run ``scene`` from t = 0: contact with the car (if it has one), then free flight
@@ -699,13 +694,13 @@ def free_flight(
     t0_s: float = 0.0,
     options: ModelOptions = PHYSICAL,
     *,
-    method: str = DEFAULT_METHOD,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
-    max_step_s: float = DEFAULT_MAX_STEP_S,
+    method: str = CORE_METHOD,
+    rtol: float = CORE_RTOL,
+    atol: float = CORE_ATOL,
+    max_step_s: float = MAX_STEP_S,
     t_max_s: float | None = None,
-    max_evaluations: int | None = DEFAULT_MAX_EVALUATIONS,
-    max_wall_s: float | None = DEFAULT_MAX_WALL_S,
+    max_evaluations: int | None = MAX_EVALUATIONS,
+    max_wall_s: float | None = MAX_WALL_S,
     check: bool = False,
 ) -> CoreResult:
     """Free flight of the post from ``state`` (15 numbers, the layout of
@@ -715,7 +710,7 @@ def free_flight(
     state = np.asarray(state, dtype=float)
     if state.shape != (N_STATE,):
         raise ValueError(f"state must have {N_STATE} numbers, got shape {state.shape}")
-    t_max = t0_s + DEFAULT_T_MAX_S if t_max_s is None else t_max_s
+    t_max = t0_s + T_MAX_S if t_max_s is None else t_max_s
     run = _Run(model, method, rtol, atol, max_step_s, t_max, max_evaluations, max_wall_s)
     run.free_flight(t0_s, state)
     return _checked(_result(run, scene, options, started), check)

@@ -18,10 +18,7 @@ from .engines import engine_for
 from .outcome import Outcome
 from .sources import load_source
 
-__all__ = ["run", "CORE_DEFAULTS"]
-
-#: The core's settings when none are given: those of ``deck-emulator core``.
-CORE_DEFAULTS = {"preset": "legacy", "method": "auto", "rtol": 1e-10, "atol": 1e-10}
+__all__ = ["run"]
 
 
 def run(source, engine: str = "emulator", *, section: int | None = None,
@@ -33,11 +30,10 @@ def run(source, engine: str = "emulator", *, section: int | None = None,
 
     ``options`` are the engine's (:class:`~deck_emulator.engine.EmulatorEngine`: ``precision``,
     ``errata`` ...; :class:`~deck_emulator.engine.CoreEngine`: ``preset``, ``method``, ``rtol``,
-    ``atol`` ...), with the command line's defaults (:data:`CORE_DEFAULTS`). A run that cannot
+    ``atol`` ...), with the engines' defaults, which are the command line's
+    (:mod:`deck_emulator.vocabulary.defaults`). A run that cannot
     end is an outcome whose ``error`` says why; bad input raises
     :class:`~deck_emulator.legacy.deck.DeckError` or :class:`~deck_emulator.errors.UsageError`."""
-    if engine == "core":
-        options = {**CORE_DEFAULTS, **options}
     if hasattr(source, "values") or hasattr(source, "post"):  # a Deck or a Scene already
         return engine_for(engine, **options).run(source)
     kinds = ("deck",) if engine == "emulator" else ("deck", "scene")

@@ -16,8 +16,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from deck_emulator.events import Event, EventKind, Surface
-from deck_emulator.units import speed_lost_mph
+from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.events import Event, EventKind, Surface
+from deck_emulator.vocabulary.units import speed_lost_mph
 
 from . import errata as errata_policy
 
@@ -290,9 +291,9 @@ def _run_errors() -> tuple[type[Exception], ...]:
 class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
     ``options``: a :class:`~deck_emulator.core.scene.ModelOptions` instead of a preset;
-    ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's
-    (default: the core's); ``t_max_s``: simulated time at most, ``max_wall_s``: wall time
-    at most (default: the core's);
+    ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's;
+    ``t_max_s``: simulated time at most, ``max_wall_s``: wall time at most (every default:
+    :mod:`deck_emulator.vocabulary.defaults`, the same for every door);
     ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
     ``trace``: sample them at all; ``shaft_contact``: True or False sets the option of that
     name (the shaft and arms checked against the car) over the preset's, None keeps it;
@@ -305,12 +306,12 @@ class CoreEngine:
     options: object = None
     shaft_contact: bool | None = None
     method: str = "auto"
-    rtol: float | None = None
-    atol: float | None = None
-    t_max_s: float | None = None
-    max_wall_s: float | None = None
-    sample_contact_s: float = 0.0002
-    sample_free_s: float = 0.001
+    rtol: float = defaults.CORE_RTOL
+    atol: float = defaults.CORE_ATOL
+    t_max_s: float = defaults.T_MAX_S
+    max_wall_s: float = defaults.MAX_WALL_S
+    sample_contact_s: float = defaults.SAMPLE_CONTACT_S
+    sample_free_s: float = defaults.SAMPLE_FREE_S
     trace: bool = True
     batched: bool | None = None
     name = "core"
@@ -338,19 +339,17 @@ class CoreEngine:
         """The core's own :class:`~deck_emulator.core.CoreResult` (raises CoreError); a post
         with two luminaires ends "R&U" when both reach the ground band together
         (:func:`~deck_emulator.core.pair_hits.joint_ground_hit`)."""
-        from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, simulate
+        from deck_emulator.core import simulate
         from deck_emulator.core.pair_hits import joint_ground_hit
 
-        bounds = {k: v for k, v in (("t_max_s", self.t_max_s), ("max_wall_s", self.max_wall_s))
-                  if v is not None}
         return joint_ground_hit(
             simulate(self.scene(source), self.model_options(), method=self.method,
-                     rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, **bounds))
+                     rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s,
+                     max_wall_s=self.max_wall_s))
 
     def settings(self) -> str:
         opts = self.model_options()
-        tol = f"rtol {self.rtol:g}" if self.rtol else "default tolerances"
-        return f"preset {opts.name}; {self.method}, {tol}"
+        return f"preset {opts.name}; {self.method}, rtol {self.rtol:g}"
 
     def run(self, source, *, name: str = "", scene=None) -> Outcome:
         """Run ``source`` (a deck or a scene); ``scene``: run this scene instead, keeping the
@@ -365,13 +364,13 @@ class CoreEngine:
         :class:`~deck_emulator.core.scene.PostInitialState`, attitude from body to road axes)
         with the car at ``car_position_ft``, ``car_velocity_ft_s`` along XV, until the first
         hit or ``t_max_s``: the crash test's Table 9 starts from Table 8's state at 70 ms."""
-        from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL, free_flight
+        from deck_emulator.core import free_flight
         from deck_emulator.core.kinematics import state_vector
 
         state = state_vector(post, car_position_ft, car_velocity_ft_s)
         return self._run(scene, name, lambda: free_flight(
             scene, state, t0_s, self.model_options(), method=self.method,
-            rtol=self.rtol or DEFAULT_RTOL, atol=self.atol or DEFAULT_ATOL, t_max_s=self.t_max_s))
+            rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s, max_wall_s=self.max_wall_s))
 
     def run_batch(self, sources, *, names=None) -> list[Outcome]:
         """``[self.run(s, name=n) for s, n in zip(sources, names)]``, the scenes solved
@@ -417,7 +416,6 @@ class CoreEngine:
         (:meth:`_batch_solver`) takes the whole list at once; a batch it cannot take as a
         whole (it raised) runs again one scene at a time on the scipy path, so one bad scene
         costs the others nothing."""
-        from deck_emulator.core import DEFAULT_ATOL, DEFAULT_RTOL
         from deck_emulator.core.pair_hits import joint_ground_hit
 
         if not scenes:
@@ -427,9 +425,8 @@ class CoreEngine:
         if solver is not None:
             started = time.perf_counter()
             try:
-                got = list(solver(scenes, self.model_options(), rtol=self.rtol or DEFAULT_RTOL,
-                                  atol=self.atol or DEFAULT_ATOL,
-                                  **({} if self.t_max_s is None else {"t_max_s": self.t_max_s})))
+                got = list(solver(scenes, self.model_options(), rtol=self.rtol,
+                                  atol=self.atol, t_max_s=self.t_max_s))
             except errors:
                 got = None
             if got is not None and len(got) == len(scenes):

@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from deck_emulator.core.scene import Scene
-from deck_emulator.events import Event, EventKind
-from deck_emulator.units import ft_s_to_mph
+from deck_emulator.vocabulary.events import Event, EventKind
+from deck_emulator.vocabulary.units import ft_s_to_mph
 
 
 @dataclass
@@ -29,7 +29,7 @@ class Outcome:
       second luminaire ``U`` where the post has one, and the mass centre ``CM`` (NaN where an engine does not give a point); ``sv``, ``vv``: the
       car's position and velocity along XV; ``free``: the free-flight samples.
     * ``pulse_t``, ``pulse_g``: the car's deceleration (g) over the contact phase.
-    * ``events``: :class:`~deck_emulator.events.Event` in time order; ``hit``: the last one
+    * ``events``: :class:`~deck_emulator.vocabulary.events.Event` in time order; ``hit``: the last one
       if it is a hit; ``hit_message``: the hit as the listing words it ("THE POST HAS HIT
       THE GROUND WITH POINT R"; the core's own for what the listing cannot say).
     * ``delta_v_crush_mph``: the speed the car lost by the end of the crush pulse (the spring

@@ -32,7 +32,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
-from deck_emulator.units import speed_lost_mph
+from deck_emulator.vocabulary.units import speed_lost_mph
 
 __all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help", "pulse",
            "clearance"]

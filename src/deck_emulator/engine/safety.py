@@ -48,7 +48,7 @@ import numpy as np
 
 from deck_emulator.core.regions import car_boxes
 from deck_emulator.core.scene import VehicleBody
-from deck_emulator.units import G_FT_S2, M_PER_FT, speed_lost_mph
+from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT, speed_lost_mph
 
 __all__ = [
     "FLAIL_DISTANCE_M",

@@ -40,7 +40,7 @@ import sys
 from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
-from deck_emulator.events import Event
+from deck_emulator.vocabulary.events import Event
 from deck_emulator.legacy.printer import Printer, event_for
 
 ERRATA = {

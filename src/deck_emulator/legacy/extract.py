@@ -69,7 +69,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from deck_emulator.units import speed_lost_mph
+from deck_emulator.vocabulary.units import speed_lost_mph
 
 __all__ = [
     "DELTA_V_CANDIDATES",

@@ -193,7 +193,7 @@ def random_deck(rng: random.Random):
     FCONST, car outline, height and DELTA drawn at random; about one deck in eight physically
     odd (car moving away, a very light or very flat post, stiff or no springs ...)."""
     from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.units import FT_S_PER_MPH
+    from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
     base = read_deck(DECKS / "steel40.dat")
     d = base.values  # each drawn value is the deck's own, scaled or shifted

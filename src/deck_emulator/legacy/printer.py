@@ -15,7 +15,7 @@ from __future__ import annotations
 import numbers
 import re
 
-from deck_emulator.events import Event, EventKind, Surface
+from deck_emulator.vocabulary.events import Event, EventKind, Surface
 
 #: FORMAT statements of the listing, by label, as they stand in legacy/luminaire.f.
 FORMATS: dict[int, str] = {

@@ -14,7 +14,7 @@ decelerations as the report tabulates them (two decimals); times in ms with one 
 from __future__ import annotations
 
 from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
-from deck_emulator.units import DECK_UNITS
+from deck_emulator.vocabulary.units import DECK_UNITS
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.
 SCHEMA = 2

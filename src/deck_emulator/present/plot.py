@@ -30,8 +30,8 @@ import numpy as np
 from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.engine import quantities, safety
 from deck_emulator.engine import ENGINES, Outcome, core_keywords, engine_for
-from deck_emulator.events import EventKind
-from deck_emulator.units import ft_s_to_mph
+from deck_emulator.vocabulary.events import EventKind
+from deck_emulator.vocabulary.units import ft_s_to_mph
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure

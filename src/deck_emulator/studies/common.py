@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.vocabulary import defaults
 from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
 from deck_emulator.files import write_file
 from deck_emulator.studies.csvfile import csv_text, csv_value
@@ -92,7 +93,8 @@ def energies(run_out: dict) -> dict:
 # --------------------------------------------------------------------------- the core
 
 
-def run_core(scene, options, *, method="DOP853", rtol=1e-9, atol=None, t_max_s=10.0) -> dict:
+def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=None,
+             t_max_s=defaults.T_MAX_S) -> dict:
     """One core run through the engine layer -> {status, error, result, wall_s, warnings,
     outcome}; ``status`` "hit", "no hit" (t_max reached) or "error" (CoreError or any
     exception, in ``error``)."""

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from deck_emulator.units import G_FT_S2
+from deck_emulator.vocabulary.units import G_FT_S2
 
 from deck_emulator.engine import CoreEngine
 from deck_emulator.core.assembly import load_assembly
@@ -123,9 +123,9 @@ def state_row(result, t: float) -> dict:
     }
 
 
-#: The crash test's runs: the physical preset at tight tolerances.
+#: The crash test's runs: the physical preset at the core's tolerances.
 def _engine(t_max_s: float) -> CoreEngine:
-    return CoreEngine(preset="physical", rtol=1e-10, atol=1e-10, t_max_s=t_max_s, trace=False)
+    return CoreEngine(preset="physical", t_max_s=t_max_s, trace=False)
 
 
 def _result(out):

@@ -27,6 +27,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from deck_emulator.vocabulary import defaults
 from deck_emulator.core.scene import LEGACY, StartupKick
 from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
 
@@ -34,7 +35,7 @@ from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_po
 class DiffStopped(RuntimeError):
     """One of the runs the diff needs did not end (the message says which, and why)."""
 
-H0 = 0.0004  # the listing's step, s
+H0 = defaults.LISTING_STEP_S
 POINTS = ("P", "Q", "R")
 
 
@@ -60,7 +61,7 @@ def legacy_options(h: float):
     tests LL-20*2**k, so the first capped force is that of step 20*2**k + 1, at 20*H0 + h."""
     kick = LEGACY.startup_kick or StartupKick()
     kick = replace(kick, step_s=h, tilt_at_step_rad=kick.tilt_at_step_rad * h / H0)
-    return replace(LEGACY, startup_kick=kick, force_cap_from_s=20 * H0 + h)
+    return replace(LEGACY, startup_kick=kick, force_cap_from_s=defaults.LISTING_CAP_STEPS * H0 + h)
 
 
 def max_trajectory_distance(run, result) -> float:
@@ -84,7 +85,8 @@ def ed_tolerance(k: int) -> str:
     return f"{1e-6 / 4**k:.3e}"
 
 
-def diff_tasks(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, atol=1e-10,
+def diff_tasks(deck, *, precision="double", errata=(), ks=range(5), rtol=defaults.CORE_RTOL,
+               atol=defaults.CORE_ATOL,
                tighten_ed=True) -> list[dict]:
     """The diff's runs as tasks of the scene runner: one per k (the emulator and the core at
     the step H0/2**k, side by side in one task, since the trajectory difference needs both
@@ -144,7 +146,8 @@ def diff_step(task: dict) -> dict:
     return out
 
 
-def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=1e-10, atol=1e-10,
+def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=defaults.CORE_RTOL,
+              atol=defaults.CORE_ATOL,
               tighten_ed=True, jobs=None, scheduler=None, store_dir=None, resume=False,
               quiet=False, desc="diff") -> dict:
     """Run both engines; return {emulator, core, max_trajectory_diff_ft, convergence, ...}.
@@ -212,7 +215,7 @@ def _diff_result(deck, options: dict, steps: list[dict]) -> dict:
         "precision": options.get("precision", "double"),
         "errata": list(errata_policy.resolve(options.get("errata", ()))),
         "core_method": "/".join(sorted({step["method"] for step in steps if not step["stopped"]})),
-        "core_rtol": options.get("rtol", 1e-10),
+        "core_rtol": options.get("rtol", defaults.CORE_RTOL),
         "emulator": emu,
         "core": core_row,
         "max_trajectory_diff_as_printed_ft": row0["max_trajectory_diff_ft"],
@@ -288,7 +291,7 @@ PAGE_DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15",
 
 def engine_times(deck, *, reps: int = 3) -> dict:
     """Median wall times (s) of ``reps`` runs of deck: the emulator (double, ED towards its
-    root), the core's legacy preset at rtol = atol = 1e-10 and at its default tolerances."""
+    root), the core's legacy preset at its default tolerances and at the reference ones."""
     import statistics
     import timeit
 
@@ -296,10 +299,11 @@ def engine_times(deck, *, reps: int = 3) -> dict:
         return statistics.median(timeit.repeat(run, number=1, repeat=reps))
 
     emulator = EmulatorEngine(errata=(errata_policy.ED_DIRECTION,), trace=False)
-    tight, default = CoreEngine(rtol=1e-10, atol=1e-10), CoreEngine()
+    default = CoreEngine()
+    reference = CoreEngine(rtol=defaults.REFERENCE_RTOL, atol=defaults.REFERENCE_ATOL)
     return {"emulator_s": median(lambda: emulator.run(deck)),
-            "core_tight_s": median(lambda: tight.simulate(deck)),
-            "core_default_s": median(lambda: default.simulate(deck))}
+            "core_default_s": median(lambda: default.simulate(deck)),
+            "core_reference_s": median(lambda: reference.simulate(deck))}
 
 
 def diff_page(*, jobs=None, quiet=False) -> str:
@@ -327,7 +331,7 @@ def diff_page(*, jobs=None, quiet=False) -> str:
         "k = 0 byte-identical.",
         "",
         "The core runs its `legacy` preset (the listing's quirks as named options) with DOP853 at "
-        "rtol = atol = 1e-10. The side-by-side columns are the listing's run as printed. In the "
+        f"rtol = atol = {defaults.CORE_RTOL:g}. The side-by-side columns are the listing's run as printed. In the "
         "convergence table the emulator's step literals are divided by 2**k:",
         "",
         *[f"* {s}" for s in step_literals()],
@@ -338,13 +342,14 @@ def diff_page(*, jobs=None, quiet=False) -> str:
         "",
         "## Run time per deck (median of 3, seconds)",
         "",
-        "| deck | emulator (double) | core, legacy preset, DOP853 rtol 1e-10 | core, default tolerances (1e-12) |",
+        f"| deck | emulator (double) | core, legacy preset, DOP853 rtol {defaults.CORE_RTOL:g} "
+        f"| core, reference tolerances ({defaults.REFERENCE_RTOL:g}) |",
         "|---|---|---|---|",
     ]
     for name, deck in deck_of.items():
         t = engine_times(deck)
-        parts.append(f"| {name} | {t['emulator_s']:.3f} | {t['core_tight_s']:.3f} | "
-                     f"{t['core_default_s']:.3f} |")
+        parts.append(f"| {name} | {t['emulator_s']:.3f} | {t['core_default_s']:.3f} | "
+                     f"{t['core_reference_s']:.3f} |")
     cases = [(deck, {"errata": errata}) for deck in deck_of.values()]
     cases.append((deck_of["steel40"], {"errata": errata, "tighten_ed": False}))
     results = diff_decks(cases, jobs=jobs, quiet=quiet)

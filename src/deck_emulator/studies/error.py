@@ -1,6 +1,6 @@
 """Work-precision study: error against run time for the 1967 scheme and the modern core.
 
-The reference is the core (``legacy`` preset, DOP853) at rtol = atol = 1e-12, checked against a
+The reference is the core (``legacy`` preset, DOP853) at the defaults' ``REFERENCE_RTOL``, checked against a
 second method at a tenth of that tolerance (Radau and LSODA; LSODA only with ``quick``).
 Errors of a run against a reference:
 
@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.vocabulary import defaults
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.core.scene import LEGACY, Scene
@@ -51,8 +52,8 @@ from .common import (
     csv_text,
 )
 
-REF_RTOL = 1e-12
-CHECK_RTOL = 1e-13
+REF_RTOL = defaults.REFERENCE_RTOL
+CHECK_RTOL = defaults.REFERENCE_CHECK_RTOL
 GRID_POINTS = 2001
 CORE_METHODS = ("DOP853", "RK45", "Radau")
 

@@ -42,7 +42,7 @@ from deck_emulator.legacy.extract import (
     parse_printout,
 )
 from deck_emulator.studies.report_tables import CASES, REPORT, SOURCE, report_time_ms
-from deck_emulator.units import speed_lost_mph
+from deck_emulator.vocabulary.units import speed_lost_mph
 
 DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30")
 COMMAND = "python scripts/compare_report.py"

@@ -137,7 +137,7 @@ def report_time_ms(deck: str) -> float | None:
 
 
 def report_comment(hit) -> str:
-    """A hit :class:`~deck_emulator.events.Event` in the words of the tables' COMMENTS row:
+    """A hit :class:`~deck_emulator.vocabulary.events.Event` in the words of the tables' COMMENTS row:
     'POST HITS GROUND WITH POINT R', 'POST HITS TOP OF CAR'."""
     surface = hit.surface.value.upper() if hit.surface else "?"
     if surface == "GROUND":

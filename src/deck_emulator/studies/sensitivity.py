@@ -59,7 +59,7 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator.studies import SCENE_STORE
-from deck_emulator.units import DECK_UNITS, deck_label
+from deck_emulator.vocabulary.units import DECK_UNITS, deck_label
 from deck_emulator.core.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
 from deck_emulator.studies.distributed import (
     SceneStore,

@@ -2,7 +2,7 @@
 
 Every scene is run by the emulator (double precision, erratum ``ed-direction``, the guards of
 :data:`LIMITS`) and by the core (``legacy`` preset with the start-up kick and the 20-step
-``FCONST`` arming of the emulator's step, DOP853, rtol = atol = 1e-9, ``t_max_s = 3``).  What
+``FCONST`` arming of the emulator's step, DOP853 at the defaults' ``STUDY_RTOL`` and ``STUDY_T_MAX_S``).  What
 is recorded for each: how the run ended (the hit message and time, or the guard that fired, or
 the exception), when the car let go, the post's kinetic energy then (the "launch" energy), and
 the drift of the post's total energy over the free flight (in free flight only gravity acts,
@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from deck_emulator.vocabulary import defaults
 from deck_emulator.core.scene import (
     LISTING_BASE_FRICTION,
     PHYSICAL,
@@ -32,12 +33,12 @@ from deck_emulator.core.scene import (
     Scene,
 )
 from deck_emulator.engine import Limits
-from deck_emulator.events import EventKind
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.distributed import output_store
-from deck_emulator.units import FT_S_PER_MPH
+from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
 from .common import (
     ERRATA,
@@ -60,8 +61,8 @@ from .common import (
 )
 
 LIMITS = Limits(ed_iterations=20000, halvings=30, time_s=3.0)
-CORE_RTOL = 1e-9
-CORE_T_MAX_S = 3.0
+CORE_RTOL = defaults.STUDY_RTOL
+CORE_T_MAX_S = defaults.STUDY_T_MAX_S
 AGREE_HIT_S = 0.01
 AGREE_KE = 0.10
 

@@ -43,12 +43,12 @@ from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 from deck_emulator import decks
 from deck_emulator.core.scene import Scene
 from deck_emulator.engine import Outcome, engine_for, quantities
-from deck_emulator.events import Surface
+from deck_emulator.vocabulary.events import Surface
 from deck_emulator.legacy.deck import Deck, read_deck
 from deck_emulator.engine import safety
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.report_tables import report_comment
-from deck_emulator.units import FT_PER_MILE, S_PER_HOUR
+from deck_emulator.vocabulary.units import FT_PER_MILE, S_PER_HOUR
 
 __all__ = [
     "POSTS",

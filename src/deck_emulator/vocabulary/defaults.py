@@ -1,0 +1,55 @@
+"""Every default of the program, one row each: the core's tolerances and bounds, the listing's
+step, the grids outcomes are sampled on.
+
+Every layer reads its defaults from here -- the core's ``simulate``, :class:`CoreEngine`,
+``deck_emulator.run``, the command line's options and their help, the studies -- so that
+``CoreEngine()``, ``deck_emulator.run(..., engine="core")`` and ``deck-emulator core`` are
+the same run.  A study that deliberately runs at other settings names its row here too, with
+the reason beside it.  Nothing here imports anything: the command line shows these as its
+options' defaults without loading numpy or scipy.
+"""
+
+# ------------------------------------------------------------------- the listing's own
+
+#: the listing's integration step, s (its literal 0.0004: DELT, and the other literals that
+#: mean one step, legacy/emulator.py's STEP_LITERALS)
+LISTING_STEP_S = 0.0004
+#: the steps the listing takes before it caps the spring force (IF(LL-20))
+LISTING_CAP_STEPS = 20
+
+# ------------------------------------------------------------------- the core
+
+#: the core's integration method: DOP853, or Radau for a contact its springs make stiff
+CORE_METHOD = "auto"
+#: the core's relative and absolute tolerances (solve_ivp's rtol, atol; the compiled DOP853's)
+CORE_RTOL = 1e-10
+CORE_ATOL = 1e-10
+#: the tightest tolerance the core takes: below it (about 45 ulps of 1.0) the step-size control
+#: of solve_ivp cannot meet it and ends in infinities, naming nothing
+MIN_TOLERANCE = 1e-14
+#: a reference solution's tolerances (the error study's reference, diff's second core column):
+#: two orders tighter than the default
+REFERENCE_RTOL = 1e-12
+REFERENCE_ATOL = 1e-12
+#: the tolerance the error study checks its reference at (with Radau and LSODA)
+REFERENCE_CHECK_RTOL = 1e-13
+#: the largest step the solver may take, s
+MAX_STEP_S = 0.005
+#: simulated time at most, s
+T_MAX_S = 10.0
+#: bound on the right-hand-side evaluations of one run (DOP853 takes about 12 a step)
+MAX_EVALUATIONS = 5_000_000
+#: bound on the wall time of one run, s
+MAX_WALL_S = 60.0
+#: the grid a core outcome's arrays are sampled on: in contact with the car, and in free flight, s
+SAMPLE_CONTACT_S = 0.0002
+SAMPLE_FREE_S = 0.001
+
+# ------------------------------------------------------------------- the studies' own settings
+
+#: the stability study's core (and the studies' one-scene core runs, studies.common.run_core):
+#: its grid holds scenes up to 1e10 lb/ft springs and 120 mph, where 1e-9 keeps the stiff rows
+#: within the runs' wall bound; docs/study/stability was made at it
+STUDY_RTOL = 1e-9
+#: the stability study's simulated-time bound, s
+STUDY_T_MAX_S = 3.0
