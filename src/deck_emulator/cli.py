@@ -634,11 +634,9 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     engine = _emulator(args)
     out = _with_progress(args, engine, deck)
     _write_trajectory(args, out)
-    if out.error is not None:
-        raise _failed(out, deck.path)
     from deck_emulator.engine import errata
 
-    settings = {"arithmetic": out.raw.arithmetic,
+    settings = {"arithmetic": engine.arithmetic().describe(),
                 "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
                 "errata": errata.describe(out.errata)}
     if not settings["assumptions"]:
@@ -646,6 +644,8 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     answer = outcome_answer(out, command="summary", source=str(deck.path), settings=settings)
     answer["notes"] += _odd_deck_notes(out) + list(out.flags)
     _emit(args, _json_text(answer) if args.json else render_outcome(answer))
+    if out.error is not None:  # what it reached is answered; the status says it stopped
+        raise _failed(out, deck.path)
     return 0
 
 
@@ -791,14 +791,15 @@ def _cmd_core(args: argparse.Namespace) -> int:
                         t_max_s=args.max_time, max_wall_s=args.max_wall)
     out = _with_progress(args, engine, source)
     _write_trajectory(args, out)
-    if out.error is not None:
-        raise _failed(out, src.name)
-    used = out.raw.method
+    used = out.method or args.method
     settings = {**_core_keywords(args),
-                "method": f"{used} (auto)" if args.method == "auto" else used,
+                "method": f"{used} (auto)" if args.method == "auto" and out.method else used,
                 "rtol": args.rtol, "atol": args.atol}
     answer = outcome_answer(out, command="core", source=src.name, settings=settings)
-    answer["notes"] += _odd_deck_notes(out) + list(getattr(out.raw, "notes", ()) or ())
+    answer["notes"] += _odd_deck_notes(out) + list(out.notes)
+    if out.error is not None:  # what it reached is answered; the status says it stopped
+        _emit(args, _json_text(answer) if args.json else render_outcome(answer))
+        raise _failed(out, src.name)
     landed = out.hit_message is not None
     if not landed:  # as the emulator says it: a run that could not end (exit status 3)
         stop = (f"{src.name}: simulated time passed the limit of {args.max_time:g} s "
@@ -1111,14 +1112,14 @@ def _cmd_assembly(args: argparse.Namespace) -> int:
     from deck_emulator.present.answers import outcome_answer, render_outcome
 
     out = CoreEngine(**_core_keywords(args)).run(scene, name=a.name)
-    if out.error is not None:
-        raise _failed(out, args.description)
-    settings = {**_core_keywords(args), "method": out.raw.method,
+    settings = {**_core_keywords(args), "method": out.method,
                 "car": f"{args.speed_mph:g} mph at {args.alpha_deg:g} deg ({template}'s car"
                        + (", VVB and ALPHA set)" if car else ")")}
     answer = outcome_answer(out, command="assembly", source=a.name, settings=settings)
-    answer["notes"] += list(out.raw.notes)
+    answer["notes"] += list(out.notes)
     _emit(args, _json_text(answer) if args.json else render_outcome(answer))
+    if out.error is not None:  # what it reached is answered; the status says it stopped
+        raise _failed(out, args.description)
     return 0
 
 

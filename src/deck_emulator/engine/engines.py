@@ -470,6 +470,8 @@ class CoreEngine:
             return out
         out.hit_message = r.hit_message
         out.raw = r
+        out.method = r.method
+        out.notes = tuple(getattr(r, "notes", ()) or ())
         out.events = core_events(r)
         out.delta_v_contact_mph = r.delta_v_contact_mph
         out.max_decel_g = (r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None

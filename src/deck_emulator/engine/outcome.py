@@ -46,6 +46,8 @@ class Outcome:
       emulator's printout is left as the listing prints it, the flags say what is odd.
     * ``error``: why the run stopped early (one line), ``None`` if it ended; ``guard``: the
       emulator's guard that stopped it; ``hint``: what would let it run.
+    * ``method``: the core's integration method as it ran (``auto`` resolved); ``notes``: what
+      the engine says of the run (the core's sentences about its scene and solution).
     * ``run_s``: seconds the engine's solver ran (the program's loop; the core's solution),
       without building this outcome.
     * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
@@ -76,6 +78,8 @@ class Outcome:
     guard: str | None = None
     hint: str = ""
     run_s: float = 0.0
+    method: str = ""
+    notes: tuple[str, ...] = ()
     raw: object = field(default=None, repr=False)
     #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance)
     cache: dict = field(default_factory=dict, repr=False, compare=False)
@@ -92,6 +96,12 @@ class Outcome:
     @property
     def hit_time_s(self) -> float | None:
         return self.hit.time_s if self.hit else None
+
+    @property
+    def ended(self) -> bool:
+        """The run came to its end: a hit, with no guard or error stopping it first (a run
+        that did not end has no quantity that depends on its end: engine.quantities)."""
+        return self.error is None and self.hit is not None
 
     @property
     def first_spring_lost_s(self) -> float | None:

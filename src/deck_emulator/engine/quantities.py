@@ -20,6 +20,13 @@ Quantities that differ get different names:
   core's continuous solution: what the two engines compute alike) and ``max_decel_10ms_g``
   (the largest average over any 10 ms, the occupant-risk reading).
 
+A quantity knows what it needs of its run (``needs``): ``"end"``, the run ended with its hit
+(the terminal points, the clearances over the car, the free flight's energy); ``"contact"``,
+the car let go of the post (the speed lost over the contact, the decelerations, the occupant's
+flail-space readings: the car keeps its speed afterwards, section 3.8); ``None``, only its own
+event (a time, a speed lost by an event: none without the event).  A run that stopped has no
+value for what it did not reach: ``None``, and :func:`unavailable` says why.
+
 Where an engine measures a quantity its own way (the emulator reads what its printout says,
 as the report's authors read the paper; the core locates the instant exactly), the line says
 so; the studies never compute one themselves.
@@ -35,14 +42,18 @@ from types import MappingProxyType
 from deck_emulator.vocabulary.units import speed_lost_mph
 
 __all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help", "pulse",
-           "clearance"]
+           "clearance", "unavailable", "why_none"]
+
+#: what a quantity may need of its run (see the module's docstring)
+NEEDS = ("end", "contact", None)
 
 
 @dataclass(frozen=True)
 class Quantity:
     """``name`` (the JSON key and CSV column), ``unit`` and ``label`` as a table shows them,
     ``digits`` shown, ``what`` it is in one line (with its source where it is a criterion's
-    reading), ``value(outcome)`` in the unit of the name, ``scale``: shown = value * scale."""
+    reading), ``value(outcome)`` in the unit of the name, ``scale``: shown = value * scale,
+    ``needs``: what of the run it needs (:data:`NEEDS`)."""
 
     name: str
     label: str
@@ -51,11 +62,14 @@ class Quantity:
     what: str
     value: Callable[[object], float | None]
     scale: float = 1.0
+    needs: str | None = "end"
 
     def of(self, outcome) -> float | None:
-        """The value for ``outcome`` (``None`` where it has none, or it is not finite). A
-        definition that raises is a defect and is not hidden: each returns None itself
-        where an outcome has no such value."""
+        """The value for ``outcome`` (``None`` where it has none, where its run stopped before
+        what it :attr:`needs`, or it is not finite). A definition that raises is a defect and
+        is not hidden: each returns None itself where an outcome has no such value."""
+        if why_none(self.needs, outcome) is not None:
+            return None
         v = self.value(outcome)
         if v is None:
             return None
@@ -67,6 +81,32 @@ class Quantity:
         if v is None or (isinstance(v, float) and math.isnan(v)):
             return "-"
         return f"{v * self.scale:.{self.digits}f}"
+
+
+# ------------------------------------------------------------------ what a run reached
+
+
+def why_none(needs: str | None, o) -> str | None:
+    """Why a quantity that ``needs`` this of its run has no value for ``o`` (None: it may
+    have one).  Only a run that did not end lacks what a quantity needs."""
+    if needs is None or o.ended:
+        return None
+    if needs == "contact" and o.vehicle_contact_lost_s is not None:
+        return None
+    how = "stopped" if o.error else "ended with no hit"
+    at = f" at {1000.0 * o.end_time_s:.1f} ms" if o.t.size else ""
+    before = "the car let go of the post" if needs == "contact" else "its end"
+    return f"the run {how}{at}, before {before}"
+
+
+def unavailable(outcome, which: Iterable[str]) -> dict[str, str]:
+    """``{name: why}`` of the quantities ``which`` that ``outcome``'s run did not reach."""
+    out = {}
+    for name in which:
+        why = why_none(QUANTITIES[name].needs, outcome)
+        if why is not None:
+            out[name] = why
+    return out
 
 
 # ------------------------------------------------------------------ what the definitions read
@@ -84,7 +124,8 @@ def pulse(o):
     (:class:`~deck_emulator.engine.safety.PulseMetrics`, computed once; None without one)."""
     from .safety import assess_outcome
 
-    return _cached(o, "pulse", lambda o: assess_outcome(o) if o.t.size else None)
+    return _cached(o, "pulse", lambda o: assess_outcome(o) if o.t.size
+                   and why_none("contact", o) is None else None)
 
 
 def clearance(o):
@@ -92,7 +133,8 @@ def clearance(o):
     (:class:`~deck_emulator.engine.safety.Clearance`, computed once; None without one)."""
     from .safety import clearance_of
 
-    return _cached(o, "clearance", lambda o: clearance_of(o) if o.t.size else None)
+    return _cached(o, "clearance", lambda o: clearance_of(o) if o.t.size
+                   and why_none("end", o) is None else None)
 
 
 def _energies(o):
@@ -171,13 +213,13 @@ def _delta_v_contact(o):
 
 _REGISTRY = (
     Quantity("hit_time_s", "post hits", "ms", 1, "time of the hit that ends the run",
-             _attr("hit_time_s"), 1000.0),
+             _attr("hit_time_s"), 1000.0, needs=None),
     Quantity("first_spring_lost_s", "post leaves the first spring", "ms", 1,
              "time the post loses contact with the car's first crush spring",
-             _attr("first_spring_lost_s"), 1000.0),
+             _attr("first_spring_lost_s"), 1000.0, needs=None),
     Quantity("vehicle_contact_lost_s", "post leaves the car", "ms", 1,
              "time the post loses contact with the car", _attr("vehicle_contact_lost_s"),
-             1000.0),
+             1000.0, needs=None),
     Quantity("delta_v_crush_mph", "speed lost, crush pulse", "mph", 2,
              "the speed the car has lost by the end of the crush pulse (the spring force first "
              "capped at FCONST): the reading of the report's DECREASE IN VEHICLE VELOCITY "
@@ -185,40 +227,40 @@ _REGISTRY = (
              "aluminium and twin columns (docs/report_full.md, 'ΔV and the maximum "
              "deceleration') (emulator: read at the first printed step where FSA is cut to "
              "FCONST; core: at its located 'force cap engaged' event)",
-             _attr("delta_v_crush_mph")),
+             _attr("delta_v_crush_mph"), needs=None),
     Quantity("delta_v_first_spring_mph", "speed lost, to the first spring's loss", "mph", 2,
              "the speed the car has lost by the instant the post loses contact with the first "
              "spring (the listing's THE POST HAS LOST CONTACT WITH FIRST SPRING; emulator: "
              "the car's speed at that accepted step; core: at its located event)",
-             _delta_v_first_spring),
+             _delta_v_first_spring, needs=None),
     Quantity("delta_v_contact_mph", "speed lost, whole contact", "mph", 2,
              "the speed the car has lost by the end of its contact with the post",
-             _delta_v_contact),
+             _delta_v_contact, needs="contact"),
     Quantity("max_decel_g", "largest deceleration of the car", "g", 2,
              "the report's MAXIMUM VEHICLE DECELERATION: the largest spring force over WV*G "
              "after the start-up steps (emulator: the largest printed FSA, as the report read "
              "it; core: the largest over its continuous solution after the start-up kick, "
              "whose 10,000 lb is a device of the listing's scheme, not an impact force)",
-             _attr("max_decel_g")),
+             _attr("max_decel_g"), needs="contact"),
     Quantity("max_decel_every_step_g", "largest deceleration, every step", "g", 4,
              "the largest spring force over WV*G at every accepted step of the emulator (not "
              "only the printed ones), start-up steps included; the core's continuous maximum "
              "likewise: what the two engines compute alike, for diff",
-             _attr("max_decel_every_step_g")),
+             _attr("max_decel_every_step_g"), needs="contact"),
     Quantity("max_decel_10ms_g", "largest 10 ms average deceleration", "g", 2,
              "the largest average deceleration of the car over any 10 ms window of the contact",
-             _of_pulse("max_decel_10ms_g")),
+             _of_pulse("max_decel_10ms_g"), needs="contact"),
     Quantity("oiv_m_s", "occupant impact velocity (OIV)", "m/s", 2,
              "flail-space model (0.6 m): the occupant's speed relative to the car when it "
              "strikes the interior; judged by NCHRP Report 350 (1993), Table 5.1, criterion H",
-             _of_pulse("oiv_m_s")),
+             _of_pulse("oiv_m_s"), needs="contact"),
     Quantity("ora_g", "occupant ridedown acceleration (ORA)", "g", 2,
              "the largest 10 ms average deceleration of the car after the occupant strikes; "
              "judged by NCHRP Report 350 (1993), Table 5.1, criterion I",
-             _of_pulse("ora_g")),
+             _of_pulse("ora_g"), needs="contact"),
     Quantity("occupant_strike_time_s", "occupant strikes the interior", "ms", 1,
              "flail-space model: when the occupant has moved 0.6 m relative to the car "
-             "(none: never)", _of_pulse("occupant_strike_time_s"), 1000.0),
+             "(none: never)", _of_pulse("occupant_strike_time_s"), 1000.0, needs="contact"),
     Quantity("body_clearance_ft", "least clearance above the car body", "ft", 3,
              "the post's least height above the car's outline (hood, roof, trunk) while over "
              "it in free flight, every arm included", _of_clearance("body_ft")),
@@ -227,16 +269,16 @@ _REGISTRY = (
              "top)", _of_clearance("roof_ft")),
     Quantity("launch_ke_ftlb", "post's kinetic energy as the car lets go", "ft·lb", 1,
              "translational plus rotational kinetic energy of the post when its contact with "
-             "the car ends", lambda o: _energies(o)["launch_ke_ftlb"]),
+             "the car ends", lambda o: _energies(o)["launch_ke_ftlb"], needs="contact"),
     Quantity("free_flight_energy_drift", "energy drift in free flight", "1", 3,
              "(E_end - E_start) / E_start over the free flight, E kinetic plus potential "
              "above the ground: zero for an exact solution", lambda o: _energies(o)["free_drift"]),
     Quantity("leaf_spring_peak_compression_ft", "leaf spring's largest compression", "ft", 4,
              "the crash test's leaf spring (Chapter V): its compression when it begins to "
-             "unload", lambda o: _leaf(o)["compression_ft"]),
+             "unload", lambda o: _leaf(o)["compression_ft"], needs=None),
     Quantity("leaf_spring_set_ft", "leaf spring's set", "ft", 4,
              "the compression at which the leaf spring's unloading force reaches zero (the "
-             "crush it keeps)", lambda o: _leaf(o)["set_ft"]),
+             "crush it keeps)", lambda o: _leaf(o)["set_ft"], needs=None),
     Quantity("arm_spin_deg", "arm's spin about the post's axis, at the end", "deg", 1,
              "the post's rotation about its own axis Q->P from t = 0 to the hit (right hand; "
              "for the upright post the rotation about ZL, negative = clockwise seen from "
@@ -245,7 +287,7 @@ _REGISTRY = (
              lambda o: _attitude().arm_spin_deg(o, "end")),
     Quantity("arm_spin_release_deg", "arm's spin about the post's axis, car lets go", "deg", 1,
              "the same rotation from t = 0 to the loss of contact with the car",
-             lambda o: _attitude().arm_spin_deg(o, "release")),
+             lambda o: _attitude().arm_spin_deg(o, "release"), needs="contact"),
     *(Quantity(f"terminal_{p.lower()}_{ax.lower()}_ft", f"{ax} of {what} at the end", "ft", 2,
                f"{ax} of {what} at the hit (the report's XL, YL, ZL axes: origin on the ground "
                f"under the base, +YL away from the highway; Tables 11 and 12's {ax[0]}{p}L)",

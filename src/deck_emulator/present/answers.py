@@ -63,6 +63,8 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
     risk = None
     if out.scene is not None and out.t.size and quantities.value("oiv_m_s", out) is not None:
         risk = quantities.values(out, OCCUPANT_RISK)
+    # what a run that stopped did not reach: no value, and why (nothing is rated for it)
+    missing = quantities.unavailable(out, OUTCOME + OCCUPANT_RISK)
     # a coordinate the printout could not hold (its field overflowed: ****) is None; the
     # outcome's flags name it
     terminal = {k: [None if v is None else round(float(v), POINT_DIGITS) for v in p]
@@ -76,6 +78,7 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
         terminal_xl_yl_zl_ft=terminal,
         occupant_risk=risk,
         criteria=criteria_answer() if risk is not None else None,
+        unavailable=missing,
     )
 
 
@@ -113,6 +116,12 @@ def render_outcome(a: dict) -> str:
     lines += [f"  {e['sentence']}" for e in a["events"]] or ["  none"]
     lines += [""] + _table(_quantity_rows(a["quantities"]), ("outcome", "name", "value", "unit"),
                            {2})
+    if a.get("unavailable"):  # the run stopped before these were reached: why, once each
+        by_reason: dict[str, list[str]] = {}
+        for name, why in a["unavailable"].items():
+            by_reason.setdefault(why, []).append(name)
+        lines += ["", "no value (-) and no rating:"]
+        lines += [f"  {', '.join(names)}: {why}" for why, names in by_reason.items()]
     if a["terminal_xl_yl_zl_ft"]:
         rows = [(k, *("*" * 10 if x is None else f"{x:.{POINT_DIGITS}f}" for x in p))
                 for k, p in a["terminal_xl_yl_zl_ft"].items()]

@@ -228,7 +228,7 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
                                     else None)
     row["comment"] = report_comment(hit) if hit else ("NO HIT" + (f" ({res.error})" if res.error else ""))
     m = quantities.pulse(res)  # the readings the registry's values came from
-    ended = res.error is None
+    ended = res.ended
     row["occupant_strike_after_contact"] = m.strike_after_contact if m is not None else None
     row["oiv_rating"] = m.oiv_rating if m is not None and ended else ""
     row["ora_rating"] = m.ora_rating if m is not None and ended else ""
