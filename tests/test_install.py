@@ -71,6 +71,108 @@ def installed(tmp_path_factory):
     return env_dir / "bin" / "deck-emulator", work
 
 
+
+#: the base install: what the 1967 path needs (pyproject.toml's dependencies)
+LIGHT = ("numpy", "fortranformat", "tqdm", "tomli_w")
+#: what only an extra brings (deck_emulator.extras)
+HEAVY = ("numba", "scipy", "dask", "distributed", "matplotlib", "pandas", "pyarrow", "SALib")
+
+
+def test_the_wheel_requires_only_the_light_packages(installed):
+    """``pip install .`` brings numpy, fortranformat, tqdm and tomli-w, nothing else: the
+    wheel's own metadata, every heavier package behind an extra."""
+    import email
+
+    (wheel,) = (installed[0].parents[2] / "wheels").glob("deck_emulator-*.whl")
+    import zipfile
+
+    with zipfile.ZipFile(wheel) as z:
+        (meta,) = [n for n in z.namelist() if n.endswith(".dist-info/METADATA")]
+        requires = email.message_from_bytes(z.read(meta)).get_all("Requires-Dist")
+    plain = sorted(r.split(">")[0].split("=")[0].strip().lower().replace("-", "_")
+                   for r in requires if "extra ==" not in r)
+    assert plain == sorted(LIGHT)
+
+
+def test_the_extras_table_is_pyprojects():
+    """deck_emulator.extras names, for each heavy module, the extra pyproject.toml installs it
+    with."""
+    import re
+    import tomllib
+
+    from deck_emulator.extras import EXTRA_OF_MODULE
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    def names(requirement: str) -> set[str]:  # dask[distributed] brings distributed too
+        m = re.match(r"([A-Za-z0-9_.-]+)(?:\[([^\]]*)\])?", requirement)
+        return {m.group(1).lower(), *(x.strip().lower() for x in (m.group(2) or "").split(",") if x)}
+
+    direct = {extra: set().union(*(names(r) for r in reqs if not r.startswith("deck_emulator")))
+              for extra, reqs in extras.items()}
+    for module, extra in EXTRA_OF_MODULE.items():
+        if module == "llvmlite":  # numba's own dependency
+            continue
+        assert module.lower() in direct[extra], (module, extra)
+    assert {m.lower() for m in HEAVY} <= {m.lower() for m in EXTRA_OF_MODULE}
+
+
+@pytest.fixture(scope="module")
+def light(installed, tmp_path_factory):
+    """The installed wheel in a second fresh venv that sees only the light packages (links to
+    the running environment's copies: nothing is fetched), as ``pip install .`` leaves it."""
+    exe, work = installed
+    base = tmp_path_factory.mktemp("light")
+    site = base / "site"
+    site.mkdir()
+    import importlib.util
+
+    for name in LIGHT:
+        spec = importlib.util.find_spec(name)
+        top = Path(spec.origin).parent if spec.submodule_search_locations else Path(spec.origin)
+        (site / top.name).symlink_to(top)
+        libs = top.parent / f"{name}.libs"  # numpy's bundled OpenBLAS
+        if libs.is_dir():
+            (site / libs.name).symlink_to(libs)
+    env_dir = base / "venv"
+    venv.EnvBuilder(system_site_packages=False, with_pip=True).create(env_dir)
+    python = env_dir / "bin" / "python"
+    purelib = _run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                   cwd=base).stdout.strip()
+    (Path(purelib) / "_light.pth").write_text(f"{site}\n")
+    (wheel,) = (exe.parents[2] / "wheels").glob("deck_emulator-*.whl")
+    inst = _run([str(python), "-m", "pip", "install", "--no-deps", "--no-index", str(wheel)],
+                cwd=base)
+    assert inst.returncode == 0, inst.stdout + inst.stderr
+    for name in HEAVY:
+        found = _run([str(python), "-c", f"import {name}"], cwd=base)
+        assert found.returncode != 0, f"{name} is importable in the light venv"
+    return env_dir / "bin" / "deck-emulator", work
+
+
+@pytest.mark.parametrize("argv", [["run", "steel40"], ["parse", "steel40", "--json"],
+                                  ["summary", "steel40", "--json"],
+                                  ["punch", "steel40", "--to", "cbn", "--out", "j.cbn"], ["corrections"],
+                                  ["scene", "steel40"]])
+def test_the_1967_path_runs_on_the_light_install(light, argv):
+    exe, work = light
+    proc = _run([str(exe), *argv], cwd=work)
+    assert proc.returncode == 0, proc.stderr
+    if argv == ["run", "steel40"]:
+        assert proc.stdout == (ROOT / "golden" / "steel40.r8.txt").read_text()
+
+
+@pytest.mark.parametrize("argv, extra", [(["core", "steel40"], "core"),
+                                         (["plot", "steel40", "--out", "x.png"], "plot"),
+                                         (["run", "steel40", "--pages", "x.pdf"], "plot"),
+                                         (["run", "steel40", "--trajectory", "t.csv"], "frames")])
+def test_a_command_whose_extra_is_missing_names_it(light, argv, extra):
+    exe, work = light
+    proc = _run([str(exe), *argv], cwd=work)
+    assert proc.returncode == 2, (proc.stdout, proc.stderr)
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert f"deck_emulator[{extra}]" in proc.stderr
+    assert not list(work.glob("x.*")) and not (work / "t.csv").exists()
+
 def test_the_installed_version_is_the_one_in_pyproject(installed):
     import tomllib
 

@@ -1556,6 +1556,14 @@ def _main(argv: Sequence[str] | None = None) -> int:
     except (DeckError, UsageError, OSError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT
+    except ImportError as exc:  # an optional part of the install is missing: which to add
+        from deck_emulator.extras import missing_extra
+
+        message = missing_extra(exc)
+        if message is None:
+            raise
+        print(f"{PROG}: error: {args.command}: {message}", file=sys.stderr)
+        return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":

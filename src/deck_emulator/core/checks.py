@@ -108,7 +108,7 @@ def check_summary(
 def ground_tolerance_ft(options) -> dict[str, float] | float:
     """The hit test's ground tolerance under ``options`` (ft; per point for the listing's)."""
     if options.listing_hit_tolerances:
-        from .regions import LISTING_GROUND_TOLERANCE_FT
+        from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
 
         return {**LISTING_GROUND_TOLERANCE_FT, "S": 0.1, "T": 0.1}
     return EXACT_GROUND_TOLERANCE_FT

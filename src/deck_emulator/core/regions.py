@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import laws
+from .scene import CarBox, car_boxes
 
 __all__ = ["HIT_MESSAGES", "hit_message", "Region", "FreeFlightChecks", "build_checks", "CarBox",
            "car_boxes"]
@@ -48,9 +49,7 @@ HIT_MESSAGES = {
 
 GROUND_POINTS = ("P", "Q", "R", "C", "U")
 VEHICLE_POINTS = ("P", "R", "C", "U")
-#: the listing's ground tolerances, ft (labels 91, 95, 103, 141); U (a second luminaire,
-#: which the listing has not got) is given R's
-LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
+from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT  # noqa: E402, F401
 #: the listing's car-surface tolerance, ft (labels 235, 241, 246 ...)
 LISTING_SURFACE_TOLERANCE_FT = 0.1
 #: how far outside its other half-spaces a point may be and still count as inside (ft)
@@ -59,44 +58,6 @@ SLACK_FT = 1e-9
 
 def hit_message(surface: str, point: str) -> str:
     return HIT_MESSAGES[surface].format(point=point)
-
-
-@dataclass(frozen=True)
-class CarBox:
-    """One of the car's three solid boxes (the exact checks' car; the clearances' parts).
-
-    In the vehicle axes, relative to the car's reference point SV:
-    ``x0_ft <= XV - SV <= x1_ft``, ``left_ft <= YV <= right_ft``, ``ZZ <= top_ft`` (down to
-    the ground: no bottom face).  ``part`` is the clearances' name (hood, roof, trunk);
-    ``surfaces`` names the faces (front ``XV - SV = x0``, rear ``= x1``, top), each as the
-    surface the post hits when it enters the box through it; the flanks are SIDE."""
-
-    part: str
-    x0_ft: float
-    x1_ft: float
-    left_ft: float
-    right_ft: float
-    top_ft: float
-    front_surface: str
-    rear_surface: str
-    top_surface: str
-
-
-def car_boxes(body) -> tuple[CarBox, CarBox, CarBox]:
-    """The car of a :class:`~deck_emulator.core.scene.VehicleBody` as three boxes, from its
-    one outline (:meth:`~deck_emulator.core.scene.VehicleBody.outline_xv`): the hood
-    (bumper to the windshield's foot SV, up to HHV), the passenger compartment (SV to
-    XENTOP, up to HTV) and the trunk (XENTOP to the tail, up to HTRV)."""
-    o = body.outline_xv(0.0)
-    yl, yr = body.left_fender_ft, body.right_fender_ft
-    return (
-        CarBox("hood", o["XBUMP"], o["SV"], yl, yr, body.hood_height_ft,
-               "FRONT", "WINDSHIELD", "HOOD"),
-        CarBox("roof", o["SV"], o["XENTOP"], yl, yr, body.top_height_ft,
-               "WINDSHIELD", "TOP", "TOP"),
-        CarBox("trunk", o["XENTOP"], o["XTAIL"], yl, yr, body.trunk_height_ft,
-               "TOP", "TRUNK", "TRUNK"),
-    )
 
 
 @dataclass(frozen=True)

@@ -237,7 +237,7 @@ def _listing_flags(out: Outcome) -> list[str]:
     """The core's outcome checks applied to what the listing printed (its hit, the terminal
     heights ZL, the speed lost), with the listing's own ground bands as tolerances."""
     from deck_emulator.core.checks import check_summary
-    from deck_emulator.core.regions import LISTING_GROUND_TOLERANCE_FT
+    from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
 
     hit = out.hit
     return check_summary(

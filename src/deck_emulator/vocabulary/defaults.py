@@ -16,6 +16,9 @@ options' defaults without loading numpy or scipy.
 LISTING_STEP_S = 0.0004
 #: the steps the listing takes before it caps the spring force (IF(LL-20))
 LISTING_CAP_STEPS = 20
+#: the listing's ground tolerances of its hit tests, ft (labels 91, 95, 103, 141); U (a second
+#: luminaire, which the listing has not got) is given R's
+LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 
 # ------------------------------------------------------------------- the core
 

@@ -1,0 +1,40 @@
+"""What each optional part of the install brings, one row a package: the module a command
+imports -> the extra of ``pyproject.toml`` that installs it (a test holds the two equal).
+
+The base install is the 1967 path (numpy, fortranformat, tqdm, tomli-w).  A command that
+needs more and finds it missing says, in one line, which extra to install
+(:func:`missing_extra`; the command line exits with status 2)."""
+
+from __future__ import annotations
+
+#: module (its top-level name) -> the extra that installs it
+EXTRA_OF_MODULE = {
+    "scipy": "core",
+    "numba": "core",
+    "llvmlite": "core",
+    "matplotlib": "plot",
+    "pandas": "frames",
+    "pyarrow": "frames",
+    "dask": "studies",
+    "distributed": "studies",
+    "SALib": "studies",
+}
+
+#: what each extra is for, in the words of the message
+PURPOSE = {
+    "core": "the modern core",
+    "plot": "pictures and the printout's pages",
+    "frames": "trajectories as tables",
+    "studies": "the many-scene studies",
+}
+
+
+def missing_extra(exc: ImportError) -> str | None:
+    """The one-line message for an import that failed because an extra is not installed
+    (None: not one of the extras' modules, a defect to be reported as it stands)."""
+    name = (getattr(exc, "name", None) or "").split(".")[0]
+    extra = EXTRA_OF_MODULE.get(name)
+    if extra is None:
+        return None
+    return (f"{PURPOSE[extra]} needs {name}, which this install has not got: "
+            f"pip install 'deck_emulator[{extra}]' (or [all])")
