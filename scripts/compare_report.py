@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Set the report's Tables 11/12 (steel post) beside gfortran's printouts and the emulator's
-runs: :func:`deck_emulator.studies.report_comparison.write_comparison`.
+runs: :func:`report.comparison.write_comparison`.
 
     python scripts/compare_report.py                 # writes docs/comparison.md
     python scripts/compare_report.py --out FILE      # write elsewhere
@@ -12,9 +12,11 @@ from pathlib import Path
 
 from deck_emulator.files import OutputError
 from deck_emulator.signals import run as run_guarded
-from deck_emulator.studies.report_comparison import write_comparison
-
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))  # the report's code: report/, beside the package
+
+from report.comparison import write_comparison
+
 
 
 def main(argv=None) -> int:

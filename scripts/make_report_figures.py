@@ -14,9 +14,11 @@ from pathlib import Path
 
 from deck_emulator.errors import UsageError
 from deck_emulator.files import OutputError
-from deck_emulator.present.plot import write_report_figures
-
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))  # the report's code: report/, beside the package
+
+from report.drawing import write_report_figures
+
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -41,7 +41,7 @@ def test_first_spring_delta_v_is_none_without_the_event_or_outside_the_run():
 
 
 def test_the_three_delta_v_readings_are_registry_quantities_in_mph():
-    from deck_emulator.studies.report_full import DECEL_CANDIDATES, DELTA_V_CANDIDATES
+    from report.full import DECEL_CANDIDATES, DELTA_V_CANDIDATES
 
     for name in DELTA_V_CANDIDATES:
         assert QUANTITIES[name].unit == "mph" and name.endswith("_mph")
@@ -53,7 +53,7 @@ def test_the_three_delta_v_readings_are_registry_quantities_in_mph():
 
 
 def test_provenance_covers_every_column_and_the_crash_test():
-    from deck_emulator.studies.report_full import provenance
+    from report.full import provenance
     from deck_emulator.studies.report_tables import CASES_ALL
 
     for col in list(CASES_ALL) + ["crash_test"]:
@@ -70,7 +70,7 @@ def test_what_is_called_fitted_was_read_off_the_tables(post, nominal_ft):
     here from the printed P and Q by hand), not the text's nominal length: so it is listed as
     fitted."""
     from deck_emulator.core.assembly import load_assembly
-    from deck_emulator.studies.report_full import PROVENANCE
+    from report.full import PROVENANCE
     from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL
 
     pq = [math.dist([REPORT_ALL[c][f"{a}PL"] for a in "XYZ"],
@@ -83,7 +83,7 @@ def test_what_is_called_fitted_was_read_off_the_tables(post, nominal_ft):
 
 
 def test_twin_at_zero_degrees_marks_inputs_and_symmetry_not_matches():
-    from deck_emulator.studies.report_full import cell_kind
+    from report.full import cell_kind
 
     for col in ("twin20", "twin40"):
         assert cell_kind(col, "YRL") == cell_kind(col, "YUL") == "input"
@@ -106,7 +106,7 @@ def test_both_readings_of_00_39_by_hand():
     """Table 11 aluminium 0°: P (-0.48, -6.39, 6.90), Q (-29.09, y, 3.76). By hand:
     dx = 28.61, dz = 3.14; y = +0.39: dy = -6.78, |PQ|² = 818.5321 + 9.8596 + 45.9684;
     y = -0.39: dy = -6.00, |PQ|² = 818.5321 + 9.8596 + 36.0."""
-    from deck_emulator.studies.report_full import rigid_distances
+    from report.full import rigid_distances
 
     assert rigid_distances("aluminium20")["PQ"] == pytest.approx(math.sqrt(874.3601), abs=1e-9)
     assert rigid_distances("aluminium20", {"YQL": -0.39})["PQ"] == pytest.approx(
@@ -116,7 +116,7 @@ def test_both_readings_of_00_39_by_hand():
 def test_the_rigid_body_reading_of_a_cell_restores_the_distances():
     """The fitted YRL of aluminium 20 mph 15° makes |PR| and |QR| what the post's other
     columns keep (checked by recomputing both distances, not by the fitted number)."""
-    from deck_emulator.studies.report_full import as_rigid_body_requires, rigid_distances
+    from report.full import as_rigid_body_requires, rigid_distances
 
     fit = as_rigid_body_requires("aluminium20_a15", "YRL")
     d = rigid_distances("aluminium20_a15", {"YRL": fit["value"]})
@@ -133,7 +133,7 @@ def test_hit_by_hand_from_the_reports_model_state():
     """HIT read as the car's front to the post's top: XCM + (9 - 4.63) sin θ + SV, the post's
     length and mass centre from section 5.2 (9 ft, 4.63 ft); the report's model at 273 ms:
     θ 121°, XCM -7.61 (Table 8's sign), SV 11.5 ft."""
-    from deck_emulator.studies.report_page import hit_ft
+    from report.page import hit_ft
 
     by_hand = -7.61 + 4.37 * math.sin(math.radians(121.0)) + 11.5
     assert hit_ft(-7.61, 121.0, 11.5) == pytest.approx(by_hand, abs=1e-12)
@@ -144,7 +144,7 @@ def test_the_two_number_solution_reproduces_table_10s_contact_and_spin():
     """The solved spring and impact height, run again, lose contact at the report's 71.8 ms
     with its θ̇ 12.50 rad/s (Table 10's printed model column)."""
     from deck_emulator.studies import crash_test as ct
-    from deck_emulator.studies.report_page import table10_search
+    from report.page import table10_search
 
     got = table10_search({"search": "two"})
     ku, s = got["x"]
@@ -158,7 +158,7 @@ def test_the_two_number_solution_reproduces_table_10s_contact_and_spin():
 def test_section_5_2s_spring_reaches_no_pair_of_table_10s_numbers():
     """Over the grid of impact heights, with Figure 17's stiffnesses, no run loses contact
     within 5 ms of 71.8 with θ̇ within 1 rad/s of 12.50 (the report's model)."""
-    from deck_emulator.studies.report_page import table10_search
+    from report.page import table10_search
 
     rows = table10_search({"search": "grid"})["rows"]
     assert len(rows) == 12
@@ -171,7 +171,7 @@ def test_section_5_2s_spring_reaches_no_pair_of_table_10s_numbers():
 def test_geometry_is_named_only_where_the_base_weight_moves_a_quantity_by_the_miss():
     """A hand-built set of base-weight runs of twin at 20 mph whose end spans 1.000-1.010 s
     (10 ms): a 5 ms miss is within it, a 50 ms miss is not (and is then unexplained)."""
-    from deck_emulator.studies.report_page import BASE_VARIANTS, cause, geometry_cause
+    from report.page import BASE_VARIANTS, cause, geometry_cause
 
     geo = {("twin", label, 20): {"hit_time_s": 1.0 + 0.0025 * i}
            for i, label in enumerate(BASE_VARIANTS)}

@@ -30,8 +30,9 @@ from deck_emulator.engine.outcome import Outcome
 from deck_emulator.vocabulary.events import Event, EventKind, Surface
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.present import plot
-from deck_emulator.studies import report_figures as rf
-from deck_emulator.studies import report_verdicts as rv
+from report import drawing
+from report import figures as rf
+from report import verdicts as rv
 from pictures import (Mapper, axes_box, colour_near, in_boxes, inside_box, near_points,
                       near_segments, read_png, segments_of, spots_along)
 
@@ -252,7 +253,7 @@ def test_the_terminal_pictures_draw_each_engines_post_and_the_printed_tables(cas
     through the engine's own terminal points (Outcome.terminal), the report's points as
     printed, and the core's post lies where the PNG shows orange."""
     part = next(p for p in rf.FIGURES if f"{p.figure}{p.part}" == figure)
-    fig = plot.figure_report_part(part, cases)
+    fig = drawing.figure_report_part(part, cases)
     out = tmp_path / part.file
     fig.savefig(out, dpi=plot.DPI)
     img = read_png(out)
@@ -292,7 +293,7 @@ def test_where_the_report_ended_first_the_core_post_is_drawn_at_the_reports_time
     """Figure 26c (steel, 20 mph, 30 deg): the report's run ended at 873.0 ms (Table 11, line
     1766), ours later; the core's post at 873.0 ms is drawn through its points then."""
     part = next(p for p in rf.FIGURES if f"{p.figure}{p.part}" == "26c")
-    fig = plot.figure_report_part(part, cases)
+    fig = drawing.figure_report_part(part, cases)
     core = cases["steel20_a30"].core
     assert core.hit_time_s > 0.874
     want = _chain({k: core.point_l(k, 0.873) for k in "PQR"})
@@ -307,7 +308,7 @@ def test_the_trajectory_pictures_draw_the_paths_of_the_points(cases):
     """Figure 24a (aluminium 40 mph, 0 deg): each engine's paths of P and R are its own
     points over the whole run, in XL, YL, ZL."""
     part = next(p for p in rf.FIGURES if f"{p.figure}{p.part}" == "24a")
-    fig = plot.figure_report_part(part, cases)
+    fig = drawing.figure_report_part(part, cases)
     case = cases["aluminium40"]
     assert case.emulator is not None  # the listing runs the aluminium deck
     for res in case.outcomes:
@@ -330,8 +331,8 @@ def test_the_command_writes_every_file_it_names(cases, tmp_path, monkeypatch, ca
     """The script, with the study's runs already made: it prints each file it wrote and the
     time taken; the folder holds exactly those files; every picture the page links is one of
     them and a PNG."""
-    real = plot.write_report_figures
-    monkeypatch.setattr(plot, "write_report_figures",
+    real = drawing.write_report_figures
+    monkeypatch.setattr(drawing, "write_report_figures",
                         lambda out: real(out, cases=cases))
     out = tmp_path / "report"
     monkeypatch.setattr(sys, "argv", ["make_report_figures.py", "--out", str(out)])

@@ -12,7 +12,7 @@ from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL
 
 @pytest.fixture(scope="module")
 def report_page(tmp_path_factory):
-    from deck_emulator.studies.report_page import write_page
+    from report.page import write_page
 
     page = tmp_path_factory.mktemp("report") / "report_full.md"
     fig = write_page(page)
@@ -32,7 +32,7 @@ def test_the_report_page_has_every_column_and_its_figure(report_page):
 def test_the_report_column_carries_the_reports_values_and_both_engines(report_page):
     """Each column's ΔV row: the report's value (report_tables, an independent transcription)
     and, for the steel 40 mph column, the emulator's and the core's as the engines give them."""
-    from deck_emulator.studies.report_full import run_column
+    from report.full import run_column
 
     text, _ = report_page
     section = text.split("### `steel40` —", 1)[1].split("### ", 1)[0]
@@ -99,7 +99,7 @@ def test_no_cause_is_a_program_version_and_symmetric_cells_are_not_matches(repor
 
 @pytest.mark.skipif(shutil.which("gfortran") is None, reason="reads the goldens of gfortran")
 def test_the_comparison_page_sets_each_deck_beside_the_report(tmp_path):
-    from deck_emulator.studies.report_comparison import DECKS, write_comparison
+    from report.comparison import DECKS, write_comparison
 
     out = tmp_path / "comparison.md"
     write_comparison(out)

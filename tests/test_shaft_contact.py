@@ -252,7 +252,7 @@ def test_cli_steel20_legacy_shaft_contact_json():
 def test_study_steel20_column():
     """One column through the study's scene runner: without the shaft test the ground (the
     listing's point checks), with it the car, near the report's printed 760.4 ms."""
-    from deck_emulator.studies.shaft_contact import render, rows
+    from report.shaft_contact import render, rows
 
     (row,) = rows(("steel20",), jobs=1, quiet=True)
     assert row["report_comment"] == "POST HITS FRONT OF CAR"
@@ -270,7 +270,7 @@ def test_study_steel20_column():
 def test_the_studys_batch_gives_each_column_its_own_row():
     """The scene runner's batch function runs the columns of each shaft setting together
     (CoreEngine.run_batch) and gives each task the row it gets alone."""
-    from deck_emulator.studies.shaft_contact import run_task, run_tasks, tasks
+    from report.shaft_contact import run_task, run_tasks, tasks
 
     todo = tasks(("steel20", "steel40"))
     todo = [todo[1], todo[0], todo[3], todo[2]]  # the settings interleaved, out of order

@@ -66,7 +66,7 @@ CAR_COLOUR = "0.35"
 
 
 @functools.cache
-def _mpl():
+def mpl():
     """matplotlib, imported on first use (so that registering the command costs nothing)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.colors import Normalize
@@ -132,7 +132,7 @@ def _post_chain(res: Outcome) -> list[str]:
     return [k for k in chain if k in res.points]
 
 
-def _post_l(res: Outcome, i: int) -> np.ndarray:
+def post_l(res: Outcome, i: int) -> np.ndarray:
     """(k, 3) XL, YL, ZL of the post's chain at sample i (NaN rows dropped)."""
     pts = np.array([res.points[k][i] for k in _post_chain(res)])
     pts = pts[~np.isnan(pts).any(axis=1)]
@@ -163,7 +163,7 @@ def _profile(res: Outcome, sv: float, yv: float):
     return xl, zz + h
 
 
-def _hit_index(res: Outcome) -> int:
+def hit_index(res: Outcome) -> int:
     return res.at(res.hit_time_s) if res.hit_time_s is not None else len(res.t) - 1
 
 
@@ -172,7 +172,7 @@ def _hit_point_l(res: Outcome):
     point = "R" if point == "R&U" else point  # the twin's joint hit: marked at R
     if point is None or point not in res.points:
         return None
-    p = res.points[point][_hit_index(res)]
+    p = res.points[point][hit_index(res)]
     return None if np.isnan(p).any() else res.to_l(p)
 
 
@@ -203,7 +203,7 @@ def _every_label(res: Outcome, idx: list[int]) -> str:
 
 
 def _norm(res):
-    return _mpl().Normalize(0.0, max(res.end_time_s, 1e-6))
+    return mpl().Normalize(0.0, max(res.end_time_s, 1e-6))
 
 
 def _draw_post(ax, res: Outcome, idx: list[int], axes: tuple[int, int]):
@@ -215,19 +215,19 @@ def _draw_post(ax, res: Outcome, idx: list[int], axes: tuple[int, int]):
     norm = _norm(res)
     a, b = axes
     for i in idx:
-        p = _post_l(res, i)
+        p = post_l(res, i)
         ax.plot(
             p[:, a], p[:, b], "-", color=cmap(norm(res.t[i])), lw=1.6, marker="o", ms=2.5, zorder=3
         )
-    hi = _hit_index(res)
-    p = _post_l(res, hi)
+    hi = hit_index(res)
+    p = post_l(res, hi)
     ax.plot(p[:, a], p[:, b], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
     _name_points(ax, res, 0, axes)
     if hi != 0:  # a run that ended at its first sample: its points are named once
         _name_points(ax, res, hi, axes)
 
 
-def _car_side(ax, res: Outcome, i: int) -> list[float]:
+def car_side(ax, res: Outcome, i: int) -> list[float]:
     """The car's side profile at sample i (near and far fender for an angled approach) and its
     windshield; returns the YV of the profiles drawn."""
     sv = res.sv[i]
@@ -237,7 +237,7 @@ def _car_side(ax, res: Outcome, i: int) -> list[float]:
     for k, yv in enumerate(sides):
         xl, zl = _profile(res, sv, yv)
         ax.add_patch(
-            _mpl().Polygon(
+            mpl().Polygon(
                 np.c_[xl, zl],
                 closed=True,
                 fc="0.85" if k == 0 else "none",
@@ -261,10 +261,10 @@ def _car_side(ax, res: Outcome, i: int) -> list[float]:
 
 
 def _draw_side(ax, res: Outcome, idx: list[int]):
-    hi = _hit_index(res)
+    hi = hit_index(res)
     _draw_post(ax, res, idx, (0, 2))
     # car at the hit (near and far fender for an angled approach)
-    sides = _car_side(ax, res, hi)
+    sides = car_side(ax, res, hi)
     sv = res.sv[hi]
     body = safety.car_body(res.scene)
     o = body.outline_xv(sv)
@@ -285,13 +285,13 @@ def _draw_side(ax, res: Outcome, idx: list[int]):
     ax.set_xlabel("XL (ft): along the highway from the base of the support; car travels to −XL")
     ax.set_ylabel("ZL (ft): height above the ground")
     ax.set_aspect("equal", adjustable="datalim")
-    ylo = min(-1.0, float(np.nanmin([_post_l(res, i)[:, 2].min() for i in idx])) - 1)
+    ylo = min(-1.0, float(np.nanmin([post_l(res, i)[:, 2].min() for i in idx])) - 1)
     ax.update_datalim([(0.0, ylo)])  # a strip of ground below the lowest point
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.set_title("Side view (XL–ZL)")
 
 
-def _car_plan(ax, res: Outcome, i: int) -> None:
+def car_plan(ax, res: Outcome, i: int) -> None:
     """The car's outline in plan at sample i: hood, roof (darker), trunk and windshield."""
     body = safety.car_body(res.scene)
     sv = res.sv[i]
@@ -302,7 +302,7 @@ def _car_plan(ax, res: Outcome, i: int) -> None:
         xv = np.array([x0, x1, x1, x0])
         yv = np.array([yl, yl, yr, yr])
         x, y = _car_xy_l(res, sv, xv, yv)
-        ax.add_patch(_mpl().Polygon(np.c_[x, y], closed=True, **kw))
+        ax.add_patch(mpl().Polygon(np.c_[x, y], closed=True, **kw))
 
     rect(o["XBUMP"], o["SV"], fc="0.88", ec=CAR_COLOUR, lw=1.2, zorder=1)
     rect(o["SV"], o["XENTOP"], fc="0.72", ec=CAR_COLOUR, lw=1.2, zorder=1)
@@ -312,12 +312,12 @@ def _car_plan(ax, res: Outcome, i: int) -> None:
 
 
 def _draw_plan(ax, res: Outcome, idx: list[int]):
-    hi = _hit_index(res)
+    hi = hit_index(res)
     body = safety.car_body(res.scene)
     sv = res.sv[hi]
     o = body.outline_xv(sv)
     yl, yr = body.left_fender_ft, body.right_fender_ft
-    _car_plan(ax, res, hi)
+    car_plan(ax, res, hi)
     _draw_post(ax, res, idx, (0, 1))
     hp = _hit_point_l(res)
     if hp is not None:
@@ -390,7 +390,7 @@ def _draw_3d(ax, res: Outcome, idx: list[int]):
 
     cmap = matplotlib.colormaps[CMAP]
     norm = _norm(res)
-    hi = _hit_index(res)
+    hi = hit_index(res)
     body = safety.car_body(res.scene)
     h = res.scene.environment.ground_depth_ft
     sv = res.sv[hi]
@@ -408,7 +408,7 @@ def _draw_3d(ax, res: Outcome, idx: list[int]):
     ax.add_collection3d(
         Poly3DCollection(faces, facecolor="0.8", edgecolor=CAR_COLOUR, lw=0.6, alpha=0.35)
     )
-    allp = np.vstack([_post_l(res, i) for i in idx] + [np.vstack(faces)])
+    allp = np.vstack([post_l(res, i) for i in idx] + [np.vstack(faces)])
     lo, hi_ = allp.min(axis=0), allp.max(axis=0)
     pad = 2.0
     gx = [lo[0] - pad, hi_[0] + pad]
@@ -422,9 +422,9 @@ def _draw_3d(ax, res: Outcome, idx: list[int]):
         )
     )
     for i in idx:
-        p = _post_l(res, i)
+        p = post_l(res, i)
         ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=cmap(norm(res.t[i])), lw=1.5)
-    p = _post_l(res, hi)
+    p = post_l(res, hi)
     ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=HIT_COLOUR, lw=2.6)
     hp = _hit_point_l(res)
     if hp is not None:
@@ -463,10 +463,10 @@ def _legend_handles(res: Outcome, idx):
 
     cmap = matplotlib.colormaps[CMAP]
     h = [
-        _mpl().Line2D(
+        mpl().Line2D(
             [], [], color=cmap(0.5), lw=1.6, marker="o", ms=2.5, label=_every_label(res, idx)
         ),
-        _mpl().Line2D(
+        mpl().Line2D(
             [],
             [],
             color=HIT_COLOUR,
@@ -474,12 +474,12 @@ def _legend_handles(res: Outcome, idx):
             marker="o",
             ms=4,
             label=f"post at the {'hit' if res.hit else 'end'}"
-            f" (t = {1000 * float(res.t[_hit_index(res)]):.1f} ms)",
+            f" (t = {1000 * float(res.t[hit_index(res)]):.1f} ms)",
         ),
     ]
     if _hit_point_l(res) is not None:
         h.append(
-            _mpl().Line2D(
+            mpl().Line2D(
                 [],
                 [],
                 color="gold",
@@ -491,10 +491,10 @@ def _legend_handles(res: Outcome, idx):
             )
         )
     h += [
-        _mpl().Patch(fc="0.85", ec=CAR_COLOUR, label=f"car at the {'hit' if res.hit else 'end'} "
+        mpl().Patch(fc="0.85", ec=CAR_COLOUR, label=f"car at the {'hit' if res.hit else 'end'} "
                      "(listing's outline)"),
-        _mpl().Line2D([], [], color="tab:cyan", lw=3, label="windshield (at SV)"),
-        _mpl().Line2D([], [], color="saddlebrown", lw=1.5, label="ground"),
+        mpl().Line2D([], [], color="tab:cyan", lw=3, label="windshield (at SV)"),
+        mpl().Line2D([], [], color="saddlebrown", lw=1.5, label="ground"),
     ]
     return h
 
@@ -557,8 +557,8 @@ def figure_trajectory(res: Outcome, view: str = "side", every: float | None = No
     if not res.t.size:
         raise ValueError(f"{res.name}: the {res.engine} gave no trajectory ({res.error})")
     idx = instants(res, every)
-    fig = _mpl().Figure(figsize=FIGSIZE[view], dpi=DPI, layout="constrained")
-    _mpl().FigureCanvasAgg(fig)
+    fig = mpl().Figure(figsize=FIGSIZE[view], dpi=DPI, layout="constrained")
+    mpl().FigureCanvasAgg(fig)
     handles = _legend_handles(res, idx)
     title = _legend_title(res)
     if view in ("side", "plan"):
@@ -568,7 +568,7 @@ def figure_trajectory(res: Outcome, view: str = "side", every: float | None = No
         if view == "plan":
             handles = [h for h in handles if h.get_label() != "ground"]
             handles.insert(
-                4, _mpl().Patch(fc="0.72", ec=CAR_COLOUR, label="roof (passenger compartment)")
+                4, mpl().Patch(fc="0.72", ec=CAR_COLOUR, label="roof (passenger compartment)")
             )
         fig.legend(
             handles=handles,
@@ -619,279 +619,11 @@ def figure_trajectory(res: Outcome, view: str = "side", every: float | None = No
 def save_trajectory(res: Outcome, out, view: str = "side", every: float | None = None) -> None:
     """Write the trajectory picture to ``out`` (whole or not at all)."""
     with OutputSet() as files:
-        _savefig(figure_trajectory(res, view, every), files.path(out))
+        savefig(figure_trajectory(res, view, every), files.path(out))
 
 
-def _savefig(fig, path) -> None:
+def savefig(fig, path) -> None:
     fig.savefig(path, dpi=DPI)  # the format from the name (a staged name keeps the suffix)
-
-
-# ================================================= the report's Figures 22-29 (Chapter VI)
-
-#: Figure size (inches) of one row (an angle: plan and side view) of the report's figures.
-REPORT_ROW_SIZE = (17.0, 6.0)
-REPORT_COLOUR = "black"
-START_COLOUR = "0.55"
-#: Each engine's post at the hit: the emulator wide beneath, the core narrow on top, so that
-#: both show where they coincide.
-ENGINE_WIDTH = {"emulator": 4.0, "core": 1.8}
-#: The points' paths in the trajectory pictures, one line style per engine.
-ENGINE_STYLE = {"emulator": "--", "core": "-"}
-#: Every trajectory picture draws the post every this many seconds.
-TRAJECTORY_EVERY_S = 0.1
-POINT_MARKERS = {"P": "^", "R": "o", "U": "s", "Q": "v"}
-
-
-def _chain_of(points: dict) -> np.ndarray:
-    """(k, 3) the post as one line through the named points of ``points`` (name -> XL, YL, ZL):
-    Q, P, R and, for a second luminaire, back to P and out to U."""
-    chain = ["Q", "P", "R"] + (["P", "U"] if "U" in points else [])
-    return np.array([points[k] for k in chain if k in points], dtype=float).reshape(-1, 3)
-
-
-def terminal_points_l(res: Outcome) -> dict:
-    """name -> (XL, YL, ZL) of the post at the end of the run, from the registry
-    (``terminal_p_xl_ft`` ...): what the report's figures and tables show."""
-    out = {}
-    for k in ("P", "Q", "R", "U"):
-        xyz = [quantities.value(f"terminal_{k.lower()}_{ax}_ft", res) for ax in ("xl", "yl", "zl")]
-        if all(v is not None for v in xyz):
-            out[k] = tuple(xyz)
-    return out
-
-
-def _start_points_l(res: Outcome) -> dict:
-    out = {}
-    for k in ("P", "Q", "R", "U"):
-        if k in res.points and not np.isnan(res.points[k][0]).any():
-            out[k] = tuple(res.to_l(res.points[k][0]))
-    return out
-
-
-def _engine_words(res: Outcome) -> str:
-    if res.engine == "emulator":
-        return "emulator (1967 listing, " + ("+".join(res.errata) or "as printed") + ")"
-    return "core (legacy preset)"
-
-
-def _end_words(res: Outcome) -> str:
-    if res.hit is None:
-        return f"no hit by {1000 * res.end_time_s:.0f} ms" + (" (run stopped)" if res.error else "")
-    return f"{res.hit.short()} at {1000 * res.hit_time_s:.1f} ms"
-
-
-def _label_points(ax, points: dict, axes: tuple[int, int], colour="k", dx=6, dy=6):
-    done = []
-    for k in ("Q", "P", "R", "U"):
-        if k not in points:
-            continue
-        xy = np.array([points[k][axes[0]], points[k][axes[1]]])
-        if any(np.hypot(*(xy - o)) < 0.8 for o in done):
-            continue
-        done.append(xy)
-        ax.annotate(k, tuple(xy), xytext=(dx, dy), textcoords="offset points", fontsize=10,
-                    fontweight="bold", color=colour, zorder=8)
-
-
-def _at_report_time(res: Outcome, t_s: float | None) -> dict:
-    """The core's post at the report's time of the end (name -> XL, YL, ZL), where the report
-    ended earlier than the run did (more than 1 ms): empty otherwise."""
-    if t_s is None or res.engine != "core" or res.hit_time_s is None \
-            or t_s >= res.hit_time_s - 1e-3:
-        return {}
-    got = {k: res.point_l(k, t_s) for k in ("P", "Q", "R", "U")}
-    return {k: p for k, p in got.items() if p is not None}
-
-
-def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int],
-                 report_time_s: float | None = None):
-    """One view of a case: the car at the core's hit, the post at t = 0, each engine's post at
-    the end (gid ``terminal:ENGINE``), the report's terminal points (gid ``report``) and,
-    where the report's run ended earlier, the core's post at the report's time (gid
-    ``at_report_time``)."""
-    main = outs[-1]
-    a, b = axes
-    early = _chain_of(_at_report_time(main, report_time_s))
-    if len(early):
-        ax.plot(early[:, a], early[:, b], ls="-.", color=ENGINE_COLOUR["core"], lw=1.3,
-                marker="d", ms=4, zorder=3.5, gid="at_report_time")
-    if b == 1:
-        _car_plan(ax, main, _hit_index(main))
-    else:
-        _car_side(ax, main, _hit_index(main))
-        ax.axhline(0.0, color="saddlebrown", lw=1.5, zorder=1)
-    start = _chain_of(_start_points_l(main))
-    ax.plot(start[:, a], start[:, b], ls=(0, (4, 3)), color=START_COLOUR, lw=1.5, marker="o",
-            ms=3, zorder=2.5, gid="start")
-    for res in outs:
-        p = _chain_of(terminal_points_l(res))
-        ax.plot(p[:, a], p[:, b], "-", color=ENGINE_COLOUR.get(res.engine, "k"),
-                lw=ENGINE_WIDTH.get(res.engine, 2.0), marker="o",
-                ms=2 + ENGINE_WIDTH.get(res.engine, 2.0), zorder=4 if res.engine == "core" else 3,
-                solid_capstyle="round", gid=f"terminal:{res.engine}")
-    if report:
-        r = _chain_of(report)
-        ax.plot(r[:, a], r[:, b], ls=(0, (2, 2)), color=REPORT_COLOUR, lw=1.2, marker="x",
-                ms=9, mew=2, zorder=5, gid="report")
-    _label_points(ax, terminal_points_l(main), axes)
-    _label_points(ax, _start_points_l(main), axes, colour=START_COLOUR, dx=-14, dy=-2)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.grid(True, lw=0.4, alpha=0.5)
-    if b == 1:
-        ax.set_xlabel("XL (ft): along the highway; the car travels to −XL")
-        ax.set_ylabel("YL (ft): +YL away from the highway")
-    else:
-        ax.set_xlabel("XL (ft): along the highway; the car travels to −XL")
-        ax.set_ylabel("ZL (ft): height above the ground")
-
-
-def _report_handles(outs: list[Outcome], report_words: str | None, trajectory=False,
-                    report_time_s: float | None = None) -> list:
-    L = _mpl().Line2D
-    h = []
-    if _at_report_time(outs[-1], report_time_s):
-        h.append(L([], [], ls="-.", color=ENGINE_COLOUR["core"], lw=1.3, marker="d", ms=4,
-                   label=f"core: post at the report's time of its end "
-                         f"({1000 * report_time_s:.1f} ms)"))
-    for res in outs:
-        c = ENGINE_COLOUR.get(res.engine, "k")
-        h.append(L([], [], color=c, lw=ENGINE_WIDTH.get(res.engine, 2.0), marker="o",
-                   label=f"{_engine_words(res)}: post at the end, {_end_words(res)}"))
-        if trajectory:
-            h.append(L([], [], color=c, lw=1.2, ls=ENGINE_STYLE[res.engine],
-                       label=f"{res.engine}: paths of the points; the post every "
-                             f"{1000 * TRAJECTORY_EVERY_S:.0f} ms (thin)"))
-    if report_words:
-        h.append(L([], [], ls=(0, (2, 2)), color=REPORT_COLOUR, lw=1.2, marker="x", ms=9,
-                   mew=2, label=report_words))
-    h.append(L([], [], ls=(0, (4, 3)), color=START_COLOUR, lw=1.5, marker="o", ms=3,
-               label="post at t = 0 (grey letters)"))
-    h.append(_mpl().Patch(fc="0.85", ec=CAR_COLOUR, label="car at the core's end (listing's "
-                          "outline; roof darker in plan)"))
-    h.append(L([], [], color="tab:cyan", lw=3, label="windshield"))
-    return h
-
-
-def figure_report_terminal(rows: list[dict], title: str) -> Figure:
-    """The report's terminal-position figure (Figures 22, 23, 25-28): one row per case, plan
-    view XL-YL and side view XL-ZL.  Each row: ``{"label": str, "outcomes": [Outcome, ...]
-    (the emulator's first), "report": {name: (XL, YL, ZL)} (may be empty), "report_words":
-    str or None}``."""
-    w, h = REPORT_ROW_SIZE
-    fig = _mpl().Figure(figsize=(w, h * len(rows) + 0.6), dpi=DPI, layout="constrained")
-    _mpl().FigureCanvasAgg(fig)
-    fig.suptitle(title, fontsize=12, fontweight="bold")
-    subs = fig.subfigures(len(rows), 1, squeeze=False)[:, 0]
-    for sub, row in zip(subs, rows):
-        axs = sub.subplots(1, 2, width_ratios=(1.25, 1.0))
-        for ax, axes, view in zip(axs, ((0, 1), (0, 2)), ("plan view (XL–YL)",
-                                                         "side view (XL–ZL)")):
-            _report_view(ax, row["outcomes"], row["report"], axes, row.get("report_time_s"))
-            ax.set_title(f"{row['label']}: {view}", fontsize=10)
-        sub.legend(handles=_report_handles(row["outcomes"], row.get("report_words"),
-                                           report_time_s=row.get("report_time_s")),
-                   loc="outside lower center", ncols=3, fontsize=8.5)
-    return fig
-
-
-def figure_report_trajectory(outs: list[Outcome], report: dict, report_words: str | None,
-                             title: str, label: str, report_time_s: float | None = None
-                             ) -> Figure:
-    """The report's trajectory figure (Figures 24 and 29): plan and side view of the post
-    every :data:`TRAJECTORY_EVERY_S` (thin, each engine's colour) and the paths of its points
-    P, R (and U) over the whole run (gid ``path:ENGINE:POINT``), over the same views as
-    :func:`figure_report_terminal`."""
-    w, h = REPORT_ROW_SIZE
-    fig = _mpl().Figure(figsize=(w, h + 1.6), dpi=DPI, layout="constrained")
-    _mpl().FigureCanvasAgg(fig)
-    fig.suptitle(title, fontsize=12, fontweight="bold")
-    axs = fig.subplots(1, 2, width_ratios=(1.25, 1.0))
-    for ax, axes, view in zip(axs, ((0, 1), (0, 2)), ("plan view (XL–YL)", "side view (XL–ZL)")):
-        a, b = axes
-        for res in outs:
-            c = ENGINE_COLOUR.get(res.engine, "k")
-            for i in instants(res, TRAJECTORY_EVERY_S):
-                p = _post_l(res, i)
-                ax.plot(p[:, a], p[:, b], "-", color=c, lw=0.7, alpha=0.35, zorder=2.2,
-                        gid=f"instant:{res.engine}")
-            for k in ("P", "R", "U"):
-                if k not in res.points:
-                    continue
-                path = res.to_l(np.asarray(res.points[k], dtype=float))
-                ax.plot(path[:, a], path[:, b], ls=ENGINE_STYLE.get(res.engine, "-"), color=c,
-                        lw=1.6, zorder=3.5, gid=f"path:{res.engine}:{k}")
-        _report_view(ax, outs, report, axes, report_time_s)
-        ax.set_title(f"{label}: {view}", fontsize=10)
-    fig.legend(handles=_report_handles(outs, report_words, trajectory=True,
-                                       report_time_s=report_time_s),
-               loc="outside lower center", ncols=3, fontsize=8.5)
-    return fig
-
-
-def _report_row(case, label: str) -> dict:
-    from deck_emulator.studies.report_figures import report_end, report_points
-
-    comment, t_ms = report_end(case.name)
-    words = None
-    if comment is not None:
-        from deck_emulator.studies.report_tables import CASES_ALL
-
-        table = CASES_ALL[case.name][3]
-        words = (f"report, Table {table}: {comment}"
-                 + (f" at {t_ms:.1f} ms" if t_ms is not None else ""))
-    return {"label": label, "outcomes": case.outcomes, "report": report_points(case.name),
-            "report_words": words, "report_time_s": None if t_ms is None else t_ms / 1000.0}
-
-
-def figure_report_part(part, cases: dict) -> Figure:
-    """The picture of one :class:`~deck_emulator.studies.report_figures.FigurePart` from the
-    runs ``cases`` (name -> Case)."""
-    head = (f"Figure {part.figure}{part.part} (α = " + ", ".join(f"{a}°" for a in part.alphas)
-            + f"): {part.caption[:1]}{part.caption[1:].lower()}")
-    rows = []
-    for name, alpha in zip(part.cases, part.alphas):
-        case = cases[name]
-        label = f"{name}: {part.mph} mph, α = {alpha}°"
-        if case.emulator is None and case.refusal:
-            label += " (core only: the listing has no point U)"
-        rows.append(_report_row(case, label))
-    if part.kind == "trajectory":
-        (row,) = rows
-        return figure_report_trajectory(row["outcomes"], row["report"], row["report_words"],
-                                        head, row["label"], row["report_time_s"])
-    return figure_report_terminal(rows, head)
-
-
-#: The command that writes docs/report/ (named on the pages it writes).
-REPORT_COMMAND = "python scripts/make_report_figures.py"
-
-
-def write_report_figures(out_dir, *, command: str = REPORT_COMMAND, progress=None,
-                         cases: dict | None = None) -> list:
-    """Run every case the report's Figures 22-29 and the statements of Sections 5.4 and
-    6.2-6.4 need (:func:`deck_emulator.studies.report_figures.run_cases`) and write into
-    ``out_dir`` every picture (``figure_22.png`` ... ``figure_29b.png``), ``figures.md`` and
-    ``verdicts.md``: all of them, or none.  Returns the paths written, in order."""
-    from deck_emulator.studies import report_figures as rf
-    from deck_emulator.studies import report_verdicts as rv
-
-    from deck_emulator.files import check_output_dir
-
-    out_dir = Path(out_dir)
-    check_output_dir(out_dir)  # before any run: OutputError, one line
-    if cases is None:
-        cases = rf.run_cases(progress=progress)
-    written = []
-    with OutputSet(directory=out_dir) as files:
-        for part in rf.FIGURES:
-            if progress is not None:
-                progress(part.file)
-            _savefig(figure_report_part(part, cases), files.path(part.file))
-            written.append(out_dir / part.file)
-        files.write("figures.md", rf.figures_page(cases, command))
-        files.write("verdicts.md", rv.verdicts_page(rv.verdicts(cases), command))
-        written += [out_dir / "figures.md", out_dir / "verdicts.md"]
-    return written
 
 
 # ============================================================================= pulse
@@ -899,8 +631,8 @@ def write_report_figures(out_dir, *, command: str = REPORT_COMMAND, progress=Non
 
 def figure_pulse(results: list[Outcome]) -> Figure:
     """Deceleration (g, left) and speed (mph, right) over the contact, every engine given."""
-    fig = _mpl().Figure(figsize=FIGSIZE["pulse"], dpi=DPI, layout="constrained")
-    _mpl().FigureCanvasAgg(fig)
+    fig = mpl().Figure(figsize=FIGSIZE["pulse"], dpi=DPI, layout="constrained")
+    mpl().FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     ax2 = ax.twinx()
     handles = []
@@ -919,13 +651,13 @@ def figure_pulse(results: list[Outcome]) -> Figure:
             else:
                 ax.plot(tms, res.pulse_g, color=col, lw=1.3)
             handles.append(
-                _mpl().Line2D([], [], color=col, lw=1.3, label=f"{label}: deceleration (g)")
+                mpl().Line2D([], [], color=col, lw=1.3, label=f"{label}: deceleration (g)")
             )
         t, vv = res.contact_history()
         if t.size:
             ax2.plot(1000 * t, ft_s_to_mph(np.abs(vv)), color=col, lw=1.6, ls="--")
             handles.append(
-                _mpl().Line2D([], [], color=col, lw=1.6, ls="--", label=f"{label}: speed (mph)")
+                mpl().Line2D([], [], color=col, lw=1.6, ls="--", label=f"{label}: speed (mph)")
             )
             t_max = max(t_max, float(t[-1]))
         for e in res.events:
@@ -951,7 +683,7 @@ def figure_pulse(results: list[Outcome]) -> Figure:
         if res.error:
             notes.append(f"{res.engine}: run stopped: {res.error}")
     handles.append(
-        _mpl().Line2D(
+        mpl().Line2D(
             [], [], color="0.3", lw=0.8, ls=":", label="lost contact: first spring, then the car"
         )
     )
@@ -997,7 +729,7 @@ def figure_pulse(results: list[Outcome]) -> Figure:
 def save_pulse(results: list[Outcome], out) -> None:
     """Write the pulse picture to ``out`` (whole or not at all)."""
     with OutputSet() as files:
-        _savefig(figure_pulse(results), files.path(out))
+        savefig(figure_pulse(results), files.path(out))
 
 
 # ============================================================================= animation
@@ -1020,8 +752,8 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
         view = "side"
     cmap = matplotlib.colormaps[CMAP]
     norm = _norm(res)
-    fig = _mpl().Figure(figsize=FIGSIZE["animate"], dpi=dpi)  # fixed layout: fast frames
-    _mpl().FigureCanvasAgg(fig)
+    fig = mpl().Figure(figsize=FIGSIZE["animate"], dpi=dpi)  # fixed layout: fast frames
+    mpl().FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.12, top=0.9)
     comp = (0, 2) if view == "side" else (0, 1)
@@ -1030,7 +762,7 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
     base_yy = res.scene.post.base.yy_ft
     # fixed limits from the whole run and the car's path
     allp = np.vstack(
-        [_post_l(res, i) for i in range(0, len(res.t), 5)] + [_post_l(res, len(res.t) - 1)]
+        [post_l(res, i) for i in range(0, len(res.t), 5)] + [post_l(res, len(res.t) - 1)]
     )
     car_x = []
     for i in (0, len(res.t) - 1):
@@ -1044,7 +776,7 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
     )
     (trail_lines) = []
     (post,) = ax.plot([], [], "-o", color=HIT_COLOUR, lw=2.5, ms=3, zorder=5)
-    car = _mpl().Polygon(np.zeros((4, 2)), closed=True, fc="0.85", ec=CAR_COLOUR, zorder=2)
+    car = mpl().Polygon(np.zeros((4, 2)), closed=True, fc="0.85", ec=CAR_COLOUR, zorder=2)
     ax.add_patch(car)
     label = ax.text(0.99, 0.97, "", transform=ax.transAxes, ha="right", va="top", fontsize=9)
     if view == "side":
@@ -1075,11 +807,11 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
 
     def update(k):
         i = frames[k]
-        p = _post_l(res, i)
+        p = post_l(res, i)
         post.set_data(p[:, comp[0]], p[:, comp[1]])
         if k and k % 5 == 0:
             j = frames[k - 5]
-            q = _post_l(res, j)
+            q = post_l(res, j)
             (ln,) = ax.plot(
                 q[:, comp[0]],
                 q[:, comp[1]],
@@ -1107,7 +839,7 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
 
 def picture_formats() -> list[str]:
     """The file types matplotlib writes a still picture in (png, svg, pdf, ...)."""
-    return sorted(set(_mpl().FigureCanvasAgg(_mpl().Figure()).get_supported_filetypes())
+    return sorted(set(mpl().FigureCanvasAgg(mpl().Figure()).get_supported_filetypes())
                   - {"gif", "raw", "rgba"})
 
 
@@ -1196,7 +928,7 @@ def _draw_plot(args, deck, out, every, files):
         results = [r for r in results if r.t.size]
         if not results:  # every run stopped before its first step: as `run` says, exit 3
             raise RunFailed("no engine produced a velocity history")
-        _savefig(figure_pulse(results), files.path(out))
+        savefig(figure_pulse(results), files.path(out))
         main = next((r for r in results if r.engine == args.engine), results[0])
         status = 3 if any(r.error for r in results) else 0
     else:
@@ -1207,7 +939,7 @@ def _draw_plot(args, deck, out, every, files):
             instants(main, every)  # too many instants for --every: said before drawing
         except ValueError as exc:
             raise CLIError(str(exc)) from None
-        _savefig(figure_trajectory(main, args.view, every), files.path(out))
+        savefig(figure_trajectory(main, args.view, every), files.path(out))
         status = 3 if main.error else 0
     return status, main
 

@@ -5,7 +5,7 @@ only the points P, R and C against the car, and the core's ``legacy`` preset (wh
 same) hits the car in none.  Here every column runs on the core's ``legacy`` preset twice:
 as the listing checks (``shaft_contact`` off) and with the shaft Q-P and the arms checked as
 segments against the car (``--shaft-contact``), beside the report's printed end.  The
-columns' scenes are :func:`deck_emulator.studies.report_full.column_inputs`' (the steel decks;
+columns' scenes are :func:`report.full.column_inputs`' (the steel decks;
 the aluminium and twin posts from their descriptions, with the geometry fitted to the report's
 tables: see docs/report_full.md).
 
@@ -20,7 +20,7 @@ from pathlib import Path
 
 from deck_emulator.engine import CoreEngine, quantities
 from deck_emulator.files import write_file
-from deck_emulator.studies.report_full import column_inputs, columns_row
+from report.full import column_inputs, columns_row
 from deck_emulator.studies.report_tables import (CASES_ALL, REPORT_ALL, SOURCE,
                                                  report_time_ms_all)
 

@@ -14,7 +14,7 @@ text (lines 1724, 1740-1744) say what each shows.  Our reading of the parts:
 Which α each part shows is our choice: the report does not say.
 
 The runs: the 18 columns of Tables 11 and 12 as :mod:`.report_full` builds them
-(:func:`~deck_emulator.studies.report_full.column_inputs`), and any other speed and angle of
+(:func:`~report.full.column_inputs`), and any other speed and angle of
 the three described posts (30 mph, the speed Chapter V's statements name) built the way
 ``deck-emulator assembly NAME --speed-mph S --alpha-deg A`` builds it (the report's own deck
 where there is one, else steel40's car with VVB and ALPHA set by the sweep's rules).  Each
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 from deck_emulator.engine import CoreEngine, EmulatorEngine, Outcome, quantities
 from deck_emulator.engine.errata import ED_DIRECTION
-from deck_emulator.studies.report_full import column_inputs
+from report.full import column_inputs
 from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL, SOURCE
 
 __all__ = ["POSTS", "ANGLES", "Case", "FigurePart", "FIGURES", "case_name", "case_inputs",

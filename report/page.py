@@ -6,7 +6,7 @@ Every number is measured here from the shipped descriptions
 (``src/deck_emulator/assemblies/*.toml``), the shipped decks and the report's numbers in
 ``deck_emulator.studies.report_tables``, every run through the engine layer. What of the
 inputs was read off the report's own tables is the page's provenance table
-(:data:`~deck_emulator.studies.report_full.PROVENANCE`); every cause the page names is
+(:data:`~report.full.PROVENANCE`); every cause the page names is
 backed by a computation on the page, and a miss nothing explains is called unexplained.
 """
 
@@ -25,8 +25,8 @@ from deck_emulator.core.assembly import (
 )
 from deck_emulator.files import OutputSet
 from deck_emulator.studies import crash_test as ct
-from deck_emulator.studies import shaft_contact
-from deck_emulator.studies.report_full import (
+from report import shaft_contact
+from report.full import (
     DECEL_CANDIDATES, DELTA_V_CANDIDATES, DOUBTFUL, PROVENANCE, PROVENANCE_CRASH,
     as_rigid_body_requires, cell_kind, column_task, column_tasks, rigid_distances,
 )
@@ -1175,7 +1175,7 @@ def statements_section(lines, runs, crash):
     lines.append("The statements of Sections 5.4 and 6.2-6.4 (the arm's turn, the car passing "
                  "under the post, the effect of the speed and of α, the twin post) are judged "
                  "in [report/verdicts.md](report/verdicts.md), each by one computation "
-                 "(`deck_emulator.studies.report_verdicts`, made by `python "
+                 "(`report.verdicts`, made by `python "
                  "scripts/make_report_figures.py` with Figures 22-29). Chapter V's statements "
                  "about the crash test:\n")
     rows = []

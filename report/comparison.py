@@ -26,7 +26,7 @@ from fractions import Fraction
 from pathlib import Path
 
 #: The checkout (its golden/ folder holds the compiled listing's printouts).
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[1]
 
 from deck_emulator.files import check_output_file, write_file
 from deck_emulator.parallel import progress_bar

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 from deck_emulator.engine import attitude, quantities
 from deck_emulator.engine.safety import CRITERIA
-from deck_emulator.studies.report_figures import ANGLES, POSTS, Case, _num, case_name
+from report.figures import ANGLES, POSTS, Case, _num, case_name
 from deck_emulator.studies.report_tables import REPORT_ALL, SOURCE
 
 __all__ = ["Verdict", "HOLDS", "FAILS", "CANNOT", "tally", "increasing", "significant",
@@ -793,7 +793,7 @@ CHECKS = (_s54_1, _s54_2, _s54_3, _s54_4, _s62_1, _s62_2, _s62_3, _s62_4, _s63_1
 
 def verdicts(cases: dict[str, Case]) -> list[Verdict]:
     """Every statement of Sections 5.4 and 6.2-6.4, checked on the runs ``cases``
-    (:func:`deck_emulator.studies.report_figures.run_cases`)."""
+    (:func:`report.figures.run_cases`)."""
     return [check(cases) for check in CHECKS]
 
 
