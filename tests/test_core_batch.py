@@ -261,6 +261,20 @@ def _top(omega3=20.0):
     return P, y0, lam
 
 
+
+@pytest.mark.parametrize("name", ["A", "B", "C", "E3", "E5", "D", "A_EXTRA", "C_EXTRA"])
+def test_the_dop853_tableau_is_scipys(name):
+    """The project's own copy of the Dormand-Prince 8(5,3) tableau, number for number the one
+    scipy's public ``scipy.integrate.DOP853`` integrates with (exact: the same binary64s)."""
+    from scipy.integrate import DOP853
+
+    from deck_emulator.core import dop853_tableau
+
+    ours, scipys = getattr(dop853_tableau, name), getattr(DOP853, name)
+    assert ours.shape == scipys.shape and np.array_equal(ours, scipys)
+    assert dop853_tableau.N_STAGES == DOP853.n_stages and dop853_tableau.ORDER == DOP853.order
+    assert dop853_tableau.ERROR_ESTIMATOR_ORDER == DOP853.error_estimator_order
+
 def test_dop853_order_is_eight():
     """Hairer's DOP853 (scipy's tableau) is of order 8: as the fixed step halves, the error
     at t = 1 falls by 2^8 = 256 (here: the transverse angular velocity against its closed

@@ -6,8 +6,8 @@ all of scipy's time in that Python.  So this module transcribes the method scipy
 the explicit Runge-Kutta pair of order 8(5,3) of Dormand and Prince as implemented by
 Hairer (E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential Equations I:
 Nonstiff Problems", 2nd ed., Springer 1993, section II.10; code DOP853), in the form of
-``scipy.integrate._ivp.rk.DOP853``: scipy's own tableau (imported from
-``scipy.integrate._ivp.dop853_coefficients``, not copied), its error norm (the 5th- and
+``scipy.integrate.DOP853``: its tableau (:mod:`.dop853_tableau`, the project's own copy,
+held equal to scipy's by a test), its error norm (the 5th- and
 3rd-order estimates combined), its step-size control (safety 0.9, factors 0.2-10, no
 growth after a rejection), its first-step choice and its 7th-degree dense output -- and
 ``solve_ivp``'s event handling: an event is active where its function changes sign in
@@ -26,8 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _coef
-
+from . import dop853_tableau as _tableau
 from . import laws
 from .laws import _jit
 
@@ -54,15 +53,20 @@ STATUS_FAILED = -1  # step size too small
 STATUS_BUDGET = -2  # more right-hand-side evaluations than allowed
 STATUS_NOT_FINITE = -3  # the state or the error estimate is not finite
 
-N_STAGES = _coef.N_STAGES
-N_EXT = _coef.N_STAGES_EXTENDED
-N_F = _coef.INTERPOLATOR_POWER
-_A = np.ascontiguousarray(_coef.A)  # (16, 16): rows 13-15 are scipy's A_EXTRA
-_B = np.ascontiguousarray(_coef.B)
-_C = np.ascontiguousarray(_coef.C)
-_E3 = np.ascontiguousarray(_coef.E3)
-_E5 = np.ascontiguousarray(_coef.E5)
-_D = np.ascontiguousarray(_coef.D)
+N_STAGES = _tableau.N_STAGES
+N_EXT = N_STAGES + 1 + len(_tableau.C_EXTRA)  # the stages, the solution's, the dense output's
+N_F = _tableau.ORDER - 1  # the dense output's degree
+# one (16, 16) matrix of every stage: the step's 12, the solution's (row 12: B, its time 1),
+# the dense output's 3 (rows 13-15)
+_A = np.zeros((N_EXT, N_EXT))
+_A[:N_STAGES, :N_STAGES] = _tableau.A
+_A[N_STAGES, :N_STAGES] = _tableau.B
+_A[N_STAGES + 1:] = _tableau.A_EXTRA
+_C = np.concatenate([_tableau.C, [1.0], _tableau.C_EXTRA])
+_B = np.ascontiguousarray(_tableau.B)
+_E3 = np.ascontiguousarray(_tableau.E3)
+_E5 = np.ascontiguousarray(_tableau.E5)
+_D = np.ascontiguousarray(_tableau.D)
 SAFETY = 0.9
 MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0

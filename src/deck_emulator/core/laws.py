@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numba
 from numba import njit
 
 __all__ = [
@@ -48,59 +49,41 @@ __all__ = [
 COMPILED_MODULES = ("laws.py", "dop853.py", "batch.py")
 
 
-def _install_cache_locator() -> None:
+def _cache_dir() -> None:
     """numba stamps a cached function with its own file's content only, so a compiled
-    function of dop853.py would keep the old copy of a law changed in laws.py.  Our
-    functions' caches are stamped with all of :data:`COMPILED_MODULES` instead (in the
-    package's ``__pycache__``, else numba's user-wide directory).  numba's locator list is
-    not a public interface: if it is not there, numba's own stamps stand."""
-    import functools
+    function of dop853.py would keep the old copy of a law changed in laws.py.  So the cache
+    is kept in a folder named by the content of all of :data:`COMPILED_MODULES`, through
+    numba's public setting (``numba.config.CACHE_DIR``, the ``NUMBA_CACHE_DIR`` of its
+    documentation): below the user's own NUMBA_CACHE_DIR when set, else the package's
+    ``__pycache__`` where it can be written, else the user's cache folder.  A changed module
+    is a new folder: the old machine code is never taken for the new."""
     import hashlib
     import os
 
-    try:
-        from numba.core import caching
-    except ImportError:  # pragma: no cover
-        return
     here = os.path.dirname(os.path.abspath(__file__))
-    ours = {os.path.join(here, name) for name in COMPILED_MODULES}
-
-    @functools.lru_cache(maxsize=1)
-    def stamp():
-        h = hashlib.sha256()
-        for path in sorted(ours):
-            with open(path, "rb") as f:
-                h.update(f.read())
-        return h.hexdigest()
-
-    class _Ours:
-        def get_source_stamp(self):
-            return stamp()
-
-        @classmethod
-        def from_function(cls, py_func, py_file):
-            if os.path.abspath(py_file) not in ours:
-                return None
-            return super().from_function(py_func, py_file)
-
-    try:
-        class UserProvided(_Ours, caching.UserProvidedCacheLocator):  # NUMBA_CACHE_DIR
-            pass
-
-        class InTree(_Ours, caching.InTreeCacheLocator):
-            pass
-
-        class UserWide(_Ours, caching.UserWideCacheLocator):
-            pass
-
-        classes = caching._CacheImpl._locator_classes
-    except AttributeError:  # pragma: no cover - another numba
+    h = hashlib.sha256()
+    for name in sorted(COMPILED_MODULES):
+        with open(os.path.join(here, name), "rb") as f:
+            h.update(f.read())
+    stamp = f"deck_emulator-{h.hexdigest()[:16]}"
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if user:
+        numba.config.CACHE_DIR = os.path.join(user, stamp)
         return
-    if isinstance(classes, list) and not any(c.__name__ == "InTree" for c in classes):
-        classes[0:0] = [UserProvided, InTree, UserWide]
+    in_tree = os.path.join(here, "__pycache__")
+    try:
+        os.makedirs(in_tree, exist_ok=True)
+        writable = os.access(in_tree, os.W_OK)
+    except OSError:
+        writable = False
+    if writable:
+        numba.config.CACHE_DIR = os.path.join(in_tree, stamp)
+    else:
+        home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        numba.config.CACHE_DIR = os.path.join(home, stamp)
 
 
-_install_cache_locator()
+_cache_dir()
 
 
 def _jit(fn):
