@@ -9,16 +9,12 @@ model builds only the components its scene has.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 from .scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
 import numpy as np
 
 from . import laws
-from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
-
-if TYPE_CHECKING:
-    from .model import Model
+from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics, ModelView
 
 __all__ = [
     "Gravity",
@@ -137,7 +133,7 @@ class VehicleContact:
 
     name = "vehicle contact"
 
-    def __init__(self, scene: Scene, options: ModelOptions, model: "Model"):
+    def __init__(self, scene: Scene, options: ModelOptions, model: ModelView):
         v = scene.vehicle
         self.alpha = v.approach_angle_rad
         self.cos_a, self.sin_a = math.cos(self.alpha), math.sin(self.alpha)
