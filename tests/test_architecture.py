@@ -25,7 +25,8 @@ def test_the_import_contracts_hold():
     proc = _lint()
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "0 broken" in proc.stdout
-    for name in ("CLI > pictures > studies > engine", "Nothing imports the CLI",
+    for name in ("CLI > commands > pictures > studies > engine", "Nothing imports the CLI",
+                 "Only the CLI imports the commands' table",
                  "does not import its implementations", "No import cycles"):
         assert name in proc.stdout
 
@@ -70,7 +71,7 @@ def test_parse_and_run_start_without_scipy_or_matplotlib(command, tmp_path):
 def test_cli_names_agree_with_the_layers_below():
     """The CLI names its choices itself so that building the parser imports nothing heavy;
     they must be the registry's, the emulator's errata and the pictures' views."""
-    from deck_emulator import cli
+    from deck_emulator.app import options as cli
     from deck_emulator.core.scene import PRESETS
     from deck_emulator.legacy.arithmetic import ARITHMETICS
     from deck_emulator.legacy.emulator import ERRATA
@@ -80,6 +81,14 @@ def test_cli_names_agree_with_the_layers_below():
     assert set(cli.ERRATA_NAMES) == set(ERRATA)
     assert set(cli.PRESETS) == set(PRESETS)
     assert cli.VIEWS == VIEWS
+    from deck_emulator.app import studies
+    from deck_emulator.engine import ENGINES
+    from deck_emulator.legacy.cardimage import FORMATS
+    from deck_emulator.legacy.keypunch import CODES
+    from deck_emulator.studies import SCENE_STORE
+
+    assert cli.CARD_FORMATS == tuple(FORMATS) and cli.KEYPUNCH_CODES == tuple(sorted(CODES))
+    assert cli.ENGINES == ENGINES and studies._STORE == SCENE_STORE
 
 
 #: A unit factor written out: ft in a mile, s in an hour, mph <-> ft/s (and its rounded

@@ -38,3 +38,13 @@ def missing_extra(exc: ImportError) -> str | None:
         return None
     return (f"{PURPOSE[extra]} needs {name}, which this install has not got: "
             f"pip install 'deck_emulator[{extra}]' (or [all])")
+
+
+def require(extra: str) -> None:
+    """Before any work: ``ModuleNotFoundError`` naming the first of ``extra``'s modules that
+    is not installed (looked up, not imported)."""
+    import importlib.util
+
+    for module, of in EXTRA_OF_MODULE.items():
+        if of == extra and importlib.util.find_spec(module) is None:
+            raise ModuleNotFoundError(f"No module named {module!r}", name=module)

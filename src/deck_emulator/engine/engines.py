@@ -160,7 +160,8 @@ class EmulatorEngine:
                       Scene.from_deck(deck, name=name or source_name(deck), checked=False),
                       errata=tuple(run.errata), arithmetic=self.precision,
                       settings=f"arithmetic {run.arithmetic}; errata: "
-                      f"{errata_policy.describe(run.errata)}", raw=run)
+                      f"{errata_policy.describe(run.errata)}", raw=run,
+                      records=tuple(run.records))
         out.events = list(run.events)
         if out.hit is not None:
             from deck_emulator.legacy.printer import event_message

@@ -48,6 +48,7 @@ class Outcome:
       emulator's guard that stopped it; ``hint``: what would let it run.
     * ``method``: the core's integration method as it ran (``auto`` resolved); ``notes``: what
       the engine says of the run (the core's sentences about its scene and solution).
+    * ``records``: the emulator's printout, record by record (carriage control in column 1).
     * ``run_s``: seconds the engine's solver ran (the program's loop; the core's solution),
       without building this outcome.
     * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
@@ -80,6 +81,7 @@ class Outcome:
     run_s: float = 0.0
     method: str = ""
     notes: tuple[str, ...] = ()
+    records: tuple[str, ...] = ()
     raw: object = field(default=None, repr=False)
     #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance)
     cache: dict = field(default_factory=dict, repr=False, compare=False)
@@ -96,6 +98,11 @@ class Outcome:
     @property
     def hit_time_s(self) -> float | None:
         return self.hit.time_s if self.hit else None
+
+    @property
+    def printout(self) -> str:
+        """The emulator's printout as text, a record a line."""
+        return "".join(r + "\n" for r in self.records)
 
     @property
     def ended(self) -> bool:

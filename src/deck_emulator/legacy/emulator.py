@@ -36,10 +36,10 @@ from __future__ import annotations
 
 import math
 import operator
-import sys
 from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
+from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event
 from deck_emulator.legacy.printer import Printer, event_for
 
@@ -77,9 +77,9 @@ class EmulatorError(RuntimeError):
 class Limits:
     """Bounds on what the 1967 program leaves unbounded."""
 
-    ed_iterations: int = 100_000  # per call of ED
-    halvings: int = 40  # consecutive halvings at label 108 without an accepted step
-    time_s: float = 5.0  # simulated time (the report needs about 1 s)
+    ed_iterations: int = defaults.ED_ITERATIONS  # per call of ED
+    halvings: int = defaults.HALVINGS  # consecutive halvings at label 108, no step accepted
+    time_s: float = defaults.EMULATOR_T_MAX_S  # simulated time (the report needs about 1 s)
 
 
 @dataclass
@@ -1184,9 +1184,3 @@ def run_deck(deck, precision: str | Arithmetic = "double", *, errata=(), step_sc
     traps; the error's ``run`` holds the records printed up to then."""
     return Program(deck, precision, errata=errata, step_scale_k=step_scale_k, tha_start=tha_start,
                    ed_tolerance=ed_tolerance, limits=limits, trace=trace).run()
-
-
-if __name__ == "__main__":  # pragma: no cover
-    from deck_emulator.legacy.deck import read_deck
-
-    sys.stdout.write(run_deck(read_deck(sys.argv[1])).text())

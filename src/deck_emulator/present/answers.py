@@ -54,9 +54,9 @@ def criteria_answer() -> dict:
             for k, c in CRITERIA.items()}
 
 
-def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
-    """An engine's :class:`Outcome` as the answer of ``summary``, ``core`` or ``assembly``:
-    the registry's quantities, read from the outcome."""
+def outcome_result(out) -> dict:
+    """An engine's :class:`Outcome` as the answer of ``summary``, ``core`` or ``assembly``
+    (the keys after the envelope's): the registry's quantities, read from the outcome."""
     from deck_emulator.engine import quantities
 
     quantities_ = quantities.values(out, OUTCOME)
@@ -69,8 +69,7 @@ def outcome_answer(out, *, command: str, source: str, settings: dict) -> dict:
     # outcome's flags name it
     terminal = {k: [None if v is None else round(float(v), POINT_DIGITS) for v in p]
                 for k, p in (out.terminal or {}).items() if p is not None}
-    return envelope(
-        command, source, settings=settings, status="stopped" if out.error else "ok",
+    return dict(
         engine=out.engine,
         errata=list(out.errata),
         events=[e.as_dict() for e in out.events],
@@ -142,8 +141,9 @@ def render_outcome(a: dict) -> str:
 # ---------------------------------------------------------------------------------- parse
 
 
-def parse_answer(deck) -> dict:
-    """A deck's 64 values under their READ-list names, with their units."""
+def parse_result(deck) -> dict:
+    """A deck's 64 values under their READ-list names, with their units (the keys after the
+    envelope's)."""
     from deck_emulator.legacy.deck import READ_LIST, field_columns
 
     cards = []
@@ -154,7 +154,7 @@ def parse_answer(deck) -> dict:
             fields.append({"name": name, "columns": [first, last], "value": deck[name],
                            "unit": DECK_UNITS.get(name, "")})
         cards.append({"card": card_no, "fields": fields})
-    return envelope("parse", str(deck.path), values=dict(deck.values), cards=cards)
+    return {"values": dict(deck.values), "cards": cards}
 
 
 def _field(value: float) -> str:

@@ -17,10 +17,9 @@ backend switch). Image sizes are fixed by ``FIGSIZE`` and ``DPI`` (no tight boun
 
 from __future__ import annotations
 
-import argparse
+import dataclasses
 import functools
 import math
-import sys
 import types
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -29,7 +28,8 @@ import numpy as np
 
 from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.engine import quantities, safety
-from deck_emulator.engine import ENGINES, Outcome, core_keywords, engine_for
+from deck_emulator.engine import ENGINES, Outcome, engine_for
+from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.units import ft_s_to_mph
 
@@ -877,69 +877,67 @@ def check_plot_outputs(out, animate=None) -> None:
             raise UsageError("--out and --animate name the same file")
 
 
-def _run_for_plot(deck, engine, args) -> Outcome:
-    options = (dict(errata=tuple(args.erratum)) if engine == "emulator"
-               else core_keywords(args.preset, getattr(args, "shaft_contact", None)))
-    res = engine_for(engine, **options).run(deck)
-    if res.error:
-        print(f"deck-emulator: {getattr(deck, 'path', None) or args.name}: the {engine} "
-              f"stopped early: {res.error}"
-              + (f"; {res.hint}" if res.hint else ""), file=sys.stderr)
-    return res
+@dataclasses.dataclass
+class Drawn:
+    """What :func:`draw` did: whether a run it drew stopped early (exit status 3), and the
+    lines it says (each run that stopped, the files written)."""
+
+    stopped: bool
+    said: list
 
 
-def _cmd_plot(args: argparse.Namespace) -> int:
-    from deck_emulator.errors import UsageError as CLIError
-
-    check_every(args.every)
-    check_plot_outputs(args.out, args.animate)
-    deck = args.source  # a deck, or a scene (core): read by the command line
-    if args.engine == "core" and not args.pulse and hasattr(deck, "values"):
+def draw(source, name: str, *, engine: str, options: dict, out, view: str = "side",
+         pulse: bool = False, animate=None, every_ms: float | None = None) -> Drawn:
+    """``deck-emulator plot``: run ``source`` (a deck, or a scene for the core) on ``engine``
+    (both with ``pulse``; ``options``: each engine's keywords) and write the picture ``out``
+    (the trajectory's ``view``, or the pulse) and ``animate`` (the fall as a GIF), both or
+    neither."""
+    check_every(every_ms)
+    check_plot_outputs(out, animate)
+    if engine == "core" and not pulse and hasattr(source, "values"):
         # the core refuses such a deck's scene as `core` does: bad input (2), before any run
         from deck_emulator.core.scene import Scene
 
-        problems = Scene.from_deck(deck, checked=False).problems()
+        problems = Scene.from_deck(source, checked=False).problems()
         if problems:
-            raise CLIError(f"{getattr(deck, 'path', None) or args.name}: {problems[0]}")
-    out = Path(args.out)
-    gif = Path(args.animate) if args.animate else None
-    every = None if args.every is None else args.every / 1000.0
+            raise UsageError(f"{getattr(source, 'path', None) or name}: {problems[0]}")
+    said: list[str] = []
+
+    def run(which: str) -> Outcome:
+        res = engine_for(which, **options[which]).run(source)
+        if res.error:
+            said.append(f"{getattr(source, 'path', None) or name}: the {which} stopped early: "
+                        f"{res.error}" + (f"; {res.hint}" if res.hint else ""))
+        return res
+
+    every = None if every_ms is None else every_ms / 1000.0
     with OutputSet() as files:  # the picture and the animation: both written, or neither
-        status, main = _draw_plot(args, deck, out, every, files)
-        if gif is not None:
-            _save_animation(main, files.path(gif), "plan" if args.view == "plan" else "side",
-                            0.01, 20, 80)
-    written = [str(out)] + ([str(gif)] if gif is not None else [])
-    print(f"deck-emulator: wrote {', '.join(written)}", file=sys.stderr)
-    return status
-
-
-def _draw_plot(args, deck, out, every, files):
-    """Run the engine(s) and stage the picture in ``files``: (exit status, the main result)."""
-    from deck_emulator.errors import RunFailed, UsageError as CLIError
-
-    if args.pulse:
-        results = []
-        for engine in ENGINES:
+        if pulse:
+            results = []
+            for which in ENGINES:
+                try:
+                    results.append(run(which))
+                except ImportError as exc:  # the core not installed: the emulator alone
+                    said.append(f"the {which} is not available ({exc})")
+            results = [r for r in results if r.t.size]
+            if not results:  # every run stopped before its first step: as `run` says, exit 3
+                raise RunFailed("no engine produced a velocity history")
+            savefig(figure_pulse(results), files.path(Path(out)))
+            main = next((r for r in results if r.engine == engine), results[0])
+            stopped = any(r.error for r in results)
+        else:
+            main = run(engine)
+            if not main.t.size:  # the run stopped before its first step: exit 3
+                raise RunFailed(f"the {engine} produced no trajectory: {main.error}")
             try:
-                results.append(_run_for_plot(deck, engine, args))
-            except ImportError as exc:  # the core not installed: the emulator alone
-                print(f"deck-emulator: the {engine} is not available ({exc})", file=sys.stderr)
-        results = [r for r in results if r.t.size]
-        if not results:  # every run stopped before its first step: as `run` says, exit 3
-            raise RunFailed("no engine produced a velocity history")
-        savefig(figure_pulse(results), files.path(out))
-        main = next((r for r in results if r.engine == args.engine), results[0])
-        status = 3 if any(r.error for r in results) else 0
-    else:
-        main = _run_for_plot(deck, args.engine, args)
-        if not main.t.size:  # the run stopped before its first step: as `run` says, exit 3
-            raise RunFailed(f"the {args.engine} produced no trajectory: {main.error}")
-        try:
-            instants(main, every)  # too many instants for --every: said before drawing
-        except ValueError as exc:
-            raise CLIError(str(exc)) from None
-        savefig(figure_trajectory(main, args.view, every), files.path(out))
-        status = 3 if main.error else 0
-    return status, main
+                instants(main, every)  # too many instants for --every: said before drawing
+            except ValueError as exc:
+                raise UsageError(str(exc)) from None
+            savefig(figure_trajectory(main, view, every), files.path(Path(out)))
+            stopped = bool(main.error)
+        if animate:
+            _save_animation(main, files.path(Path(animate)), "plan" if view == "plan" else "side",
+                            0.01, 20, 80)
+    said.append(f"wrote {', '.join([str(out)] + ([str(animate)] if animate else []))}")
+    return Drawn(stopped, said)
 

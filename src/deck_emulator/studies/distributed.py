@@ -111,7 +111,6 @@ __all__ = [
     "BATCH_TASK_MAX",
     "batch_size",
     "Scheduler",
-    "scheduler_of",
 ]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
@@ -155,16 +154,6 @@ class Scheduler:
 
     def __str__(self) -> str:
         return self.address
-
-
-def scheduler_of(args) -> Scheduler | None:
-    """The external cluster a command's options name (``--scheduler``, ``--worker-wait``), or
-    None for the embedded one."""
-    address = getattr(args, "scheduler", None)
-    if not address:
-        return None
-    wait = getattr(args, "worker_wait", None)
-    return Scheduler(address, WORKER_WAIT_S if wait is None else float(wait))
 
 
 # ================================================================================ the lock

@@ -51,7 +51,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -65,7 +64,6 @@ from deck_emulator.studies.distributed import (
     SceneStore,
     run_scenes,
     scene_id,
-    scheduler_of,
 )
 
 __all__ = [
@@ -711,60 +709,61 @@ def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
     return list(chosen.values()), notes
 
 
-def run_command(args) -> int:
-    """``deck-emulator sensitivity`` (options: see the CLI)."""
-    from deck_emulator.engine import core_keywords
+def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | None = None,
+                inputs_text=(), only: bool = False, n: int | None = None, quick: bool = False,
+                seed: int = 0, jobs=None, scheduler=None, resume: bool = False,
+                quiet: bool = False, command_line: str = "", say=print) -> list:
+    """``deck-emulator sensitivity``: the study of ``decks`` (default steel40) on ``engine``
+    (``engine_keywords``: the core's preset and shaft contact), the files it wrote (``say``:
+    the lines to report as it goes; ``command_line``: the command as typed, for the page)."""
     from deck_emulator.errors import RunFailed, UsageError
     from deck_emulator.files import OutputError, check_output_dir
 
     try:
-        check_options(args.n, args.seed)
-        extra = [parse_input(t) for t in args.input or []]
-        inputs, notes = choose_inputs(args.engine, extra, defaults=not args.only)
-        check_output_dir(args.out)  # before any work: a missing parent is refused, not made
+        check_options(n, seed)
+        extra = [parse_input(t) for t in inputs_text]
+        inputs, notes = choose_inputs(engine, extra, defaults=not only)
+        check_output_dir(out)  # before any work: a missing parent is refused, not made
     except (ValueError, OutputError) as exc:  # the CLI prints it as every command does
         raise UsageError(str(exc)) from None
     if not inputs:
         raise UsageError("no inputs: give --input, or leave out --only")
-    n = args.n if args.n is not None else (16 if args.quick else 256)
-    deck_names = args.deck or ["steel40"]
+    n = n if n is not None else (16 if quick else 256)
+    deck_names = list(decks) or ["steel40"]
     problem = problem_for(inputs)
-    out = Path(args.out)
+    keywords = dict(engine_keywords or {})
+    out = Path(out)
     studies = []
     for note in notes:
-        print(f"deck-emulator sensitivity: {note}", file=sys.stderr)
+        say(note)
     started = time.perf_counter()
     for deck in deck_names:
         _base_deck(deck)  # a bad deck fails here, before any work
         label = Path(deck).stem
         st = run_study(
             problem, n, scene_tasks, many=True,
-            base_task={"deck": deck, "engine": args.engine,
-                       **core_keywords(args.preset, getattr(args, "shaft_contact", None))},
-            outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=args.seed,
-            jobs=args.jobs, scheduler=scheduler_of(args), resume=args.resume, desc=label,
-            progress=False if getattr(args, "quiet", False) else None,
+            base_task={"deck": deck, "engine": engine, **keywords},
+            outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=seed,
+            jobs=jobs, scheduler=scheduler, resume=resume, desc=label,
+            progress=False if quiet else None,
         )
-        studies.append((label, args.engine, st))
-        print(f"deck-emulator sensitivity: {label}: {len(st.tasks)} scenes, {st.ran} run now, "
-              f"{st.wall_s:.1f} s", file=sys.stderr)
+        studies.append((label, engine, st))
+        say(f"{label}: {len(st.tasks)} scenes, {st.ran} run now, {st.wall_s:.1f} s")
         failed = all_failed(st)
         if failed is not None:  # no index can come of it: a run that could not end, exit 3
             raise RunFailed(f"{label}: every scene failed ({failed}); no table written")
     wall = time.perf_counter() - started
-    tail = getattr(args, "argv_tail", None) or (
-        sys.argv[2:] if sys.argv[1:2] == ["sensitivity"] else [])
-    cmd = "deck-emulator sensitivity " + " ".join(tail) if tail else ""
+    cmd = command_line
     rng = "; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs)
     header = "\n".join([
         "# Sobol sensitivity indices",
         "",
         f"Command: `{cmd}`" if cmd else "",
         "",
-        f"Engine **{args.engine}** (preset {args.preset}"
+        f"Engine **{engine}** (preset {keywords.get('preset', 'legacy')}"
         + {None: "", True: ", shaft contact on", False: ", shaft contact off"}[
-            getattr(args, "shaft_contact", None)] + f"); N = {n} (and N/2 for convergence); "
-        f"{n * (len(inputs) + 2)} scenes per deck; seed {args.seed}; "
+            keywords.get("shaft_contact")] + f"); N = {n} (and N/2 for convergence); "
+        f"{n * (len(inputs) + 2)} scenes per deck; seed {seed}; "
         f"{wall:.0f} s wall for the scenes run now (measured under load).",
         "",
         f"Inputs (uniform): {rng}.",
@@ -774,5 +773,5 @@ def run_command(args) -> int:
         "windshield); see `deck_emulator.studies.sensitivity`.",
     ])
     files = write_outputs(studies, out, header=header)
-    print("deck-emulator sensitivity: wrote " + ", ".join(str(f) for f in files), file=sys.stderr)
-    return 0
+    say("wrote " + ", ".join(str(f) for f in files))
+    return files

@@ -20,6 +20,15 @@ LISTING_CAP_STEPS = 20
 #: luminaire, which the listing has not got) is given R's
 LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 
+# ------------------------------------------------------------------- the emulator's bounds
+
+#: the emulator's bounds on what the listing leaves unbounded (legacy.emulator.Limits):
+#: iterations of one call of ED, consecutive step halvings at label 108 with no step accepted,
+#: simulated time, s (the report needs about 1 s)
+ED_ITERATIONS = 100_000
+HALVINGS = 40
+EMULATOR_T_MAX_S = 5.0
+
 # ------------------------------------------------------------------- the core
 
 #: the core's integration method: DOP853, or Radau for a contact its springs make stiff

@@ -1,0 +1,186 @@
+"""What several commands do alike: read SOURCE, make the emulator the options ask for, say
+why a run stopped, check and write the output files a command names."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from deck_emulator.errors import UsageError
+from deck_emulator.extras import require
+
+PROG = "deck-emulator"
+
+
+def load(options, command: str, kinds=("deck", "scene"), given=None):
+    """SOURCE read whole (:func:`deck_emulator.engine.sources.load_source`); what the reader
+    says (the job deck's program, warnings) is in its ``notes``."""
+    from deck_emulator.engine.sources import load_source
+
+    return load_source(options.source if given is None else given,
+                       card_format=getattr(options, "card_format", "auto"),
+                       keypunch=getattr(options, "keypunch", None),
+                       section=getattr(options, "section", None),
+                       listing_program=getattr(options, "listing_program", False),
+                       kinds=kinds, command=command)
+
+
+def deck_file(given: str, command: str) -> str:
+    """A deck that a study reads by its file in every worker: a text deck of one $DATA
+    section (a shipped deck's name resolves to its file); card images and job decks are
+    refused with the one conversion that makes a text deck."""
+    from deck_emulator.engine.sources import load_source
+    from deck_emulator.legacy.deck import DeckError, read_deck
+
+    src = load_source(given, kinds=("deck",), command=command)  # refused or not: no notes yet
+    try:
+        plain = read_deck(src.path)
+    except DeckError:
+        plain = None
+    if plain is None or len(src.decks) != 1 or plain.values != src.decks[0].values:
+        kind = "job deck" if len(src.decks) > 1 or src.program else f"{src.card_format} deck"
+        raise UsageError(f"{src.name}: a {kind}; {command} reads a text deck of one $DATA "
+                         f"section: `{PROG} punch {given} --to text --out deck.dat` (with "
+                         "--section N for a job deck) writes one")
+    return given if Path(given).exists() else src.path
+
+
+def engine_scene(source, name: str = ""):
+    """The scene the core would solve for ``source`` (a scene or a deck); a deck or scene the
+    core cannot solve (a zero mass, no impact point S ...) is bad input: one line, exit 2."""
+    from deck_emulator.core.scene import Scene, SceneError
+
+    try:
+        if isinstance(source, Scene):
+            return source.checked()
+        return Scene.from_deck(source, name=name)
+    except SceneError as exc:
+        where = name or getattr(source, "path", None) or "the deck"
+        raise UsageError(f"{where}: the core cannot solve it: {exc}") from None
+
+
+def emulator(options, *, trace: bool = True):
+    """The emulator engine the options (:class:`~.options.Emulator`) ask for."""
+    from deck_emulator.engine import EmulatorEngine, Limits
+
+    assumptions = dict(sincos=options.sincos, decimal=options.decimal,
+                       output=options.output_rounding)
+    arithmetic = {}
+    if options.precision == "ibm7094":
+        arithmetic = {k: v for k, v in assumptions.items() if v is not None}
+    elif any(v is not None for v in assumptions.values()):
+        raise UsageError("--sincos, --decimal and --output-rounding are assumptions of "
+                         "--precision ibm7094")
+    limits = Limits(ed_iterations=options.max_ed_iterations, halvings=options.max_halvings,
+                    time_s=options.max_time)
+    return EmulatorEngine(precision=options.precision, errata=tuple(options.erratum),
+                          step_scale_k=options.step_scale, tha_start=options.tha_start,
+                          ed_tolerance=options.ed_tolerance, limits=limits,
+                          arithmetic_options=arithmetic, trace=trace)
+
+
+def with_progress(quiet: bool, engine, source, *, execute: bool = False):
+    """``engine.run(source)`` with the progress display (stderr, a terminal only);
+    ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome)."""
+    from deck_emulator.parallel import busy
+
+    if engine.name != "emulator":
+        with busy(f"{PROG}: {engine.name} running", quiet=quiet):
+            return engine.run(source)
+    programs = []
+
+    def status() -> str:
+        return f"step {programs[0].step}" if programs else ""
+
+    with busy(f"{PROG}: emulator running", quiet=quiet, status=status):
+        return (engine.execute if execute else engine.run)(source, watch=programs.append)
+
+
+def stopped(out) -> str:
+    """Why a run stopped, and what would let it go on."""
+    return f"{out.error}" + (f" -- {out.hint}" if out.hint else "")
+
+
+def odd_deck_notes(out) -> list[str]:
+    """Why a well-formed but physically odd deck gives odd numbers (or stops): the run's
+    scene, in the deck's names."""
+    values = out.scene.deck_values() if out.scene is not None else {}
+    notes = []
+    for name, what in (("W", "the post's mass"), ("WV", "the car's mass")):
+        if values.get(name, 1.0) <= 0:
+            notes.append(f"{name} = {values[name]:g} slug: {what} is not positive; what follows "
+                         "is what the equations give, not physics")
+    for name in ("A", "B", "C"):
+        if values.get(name, 1.0) <= 0:
+            notes.append(f"{name} = {values[name]:g} slug ft^2: a principal moment of inertia of "
+                         "the post is not positive, so the run is not physical")
+    if values.get("G", 1.0) <= 0:
+        from deck_emulator.vocabulary.units import G_FT_S2
+
+        notes.append(f"G = {values['G']:g} ft/s^2: no gravity (the report's is {G_FT_S2:g}); a "
+                     "deceleration in g divides by WV*G, so the printed ones are not given, and "
+                     "the post comes down only by the motion the car gave it")
+    if values.get("VVB", -1.0) == 0:
+        notes.append("VVB = 0: the car does not move, so nothing strikes the post")
+    return notes
+
+
+def failed(out, source) -> str:
+    """A stopped run in one line: the engine's line, its hint, and why the deck is odd."""
+    notes = odd_deck_notes(out)
+    if out.settings.startswith("arithmetic single") and "PHIA" in (out.error or ""):
+        notes.append("in binary32 COS(THA) rounds to 1.0 at step 2 and the listing divides "
+                     "by zero, where gfortran's trapping single-precision build stops too "
+                     "(golden/*.r4.trap; README, 'Single precision')")
+    return f"{source}: {stopped(out)}" + "".join(f"; {n}" for n in notes)
+
+
+def check_out(path: str | None) -> None:
+    """The output file's folder must exist and be writable: checked before any work."""
+    if path:
+        from deck_emulator.files import check_output_file
+
+        check_output_file(path)
+
+
+def check_trajectory(path: str | None) -> None:
+    if path:
+        require("frames")
+        if not path.endswith((".csv", ".parquet")):
+            raise UsageError(f"--trajectory {path}: a .csv or .parquet file")
+        check_out(path)
+
+
+def write_trajectory(path: str | None, out) -> str | None:
+    """The outcome's :meth:`~deck_emulator.engine.Outcome.trajectory_frame` to ``path``
+    (written whole or not at all), what a stopped run computed included; the line to say."""
+    if not path:
+        return None
+    import io
+
+    from deck_emulator.files import write_file
+
+    frame = out.trajectory_frame()
+    if path.endswith(".parquet"):
+        buffer = io.BytesIO()
+        frame.to_parquet(buffer, index=False)
+        write_file(path, buffer.getvalue())
+    else:
+        write_file(path, frame.to_csv(index=False))
+    return f"wrote the trajectory ({len(frame)} samples) to {path}"
+
+
+def scheduler(options):
+    """The external cluster the options name (None: the embedded one); imported when asked,
+    so that a command that runs no study does not load the scene runner."""
+    if not options.scheduler:
+        return None
+    from deck_emulator.studies.distributed import Scheduler, WORKER_WAIT_S
+
+    wait = options.worker_wait
+    return Scheduler(options.scheduler, WORKER_WAIT_S if wait is None else float(wait))
+
+
+def outputs_result(out_dir) -> dict:
+    """The JSON keys of a command that writes a folder: the files it holds."""
+    return {"outputs": sorted(str(p) for p in Path(out_dir).iterdir() if p.is_file()
+                              and not p.name.startswith("."))}

@@ -1,0 +1,266 @@
+"""The commands' options, one row each: a typed field of a command's options dataclass whose
+metadata says how the command line spells it (flag, help, choices, how its text is read).
+
+The command line builds every parser from these rows (``deck_emulator.cli``); Python calls a
+command with the same dataclass.  The converters read one option's text and raise
+``ValueError`` with the reason, which the command line reports as a usage error (exit 2).
+Nothing here imports anything heavy: the parsers are built at every start.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import MISSING, dataclass, field
+
+from deck_emulator.vocabulary import defaults
+
+#: What SOURCE may be, said once for every command's help.
+SOURCE_HELP = ("a shipped deck's name (steel40), a deck file (text, or card images in any "
+               "format), a job deck, or a scene file (.toml)")
+#: the arithmetics, errata, presets and views, named here so that building the parser imports
+#: nothing heavy (tests check that these agree with the registries they name)
+PRECISIONS = ("double", "single", "ibm7094")
+ERRATA_NAMES = ("ed-direction",)
+PRESETS = ("legacy", "physical")
+VIEWS = ("side", "plan", "3d", "all")
+ENGINES = ("emulator", "core")
+#: the card image formats and keypunch codes (legacy.cardimage.FORMATS, legacy.keypunch.CODES)
+CARD_FORMATS = ("text", "binary", "cbn", "bcd")
+KEYPUNCH_CODES = ("026", "029")
+
+
+def option(default=MISSING, *, help: str, flag: str | None = None, positional: bool = False,
+           choices=None, parse=None, metavar: str | None = None, required: bool = False,
+           many: bool = False, negatable: bool = False, cli: bool = True):
+    """One option: its default and how the command line spells it.  ``flag``: the option's
+    name on the command line (default ``--`` and the field's name with dashes); ``positional``
+    (``nargs="?"`` when it has a default); ``parse``: text -> value, ``ValueError`` for bad
+    text; ``many``: repeated, collected as a tuple; ``negatable``: ``--x``/``--no-x`` over a
+    default of None; ``cli=False``: set by the command line itself, not an option."""
+    meta = {"help": help, "flag": flag, "positional": positional, "choices": choices,
+            "parse": parse, "metavar": metavar, "required": required, "many": many,
+            "negatable": negatable, "cli": cli}
+    if many:
+        return field(default_factory=lambda: tuple(default or ()), metadata=meta)
+    return field(default=default, metadata=meta)
+
+
+# ------------------------------------------------------------------------------ converters
+
+
+def whole_number(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise ValueError(f"not a whole number: {text!r}") from None
+
+
+def positive_int(text: str) -> int:
+    n = whole_number(text)
+    if n < 1:
+        raise ValueError(f"must be at least 1, not {n}")
+    return n
+
+
+def nonnegative_int(text: str) -> int:
+    n = whole_number(text)
+    if n < 0:
+        raise ValueError(f"must be 0 or more, not {n}")
+    return n
+
+
+def max_k(text: str) -> int:
+    k = nonnegative_int(text)
+    if k > 8:
+        raise ValueError(f"at most 8 (2**8 times the listing's steps), not {k}")
+    return k
+
+
+def finite_float(text: str) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise ValueError(f"not a number: {text!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"must be a finite number, not {text}")
+    return x
+
+
+def positive_float(text: str) -> float:
+    x = finite_float(text)
+    if not x > 0:
+        raise ValueError(f"must be a positive finite number, not {text}")
+    return x
+
+
+def speed_mph(text: str) -> float:
+    x = positive_float(text)
+    if not 1.0 <= x <= 200.0:
+        raise ValueError(f"a speed from 1 to 200 mph, not {text}")
+    return x
+
+
+def angle_deg(text: str) -> float:
+    x = finite_float(text)
+    if not 0.0 <= x < 90.0:
+        raise ValueError(f"an angle from 0 to below 90 degrees, not {text}")
+    return x
+
+
+def tolerance(text: str) -> float:
+    x = positive_float(text)
+    if not defaults.MIN_TOLERANCE <= x < 1:
+        raise ValueError(f"must be from {defaults.MIN_TOLERANCE:g} to below 1, not {text}")
+    return x
+
+
+def nonnegative_float(text: str) -> float:
+    value = finite_float(text)
+    if value < 0:
+        raise ValueError(f"{text}: at least 0")
+    return value
+
+
+def number_text(text: str) -> str:
+    """A decimal constant kept as text (the arithmetic converts it), checked to be a number."""
+    try:
+        ok = math.isfinite(float(text))
+    except ValueError:
+        ok = False
+    if not ok:
+        raise ValueError(f"not a finite number: {text!r}")
+    return text
+
+
+def positive_number_text(text: str) -> str:
+    positive_float(text)
+    return text
+
+
+def worker_wait(text: str) -> float:
+    value = finite_float(text)
+    if not 1.0 <= value <= 86400.0:
+        raise ValueError(f"{text}: from 1 to 86400 seconds")
+    return value
+
+
+# ------------------------------------------------------------------------ the shared groups
+
+
+@dataclass(frozen=True, kw_only=True)
+class Common:
+    """What every command has: the command line as typed (for the pages a study writes)."""
+
+    command_line: str = option("", help="the command as typed", cli=False)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Source(Common):
+    """SOURCE, and how to read it."""
+
+    source: str = option(positional=True, metavar="SOURCE", help=SOURCE_HELP)
+    card_format: str = option("auto", choices=("auto", *CARD_FORMATS),
+                              help="the deck file's card image format (default: detected when "
+                              "the file is unambiguous)")
+    keypunch: str | None = option(None, choices=KEYPUNCH_CODES,
+                                  help="the code holes are read in: 026 (the 7090/7094 FORTRAN "
+                                  "code, the default for binary images) or 029; text cards are "
+                                  "taken as they stand")
+    section: int | None = option(None, parse=positive_int, metavar="N",
+                                 help="the Nth $DATA section of a job deck that holds several")
+    listing_program: bool = option(False, help="run the listing's program on a job deck whose "
+                                   "own FORTRAN differs from it (refused otherwise; said on the "
+                                   "first line)")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Answering:
+    """--json, --out and --quiet."""
+
+    json: bool = option(False, help="print the answer as one JSON object (docs/json.md)")
+    out: str | None = option(None, metavar="FILE", help="write to FILE instead of stdout")
+    quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Errata:
+    erratum: tuple[str, ...] = option((), many=True, choices=ERRATA_NAMES,
+                                      help="apply a named erratum to the listing (default: "
+                                      "none, the listing as printed; ed-direction lets ED's "
+                                      "root search end on the angled decks)")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Preset:
+    preset: str = option("legacy", choices=PRESETS,
+                         help="core model options: legacy (the listing's quirks, the default) "
+                         "or physical (none)")
+    shaft_contact: bool | None = option(None, negatable=True,
+                                        help="check the shaft Q-P and the arms as segments "
+                                        "against the car, not only the points P, R, C "
+                                        "(default: the preset's, on in physical, off in "
+                                        "legacy: the listing never did it)")
+
+    def core_keywords(self) -> dict:
+        """--preset and --shaft-contact as the core engine's keywords (shaft_contact left
+        out when not given: the preset's)."""
+        return {"preset": self.preset, **({} if self.shaft_contact is None else
+                                          {"shaft_contact": bool(self.shaft_contact)})}
+
+
+@dataclass(frozen=True, kw_only=True)
+class Emulator(Source, Errata):
+    """The emulator's options."""
+
+    precision: str = option("double", choices=PRECISIONS,
+                            help="arithmetic: double (IEEE binary64, as the r8 goldens), single "
+                            "(IEEE binary32, as the r4 goldens, trapping), ibm7094 (the 1967 "
+                            "machine's 36-bit words)")
+    step_scale: int = option(0, parse=nonnegative_int, metavar="K",
+                             help="divide every literal that means one step "
+                             f"({defaults.LISTING_STEP_S:g} s) by 2**K")
+    tha_start: str | None = option(None, parse=number_text, metavar="VALUE",
+                                   help="start-up THA at label 123 instead of the printed "
+                                   "0.000022")
+    ed_tolerance: str = option(".0001", parse=positive_number_text, metavar="RAD",
+                               help="ED's |DF| tolerance at labels 15 and 16 (printed: .0001)")
+    max_time: float = option(defaults.EMULATOR_T_MAX_S, parse=positive_float, metavar="S",
+                             help="stop when simulated time passes S seconds (default "
+                             "%(default)s)")
+    max_ed_iterations: int = option(defaults.ED_ITERATIONS, parse=positive_int, metavar="N",
+                                    help="stop when one call of ED iterates N times (default "
+                                    "%(default)s)")
+    max_halvings: int = option(defaults.HALVINGS, parse=nonnegative_int, metavar="N",
+                               help="stop after N consecutive step halvings at label 108 "
+                               "(default %(default)s)")
+    sincos: str | None = option(None, choices=("chop", "round"),
+                                help="ibm7094: how SIN/COS were rounded")
+    decimal: str | None = option(None, choices=("chop", "round"),
+                                 help="ibm7094: how decimal constants and deck fields were "
+                                 "converted")
+    output_rounding: str | None = option(None, choices=("nearest", "truncate"),
+                                         help="ibm7094: how F-format output rounded")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Cluster:
+    """Where a many-scene command runs."""
+
+    jobs: int | None = option(None, parse=positive_int, metavar="N",
+                              help="worker processes of the embedded Dask cluster (default: "
+                              f"every core, {os.cpu_count() or 1} here)")
+    scheduler: str | None = option(None, metavar="ADDRESS",
+                                   help="run on an existing Dask cluster (its scheduler's "
+                                   "address, tcp://host:8786) instead of an embedded one of "
+                                   "--jobs workers")
+    worker_wait: float | None = option(None, parse=worker_wait, metavar="SECONDS",
+                                       help="with --scheduler: how long to wait for a worker, "
+                                       "at the start and whenever every worker is gone, before "
+                                       "the run ends with exit status 3 (default 60)")
+    resume: bool = option(False, help="run only the scenes not yet stored in the output "
+                          "directory")
+
+
+#: the options that name a file or folder to write (an empty value is refused)
+PATH_OPTIONS = ("out", "pages", "animate", "trajectory", "store")
