@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import argparse
 
-from deck_emulator.core import LEGACY, PHYSICAL
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core.batch import time_per_scene
-from deck_emulator.core.scene import Scene
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.sweep import scene_deck

@@ -18,7 +18,7 @@ import math
 from functools import lru_cache
 
 from deck_emulator.core.assembly import load_assembly, mass_properties, scene_runs_on_listing
-from deck_emulator.core.scene import Scene
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import CoreEngine, EmulatorEngine, Outcome
 from deck_emulator.engine.assemblies import to_deck_text, to_deck_values, to_scene

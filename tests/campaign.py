@@ -65,7 +65,7 @@ def _deck_bytes() -> bytes:
 
 
 def _scene_bytes() -> bytes:
-    from deck_emulator.core.scene import Scene
+    from deck_emulator.vocabulary.scene import Scene
     from deck_emulator.legacy.deck import read_deck
 
     return Scene.from_deck(read_deck(STEEL40)).to_toml().encode()

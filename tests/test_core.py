@@ -16,21 +16,13 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipj
 
-from deck_emulator.core import (
-    LEGACY,
-    PHYSICAL,
-    ContactMode,
-    assemble,
-    attitude_angle_between,
-    free_flight,
-    kinetic_energy,
-    angular_momentum_world,
-    simulate,
-)
+from deck_emulator.core import (ContactMode, angular_momentum_world, assemble,
+                                attitude_angle_between, free_flight, kinetic_energy, simulate)
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core import model as core_model
 from deck_emulator.core.model import Kinematics
 from deck_emulator.core.rigid import quat_about_axis, quat_multiply, rotation_matrix
-from deck_emulator.core.scene import (
+from deck_emulator.vocabulary.scene import (
     CrushSpring,
     Environment,
     Post,

@@ -15,18 +15,11 @@ import numpy as np
 import pytest
 from test_scene import STEEL40, steel40
 
-from deck_emulator.core import (
-    LEGACY,
-    PHYSICAL,
-    CoreError,
-    dop853,
-    laws,
-    simulate,
-    simulate_batch,
-)
+from deck_emulator.core import CoreError, dop853, laws, simulate, simulate_batch
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core import model as core_model
 from deck_emulator.core.batch import time_per_scene
-from deck_emulator.core.scene import Scene
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.legacy.deck import read_deck
 

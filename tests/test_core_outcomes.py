@@ -15,11 +15,12 @@ import warnings
 import numpy as np
 import pytest
 
-from deck_emulator.core import LEGACY, PHYSICAL, CoreError, simulate
+from deck_emulator.core import CoreError, simulate
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core import sliding
 from deck_emulator.core.checks import check_outcome, check_summary
 from deck_emulator.core.kinematics import IDX_VV, Kinematics
-from deck_emulator.core.scene import (
+from deck_emulator.vocabulary.scene import (
     BaseFriction,
     BreakawayBase,
     CrushSpring,
@@ -322,7 +323,7 @@ def test_stiff_scene_gets_an_implicit_method_and_says_so():
 
 
 def test_no_numpy_warning_reaches_the_user():
-    from deck_emulator.core.scene import StartupKick
+    from deck_emulator.vocabulary.scene import StartupKick
 
     options = LEGACY.replace(startup_kick=StartupKick(step_s=0.0004 / 16))
     with warnings.catch_warnings():

@@ -5,7 +5,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from deck_emulator.core import LEGACY, PHYSICAL, free_flight, simulate
+from deck_emulator.core import free_flight, simulate
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 
 #: the physical preset without the solid ground: a post and a car alone in space
 ALONE = PHYSICAL.replace(solid_ground=False)
@@ -21,7 +22,7 @@ from deck_emulator.core.leaf_spring import (
 )
 from deck_emulator.core.pair_hits import joint_ground_hit, terminal_points_xl
 from deck_emulator.core.rigid import angular_momentum_world, kinetic_energy
-from deck_emulator.core.scene import LeafSpring, Scene
+from deck_emulator.vocabulary.scene import LeafSpring, Scene
 from deck_emulator.studies.crash_test import crash_scene
 
 SPRING = LeafSpring()

@@ -7,7 +7,8 @@ import math
 
 import pytest
 
-from deck_emulator.core.scene import DECK_FIELDS, DeckScene, Scene, SceneError
+from deck_emulator.vocabulary.deck_fields import SCENE_PATHS as DECK_FIELDS
+from deck_emulator.vocabulary.scene import DeckScene, Scene, SceneError
 from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import CoreEngine, EmulatorEngine
 from deck_emulator.legacy.deck import read_deck

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from deck_emulator.core.scene import Scene
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import attitude, quantities
 from deck_emulator.engine.outcome import Outcome

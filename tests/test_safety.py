@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from deck_emulator.core.scene import VehicleBody
+from deck_emulator.vocabulary.scene import VehicleBody
 from deck_emulator.vocabulary.units import G_FT_S2
 from deck_emulator.engine.safety import (
     CRITERIA,

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from deck_emulator.core.scene import (
+from deck_emulator.vocabulary.scene import (
     LEGACY,
     LISTING_BASE_FRICTION,
     PHYSICAL,
@@ -211,9 +211,9 @@ def test_scene_is_frozen_and_hashable():
 
 def test_the_deck_scene_mapping_goes_both_ways():
     """Every shipped deck, read into a scene and written back through the one mapping
-    (DECK_FIELDS), gives the deck's own values for every name the mapping has."""
+    (SCENE_PATHS), gives the deck's own values for every name the mapping has."""
     from deck_emulator import decks
-    from deck_emulator.core.scene import DECK_FIELDS
+    from deck_emulator.vocabulary.deck_fields import SCENE_PATHS as DECK_FIELDS
     from deck_emulator.legacy.deck import read_deck
 
     for name in decks.names():
@@ -263,7 +263,7 @@ def test_a_missing_table_is_named():
 
 
 def test_scene_files_are_size_capped_and_utf8(tmp_path):
-    from deck_emulator.core.scene import MAX_SCENE_BYTES, read_scene
+    from deck_emulator.vocabulary.scene import MAX_SCENE_BYTES, read_scene
 
     good = tmp_path / "s.toml"
     good.write_text(_deck_scene_text())

@@ -18,8 +18,9 @@ import sys
 import numpy as np
 import pytest
 
-from deck_emulator.core import LEGACY, PHYSICAL, assemble, free_flight, simulate
-from deck_emulator.core.scene import (
+from deck_emulator.core import assemble, free_flight, simulate
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
+from deck_emulator.vocabulary.scene import (
     CrushSpring,
     Environment,
     Post,
@@ -111,7 +112,7 @@ def test_arm_falls_onto_the_hood():
 
 def test_sentence_names_the_segment():
     """The arm's hit through the engine: the event's point is the segment, said in words."""
-    from deck_emulator.core.scene import PostInitialState
+    from deck_emulator.vocabulary.scene import PostInitialState
     from deck_emulator.engine import CoreEngine
 
     s = scene((0.0, 0.0, 2.0), (0.0, 0.0, -6.0), r=(0.0, 16.0, 2.0))

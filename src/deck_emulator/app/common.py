@@ -47,7 +47,7 @@ def deck_file(given: str, command: str) -> str:
 def engine_scene(source, name: str = ""):
     """The scene the core would solve for ``source`` (a scene or a deck); a deck or scene the
     core cannot solve (a zero mass, no impact point S ...) is bad input: one line, exit 2."""
-    from deck_emulator.core.scene import Scene, SceneError
+    from deck_emulator.vocabulary.scene import Scene, SceneError
 
     try:
         if isinstance(source, Scene):

@@ -5,7 +5,7 @@ single degree of freedom (eq. 3.18), attitude as a unit quaternion, ``solve_ivp`
 located events.  The model is assembled from the components the scene has.
 
     >>> from deck_emulator.legacy.deck import read_deck
-    >>> from deck_emulator.core.scene import Scene, LEGACY
+    >>> from deck_emulator.vocabulary.scene import Scene, LEGACY  # the shared vocabulary
     >>> from deck_emulator.core import simulate
     >>> result = simulate(Scene.from_deck(read_deck("decks/steel40.dat")), LEGACY)
     >>> result.hit.message                                       # doctest: +SKIP
@@ -14,10 +14,8 @@ located events.  The model is assembled from the components the scene has.
 import importlib
 
 #: public name -> the submodule that defines it.  Imported on first use, so that
-#: ``deck_emulator.core.scene`` (plain dataclasses) costs no scipy.
+#: the package costs no scipy until a name is used.
 _WHERE = {
-    "LEGACY": "scene", "PHYSICAL": "scene", "PRESETS": "scene", "ModelOptions": "scene",
-    "StartupKick": "scene", "Scene": "scene", "SceneError": "scene",
     "ContactMode": "model", "Model": "model", "assemble": "model",
     "HIT_MESSAGES": "regions",
     "CoreEvent": "result", "CoreResult": "result", "Hit": "result", "Trajectory": "result",
@@ -49,11 +47,6 @@ __all__ = [
     "assemble",
     "Model",
     "ContactMode",
-    "ModelOptions",
-    "StartupKick",
-    "LEGACY",
-    "PHYSICAL",
-    "PRESETS",
     "CoreResult",
     "CoreEvent",
     "Hit",

@@ -1,6 +1,6 @@
 """Post-assembly builder: from a description of a luminaire support (as the report gives
 one: shaft, base, arm(s), luminaire(s)) to mass properties, named points, a typed
-:class:`~deck_emulator.core.scene.Scene` and -- for one arm -- an 8-card deck.
+:class:`~deck_emulator.vocabulary.scene.Scene` and -- for one arm -- an 8-card deck.
 
 Frame of the builder
 --------------------
@@ -413,8 +413,8 @@ _REQUIRED = {
 
 def _number(value: Any, key: str) -> float:
     """A TOML number as a finite float, or an :class:`AssemblyError` naming ``key`` (the
-    scene files' check, :func:`deck_emulator.core.scene.toml_number`)."""
-    from deck_emulator.core.scene import toml_number
+    scene files' check, :func:`deck_emulator.vocabulary.scene.toml_number`)."""
+    from deck_emulator.vocabulary.scene import toml_number
 
     return toml_number(value, key, AssemblyError)
 
@@ -627,7 +627,7 @@ def scene_runs_on_listing(scene) -> str | None:
         return "the listing always has a car; this scene has none"
     if scene.base is None:
         return "the listing always has the break-away base; this scene has none"
-    from .scene import LISTING_BASE_FRICTION, LISTING_NORMAL_RELEASE_FT
+    from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_NORMAL_RELEASE_FT
 
     if scene.base.friction != LISTING_BASE_FRICTION:
         return "the listing's base friction is fixed (930 lb over 1 in); this scene's differs"

@@ -28,7 +28,7 @@ import numpy as np
 
 from . import dop853, laws
 from .laws import _jit
-from .scene import PHYSICAL, ModelOptions, Scene
+from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
 from deck_emulator.vocabulary.defaults import (
     CORE_ATOL,
     CORE_RTOL,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from .scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
+from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
 import numpy as np
 
 from . import laws
@@ -109,7 +109,7 @@ class BaseFriction:
 
 
 class StartupKickLoad:
-    """The listing's first step (:class:`~deck_emulator.core.scene.StartupKick`): during the
+    """The listing's first step (:class:`~deck_emulator.vocabulary.scene.StartupKick`): during the
     'kick' window the post feels only ``body_force_1_lb`` along body axis 1, the car
     ``vehicle_force_lb``."""
 

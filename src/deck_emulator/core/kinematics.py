@@ -39,7 +39,7 @@ N_STATE = N_POST + 2
 
 def state_vector(post, car_position_ft: float = 0.0, car_velocity_ft_s: float = 0.0):
     """The core's state (:data:`N_STATE` numbers) of a post's motion ``post`` (a
-    :class:`~deck_emulator.core.scene.PostInitialState` whose attitude turns body axes into
+    :class:`~deck_emulator.vocabulary.scene.PostInitialState` whose attitude turns body axes into
     road axes, the principal tilt included) and the car's position and velocity along XV."""
     return [*post.mass_centre_ft, *post.velocity_body_ft_s, *post.attitude_wxyz,
             *post.angular_velocity_body_rad_s, car_position_ft, car_velocity_ft_s]

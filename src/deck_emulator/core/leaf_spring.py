@@ -29,7 +29,7 @@ from . import laws
 
 from .components import VehicleContact
 from .kinematics import IDX_VV, EventSpec, Kinematics
-from .scene import LeafSpring
+from deck_emulator.vocabulary.scene import LeafSpring
 
 __all__ = ["loading_force", "unloading_force", "leaf_force", "zero_force_set", "loop_area",
            "LeafSpringContact"]

@@ -1,7 +1,7 @@
 """The model of one scene, assembled from the components the scene has.
 
-:func:`assemble` turns a :class:`~deck_emulator.core.scene.Scene` and
-:class:`~deck_emulator.core.scene.ModelOptions` into a :class:`Model`: the post's named points
+:func:`assemble` turns a :class:`~deck_emulator.vocabulary.scene.Scene` and
+:class:`~deck_emulator.vocabulary.scene.ModelOptions` into a :class:`Model`: the post's named points
 (only those the scene has), the force components of the contact phase (gravity, and --
 only if the scene has them -- the base's normal force, the base friction, the car's crush
 springs), and the free-flight checks (:mod:`.regions`).  A component the scene lacks is
@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from .scene import ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions, Scene
 from .components import (
     LISTING_FRICTION_LB,
     LISTING_FRICTION_WINDOW_FT,

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import laws
-from .scene import CarBox, car_boxes
+from deck_emulator.vocabulary.scene import CarBox, car_boxes
 
 __all__ = ["HIT_MESSAGES", "hit_message", "Region", "FreeFlightChecks", "build_checks", "CarBox",
            "car_boxes"]

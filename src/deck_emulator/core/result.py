@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .scene import ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions, Scene
 
 __all__ = ["CoreEvent", "Hit", "Segment", "Trajectory", "CoreResult"]
 

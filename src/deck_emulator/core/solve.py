@@ -34,7 +34,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from . import sliding
 from .checks import check_outcome, ground_tolerance_ft
-from .scene import PHYSICAL, ModelOptions, Scene
+from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from .regions import hit_message

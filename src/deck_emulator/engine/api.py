@@ -26,7 +26,7 @@ def run(source, engine: str = "emulator", *, section: int | None = None,
         listing_program: bool = False, **options) -> Outcome:
     """Run SOURCE (a shipped deck's name, a deck or job deck file in any card format, a scene
     file, or a :class:`~deck_emulator.legacy.deck.Deck` or
-    :class:`~deck_emulator.core.scene.Scene` object) on ``engine`` and return its outcome.
+    :class:`~deck_emulator.vocabulary.scene.Scene` object) on ``engine`` and return its outcome.
 
     ``options`` are the engine's (:class:`~deck_emulator.engine.EmulatorEngine`: ``precision``,
     ``errata`` ...; :class:`~deck_emulator.engine.CoreEngine`: ``preset``, ``method``, ``rtol``,

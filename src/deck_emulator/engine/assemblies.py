@@ -9,9 +9,11 @@ layer.
 
 from __future__ import annotations
 
-from deck_emulator.core.assembly import Assembly, AssemblyError, MassProperties, mass_properties
+from deck_emulator.core.assembly import (Assembly, AssemblyError, MassProperties, load_assembly,
+                                         mass_properties)
 
-__all__ = ["to_deck_values", "to_deck_text", "to_scene"]
+#: the builder's description reader and its error are the studies' too (crash_test): through here
+__all__ = ["AssemblyError", "load_assembly", "to_deck_values", "to_deck_text", "to_scene"]
 
 
 #: vehicle values of the report's deck that are heights above the ground (ft) or YV
@@ -30,7 +32,8 @@ def to_deck_values(
     """READ-list values of the assembly's deck: the post from the builder, the car, the
     springs and everything else from the ``template`` deck, with the car's heights kept
     above the ground and its fenders kept about the shaft axis.  One arm at most."""
-    from deck_emulator.core.scene import DECK_FIELDS, Post
+    from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
+    from deck_emulator.vocabulary.scene import Post
     from deck_emulator.decks import path as deck_path
     from deck_emulator.legacy.deck import read_deck
 
@@ -52,7 +55,7 @@ def to_deck_values(
     # the post's points, through the one deck <-> scene mapping (an absent point reads 0.0)
     letter_of = {attr: letter for letter, attr in Post.POINT_FIELDS.items()}
     coord_index = {"xx_ft": 0, "yy_ft": 1, "zz_ft": 2}
-    for name, path in DECK_FIELDS.items():
+    for name, path in SCENE_PATHS.items():
         if path[0] == "post" and len(path) == 3:
             p = mp.points.get(letter_of[path[1]])
             v[name] = 0.0 if p is None else p[coord_index[path[2]]]
@@ -97,7 +100,7 @@ def to_scene(
     """The typed scene of the assembly (any number of arms up to two: R, and U)."""
     import dataclasses
 
-    from deck_emulator.core.scene import PostPoint, Scene
+    from deck_emulator.vocabulary.scene import PostPoint, Scene
 
     if len(a.arms) > 2:
         raise AssemblyError(f"{a.name}: at most two arms (R and U)")

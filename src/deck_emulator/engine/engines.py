@@ -151,7 +151,7 @@ class EmulatorEngine:
 
     def outcome(self, run, deck, *, name: str = "") -> Outcome:
         """An emulator ``Run`` of ``deck`` as an :class:`Outcome`."""
-        from deck_emulator.core.scene import Scene
+        from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
 
@@ -291,7 +291,7 @@ def _run_errors() -> tuple[type[Exception], ...]:
 @dataclass(frozen=True)
 class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
-    ``options``: a :class:`~deck_emulator.core.scene.ModelOptions` instead of a preset;
+    ``options``: a :class:`~deck_emulator.vocabulary.scene.ModelOptions` instead of a preset;
     ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's;
     ``t_max_s``: simulated time at most, ``max_wall_s``: wall time at most (every default:
     :mod:`deck_emulator.vocabulary.defaults`, the same for every door);
@@ -318,7 +318,7 @@ class CoreEngine:
     name = "core"
 
     def model_options(self):
-        from deck_emulator.core.scene import PRESETS
+        from deck_emulator.vocabulary.scene import PRESETS
 
         opts = self.options if self.options is not None else PRESETS[self.preset]
         if self.shaft_contact is None or self.shaft_contact == opts.shaft_contact:
@@ -328,9 +328,9 @@ class CoreEngine:
 
     def scene(self, source):
         """The scene the core solves: ``source`` itself, or the deck's (a deck or a
-        :class:`~deck_emulator.core.scene.DeckScene` the core cannot solve raises
-        :class:`~deck_emulator.core.scene.SceneError` naming why)."""
-        from deck_emulator.core.scene import Scene
+        :class:`~deck_emulator.vocabulary.scene.DeckScene` the core cannot solve raises
+        :class:`~deck_emulator.vocabulary.scene.SceneError` naming why)."""
+        from deck_emulator.vocabulary.scene import Scene
 
         if isinstance(source, Scene):
             return source.checked()
@@ -362,7 +362,7 @@ class CoreEngine:
     def run_free_flight(self, scene, post, t0_s: float, *, car_position_ft: float = 0.0,
                         car_velocity_ft_s: float = 0.0, name: str = "") -> Outcome:
         """Free flight of ``scene``'s post from its motion ``post`` at ``t0_s`` (a
-        :class:`~deck_emulator.core.scene.PostInitialState`, attitude from body to road axes)
+        :class:`~deck_emulator.vocabulary.scene.PostInitialState`, attitude from body to road axes)
         with the car at ``car_position_ft``, ``car_velocity_ft_s`` along XV, until the first
         hit or ``t_max_s``: the crash test's Table 9 starts from Table 8's state at 70 ms."""
         from deck_emulator.core import free_flight
@@ -457,7 +457,7 @@ class CoreEngine:
         """THE one place a core result (or the exception that ended its run) becomes an
         :class:`Outcome` of ``source`` (a deck or a scene), for :meth:`run`,
         :meth:`run_free_flight` and :meth:`run_batch` alike."""
-        from deck_emulator.core.scene import Scene
+        from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
 

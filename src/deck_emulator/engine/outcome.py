@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from deck_emulator.core.scene import Scene
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.events import Event, EventKind
 from deck_emulator.vocabulary.units import ft_s_to_mph
 
@@ -20,9 +20,9 @@ class Outcome:
       arithmetic and its assumptions, the errata; or the preset, method and tolerances);
       ``arithmetic``: the arithmetic it ran in (the emulator's ``double``, ``single`` or
       ``ibm7094``; the core's ``IEEE double``); ``errata``: the errata the emulator applied.
-    * ``scene``: what was run, typed (:class:`~deck_emulator.core.scene.Scene`: the post
+    * ``scene``: what was run, typed (:class:`~deck_emulator.vocabulary.scene.Scene`: the post
       and its named points, U included, the car, the base, the ground); an emulator's deck
-      is a :class:`~deck_emulator.core.scene.DeckScene` (built through the one deck <->
+      is a :class:`~deck_emulator.vocabulary.scene.DeckScene` (built through the one deck <->
       scene mapping, not checked: the listing runs decks the core refuses). ``None`` only
       for a row that stands for no run.
     * ``t``; ``points``: name -> (n, 3) for the post's points ``P``, ``Q``, ``R``, ``C``, a

@@ -46,7 +46,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from deck_emulator.core.scene import VehicleBody, car_boxes
+from deck_emulator.vocabulary.scene import VehicleBody, car_boxes
 from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT, speed_lost_mph
 
 __all__ = [

@@ -7,7 +7,7 @@
 * a card deck file: text, or card images in any format (:mod:`deck_emulator.legacy.cardimage`,
   found or named with ``card_format``), a plain deck or a whole IBSYS job deck with one or more
   ``$DATA`` sections (``section`` picks one, counted from 1);
-* a scene file (TOML with tables: :class:`~deck_emulator.core.scene.Scene`).
+* a scene file (TOML with tables: :class:`~deck_emulator.vocabulary.scene.Scene`).
 
 A job deck that carries its own FORTRAN is run only if that FORTRAN is the listing's program:
 the emulator *is* the listing, so running another program's deck through it would print the
@@ -26,7 +26,11 @@ from pathlib import Path
 
 from deck_emulator.errors import UsageError
 
-__all__ = ["Source", "load_source", "is_scene_file"]
+#: the card reader of the 1967 path: how the studies read a text deck by its file (each
+#: worker reads it) or from its cards' text, through this one way in
+from deck_emulator.legacy.deck import Deck, parse_deck, read_deck
+
+__all__ = ["Deck", "Source", "is_scene_file", "load_source", "parse_deck", "read_deck"]
 
 
 
@@ -103,7 +107,7 @@ def is_scene_file(path) -> bool:
         return False
     import tomllib
 
-    from deck_emulator.core.scene import MAX_SCENE_BYTES  # a scene file is at most this
+    from deck_emulator.vocabulary.scene import MAX_SCENE_BYTES  # a scene file is at most this
 
     try:
         with open(path, "rb") as fh:
@@ -145,7 +149,7 @@ def _resolve(given: str) -> tuple[str, Path]:
 
 
 def _read_scene(name: str, path: Path):
-    from deck_emulator.core.scene import SceneError, read_scene
+    from deck_emulator.vocabulary.scene import SceneError, read_scene
 
     try:
         return read_scene(path)  # size-capped, UTF-8, every key checked

@@ -45,24 +45,17 @@ __all__ = [
     "parse_deck",
 ]
 
-#: The READ list of MAIN, card by card (``READ(5,1)`` ... ``READ(5,130)``).
-READ_LIST: tuple[tuple[str, ...], ...] = (
-    ("V1B", "V2B", "V3B", "VVB", "F1B", "F2B", "F3B", "PSIDB"),
-    ("THDB", "PHIDB", "W", "WV", "A", "B", "C", "G"),
-    ("XCMB", "YCMB", "ZCMB", "CK", "W1B", "W2B", "W3B", "HEIGHT"),
-    ("PSIB", "THB", "PHIB", "SVB", "XSO", "YYSO", "ZZSO", "FNA"),
-    ("XPO", "YYPO", "ZZPO", "XQO", "YYQO", "ZZQO", "SVO", "ALPHA"),
-    ("T1B", "T2B", "T3B", "HLEN", "TLEN", "DELTA", "YLFEN", "YRFEN"),
-    ("TRLEN", "HTRV", "FSB", "HTV", "HHV", "XRO", "YYRO", "ZZRO"),
-    ("XCO", "YYCO", "ZZCO", "XTO", "YYTO", "ZZTO", "CT", "FCONST"),
+#: The READ list of MAIN, card by card (``READ(5,1)`` ... ``READ(5,130)``), the names, the
+#: card's layout: the deck-field table's (one row a field: vocabulary/deck_fields.py).
+from deck_emulator.vocabulary.deck_fields import (  # noqa: E402
+    CARD_COLUMNS,
+    FIELD_WIDTH,
+    FIELDS_PER_CARD,
+    NAMES,
+    READ_LIST,
+    field_columns,
 )
 
-#: The 64 names, flat, in READ order.
-NAMES: tuple[str, ...] = tuple(name for card in READ_LIST for name in card)
-
-CARD_COLUMNS = 80
-FIELD_WIDTH = 10
-FIELDS_PER_CARD = 8
 N_CARDS = len(READ_LIST)
 
 # name -> (card number, field number), both 1-based
@@ -85,12 +78,6 @@ _NUMBER_RE = re.compile(
     r"(?P<mantissa>[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"
     r"(?:(?:[ED](?P<esign1>[+-]?)|(?P<esign2>[+-]))(?P<exponent>[0-9]+))?"
 )
-
-
-def field_columns(index: int) -> tuple[int, int]:
-    """First and last column (1-based) of field ``index`` (1-based) on a card."""
-    first = (index - 1) * FIELD_WIDTH + 1
-    return first, first + FIELD_WIDTH - 1
 
 
 class DeckError(ValueError):

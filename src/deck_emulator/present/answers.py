@@ -14,7 +14,7 @@ decelerations as the report tabulates them (two decimals); times in ms with one 
 from __future__ import annotations
 
 from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
-from deck_emulator.vocabulary.units import DECK_UNITS
+from deck_emulator.vocabulary.deck_fields import DECK_FIELDS, READ_LIST
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.
 SCHEMA = 2
@@ -144,16 +144,11 @@ def render_outcome(a: dict) -> str:
 def parse_result(deck) -> dict:
     """A deck's 64 values under their READ-list names, with their units (the keys after the
     envelope's)."""
-    from deck_emulator.legacy.deck import READ_LIST, field_columns
-
     cards = []
-    for card_no, names in enumerate(READ_LIST, start=1):
-        fields = []
-        for field_no, name in enumerate(names, start=1):
-            first, last = field_columns(field_no)
-            fields.append({"name": name, "columns": [first, last], "value": deck[name],
-                           "unit": DECK_UNITS.get(name, "")})
-        cards.append({"card": card_no, "fields": fields})
+    for card_no in range(1, len(READ_LIST) + 1):  # each card's rows of the deck-field table
+        cards.append({"card": card_no, "fields": [
+            {"name": f.name, "columns": list(f.columns), "value": deck[f.name], "unit": f.unit}
+            for f in DECK_FIELDS if f.card == card_no]})
     return {"values": dict(deck.values), "cards": cards}
 
 

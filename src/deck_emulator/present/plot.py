@@ -896,7 +896,7 @@ def draw(source, name: str, *, engine: str, options: dict, out, view: str = "sid
     check_plot_outputs(out, animate)
     if engine == "core" and not pulse and hasattr(source, "values"):
         # the core refuses such a deck's scene as `core` does: bad input (2), before any run
-        from deck_emulator.core.scene import Scene
+        from deck_emulator.vocabulary.scene import Scene
 
         problems = Scene.from_deck(source, checked=False).problems()
         if problems:

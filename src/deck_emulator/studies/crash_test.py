@@ -25,8 +25,8 @@ import numpy as np
 from deck_emulator.vocabulary.units import G_FT_S2
 
 from deck_emulator.engine import CoreEngine
-from deck_emulator.core.assembly import load_assembly
-from deck_emulator.core.scene import (
+from deck_emulator.engine.assemblies import AssemblyError, load_assembly
+from deck_emulator.vocabulary.scene import (
     BreakawayBase,
     CrushSpring,
     Environment,
@@ -48,7 +48,6 @@ def crash_description(name_or_path: str = "crash_test") -> dict:
     """The checked ``[crash_test]`` table of a crash-test description: the shipped one by
     default, or a user's file (``.toml``); :class:`~deck_emulator.core.assembly.AssemblyError`
     when the file is not a crash-test description or a value is out of its domain."""
-    from deck_emulator.core.assembly import AssemblyError
 
     asm, extra, _ = load_assembly(name_or_path)
     if asm is not None:

@@ -28,7 +28,7 @@ from dataclasses import replace
 import numpy as np
 
 from deck_emulator.vocabulary import defaults
-from deck_emulator.core.scene import LEGACY, StartupKick
+from deck_emulator.vocabulary.scene import LEGACY, StartupKick
 from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
 
 
@@ -103,7 +103,7 @@ def diff_step(task: dict) -> dict:
     None), the two engines' :func:`outcome_summary`, the convergence row, the core's method,
     and at k = 0 with a tightened ED also ``printed``: the emulator's run as printed (ED's
     tolerance .0001) and its trajectory difference."""
-    from deck_emulator.legacy.deck import parse_deck
+    from deck_emulator.engine.sources import parse_deck
 
     deck = parse_deck(task["cards"], path=task["deck"] or None)
     k, errata = task["k"], tuple(task["errata"])
@@ -316,7 +316,7 @@ def diff_page(*, jobs=None, quiet=False) -> str:
 
     from deck_emulator import decks as shipped
     from deck_emulator.engine import step_literals
-    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.engine.sources import read_deck
 
     errata = (errata_policy.ED_DIRECTION,)
     deck_of = {name: dataclasses.replace(read_deck(shipped.path(name)), path=f"decks/{name}.dat")

@@ -28,9 +28,9 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator.vocabulary import defaults
-from deck_emulator.legacy.deck import read_deck
+from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.core.scene import LEGACY, Scene
+from deck_emulator.vocabulary.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.studies.distributed import output_store

@@ -58,8 +58,8 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator.studies import SCENE_STORE
-from deck_emulator.vocabulary.units import DECK_UNITS, deck_label
-from deck_emulator.core.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
+from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
+from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
 from deck_emulator.studies.distributed import (
     SceneStore,
     run_scenes,
@@ -182,7 +182,7 @@ _DECKS: dict[str, object] = {}
 
 def _base_deck(deck: str):
     from deck_emulator import decks
-    from deck_emulator.legacy.deck import read_deck
+    from deck_emulator.engine.sources import read_deck
 
     if deck not in _DECKS:
         try:
@@ -203,7 +203,6 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
     import dataclasses
 
     from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords
-    from deck_emulator.legacy.deck import NAMES
     deck_values = {k: v for k, v in values.items() if k in NAMES}
     scene_values = {k: v for k, v in values.items() if k in SCENE_INPUTS}
     unknown = set(values) - set(deck_values) - set(scene_values)
@@ -219,7 +218,7 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
     core = CoreEngine(**core_keywords(preset, shaft_contact))
     scene = None
     if scene_values:  # the deck has no friction field: the base's friction on the scene
-        from deck_emulator.core.scene import BaseFriction
+        from deck_emulator.vocabulary.scene import BaseFriction
 
         scene = core.scene(d)
         friction = BaseFriction(
@@ -659,7 +658,6 @@ def parse_input(text: str) -> InputRange:
         raise ValueError(f"--input {text!r}: LO and HI must be finite numbers")
     if not lo < hi:
         raise ValueError(f"--input {text!r}: LO must be below HI")
-    from deck_emulator.legacy.deck import NAMES
 
     if name not in NAMES and name not in SCENE_INPUTS:
         raise ValueError(

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator.vocabulary import defaults
-from deck_emulator.core.scene import (
+from deck_emulator.vocabulary.scene import (
     LISTING_BASE_FRICTION,
     PHYSICAL,
     BaseFriction,
@@ -35,7 +35,7 @@ from deck_emulator.core.scene import (
 from deck_emulator.engine import Limits
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.files import OutputSet, check_output_dir
-from deck_emulator.legacy.deck import read_deck
+from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.distributed import output_store
 from deck_emulator.vocabulary.units import FT_S_PER_MPH

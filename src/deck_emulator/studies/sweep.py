@@ -41,10 +41,10 @@ from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
 from deck_emulator import decks
-from deck_emulator.core.scene import Scene
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.engine import Outcome, engine_for, quantities
 from deck_emulator.vocabulary.events import Surface
-from deck_emulator.legacy.deck import Deck, read_deck
+from deck_emulator.engine.sources import Deck, read_deck
 from deck_emulator.engine import safety
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.report_tables import report_comment

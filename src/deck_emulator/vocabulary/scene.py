@@ -19,7 +19,7 @@ crush spring T, no base friction, no car body outline, no vehicle at all); the c
 builds no force, no point and no check for it.
 
 Deck names (the READ list) map to fields as written in each docstring; the mapping, in one
-place and used both ways, is :data:`DECK_FIELDS`.  The deck carries no base friction and no normal-force
+place and used both ways, is :data:`SCENE_PATHS`.  The deck carries no base friction and no normal-force
 release distance: those are constants of the listing (``FFXA=3.1*T`` with ``T=300.0``,
 the 1 in. slot ``0.083333`` ft, the release at ``XQA <= -0.4166`` ft) and
 :meth:`Scene.from_deck` fills them in as :data:`LISTING_BASE_FRICTION` and
@@ -40,6 +40,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
+from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
 from deck_emulator.vocabulary.defaults import LISTING_CAP_STEPS, LISTING_STEP_S
 from deck_emulator.vocabulary.units import G_FT_S2
 
@@ -64,7 +65,6 @@ __all__ = [
     "PRESETS",
     "LISTING_BASE_FRICTION",
     "LISTING_NORMAL_RELEASE_FT",
-    "DECK_FIELDS",
     "SceneError",
     "read_scene",
     "MAX_SCENE_BYTES",
@@ -299,8 +299,8 @@ class CarBox:
 
 
 def car_boxes(body) -> tuple[CarBox, CarBox, CarBox]:
-    """The car of a :class:`~deck_emulator.core.scene.VehicleBody` as three boxes, from its
-    one outline (:meth:`~deck_emulator.core.scene.VehicleBody.outline_xv`): the hood
+    """The car of a :class:`~deck_emulator.vocabulary.scene.VehicleBody` as three boxes, from its
+    one outline (:meth:`~deck_emulator.vocabulary.scene.VehicleBody.outline_xv`): the hood
     (bumper to the windshield's foot SV, up to HHV), the passenger compartment (SV to
     XENTOP, up to HTV) and the trunk (XENTOP to the tail, up to HTRV)."""
     o = body.outline_xv(0.0)
@@ -393,46 +393,12 @@ LISTING_FRICTION_WINDOW_FT = LISTING_BASE_FRICTION.slip_window_ft - 0.004
 #: The listing's release of the normal force: ``IF(XQA+0.4166)107,107,106`` (5 in.).
 LISTING_NORMAL_RELEASE_FT = 0.4166
 
-#: The one deck <-> scene mapping: READ-list name -> the scene field it is, as a path through
-#: the scene's nested tables (the layout of :meth:`Scene.to_toml`). :meth:`Scene.from_deck`
-#: reads a deck through it and :meth:`Scene.deck_values` writes a scene back through it.
-#: Not in it: the initial state (``XCMB ... PHIB``, kept as a quaternion and body rates), the
-#: listing's scheme-only start values, and what the listing has no field for (base friction,
-#: the normal force's release, a second luminaire U, a leaf spring).
-DECK_FIELDS: dict[str, tuple[str, ...]] = {
-    "W": ("post", "mass_slug"),
-    "A": ("post", "inertia_1_slug_ft2"),
-    "B": ("post", "inertia_2_slug_ft2"),
-    "C": ("post", "inertia_3_slug_ft2"),
-    "DELTA": ("post", "principal_tilt_rad"),
-    **{f"{axis}{letter}O": ("post", attr, coord)
-       for letter, attr in (("P", "top"), ("Q", "base"), ("S", "first_impact"),
-                            ("T", "second_impact"), ("R", "luminaire_end"), ("C", "point_c"))
-       for axis, coord in (("X", "xx_ft"), ("YY", "yy_ft"), ("ZZ", "zz_ft"))},
-    "WV": ("vehicle", "mass_slug"),
-    "VVB": ("vehicle", "initial_velocity_ft_s"),
-    "ALPHA": ("vehicle", "approach_angle_rad"),
-    "SVB": ("vehicle", "initial_position_ft"),
-    "SVO": ("vehicle", "contact_position_ft"),
-    "CK": ("vehicle", "first_spring", "stiffness_lb_per_ft"),
-    "CT": ("vehicle", "second_spring", "stiffness_lb_per_ft"),
-    "FCONST": ("vehicle", "force_cap_lb"),
-    "HLEN": ("vehicle", "body", "hood_length_ft"),
-    "TLEN": ("vehicle", "body", "top_length_ft"),
-    "TRLEN": ("vehicle", "body", "trunk_length_ft"),
-    "HHV": ("vehicle", "body", "hood_height_ft"),
-    "HTV": ("vehicle", "body", "top_height_ft"),
-    "HTRV": ("vehicle", "body", "trunk_height_ft"),
-    "YLFEN": ("vehicle", "body", "left_fender_ft"),
-    "YRFEN": ("vehicle", "body", "right_fender_ft"),
-    "FNA": ("base", "normal_force_lb"),
-    "HEIGHT": ("environment", "ground_depth_ft"),
-    "G": ("environment", "gravity_ft_s2"),
-}
-
-# READ-list values the scene does not use: the listing's previous-step forces and Euler
-# rates are start values of its difference scheme, overwritten by the first step.
-_SCHEME_ONLY = ("F1B", "F2B", "F3B", "T1B", "T2B", "T3B", "FSB", "PSIDB", "THDB", "PHIDB")
+# The one deck <-> scene mapping is the deck-field table's SCENE_PATHS (READ-list name -> the
+# path of the scene field it is, through the nested tables of Scene.to_toml): Scene.from_deck
+# reads a deck through it and Scene.deck_values writes a scene back through it.  Not in it: the
+# initial state (XCMB ... PHIB, kept as a quaternion and body rates), the scheme's start values
+# (SCHEME_ONLY), and what the listing has no field for (base friction, the normal force's
+# release, a second luminaire U, a leaf spring).
 
 
 # --------------------------------------------------------------------------------------
@@ -545,7 +511,7 @@ class Scene:
             return float(values.get(key, 0.0))
 
         tree: dict[str, Any] = {}
-        for key, path in DECK_FIELDS.items():
+        for key, path in SCENE_PATHS.items():
             node = tree
             for step in path[:-1]:
                 node = node.setdefault(step, {})
@@ -586,11 +552,11 @@ class Scene:
         return replace(scene, initial=initial, name=name)
 
     def deck_values(self) -> dict[str, float]:
-        """The READ-list values the scene carries, through :data:`DECK_FIELDS` (an absent
+        """The READ-list values the scene carries, through :data:`SCENE_PATHS` (an absent
         component reads 0.0, as a deck writes it); the initial state is not among them."""
         tree = _plain(self)
         out = {}
-        for key, path in DECK_FIELDS.items():
+        for key, path in SCENE_PATHS.items():
             node: Any = tree
             for step in path:
                 node = node.get(step) if isinstance(node, dict) else None
@@ -605,7 +571,7 @@ class Scene:
         import tomli_w
 
         header = ("# deck_emulator scene: ft, lb, slug, s, rad; positions relative to the post's\n"
-                  "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.core.scene).\n")
+                  "# mass centre at t = 0 in the road axes XX, YY, ZZ (see deck_emulator.vocabulary.scene).\n")
         return header + tomli_w.dumps(_plain(self))
 
     @classmethod
