@@ -8,7 +8,7 @@ start, imports, the run, the printout written to /dev/null) of
 
 * ``python -c pass`` (the floor);
 * ``python benchmarks/plain_listing.py decks/steel40.dat``: the listing transcribed into plain
-  Python floats, its output formatted by ``%`` (the reference; tests/test_plain_listing.py
+  Python floats, its output formatted by ``%`` (the reference; tests/legacy/test_plain_listing.py
   checks that it prints the r8 golden and the emulator's printout byte for byte);
 * ``deck-emulator run decks/steel40.dat`` and the same with ``--precision ibm7094``;
 

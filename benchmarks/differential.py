@@ -17,7 +17,7 @@ walks away from its root there: see legacy/CORRECTIONS.md). How a run ends is co
   prefix of the longer (the compiled program is cut off by the clock, the emulator by its
   guard, so either may have printed more).
 
-tests/test_differential.py runs 20 decks in the default test run and this script's corpus
+tests/legacy/test_differential.py runs 20 decks in the default test run and this script's corpus
 under the ``slow_corpus`` marker.
 """
 

@@ -15,7 +15,7 @@ Left out, because a plain transcription has none of them: the emulator's guards 
 never lands, ED without a root, a NaN), the other arithmetics, the errata and options, the
 deck's error messages and the 1967 blank rules (a field is ``float()`` of its ten columns, so
 a deck must write its decimal points, as decks/*.dat do), and F-format overflow (``****``).
-``tests/test_plain_listing.py`` checks that it prints, byte for byte, the golden printout of
+``tests/legacy/test_plain_listing.py`` checks that it prints, byte for byte, the golden printout of
 gfortran's build (``golden/steel40.r8.txt``) and what ``deck-emulator run`` prints.
 """
 

@@ -5,7 +5,7 @@ every start.
 
     python scripts/make_emulator_tables.py
 
-Run it after changing legacy/emulator.py (tests/test_start.py fails until then; the emulator
+Run it after changing legacy/emulator.py (tests/cli/test_start.py fails until then; the emulator
 reads its text itself meanwhile).  What is written: deck_emulator.legacy.emulator_text.
 """
 

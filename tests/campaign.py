@@ -1,4 +1,4 @@
-"""The fault campaign (issue 23), kept: generators of bad, odd and mutated inputs for every
+"""The fault campaign, kept: generators of bad, odd and mutated inputs for every
 input kind, each case run through the command line in process and held to the tool's promise:
 
 * it ends with a documented exit status: 0 computed, 2 bad input, 3 a run that could not end
@@ -8,14 +8,14 @@ input kind, each case run through the command line in process and held to the to
 
 The cases are drawn from seeded generators (``random.Random(seed)``), so a corpus is the same
 every time.  :func:`corpus` builds it: ``fast`` a sample for the default suite
-(tests/test_campaign.py), the full corpus under ``-m slow_corpus``.  Run as a script it runs a
+(tests/robustness/test_campaign.py), the full corpus under ``-m slow_corpus``.  Run as a script it runs a
 corpus and prints the count of cases and of broken promises per category::
 
     python tests/campaign.py            # the full corpus
     python tests/campaign.py --fast     # the default suite's sample
 
 Interruptions, kills, resumes and concurrent runs are not cases here: they need processes of
-their own (tests/test_kill.py, test_interrupt_startup.py, test_store_lock.py,
+their own (tests/robustness/test_kill.py, test_interrupt_startup.py, test_store_lock.py,
 test_output_sets.py, test_signals.py).
 """
 

@@ -200,8 +200,9 @@ def _study(name: str, o, run) -> Answer:
         common.engine_scene(read_deck(deck), name=deck)  # both engines run it: exit 2
     check_output_dir(o.out)  # before any work, and before the study makes the folder
     jobs = o.jobs or os.cpu_count() or 1
-    typed = o.command_line or shlex.join(
-        ["deck-emulator", "study", name, *([o.deck] if o.deck else []), "--out", o.out])
+    typed = o.command_line or shlex.join(  # called from Python: the command it stands for
+        ["deck-emulator", "study", name, *([o.deck] if o.deck else []), "--out", o.out,
+         *(["--quick"] if o.quick else []), "--jobs", str(jobs)])
     summary, lines = run(deck, jobs, typed)
     answer = Answer(f"study {name}", o.deck or "steel40", json=o.json)
     answer.said = [f"study {name}: {line}" for line in

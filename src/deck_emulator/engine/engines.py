@@ -473,6 +473,8 @@ class CoreEngine:
         out.raw = r
         out.method = r.method
         out.notes = tuple(getattr(r, "notes", ()) or ())
+        out.evaluations, out.end_s = r.nfev, r.end_time_s
+        out.engine_events = tuple((e.name, e.time_s) for e in r.events)
         out.events = core_events(r)
         out.delta_v_contact_mph = r.delta_v_contact_mph
         out.max_decel_g = (r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None

@@ -49,6 +49,10 @@ class Outcome:
     * ``method``: the core's integration method as it ran (``auto`` resolved); ``notes``: what
       the engine says of the run (the core's sentences about its scene and solution).
     * ``records``: the emulator's printout, record by record (carriage control in column 1).
+    * ``evaluations``: the core's right-hand-side evaluations; ``engine_events``: every event
+      the engine located, in its own words, ``(name, time_s)`` (the core's normal force
+      released, its sliding modes ...); ``end_s``: where its solution ends.  :meth:`position`
+      reads the solution itself (the core's dense one) at any instant.
     * ``run_s``: seconds the engine's solver ran (the program's loop; the core's solution),
       without building this outcome.
     * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
@@ -82,6 +86,9 @@ class Outcome:
     method: str = ""
     notes: tuple[str, ...] = ()
     records: tuple[str, ...] = ()
+    evaluations: int | None = None
+    engine_events: tuple[tuple[str, float], ...] = ()
+    end_s: float | None = None
     raw: object = field(default=None, repr=False)
     #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance)
     cache: dict = field(default_factory=dict, repr=False, compare=False)
@@ -152,6 +159,53 @@ class Outcome:
         base, ground = self.scene.post.base, self.scene.environment.ground_depth_ft
         p = np.asarray(p, dtype=float)
         return p - np.array([base.xx_ft, base.yy_ft, -ground])
+
+    @property
+    def point_names(self) -> tuple[str, ...]:
+        """The post's named points the run follows."""
+        if self.engine == "core" and self.raw is not None:
+            return tuple(self.raw.trajectory.point_names)
+        return tuple(k for k in self.points if k != "CM")
+
+    @property
+    def span(self) -> tuple[float, float]:
+        """Where the run's solution starts and ends (s): the core's dense solution, the
+        emulator's steps."""
+        if self.engine == "core" and self.raw is not None:
+            traj = self.raw.trajectory
+            return float(traj.t_start), float(traj.t_end)
+        return (float(self.t[0]), float(self.t[-1])) if self.t.size else (0.0, 0.0)
+
+    def position(self, name: str, t) -> np.ndarray:
+        """The post's point ``name`` (``CM``: the mass centre) at ``t`` (a time, or an array of
+        them) in the road axes XX, YY, ZZ: (3,) or (3, n).  The core's dense solution; the
+        emulator's accepted steps, linearly between them."""
+        if self.engine == "core" and self.raw is not None:
+            traj = self.raw.trajectory
+            return traj.mass_centre(t) if name == "CM" else traj.point(name, t)
+        xyz = np.asarray(self.points[name], dtype=float)
+        return np.array([np.interp(t, self.t, xyz[:, i]) for i in range(3)])
+
+    def motion(self, t: float) -> dict:
+        """The post's and the car's motion at ``t`` from the core's dense solution:
+        ``mass_centre_ft`` (XX, YY, ZZ), ``velocity_body_ft_s``, ``attitude_wxyz`` (body to
+        road), ``angular_velocity_body_rad_s``, ``car_position_ft`` and ``car_velocity_ft_s``
+        (SV, VV along XV)."""
+        if self.engine != "core" or self.raw is None:
+            raise ValueError("the motion between steps is the core's dense solution")
+        traj = self.raw.trajectory
+        sv, vv = traj.vehicle(t)
+        return {"mass_centre_ft": traj.mass_centre(t), "velocity_body_ft_s": traj.velocity_body(t),
+                "attitude_wxyz": traj.attitude(t),
+                "angular_velocity_body_rad_s": traj.angular_velocity_body(t),
+                "car_position_ft": sv, "car_velocity_ft_s": vv}
+
+    def accepted_steps(self) -> tuple[np.ndarray, np.ndarray]:
+        """The emulator's accepted steps: their times (n,) and the mass centre at each (3, n)
+        (the arrays' first sample, t = 0, is the deck's start, not a step)."""
+        if "CM" not in self.points:
+            return np.zeros(0), np.zeros((3, 0))
+        return self.t[1:], np.asarray(self.points["CM"], dtype=float)[1:].T.reshape(3, -1)
 
     def point_l(self, name: str, t: float) -> tuple[float, float, float] | None:
         """The post's point ``name`` at ``t`` in the report's XL, YL, ZL axes: the core's

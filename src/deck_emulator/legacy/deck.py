@@ -5,7 +5,7 @@ MAIN begins with eight ``READ(5,n)`` statements, each with ``FORMAT(8F10.5)``: e
 
 * every field is ``F10.5``: the exact decimal it means, correctly rounded to binary64, as
   gfortran's REAL*8 read converts it (which texts are numbers: ``_NUMBER_RE``; fortranformat's
-  ``FortranRecordReader`` reads every text it accepts, tests/test_deck.py checks);
+  ``FortranRecordReader`` reads every text it accepts, tests/legacy/test_deck.py checks);
 * leading blanks are ignored, embedded and trailing blanks read as zeros (``-58.66    ``
   is ``-58.660000``; ``1.5E2     `` is ``1.5E200000``), an all-blank field is 0.0;
 * a field without a decimal point gets the implied one: ``     12345`` reads 0.12345;
@@ -71,7 +71,7 @@ _DECIMALS = 5  # the .5 of F10.5: implied decimal places, and the minimum in `fi
 
 # One number after the 1967 blank handling (no blank left in it): whether the text is a number
 # FORTRAN IV accepts.  (fortranformat's reader, once asked here too, accepted every text this
-# accepts -- tests/test_deck.py checks it -- so it is no longer imported for a read: its import
+# accepts -- tests/legacy/test_deck.py checks it -- so it is no longer imported for a read: its import
 # cost every run ~40 ms, most of it importlib.metadata for its __version__.)
 # Exponent: E or D with an optional sign, or a bare sign (``1.5+2`` is 1.5E+2).
 _NUMBER_RE = re.compile(

@@ -1151,7 +1151,7 @@ def _source_tables() -> dict:
     """What the program reads from its own text (:func:`deck_emulator.legacy.emulator_text.tables`
     of this file): from emulator_tables.py when it was made from this very text (its checksum
     says so), else from the text now (the pattern pass, ~2 ms, once per process).
-    tests/test_start.py fails while emulator_tables.py is stale."""
+    tests/cli/test_start.py fails while emulator_tables.py is stale."""
     from . import emulator_tables as made
     from .emulator_text import read_tables
 
@@ -1161,7 +1161,7 @@ def _source_tables() -> dict:
 _TABLES = _source_tables()
 
 
-def __getattr__(name):  # the pattern reader (tests/test_emulator.py), imported when asked
+def __getattr__(name):  # the pattern reader (tests/legacy/test_emulator.py), imported when asked
     if name == "_assigned_names":
         from .emulator_text import _assigned_names
 

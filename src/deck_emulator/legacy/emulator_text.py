@@ -24,7 +24,7 @@ TABLES_FILE = Path(__file__).with_name("emulator_tables.py")
 def _assigned_names(source: str) -> dict[str, list[str]]:
     """Block method name -> the names it assigns (``v.NAME = ...``, ``self.v.NAME = ...``,
     ``v.A, v.B, v.C = ...``), read from the program text by a pattern
-    (tests/test_emulator.py checks that an AST walk finds the same)."""
+    (tests/legacy/test_emulator.py checks that an AST walk finds the same)."""
     block = re.compile(r"^    def (L\w+)\(self\):.*?(?=^    def |^\S)", re.M | re.S)
     target = re.compile(r"^\s+((?:self\.)?v\.\w+(?:\s*,\s*v\.\w+)*)\s*=(?!=)", re.M)
     out = {}

@@ -3,7 +3,7 @@
 * :func:`make_goldens` -- every shipped deck through the compiled listing in both precisions:
   the only way golden/ is made (``python scripts/make_goldens.py``);
 * :class:`Oracle` -- a deck through the compiled listing (REAL*8) and through the emulator
-  in binary64, compared record for record (tests/test_differential.py,
+  in binary64, compared record for record (tests/legacy/test_differential.py,
   benchmarks/differential.py); :func:`corpus` -- seeded random decks for it.
 
 Golden files, for each deck in decks/ and each precision:

@@ -3,7 +3,7 @@ control in column 1 (exactly the lines gfortran writes to unit 6).
 
 Records are laid out from the FORMAT texts below, copied from ``legacy/luminaire.f`` with
 their labels; they use only Hollerith text, ``nX``, ``/`` and ``Fw.d``, which are laid out here
-directly (tests/test_printer.py checks the layout against fortranformat's, and the goldens
+directly (tests/legacy/test_printer.py checks the layout against fortranformat's, and the goldens
 against gfortran's). The digits are decided from the exact value (see ``rounded_digits``):
 gfortran rounds exact ties to even, where fortranformat rounds them away from zero and
 misrounds some values next to a tie; an arithmetic may also choose to truncate

@@ -64,8 +64,8 @@ def run_emulator(deck, *, precision="double", k=0, tha_start=None, ed_tolerance=
         status, guard = "guard", out.guard or "?"
     else:
         status, guard = ("hit" if out.hit is not None else "stop"), ""
-    return {"status": status, "guard": guard, "error": out.error or "", "run": out.raw,
-            "wall_s": out.run_s, "outcome": out}
+    return {"status": status, "guard": guard, "error": out.error or "", "wall_s": out.run_s,
+            "outcome": out}
 
 
 def emulator_hit(run_out: dict) -> tuple[str, float | None]:
@@ -75,11 +75,9 @@ def emulator_hit(run_out: dict) -> tuple[str, float | None]:
     return (out.hit_message or "", out.hit_time_s) if out.hit is not None else ("", None)
 
 
-def emulator_trajectory(run) -> tuple[np.ndarray, np.ndarray]:
-    """Times (n,) and mass centres (3, n) of the accepted steps."""
-    t = np.array([r["t"] for r in run.trace], dtype=float)
-    xyz = np.array([[r["XCM"], r["YYCM"], r["ZZCM"]] for r in run.trace], dtype=float).T
-    return t, xyz.reshape(3, -1)
+def emulator_trajectory(out) -> tuple[np.ndarray, np.ndarray]:
+    """Times (n,) and mass centres (3, n) of an emulator outcome's accepted steps."""
+    return out.accepted_steps()
 
 
 def energies(run_out: dict) -> dict:
@@ -97,7 +95,7 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
              t_max_s=defaults.T_MAX_S) -> dict:
     """One core run through the engine layer -> {status, error, result, wall_s, warnings,
     outcome}; ``status`` "hit", "no hit" (t_max reached) or "error" (CoreError or any
-    exception, in ``error``)."""
+    exception, in ``error``); ``result``: the outcome of a run without an error, else None."""
     engine = CoreEngine(options=options, method=method, rtol=rtol,
                         atol=rtol if atol is None else atol, t_max_s=t_max_s, trace=False)
     started = time.perf_counter()
@@ -112,7 +110,7 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
     if out.error is not None:
         return {"status": "error", "error": out.error, "result": None, "wall_s": out.run_s,
                 "warnings": _warnings(caught), "outcome": out}
-    return {"status": "hit" if out.hit is not None else "no hit", "error": "", "result": out.raw,
+    return {"status": "hit" if out.hit is not None else "no hit", "error": "", "result": out,
             "wall_s": out.run_s, "warnings": _warnings(caught), "outcome": out}
 
 

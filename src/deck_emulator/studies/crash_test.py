@@ -101,18 +101,18 @@ def crash_scene(description: dict | None = None, **changes) -> Scene:
                  vehicle=vehicle, base=base, name="crash_test")
 
 
-def state_row(result, t: float) -> dict:
+def state_row(out, t: float) -> dict:
     """theta (deg), theta-dot (rad/s), XCM, ZCM (ft), V1, V3 (ft/s), SV (ft), VV (ft/s) at
-    ``t`` of a core result's trajectory."""
-    traj = result.trajectory
-    w, _, qy, _ = traj.attitude(t)
-    x, _, z = traj.mass_centre(t)
-    v1, _, v3 = traj.velocity_body(t)
-    sv, vv = traj.vehicle(t)
+    ``t`` of a core outcome's motion."""
+    m = out.motion(t)
+    w, _, qy, _ = m["attitude_wxyz"]
+    x, _, z = m["mass_centre_ft"]
+    v1, _, v3 = m["velocity_body_ft_s"]
+    sv, vv = m["car_position_ft"], m["car_velocity_ft_s"]
     return {
         "time_ms": 1000.0 * t,
         "theta_deg": math.degrees(2.0 * math.atan2(qy, w)),
-        "thetadot_rad_s": float(traj.angular_velocity_body(t)[1]),
+        "thetadot_rad_s": float(m["angular_velocity_body_rad_s"][1]),
         "XCM_ft": float(x),
         "ZCM_ft": float(z),
         "V1_ft_s": float(v1),
@@ -128,10 +128,10 @@ def _engine(t_max_s: float) -> CoreEngine:
 
 
 def _result(out):
-    """The core's result of an outcome; a run that could not end is an error here."""
+    """An outcome that ran; a run that could not end is an error here."""
     if out.error is not None:
         raise RuntimeError(f"the crash test's run did not end: {out.error}")
-    return out.raw
+    return out
 
 
 def table10(scene: Scene | None = None, *, t_max_s: float = 0.6):
@@ -184,19 +184,19 @@ def crash_run(task: dict) -> dict:
 
     scene = crash_scene(**task["changes"])
     out, loss, r70 = table10(scene)
-    res = out.raw
-    traj = res.trajectory
-    t_end = min(traj.t_end, FIGURE_END_S)
+    res = out
+    t_stop = out.span[1]
+    t_end = min(t_stop, FIGURE_END_S)
     figure = []
     for t in sorted(set(np.arange(0.0, t_end + 1e-9, FIGURE_STEP_S).round(6)) | {0.07, 0.27}):
-        if t <= traj.t_end:
-            q, p = traj.point("Q", t), traj.point("P", t)
+        if t <= t_stop:
+            q, p = out.position("Q", t), out.position("P", t)
             figure.append([float(t), float(q[0]), float(q[2]), float(p[0]), float(p[2])])
     row = {"loss": loss, "at_70": r70,
-           "at_270": state_row(res, 0.27) if traj.t_end >= 0.27 else None,
+           "at_270": state_row(res, 0.27) if t_stop >= 0.27 else None,
            "hit_time_s": out.hit_time_s,
            "vehicle_contact_lost_s": res.vehicle_contact_lost_s,
-           "events": [[e.name, e.time_s] for e in res.events],
+           "events": [list(e) for e in out.engine_events],
            "leaf_spring_peak_compression_ft": quantities.value("leaf_spring_peak_compression_ft",
                                                                out),
            "leaf_spring_set_ft": quantities.value("leaf_spring_set_ft", out),

@@ -64,15 +64,13 @@ def legacy_options(h: float):
     return replace(LEGACY, startup_kick=kick, force_cap_from_s=defaults.LISTING_CAP_STEPS * H0 + h)
 
 
-def max_trajectory_distance(run, result) -> float:
-    """Largest distance (ft) between the mass centres at the emulator's accepted steps that lie
-    in the core's run."""
-    t = np.array([r["t"] for r in run.trace])
-    xyz = np.array([[r["XCM"], r["YYCM"], r["ZZCM"]] for r in run.trace]).T
-    traj = result.trajectory
-    keep = (t >= traj.t_start) & (t <= traj.t_end)
-    core = traj.mass_centre(t[keep])
-    return float(np.max(np.linalg.norm(xyz[:, keep] - core, axis=0)))
+def max_trajectory_distance(emulator, core) -> float:
+    """Largest distance (ft) between the mass centres of an emulator outcome at its accepted
+    steps that lie in the core outcome's run, and the core's there."""
+    t, xyz = emulator.accepted_steps()
+    t_start, t_end = core.span
+    keep = (t >= t_start) & (t <= t_end)
+    return float(np.max(np.linalg.norm(xyz[:, keep] - core.position("CM", t[keep]), axis=0)))
 
 
 def _terminal_distance(a: dict, b: dict) -> float:
@@ -126,13 +124,13 @@ def diff_step(task: dict) -> dict:
     if co.error is not None:  # CoreError and the like: one line, not a traceback
         return {"k": k, "stopped": f"the core stopped at k = {k}: {co.error}"}
     emu, core_row = outcome_summary(em), outcome_summary(co)
-    out = {"k": k, "stopped": None, "method": co.raw.method, "emulator": emu, "core": core_row,
+    out = {"k": k, "stopped": None, "method": co.method, "emulator": emu, "core": core_row,
            "row": {
                "k": k,
                "h_s": h,
                "hit_time_diff_s": abs(emu["hit_time_s"] - core_row["hit_time_s"]),
                "terminal_points_diff_ft": _terminal_distance(emu, core_row),
-               "max_trajectory_diff_ft": max_trajectory_distance(em.raw, co.raw),
+               "max_trajectory_diff_ft": max_trajectory_distance(em, co),
                "same_hit": emu["hit"] == core_row["hit"],
                "errata": list(errata),
                "ed_tolerance_rad": float(tol),
@@ -142,7 +140,7 @@ def diff_step(task: dict) -> dict:
         if em0.error:
             return stopped(em0, "emulator")
         out["printed"] = {"emulator": outcome_summary(em0),
-                          "max_trajectory_diff_ft": max_trajectory_distance(em0.raw, co.raw)}
+                          "max_trajectory_diff_ft": max_trajectory_distance(em0, co)}
     return out
 
 

@@ -103,30 +103,29 @@ def reference(deck_path, k: int):
 
 
 def _core_errors(res, ref) -> dict:
-    t_end = min(res.trajectory.t_end, ref.trajectory.t_end)
+    t_end = min(res.span[1], ref.span[1])
     grid = np.linspace(0.0, t_end, GRID_POINTS)
-    d = np.linalg.norm(res.trajectory.mass_centre(grid) - ref.trajectory.mass_centre(grid), axis=0)
+    d = np.linalg.norm(res.position("CM", grid) - ref.position("CM", grid), axis=0)
     out = {"err_traj_ft": float(d.max()), "err_hit_time_s": math.nan, "err_R_ft": math.nan}
     if res.hit and ref.hit:
         out["err_hit_time_s"] = abs(res.hit_time_s - ref.hit_time_s)
         out["err_R_ft"] = float(np.linalg.norm(
-            res.trajectory.point("R", res.hit_time_s) - ref.trajectory.point("R", ref.hit_time_s)))
+            res.position("R", res.hit_time_s) - ref.position("R", ref.hit_time_s)))
     return out
 
 
 def _emulator_errors(run, hit_time, ref) -> dict:
     t, xyz = emulator_trajectory(run)
-    traj = ref.trajectory
-    keep = (t >= traj.t_start) & (t <= traj.t_end)
+    t_start, t_end = ref.span
+    keep = (t >= t_start) & (t <= t_end)
     out = {"err_traj_ft": math.nan, "err_hit_time_s": math.nan, "err_R_ft": math.nan}
     if keep.any():
-        out["err_traj_ft"] = float(np.max(np.linalg.norm(xyz[:, keep] - traj.mass_centre(t[keep]),
-                                                         axis=0)))
+        out["err_traj_ft"] = float(np.max(np.linalg.norm(
+            xyz[:, keep] - ref.position("CM", t[keep]), axis=0)))
     if hit_time is not None and ref.hit:
-        last = run.trace[-1]
-        r_emu = np.array([last["XR"], last["YYR"], last["ZZR"]])
+        r_emu = np.asarray(run.points["R"][-1], dtype=float)  # R at the last accepted step
         out["err_hit_time_s"] = abs(hit_time - ref.hit_time_s)
-        out["err_R_ft"] = float(np.linalg.norm(r_emu - traj.point("R", ref.hit_time_s)))
+        out["err_R_ft"] = float(np.linalg.norm(r_emu - ref.position("R", ref.hit_time_s)))
     return out
 
 
@@ -155,8 +154,8 @@ def _task_check(spec):
     if out["result"] is not None:
         res = out["result"]
         row.update(_core_errors(res, ref), hit=res.hit_message or "", hit_time_s=res.hit_time_s,
-                   nfev=res.nfev)
-        row["ref_wall_s"] = ref.run_time_s
+                   nfev=res.evaluations)
+        row["ref_wall_s"] = ref.run_s
     return row
 
 
@@ -183,14 +182,14 @@ def _task_emulator(spec):
         walls += [run_emulator(deck, precision=precision, k=k, ed_tolerance=tol)["wall_s"]
                   for _ in range(spec["reps"] - 1)]
     wall = min(walls)
-    run = first["run"]
+    run = first["outcome"]
     message, hit_time = emulator_hit(first)
     row = {"series": spec["series"], "engine": "emulator", "method": "listing scheme",
            "precision": precision, "k": k, "h_s": H0 / 2**k, "ed_tolerance": tol,
            "status": first["status"], "guard": first["guard"], "error": first["error"],
            "hit": message, "hit_time_s": hit_time, "reference": f"k = {k}",
            "wall_s": wall, "wall_reps_s": " ".join(f"{w:.4f}" for w in walls), "reps": len(walls),
-           "steps": len(run.trace)}
+           "steps": run.accepted_steps()[0].size}
     if first["status"] == "hit":
         row.update(_emulator_errors(run, hit_time, reference(deck_path, k)))
         ref0 = _emulator_errors(run, hit_time, reference(deck_path, 0))
@@ -217,7 +216,8 @@ def _task_core(spec):
     res = first["result"]
     if res is not None:
         errs = _core_errors(res, ref)
-        row.update(errs, hit=res.hit_message or "", hit_time_s=res.hit_time_s, nfev=res.nfev)
+        row.update(errs, hit=res.hit_message or "", hit_time_s=res.hit_time_s,
+                   nfev=res.evaluations)
         row.update(err_traj_ref0_ft=errs["err_traj_ft"], err_hit_time_ref0_s=errs["err_hit_time_s"],
                    err_R_ref0_ft=errs["err_R_ft"])
     return row

@@ -153,14 +153,14 @@ def _task(spec: dict) -> dict:
 def _task_emulator(spec, deck) -> dict:
     out = run_emulator(deck, k=spec["k"], tha_start=spec["tha"], limits=LIMITS, errata=ERRATA,
                        ed_tolerance=spec["ed_tolerance"])
-    run = out["run"]
+    run = out["outcome"]
     t, xyz = emulator_trajectory(run)
     message, hit_time = emulator_hit(out)
     release = next((e.time_s for e in run.events if e.kind is EventKind.LOST_VEHICLE), None)
     row = {"emulator_status": out["status"], "emulator_guard": out["guard"],
            "emulator_error": out["error"], "emulator_hit": message, "emulator_hit_time_s": hit_time,
            "emulator_vehicle_contact_lost_s": release, "emulator_wall_s": out["wall_s"],
-           "emulator_steps": len(run.trace), "_t": t, "_xyz": xyz}
+           "emulator_steps": t.size, "_t": t, "_xyz": xyz}
     e = energies(out)
     row["emulator_launch_ke_ftlb"], row["emulator_free_flight_energy_drift"] = e["launch_ke_ftlb"], e["free_drift"]
     return row
@@ -189,29 +189,32 @@ def _task_core(spec, deck) -> dict:
     res = out["result"]
     row = {"core_status": out["status"], "core_error": out["error"], "core_wall_s": out["wall_s"],
            "core_warnings": out["warnings"],
-           "core_notes": "; ".join(getattr(res, "notes", ())) if res is not None else ""}
+           "core_notes": "; ".join(res.notes) if res is not None else ""}
     # the same scene under the physical preset, beside the legacy one
     phys = run_core(scene, PHYSICAL, rtol=CORE_RTOL, t_max_s=CORE_T_MAX_S)
     pres = phys["result"]
     row.update(physical_status=phys["status"], physical_error=phys["error"],
                physical_hit=pres.hit_message or "" if pres is not None else "",
                physical_hit_time_s=pres.hit_time_s if pres is not None else None,
-               physical_notes="; ".join(getattr(pres, "notes", ())) if pres is not None else "")
+               physical_notes="; ".join(pres.notes) if pres is not None else "")
     if res is not None:
         e = energies(out)
         row.update(core_hit=res.hit_message or "", core_hit_time_s=res.hit_time_s,
-                   core_vehicle_contact_lost_s=res.vehicle_contact_lost_s, core_nfev=res.nfev,
+                   core_vehicle_contact_lost_s=res.vehicle_contact_lost_s,
+                   core_nfev=res.evaluations,
                    core_launch_ke_ftlb=e["launch_ke_ftlb"], core_free_flight_energy_drift=e["free_drift"])
-        traj = res.trajectory
+        t_start, t_stop = res.span
         if res.vehicle_contact_lost_s is not None:
             depth = res.scene.environment.ground_depth_ft
             row["core_lowest_at_release_ft"] = min(
-                float(traj.point(p, res.vehicle_contact_lost_s)[2]) + depth for p in traj.point_names)
-        t_end = min(res.end_time_s, traj.t_end)
-        row["core_base_travel_ft"] = float(traj.point("Q", t_end)[0] - traj.point("Q", traj.t_start)[0])
+                float(res.position(p, res.vehicle_contact_lost_s)[2]) + depth
+                for p in res.point_names)
+        t_end = min(res.end_s, t_stop)
+        row["core_base_travel_ft"] = float(res.position("Q", t_end)[0]
+                                           - res.position("Q", t_start)[0])
         # the core's mass centre on a fine grid, for the distance to the emulator's steps
-        grid = np.linspace(traj.t_start, traj.t_end, 4001)
-        row["_grid"], row["_cm"] = grid, traj.mass_centre(grid)
+        grid = np.linspace(t_start, t_stop, 4001)
+        row["_grid"], row["_cm"] = grid, res.position("CM", grid)
     return row
 
 

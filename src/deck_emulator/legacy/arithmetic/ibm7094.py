@@ -581,7 +581,7 @@ def _sincos_libm(x: Word, want_cos: bool, nearest: bool) -> Word | None:
     """The word for sin or cos of x decided from the binary64 library value, or None when the
     interval of relative width _LIBM_MARGIN around it does not chop (round) to one word: then
     the exact computation decides (the same Ziv test as _sincos_word, with a cheaper first
-    approximation; tests/test_ibm7094.py checks the two against each other)."""
+    approximation; tests/legacy/test_ibm7094.py checks the two against each other)."""
     xf = float(x)  # exact
     v = math.cos(xf) if want_cos else math.sin(xf)
     if not 2.0**-120 < abs(v) < 2.0**120:  # near the words' range (and 0): the exact way

@@ -1,0 +1,148 @@
+"""Many core scenes at once: ``CoreEngine.run_batch`` gives what ``run`` gives scene by scene
+(the single-scene path is the reference), one scene's failure spoils no other, and the one
+plug-in point (``_simulate_many``) hands the whole batch to a batched solver when the core has
+one, falling back to the reference path when that solver cannot take the batch."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import deck_emulator.core as core
+from deck_emulator.decks import path as deck_path
+from deck_emulator.engine import CoreEngine, quantities
+from deck_emulator.legacy.deck import read_deck
+
+
+def _scenes():
+    """A few decks and one typed scene: the report's steel post at 40 mph, 20 mph at 15 deg,
+    40 mph at 30 deg, and the twin-arm assembly (a scene with a second luminaire)."""
+    from deck_emulator.core.assembly import load_assembly, mass_properties
+    from deck_emulator.engine.assemblies import to_scene
+
+    asm, _, _ = load_assembly("twin")
+    twin = to_scene(asm, mass_properties(asm), template="steel40")
+    return [read_deck(deck_path(n)) for n in ("steel40", "steel20_a15", "steel40_a30")] + [twin]
+
+
+def _same(a, b):
+    """Two outcomes of the same scene agree in everything the studies read: name, scene,
+    error, events, hit, every registry quantity, terminal points and the sampled arrays."""
+    assert a.name == b.name and a.scene == b.scene and a.error == b.error
+    assert a.settings == b.settings and a.hit_message == b.hit_message
+    assert a.events == b.events
+    qa, qb = quantities.values(a, quantities.names()), quantities.values(b, quantities.names())
+    assert qa.keys() == qb.keys()
+    for k in qa:
+        x, y = qa[k], qb[k]
+        assert (x is None) == (y is None), k
+        if x is not None:
+            assert x == y or (math.isnan(x) and math.isnan(y)), k
+    assert a.terminal == b.terminal
+    if a.t is not None or b.t is not None:
+        assert np.array_equal(a.t, b.t)
+        assert a.points.keys() == b.points.keys()
+        for k in a.points:
+            assert np.array_equal(a.points[k], b.points[k], equal_nan=True), k
+
+
+@pytest.mark.parametrize("trace", [False, True])
+def test_run_batch_is_run_scene_by_scene(trace):
+    engine = CoreEngine(trace=trace, batched=False)
+    scenes = _scenes()
+    names = ["a", "", "c", "twin"]
+    one_by_one = [engine.run(s, name=n) for s, n in zip(scenes, names)]
+    together = engine.run_batch(scenes, names=names)
+    assert len(together) == len(scenes)
+    assert [o.name for o in together] == ["a", "steel20_a15", "c", "twin"]
+    assert all(o.error is None and o.hit is not None for o in together)
+    for a, b in zip(together, one_by_one):
+        _same(a, b)
+        assert a.run_s > 0
+
+
+def test_one_bad_scene_spoils_no_other():
+    """A deck the core refuses (W = 0: no post mass) between two good ones: its outcome says
+    why, as ``run``'s does, and its neighbours are whole."""
+    good = read_deck(deck_path("steel40"))
+    bad = good.with_values(W=0.0)
+    # the reference path, so that the neighbours can be compared with ``run`` exactly (the
+    # compiled batch agrees with it within tolerances: tests/core/test_core_batch.py)
+    engine = CoreEngine(trace=False, batched=False)
+    got = engine.run_batch([good, bad, good])
+    alone = engine.run(bad)
+    assert got[1].error is not None and "post mass must be positive" in got[1].error
+    assert got[1].error == alone.error and got[1].scene == alone.scene
+    _same(got[0], engine.run(good))
+    _same(got[2], got[0])
+    assert engine.run_batch([]) == []
+    with pytest.raises(ValueError, match="2 names for 1 scenes"):
+        engine.run_batch([good], names=["a", "b"])
+
+
+def test_a_run_that_fails_in_the_solver_is_kept_as_run_keeps_it(monkeypatch):
+    """A run the core ends with CoreError (here its wall-time bound, as test_core_outcomes
+    sets it) is an outcome with that error in the batch too."""
+    engine = CoreEngine(trace=False, max_wall_s=1e-9, batched=False)
+    decks = _scenes()[:2]
+    got = engine.run_batch(decks)
+    assert all(o.error and o.error.startswith("CoreError") for o in got)
+    assert [o.error.split(":")[0] for o in got] == [engine.run(d).error.split(":")[0]
+                                                     for d in decks]
+
+
+def _reference_batch(calls):
+    """A stand-in for the compiled ``simulate_batch`` with its signature, whose answers are
+    the reference path's own (so the outcomes must equal ``run``'s), recording its calls."""
+
+    def simulate_batch(scenes, options, *, rtol, atol, t_max_s=None):
+        calls.append((len(scenes), options, rtol, atol, t_max_s))
+        bounds = {} if t_max_s is None else {"t_max_s": t_max_s}
+        out = []
+        for s in scenes:
+            try:
+                out.append(core.simulate(s, options, rtol=rtol, atol=atol, **bounds))
+            except core.CoreError as exc:
+                out.append(exc)
+        return out
+
+    return simulate_batch
+
+
+def test_the_plug_in_point_hands_the_whole_batch_to_a_batched_core(monkeypatch):
+    calls = []
+    monkeypatch.setattr(core, "simulate_batch", _reference_batch(calls), raising=False)
+    good = read_deck(deck_path("steel40"))
+    decks = [good, good.with_values(W=0.0), read_deck(deck_path("steel20_a15"))]
+    engine = CoreEngine(trace=False)  # batched=None: the batched core, since it is there
+    got = engine.run_batch(decks)
+    assert len(calls) == 1 and calls[0][0] == 2  # one call; the refused scene never reaches it
+    assert calls[0][1] == engine.model_options()
+    reference = CoreEngine(trace=False, batched=False)
+    for a, d in zip(got, decks):
+        _same(a, reference.run(d))
+    # batched=False, or a method of solve_ivp's own, keeps the reference path
+    calls.clear()
+    CoreEngine(trace=False, batched=False).run_batch(decks)
+    CoreEngine(trace=False, method="DOP853").run_batch(decks[:1])
+    assert calls == []
+
+
+def test_a_batch_the_batched_core_refuses_runs_on_the_reference_path(monkeypatch):
+    def refuses(scenes, options, **kw):
+        raise core.CoreError("this batch is beyond me")
+
+    monkeypatch.setattr(core, "simulate_batch", refuses, raising=False)
+    decks = _scenes()[:2]
+    got = CoreEngine(trace=False).run_batch(decks)
+    reference = CoreEngine(trace=False, batched=False)
+    for a, d in zip(got, decks):
+        _same(a, reference.run(d))
+
+
+def test_batched_true_without_a_batched_core_says_so(monkeypatch):
+    monkeypatch.setattr(core, "simulate_batch", None, raising=False)  # as if not there
+    with pytest.raises(ValueError, match="no simulate_batch"):
+        CoreEngine(batched=True).run_batch([read_deck(deck_path("steel40"))])

@@ -1,0 +1,182 @@
+"""The report page's evidence -- the candidate readings of ΔV (registry quantities),
+the provenance of every column, the cells that equal an input or a symmetry, and the two
+doubtful cells of the source. Every expected value is a hand computation or the report's
+printed number, never the implementation's output."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from deck_emulator.engine.outcome import Outcome
+from deck_emulator.engine.quantities import QUANTITIES, value
+from deck_emulator.vocabulary.events import Event, EventKind
+
+MPH = 88.0 / 60.0  # ft/s in one mph (written out: the hand computation's own factor)
+
+
+def _hand_outcome(events, t=(0.0, 0.01, 0.02, 0.03), vv=(-58.66, -58.0, -57.0, -56.5)):
+    return Outcome("emulator", "hand", t=np.array(t), vv=np.array(vv), events=list(events))
+
+
+def test_first_spring_delta_v_reads_the_cars_speed_at_the_event():
+    """A hand-built history: the car at -58.66 ft/s, -57.0 ft/s at 20 ms when the post loses
+    the first spring: 1.66 ft/s lost = 1.66 / (88/60) mph."""
+    out = _hand_outcome([Event(EventKind.LOST_FIRST_SPRING, 0.02)])
+    assert value("delta_v_first_spring_mph", out) == pytest.approx(1.66 / MPH, abs=1e-12)
+
+
+def test_first_spring_delta_v_between_two_samples_is_linear():
+    """At 15 ms, halfway between -58.0 and -57.0 ft/s: -57.5, so 1.16 ft/s lost."""
+    out = _hand_outcome([Event(EventKind.LOST_FIRST_SPRING, 0.015)])
+    assert value("delta_v_first_spring_mph", out) == pytest.approx(1.16 / MPH, abs=1e-12)
+
+
+def test_first_spring_delta_v_is_none_without_the_event_or_outside_the_run():
+    assert value("delta_v_first_spring_mph", _hand_outcome([])) is None
+    late = _hand_outcome([Event(EventKind.LOST_FIRST_SPRING, 0.5)])
+    assert value("delta_v_first_spring_mph", late) is None
+
+
+def test_the_three_delta_v_readings_are_registry_quantities_in_mph():
+    from report.full import DECEL_CANDIDATES, DELTA_V_CANDIDATES
+
+    for name in DELTA_V_CANDIDATES:
+        assert QUANTITIES[name].unit == "mph" and name.endswith("_mph")
+    for name in DECEL_CANDIDATES:
+        assert QUANTITIES[name].unit == "g" and name.endswith("_g")
+
+
+# ------------------------------------------------------------------------------ provenance
+
+
+def test_provenance_covers_every_column_and_the_crash_test():
+    from report.full import provenance
+    from deck_emulator.studies.report_tables import CASES_ALL
+
+    for col in list(CASES_ALL) + ["crash_test"]:
+        p = provenance(col)
+        assert {"deck", "description", "fitted", "assumed", "prediction", "why"} <= set(p)
+    # no Table 11-12 column is a prediction; the crash test is one
+    assert not any(provenance(c)["prediction"] for c in CASES_ALL)
+    assert provenance("crash_test")["prediction"]
+
+
+@pytest.mark.parametrize("post, nominal_ft", [("aluminium", 30.0), ("twin", 27.75)])
+def test_what_is_called_fitted_was_read_off_the_tables(post, nominal_ft):
+    """The shipped |PQ| is the tables' own (the mean over the post's six columns, computed
+    here from the printed P and Q by hand), not the text's nominal length: so it is listed as
+    fitted."""
+    from deck_emulator.core.assembly import load_assembly
+    from report.full import PROVENANCE
+    from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL
+
+    pq = [math.dist([REPORT_ALL[c][f"{a}PL"] for a in "XYZ"],
+                    [REPORT_ALL[c][f"{a}QL"] for a in "XYZ"])
+          for c in CASES_ALL if CASES_ALL[c][0] == post]
+    asm, _, _ = load_assembly(post)
+    shipped = asm.shaft.length_ft
+    assert abs(shipped - sum(pq) / len(pq)) < 0.05 < abs(shipped - nominal_ft)
+    assert "|PQ|" in PROVENANCE[post]["fitted"]
+
+
+def test_twin_at_zero_degrees_marks_inputs_and_symmetry_not_matches():
+    from report.full import cell_kind
+
+    for col in ("twin20", "twin40"):
+        assert cell_kind(col, "YRL") == cell_kind(col, "YUL") == "input"
+        assert cell_kind(col, "YPL") == cell_kind(col, "YQL") == "symmetry"
+        assert cell_kind(col, "XPL") is None and cell_kind(col, "XQL") is None
+    # the angled twin columns are tests (no symmetry), but for the hitting point's height
+    assert cell_kind("twin40_a15", "YRL") is None
+    assert cell_kind("twin40_a15", "ZRL") == "end condition"
+    # single-arm posts: only the hitting point's height, and only where it hits the ground
+    assert cell_kind("aluminium40_a30", "ZPL") == "end condition"  # 'WITH POINT P'
+    assert cell_kind("aluminium40_a30", "ZRL") is None
+    assert cell_kind("steel20", "ZQL") is None  # hits the car: no end condition in ZL
+    assert cell_kind("steel40", "YRL") is None
+
+
+# ---------------------------------------------------------------------- doubtful cells
+
+
+def test_both_readings_of_00_39_by_hand():
+    """Table 11 aluminium 0°: P (-0.48, -6.39, 6.90), Q (-29.09, y, 3.76). By hand:
+    dx = 28.61, dz = 3.14; y = +0.39: dy = -6.78, |PQ|² = 818.5321 + 9.8596 + 45.9684;
+    y = -0.39: dy = -6.00, |PQ|² = 818.5321 + 9.8596 + 36.0."""
+    from report.full import rigid_distances
+
+    assert rigid_distances("aluminium20")["PQ"] == pytest.approx(math.sqrt(874.3601), abs=1e-9)
+    assert rigid_distances("aluminium20", {"YQL": -0.39})["PQ"] == pytest.approx(
+        math.sqrt(864.3917), abs=1e-9)
+
+
+def test_the_rigid_body_reading_of_a_cell_restores_the_distances():
+    """The fitted YRL of aluminium 20 mph 15° makes |PR| and |QR| what the post's other
+    columns keep (checked by recomputing both distances, not by the fitted number)."""
+    from report.full import as_rigid_body_requires, rigid_distances
+
+    fit = as_rigid_body_requires("aluminium20_a15", "YRL")
+    d = rigid_distances("aluminium20_a15", {"YRL": fit["value"]})
+    assert abs(d["PR"] - fit["means"]["PR"]) < 0.05
+    assert abs(d["QR"] - fit["means"]["QR"]) < 0.05
+    printed = rigid_distances("aluminium20_a15")
+    assert abs(printed["PR"] - fit["means"]["PR"]) > 0.3  # the printed R is off (0.4 ft)
+
+
+# ------------------------------------------------------------------ Table 9's HIT, Table 10
+
+
+def test_hit_by_hand_from_the_reports_model_state():
+    """HIT read as the car's front to the post's top: XCM + (9 - 4.63) sin θ + SV, the post's
+    length and mass centre from section 5.2 (9 ft, 4.63 ft); the report's model at 273 ms:
+    θ 121°, XCM -7.61 (Table 8's sign), SV 11.5 ft."""
+    from report.page import hit_ft
+
+    by_hand = -7.61 + 4.37 * math.sin(math.radians(121.0)) + 11.5
+    assert hit_ft(-7.61, 121.0, 11.5) == pytest.approx(by_hand, abs=1e-12)
+    assert abs(by_hand - 7.55) < 0.1  # the report's printed HIT: the reading is near it
+
+
+def test_the_two_number_solution_reproduces_table_10s_contact_and_spin():
+    """The solved spring and impact height, run again, lose contact at the report's 71.8 ms
+    with its θ̇ 12.50 rad/s (Table 10's printed model column)."""
+    from deck_emulator.studies import crash_test as ct
+    from report.page import table10_search
+
+    got = table10_search({"search": "two"})
+    ku, s = got["x"]
+    _, loss, _ = ct.table10(ct.crash_scene(impact_height_ft=s,
+                                           unloading_stiffness_lb_per_ft=[ku, ku]))
+    assert loss["time_ms"] == pytest.approx(71.8, abs=0.05)
+    assert loss["thetadot_rad_s"] == pytest.approx(12.50, abs=0.005)
+    assert ku < 12000.0  # softer than either of section 5.2's unloading stiffnesses
+
+
+def test_section_5_2s_spring_reaches_no_pair_of_table_10s_numbers():
+    """Over the grid of impact heights, with Figure 17's stiffnesses, no run loses contact
+    within 5 ms of 71.8 with θ̇ within 1 rad/s of 12.50 (the report's model)."""
+    from report.page import table10_search
+
+    rows = table10_search({"search": "grid"})["rows"]
+    assert len(rows) == 12
+    for r in rows:
+        lo = r["loss"]
+        assert lo is not None
+        assert not (abs(lo["time_ms"] - 71.8) <= 5.0 and abs(lo["thetadot_rad_s"] - 12.50) <= 1.0)
+
+
+def test_geometry_is_named_only_where_the_base_weight_moves_a_quantity_by_the_miss():
+    """A hand-built set of base-weight runs of twin at 20 mph whose end spans 1.000-1.010 s
+    (10 ms): a 5 ms miss is within it, a 50 ms miss is not (and is then unexplained)."""
+    from report.page import BASE_VARIANTS, cause, geometry_cause
+
+    geo = {("twin", label, 20): {"hit_time_s": 1.0 + 0.0025 * i}
+           for i, label in enumerate(BASE_VARIANTS)}
+    assert geometry_cause(geo, "twin20_a30", "time_ms", 5.0).startswith("geometry inferred")
+    assert "10 ms" in geometry_cause(geo, "twin20_a30", "time_ms", 5.0)
+    assert geometry_cause(geo, "twin20_a30", "time_ms", -50.0).startswith("more than")
+    # twin20_a30 ends on the ground (no shaft-on-car cause): a 50 ms miss is unexplained
+    assert cause("twin20_a30", "time_ms", 992.0, 942.0, geo).endswith("unexplained")

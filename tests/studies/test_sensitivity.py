@@ -1,0 +1,198 @@
+"""Sobol indices: the analysis recovers the Ishigami function's closed-form indices through the
+same path the engines take (sample -> run_scenes on Dask -> store -> SALib); the inputs and the
+one engine adapter."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from deck_emulator.studies import sensitivity as sa
+
+# Independent source: the closed form (Ishigami and Homma 1990), a = 7, b = 0.1, as tabulated
+# in the literature (e.g. Saltelli et al., Global Sensitivity Analysis: The Primer, 2008).
+ISHIGAMI = {
+    "S1": {"x1": 0.3139, "x2": 0.4424, "x3": 0.0},
+    "ST": {"x1": 0.5576, "x2": 0.4424, "x3": 0.2437},
+}
+
+
+def test_closed_form_matches_the_published_values():
+    got = sa.ishigami_indices(7.0, 0.1)
+    for kind in ("S1", "ST"):
+        for k, v in ISHIGAMI[kind].items():
+            assert got[kind][k] == pytest.approx(v, abs=6e-5)
+
+
+def test_ishigami_indices_are_recovered_within_their_confidence_intervals(tmp_path):
+    problem = {"num_vars": 3, "names": ["x1", "x2", "x3"], "bounds": [[-math.pi, math.pi]] * 3}
+    study = sa.run_study(
+        problem, 1024, sa.ishigami_task, base_task={"a": 7.0, "b": 0.1}, outputs=["y"],
+        store_dir=tmp_path / "s", jobs=2, digits=False, progress=False, chunk=256,
+    )
+    assert len(study.store.rows()) == 1024 * 5
+    rows = [r for r in study.indices if r["N"] == 1024]
+    assert len(rows) == 3
+    for r in rows:
+        for kind in ("S1", "ST"):
+            truth = ISHIGAMI[kind][r["input"]]
+            conf = r[f"{kind}_conf"]
+            assert 0 < conf < 0.1, (r["input"], kind, conf)
+            assert abs(r[kind] - truth) <= conf, (r["input"], kind, r[kind], conf, truth)
+    # the half sample is reported too, with wider intervals on the whole
+    half = [r for r in study.indices if r["N"] == 512]
+    assert sum(r["ST_conf"] for r in half) > sum(r["ST_conf"] for r in rows)
+
+
+def test_friction_inputs_exist_only_on_the_core():
+    inputs, notes = sa.choose_inputs("core", [])
+    assert [i.name for i in inputs] == [i.name for i in sa.DEFAULT_INPUTS]
+    assert notes == []
+    inputs, notes = sa.choose_inputs("emulator", [])
+    assert "friction_lb" not in [i.name for i in inputs] and "CK" in [i.name for i in inputs]
+    assert notes and "no field" in notes[0]
+    with pytest.raises(ValueError, match="no base-friction field"):
+        sa.choose_inputs("emulator", [sa.parse_input("friction_lb=500:900")])
+
+
+def test_input_ranges_are_parsed_and_checked():
+    r = sa.parse_input("HTV=-16:-14.5")
+    assert (r.name, r.low, r.high) == ("HTV", -16.0, -14.5)
+    for bad in ("HTV=1", "HTV=2:1", "NOPE=1:2", "CK"):
+        with pytest.raises(ValueError):
+            sa.parse_input(bad)
+    inputs, _ = sa.choose_inputs("core", [sa.parse_input("CK=1000:2000")], defaults=False)
+    assert [(i.name, i.low, i.high) for i in inputs] == [("CK", 1000.0, 2000.0)]
+
+
+def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
+    plain = sa.outcomes_of(sa._run_scene({}, "core", "legacy", "steel40"))
+    nominal = sa.outcomes_of(
+        sa._run_scene(
+            {"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333},
+            "core", "legacy", "steel40",
+        )
+    )
+    changed = sa.outcomes_of(sa._run_scene({"friction_lb": 465.0}, "core", "legacy", "steel40"))
+    for k in sa.OUTCOMES:
+        assert nominal[k] == pytest.approx(plain[k], rel=1e-9, abs=1e-12), k
+    assert changed["delta_v_contact_mph"] != pytest.approx(plain["delta_v_contact_mph"], rel=1e-6)
+
+
+def test_a_batch_of_scenes_gives_each_its_own_outcomes():
+    """The worker's batch function (the core's scenes through CoreEngine.run_batch, grouped by
+    engine: the friction inputs make another engine) gives every task what scene_task gives it
+    alone; an unknown input fails its task only."""
+    base = {"deck": "steel40", "engine": "core", "preset": "legacy"}
+    tasks = [{**base, "inputs": {"WV": 80.0}},
+             {**base, "inputs": {"friction_lb": 700.0, "CK": 30000.0}},
+             {**base, "inputs": {"NOPE": 1.0}},
+             {**base, "inputs": {"WV": 120.0, "FCONST": 9000.0}},
+             {**base, "engine": "emulator", "inputs": {"WV": 90.0}}]
+    together = sa.scene_tasks(tasks)
+    assert isinstance(together[2], ValueError) and "NOPE" in str(together[2])
+    for i, task in enumerate(tasks):
+        if i == 2:
+            continue
+        a, b = dict(together[i]), dict(sa.scene_task(task))
+        assert a.pop("engine_run_s") > 0 and b.pop("engine_run_s") > 0
+        assert a == b and a["engine_error"] == "" and a["hit_surface"] != "NONE", i
+    assert together[0]["delta_v_crush_mph"] != together[3]["delta_v_crush_mph"]
+
+
+def test_subcommand_registers():
+    from deck_emulator.cli import build_parser
+
+    args = build_parser().parse_args(
+        ["sensitivity", "--quick", "--engine", "core", "--input", "HTV=-16:-14", "--deck",
+         "steel20", "--deck", "steel40", "--scheduler", "tcp://h:8786", "--resume", "--out", "d"]
+    )
+    assert args.quick and args.resume and args.deck == ["steel20", "steel40"]
+    assert args.scheduler == "tcp://h:8786" and args.command == "sensitivity"
+
+
+def test_the_confidence_intervals_are_the_same_at_every_run():
+    """The bootstrap of the intervals is seeded from the study's seed, the default 0 included
+    (SALib takes a seed of 0 as none)."""
+    import numpy as np
+
+    from deck_emulator.studies.sensitivity import DEFAULT_INPUTS, analyse, problem_for, sample
+
+    problem = problem_for(DEFAULT_INPUTS[:3])
+    X = sample(problem, 16, seed=0)
+    Y = {"y": X[:, 0] + 2 * X[:, 1] ** 2 / X[:, 1].max()}
+    first, second = (analyse(problem, Y, [16], seed=0) for _ in range(2))
+    assert [r["S1_conf"] for r in first] == [r["S1_conf"] for r in second]
+    assert all(np.isfinite(r["S1_conf"]) for r in first)
+
+
+# ---- options checked before any work; the same seed, the same bytes ---------
+
+
+@pytest.mark.parametrize("n,seed,needle", [
+    (0, 0, "power of two"), (3, 0, "power of two"), (1, 0, "power of two"),
+    (-4, 0, "power of two"), (1 << 20, 0, "at most"), (16, -1, "seed"),
+])
+def test_n_and_seed_are_checked(n, seed, needle):
+    with pytest.raises(ValueError, match=needle) as info:
+        sa.check_options(n, seed)
+    assert "\n" not in str(info.value)
+
+
+def test_good_n_and_seed_pass():
+    for n in (None, 2, 16, 256, 1024, sa.MAX_N):  # 1024: the issue's 8,192-scene study
+        sa.check_options(n, 0)
+    sa.check_options(16, 12345)
+
+
+@pytest.mark.parametrize("text", ["W=-inf:inf", "W=nan:1", "W=0:inf"])
+def test_input_bounds_must_be_finite(text):
+    with pytest.raises(ValueError, match="finite"):
+        sa.parse_input(text)
+
+
+@pytest.mark.parametrize("extra", [["-N", "0"], ["-N", "3"], ["--seed", "-1"],
+                                   ["--input", "W=-inf:inf"]])
+def test_bad_options_exit_2_and_write_nothing(tmp_path, capsys, extra):
+    from deck_emulator.cli import main
+
+    out = tmp_path / "study"
+    assert main(["sensitivity", *extra, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_a_missing_parent_folder_is_refused(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    assert main(["sensitivity", "--out", str(tmp_path / "a" / "missing" / "d")]) == 2
+    assert not (tmp_path / "a").exists()
+    assert "does not exist" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("seed", [0, 7])
+def test_the_same_seed_gives_byte_identical_tables(tmp_path, seed):
+    problem = {"num_vars": 3, "names": ["x1", "x2", "x3"], "bounds": [[-math.pi, math.pi]] * 3}
+    tables = []
+    for k, jobs in enumerate((1, 2)):  # other workers, other order of finishing
+        st = sa.run_study(problem, 32, sa.ishigami_task, base_task={"a": 7.0, "b": 0.1},
+                          outputs=["y"], store_dir=tmp_path / f"s{k}", seed=seed, jobs=jobs,
+                          digits=False, progress=False)
+        tables.append(sa.indices_csv([{**r, "deck": "-", "engine": "-"} for r in st.indices]))
+    assert tables[0] == tables[1]
+    assert "nan" not in tables[0].lower()
+
+
+def test_a_study_whose_every_scene_fails_exits_3_without_tables(tmp_path, capsys):
+    from deck_emulator.cli import main
+
+    out = tmp_path / "study"
+    # a post of negative mass: the core refuses every scene of the range
+    code = main(["sensitivity", "-N", "2", "--only", "--input", "W=-1:-0.5", "--jobs", "1",
+                 "--out", str(out)])
+    assert code == 3
+    err = capsys.readouterr().err
+    assert "every scene failed" in err and "mass must be positive" in err
+    assert not (out / "sensitivity.csv").exists() and not (out / "sensitivity.md").exists()

@@ -1,0 +1,204 @@
+"""The parameter study: the scenes' decks, the CSV's rows and columns, the Markdown tables."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from pathlib import Path
+
+import pytest
+
+from deck_emulator.studies import sweep
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.studies.report_tables import REPORT
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_grid_parsing():
+    assert sweep.parse_grid("20,40") == [20.0, 40.0]
+    assert sweep.parse_grid("0:45:5") == [float(a) for a in range(0, 50, 5)]
+    assert sweep.parse_grid("10,20:40:10, 10") == [10.0, 20.0, 30.0, 40.0]
+    for bad in ("", "1:2", "0:10:0", "x"):
+        with pytest.raises(ValueError):
+            sweep.parse_grid(bad)
+
+
+def test_speed_and_angle_are_punched_as_the_report_decks_are():
+    assert sweep.vvb_for(40) == -58.66  # the report's deck: 58.667 cut to two decimals
+    assert sweep.vvb_for(20) == -29.33
+    assert sweep.vvb_for(10) == -14.66
+    assert sweep.vvb_for(40, decimals=5) == -58.66666
+    assert sweep.alpha_for(15) == 0.2618 and sweep.alpha_for(30) == 0.5236
+
+
+@pytest.mark.parametrize("name", sorted(REPORT))
+def test_the_report_cases_are_exactly_the_decks(name):
+    speed, angle = {
+        "steel40": (40, 0),
+        "steel40_a15": (40, 15),
+        "steel40_a30": (40, 30),
+        "steel20": (20, 0),
+        "steel20_a15": (20, 15),
+        "steel20_a30": (20, 30),
+    }[name]
+    base = read_deck(ROOT / "decks" / "steel40.dat")
+    assert sweep.scene_name(speed, angle) == name
+    assert (
+        sweep.scene_deck(base, speed, angle).values
+        == read_deck(ROOT / "decks" / f"{name}.dat").values
+    )
+
+
+def _parser():
+    from deck_emulator.cli import build_parser
+
+    parser = build_parser()
+    return parser
+
+
+@pytest.fixture(scope="module")
+def small_sweep(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sweep")
+    args = _parser().parse_args(
+        [
+            "sweep",
+            "--post",
+            "steel",
+            "--speeds",
+            "30,40",
+            "--angles",
+            "0,15",
+            "--jobs",
+            "2",
+            "--erratum",
+            "ed-direction",
+            "--out",
+            str(out),
+        ]
+    )
+    assert args.func(args) == 0
+    return out
+
+
+def test_csv_has_a_row_per_scene_and_every_column(small_sweep):
+    text = (small_sweep / "sweep.csv").read_text()
+    rows = list(csv.DictReader(io.StringIO(text)))
+    assert len(rows) == 4
+    assert tuple(rows[0].keys()) == sweep.COLUMNS
+    assert [(float(r["speed_mph"]), float(r["angle_deg"])) for r in rows] == [
+        (30, 0),
+        (30, 15),
+        (40, 0),
+        (40, 15),
+    ]
+    for col in (
+        "hit",
+        "delta_v_crush_mph",
+        "delta_v_contact_mph",
+        "max_decel_g",
+        "XPL",
+        "ZQL",
+        "hit_time_s",
+        "hit_surface",
+        "report_time_to_hit_ground_ms",
+        "oiv_m_s",
+        "ora_g",
+        "body_clearance_ft",
+        "roof_clearance_ft",
+        "errata",
+        "report_XPL",
+        "diff_XPL",
+    ):
+        assert col in rows[0]
+    # each quantity once, in one unit: the hit's time in s (the report's own rows keep ms)
+    assert "time_to_hit_ground_ms" not in rows[0] and "time_to_hit_car_ms" not in rows[0]
+    for r in rows:
+        assert r["engine"] == "emulator" and r["error"] == ""
+        assert r["hit"].startswith("hit ")
+        assert float(r["VVB_ft_s"]) == sweep.vvb_for(float(r["speed_mph"]))
+        assert math.isclose(float(r["ALPHA_rad"]), sweep.alpha_for(float(r["angle_deg"])))
+        # the erratum as requested on the command line, for every scene
+        assert r["errata"] == "ed-direction"
+        assert "errata: ed-direction" in r["settings"]
+        assert 0 < float(r["oiv_m_s"]) < 3.0
+    by = {r["scene"]: r for r in rows}
+    # the report has 40 mph / 0 and 15 degrees, not 30 mph
+    assert by["steel40"]["report_XQL"] == repr(REPORT["steel40"]["XQL"])
+    d = float(by["steel40"]["XQL"]) - REPORT["steel40"]["XQL"]
+    assert float(by["steel40"]["diff_XQL"]) == pytest.approx(d)
+    assert by["steel40_a15"]["report_time_to_hit_ground_ms"] != ""
+    assert all(by["steel30"][c] == "" for c in by["steel30"] if c.startswith(("report_", "diff_")))
+
+
+def test_markdown_is_laid_out_like_tables_11_and_12(small_sweep):
+    md = (small_sweep / "sweep.md").read_text()
+    assert "## 30 mph" in md and "## 40 mph" in md
+    assert "| APPROACH ANGLE α (DEG) | 0 | 15 |" in md
+    for label in (
+        "DECREASE IN VEHICLE VELOCITY (MPH)",
+        "MAXIMUM VEHICLE DECELERATION",
+        "XPL (FT)",
+        "ZQL (FT)",
+        "TIME TO HIT CAR (MILLISEC)",
+        "TIME TO HIT GROUND (MILLISEC)",
+        "COMMENTS",
+        "OIV m/s",
+        "ORA g",
+        "least clearance over roof/windshield",
+        "post's line first inside the car outline",
+    ):
+        assert label in md
+    # 40 mph, 0 degrees: "ours (report, diff)"
+    row = next(l for l in md.splitlines() if l.startswith("| XQL (FT)") and "(-40.60" in l)
+    assert "(-40.60, " in row
+    assert "ed-direction¹" in md and "¹ errata applied as requested" in md
+
+
+def test_core_engine_row(tmp_path):
+    rows = sweep.sweep([40], [0], engine="core", jobs=1, quiet=True)
+    (r,) = rows
+    assert r["engine"] == "core" and r["error"] == ""
+    assert r["hit"] == "hit ground (R)" and r["comment"] == "POST HITS GROUND WITH POINT R"
+    assert r["report_XQL"] == REPORT["steel40"]["XQL"]
+    assert abs(r["diff_XQL"]) < 1.0
+    # the report's ΔV (crush-pulse end) is the smaller of the two: the car slows on after it
+    assert 0 < r["delta_v_crush_mph"] < r["delta_v_contact_mph"]
+
+
+def test_angled_scene_as_printed_stops_and_names_the_erratum():
+    (r,) = sweep.sweep([40], [15], engine="emulator", jobs=1, quiet=True)
+    assert r["errata"] == "none" and r["hit"] == ""
+    assert "ED" in r["error"]
+
+
+def test_bad_grid_is_refused_before_any_run(tmp_path):
+    from deck_emulator.errors import UsageError as CLIError
+
+    args = _parser().parse_args(
+        ["sweep", "--speeds", "0,40", "--angles", "0", "--out", str(tmp_path / "x")]
+    )
+    with pytest.raises(CLIError):
+        args.func(args)
+    assert not (tmp_path / "x").exists()
+
+
+def test_a_batch_of_scenes_gives_the_rows_of_its_scenes_one_by_one():
+    """The worker's batch (the core's scenes through CoreEngine.run_batch, the emulator's one
+    after another) gives each scene the row it gets alone; only the run times differ."""
+    base = str(ROOT / "decks" / "steel40.dat")
+    jobs = [dict(base=base, speed=float(s), angle=float(a), engine=e, options=o, post="steel",
+                 vvb_decimals=2)
+            for s, a, e, o in ((40, 0, "core", {"preset": "legacy"}),
+                               (20, 15, "emulator", {"errata": ["ed-direction"]}),
+                               (30, 15, "core", {"preset": "legacy"}),
+                               (40, 30, "core", {"preset": "physical"}))]
+    together = sweep._scene_rows(jobs)
+    alone = [sweep._scene_rows([j])[0] for j in jobs]
+    assert [r["engine"] for r in together] == ["core", "emulator", "core", "core"]
+    assert all(r["error"] == "" and r["hit"] for r in together)
+    for a, b in zip(together, alone):
+        a, b = dict(a), dict(b)
+        assert a.pop("run_s") > 0 and b.pop("run_s") > 0
+        assert a == b
