@@ -363,11 +363,10 @@ def test_command_as_printed_on_an_angle_deck_names_the_erratum(tmp_path, capsys)
 def test_command_refuses_a_non_picture_output(tmp_path):
     from deck_emulator.errors import UsageError as CLIError
 
-    args = _parser().parse_args(
-        ["plot", str(ROOT / "decks" / "steel40.dat"), "--out", str(tmp_path / "x.txt")]
-    )
-    with pytest.raises(CLIError):
-        args.func(args)
+    from deck_emulator.app import call
+
+    with pytest.raises(CLIError):  # the command's function refuses it, before any run
+        call("plot", source=str(ROOT / "decks" / "steel40.dat"), out=str(tmp_path / "x.txt"))
     assert not (tmp_path / "x.txt").exists()
 
 

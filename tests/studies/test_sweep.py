@@ -176,11 +176,10 @@ def test_angled_scene_as_printed_stops_and_names_the_erratum():
 def test_bad_grid_is_refused_before_any_run(tmp_path):
     from deck_emulator.errors import UsageError as CLIError
 
-    args = _parser().parse_args(
-        ["sweep", "--speeds", "0,40", "--angles", "0", "--out", str(tmp_path / "x")]
-    )
-    with pytest.raises(CLIError):
-        args.func(args)
+    from deck_emulator.app import call
+
+    with pytest.raises(CLIError):  # the command's function refuses it, before any run
+        call("sweep", speeds="0,40", angles="0", out=str(tmp_path / "x"))
     assert not (tmp_path / "x").exists()
 
 
