@@ -16,6 +16,7 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipj
 
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.core import (ContactMode, angular_momentum_world, assemble,
                                 attitude_angle_between, free_flight, kinetic_energy, simulate)
 from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
@@ -86,9 +87,9 @@ def test_steel40_runs_end_with_a_listing_message(runs):
         assert r.hit.message.startswith("THE POST HAS HIT THE ")
         names = [e.name for e in r.events]
         assert (
-            names.index("first spring lost")
-            < names.index("vehicle contact lost")
-            < names.index("hit")
+            names.index(EventKind.LOST_FIRST_SPRING)
+            < names.index(EventKind.LOST_VEHICLE)
+            < names.index(EventKind.HIT)
         )
         assert r.first_spring_lost_s <= r.vehicle_contact_lost_s < r.hit.time_s
         assert 0.0 < r.delta_v_contact_mph < 58.66 * 3600 / 5280
@@ -123,15 +124,15 @@ def test_contact_events_located_to_a_nanosecond(runs):
         model = assemble(r.scene, r.options)
         contact = model.components["vehicle contact"]
         for e in r.events:
-            if e.name == "hit":
+            if e.name == EventKind.HIT:
                 continue
             t = e.time_s
 
             def g(t, e=e, r=r, model=model, contact=contact):
                 kin = Kinematics(model, r.trajectory.state(t))
-                if e.name in ("first spring lost",):
+                if e.name in (EventKind.LOST_FIRST_SPRING,):
                     return contact.separation(kin, "S")
-                if e.name == "vehicle contact lost":
+                if e.name == EventKind.LOST_VEHICLE:
                     return contact.separation(kin, "T")
                 if e.name == "spring force moves to T":
                     return contact.diff(kin, "S") - r.options.spring_switch_ft

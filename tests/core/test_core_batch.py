@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from test_scene import STEEL40, steel40
 
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.core import CoreError, dop853, laws, simulate, simulate_batch
 from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core import model as core_model
@@ -55,7 +56,7 @@ def assert_same(ref, got, label=""):
         if a is not None:
             assert abs(a - b) <= tol, (label, name, a, b)
     # the crush ΔV (engine/engines.py): the car's velocity at the force cap, from the trajectory
-    cap = next((e.time_s for e in ref.events if e.name == "force cap engaged"), None)
+    cap = next((e.time_s for e in ref.events if e.name == EventKind.FORCE_CAP), None)
     if cap is not None:
         va = ref.trajectory.vehicle(cap)[1]
         vb = got.trajectory.vehicle(cap)[1]
@@ -97,7 +98,7 @@ def test_shipped_assemblies_and_crash_test_same_as_scipy():
         refs, got = both([crash], options)
         assert_same(refs[0], got[0], f"crash test {options.name}")
         assert got[0].integrator == "compiled"
-        assert "leaf spring unloads" in [e.name for e in got[0].events]
+        assert EventKind.LEAF_UNLOADS in [e.name for e in got[0].events]
 
 
 # --------------------------------------------------------------------------------------

@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 import pytest
 
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.core import CoreError, simulate
 from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core import sliding
@@ -123,7 +124,7 @@ def test_capped_spring_holds_diff_stationary_closed_form():
     assert held[0] == pytest.approx(t1, abs=1e-6)
     assert held[1] == pytest.approx(t2, abs=1e-6)
     ev = {e.name: e.time_s for e in r.events}
-    assert ev["force cap engaged"] == pytest.approx(t1, abs=1e-9)
+    assert ev[EventKind.FORCE_CAP] == pytest.approx(t1, abs=1e-9)
     assert ev["base friction ends"] == pytest.approx(t2, abs=1e-9)
 
     model = r.trajectory._model

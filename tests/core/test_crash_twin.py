@@ -5,6 +5,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.core import free_flight, simulate
 from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 
@@ -64,7 +65,7 @@ def test_leaf_spring_dissipates_the_loop_area():
     r = simulate(s, ALONE, t_max_s=0.2, rtol=1e-12, atol=1e-12)
     names = [e.name for e in r.events]
     assert "leaf spring reloads" not in names
-    t_peak = next(e.time_s for e in r.events if e.name == "leaf spring unloads")
+    t_peak = next(e.time_s for e in r.events if e.name == EventKind.LEAF_UNLOADS)
     t_lost = r.vehicle_contact_lost_s
     from deck_emulator.core.model import assemble
 

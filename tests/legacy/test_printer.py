@@ -45,3 +45,19 @@ def test_minus_zero_prints_with_its_sign_as_gfortran_does():
     printer = Printer(binary=True)
     printer.write(39, -0.0)
     assert printer.records[-1].endswith("       -0.00000")
+
+
+def test_the_listings_messages_are_the_vocabularys():
+    """Each event FORMAT of the listing prints the message the shared vocabulary's one table
+    holds for its event (the core words its events from that table, the printer from the
+    FORMATs as the listing writes them): the two agree, row for row."""
+    from deck_emulator.legacy.printer import EVENT_FORMATS, event_for, event_message
+    from deck_emulator.vocabulary.events import LOST_MESSAGES, EventKind, hit_message
+
+    for label, (kind, surface, point) in EVENT_FORMATS.items():
+        printed = event_message(event_for(label, 0.0, point or "P"))
+        if kind is EventKind.HIT:
+            expected = hit_message(surface.name, point or "P")
+        else:
+            expected = LOST_MESSAGES[kind]
+        assert printed == expected, label

@@ -17,7 +17,6 @@ import importlib
 #: the package costs no scipy until a name is used.
 _WHERE = {
     "ContactMode": "model", "Model": "model", "assemble": "model",
-    "HIT_MESSAGES": "regions",
     "CoreEvent": "result", "CoreResult": "result", "Hit": "result", "Trajectory": "result",
     "angular_momentum_world": "rigid", "attitude_angle_between": "rigid",
     "kinetic_energy": "rigid",
@@ -54,7 +53,6 @@ __all__ = [
     "CoreError",
     "check_outcome",
     "check_summary",
-    "HIT_MESSAGES",
     "kinetic_energy",
     "angular_momentum_world",
     "attitude_angle_between",

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
 import numpy as np
 
@@ -214,7 +215,7 @@ class VehicleContact:
         if not mode.first_spring_lost:
             out.append(
                 EventSpec(
-                    "first spring lost",
+                    EventKind.LOST_FIRST_SPRING,
                     lambda t, y: self.separation(Kinematics(model, y), "S"),
                     +1.0,
                     code=(laws.EV_SEPARATION, float(laws.LETTERS.index("S"))),
@@ -232,7 +233,7 @@ class VehicleContact:
         if self.has_t and mode.first_spring_lost:
             out.append(
                 EventSpec(
-                    "vehicle contact lost",
+                    EventKind.LOST_VEHICLE,
                     lambda t, y: self.separation(Kinematics(model, y), "T"),
                     +1.0,
                     code=(laws.EV_SEPARATION, float(laws.LETTERS.index("T"))),
@@ -244,5 +245,5 @@ class VehicleContact:
             if mode.cap_engaged:
                 out.append(EventSpec("force cap released", f, -1.0, code=code))
             else:
-                out.append(EventSpec("force cap engaged", f, +1.0, code=code))
+                out.append(EventSpec(EventKind.FORCE_CAP, f, +1.0, code=code))
         return out

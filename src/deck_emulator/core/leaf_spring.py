@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from deck_emulator.vocabulary.events import EventKind
 from . import laws
 
 from .components import VehicleContact
@@ -96,7 +97,7 @@ class LeafSpringContact(VehicleContact):
     """The car's leaf spring at S (in place of the linear crush spring)."""
 
     name = "vehicle contact (leaf spring)"
-    EVENT_NAMES = ("leaf spring unloads", "leaf spring reloads", "first spring lost")
+    EVENT_NAMES = (EventKind.LEAF_UNLOADS, "leaf spring reloads", EventKind.LOST_FIRST_SPRING)
 
     def __init__(self, scene, options, model):
         super().__init__(scene, options, model)
@@ -121,7 +122,7 @@ class LeafSpringContact(VehicleContact):
     def events(self, model, mode) -> list[EventSpec]:
         comp = lambda t, y: self.compression(Kinematics(model, y), "S")  # noqa: E731
         if mode.spring_peak_ft is None:
-            return [EventSpec("leaf spring unloads",
+            return [EventSpec(EventKind.LEAF_UNLOADS,
                               lambda t, y: self.compression_rate(Kinematics(model, y)), -1.0,
                               code=(laws.EV_COMPRESSION_RATE, 0.0))]
         x_m = mode.spring_peak_ft
@@ -129,12 +130,12 @@ class LeafSpringContact(VehicleContact):
         return [
             EventSpec("leaf spring reloads", lambda t, y: comp(t, y) - x_m, +1.0,
                       code=(laws.EV_COMPRESSION, x_m)),
-            EventSpec("first spring lost", lambda t, y: comp(t, y) - x0, -1.0,
+            EventSpec(EventKind.LOST_FIRST_SPRING, lambda t, y: comp(t, y) - x0, -1.0,
                       code=(laws.EV_COMPRESSION, x0)),
         ]
 
     def transition(self, model, mode, name, y):
-        if name == "leaf spring unloads":
+        if name == EventKind.LEAF_UNLOADS:
             x = self.compression(Kinematics(model, y), "S")
             return replace(mode, spring_peak_ft=x), False
         if name == "leaf spring reloads":

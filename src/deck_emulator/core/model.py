@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
 from .components import (
     LISTING_FRICTION_LB,
@@ -300,7 +301,7 @@ class Model:
         own = getattr(contact, "transition", None)
         if own is not None and name in getattr(contact, "EVENT_NAMES", ()):
             return own(self, mode, name, y)
-        if name == "first spring lost":
+        if name == EventKind.LOST_FIRST_SPRING:
             mode = replace(mode, first_spring_lost=True)
             if contact is None or not contact.has_t:
                 return mode, True
@@ -312,7 +313,7 @@ class Model:
             return mode, False
         if name == "spring force moves to T":
             return replace(mode, contact_point="T"), False
-        if name == "vehicle contact lost":
+        if name == EventKind.LOST_VEHICLE:
             return mode, True
         if name == "normal force released":
             return replace(mode, normal_on=False), False
@@ -320,7 +321,7 @@ class Model:
             return replace(mode, friction_on=False), False
         if name == "base friction resumes":
             return replace(mode, friction_on=True), False
-        if name == "force cap engaged":
+        if name == EventKind.FORCE_CAP:
             return replace(mode, cap_engaged=True), False
         if name == "force cap released":
             return replace(mode, cap_engaged=False), False

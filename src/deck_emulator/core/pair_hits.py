@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from .regions import LISTING_GROUND_TOLERANCE_FT
+from deck_emulator.vocabulary.events import JOINT_GROUND_MESSAGE, EventKind
+from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
 from .result import CoreEvent, CoreResult, Hit
 
 __all__ = ["joint_ground_hit", "terminal_points_xl", "GROUND_BAND_FT"]
@@ -49,9 +50,9 @@ def joint_ground_hit(result: CoreResult, band_ft: float = GROUND_BAND_FT) -> Cor
     # the other point "in the band" to the event location's accuracy (1e-6 ft)
     if abs(pts[other][2]) > band_ft + 1e-6:
         return result
-    msg = "THE POST HAS HIT THE GROUND WITH POINTS R&U"
+    msg = JOINT_GROUND_MESSAGE.format(points="R&U")
     new_hit = Hit(msg, hit.time_s, "R&U", "GROUND")
     events = tuple(
-        CoreEvent(e.name, e.time_s, msg) if e.name == "hit" else e for e in result.events
+        CoreEvent(e.name, e.time_s, msg) if e.name == EventKind.HIT else e for e in result.events
     )
     return dataclasses.replace(result, hit=new_hit, events=events)

@@ -30,34 +30,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
+from deck_emulator.vocabulary.events import hit_message
+from deck_emulator.vocabulary.scene import car_boxes
+
 from . import laws
-from deck_emulator.vocabulary.scene import CarBox, car_boxes
 
-__all__ = ["HIT_MESSAGES", "hit_message", "Region", "FreeFlightChecks", "build_checks", "CarBox",
-           "car_boxes"]
-
-#: The listing's FORMATs 97-248 (FRONT and SIDE are the core's own).
-HIT_MESSAGES = {
-    "GROUND": "THE POST HAS HIT THE GROUND WITH POINT {point}",
-    "HOOD": "THE POST HAS HIT THE HOOD OF THE VEHICLE",
-    "WINDSHIELD": "THE POST HAS HIT THE WINDSHIELD OF THE VEHICLE",
-    "TOP": "THE POST HAS HIT THE TOP OF THE VEHICLE",
-    "TRUNK": "THE POST HAS HIT THE TRUNK OF THE VEHICLE",
-    "FRONT": "THE POST HAS HIT THE FRONT OF THE VEHICLE",
-    "SIDE": "THE POST HAS HIT THE SIDE OF THE VEHICLE",
-}
+__all__ = ["hit_message", "Region", "FreeFlightChecks", "build_checks"]
 
 GROUND_POINTS = ("P", "Q", "R", "C", "U")
 VEHICLE_POINTS = ("P", "R", "C", "U")
-from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT  # noqa: E402, F401
 #: the listing's car-surface tolerance, ft (labels 235, 241, 246 ...)
 LISTING_SURFACE_TOLERANCE_FT = 0.1
 #: how far outside its other half-spaces a point may be and still count as inside (ft)
 SLACK_FT = 1e-9
 
-
-def hit_message(surface: str, point: str) -> str:
-    return HIT_MESSAGES[surface].format(point=point)
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ shaft that falls across the hood with its ends clear of the outline goes through
 unseen.  Under ``ModelOptions.shaft_contact`` the core checks the post's *segments* too:
 the shaft Q-P, the arm P-R, a second arm P-U (those the scene has), and C as a point
 where it lies off them -- each against each of the car's three solid boxes
-(:func:`~.regions.car_boxes`: the one outline, the boxes of the exact point checks).  The
+(:func:`deck_emulator.vocabulary.scene.car_boxes`: the one outline, the boxes of the exact point checks).  The
 car is always the solid boxes here, under either preset: the listing has no segment test
 whose tolerances could be copied.
 
@@ -56,7 +56,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
-from .regions import CarBox, car_boxes
+from deck_emulator.vocabulary.scene import CarBox, car_boxes
 from . import laws
 
 __all__ = ["Pair", "SegmentChecks", "build_segment_checks", "segment_depth",

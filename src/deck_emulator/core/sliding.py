@@ -33,6 +33,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from deck_emulator.vocabulary.events import EventKind
 from . import laws
 from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
 from .rigid import post_derivative
@@ -206,7 +207,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
     """The model's contact events for ``mode``, with the sliding modes' and the ground's."""
     out = model.contact_events(mode)
     if mode.cap_sliding:
-        out = [e for e in out if e.name not in ("force cap engaged", "force cap released")]
+        out = [e for e in out if e.name not in (EventKind.FORCE_CAP, "force cap released")]
     fil = None
     if mode.cap_sliding or (mode.friction_on and mode.friction_stick):
         fil = Filippov(model, mode)
@@ -310,10 +311,10 @@ def after_event(model, mode: ContactMode, name: str, t, y) -> tuple[ContactMode,
         return _friction_state(model, replace(mode, friction_sign=0.0), t, y), False, ""
     old = mode
     mode, ended = model.transition(mode, name, y)
-    if name in ("force cap engaged", "force cap released"):
+    if name in (EventKind.FORCE_CAP, "force cap released"):
         mode = _cap_state(model, mode, t, y)
     elif old.cap_sliding and mode.contact_point != old.contact_point or (
-        old.cap_sliding and name == "first spring lost"
+        old.cap_sliding and name == EventKind.LOST_FIRST_SPRING
     ):
         contact = model.components["vehicle contact"]
         mode = replace(

@@ -37,8 +37,8 @@ from .checks import check_outcome, ground_tolerance_ft
 from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
-from .regions import hit_message
-from deck_emulator.vocabulary.events import POINT_NAMES
+from deck_emulator.vocabulary.events import hit_message
+from deck_emulator.vocabulary.events import LOST_MESSAGES, POINT_NAMES, EventKind
 from deck_emulator.vocabulary.units import speed_lost_mph
 
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
@@ -61,10 +61,6 @@ from deck_emulator.vocabulary.defaults import (
     T_MAX_S,
 )
 
-LISTING_MESSAGES = {
-    "first spring lost": "THE POST HAS LOST CONTACT WITH FIRST SPRING",
-    "vehicle contact lost": "THE POST HAS LOST CONTACT WITH THE VEHICLE",
-}
 
 # this many events in a row at the same instant is chattering (Zeno), not physics
 _MAX_REPEATS = 50
@@ -281,11 +277,11 @@ class _Run:
                         )
                         return None, y
                     self._log(spec.name, t)
-                    if spec.name == "first spring lost":
+                    if spec.name == EventKind.LOST_FIRST_SPRING:
                         self.first_lost = t
                     if ended:
-                        if spec.name != "vehicle contact lost":
-                            self._log("vehicle contact lost", t)
+                        if spec.name != EventKind.LOST_VEHICLE:
+                            self._log(EventKind.LOST_VEHICLE, t)
                         self.vehicle_lost = t
                         self.contact_end = t
                         self._end_modes(t)
@@ -308,7 +304,7 @@ class _Run:
             return
         if " sliding ends " in name or name.startswith("cap sliding"):
             return
-        self.events.append(CoreEvent(name, t, LISTING_MESSAGES.get(name, "")))
+        self.events.append(CoreEvent(name, t, LOST_MESSAGES.get(name, "")))
 
     def report_ground_passage(self):
         """The listing's behaviour went through the ground: its run (kept whole in the
@@ -328,13 +324,13 @@ class _Run:
             gp["deepest_at_listing_hit"] = low[1]
             self.events = [
                 CoreEvent("listing's hit, post underground", e.time_s, e.message)
-                if e.name == "hit" else e
+                if e.name == EventKind.HIT else e
                 for e in self.events
             ]
         self.hit = None
         self._set_hit(gp["time_s"], gp["point"], "GROUND")
         self.events[-1] = CoreEvent(
-            "hit", gp["time_s"], self.hit.message + " (legacy: passing through)"
+            EventKind.HIT, gp["time_s"], self.hit.message + " (legacy: passing through)"
         )
 
     def ground_passage_check(self):
@@ -453,7 +449,7 @@ class _Run:
     def _set_hit(self, t, point, surface):
         msg = hit_message(surface, point)
         self.hit = Hit(msg, t, point, surface)
-        self.events.append(CoreEvent("hit", t, msg))
+        self.events.append(CoreEvent(EventKind.HIT, t, msg))
 
     # -- summary
 

@@ -258,21 +258,20 @@ def _listing_flags(out: Outcome) -> list[str]:
 # ================================================================================= the core
 
 
-_CORE_EVENTS = {
-    "first spring lost": EventKind.LOST_FIRST_SPRING,
-    "vehicle contact lost": EventKind.LOST_VEHICLE,
-    "force cap engaged": EventKind.FORCE_CAP,
-}
+#: the core's located events that are reported as events (its first of each); the hit is
+#: reported from the result's own hit
+_REPORTED = (EventKind.LOST_FIRST_SPRING, EventKind.LOST_VEHICLE, EventKind.FORCE_CAP)
 
 
 def core_events(result) -> list[Event]:
-    """The core's located events as :class:`Event` (the core's other events -- normal force
-    released and the like -- are its own business and stay in ``result.events``)."""
+    """The core's located events as :class:`Event`: those it names by an :class:`EventKind`
+    that is reported (its other events -- normal force released, a leaf spring unloading, its
+    sliding modes -- are its own business and stay in ``result.events``)."""
     events = []
     for e in result.events:
-        kind = _CORE_EVENTS.get(e.name)
+        kind = e.name if e.name in _REPORTED else None
         if kind is not None and not any(x.kind is kind for x in events):
-            events.append(Event(kind, e.time_s))
+            events.append(Event(EventKind(kind), e.time_s))
     if result.hit:
         events.append(Event(EventKind.HIT, result.hit.time_s,
                             Surface[result.hit.surface], result.hit.point))

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 
+from deck_emulator.vocabulary.events import EventKind
+
 __all__ = ["at_unloading"]
 
 
@@ -16,7 +18,7 @@ def at_unloading(outcome) -> dict:
     result = outcome.raw
     if outcome.engine != "core" or result is None:
         return none
-    t = next((e.time_s for e in result.events if e.name == "leaf spring unloads"), None)
+    t = next((e.time_s for e in result.events if e.name == EventKind.LEAF_UNLOADS), None)
     leaf = result.scene.vehicle.leaf_spring if result.scene.vehicle else None
     if t is None or leaf is None:
         return none

@@ -69,6 +69,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
+from deck_emulator.vocabulary.events import LOST_MESSAGES, EventKind
 from deck_emulator.vocabulary.units import speed_lost_mph
 
 __all__ = [
@@ -102,8 +103,8 @@ LABEL_VARIABLE = MappingProxyType({
     "ZYCFA": "ZZCFA",  # FORMAT 133, typo in the listing
 })
 
-LOST_FIRST_SPRING = "THE POST HAS LOST CONTACT WITH FIRST SPRING"
-LOST_VEHICLE = "THE POST HAS LOST CONTACT WITH THE VEHICLE"
+LOST_FIRST_SPRING = LOST_MESSAGES[EventKind.LOST_FIRST_SPRING]
+LOST_VEHICLE = LOST_MESSAGES[EventKind.LOST_VEHICLE]
 
 _VALUE = re.compile(r"THE VALUE OF (\w+) IS +(\S+)")
 _MESSAGE = re.compile(r"THE POST HAS .*\S")

@@ -16,13 +16,16 @@ import enum
 from dataclasses import dataclass
 
 
-class EventKind(str, enum.Enum):
-    """What kind of thing happened."""
+class EventKind(enum.StrEnum):
+    """What kind of thing happened: the events both engines report (the core names its located
+    events by these members; its other located events, of its sliding modes and springs, are
+    its own business)."""
 
     LOST_FIRST_SPRING = "lost contact with the first spring"
     LOST_VEHICLE = "lost contact with the vehicle"
     HIT = "hit"
     FORCE_CAP = "force cap engaged"  # the core's; the listing prints nothing for it
+    LEAF_UNLOADS = "leaf spring unloads"  # the core's crash-test spring (Chapter V)
 
 
 class Surface(str, enum.Enum):
@@ -40,6 +43,32 @@ class Surface(str, enum.Enum):
     @property
     def on_car(self) -> bool:
         return self is not Surface.GROUND
+
+
+#: The listing's messages, one row each: what its FORMATs 355 and 100 print when the post leaves
+#: the first spring and the car (legacy/printer.py holds the FORMATs themselves, as the
+#: listing writes them; a test holds the two equal), and its hit messages (FORMATs 97-248) by
+#: the surface hit; FRONT and SIDE, and two luminaires landing together, are the core's own
+#: words for what the listing cannot say.
+LOST_MESSAGES = {
+    EventKind.LOST_FIRST_SPRING: "THE POST HAS LOST CONTACT WITH FIRST SPRING",
+    EventKind.LOST_VEHICLE: "THE POST HAS LOST CONTACT WITH THE VEHICLE",
+}
+HIT_MESSAGES = {
+    "GROUND": "THE POST HAS HIT THE GROUND WITH POINT {point}",
+    "HOOD": "THE POST HAS HIT THE HOOD OF THE VEHICLE",
+    "WINDSHIELD": "THE POST HAS HIT THE WINDSHIELD OF THE VEHICLE",
+    "TOP": "THE POST HAS HIT THE TOP OF THE VEHICLE",
+    "TRUNK": "THE POST HAS HIT THE TRUNK OF THE VEHICLE",
+    "FRONT": "THE POST HAS HIT THE FRONT OF THE VEHICLE",
+    "SIDE": "THE POST HAS HIT THE SIDE OF THE VEHICLE",
+}
+JOINT_GROUND_MESSAGE = "THE POST HAS HIT THE GROUND WITH POINTS {points}"
+
+
+def hit_message(surface: str, point: str) -> str:
+    """The hit's message: ``surface`` a :data:`HIT_MESSAGES` key (GROUND, HOOD ...)."""
+    return HIT_MESSAGES[surface].format(point=point)
 
 
 #: The post's named points (the report's letters): P top, Q base, R luminaire end of the arm,
