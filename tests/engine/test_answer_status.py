@@ -86,3 +86,16 @@ def test_a_sweep_row_of_a_stopped_run_has_empty_cells(stopped):
     assert cells["oiv_rating"] == "" and cells["ora_rating"] == ""
     assert cells["error"].startswith("ED's root search did not converge")
 
+
+
+@pytest.mark.parametrize("engine", ["emulator", "core"])
+def test_an_outcome_is_made_once(engine):
+    """Once its engine has made it, no field of an outcome can be assigned: every reader sees
+    the same answer (what the registry computes from it is kept aside, in its cache)."""
+    import dataclasses
+
+    out = deck_emulator.run("steel40", engine=engine)
+    for name in ("error", "t", "events", "delta_v_crush_mph"):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(out, name, None)
+    assert quantities.value("hit_time_s", out) == out.hit_time_s is not None

@@ -140,17 +140,20 @@ class EmulatorEngine:
 
     def outcome_of(self, done: "Execution", deck, *, name: str = "") -> Outcome:
         """The :class:`Outcome` of an :meth:`execute` of ``deck``."""
-        out = self.outcome(done.run, deck, name=name)
+        out = self._build(done.run, deck, name=name)
         out.run_s = done.run_s
         if done.error is not None:
             out.error, out.guard = str(done.error), done.error.guard
             out.hint = errata_policy.hint(done.error.guard, done.run.errata)
         elif done.defect is not None:
             out.error, out.guard = done.defect, "crash"
-        return out
+        return out.made()
 
     def outcome(self, run, deck, *, name: str = "") -> Outcome:
         """An emulator ``Run`` of ``deck`` as an :class:`Outcome`."""
+        return self._build(run, deck, name=name).made()
+
+    def _build(self, run, deck, *, name: str = "") -> Outcome:
         from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
@@ -467,7 +470,7 @@ class CoreEngine:
         out.run_s = run_s
         if isinstance(r, Exception):
             out.error = f"{type(r).__name__}: {r}"
-            return out
+            return out.made()
         out.hit_message = r.hit_message
         out.raw = r
         out.method = r.method
@@ -486,7 +489,7 @@ class CoreEngine:
             out.delta_v_crush_mph = speed_lost_mph(r.scene.vehicle.initial_velocity_ft_s, vv_cap)
         if self.trace:
             self._arrays(out, r)
-        return out
+        return out.made()
 
     def _arrays(self, out: Outcome, r) -> None:
         import numpy as np

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -14,7 +15,8 @@ from deck_emulator.vocabulary.units import ft_s_to_mph
 
 @dataclass
 class Outcome:
-    """One run of either engine, as arrays over time (road axes XX, YY, ZZ; ft, s).
+    """One run of either engine, as arrays over time (road axes XX, YY, ZZ; ft, s); made once
+    by its engine (:meth:`made`), then no field can be assigned.
 
     * ``engine``: ``"emulator"`` or ``"core"``; ``settings``: what was run, in words (the
       arithmetic and its assumptions, the errata; or the preset, method and tolerances);
@@ -92,6 +94,19 @@ class Outcome:
     raw: object = field(default=None, repr=False)
     #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance)
     cache: dict = field(default_factory=dict, repr=False, compare=False)
+    _made: bool = field(default=False, init=False, repr=False, compare=False)
+
+    def __setattr__(self, name: str, value) -> None:
+        if self.__dict__.get("_made"):
+            raise dataclasses.FrozenInstanceError(
+                f"an Outcome is made once, by its engine: cannot assign {name!r}")
+        object.__setattr__(self, name, value)
+
+    def made(self) -> "Outcome":
+        """The engine has filled it in: from here on no field can be assigned (what the
+        registry computes from it is kept in ``cache``)."""
+        object.__setattr__(self, "_made", True)
+        return self
 
     # -- events ---------------------------------------------------------------------------
 
