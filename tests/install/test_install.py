@@ -14,6 +14,9 @@ from pathlib import Path
 
 import pytest
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 #: what a source distribution of the checkout holds (the rest is history and local state)
 _NOT_SHIPPED = shutil.ignore_patterns(".git", "build", "*.egg-info", "__pycache__",

@@ -12,6 +12,9 @@ import pytest
 
 from deck_emulator.cli import main
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 STEEL40 = ROOT / "decks" / "steel40.dat"
 

@@ -14,6 +14,9 @@ from deck_emulator.engine.outcome import Outcome
 from deck_emulator.engine.quantities import QUANTITIES, value
 from deck_emulator.vocabulary.events import Event, EventKind
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 MPH = 88.0 / 60.0  # ft/s in one mph (written out: the hand computation's own factor)
 
 

@@ -36,6 +36,9 @@ from report import verdicts as rv
 from pictures import (Mapper, axes_box, colour_near, in_boxes, inside_box, near_points,
                       near_segments, read_png, segments_of, spots_along)
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 
 

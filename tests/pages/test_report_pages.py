@@ -9,6 +9,9 @@ import pytest
 
 from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def report_page(tmp_path_factory):

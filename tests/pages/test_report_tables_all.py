@@ -16,6 +16,9 @@ from deck_emulator.studies.report_tables import (
     TABLE10,
 )
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT.parent / "shared" / "seed" / "000_527dfe033c64384d.txt"
 LABELS = {**ROW_LABELS, "XUL": "XUL (FT)", "YUL": "YUL (FT)", "ZUL": "ZUL (FT)"}

@@ -24,6 +24,9 @@ import pytest
 
 from procs import group, sigint_as_on_a_terminal
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 SRC = Path(__file__).resolve().parents[2] / "src"
 SWEEP = ["sweep", "--speeds", "20,40", "--angles", "0,15", "--erratum", "ed-direction",
          "--quiet", "--jobs", "2"]

@@ -50,6 +50,9 @@ HANG_S = 300  # the longest wait for a point or an exit: a guard against a hang,
 HOOK = r'''
 import json, os, signal, sys, time
 from deck_emulator import signals
+
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
 signals.install_signal_handlers()
 
 POINT, MARKER = os.environ["KILL_POINT"], os.environ["KILL_MARKER"]

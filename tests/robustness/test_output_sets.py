@@ -20,6 +20,9 @@ import pytest
 from deck_emulator.files import OutputError, OutputSet, check_distinct
 from deck_emulator.legacy.pages import write_pdf
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 SRC = ROOT / "src"
 # The golden printout of the steel deck: records with carriage control in column 1.

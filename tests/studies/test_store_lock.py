@@ -28,6 +28,9 @@ from deck_emulator.studies.distributed import (
     scene_id,
 )
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 
 def _start(tmp_path, name: str, body: str) -> subprocess.Popen:
     script = tmp_path / f"{name}.py"
