@@ -19,15 +19,15 @@ _TRAJECTORY_HELP = ("also write the run's trajectory: time, every named point (r
 
 
 def _outcome_answer(name: str, out, source: str, settings: dict, o) -> Answer:
-    """An outcome as the answer of ``summary``, ``core`` or ``assembly``: the registry's
-    quantities, and for a run that stopped what it reached, status ``stopped``, and why."""
-    from deck_emulator.present.answers import outcome_result, render_outcome
+    """An outcome as the answer of ``summary``, ``core`` or ``assembly`` (its text made by
+    :func:`_rendered` once the caller's notes are in): the registry's quantities, and for a
+    run that stopped what it reached, status ``stopped``, and why."""
+    from deck_emulator.present.answers import outcome_result
 
     answer = Answer(name, source, settings=settings, result=outcome_result(out),
                     notes=common.odd_deck_notes(out), json=o.json, out=o.out)
     if out.error is not None:  # what it reached is answered; the status says it stopped
         answer.status, answer.error = "stopped", common.failed(out, source)
-    answer.text = render_outcome(answer.document())
     return answer
 
 
@@ -61,7 +61,7 @@ def summary(o: SummaryOptions) -> Answer:
     common.check_trajectory(o.trajectory)
     engine = common.emulator(o)
     out = common.with_progress(o.quiet, engine, deck)
-    said = [common.write_trajectory(o.trajectory, out)]
+    written = common.write_trajectory(o.trajectory, out)
     settings = {"arithmetic": engine.arithmetic().describe(),
                 "assumptions": dict(getattr(engine.arithmetic(), "assumptions", {}) or {}),
                 "errata": errata.describe(out.errata)}
@@ -70,7 +70,7 @@ def summary(o: SummaryOptions) -> Answer:
     answer = _outcome_answer("summary", out, str(deck.path), settings, o)
     answer.notes += list(out.flags)
     answer.text = _rendered(answer)
-    answer.said = list(src.notes) + [s for s in said if s]
+    answer.said = list(src.notes) + ([written] if written else [])
     return answer
 
 
@@ -117,7 +117,7 @@ def core(o: CoreOptions) -> Answer:
     engine = CoreEngine(**o.core_keywords(), method=o.method, rtol=o.rtol, atol=o.atol,
                         t_max_s=o.max_time, max_wall_s=o.max_wall)
     out = common.with_progress(o.quiet, engine, source)
-    said = [common.write_trajectory(o.trajectory, out)]
+    written = common.write_trajectory(o.trajectory, out)
     used = out.method or o.method
     settings = {**o.core_keywords(),
                 "method": f"{used} (auto)" if o.method == "auto" and out.method else used,
@@ -130,7 +130,7 @@ def core(o: CoreOptions) -> Answer:
                         "(--max-time) with no hit: the post has not landed")
         answer.notes.append(answer.error)
     answer.text = _rendered(answer)
-    answer.said = list(src.notes) + [s for s in said if s]
+    answer.said = list(src.notes) + ([written] if written else [])
     return answer
 
 

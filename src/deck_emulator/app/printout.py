@@ -112,9 +112,9 @@ def run(o: RunOptions) -> Answer:
         answer.said.append(f"{deck.path}: {_describe(run_)}")
         sections.append({"deck": str(deck.path), "settings": _describe(run_),
                          "records": list(run_.records), "stopped": out and out.error})
-        if out is not None:
-            answer.said.append(common.write_trajectory(o.trajectory, out))
-            answer.said = [s for s in answer.said if s]
+        written = common.write_trajectory(o.trajectory, out) if out is not None else None
+        if written:
+            answer.said.append(written)
         if done.stopped:
             answer.status, answer.error = "stopped", common.failed(out, deck.path)
             break
