@@ -40,6 +40,9 @@ import pytest
 
 from procs import group, sigint_as_on_a_terminal
 
+#: process-level or document tests: the README's test command runs them, a bare pytest not
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 GOLDEN = (ROOT / "golden" / "steel40.r8.txt").read_bytes()
 CLI = [sys.executable, "-m", "deck_emulator"]
@@ -50,9 +53,6 @@ HANG_S = 300  # the longest wait for a point or an exit: a guard against a hang,
 HOOK = r'''
 import json, os, signal, sys, time
 from deck_emulator import signals
-
-#: process-level or document tests: the README's test command runs them, a bare pytest not
-pytestmark = pytest.mark.slow
 signals.install_signal_handlers()
 
 POINT, MARKER = os.environ["KILL_POINT"], os.environ["KILL_MARKER"]
