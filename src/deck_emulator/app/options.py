@@ -203,10 +203,11 @@ class Preset:
                                         "legacy: the listing never did it)")
 
     def core_keywords(self) -> dict:
-        """--preset and --shaft-contact as the core engine's keywords (shaft_contact left
-        out when not given: the preset's)."""
-        return {"preset": self.preset, **({} if self.shaft_contact is None else
-                                          {"shaft_contact": bool(self.shaft_contact)})}
+        """--preset and --shaft-contact as the core engine's keywords (the engine layer's one
+        rule: shaft_contact left out when not given, the preset's)."""
+        from deck_emulator.engine import core_keywords
+
+        return core_keywords(self.preset, self.shaft_contact)
 
 
 @dataclass(frozen=True, kw_only=True)
