@@ -39,7 +39,7 @@ from .kinematics import IDX_VV, N_STATE, ContactMode
 from .model import Model, assemble
 from deck_emulator.vocabulary.events import hit_message
 from deck_emulator.vocabulary.events import LOST_MESSAGES, POINT_NAMES, EventKind
-from deck_emulator.vocabulary.units import speed_lost_mph
+from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
 
@@ -524,7 +524,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
             max_t = None
             notes.append("no largest deceleration: the contact lasted no time")
         elif m.gravity > 0.0:
-            max_g = float(f) / (m.vehicle_mass * m.gravity)
+            max_g = force_in_g(float(f), m.vehicle_mass, m.gravity)
             f_after, _ = run.max_vehicle_force(after_startup=True)
             if math.isfinite(f_after):
                 max_g_after = float(f_after) / (m.vehicle_mass * m.gravity)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event, EventKind, Surface
-from deck_emulator.vocabulary.units import speed_lost_mph
+from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
 from . import errata as errata_policy
 
@@ -218,7 +218,7 @@ def _emulator_arrays(out: Outcome, rows, d) -> None:
         out.delta_v_contact_mph = speed_lost_mph(d["VVB"], float(vc[-1]))
     fs = [r["FS"] for r in rows if r["phase"] == "contact" and "FS" in r]
     if fs and d["WV"] * d["G"] != 0:
-        out.max_decel_every_step_g = max(fs) / (d["WV"] * d["G"])
+        out.max_decel_every_step_g = force_in_g(max(fs), d["WV"], d["G"])
 
 
 def _printed_quantities(out: Outcome, run, deck) -> None:
@@ -521,7 +521,7 @@ class CoreEngine:
             out.pulse_g = np.zeros(0)
         else:  # force on the car along +XV; the car moves towards -XV when VVB < 0
             sign = 1.0 if car.initial_velocity_ft_s < 0 else -1.0
-            out.pulse_g = force / (car.mass_slug * g) * sign
+            out.pulse_g = force_in_g(force, car.mass_slug, g) * sign
 
 
 def core_keywords(preset: str, shaft_contact: bool | None = None) -> dict:

@@ -70,7 +70,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 from deck_emulator.vocabulary.events import LOST_MESSAGES, EventKind
-from deck_emulator.vocabulary.units import speed_lost_mph
+from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
 __all__ = [
     "DELTA_V_CANDIDATES",
@@ -327,11 +327,10 @@ def extract(printout, deck) -> Outcome:
     final_time = times[-1] if times else None
 
     # maximum deceleration over the printed contact blocks
-    wv_g = d["WV"] * d["G"]
     fsa = [(b["FSA"], b.time) for b in contact if b.values.get("FSA") is not None]
     if fsa:
         max_fsa, max_t = max(fsa, key=lambda p: p[0])
-        max_decel = max_fsa / wv_g
+        max_decel = force_in_g(max_fsa, d["WV"], d["G"])
     else:
         max_fsa = max_t = max_decel = None
 

@@ -20,6 +20,12 @@ def ft_s_to_mph(ft_s: float) -> float:
     return ft_s / FT_S_PER_MPH
 
 
+def force_in_g(force_lb, mass_slug: float, g_ft_s2: float):
+    """A force on a mass as its acceleration in g, ``F / (m g)`` (lb, slug, ft/s^2; a number or
+    an array of forces): the one formula of every deceleration in g read from a force."""
+    return force_lb / (mass_slug * g_ft_s2)
+
+
 def speed_lost_mph(v0_ft_s: float, v_ft_s: float) -> float:
     """The speed the car lost between two velocities along its path, ``|v0| - |v|`` (ft/s
     in, mph out): the one formula of every delta-V here. The registry's two delta-Vs
