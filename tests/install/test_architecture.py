@@ -81,14 +81,12 @@ def test_cli_names_agree_with_the_layers_below():
     assert set(cli.ERRATA_NAMES) == set(ERRATA)
     assert set(cli.PRESETS) == set(PRESETS)
     assert cli.VIEWS == VIEWS
-    from deck_emulator.app import studies
     from deck_emulator.engine import ENGINES
     from deck_emulator.legacy.cardimage import FORMATS
     from deck_emulator.legacy.keypunch import CODES
-    from deck_emulator.studies import SCENE_STORE
 
     assert cli.CARD_FORMATS == tuple(FORMATS) and cli.KEYPUNCH_CODES == tuple(sorted(CODES))
-    assert cli.ENGINES == ENGINES and studies._STORE == SCENE_STORE
+    assert cli.ENGINES == ENGINES
 
 
 #: A unit factor written out: ft in a mile, s in an hour, mph <-> ft/s (and its rounded

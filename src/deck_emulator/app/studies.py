@@ -10,12 +10,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.vocabulary.defaults import SCENE_STORE
 
 from . import Answer, command
 from . import common
 from .options import ENGINES, Cluster, Common, Errata, Preset, option, whole_number
 
-_STORE = ".scenes"  # deck_emulator.studies.SCENE_STORE (a test holds the two equal)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -47,7 +47,7 @@ class SweepOptions(_Study, Errata, Preset):
                                "-58.66)")
     out: str = option(metavar="DIR", required=True,
                       help="directory for sweep.csv and sweep.md (and the scene store, "
-                      f"DIR/{_STORE}, kept for --resume)")
+                      f"DIR/{SCENE_STORE}, kept for --resume)")
 
 
 @command("sweep", SweepOptions,
@@ -145,7 +145,7 @@ class SensitivityOptions(_Study, Preset):
          "engine on a Dask cluster, and write DIR/sensitivity.csv and .md (Sobol S1 and ST "
          "with 95% confidence, for N and N/2), a bar chart of the indices and a map of what "
          "the post hits first over the two most influential inputs. Scenes are stored as they "
-         f"finish in DIR/{_STORE}/; --resume runs only the missing ones.")
+         f"finish in DIR/{SCENE_STORE}/; --resume runs only the missing ones.")
 def sensitivity(o: SensitivityOptions) -> Answer:
     common.require("studies")
     from deck_emulator.studies.sensitivity import run_command

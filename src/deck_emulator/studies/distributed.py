@@ -239,13 +239,13 @@ def scene_id(task: dict) -> str:
 
 
 def output_store(out_dir, resume: bool) -> Path:
-    """The scene store of a command's output folder (:data:`deck_emulator.studies.SCENE_STORE`
+    """The scene store of a command's output folder (:data:`deck_emulator.vocabulary.defaults.SCENE_STORE`
     in it).  An existing store is locked by this process until it ends (:func:`store_lock`;
     :class:`StoreBusy` when another run holds it) and, for a new run (no ``resume``), emptied;
     a store not made yet is left to :func:`run_scenes`, which locks it as it makes it."""
     import shutil
 
-    from deck_emulator.studies import SCENE_STORE
+    from deck_emulator.vocabulary.defaults import SCENE_STORE
 
     store = Path(out_dir) / SCENE_STORE
     if not store.exists():

@@ -57,7 +57,7 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.studies import SCENE_STORE
+from deck_emulator.vocabulary.defaults import SCENE_STORE
 from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
 from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
 from deck_emulator.studies.distributed import (

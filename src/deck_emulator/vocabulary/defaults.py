@@ -59,6 +59,10 @@ SAMPLE_FREE_S = 0.001
 
 # ------------------------------------------------------------------- the studies' own settings
 
+#: where a command that runs many scenes (sweep, sensitivity, the studies) keeps them as they
+#: finish, inside its output folder, for --resume
+SCENE_STORE = ".scenes"
+
 #: the stability study's core (and the studies' one-scene core runs, studies.common.run_core):
 #: its grid holds scenes up to 1e10 lb/ft springs and 120 mph, where 1e-9 keeps the stiff rows
 #: within the runs' wall bound; docs/study/stability was made at it
