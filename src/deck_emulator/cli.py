@@ -1,8 +1,8 @@
 """Command line: ``deck-emulator COMMAND ...`` -- the parsing, and nothing else.
 
-Every parser is built from the application layer's table (:data:`deck_emulator.app.COMMANDS`:
-a command's options dataclass, one field an option, its help and spelling in the field's
-metadata); the parsed options become that dataclass, the command's function answers
+Every parser is built from the application layer's table (:data:`deck_emulator.app.MODULES`,
+:func:`deck_emulator.app.command_named`: a command's options dataclass, one field an option,
+its help and spelling in the field's metadata); the parsed options become that dataclass, the command's function answers
 (:class:`deck_emulator.app.Answer`), and this module writes the answer to stdout (or
 ``--out``), what it says to stderr, and maps its status to the exit status: 0 done, 1
 ``compare``'s printouts differ, 2 bad input (nothing written), 3 a run could not end.
@@ -118,7 +118,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The whole command line's parser, built from the application layer's table; with
     ``command`` (a first word), one that holds only that command's parsers (a command line
     starting with it parses alike, and the other commands' help costs nothing)."""
-    from deck_emulator.app import COMMANDS
+    from deck_emulator.app import NAMES, command_named
 
     parser = _Parser(prog=PROG, description="Emulator of the 1967 TTI luminaire-support impact "
                      "program (Report 75-9).")
@@ -126,15 +126,16 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                         help="print the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     groups: dict[str, argparse._SubParsersAction] = {}
-    for name, cmd in COMMANDS.items():
+    for name in NAMES:
         first, *rest = name.split()
         if command is not None and first != command:
             continue
+        cmd = command_named(name)
         target = sub
         if rest:  # a command of two words (study error): the first word's own subcommands
             if first not in groups:
                 group = sub.add_parser(first, help=f"{first} commands: "
-                                       + ", ".join(n.split()[1] for n in COMMANDS
+                                       + ", ".join(n.split()[1] for n in NAMES
                                                    if n.startswith(first + " ")))
                 groups[first] = group.add_subparsers(dest="which", metavar=first.upper(),
                                                      required=True)
@@ -157,10 +158,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _main(argv: Sequence[str] | None = None) -> int:
-    from deck_emulator.app import COMMANDS
+    from deck_emulator.app import NAMES
 
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(argv[0] if argv and argv[0] in {n.split()[0] for n in COMMANDS}
+    parser = build_parser(argv[0] if argv and argv[0] in {n.split()[0] for n in NAMES}
                           else None)
     try:
         args = parser.parse_args(argv)
@@ -171,11 +172,11 @@ def _main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     """The parsed command line as its command's options; the command's answer written."""
-    from deck_emulator.app import COMMANDS
+    from deck_emulator.app import command_named
     from deck_emulator.app.options import PATH_OPTIONS
     from deck_emulator.legacy.deck import DeckError
 
-    cmd = COMMANDS[args._command]
+    cmd = command_named(args._command)
     given = {f.name: getattr(args, f.name) for f in fields(cmd.options)
              if f.metadata.get("cli", True)}
     for name in PATH_OPTIONS:  # '--out ""' would name the current folder or stdout

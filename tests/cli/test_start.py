@@ -196,10 +196,10 @@ def test_one_subcommands_parser_is_the_whole_parsers():
     (cli.build_parser(name)): its help, and what it makes of a command line, are the whole
     parser's."""
     from deck_emulator import cli
-    from deck_emulator.app import COMMANDS
+    from deck_emulator.app import NAMES
 
     whole = _subparsers(cli.build_parser())
-    assert list(whole) == list(dict.fromkeys(name.split()[0] for name in COMMANDS))
+    assert list(whole) == list(dict.fromkeys(name.split()[0] for name in NAMES))
     argv = ["run", "steel40", "--precision", "ibm7094", "--sincos", "round", "--erratum",
             "ed-direction", "--tha-start", "-1e-5", "--quiet"]
     assert (vars(cli.build_parser("run").parse_args(argv))
@@ -209,3 +209,18 @@ def test_one_subcommands_parser_is_the_whole_parsers():
         assert list(alone) == [name]
         assert alone[name].format_help() == parser.format_help(), name
         assert alone[name].format_usage() == parser.format_usage(), name
+
+
+def test_the_commands_table_names_what_each_module_holds():
+    """A command line loads only its command's module (app.MODULES); the table is what the
+    modules register, each command in the module the table names."""
+    import importlib
+
+    from deck_emulator import app
+
+    for module, names in app.MODULES.items():
+        importlib.import_module(f"deck_emulator.app.{module}")
+        registered = [n for n, c in app.COMMANDS.items()
+                      if c.run.__module__ == f"deck_emulator.app.{module}"]
+        assert sorted(registered) == sorted(names), module
+    assert list(app.all_commands()) == list(app.NAMES)

@@ -83,8 +83,33 @@ class Command:
     description: str | Callable[[], str] = ""
 
 
-#: name -> :class:`Command`, in the order of the help
+#: name -> :class:`Command`, as the modules holding them are loaded (:func:`command_named`,
+#: :func:`all_commands`)
 COMMANDS: dict[str, Command] = {}
+
+#: the modules that hold the commands, and the commands each holds, in the order of the help:
+#: a command line loads only its command's module (a test holds this table equal to what the
+#: modules register)
+MODULES = {
+    "printout": ("parse", "run", "punch", "compare", "corrections"),
+    "outcomes": ("summary", "core", "scene", "diff", "assembly", "plot"),
+    "studies": ("sweep", "sensitivity", "study error", "study stability"),
+}
+#: every command's name, in the order of the help
+NAMES = tuple(name for names in MODULES.values() for name in names)
+
+
+def command_named(name: str) -> Command:
+    """The command ``name``, its module loaded if it is not yet."""
+    if name not in COMMANDS:
+        module = next(m for m, names in MODULES.items() if name in names)
+        importlib.import_module(f".{module}", __name__)
+    return COMMANDS[name]
+
+
+def all_commands() -> dict[str, Command]:
+    """Every command, in the order of the help (every module loaded)."""
+    return {name: command_named(name) for name in NAMES}
 
 
 def command(name: str, options: type, *, help: str, description: str | Callable = ""):
@@ -98,11 +123,5 @@ def command(name: str, options: type, *, help: str, description: str | Callable 
 
 def call(name: str, **options) -> Answer:
     """The command ``name`` with ``options`` (the command line's names, as Python values)."""
-    cmd = COMMANDS[name]
+    cmd = command_named(name)
     return cmd.run(cmd.options(**options))
-
-
-#: the modules that hold the commands, in the order of the help
-_MODULES = ("printout", "outcomes", "studies")
-for _name in _MODULES:
-    importlib.import_module(f".{_name}", __name__)
