@@ -56,8 +56,8 @@ def compartment(o) -> dict | None:
     end): ``verdict``; for a failure ``part`` (the part of the post that enters first),
     ``surface``, ``where`` (the place on the post: ``Q-P 0.73`` is 73 % of the way from Q
     to P), ``time_s`` (when it enters), ``depth_ft`` (how far inside the car's outline the
-    computed path goes at most: 0 where the run ends at the strike), ``deepest_where``,
-    ``deepest_time_s``; ``clearance_ft`` (the least clearance over the car, negative
+    computed path goes at most: 0 where the run ends at the strike), ``deepest_surface``,
+    ``deepest_where``, ``deepest_time_s`` (where and when that is); ``clearance_ft`` (the least clearance over the car, negative
     inside), ``contact_test`` and ``reason`` in words; ``criteria`` the limits it answers."""
     if not o.ended:
         return None
@@ -72,7 +72,8 @@ def compartment(o) -> dict | None:
         found.append((c.touch_time_s, label, c.touch_surface, c.touch_where, "line"))
     least = None if c is None else c.body_ft
     answer = {"verdict": None, "part": None, "surface": None, "where": None, "time_s": None,
-              "depth_ft": None, "deepest_where": None, "deepest_time_s": None,
+              "depth_ft": None, "deepest_surface": None, "deepest_where": None,
+              "deepest_time_s": None,
               "clearance_ft": least, "contact_test": o.contact_test, "reason": "",
               "criteria": list(criteria_of("occupant_compartment"))}
     rigid = ("the car is a rigid outline in this model: a post that reaches it is judged a "
@@ -82,6 +83,7 @@ def compartment(o) -> dict | None:
         deep = least is not None and least < -_AT_SURFACE_FT
         answer.update(verdict=_verdict("fails"), part=part_name(label), surface=surface,
                       where=where, time_s=t, depth_ft=-least if deep else 0.0,
+                      deepest_surface=c.body_surface if deep else None,
                       deepest_where=c.body_where if deep else None,
                       deepest_time_s=c.body_time_s if deep else None)
         if how == "hit":

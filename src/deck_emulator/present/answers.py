@@ -118,7 +118,8 @@ def _rating_lines(ratings: dict) -> list[str]:
     head = f"  occupant compartment: {comp['verdict']}"
     if comp["verdict"] == "fails":
         head += (f": {comp['part']} enters the car over the {comp['surface']} at "
-                 f"{1000 * comp['time_s']:.1f} ms, {comp['depth_ft']:.3f} ft deep at the most")
+                 f"{1000 * comp['time_s']:.1f} ms, {comp['depth_ft']:.3f} ft deep at the most"
+                 + (f" (over the {comp['deepest_surface']})" if comp["deepest_surface"] else ""))
     lines = [head, f"    {comp['reason']}"]
     for name, r in ratings.items():
         if name == "occupant_compartment" or not r["verdicts"]:

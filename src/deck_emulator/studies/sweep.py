@@ -237,6 +237,7 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
     row["compartment_part"] = comp.get("part") or ""
     row["compartment_surface"] = comp.get("surface") or ""
     row["compartment_depth_ft"] = comp.get("depth_ft")
+    row["compartment_deepest_surface"] = comp.get("deepest_surface") or ""
     row["compartment_time_s"] = comp.get("time_s")
     for key, c in safety.CRITERIA.items():  # nchrp350_oiv_rating, mash_oiv_rating ...
         if c.quantity in RATED:
@@ -484,8 +485,10 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
                 r["compartment_verdict"]
                 + (
                     f": {r['compartment_part']} enters over the {r['compartment_surface']} at "
-                    f"{_ms(r['compartment_time_s'], 0)} ms, {_num(r['compartment_depth_ft'])} ft "
-                    "deep"
+                    f"{_ms(r['compartment_time_s'], 0)} ms; {_num(r['compartment_depth_ft'])} ft "
+                    "deep at the most"
+                    + (f", over the {r['compartment_deepest_surface']}"
+                       if r["compartment_deepest_surface"] else "")
                     if r["compartment_verdict"] == "fails"
                     else ""
                 )
