@@ -741,7 +741,7 @@ def _s64_6(cases) -> Verdict:
 
 
 def _s64_7(cases) -> Verdict:
-    oiv, ora = CRITERIA["oiv"], CRITERIA["ora"]
+    oiv, ora = CRITERIA["nchrp350_oiv"], CRITERIA["nchrp350_ora"]
     v = Verdict("6.4-7", "6.4", "1746",
                 "The values of the maximum vehicle deceleration presented in Tables 11 and 12 "
                 "show that in all the cases considered the impact forces are kept within "

@@ -110,13 +110,53 @@ def test_every_quantity_is_documented_in_the_json_page():
 
 
 def test_every_printed_limit_carries_its_citation(capsys):
+    from deck_emulator.engine.safety import CRITERIA
+
     _, out, _ = _run(capsys, "summary", STEEL40)
     limits = out.split("limits, with their sources\n")[1].strip().splitlines()
-    assert len(limits) == 2
-    for line in limits:
-        assert "NCHRP Report 350 (1993), Table 5.1, criterion" in line
+    assert len(limits) == len(CRITERIA) + 1  # a line each, then where the unconfirmed are
+    for line, c in zip(limits, CRITERIA.values()):
+        assert line.endswith(f"({c.source})"), line
+    # NCHRP Report 350 and MASH side by side, each limit with its own document
+    assert sum("NCHRP 350:" in line for line in limits) == 3
+    assert sum("MASH 2016:" in line for line in limits) == 2
+    assert "4.9 m/s for all types of supports" in out
     assert "memory" not in out and "unverified" not in out and "1985" not in out
-    assert "15 g" not in out  # the ORA "preferred" value is not confirmed: not printed
+    # not confirmed in a source, so not printed: the ORA's 15 g, MASH's 20.49 g
+    assert "15 g" not in out and "20.49" not in out
+
+
+def test_summary_steel20_fails_on_the_occupant_compartment(capsys):
+    """At 20 mph the shaft comes down on the hood (the report's Table 11 has the post hit
+    the car; docs/safety.md): the emulator, which tests only P, R and C, runs it through
+    the car, and the answer fails the compartment with no pass beside it."""
+    code, out, _ = _run(capsys, "summary", "steel20", "--json")
+    assert code == 0
+    rated = json.loads(out)["ratings"]
+    comp = rated["occupant_compartment"]
+    assert comp["verdict"] == "fails"
+    assert comp["part"] == "the shaft Q-P" and comp["surface"] == "hood"
+    assert comp["depth_ft"] > 0 and comp["time_s"] < json.loads(out)["quantities"]["hit_time_s"]
+    words = {w for name, r in rated.items() if name != "occupant_compartment"
+             for w in r["verdicts"].values()}
+    assert not words & {"preferred", "acceptable", "passes"}
+    _, table, _ = _run(capsys, "summary", "steel20")
+    ratings = table.split("ratings (docs/safety.md)\n")[1].split("\n\n")[0]
+    assert "preferred" not in ratings and "acceptable" not in ratings
+
+
+@pytest.mark.parametrize("argv, verdict", [
+    (["summary", "steel40"], "not judged"),  # the listing's point checks: no pass verdict
+    (["core", "steel40"], "not judged"),  # the legacy preset tests the points only too
+    (["core", "steel40", "--shaft-contact"], "passes"),  # the whole post tested
+])
+def test_steel40_compartment_judged_by_what_the_model_tests(capsys, argv, verdict):
+    code, out, _ = _run(capsys, *argv, "--json")
+    assert code == 0
+    comp = json.loads(out)["ratings"]["occupant_compartment"]
+    assert comp["verdict"] == verdict
+    assert comp["clearance_ft"] > 0  # 40 mph: the post's line stays outside the car
+    assert comp["part"] is None and comp["depth_ft"] is None
 
 
 # ------------------------------------------------------------------- 4. hints, errata used

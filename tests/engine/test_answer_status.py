@@ -64,6 +64,7 @@ def test_summary_json_of_a_stopped_run_says_null_and_why(run_cli):
     assert answer["status"] == "stopped"
     assert set(answer["quantities"].values()) == {None}
     assert answer["occupant_risk"] is None and answer["criteria"] is None
+    assert answer["ratings"] is None
     assert {"oiv_m_s", "ora_g", "max_decel_g", "delta_v_contact_mph"} <= set(answer["unavailable"])
     assert stderr.count("error:") == 1
 
@@ -83,7 +84,9 @@ def test_a_sweep_row_of_a_stopped_run_has_empty_cells(stopped):
     for name in ("max_decel_g", "oiv_m_s", "ora_g", "occupant_strike_time_s",
                  "delta_v_contact_mph", "body_clearance_ft", "XPL"):
         assert cells[name] == "", name
-    assert cells["oiv_rating"] == "" and cells["ora_rating"] == ""
+    ratings = [k for k in cells if k.endswith("_rating") or k == "compartment_verdict"]
+    assert {"nchrp350_oiv_rating", "mash_oiv_rating", "compartment_verdict"} <= set(ratings)
+    assert all(cells[k] == "" for k in ratings)
     assert cells["error"].startswith("ED's root search did not converge")
 
 

@@ -185,6 +185,9 @@ def test_a_sweep_with_a_stopped_scene_writes_its_tables_rates_nothing_for_it_and
     rows = {r["scene"]: r for r in csv.DictReader((out / "sweep.csv").open())}
     stopped, ran = rows["steel40_a15"], rows["steel40"]
     assert stopped["error"] and "ed-direction" in stopped["stopped_hint"]
-    assert stopped["oiv_rating"] == stopped["ora_rating"] == ""
-    assert ran["error"] == "" and ran["oiv_rating"] and ran["stopped_hint"] == ""
+    assert stopped["nchrp350_oiv_rating"] == stopped["nchrp350_ora_rating"] == ""
+    assert stopped["compartment_verdict"] == ""
+    assert ran["error"] == "" and ran["nchrp350_oiv_rating"] and ran["stopped_hint"] == ""
+    # the emulator tests only P, R and C: the compartment is not judged, never passed
+    assert ran["compartment_verdict"] == "not judged"
     assert (out / "sweep.md").is_file()

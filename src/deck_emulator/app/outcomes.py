@@ -107,6 +107,7 @@ class CoreOptions(Source, Preset, Answering):
          "Presets: legacy (the listing's quirks) or physical (none).")
 def core(o: CoreOptions) -> Answer:
     from deck_emulator.engine import CoreEngine
+    from deck_emulator.vocabulary.scene import overridden_fields
 
     common.require("core")
     src = common.load(o, "core")
@@ -116,6 +117,8 @@ def core(o: CoreOptions) -> Answer:
     common.check_trajectory(o.trajectory)
     engine = CoreEngine(**o.core_keywords(), method=o.method, rtol=o.rtol, atol=o.atol,
                         t_max_s=o.max_time, max_wall_s=o.max_wall)
+    set_aside = (overridden_fields(source, engine.model_options()) if src.kind == "scene"
+                 else [])  # a scene file's field the preset overrides: said, never silent
     out = common.with_progress(o.quiet, engine, source)
     written = common.write_trajectory(o.trajectory, out)
     used = out.method or o.method
@@ -123,14 +126,14 @@ def core(o: CoreOptions) -> Answer:
                 "method": f"{used} (auto)" if o.method == "auto" and out.method else used,
                 "rtol": o.rtol, "atol": o.atol}
     answer = _outcome_answer("core", out, src.name, settings, o)
-    answer.notes += list(out.notes)
+    answer.notes += set_aside + list(out.notes)
     if out.error is None and out.hit_message is None:  # a run that could not end: exit 3
         answer.status = "stopped"
         answer.error = (f"{src.name}: simulated time passed the limit of {o.max_time:g} s "
                         "(--max-time) with no hit: the post has not landed")
         answer.notes.append(answer.error)
     answer.text = _rendered(answer)
-    answer.said = list(src.notes) + ([written] if written else [])
+    answer.said = list(src.notes) + set_aside + ([written] if written else [])
     return answer
 
 

@@ -14,6 +14,9 @@ trajectory.
 
 from __future__ import annotations
 
+from deck_emulator.errors import UsageError
+
+from . import errata as errata_policy
 from .engines import engine_for
 from .outcome import Outcome
 from .sources import load_source
@@ -29,11 +32,13 @@ def run(source, engine: str = "emulator", *, section: int | None = None,
     :class:`~deck_emulator.vocabulary.scene.Scene` object) on ``engine`` and return its outcome.
 
     ``options`` are the engine's (:class:`~deck_emulator.engine.EmulatorEngine`: ``precision``,
-    ``errata`` ...; :class:`~deck_emulator.engine.CoreEngine`: ``preset``, ``method``, ``rtol``,
+    ``errata`` ...;  the errata also as the command line names them, ``erratum=``, and either
+    as one name or a list of names: ``erratum="ed-direction"``; :class:`~deck_emulator.engine.CoreEngine`: ``preset``, ``method``, ``rtol``,
     ``atol`` ...), with the engines' defaults, which are the command line's
     (:mod:`deck_emulator.vocabulary.defaults`). A run that cannot
     end is an outcome whose ``error`` says why; bad input raises
     :class:`~deck_emulator.legacy.deck.DeckError` or :class:`~deck_emulator.errors.UsageError`."""
+    options = _command_line_names(options)
     if hasattr(source, "values") or hasattr(source, "post"):  # a Deck or a Scene already
         return engine_for(engine, **options).run(source)
     kinds = ("deck",) if engine == "emulator" else ("deck", "scene")
@@ -41,3 +46,17 @@ def run(source, engine: str = "emulator", *, section: int | None = None,
                       listing_program=listing_program, kinds=kinds, command=f"the {engine}")
     target = src.deck("run") if engine == "emulator" else src.scene_or_deck(f"the {engine}")
     return engine_for(engine, **options).run(target, name=src.stem)
+
+
+def _command_line_names(options: dict) -> dict:
+    """``erratum=`` (the command line's ``--erratum``) as the engine's ``errata``, and either
+    as one name or a list of names (:func:`~deck_emulator.engine.errata.names`)."""
+    options = dict(options)
+    if "erratum" in options:
+        given = errata_policy.names(options.pop("erratum"))
+        if "errata" in options and errata_policy.names(options["errata"]) != given:
+            raise UsageError("give the errata once: erratum= and errata= name the same thing")
+        options["errata"] = given
+    if "errata" in options:
+        options["errata"] = errata_policy.names(options["errata"])
+    return options

@@ -466,7 +466,9 @@ class CoreEngine:
         scene = (source if isinstance(source, Scene)
                  else Scene.from_deck(source, name=source_name(source), checked=False))
         out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
-                      arithmetic="IEEE double")
+                      arithmetic="IEEE double",
+                      contact_test="segments" if self.model_options().shaft_contact
+                      else "points")
         out.run_s = run_s
         if isinstance(r, Exception):
             out.error = f"{type(r).__name__}: {r}"

@@ -13,9 +13,19 @@ from collections.abc import Iterable
 ED_DIRECTION = "ed-direction"
 
 
-def resolve(requested: Iterable[str] | None) -> tuple[str, ...]:
+def names(requested: str | Iterable[str] | None) -> tuple[str, ...]:
+    """The errata named, as the command line names them: one name (``"ed-direction"``), or a
+    list or tuple of names; none: ``()``.  A string is one name, never its letters."""
+    if requested is None:
+        return ()
+    if isinstance(requested, str):
+        return (requested,)
+    return tuple(requested)
+
+
+def resolve(requested: str | Iterable[str] | None) -> tuple[str, ...]:
     """The errata a run uses: exactly those requested (none: the listing as printed)."""
-    return tuple(dict.fromkeys(requested or ()))
+    return tuple(dict.fromkeys(names(requested)))
 
 
 def describe(errata: Iterable[str]) -> str:

@@ -48,6 +48,10 @@ class Outcome:
       emulator's printout is left as the listing prints it, the flags say what is odd.
     * ``error``: why the run stopped early (one line), ``None`` if it ended; ``guard``: the
       emulator's guard that stopped it; ``hint``: what would let it run.
+    * ``contact_test``: what of the post the run tested against the car in free flight:
+      ``"points"`` (the listing's P, R and C: the emulator, the core without
+      ``shaft_contact``) or ``"segments"`` (the shaft Q-P and the arms too: the core's
+      ``ModelOptions.shaft_contact``); what a verdict on the occupant compartment can rest on.
     * ``method``: the core's integration method as it ran (``auto`` resolved); ``notes``: what
       the engine says of the run (the core's sentences about its scene and solution).
     * ``records``: the emulator's printout, record by record (carriage control in column 1).
@@ -86,6 +90,7 @@ class Outcome:
     hint: str = ""
     run_s: float = 0.0
     method: str = ""
+    contact_test: str = "points"
     notes: tuple[str, ...] = ()
     records: tuple[str, ...] = ()
     evaluations: int | None = None

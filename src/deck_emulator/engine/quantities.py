@@ -252,11 +252,12 @@ _REGISTRY = (
              _of_pulse("max_decel_10ms_g"), needs="contact"),
     Quantity("oiv_m_s", "occupant impact velocity (OIV)", "m/s", 2,
              "flail-space model (0.6 m): the occupant's speed relative to the car when it "
-             "strikes the interior; judged by NCHRP Report 350 (1993), Table 5.1, criterion H",
+             "strikes the interior; judged by the cited limits of NCHRP Report 350 and MASH "
+             "(engine.safety.CRITERIA)",
              _of_pulse("oiv_m_s"), needs="contact"),
     Quantity("ora_g", "occupant ridedown acceleration (ORA)", "g", 2,
              "the largest 10 ms average deceleration of the car after the occupant strikes; "
-             "judged by NCHRP Report 350 (1993), Table 5.1, criterion I",
+             "judged by the cited limits (engine.safety.CRITERIA)",
              _of_pulse("ora_g"), needs="contact"),
     Quantity("occupant_strike_time_s", "occupant strikes the interior", "ms", 1,
              "flail-space model: when the occupant has moved 0.6 m relative to the car "

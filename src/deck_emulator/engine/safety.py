@@ -54,8 +54,13 @@ __all__ = [
     "WINDOW_S",
     "Criterion",
     "CRITERIA",
+    "STANDARDS",
     "UNCONFIRMED",
+    "VERDICTS",
     "rate",
+    "criteria_of",
+    "compartment",
+    "ratings",
     "PulseMetrics",
     "assess",
     "delta_v",
@@ -78,51 +83,88 @@ WINDOW_S = 0.010
 
 # ----------------------------------------------------------------------------------- criteria
 
+@dataclass(frozen=True)
+class Standard:
+    """A document limits come from: ``name`` as a table cell shows it, ``title`` in full."""
+
+    name: str
+    title: str
+
+
+#: The documents the limits come from, in the order the answers print them.
+STANDARDS: Mapping[str, Standard] = {
+    "nchrp350": Standard("NCHRP 350", "NCHRP Report 350 (1993)"),
+    "mash": Standard("MASH 2016", "AASHTO Manual for Assessing Safety Hardware (MASH), "
+                     "2nd edition (2016)"),
+}
+
 
 @dataclass(frozen=True)
 class Criterion:
-    """A limit: ``preferred`` and ``maximum`` in ``unit``; ``source`` says where it is from."""
+    """A limit of ``standard`` (a key of :data:`STANDARDS`) on ``quantity`` (the registry's
+    name, or ``occupant_compartment``): ``preferred`` and ``maximum`` in ``unit``; ``rule``:
+    the limit in words where it is not a number to read against a value (the occupant
+    compartment); ``source`` says where it is from."""
 
     name: str
     quantity: str
     unit: str
     preferred: float | None
-    maximum: float
+    maximum: float | None
     source: str
+    standard: str = "nchrp350"
+    rule: str = ""
 
     def label(self) -> str:
-        pref = f"≤ {self.preferred:g} preferred, " if self.preferred is not None else ""
-        return f"{pref}≤ {self.maximum:g} {self.unit} max"
+        if self.rule:
+            return self.rule
+        pref = f"{self.preferred:g} {self.unit} preferred, " if self.preferred is not None else ""
+        return f"{pref}{self.maximum:g} {self.unit} at most"
 
 
-#: The limits the numbers are judged by (breakaway supports), each with the document it is
-#: taken from. Only limits that can be cited are here; the ones remembered but not confirmed
-#: are in :data:`UNCONFIRMED` and never printed as limits (docs/safety.md).
+#: The limits the answers are judged by (breakaway supports), each with the document it is
+#: taken from, as the source found states it. Only limits that can be cited are here; the ones
+#: remembered but not confirmed are in :data:`UNCONFIRMED` and never printed (docs/safety.md).
 CRITERIA: Mapping[str, Criterion] = {
-    "oiv": Criterion(
-        "OIV",
-        "longitudinal occupant impact velocity",
-        "m/s",
-        3.0,
-        5.0,
-        "NCHRP Report 350 (1993), Table 5.1, criterion H (support structures)",
-    ),
-    "ora": Criterion(
-        "ORA",
-        "longitudinal occupant ridedown acceleration",
-        "g",
-        None,
-        20.0,
-        "NCHRP Report 350 (1993), Table 5.1, criterion I",
-    ),
+    "nchrp350_compartment": Criterion(
+        "occupant compartment", "occupant_compartment", "ft", None, None,
+        "NCHRP Report 350 (1993), its criteria for breakaway supports as the Highway "
+        "Engineering Handbook, 'Sign and luminaire supports and similar features', states "
+        "them: 'no significant deformation or intrusion of the passenger compartment'",
+        rule="no intrusion into the passenger compartment"),
+    "mash_compartment": Criterion(
+        "occupant compartment", "occupant_compartment", "ft", None, None,
+        "AASHTO MASH (2016) as TRB's NCHRP Project 22-59 statement describes it: MASH does "
+        "'not allow for any part of the device ... to enter the vehicle compartment. If "
+        "there is any penetration, the device fails that test'",
+        standard="mash", rule="no part of the device enters the compartment"),
+    "nchrp350_oiv": Criterion(
+        "OIV", "oiv_m_s", "m/s", 3.0, 5.0,
+        "NCHRP Report 350 (1993), Table 5.1, criterion H (support structures)"),
+    "mash_oiv": Criterion(
+        "OIV", "oiv_m_s", "m/s", None, 4.9,
+        "AASHTO MASH (2016) as TRB's research-in-progress record 'Updating Full-Scale "
+        "Testing Evaluation Requirements for Sign Supports, Poles, and Work-Zone Devices "
+        "relative to MASH and EN12767' states it: 'The limit from MASH for Occupant Impact "
+        "Velocity (OIV) is 4.9 m/s for all types of supports'", standard="mash"),
+    "nchrp350_ora": Criterion(
+        "ORA", "ora_g", "g", None, 20.0,
+        "NCHRP Report 350 (1993), Table 5.1, criterion I"),
 }
 
 #: Remembered, not confirmed in a document at hand: kept for docs/safety.md, never printed.
 UNCONFIRMED: Mapping[str, Criterion] = {
-    "ora_preferred": Criterion(
-        "ORA", "longitudinal occupant ridedown acceleration", "g", 15.0, 20.0,
-        "15 g preferred: from memory, not found in a source (docs/safety.md)",
-    ),
+    "nchrp350_ora_preferred": Criterion(
+        "ORA", "ora_g", "g", 15.0, 20.0,
+        "15 g preferred: from memory, not found in a source (docs/safety.md)"),
+    "mash_oiv_preferred": Criterion(
+        "OIV", "oiv_m_s", "m/s", 3.0, 4.9,
+        "MASH's preferred 3.0 m/s (10 ft/s) for supports: from memory, not found in a source "
+        "(docs/safety.md)", standard="mash"),
+    "mash_ora": Criterion(
+        "ORA", "ora_g", "g", 15.0, 20.49,
+        "MASH's 15.0 g preferred, 20.49 g at most: from memory, not found in a source "
+        "(docs/safety.md)", standard="mash"),
     "delta_v_1985": Criterion(
         "ΔV (1985)",
         "vehicle velocity change",
@@ -131,7 +173,22 @@ UNCONFIRMED: Mapping[str, Criterion] = {
         15.0,
         "1985 AASHTO structural-supports specification (from memory, unverified): "
         "10 ft/s desirable, about 15 ft/s at most",
+        standard="aashto1985",
     ),
+}
+
+#: Every verdict word an answer prints, and what it says (one table: the ratings, the
+#: tables and docs/safety.md take their words from here).
+VERDICTS: Mapping[str, str] = {
+    "preferred": "within the preferred limit",
+    "acceptable": "over the preferred limit (where there is one), within the maximum",
+    "exceeds": "over the maximum",
+    "fails": "a part of the post enters the car's body: the test fails",
+    "passes": "the whole post (its points, the shaft Q-P, the arms) was tested against the "
+              "car and no part of it entered the car's body before the run ended",
+    "not judged": "the model that ran cannot support a verdict (the reason says why)",
+    "not rated": "within its limits, but not rated beside a failure of the occupant "
+                 "compartment: the test fails whatever this value is",
 }
 
 
@@ -142,6 +199,12 @@ def rate(value: float | None, criterion: Criterion) -> str:
     if criterion.preferred is not None and value <= criterion.preferred:
         return "preferred"
     return "acceptable" if value <= criterion.maximum else "exceeds"
+
+
+def criteria_of(quantity: str) -> dict[str, Criterion]:
+    """The cited limits on ``quantity``, in :data:`STANDARDS`' order."""
+    rows = {k: c for k, c in CRITERIA.items() if c.quantity == quantity}
+    return dict(sorted(rows.items(), key=lambda kc: list(STANDARDS).index(kc[1].standard)))
 
 
 # ------------------------------------------------------------------------------- the history
@@ -269,16 +332,16 @@ class PulseMetrics:
     ora_g: float
     ora_window_start_s: float | None
     flail_distance_ft: float
-    oiv_rating: str
-    ora_rating: str
 
     def as_dict(self) -> dict:
         return asdict(self)
 
     def lines(self) -> list[str]:
-        """Human-readable lines, with the limits of the criteria."""
+        """Human-readable lines, with the cited limits (no verdict: a pulse alone cannot say
+        whether the post entered the car; :func:`ratings` rates a run)."""
         ms = lambda s: "never" if s is None else f"{1000 * s:.1f} ms"
-        oiv, ora = CRITERIA["oiv"], CRITERIA["ora"]
+        limits = lambda q: "; ".join(f"{STANDARDS[c.standard].name}: {c.label()}"  # noqa: E731
+                                     for c in criteria_of(q).values())
         when = " (after contact ended: relative speed = ΔV)" if self.strike_after_contact else ""
         return [
             f"ΔV {self.delta_v_contact_mph:.3f} mph",
@@ -286,8 +349,8 @@ class PulseMetrics:
             f"{ms(self.max_decel_sampled_time_s)}; "
             f"max 10 ms average {self.max_decel_10ms_g:.2f} g",
             f"OIV {self.oiv_m_s:.2f} m/s ({self.oiv_ft_s:.2f} ft/s), occupant strikes at "
-            f"{ms(self.occupant_strike_time_s)}{when}: {self.oiv_rating} ({oiv.label()})",
-            f"ORA {self.ora_g:.2f} g: {self.ora_rating} ({ora.label()})",
+            f"{ms(self.occupant_strike_time_s)}{when} ({limits('oiv_m_s')})",
+            f"ORA {self.ora_g:.2f} g ({limits('ora_g')})",
         ]
 
 
@@ -319,8 +382,6 @@ def assess(
         ora_g=ora_g,
         ora_window_start_s=fs.ora_window_start_s,
         flail_distance_ft=fs.distance_ft,
-        oiv_rating=rate(oiv_m_s, CRITERIA["oiv"]),
-        ora_rating=rate(ora_g, CRITERIA["ora"]),
     )
 
 
@@ -354,7 +415,8 @@ class Clearance:
     on the post (``Q-P 0.73``: 73 % of the way from Q to P). ``touch_time_s``: the first
     instant any place on the post's line is inside the outline (None: never) -- when the post
     would meet the car if the whole line were checked, not just P, R and C as the listing does;
-    ``touch_surface`` what it meets first.
+    ``touch_surface`` what it meets first, ``touch_where`` the place on the post (as
+    ``*_where``).
     """
 
     body_ft: float | None
@@ -367,6 +429,7 @@ class Clearance:
     instants: int
     touch_time_s: float | None = None
     touch_surface: str | None = None
+    touch_where: str | None = None
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -432,7 +495,7 @@ def body_clearance(
     parts = tuple((b.part, sv[idx] + b.x0_ft, sv[idx] + b.x1_ft, b.top_ft)
                   for b in car_boxes(body))
     t = times[idx]
-    least = roof = touch = None  # (clearance, time, surface, where) / (time, surface)
+    least = roof = touch = None  # (clearance, time, surface, where) / (time, surface, where)
     for label, A, B in _segments(points):
         A, B = A[idx], B[idx]
         axv, ayv = A[:, 0] * ca - A[:, 1] * sa, A[:, 0] * sa + A[:, 1] * ca
@@ -463,10 +526,11 @@ def body_clearance(
             if inside.any():
                 j = int(np.argmax(inside))
                 if touch is None or t[j] < touch[0]:
-                    touch = (float(t[j]), surface)
+                    touch = (float(t[j]), surface,
+                             label if label == "C" else f"{label} {at[j]:.2f}")
     b = least or (None,) * 4
     r = roof or (None,) * 3
-    tt = touch or (None, None)
+    tt = touch or (None, None, None)
     return Clearance(
         body_ft=b[0],
         body_time_s=b[1],
@@ -478,6 +542,7 @@ def body_clearance(
         instants=int(idx.size),
         touch_time_s=tt[0],
         touch_surface=tt[1],
+        touch_where=tt[2],
     )
 
 

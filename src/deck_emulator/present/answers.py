@@ -44,20 +44,22 @@ OCCUPANT_RISK = ("oiv_m_s", "ora_g", "max_decel_10ms_g", "occupant_strike_time_s
 
 
 def criteria_answer() -> dict:
-    """The limits the occupant-risk numbers are judged by, each with its citation; only
-    those that can be cited (see docs/safety.md for the unconfirmed ones)."""
-    from deck_emulator.engine.safety import CRITERIA
+    """The limits the answers are judged by, each with its standard and citation; only those
+    that can be cited (see docs/safety.md for the unconfirmed ones)."""
+    from deck_emulator.engine.safety import CRITERIA, STANDARDS
 
-    names = {"oiv": "oiv_m_s", "ora": "ora_g"}
-    return {k: {"quantity": names.get(k, k), "preferred": c.preferred, "maximum": c.maximum,
-                "unit": c.unit, "source": c.source}
+    return {k: {"standard": STANDARDS[c.standard].title, "quantity": c.quantity,
+                "preferred": c.preferred, "maximum": c.maximum, "unit": c.unit,
+                "limit": c.label(), "source": c.source}
             for k, c in CRITERIA.items()}
 
 
 def outcome_result(out) -> dict:
     """An engine's :class:`Outcome` as the answer of ``summary``, ``core`` or ``assembly``
-    (the keys after the envelope's): the registry's quantities, read from the outcome."""
+    (the keys after the envelope's): the registry's quantities, read from the outcome, and
+    the verdicts (:func:`deck_emulator.engine.ratings.ratings`)."""
     from deck_emulator.engine import quantities
+    from deck_emulator.engine.ratings import ratings
 
     quantities_ = quantities.values(out, OUTCOME)
     risk = None
@@ -76,6 +78,7 @@ def outcome_result(out) -> dict:
         quantities=quantities_,
         terminal_xl_yl_zl_ft=terminal,
         occupant_risk=risk,
+        ratings=ratings(out) if risk is not None else None,
         criteria=criteria_answer() if risk is not None else None,
         unavailable=missing,
     )
@@ -106,6 +109,39 @@ def _setting(v) -> str:
     return str(v)
 
 
+def _rating_lines(ratings: dict) -> list[str]:
+    """The verdicts as lines: the occupant compartment, then each rated reading against
+    each standard's limit."""
+    from deck_emulator.engine.safety import CRITERIA, STANDARDS
+
+    comp = ratings["occupant_compartment"]
+    head = f"  occupant compartment: {comp['verdict']}"
+    if comp["verdict"] == "fails":
+        head += (f": {comp['part']} enters the car over the {comp['surface']} at "
+                 f"{1000 * comp['time_s']:.1f} ms, {comp['depth_ft']:.3f} ft deep at the most"
+                 + (f" (over the {comp['deepest_surface']})" if comp["deepest_surface"] else ""))
+    lines = [head, f"    {comp['reason']}"]
+    for name, r in ratings.items():
+        if name == "occupant_compartment" or not r["verdicts"]:
+            continue
+        q = QUANTITIES[name]
+        words = "; ".join(f"{STANDARDS[CRITERIA[k].standard].name}: {w}"
+                          for k, w in r["verdicts"].items())
+        why = f" ({r['reason']})" if r["reason"] else ""
+        lines.append(f"  {name} {q.show(r['value'])} {q.unit}: {words}{why}")
+    return lines
+
+
+def _limit_lines(criteria: dict) -> list[str]:
+    """The cited limits, one a line with its source (those not confirmed in a source are
+    left out: docs/safety.md lists them)."""
+    from deck_emulator.engine.safety import CRITERIA, STANDARDS
+
+    lines = [f"  {c['quantity']}, {STANDARDS[CRITERIA[k].standard].name}: {c['limit']} "
+             f"({c['source']})" for k, c in criteria.items()]
+    return lines + ["  (a limit not confirmed in a source is left out: docs/safety.md lists them)"]
+
+
 def render_outcome(a: dict) -> str:
     """The table of ``summary`` / ``core``."""
     lines = [f"{a['source']}: the {a['engine']}"]
@@ -129,12 +165,9 @@ def render_outcome(a: dict) -> str:
     if a["occupant_risk"]:
         lines += [""] + _table(_quantity_rows(a["occupant_risk"]),
                                ("occupant risk (docs/safety.md)", "name", "value", "unit"), {2})
-        lines += ["", "limits, with their sources"]
-        for c in a["criteria"].values():
-            pref = (f"{c['preferred']:g} {c['unit']} preferred, "
-                    if c["preferred"] is not None else "")
-            lines.append(f"  {c['quantity']}: {pref}{c['maximum']:g} {c['unit']} at most "
-                         f"({c['source']})")
+        if a.get("ratings"):
+            lines += ["", "ratings (docs/safety.md)"] + _rating_lines(a["ratings"])
+        lines += ["", "limits, with their sources"] + _limit_lines(a["criteria"])
     return "\n".join(lines) + "\n"
 
 

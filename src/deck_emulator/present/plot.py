@@ -28,6 +28,7 @@ import numpy as np
 
 from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.engine import quantities, safety
+from deck_emulator.engine.ratings import ratings
 from deck_emulator.engine import ENGINES, Outcome, engine_for
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.vocabulary.events import EventKind
@@ -673,7 +674,9 @@ def figure_pulse(results: list[Outcome]) -> Figure:
                      f" (to the end of the crush pulse, the reading that fits the report's steel "
                      f"columns: "
                      f"{show['delta_v_crush_mph']} mph)")
-            rating = f" ({m.oiv_rating})" if res.error is None else ""
+            rated = (ratings(res) or {}).get("oiv_m_s", {}).get("verdicts", {})
+            rating = (f" ({rated['nchrp350_oiv']}, NCHRP 350)" if rated.get("nchrp350_oiv")
+                      else "")
             notes.append(
                 f"{res.engine}: ΔV to the end of contact {show['delta_v_contact_mph']} mph{crush},"
                 f"\n    max, every step {show['max_decel_every_step_g']} g, 10 ms avg "
@@ -711,8 +714,9 @@ def figure_pulse(results: list[Outcome]) -> Figure:
     )
     ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
     if notes:
-        oiv, ora = safety.CRITERIA["oiv"], safety.CRITERIA["ora"]
-        notes.append(f"limits (breakaway supports): OIV {oiv.label()}; ORA {ora.label()}")
+        oiv, ora = safety.CRITERIA["nchrp350_oiv"], safety.CRITERIA["nchrp350_ora"]
+        notes.append(f"NCHRP 350 limits (breakaway supports): OIV {oiv.label()}; "
+                     f"ORA {ora.label()}")
         ax.text(
             0.22,
             0.62,

@@ -46,6 +46,7 @@ from deck_emulator.engine import Outcome, engine_for, quantities
 from deck_emulator.vocabulary.events import Surface
 from deck_emulator.engine.sources import Deck, read_deck
 from deck_emulator.engine import safety
+from deck_emulator.engine.ratings import RATED, ratings
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.report_tables import report_comment
 from deck_emulator.vocabulary.units import FT_PER_MILE, S_PER_HOUR
@@ -228,10 +229,19 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
                                     else None)
     row["comment"] = report_comment(hit) if hit else ("NO HIT" + (f" ({res.error})" if res.error else ""))
     m = quantities.pulse(res)  # the readings the registry's values came from
-    ended = res.ended
     row["occupant_strike_after_contact"] = m.strike_after_contact if m is not None else None
-    row["oiv_rating"] = m.oiv_rating if m is not None and ended else ""
-    row["ora_rating"] = m.ora_rating if m is not None and ended else ""
+    # the verdicts (none for a run that stopped): the engine layer's one rating of a run
+    rated = ratings(res) or {}
+    comp = rated.get("occupant_compartment") or {}
+    row["compartment_verdict"] = comp.get("verdict") or ""
+    row["compartment_part"] = comp.get("part") or ""
+    row["compartment_surface"] = comp.get("surface") or ""
+    row["compartment_depth_ft"] = comp.get("depth_ft")
+    row["compartment_deepest_surface"] = comp.get("deepest_surface") or ""
+    row["compartment_time_s"] = comp.get("time_s")
+    for key, c in safety.CRITERIA.items():  # nchrp350_oiv_rating, mash_oiv_rating ...
+        if c.quantity in RATED:
+            row[f"{key}_rating"] = rated.get(c.quantity, {}).get("verdicts", {}).get(key, "")
     c = quantities.clearance(res)
     row["body_clearance_surface"] = (c.body_surface or "") if c else ""
     row["body_clearance_time_s"] = c.body_time_s if c else None
@@ -399,7 +409,15 @@ def _deg(a):
 
 def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emulator") -> str:
     """Tables laid out like the report's Tables 11 and 12: one table per speed."""
-    oiv, ora = safety.CRITERIA["oiv"], safety.CRITERIA["ora"]
+    limits = {q: "; ".join(f"{safety.STANDARDS[c.standard].name}: {c.label()}"
+                           for c in safety.criteria_of(q).values())
+              for q in ("occupant_compartment", *RATED)}
+
+    def rated(r, quantity):  # "NCHRP 350: preferred; MASH: acceptable" from the row's columns
+        return "; ".join(f"{safety.STANDARDS[safety.CRITERIA[k].standard].name}: "
+                         f"{r[f'{k}_rating']}"
+                         for k in safety.criteria_of(quantity) if r.get(f"{k}_rating"))
+
     lines = ["# Parameter study (the report's Chapter VI), regenerated", ""]
     if command:
         lines += [f"Command: `{command}`", ""]
@@ -421,9 +439,12 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         ),
         "- Terminal coordinates in the report's XL, YL, ZL axes (origin on the ground under the "
         "base of the support), at the hit.",
-        f"- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md): OIV "
-        f"limit {oiv.label()}; ORA limit {ora.label()} (breakaway supports, NCHRP Report 350 "
-        "/ MASH).",
+        "- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md), "
+        f"limits for breakaway supports: OIV {limits['oiv_m_s']}; ORA {limits['ora_g']}; "
+        f"occupant compartment {limits['occupant_compartment']}. The verdicts are "
+        "`deck_emulator.engine.ratings`': beside a compartment that fails, OIV and ORA are "
+        "not rated; a model that tests only the points P, R and C (the emulator, the core's "
+        "legacy preset without --shaft-contact) gives the compartment no pass verdict.",
         "- Clearance: the least vertical clearance (ft) between the post (the line Q–P–R, and "
         "P–U for a second arm) and the "
         "car's outline while the post is over the car in free flight; over the roof = over the "
@@ -459,8 +480,24 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
             [f"{_num(r['max_decel_every_step_g'])}; {_num(r['max_decel_10ms_g'])}" for r in rs],
         )
         add(
-            f"OIV m/s ({oiv.label()})",
-            [f"{_num(r['oiv_m_s'])} {r['oiv_rating'] or ''}".strip() for r in rs],
+            "occupant compartment",
+            [
+                r["compartment_verdict"]
+                + (
+                    f": {r['compartment_part']} enters over the {r['compartment_surface']} at "
+                    f"{_ms(r['compartment_time_s'], 0)} ms; {_num(r['compartment_depth_ft'])} ft "
+                    "deep at the most"
+                    + (f", over the {r['compartment_deepest_surface']}"
+                       if r["compartment_deepest_surface"] else "")
+                    if r["compartment_verdict"] == "fails"
+                    else ""
+                )
+                for r in rs
+            ],
+        )
+        add(
+            "OIV m/s",
+            [f"{_num(r['oiv_m_s'])} {rated(r, 'oiv_m_s')}".strip() for r in rs],
         )
         add(
             "occupant strikes the interior (ms)",
@@ -471,8 +508,8 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
             ],
         )
         add(
-            f"ORA g ({ora.label()})",
-            [f"{_num(r['ora_g'])} {r['ora_rating'] or ''}".strip() for r in rs],
+            "ORA g",
+            [f"{_num(r['ora_g'])} {rated(r, 'ora_g')}".strip() for r in rs],
         )
         add(
             "least clearance over the car (ft)",

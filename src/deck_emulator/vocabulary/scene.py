@@ -45,6 +45,8 @@ from deck_emulator.vocabulary.defaults import LISTING_CAP_STEPS, LISTING_STEP_S
 from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = [
+    "OVERRIDDEN",
+    "overridden_fields",
     "Vec3",
     "PostPoint",
     "Post",
@@ -784,6 +786,9 @@ class ModelOptions:
       them) are checked as segments against the car's three solid boxes
       (:mod:`.segments`), not only the points P, R, C: a shaft falling across the hood with
       its ends clear of the outline hits it.  False (the listing): only the points.
+
+    The scene fields an option sets aside (the base friction under ``listing_friction``, the
+    force cap without ``force_cap_from_s``) are :data:`OVERRIDDEN`; ``core`` names them.
     """
 
     startup_kick: StartupKick | None = None
@@ -828,3 +833,55 @@ LEGACY = ModelOptions(
 PHYSICAL = ModelOptions(name="physical")
 
 PRESETS: dict[str, ModelOptions] = {"legacy": LEGACY, "physical": PHYSICAL}
+
+
+@dataclass(frozen=True)
+class Overridden:
+    """A scene field a model option sets aside: while ``ModelOptions.<flag>`` is ``when``,
+    the core uses ``instead`` whatever the scene's ``field`` (its TOML path) says; ``value``
+    reads the field from a scene (None: not given); a scene value equal to ``same`` is what
+    the option uses anyway (nothing is set aside)."""
+
+    flag: str
+    when: Any
+    field: str
+    value: Any
+    same: float | None
+    instead: str
+
+
+def _friction(scene, name):
+    base = scene.base
+    return None if base is None or base.friction is None else getattr(base.friction, name)
+
+
+#: Which option overrides which scene field (read from the core: core/model.py builds the
+#: base friction from the listing's numbers under ``listing_friction``; core/components.py
+#: caps the spring force at ``force_cap_lb`` only when ``force_cap_from_s`` is set).
+OVERRIDDEN: tuple[Overridden, ...] = (
+    Overridden("listing_friction", True, "base.friction.force_lb",
+               lambda s: _friction(s, "force_lb"), LISTING_BASE_FRICTION.force_lb,
+               f"the listing's base friction, 3.1*300 = {LISTING_BASE_FRICTION.force_lb:g} lb"),
+    Overridden("listing_friction", True, "base.friction.slip_window_ft",
+               lambda s: _friction(s, "slip_window_ft"), LISTING_BASE_FRICTION.slip_window_ft,
+               f"the listing's slot, {LISTING_BASE_FRICTION.slip_window_ft:g} ft (less its "
+               "0.004 ft tolerance)"),
+    Overridden("force_cap_from_s", None, "vehicle.force_cap_lb",
+               lambda s: None if s.vehicle is None else s.vehicle.force_cap_lb, None,
+               "no cap on the crush spring's force"),
+)
+
+
+def overridden_fields(scene: "Scene", options: ModelOptions) -> list[str]:
+    """A sentence for each field of ``scene`` that ``options`` set aside (:data:`OVERRIDDEN`),
+    naming the field, what is used instead, and the preset that would honour it."""
+    said = []
+    for o in OVERRIDDEN:
+        value = o.value(scene)
+        if getattr(options, o.flag) != o.when or value is None or value == o.same:
+            continue
+        honour = [name for name, p in PRESETS.items() if getattr(p, o.flag) != o.when]
+        said.append(f"scene field {o.field} = {value:g} is not used: the {options.name} "
+                    f"preset's {o.flag} applies {o.instead}"
+                    + (f"; --preset {' or '.join(honour)} honours it" if honour else ""))
+    return said
