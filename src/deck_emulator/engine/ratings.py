@@ -36,6 +36,7 @@ RATED = ("oiv_m_s", "ora_g")
 #: core locates on the surface itself.
 _AT_SURFACE_FT = 1e-9
 
+
 def part_name(label: str) -> str:
     """A part of the post by the label an engine or the clearance gives it, in the
     vocabulary's words: ``Q-P`` -> 'the shaft Q-P', ``R`` -> 'the luminaire end R'."""

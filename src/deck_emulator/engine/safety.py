@@ -59,8 +59,6 @@ __all__ = [
     "VERDICTS",
     "rate",
     "criteria_of",
-    "compartment",
-    "ratings",
     "PulseMetrics",
     "assess",
     "delta_v",
