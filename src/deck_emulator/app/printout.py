@@ -48,7 +48,9 @@ class RunOptions(Emulator):
                         help="the fan-fold paper of --pages (default plain)")
     listing: bool = option(False, help="with --pages: the program's FORTRAN source as a "
                            "compile listing (cards, sequence columns, statement numbers) "
-                           "before the output")
+                           "before the output: a job deck's own cards, with its control "
+                           "cards, when it carries them, the shipped transcription otherwise "
+                           "(the banner page says which)")
     quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
     render: bool = option(False, help="render ASA carriage control (1 = form feed, 0 = blank "
                           "line, + = overprint) as the POSIX asa utility does, instead of the "
@@ -100,14 +102,14 @@ def run(o: RunOptions) -> Answer:
                                                "errata": list(o.erratum)},
                     notes=list(src.notes), json=o.json, out=None if o.pages else o.out,
                     said=list(src.notes))
-    records, text, sections = [], "", []
+    printed_by_run, text, sections = [], "", []
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
         done = common.with_progress(o.quiet, engine, deck, execute=True)
         run_ = done.run
         # the Outcome only where it is used (a trajectory, a stopped run's reasons): a plain
         # run prints the program's records and loads no numpy
         out = engine.outcome_of(done, deck) if o.trajectory or done.stopped else None
-        records += run_.records
+        printed_by_run.append(list(run_.records))
         text += render_asa(run_.records) if o.render else run_.text()
         answer.said.append(f"{deck.path}: {_describe(run_)}")
         sections.append({"deck": str(deck.path), "settings": _describe(run_),
@@ -124,7 +126,7 @@ def run(o: RunOptions) -> Answer:
     if o.json or o.pages:
         from deck_emulator.engine import provenance
 
-        facts = provenance.facts(src, [s["settings"] for s in sections])
+        facts = provenance.facts(src, [s["settings"] for s in sections], listing=o.listing)
     answer.result = {"provenance": facts, "sections": sections}
     answer.text = text
     if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
@@ -134,15 +136,21 @@ def run(o: RunOptions) -> Answer:
         with OutputSet() as outputs:
             if o.out:
                 outputs.write(o.out, answer.printed())
-            # the banner page (the job separator) first, the compile listing if asked for,
-            # then the output as printed
-            listing = []
+            # the banner page (the job separator) first, the compile listing if asked for
+            # (the deck's own cards, or the shipped transcription), then the output as
+            # printed, each of several runs after a separator page of its own
+            pages = provenance.banner_records(facts)
             if o.listing:
                 from deck_emulator.legacy.listing import listing_records
 
-                listing = listing_records()
-            write_pdf(provenance.banner_records(facts) + listing + records, o.pages,
-                      paper=o.paper, outputs=outputs, metadata=provenance.pdf_metadata(facts))
+                pages += listing_records(list(src.program_cards) or None)
+            for k, (section, printed) in enumerate(zip(sections, printed_by_run), start=1):
+                if len(src.decks) > 1:
+                    pages += provenance.separator_records(k, len(src.decks), section["deck"],
+                                                          section["settings"])
+                pages += printed
+            write_pdf(pages, o.pages, paper=o.paper, outputs=outputs,
+                      metadata=provenance.pdf_metadata(facts))
         answer.said.append(f"wrote the line printer's pages to {o.pages}")
         if o.out or not o.json:
             answer.text, answer.json = None, False  # written, or not for the terminal
