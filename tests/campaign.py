@@ -135,14 +135,17 @@ def _printouts() -> dict[str, bytes]:
 def _scanned(data: bytes, rng: random.Random) -> tuple[str, bytes]:
     """A scan's damage: some digits of some values read as the letters a scan confuses them
     with, a point lost or doubled, or a field made unreadable."""
+    from deck_emulator.legacy.records import OCR_CONFUSIONS
+
+    confusions = sorted(OCR_CONFUSIONS.items())
     lines = data.decode().split("\n")
     values = [i for i, line in enumerate(lines) if "VALUE OF" in line]
     for i in rng.sample(values, min(len(values), rng.randint(1, 40))):
         head, _, field = lines[i].rpartition(" ")
         kind = rng.choice(["letter", "letter", "point lost", "point doubled", "unreadable"])
-        if kind == "letter":
-            field = field.replace("0", rng.choice("Oo"), 1).replace("1", rng.choice("lI|"), 1)
-            field = field.replace("5", "S", 1).replace("8", "B", 1)
+        if kind == "letter":  # each digit a scan confuses, read as one of its letters
+            for letter, digit in rng.sample(confusions, rng.randint(1, len(confusions))):
+                field = field.replace(digit, letter, 1)
         elif kind == "point lost":
             field = field.replace(".", "")
         elif kind == "point doubled":
