@@ -2,7 +2,8 @@
 input kind, each case run through the command line in process and held to the tool's promise:
 
 * it ends with a documented exit status: 0 computed, 2 bad input, 3 a run that could not end
-  (argparse's own 2 for a malformed option included);
+  (argparse's own 2 for a malformed option included), and for ``compare`` 1 the printouts
+  differ;
 * no traceback, and a refusal (2) says so in exactly one ``deck-emulator: error:`` line;
 * a refused command writes nothing: the output paths it was given do not exist afterwards.
 
@@ -33,6 +34,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 STEEL40 = ROOT / "decks" / "steel40.dat"
+GOLDEN40 = ROOT / "golden" / "steel40.r8.txt"
 CRASH_TEST = ROOT / "src" / "deck_emulator" / "assemblies" / "crash_test.toml"
 STATUSES = {0, 2, 3}
 
@@ -47,6 +49,7 @@ class Case:
     argv: list[str]
     files: dict[str, bytes] = field(default_factory=dict)
     outputs: tuple[str, ...] = ()
+    statuses: frozenset[int] = frozenset(STATUSES)
 
 
 @dataclass
@@ -110,6 +113,47 @@ def _mutate(data: bytes, rng: random.Random) -> tuple[str, bytes]:
     else:
         b = bytearray(bytes(b) * rng.randint(2, 40))
     return kind, bytes(b)
+
+
+def _printouts() -> dict[str, bytes]:
+    """The golden steel40 printout in every layout compare reads: carriage control in column
+    1, the page as printed (asa), the text of the PDF's forms (each printed line, stripped, no
+    blank lines), and typed (blank lines and page marks dropped, fields re-spaced)."""
+    from deck_emulator.legacy.pages import layout
+    from deck_emulator.legacy.printer import render_asa
+
+    text = GOLDEN40.read_text()
+    records = text.split("\n")[:-1]
+    forms = layout(records)
+    pdf_text = "\n".join("\n".join(line.strip() for _, line in form if line.strip())
+                         for form in forms)
+    typed = "\n".join(" ".join(r.split()) for r in records if r.strip() and r != "1")
+    return {"carriage control": text.encode(), "asa": render_asa(records).encode(),
+            "pdf text": pdf_text.encode(), "typed": typed.encode()}
+
+
+def _scanned(data: bytes, rng: random.Random) -> tuple[str, bytes]:
+    """A scan's damage: some digits of some values read as the letters a scan confuses them
+    with, a point lost or doubled, or a field made unreadable."""
+    from deck_emulator.legacy.records import OCR_CONFUSIONS
+
+    confusions = sorted(OCR_CONFUSIONS.items())
+    lines = data.decode().split("\n")
+    values = [i for i, line in enumerate(lines) if "VALUE OF" in line]
+    for i in rng.sample(values, min(len(values), rng.randint(1, 40))):
+        head, _, field = lines[i].rpartition(" ")
+        kind = rng.choice(["letter", "letter", "point lost", "point doubled", "unreadable"])
+        if kind == "letter":  # each digit a scan confuses, read as one of its letters
+            for letter, digit in rng.sample(confusions, rng.randint(1, len(confusions))):
+                field = field.replace(digit, letter, 1)
+        elif kind == "point lost":
+            field = field.replace(".", "")
+        elif kind == "point doubled":
+            field = field.replace(".", "..")
+        else:
+            field = rng.choice(["#", "", "?.?", "1e5", "nan", "-", ".", "--1.0"])
+        lines[i] = f"{head} {field}"
+    return "scanned", "\n".join(lines).encode()
 
 
 ODD_VALUES = [0.0, -0.0, 1e-5, -1e-5, 99999.0, -99999.0, 9999999.0, -999999.0, 123456.7]
@@ -205,8 +249,8 @@ BAD_PATHS = ["{dir}/missing/x", "{dir}/file/x", "{dir}", "/dev/full", "/proc/ver
 def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
-    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "path": 0} if fast else \
-        {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "path": 0}
+    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0} if fast \
+        else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -236,6 +280,25 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
         cmd = ["parse", "run"][k % 2]
         cases.append(Case("mutated card images", f"{fmt}{' job' if job else ''} {kind} #{k}",
                           [cmd, "{dir}/d.img", "--card-format", fmt], {"d.img": bad}))
+
+    printouts = _printouts()
+    golden = printouts["carriage control"]
+    empty = [("empty", b""), ("blanks", b" \n\n\f\n"), ("a deck", deck), ("a PDF", b"%PDF-1.4\n")]
+    for k in range(n["printouts"]):
+        layout_name = list(printouts)[k % len(printouts)]
+        data = printouts[layout_name]
+        if k % 8 == 7:
+            kind, bad = empty[(k // 8) % len(empty)]
+        elif k % 2:
+            kind, bad = _scanned(data, rng)
+        else:
+            kind, bad = _mutate(data, rng)
+        files = {"a.txt": golden, "b.txt": bad}
+        argv = ["compare", "{dir}/a.txt", "{dir}/b.txt"] + (["--json"] if k % 3 == 0 else [])
+        if k % 5 == 4:  # the damaged one as A
+            argv[1:3] = argv[2:0:-1]
+        cases.append(Case("printouts", f"{layout_name} {kind} #{k}", argv, files,
+                          statuses=frozenset({0, 1, 2})))
 
     scene, assembly = _scene_bytes().decode(), CRASH_TEST.read_text()
     for k in range(n["toml"]):
@@ -299,7 +362,7 @@ def run_case(case: Case, folder: Path) -> Result:
         os.chdir(cwd)
     seconds = time.perf_counter() - started
     text = err.getvalue()
-    if status not in STATUSES:
+    if status not in case.statuses:
         broken.append(f"exit status {status}")
     if "Traceback" in text:
         broken.append("a traceback on stderr")

@@ -61,3 +61,24 @@ def test_the_listings_messages_are_the_vocabularys():
         else:
             expected = LOST_MESSAGES[kind]
         assert printed == expected, label
+
+
+def test_the_value_fields_are_the_pages_the_golden_prints():
+    """VALUE_FIELDS (read off the FORMATs) against the golden steel40 printout read here with a
+    plain expression: a page is what follows a '1' line; the first contact page and the last
+    free-flight page print exactly those labels, in that order, with those field widths."""
+    import re
+    from pathlib import Path
+
+    from deck_emulator.legacy.printer import MESSAGE_TEXTS, VALUE_FIELDS
+
+    text = (Path(__file__).resolve().parents[2] / "golden" / "steel40.r8.txt").read_text()
+    pages = [re.findall(r"THE VALUE OF (\w+) IS ( *\S+)", page) for page in text.split("\n1\n")]
+    for page, first in ((pages[0], 15), (pages[-1], 60)):
+        fields = [f for f in VALUE_FIELDS if f.page == first]
+        assert [name for name, _ in page] == [f.name for f in fields]
+        # the field: the text after 'IS ' is the Fw.d field, right-justified
+        assert [len(value) for _, value in page] == [f.width for f in fields]
+        assert [len(value.split(".")[1]) for _, value in page] == [f.decimals for f in fields]
+    messages = set(re.findall(r"THE POST HAS .*\S", text))
+    assert messages and messages <= set(MESSAGE_TEXTS.values())

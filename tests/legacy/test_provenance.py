@@ -87,3 +87,81 @@ def test_the_listing_is_printed_before_the_output(tmp_path, capsys):
     assert "THE VALUE OF VVA" in pages[1 + forms] and "COMPILE" not in pages[1 + forms]
     assert main(["run", "steel40", "--listing"]) == 2  # the listing is printed on the pages
     assert "--listing is printed on the pages of --pages" in capsys.readouterr().err
+
+
+def _job_deck(tmp_path, capsys, sections: int = 1, hi: str = "0.0002") -> Path:
+    """The punched job deck of steel40 with HI=``hi`` in its FORTRAN and its $DATA section
+    given ``sections`` times."""
+    job = tmp_path / "steel40.job"
+    assert main(["punch", "steel40", "--job", "--to", "text", "--out", str(job)]) == 0
+    capsys.readouterr()
+    cards = job.read_text().split("\n")
+    assert "      HI=0.0004" in cards
+    cards[cards.index("      HI=0.0004")] = f"      HI={hi}"
+    data = cards.index("$DATA")
+    cards[data + 9:data + 9] = cards[data:data + 9] * (sections - 1)
+    mod = tmp_path / "mod.job"
+    mod.write_text("\n".join(cards))
+    return mod
+
+
+def test_the_listing_of_a_job_deck_is_its_own_cards(tmp_path, capsys):
+    """run mod.job --listing-program --pages m.pdf --listing: the compile listing lists the
+    cards the deck carries (its control cards and its FORTRAN, its first HI=0.0004 punched
+    HI=0.0002), not the shipped transcription, and the banner page says so."""
+    pypdf = pytest.importorskip("pypdf")
+    from deck_emulator.legacy.listing import listing_records
+
+    mod = _job_deck(tmp_path, capsys)
+    cards = mod.read_text().split("\n")
+    program = cards[:cards.index("$DATA")]
+    records = listing_records(program)
+    listed = [r for r in records if r[:1] != "1" and r.strip()]
+    # every card before $DATA, once, in order: a control card as punched, a FORTRAN card's
+    # columns 1-72 after the statement number
+    assert [r.strip() for r in listed if r.strip().startswith("$")] == \
+        [c.strip() for c in program if c.startswith("$")]
+    assert len(listed) == len([c for c in program if c.strip()])
+    pdf = tmp_path / "m.pdf"
+    assert main(["run", str(mod), "--listing-program", "--pages", str(pdf), "--listing"]) == 0
+    pages = [p.extract_text() for p in pypdf.PdfReader(str(pdf)).pages]
+    banner = " ".join(pages[0].split())
+    assert "LISTING the job deck's own cards" in banner
+    forms = sum(r[:1] == "1" for r in records)
+    listing = "\n".join(pages[1:1 + forms])
+    assert "$JOB" in listing and listing.count("HI=0.0002") == 1
+    # the listing's other two HI=0.0004 cards, left as they were in the deck
+    assert listing.count("HI=0.0004") == sum(c.strip() == "HI=0.0004" for c in program) == 2
+    assert "THE JOB DECK'S OWN CARDS" in pages[1]
+    assert "THE VALUE OF VVA" in pages[1 + forms]
+
+
+def test_the_listing_of_a_plain_deck_is_the_shipped_transcription(tmp_path, capsys):
+    pypdf = pytest.importorskip("pypdf")
+    pdf = tmp_path / "s.pdf"
+    assert main(["run", "steel40", "--pages", str(pdf), "--listing"]) == 0
+    reader = pypdf.PdfReader(str(pdf))
+    banner = " ".join(reader.pages[0].extract_text().split())
+    assert "LISTING the transcribed listing shipped with the tool" in banner
+    assert "THE TRANSCRIBED SOURCE" in reader.pages[1].extract_text()
+    assert main(["run", "steel40", "--json"]) == 0
+    assert "listing" not in json.loads(capsys.readouterr().out)["provenance"]  # no listing
+
+
+def test_several_data_sections_give_one_banner_and_a_separator_page_per_run(tmp_path,
+                                                                           capsys):
+    pypdf = pytest.importorskip("pypdf")
+    mod = _job_deck(tmp_path, capsys, sections=3, hi="0.0004")
+    pdf = tmp_path / "three.pdf"
+    assert main(["run", str(mod), "--pages", str(pdf)]) == 0
+    pages = [p.extract_text() for p in pypdf.PdfReader(str(pdf)).pages]
+    assert sum("JOB SEPARATOR" in p for p in pages) == 1 and "JOB SEPARATOR" in pages[0]
+    separators = [i for i, p in enumerate(pages) if p.lstrip("-\n").startswith("RUN ")]
+    assert [pages[i].split("\n")[1] for i in separators] == ["RUN 1 OF 3", "RUN 2 OF 3",
+                                                             "RUN 3 OF 3"]
+    for k, i in enumerate(separators, start=1):
+        assert f"$DATA section {k}" in pages[i]
+        assert pages[i + 1].startswith("THE VALUE OF VVA")  # the run's output, a form on
+    # each run prints the same pages (the same data): the forms between separators agree
+    assert separators[1] - separators[0] == separators[2] - separators[1] == \
+        len(pages) - separators[2]

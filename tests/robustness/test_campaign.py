@@ -1,5 +1,6 @@
 """The fault campaign kept: tests/campaign.py's generators of mutated decks, card
-images, scene and assembly files, physically odd decks, invalid options and output paths,
+images, scene and assembly files, physically odd decks, printouts of every layout compare
+reads (mutated, damaged as scans damage them, empty), invalid options and output paths,
 each case held to the tool's promise (a documented exit status, no traceback, one line for a
 refusal, nothing written by a refusal).  A seeded sample by default; the full corpus (about
 2,900 cases) under ``-m slow_corpus``."""
@@ -22,7 +23,7 @@ def _check(case, tmp_path):
 def test_the_sample_covers_every_category():
     assert {c.category for c in FAST} == {c.category for c in FULL} == {
         "mutated decks", "physically odd decks", "mutated card images",
-        "scene and assembly files", "invalid options", "output paths"}
+        "scene and assembly files", "printouts", "invalid options", "output paths"}
 
 
 @pytest.mark.parametrize("case", FAST, ids=lambda c: f"{c.category}: {c.name}")

@@ -48,7 +48,9 @@ class RunOptions(Emulator):
                         help="the fan-fold paper of --pages (default plain)")
     listing: bool = option(False, help="with --pages: the program's FORTRAN source as a "
                            "compile listing (cards, sequence columns, statement numbers) "
-                           "before the output")
+                           "before the output: a job deck's own cards, with its control "
+                           "cards, when it carries them, the shipped transcription otherwise "
+                           "(the banner page says which)")
     quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
     render: bool = option(False, help="render ASA carriage control (1 = form feed, 0 = blank "
                           "line, + = overprint) as the POSIX asa utility does, instead of the "
@@ -100,14 +102,14 @@ def run(o: RunOptions) -> Answer:
                                                "errata": list(o.erratum)},
                     notes=list(src.notes), json=o.json, out=None if o.pages else o.out,
                     said=list(src.notes))
-    records, text, sections = [], "", []
+    printed_by_run, text, sections = [], "", []
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
         done = common.with_progress(o.quiet, engine, deck, execute=True)
         run_ = done.run
         # the Outcome only where it is used (a trajectory, a stopped run's reasons): a plain
         # run prints the program's records and loads no numpy
         out = engine.outcome_of(done, deck) if o.trajectory or done.stopped else None
-        records += run_.records
+        printed_by_run.append(list(run_.records))
         text += render_asa(run_.records) if o.render else run_.text()
         answer.said.append(f"{deck.path}: {_describe(run_)}")
         sections.append({"deck": str(deck.path), "settings": _describe(run_),
@@ -124,7 +126,7 @@ def run(o: RunOptions) -> Answer:
     if o.json or o.pages:
         from deck_emulator.engine import provenance
 
-        facts = provenance.facts(src, [s["settings"] for s in sections])
+        facts = provenance.facts(src, [s["settings"] for s in sections], listing=o.listing)
     answer.result = {"provenance": facts, "sections": sections}
     answer.text = text
     if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
@@ -134,15 +136,21 @@ def run(o: RunOptions) -> Answer:
         with OutputSet() as outputs:
             if o.out:
                 outputs.write(o.out, answer.printed())
-            # the banner page (the job separator) first, the compile listing if asked for,
-            # then the output as printed
-            listing = []
+            # the banner page (the job separator) first, the compile listing if asked for
+            # (the deck's own cards, or the shipped transcription), then the output as
+            # printed, each of several runs after a separator page of its own
+            pages = provenance.banner_records(facts)
             if o.listing:
                 from deck_emulator.legacy.listing import listing_records
 
-                listing = listing_records()
-            write_pdf(provenance.banner_records(facts) + listing + records, o.pages,
-                      paper=o.paper, outputs=outputs, metadata=provenance.pdf_metadata(facts))
+                pages += listing_records(list(src.program_cards) or None)
+            for k, (section, printed) in enumerate(zip(sections, printed_by_run), start=1):
+                if len(src.decks) > 1:
+                    pages += provenance.separator_records(k, len(src.decks), section["deck"],
+                                                          section["settings"])
+                pages += printed
+            write_pdf(pages, o.pages, paper=o.paper, outputs=outputs,
+                      metadata=provenance.pdf_metadata(facts))
         answer.said.append(f"wrote the line printer's pages to {o.pages}")
         if o.out or not o.json:
             answer.text, answer.json = None, False  # written, or not for the terminal
@@ -198,60 +206,83 @@ def punch(o: PunchOptions) -> Answer:
 @dataclass(frozen=True, kw_only=True)
 class CompareOptions(Common, Answering):
     a: str = option(positional=True, metavar="A",
-                    help="a printout (text, carriage control in column 1)")
+                    help="a printout: text with carriage control in column 1, the page as "
+                    "printed (run --render), or text taken from the PDF of run --pages")
     b: str = option(positional=True, metavar="B", help="the printout to compare it with")
     tolerance: float = option(0.0, parse=nonnegative_float, metavar="X",
                               help="values agree when they differ by at most X (default 0: "
                               "exactly)")
     max: int | None = option(None, parse=positive_int, metavar="N",
-                             help="show at most N differences (all are counted)")
+                             help="show at most N findings of each kind (all are counted)")
 
 
-def _printout_text(path: str) -> str:
+#: what a printout holds, said when a file holds none of it
+_EXPECTED = "a printout of the program was expected ('THE VALUE OF name IS value' lines, " \
+            "'THE POST HAS ...' messages)"
+
+
+def _printout_records(path: str):
+    """The records of the printout in ``path``; an empty file or one with no record of the
+    program is refused in one line."""
     from deck_emulator.legacy.deck import read_bytes
+    from deck_emulator.legacy.records import read_records
 
     shown, data = read_bytes(path, limit=1 << 26)  # DeckError naming the file
-    return data.decode("ascii", errors="replace")
+    if not data.strip():
+        raise UsageError(f"{path}: an empty file: {_EXPECTED}")
+    records = read_records(data.decode("ascii", errors="replace"))
+    if not records:
+        what = ("a PDF; compare reads a printout's text (the text taken from the PDF)"
+                if data.startswith(b"%PDF") else "not a printout of the program: no record of it")
+        raise UsageError(f"{path}: {what}: {_EXPECTED}")
+    return records
+
+
+def _compare_text(o: CompareOptions, found) -> str:
+    tol = "exactly as printed" if o.tolerance == 0 else f"within {o.tolerance:g}"
+    lines, hidden = [], 0
+    for kind in (found.differences, found.damaged, found.missing):
+        shown = kind if o.max is None else kind[:o.max]
+        lines += [finding.line() for finding in shown]
+        hidden += len(kind) - len(shown)
+    verdict = ("agree" if found.agree else "differ")
+    counts = ("" if found.agree else f": {len(found.differences)} difference(s), "
+              f"{len(found.missing)} record(s) in one printout only")
+    damaged = f"; {len(found.damaged)} value(s) damaged" if found.damaged else ""
+    more = f"; {hidden} finding(s) not shown (--max)" if hidden else ""
+    lines.append(f"A {o.a} and B {o.b} {verdict} ({tol}){counts}{damaged}{more}.")
+    return "\n".join(lines) + "\n"
 
 
 @command("compare", CompareOptions,
-         help="compare two printouts of the program, value by value",
+         help="compare two printouts of the program, record by record",
          description="Read two printouts of the program (this tool's, the compiled listing's, "
-         "or one typed or scanned from another source), line them up page by page and value by "
-         "value, and print each difference with its record, variable and size. Exit status 0 "
-         "when they agree (exactly as printed, or within --tolerance), 1 when they differ, 2 "
-         "for input that is not a printout.")
+         "the page as printed, text taken from a PDF of the pages, or one typed or scanned "
+         "from another source), line their records up by content (each value by its variable "
+         "and its block's TIME, each message by its words), and print each value that "
+         "differs, each value damaged as a scan damages it (O for 0, l for 1 ...: read as the "
+         "number and named), and each record in one printout only. Exit status 0 when no "
+         "value differs (exactly as printed, or within --tolerance) and no record is missing, "
+         "1 otherwise, 2 for input that is not a printout.")
 def compare(o: CompareOptions) -> Answer:
-    from deck_emulator.legacy.compare import compare as differences_of
-    from deck_emulator.legacy.extract import ExtractError, parse_printout
+    from deck_emulator.legacy.compare import compare_records
 
-    texts = []
-    for path in (o.a, o.b):
-        text = _printout_text(path)
-        try:
-            items = parse_printout(text)
-        except ExtractError as exc:
-            raise UsageError(f"{path}: {exc}") from None
-        if not items and text.strip():  # (an empty file: a run that printed nothing)
-            raise UsageError(f"{path}: not a printout of the program: no 'THE VALUE OF' line "
-                             "and no 'THE POST HAS' message")
-        texts.append(text)
-    differences = differences_of(*texts, tolerance=o.tolerance)
-    shown = differences if o.max is None else differences[:o.max]
-    tol = "exactly as printed" if o.tolerance == 0 else f"within {o.tolerance:g}"
-    if not differences:
-        text = f"A {o.a} and B {o.b} agree ({tol}).\n"
-    else:
-        lines = [d.line() for d in shown]
-        more = len(differences) - len(shown)
-        lines.append(f"{len(differences)} difference(s) between A {o.a} and B {o.b} "
-                     f"(values compared {tol})" + (f"; {more} not shown (--max)" if more else ""))
-        text = "\n".join(lines) + "\n"
-    return Answer("compare", f"{o.a} {o.b}", status="differ" if differences else "ok",
+    records = [_printout_records(path) for path in (o.a, o.b)]
+    found = compare_records(*records, tolerance=o.tolerance)
+
+    def listed(kind):
+        return [vars(finding) for finding in (kind if o.max is None else kind[:o.max])]
+
+    return Answer("compare", f"{o.a} {o.b}", status="ok" if found.agree else "differ",
                   settings={"tolerance": o.tolerance},
-                  result={"agree": not differences, "differences": [vars(d) for d in shown],
-                          "differences_total": len(differences)},
-                  text=text, json=o.json, out=o.out)
+                  result={"agree": found.agree,
+                          "differences": listed(found.differences),
+                          "differences_total": len(found.differences),
+                          "damaged": listed(found.damaged),
+                          "damaged_total": len(found.damaged),
+                          "missing": listed(found.missing),
+                          "missing_total": len(found.missing)},
+                  text=_compare_text(o, found), json=o.json, out=o.out)
 
 
 # ------------------------------------------------------------------------------ corrections

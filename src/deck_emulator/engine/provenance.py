@@ -14,7 +14,8 @@ import hashlib
 from importlib import resources
 from pathlib import Path
 
-__all__ = ["RECONSTRUCTION", "facts", "banner_records", "pdf_metadata", "listing_sha256"]
+__all__ = ["RECONSTRUCTION", "facts", "banner_records", "separator_records", "pdf_metadata",
+           "listing_sha256"]
 
 #: Said on every banner page and in every answer: nothing printed in 1967 survives.
 RECONSTRUCTION = ("a reconstruction: Report 75-9 prints no output pages; these are what the "
@@ -28,10 +29,11 @@ def listing_sha256() -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def facts(source, settings: list[str]) -> dict[str, str]:
+def facts(source, settings: list[str], listing: bool = False) -> dict[str, str]:
     """The provenance of a run of ``source`` (an :class:`~deck_emulator.engine.sources.Source`
     of kind deck) with the emulator settings ``settings`` (one line per $DATA section run, as
-    the command says them: arithmetic and errata), as ordered name -> text."""
+    the command says them: arithmetic and errata), as ordered name -> text; ``listing``: the
+    pages print a compile listing, and the facts say which source it lists."""
     from deck_emulator import __version__
 
     program = f"the listing of Report 75-9's appendix, transcribed (luminaire.f, sha256 " \
@@ -48,9 +50,35 @@ def facts(source, settings: list[str]) -> dict[str, str]:
                  f"{sections} $DATA section{'s' if sections != 1 else ''} run",
         "program": program,
         "run": "; ".join(dict.fromkeys(settings)) or "not run",
+        **({"listing": listed(source)} if listing else {}),
         "tool": f"deck_emulator {__version__}",
         "note": RECONSTRUCTION,
     }
+
+
+def listed(source) -> str:
+    """Which source the compile listing of the pages lists: the job deck's own cards when it
+    carries them, the shipped transcription otherwise."""
+    if source.program_cards:
+        return (f"the job deck's own cards, as punched: {len(source.program_cards)} control "
+                "and FORTRAN cards before its first $DATA section")
+    return "the transcribed listing shipped with the tool (luminaire.f): the deck carries no " \
+           "FORTRAN of its own"
+
+
+def separator_records(run: int, runs: int, deck: str, settings: str, width: int = 131
+                      ) -> list[str]:
+    """The separator page before run ``run`` of ``runs`` (a job deck's $DATA sections, each
+    run in turn), as printer records: a form of its own, the next record starting a new one."""
+    import textwrap
+
+    rule = "-" * width
+    records = ["1" + rule, " ", f" RUN {run} OF {runs}", " ", " " + rule, "0"]
+    for key, text in (("deck", deck), ("run", settings)):
+        lines = textwrap.wrap(text, width - 8) or [""]
+        records.append(" " + f"{key.upper():<7}" + lines[0])
+        records += [" " + " " * 7 + more for more in lines[1:]]
+    return records + ["0", " " + rule]
 
 
 def banner_records(provenance: dict[str, str], width: int = 131) -> list[str]:

@@ -52,6 +52,9 @@ class Source:
     notes: tuple[str, ...] = field(default=())
     data: bytes | None = field(default=None, repr=False, compare=False)  # a deck file's, as read
     cards: int = 0  # a deck file's cards, control cards and source included
+    #: a job deck's own program: its control cards and FORTRAN before its first $DATA
+    #: section (() when it carries no source)
+    program_cards: tuple[str, ...] = field(default=(), repr=False)
 
     @property
     def sha256(self) -> str:
@@ -213,4 +216,4 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         raise UsageError(f"{name}: a card deck; this command takes a scene file")
     return Source(given, name, str(path), "deck", decks=tuple(decks_),
                   card_format=job.card_format, program=job.source_verdict, notes=tuple(notes),
-                  data=data, cards=job.cards)
+                  data=data, cards=job.cards, program_cards=job.program_cards)

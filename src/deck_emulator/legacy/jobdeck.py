@@ -133,6 +133,9 @@ class Job:
     source_verdict: str | None = None
     control_cards: tuple[str, ...] = field(default=(), repr=False)
     cards: int = 0  # cards in the file, control cards and source included
+    #: the cards before the first $DATA (or $ENTRY) section, control cards and FORTRAN
+    #: source, when the deck carries source (what its compile listing lists); () otherwise
+    program_cards: tuple[str, ...] = field(default=(), repr=False)
 
     @property
     def program_differs(self) -> bool:
@@ -217,7 +220,9 @@ def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
         end = "" if (unended and index == len(sections)) or not cards else "\n"
         decks.append(parse_deck("\n".join(cards) + end, path=where))
     verdict = compare_source(source) if source else None
-    return Job(path, images.format, tuple(decks), verdict, tuple(controls), cards=len(texts))
+    program = tuple(texts[:sections[0][0] - 1]) if source else ()
+    return Job(path, images.format, tuple(decks), verdict, tuple(controls), cards=len(texts),
+               program_cards=program)
 
 
 # ------------------------------------------------------------------------- writing

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numbers
 import re
+from dataclasses import dataclass
 
 from deck_emulator.vocabulary.events import Event, EventKind, Surface
 
@@ -147,6 +148,52 @@ def _compile(fmt: str) -> list[list]:
 
 
 _LAYOUTS = {label: _compile(text) for label, text in FORMATS.items()}
+
+
+@dataclass(frozen=True)
+class ValueField:
+    """One labelled value the listing prints: ``THE VALUE OF name IS`` and an Fw.d field.
+
+    ``label``: its FORMAT's; ``name``: the Hollerith label as printed (FORMAT 207 says ZXCMA
+    for ZZCMA); ``page``: the label of the ``1H1`` FORMAT that starts the page it is printed
+    on (15 a contact block, 60 a free-flight block: FORMATS are in the order the program
+    prints them, a page being a ``1H1`` FORMAT and the value FORMATs after it)."""
+
+    label: int
+    name: str
+    width: int
+    decimals: int
+    page: int
+
+
+#: The Hollerith text before each printed value (``{name}``: its label).
+VALUE_TEXT = "THE VALUE OF {name} IS "
+
+
+def _value_fields() -> tuple[ValueField, ...]:
+    before, after = VALUE_TEXT.split("{name}")
+    shape = re.compile(re.escape(before) + r"(\w+)" + re.escape(after))
+    fields: list[ValueField] = []
+    page = 0
+    for label, records in _LAYOUTS.items():
+        if records[0] == ["1"]:  # 1H1: a new page
+            page = label
+        for pieces in records:
+            for text, field in zip(pieces, pieces[1:]):
+                named = shape.fullmatch(text) if type(text) is str else None
+                if named and type(field) is tuple:
+                    fields.append(ValueField(label, named.group(1), *field, page))
+    return tuple(fields)
+
+
+#: Every labelled value of the listing, in printed order (a page's values in the order
+#: printed; the name TIME closes both pages, F10.6 in contact and F10.5 in free flight).
+VALUE_FIELDS = _value_fields()
+
+#: The texts of the FORMATs that print a message (no value), by label.
+MESSAGE_TEXTS: dict[int, str] = {
+    label: records[-1][-1] for label, records in _LAYOUTS.items()
+    if not _DECIMALS[label] and type(records[-1][-1]) is str and records[-1][-1].strip()}
 
 
 def f_field(digits: str, negative: bool, w: int) -> str:
