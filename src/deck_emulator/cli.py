@@ -1,6 +1,6 @@
 """Command line: ``deck-emulator COMMAND ...`` -- the parsing, and nothing else.
 
-Every parser is built from the application layer's table (:data:`deck_emulator.app.MODULES`,
+Every parser is built from the application layer's table (:data:`deck_emulator.app.NAMES`,
 :func:`deck_emulator.app.command_named`: a command's options dataclass, one field an option,
 its help and spelling in the field's metadata); the parsed options become that dataclass, the command's function answers
 (:class:`deck_emulator.app.Answer`), and this module writes the answer to stdout (or

@@ -211,16 +211,15 @@ def test_one_subcommands_parser_is_the_whole_parsers():
         assert alone[name].format_usage() == parser.format_usage(), name
 
 
-def test_the_commands_table_names_what_each_module_holds():
-    """A command line loads only its command's module (app.MODULES); the table is what the
-    modules register, each command in the module the table names."""
+def test_each_command_is_the_module_of_its_name():
+    """A command line loads only its command's module: each name of app.NAMES is the module
+    that registers it (``study error``: ``study_error``), and no module registers another."""
     import importlib
 
     from deck_emulator import app
 
-    for module, names in app.MODULES.items():
-        importlib.import_module(f"deck_emulator.app.{module}")
-        registered = [n for n, c in app.COMMANDS.items()
-                      if c.run.__module__ == f"deck_emulator.app.{module}"]
-        assert sorted(registered) == sorted(names), module
+    for name in app.NAMES:
+        module = importlib.import_module(f"deck_emulator.app.{name.replace(' ', '_')}")
+        registered = [n for n, c in app.COMMANDS.items() if c.run.__module__ == module.__name__]
+        assert registered == [name]
     assert list(app.all_commands()) == list(app.NAMES)

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 EXIT = {"ok": 0, "differ": 1, "bad input": 2, "stopped": 3}
 
 
-@dataclass
+@dataclass(eq=False)
 class Answer:
     """What a command answers.  ``status``: ``ok``, ``stopped`` (a run could not end: exit 3)
     or ``differ`` (compare: the printouts differ, exit 1).  ``text``: the answer as a person
@@ -70,7 +70,7 @@ class Answer:
         return EXIT[self.status]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Command:
     """One command: its name (``study error``: a command and its study), its options class,
     the function that answers, and its help (``description``: text, or a function that
@@ -87,23 +87,16 @@ class Command:
 #: :func:`all_commands`)
 COMMANDS: dict[str, Command] = {}
 
-#: the modules that hold the commands, and the commands each holds, in the order of the help:
-#: a command line loads only its command's module (a test holds this table equal to what the
-#: modules register)
-MODULES = {
-    "printout": ("parse", "run", "punch", "compare", "corrections"),
-    "outcomes": ("summary", "core", "scene", "diff", "assembly", "plot"),
-    "studies": ("sweep", "sensitivity", "study error", "study stability"),
-}
-#: every command's name, in the order of the help
-NAMES = tuple(name for names in MODULES.values() for name in names)
+#: every command's name, in the order of the help; each is the module of its name
+#: (``study error``: ``study_error``), and a command line loads only its own
+NAMES = ("parse", "run", "punch", "compare", "corrections", "summary", "core", "scene", "diff",
+         "assembly", "plot", "sweep", "sensitivity", "study error", "study stability")
 
 
 def command_named(name: str) -> Command:
     """The command ``name``, its module loaded if it is not yet."""
     if name not in COMMANDS:
-        module = next(m for m, names in MODULES.items() if name in names)
-        importlib.import_module(f".{module}", __name__)
+        importlib.import_module(f".{name.replace(' ', '_')}", __name__)
     return COMMANDS[name]
 
 

@@ -3,9 +3,13 @@ why a run stopped, check and write the output files a command names."""
 
 from __future__ import annotations
 
+import os
+import shlex
 from pathlib import Path
 
 from deck_emulator.errors import UsageError
+
+from . import Answer
 from deck_emulator.extras import require
 
 PROG = "deck-emulator"
@@ -184,3 +188,49 @@ def outputs_result(out_dir) -> dict:
     """The JSON keys of a command that writes a folder: the files it holds."""
     return {"outputs": sorted(str(p) for p in Path(out_dir).iterdir() if p.is_file()
                               and not p.name.startswith("."))}
+
+
+TRAJECTORY_HELP = ("also write the run's trajectory: time, every named point (road and report "
+                    "axes), the shaft's tilt and heading, the car (pandas reads it)")
+
+
+def outcome_answer(name: str, out, source: str, settings: dict, o) -> Answer:
+    """An outcome as the answer of ``summary``, ``core`` or ``assembly`` (its text made by
+    :func:`rendered` once the caller's notes are in): the registry's quantities, and for a
+    run that stopped what it reached, status ``stopped``, and why."""
+    from deck_emulator.present.answers import outcome_result
+
+    answer = Answer(name, source, settings=settings, result=outcome_result(out),
+                    notes=odd_deck_notes(out), json=o.json, out=o.out)
+    if out.error is not None:  # what it reached is answered; the status says it stopped
+        answer.status, answer.error = "stopped", failed(out, source)
+    return answer
+
+
+def rendered(answer: Answer) -> str:
+    from deck_emulator.present.answers import render_outcome
+
+    return render_outcome(answer.document())
+
+
+def study_answer(name: str, o, run) -> Answer:
+    """A study's command: the deck checked, the folder checked, the study run, its lines."""
+    from deck_emulator.files import check_output_dir
+    from deck_emulator.legacy.deck import read_deck
+
+    require("studies")
+    deck = None
+    if o.deck:
+        deck = deck_file(o.deck, f"study {name}")
+        engine_scene(read_deck(deck), name=deck)  # both engines run it: exit 2
+    check_output_dir(o.out)  # before any work, and before the study makes the folder
+    jobs = o.jobs or os.cpu_count() or 1
+    typed = o.command_line or shlex.join(  # called from Python: the command it stands for
+        ["deck-emulator", "study", name, *([o.deck] if o.deck else []), "--out", o.out,
+         *(["--quick"] if o.quick else []), "--jobs", str(jobs)])
+    summary, lines = run(deck, jobs, typed)
+    answer = Answer(f"study {name}", o.deck or "steel40", json=o.json)
+    answer.said = [f"study {name}: {line}" for line in
+                   lines + [f"wrote {o.out} in {summary['wall_s']:.0f} s"]]
+    answer.result = outputs_result(o.out)
+    return answer

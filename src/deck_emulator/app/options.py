@@ -10,7 +10,6 @@ Nothing here imports anything heavy: the parsers are built at every start.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import MISSING, dataclass, field
 
 from deck_emulator.vocabulary import defaults
@@ -44,6 +43,12 @@ def option(default=MISSING, *, help: str, flag: str | None = None, positional: b
     if many:
         return field(default_factory=lambda: tuple(default or ()), metadata=meta)
     return field(default=default, metadata=meta)
+
+
+#: How an options class is made: typed, keyword-only, immutable. Options are read, never
+#: compared or hashed, and making these classes is part of every command's start, so no
+#: comparison is generated (about a fifth of the cost of each).
+options_class = dataclass(frozen=True, kw_only=True, eq=False)
 
 
 # ------------------------------------------------------------------------------ converters
@@ -148,14 +153,14 @@ def worker_wait(text: str) -> float:
 # ------------------------------------------------------------------------ the shared groups
 
 
-@dataclass(frozen=True, kw_only=True)
+@options_class
 class Common:
     """What every command has: the command line as typed (for the pages a study writes)."""
 
     command_line: str = option("", help="the command as typed", cli=False)
 
 
-@dataclass(frozen=True, kw_only=True)
+@options_class
 class Source(Common):
     """SOURCE, and how to read it."""
 
@@ -174,7 +179,7 @@ class Source(Common):
                                    "first line)")
 
 
-@dataclass(frozen=True, kw_only=True)
+@options_class
 class Answering:
     """--json, --out and --quiet."""
 
@@ -183,7 +188,7 @@ class Answering:
     quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
 
 
-@dataclass(frozen=True, kw_only=True)
+@options_class
 class Errata:
     erratum: tuple[str, ...] = option((), many=True, choices=ERRATA_NAMES,
                                       help="apply a named erratum to the listing (default: "
@@ -191,26 +196,7 @@ class Errata:
                                       "root search end on the angled decks)")
 
 
-@dataclass(frozen=True, kw_only=True)
-class Preset:
-    preset: str = option("legacy", choices=PRESETS,
-                         help="core model options: legacy (the listing's quirks, the default) "
-                         "or physical (none)")
-    shaft_contact: bool | None = option(None, negatable=True,
-                                        help="check the shaft Q-P and the arms as segments "
-                                        "against the car, not only the points P, R, C "
-                                        "(default: the preset's, on in physical, off in "
-                                        "legacy: the listing never did it)")
-
-    def core_keywords(self) -> dict:
-        """--preset and --shaft-contact as the core engine's keywords (the engine layer's one
-        rule: shaft_contact left out when not given, the preset's)."""
-        from deck_emulator.engine import core_keywords
-
-        return core_keywords(self.preset, self.shaft_contact)
-
-
-@dataclass(frozen=True, kw_only=True)
+@options_class
 class Emulator(Source, Errata):
     """The emulator's options."""
 
@@ -242,25 +228,6 @@ class Emulator(Source, Errata):
                                  "converted")
     output_rounding: str | None = option(None, choices=("nearest", "truncate"),
                                          help="ibm7094: how F-format output rounded")
-
-
-@dataclass(frozen=True, kw_only=True)
-class Cluster:
-    """Where a many-scene command runs."""
-
-    jobs: int | None = option(None, parse=positive_int, metavar="N",
-                              help="worker processes of the embedded Dask cluster (default: "
-                              f"every core, {os.cpu_count() or 1} here)")
-    scheduler: str | None = option(None, metavar="ADDRESS",
-                                   help="run on an existing Dask cluster (its scheduler's "
-                                   "address, tcp://host:8786) instead of an embedded one of "
-                                   "--jobs workers")
-    worker_wait: float | None = option(None, parse=worker_wait, metavar="SECONDS",
-                                       help="with --scheduler: how long to wait for a worker, "
-                                       "at the start and whenever every worker is gone, before "
-                                       "the run ends with exit status 3 (default 60)")
-    resume: bool = option(False, help="run only the scenes not yet stored in the output "
-                          "directory")
 
 
 #: the options that name a file or folder to write (an empty value is refused)

@@ -145,7 +145,7 @@ def _resolve(given: str) -> tuple[str, Path]:
     shipped = _shipped(given)
     if shipped is not None:
         return Path(given).stem, shipped
-    from deck_emulator import decks  # (importlib.resources: only when a name is not a file)
+    from deck_emulator import decks  # only when a name is not a file
 
     raise DeckError(f"no such file, and no shipped deck of that name (shipped: "
                     f"{', '.join(decks.names())})", path=given)

@@ -1,0 +1,62 @@
+"""``deck-emulator diff``: run the emulator and the modern core on a deck and compare them."""
+
+from __future__ import annotations
+
+from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.vocabulary import defaults
+
+from . import Answer, command
+from . import common
+from .groups import Cluster
+from .options import (
+    PRECISIONS, Answering, Errata, max_k, option, options_class, Source, tolerance,
+)
+
+
+@options_class
+class DiffOptions(Source, Errata, Cluster, Answering):
+    precision: str = option("double", choices=PRECISIONS,
+                            help="the emulator's arithmetic at k = 0 (must run the deck to its "
+                            "end)")
+    max_k: int = option(4, parse=max_k, metavar="K",
+                        help="halve the step up to K times, 0 <= K <= 8 (default 4; K = 8 runs "
+                        "the listing's 2,054 steps 256 times over)")
+    rtol: float = option(defaults.CORE_RTOL, parse=tolerance,
+                         help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default "
+                         "%(default)g)")
+    as_printed_ed: bool = option(False, help="keep ED's tolerance .0001 at every k (the scheme "
+                                 "then does not converge)")
+    store: str | None = option(None, metavar="DIR",
+                               help="keep the runs in DIR as they finish (default: a temporary "
+                               "folder)")
+
+
+@command("diff", DiffOptions,
+         help="run the emulator and the modern core on a deck and compare them",
+         description="Side by side: the emulator (the listing as printed, or with errata) and "
+         "the core's legacy preset; then both again as the step is halved k = 0..K times, with "
+         "the observed order of convergence.")
+def diff(o: DiffOptions) -> Answer:
+    common.require("studies")
+    from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
+
+    src = common.load(o, "diff", kinds=("deck",))
+    deck = src.deck("diff")
+    common.engine_scene(deck, name=src.name)  # the core must be able to solve it: exit 2
+    common.check_out(o.out)
+    if o.resume and not o.store:
+        raise UsageError("--resume needs --store DIR (the folder the runs were stored in)")
+    try:
+        data = diff_deck(deck, precision=o.precision, errata=tuple(o.erratum),
+                         ks=range(o.max_k + 1), rtol=o.rtol, atol=o.rtol,
+                         tighten_ed=not o.as_printed_ed, jobs=o.jobs,
+                         scheduler=common.scheduler(o), store_dir=o.store, resume=o.resume,
+                         quiet=o.quiet, desc="deck-emulator: diff")
+    except DiffStopped as exc:
+        raise RunFailed(str(exc)) from None
+    text = format_diff(data)
+    settings = {k: data.pop(k) for k in ("precision", "errata", "core_method", "core_rtol",
+                                         "ed_tolerance_scaled")}
+    data.pop("deck")
+    return Answer("diff", src.name, settings=settings, notes=list(src.notes),
+                  said=list(src.notes), result=data, text=text, json=o.json, out=o.out)

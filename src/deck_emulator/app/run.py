@@ -1,0 +1,128 @@
+"""``deck-emulator run``: run the 1967 program on a deck and write its line-printer output."""
+
+from __future__ import annotations
+
+from deck_emulator.errors import UsageError
+
+from . import Answer, command
+from . import common
+from .options import Emulator, option, options_class
+
+
+@options_class
+class RunOptions(Emulator):
+    out: str | None = option(None, metavar="FILE", help="write the printout to FILE")
+    pages: str | None = option(None, metavar="FILE.pdf",
+                               help="lay the printout out as the line printer's pages, as PDF "
+                               "(the text goes to --out if given, and not to the terminal)")
+    paper: str = option("plain", choices=("plain", "striped"),
+                        help="the fan-fold paper of --pages (default plain)")
+    listing: bool = option(False, help="with --pages: the program's FORTRAN source as a "
+                           "compile listing (cards, sequence columns, statement numbers) "
+                           "before the output: a job deck's own cards, with its control "
+                           "cards, when it carries them, the shipped transcription otherwise "
+                           "(the banner page says which)")
+    quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
+    render: bool = option(False, help="render ASA carriage control (1 = form feed, 0 = blank "
+                          "line, + = overprint) as the POSIX asa utility does, instead of the "
+                          "raw records")
+    json: bool = option(False, help="print the printout's records, per $DATA section, as one "
+                        "JSON object (docs/json.md)")
+    trajectory: str | None = option(None, metavar="FILE.csv|FILE.parquet",
+                                    help="also write the run's trajectory: time, every named "
+                                    "point (road and report axes), the shaft's tilt and heading, "
+                                    "the car (pandas reads it)")
+
+
+def _describe(run) -> str:
+    from deck_emulator.engine import errata
+
+    scale = f"; step literals / 2**{run.step_scale_k}" if run.step_scale_k else ""
+    return f"arithmetic {run.arithmetic}; errata: {errata.describe(run.errata)}{scale}"
+
+
+@command("run", RunOptions,
+         help="run the 1967 program on a deck and write its line-printer output",
+         description="Run the emulated 1967 program on a deck. The printout goes to stdout (or "
+         "--out FILE, written whole or not at all); what was run (arithmetic, its assumptions, "
+         "errata) is said on stderr. If the run stops early (a trap or a guard), the records "
+         "printed until then are written and the exit status is 3.")
+def run(o: RunOptions) -> Answer:
+    from deck_emulator.legacy.printer import render_asa
+
+    src = common.load(o, "run", kinds=("deck",))
+    common.check_out(o.out)
+    common.check_trajectory(o.trajectory)
+    if o.trajectory and len(src.decks) != 1:
+        raise UsageError(f"--trajectory writes one run's trajectory and {src.name} holds "
+                         f"{len(src.decks)} $DATA sections: choose one with --section N")
+    if o.pages:
+        from deck_emulator.files import check_distinct
+
+        common.require("plot")  # the pages are drawn with matplotlib
+        if not o.pages.lower().endswith(".pdf"):
+            raise UsageError(f"--pages {o.pages}: the pages are a PDF; name a .pdf file")
+        check_distinct(o.out, o.pages)  # --out X --pages X: refused before any work
+        common.check_out(o.pages)
+    elif o.paper != "plain" or o.listing:
+        which = ("--paper is the paper of --pages" if o.paper != "plain"
+                 else "--listing is printed on the pages of --pages")
+        raise UsageError(f"{which}: give --pages FILE.pdf")
+    engine = common.emulator(o, trace=bool(o.trajectory))
+    answer = Answer("run", src.name, settings={"precision": o.precision,
+                                               "errata": list(o.erratum)},
+                    notes=list(src.notes), json=o.json, out=None if o.pages else o.out,
+                    said=list(src.notes))
+    printed_by_run, text, sections = [], "", []
+    for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
+        done = common.with_progress(o.quiet, engine, deck, execute=True)
+        run_ = done.run
+        # the Outcome only where it is used (a trajectory, a stopped run's reasons): a plain
+        # run prints the program's records and loads no numpy
+        out = engine.outcome_of(done, deck) if o.trajectory or done.stopped else None
+        printed_by_run.append(list(run_.records))
+        text += render_asa(run_.records) if o.render else run_.text()
+        answer.said.append(f"{deck.path}: {_describe(run_)}")
+        sections.append({"deck": str(deck.path), "settings": _describe(run_),
+                         "records": list(run_.records), "stopped": out and out.error})
+        written = common.write_trajectory(o.trajectory, out) if out is not None else None
+        if written:
+            answer.said.append(written)
+        if done.stopped:
+            answer.status, answer.error = "stopped", common.failed(out, deck.path)
+            break
+    # what produced the printout: for the JSON answer and the pages (the version costs an
+    # importlib.metadata read, and the module importlib.resources, so a plain run asks neither)
+    facts = None
+    if o.json or o.pages:
+        from deck_emulator.engine import provenance
+
+        facts = provenance.facts(src, [s["settings"] for s in sections], listing=o.listing)
+    answer.result = {"provenance": facts, "sections": sections}
+    answer.text = text
+    if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
+        from deck_emulator.files import OutputSet
+        from deck_emulator.legacy.pages import write_pdf
+
+        with OutputSet() as outputs:
+            if o.out:
+                outputs.write(o.out, answer.printed())
+            # the banner page (the job separator) first, the compile listing if asked for
+            # (the deck's own cards, or the shipped transcription), then the output as
+            # printed, each of several runs after a separator page of its own
+            pages = provenance.banner_records(facts)
+            if o.listing:
+                from deck_emulator.legacy.listing import listing_records
+
+                pages += listing_records(list(src.program_cards) or None)
+            for k, (section, printed) in enumerate(zip(sections, printed_by_run), start=1):
+                if len(src.decks) > 1:
+                    pages += provenance.separator_records(k, len(src.decks), section["deck"],
+                                                          section["settings"])
+                pages += printed
+            write_pdf(pages, o.pages, paper=o.paper, outputs=outputs,
+                      metadata=provenance.pdf_metadata(facts))
+        answer.said.append(f"wrote the line printer's pages to {o.pages}")
+        if o.out or not o.json:
+            answer.text, answer.json = None, False  # written, or not for the terminal
+    return answer
