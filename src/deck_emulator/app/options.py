@@ -112,8 +112,9 @@ def speed_mph(text: str) -> float:
 
 def angle_deg(text: str) -> float:
     x = finite_float(text)
-    if not 0.0 <= x < 90.0:
-        raise ValueError(f"an angle from 0 to below 90 degrees, not {text}")
+    if not 0.0 <= x <= defaults.MAX_APPROACH_ANGLE_DEG:
+        raise ValueError(f"an angle from 0 to {defaults.MAX_APPROACH_ANGLE_DEG:g} degrees, "
+                         f"not {text}")
     return x
 
 
