@@ -6,7 +6,8 @@ mention of a command by its name alone (``deck-emulator sweep``) and a synopsis 
 placeholders (``SOURCE``, ``DIR``, ``FILE.png``, ``[--json]``, ``a|b``, ``...``) are not
 examples. Each document's examples run in order in one temporary folder that holds the
 checkout's ``decks/`` (the documents run from the checkout), so that an example may use a file
-an earlier one wrote. Each must exit 0, or the status its line's comment gives (``exit 1``).
+an earlier one wrote. Each must exit 0, or the status its line's comment gives (``exit 1``),
+or for a command in the prose the words right after it (`` `...` (exit 2: refused)``).
 """
 
 from __future__ import annotations
@@ -90,8 +91,10 @@ def examples(document: str) -> list[tuple[str, int]]:
             if command:
                 found.append((offset, command))
         offset += len(line)
-    for m in re.finditer(rf"`({_PROGRAM}[^`]*)`", prose):
-        found.append((m.start(), " ".join(m.group(1).split())))
+    for m in re.finditer(rf"`({_PROGRAM}[^`]*)`( \(exit \d)?", prose):
+        # an inline command's exit status, when not 0, follows it: `...` (exit 2: refused)
+        found.append((m.start(), " ".join(m.group(1).split()) + (
+            f" #{m.group(2).strip(' (')}" if m.group(2) else "")))
     out = []
     for _, command in sorted(found, key=lambda f: f[0]):
         command, _, comment = command.partition(" #")
