@@ -457,7 +457,7 @@ def _bad_inputs(tmp_path: Path) -> dict[str, list[str]]:
         "sweep base: no such": ["sweep", "--speeds", "40", "--angles", "0",
                                 "--base-deck", "steel99", "--out", str(d / "sw")],
         "assembly speed 0": ["assembly", "steel", "core", "--speed-mph", "0"],
-        "assembly angle 90": ["assembly", "steel", "core", "--alpha-deg", "90"],
+        "assembly angle over 90": ["assembly", "steel", "core", "--alpha-deg", "90.5"],
         "assembly angle text": ["assembly", "steel", "core", "--alpha-deg", "steep"],
         "assembly of a deck": ["assembly", STEEL40],
         "diff max-k 9": ["diff", STEEL40, "--max-k", "9"],
