@@ -275,7 +275,8 @@ def test_plot_draws_a_scene_with_the_core(capsys, scenes):
     assert out.read_bytes().startswith(b"\x89PNG")
 
 
-@pytest.mark.parametrize("command", ["run", "parse", "summary", "diff", "plot", "plot --pulse"])
+@pytest.mark.parametrize("command", ["run", "parse", "summary", "diff", "plot", "plot --pulse",
+                                     "punch"])
 def test_deck_commands_refuse_a_scene_in_one_line(capsys, scenes, command, no_work):
     for scene in scenes:
         argv = [command.split()[0], str(scene), *command.split()[1:]] + (
@@ -285,6 +286,27 @@ def test_deck_commands_refuse_a_scene_in_one_line(capsys, scenes, command, no_wo
         _one_line_error(err)
         assert "a scene file" in err and "card deck" in err and "deck-emulator core" in err
         assert "card 9" not in err
+
+
+def _source_help(command: str) -> str:
+    for where, parser in _walk(build_parser()):
+        if where == (command,):
+            return next(a.help for a in parser._actions if a.dest == "source")
+    raise AssertionError(f"no command {command}")
+
+
+@pytest.mark.parametrize("command", ["run", "parse", "summary", "diff", "plot", "punch"])
+def test_help_of_a_command_that_refuses_a_scene_does_not_offer_one(command):
+    # the refusal itself is checked above: here the words of --help must agree with it
+    words = " ".join(_source_help(command).split())
+    assert "scene file (.toml) is refused" in words or "with --engine core" in words
+
+
+def test_help_of_a_command_that_takes_a_scene_says_so(capsys, scenes):
+    for command in ("core", "scene"):
+        assert "or a scene file (.toml)" in " ".join(_source_help(command).split())
+        code, _, _ = _run(capsys, command, str(scenes[0]))
+        assert code == 0
 
 
 # -------------------------------------------------------------------- 8. version and help
@@ -435,7 +457,7 @@ def _bad_inputs(tmp_path: Path) -> dict[str, list[str]]:
         "sweep base: no such": ["sweep", "--speeds", "40", "--angles", "0",
                                 "--base-deck", "steel99", "--out", str(d / "sw")],
         "assembly speed 0": ["assembly", "steel", "core", "--speed-mph", "0"],
-        "assembly angle 90": ["assembly", "steel", "core", "--alpha-deg", "90"],
+        "assembly angle over 90": ["assembly", "steel", "core", "--alpha-deg", "90.5"],
         "assembly angle text": ["assembly", "steel", "core", "--alpha-deg", "steep"],
         "assembly of a deck": ["assembly", STEEL40],
         "diff max-k 9": ["diff", STEEL40, "--max-k", "9"],

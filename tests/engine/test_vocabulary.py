@@ -161,9 +161,14 @@ def test_a_job_deck_with_two_sections_is_chosen_by_section(tmp_path, capsys):
 
 
 def test_the_reports_deck_diffs_with_no_options(capsys):
-    """As printed, ED walks away from its root once the step is halved: the rows say so, the
-    side by side is computed, exit 0."""
+    """As printed, ED walks away from its root once the step is halved: with no options the
+    halved steps take ed-direction, say so, and every row ends: exit 0. As printed
+    (--as-printed-rows) the rows say where it stopped and what lets it run: exit 3."""
     assert main(["diff", "steel40", "--max-k", "1", "--quiet", "--jobs", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "stopped" not in out and "errata: ed-direction, since as printed ED walks away" in out
+    assert main(["diff", "steel40", "--max-k", "1", "--quiet", "--jobs", "1",
+                 "--as-printed-rows"]) == 3
     out = capsys.readouterr().out
     assert re.search(r"^ 1 .*stopped: the emulator stopped at k = 1", out, re.M)
     assert "--erratum ed-direction lets it run" in out

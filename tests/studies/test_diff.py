@@ -67,13 +67,28 @@ def test_diff_cli_json(capsys):
     assert {"k", "h_s", "hit_time_diff_s", "max_trajectory_diff_ft"} <= set(data["convergence"][0])
 
 
-def test_diff_as_printed_stops_at_the_first_halved_step_and_names_the_erratum(capsys):
-    """The report's deck with no options: k = 0 compares, k = 1 is a row that says the
-    listing as printed stops there and which erratum lets it run; exit 0."""
-    assert main(["diff", DECK, "--max-k", "1", "--json"]) == 0
+def test_diff_as_printed_rows_stop_at_the_first_halved_step_and_name_the_erratum(capsys):
+    """The halved steps as printed: k = 0 compares, k = 1 is a row that says the listing as
+    printed stops there and which erratum lets it run; a run stopped: exit 3."""
+    assert main(["diff", DECK, "--max-k", "1", "--json", "--as-printed-rows"]) == 3
     data = json.loads(capsys.readouterr().out)
-    assert data["stopped_from_k"] == 1
+    assert data["status"] == "stopped" and data["stopped_from_k"] == 1
+    assert data["settings"]["row_errata"] == []
     row = data["convergence"][1]
     assert row["k"] == 1 and "k = 1" in row["stopped"]
     assert "--erratum ed-direction" in row["stopped"]
     assert data["observed_order"]["hit_time_diff_s"] == []  # no two rows that ran
+
+
+def test_diff_default_ends_on_the_report_deck(capsys):
+    """No erratum asked for: the side by side is the listing as printed (the golden's hit at
+    0.8216 s), the halved steps run with ed-direction, say so, and every row ends: exit 0."""
+    assert main(["diff", DECK, "--max-k", "1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["status"] == "ok" and data["stopped_from_k"] is None
+    assert data["settings"]["errata"] == [] and data["settings"]["row_errata"] == ["ed-direction"]
+    assert data["emulator"]["hit_time_s"] == pytest.approx(0.8216, abs=1e-9)  # the golden's
+    assert all(r["errata"] == ["ed-direction"] for r in data["convergence"])
+    assert len(data["observed_order"]["hit_time_diff_s"]) == 1
+    assert main(["diff", DECK, "--max-k", "1"]) == 0
+    assert "errata: ed-direction, since as printed ED" in capsys.readouterr().out

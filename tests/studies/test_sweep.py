@@ -201,3 +201,40 @@ def test_a_batch_of_scenes_gives_the_rows_of_its_scenes_one_by_one():
         a, b = dict(a), dict(b)
         assert a.pop("run_s") > 0 and b.pop("run_s") > 0
         assert a == b
+
+
+def test_a_base_deck_names_the_scenes_and_the_page(tmp_path, capsys):
+    """A sweep of another deck is named after it, not after the report's post: the page's
+    "Base deck" line and the scenes (car820.dat -> car820_v21.75)."""
+    from deck_emulator.cli import main
+
+    deck = tmp_path / "car820.dat"
+    from deck_emulator.engine.assemblies import to_deck_text
+
+    # steel40 with a car 10 % heavier: a deck of the user's, not one of the report's
+    values = dict(read_deck(ROOT / "decks" / "steel40.dat").values)
+    values["WV"] *= 1.1
+    deck.write_text(to_deck_text(values))
+    out = tmp_path / "sw"
+    assert main(["sweep", "--base-deck", str(deck), "--speeds", "21.75", "--angles", "0",
+                 "--out", str(out), "--jobs", "1", "--quiet"]) == 0
+    page = (out / "sweep.md").read_text()
+    assert "steel40.dat" not in page and f"Base deck: `{deck}`" in page
+    rows = list(csv.DictReader(io.StringIO((out / "sweep.csv").read_text())))
+    assert [r["scene"] for r in rows] == ["car820_v21.75"]
+    assert not any(r["scene"].startswith("steel") for r in rows)
+
+
+def test_the_angle_bound_is_the_stability_studys_largest_angle(tmp_path):
+    """sweep takes every angle the stability study runs (up to 90 degrees), and no more."""
+    from deck_emulator.app import call
+    from deck_emulator.errors import UsageError
+    from deck_emulator.studies.stability import scenes
+
+    base = read_deck(ROOT / "decks" / "steel40.dat").values
+    for quick in (True, False):
+        assert max(s["alpha_deg"] for s in scenes(base, quick) if "alpha_deg" in s) == 90
+    with pytest.raises(UsageError, match="from 0 to 90 degrees"):
+        call("sweep", speeds="40", angles="90.5", out=str(tmp_path / "x"))
+    assert call("sweep", speeds="40", angles="90", erratum=("ed-direction",), jobs=1,
+                quiet=True, out=str(tmp_path / "y")).exit_status == 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from deck_emulator.errors import UsageError
+from deck_emulator.vocabulary import defaults
 
 from . import Answer, command
 from . import common
@@ -22,8 +23,9 @@ class AssemblyOptions(Common, Errata, Preset):
                               help="the car's speed in mph, any from 1 to 200 (default 40; the "
                               "report's 20 and 40 take its own decks' car)")
     alpha_deg: float = option(0.0, parse=angle_deg, metavar="DEG",
-                              help="the approach angle in degrees, 0 to 89 (default 0; the "
-                              "report ran 0, 15 and 30)")
+                              help="the approach angle in degrees, 0 to "
+                              f"{defaults.MAX_APPROACH_ANGLE_DEG:g} (default 0; the report ran "
+                              "0, 15 and 30)")
     json: bool = option(False, help="print what it prints as one JSON object (with core: the "
                         "outcome, as deck-emulator core --json)")
     out: str | None = option(None, metavar="FILE", help="write to FILE instead of stdout")

@@ -7,11 +7,11 @@ from deck_emulator.vocabulary import defaults
 from . import Answer, command
 from . import common
 from .groups import Preset
-from .options import Answering, option, options_class, positive_float, Source, tolerance
+from .options import Answering, option, options_class, positive_float, SceneSource, tolerance
 
 
 @options_class
-class CoreOptions(Source, Preset, Answering):
+class CoreOptions(SceneSource, Preset, Answering):
     method: str = option(defaults.CORE_METHOD,
                          choices=("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA"),
                          help="solve_ivp's method; auto (the default): DOP853, or Radau for the "

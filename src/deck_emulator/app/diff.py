@@ -26,6 +26,10 @@ class DiffOptions(Source, Errata, Cluster, Answering):
                          "%(default)g)")
     as_printed_ed: bool = option(False, help="keep ED's tolerance .0001 at every k (the scheme "
                                  "then does not converge)")
+    as_printed_rows: bool = option(False, help="run the halved steps with only the errata asked "
+                                   "for (default: with ed-direction as well, since as printed "
+                                   "ED walks away from its root on every deck once the step is "
+                                   "halved, and the run stops: exit 3)")
     store: str | None = option(None, metavar="DIR",
                                help="keep the runs in DIR as they finish (default: a temporary "
                                "folder)")
@@ -35,7 +39,10 @@ class DiffOptions(Source, Errata, Cluster, Answering):
          help="run the emulator and the modern core on a deck and compare them",
          description="Side by side: the emulator (the listing as printed, or with errata) and "
          "the core's legacy preset; then both again as the step is halved k = 0..K times, with "
-         "the observed order of convergence.")
+         "the observed order of convergence. The halved steps apply the erratum ed-direction "
+         "(said in the table's heading) unless --as-printed-rows: as printed, ED does not find "
+         "its root once the step is halved. Exit status 3 when any run stopped (the table says "
+         "which and why).")
 def diff(o: DiffOptions) -> Answer:
     common.require("studies")
     from deck_emulator.studies.diff import DiffStopped, diff_deck, format_diff
@@ -49,14 +56,17 @@ def diff(o: DiffOptions) -> Answer:
     try:
         data = diff_deck(deck, precision=o.precision, errata=tuple(o.erratum),
                          ks=range(o.max_k + 1), rtol=o.rtol, atol=o.rtol,
-                         tighten_ed=not o.as_printed_ed, jobs=o.jobs,
+                         tighten_ed=not o.as_printed_ed,
+                         ed_direction_rows=not o.as_printed_rows, jobs=o.jobs,
                          scheduler=common.scheduler(o), store_dir=o.store, resume=o.resume,
                          quiet=o.quiet, desc="deck-emulator: diff")
     except DiffStopped as exc:
         raise RunFailed(str(exc)) from None
     text = format_diff(data)
-    settings = {k: data.pop(k) for k in ("precision", "errata", "core_method", "core_rtol",
-                                         "ed_tolerance_scaled")}
+    settings = {k: data.pop(k) for k in ("precision", "errata", "row_errata", "core_method",
+                                         "core_rtol", "ed_tolerance_scaled")}
     data.pop("deck")
+    stopped = next((r["stopped"] for r in data["convergence"] if r.get("stopped")), None)
     return Answer("diff", src.name, settings=settings, notes=list(src.notes),
-                  said=list(src.notes), result=data, text=text, json=o.json, out=o.out)
+                  said=list(src.notes), result=data, text=text, json=o.json, out=o.out,
+                  status="stopped" if stopped else "ok", error=stopped)

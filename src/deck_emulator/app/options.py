@@ -14,9 +14,13 @@ from dataclasses import MISSING, dataclass, field
 
 from deck_emulator.vocabulary import defaults
 
-#: What SOURCE may be, said once for every command's help.
-SOURCE_HELP = ("a shipped deck's name (steel40), a deck file (text, or card images in any "
-               "format), a job deck, or a scene file (.toml)")
+#: What SOURCE may be, said once for every command's help: a deck (the commands that run the
+#: emulator or read cards take only a deck), or for the commands that also take a scene (``core``,
+#: ``scene``, ``plot --engine core``) a deck or a scene file.
+_DECKS = "a shipped deck's name (steel40), a deck file (text, or card images in any format)"
+DECK_WORDS = _DECKS + " or a job deck"
+DECK_HELP = DECK_WORDS + "; a scene file (.toml) is refused (`scene` and `core` take scenes)"
+SOURCE_HELP = _DECKS + ", a job deck, or a scene file (.toml)"
 #: the arithmetics, errata, presets and views, named here so that building the parser imports
 #: nothing heavy (tests check that these agree with the registries they name)
 PRECISIONS = ("double", "single", "ibm7094")
@@ -108,8 +112,9 @@ def speed_mph(text: str) -> float:
 
 def angle_deg(text: str) -> float:
     x = finite_float(text)
-    if not 0.0 <= x < 90.0:
-        raise ValueError(f"an angle from 0 to below 90 degrees, not {text}")
+    if not 0.0 <= x <= defaults.MAX_APPROACH_ANGLE_DEG:
+        raise ValueError(f"an angle from 0 to {defaults.MAX_APPROACH_ANGLE_DEG:g} degrees, "
+                         f"not {text}")
     return x
 
 
@@ -162,9 +167,10 @@ class Common:
 
 @options_class
 class Source(Common):
-    """SOURCE, and how to read it."""
+    """SOURCE (a deck: the commands that also take a scene say so in their own row), and how
+    to read it."""
 
-    source: str = option(positional=True, metavar="SOURCE", help=SOURCE_HELP)
+    source: str = option(positional=True, metavar="SOURCE", help=DECK_HELP)
     card_format: str = option("auto", choices=("auto", *CARD_FORMATS),
                               help="the deck file's card image format (default: detected when "
                               "the file is unambiguous)")
@@ -177,6 +183,13 @@ class Source(Common):
     listing_program: bool = option(False, help="run the listing's program on a job deck whose "
                                    "own FORTRAN differs from it (refused otherwise; said on the "
                                    "first line)")
+
+
+@options_class
+class SceneSource(Source):
+    """SOURCE for the commands that also take a scene file."""
+
+    source: str = option(positional=True, metavar="SOURCE", help=SOURCE_HELP)
 
 
 @options_class

@@ -9,14 +9,15 @@ from . import Answer, command
 from . import common
 from .groups import Preset
 from .options import (
-    ENGINES, SOURCE_HELP, VIEWS, Errata, option, options_class, positive_float, Source,
+    DECK_WORDS, ENGINES, VIEWS, Errata, option, options_class, positive_float, Source,
 )
 
 
 @options_class
 class PlotOptions(Source, Errata, Preset):
     source: str = option(positional=True, metavar="SOURCE",
-                         help=SOURCE_HELP + "; a scene with --engine core")
+                         help=DECK_WORDS + "; with --engine core also a scene "
+                         "file (.toml)")
     out: str = option(metavar="FILE.png", required=True,
                       help="the picture to write: .png, .svg, .pdf (any format matplotlib "
                       "writes)")

@@ -10,10 +10,6 @@ from .options import CARD_FORMATS, KEYPUNCH_CODES, option, options_class, Source
 
 @options_class
 class PunchOptions(Source):
-    source: str = option(positional=True, metavar="SOURCE",
-                         help="a shipped deck's name (steel40), a deck file (text or card "
-                         "images), or a job deck; a scene file is refused (`scene` and `core` "
-                         "take scenes)")
     to: str = option("text", choices=CARD_FORMATS, help="card format to punch")
     code: str = option("026", choices=KEYPUNCH_CODES,
                        help="keypunch code of the punched holes (default 026)")

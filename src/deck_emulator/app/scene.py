@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from . import Answer, command
 from . import common
-from .options import option, options_class, Source
+from .options import option, options_class, SceneSource
 
 
 @options_class
-class SceneOptions(Source):
+class SceneOptions(SceneSource):
     out: str | None = option(None, metavar="FILE", help="write to FILE instead of stdout")
     json: bool = option(False, help="print the scene (the TOML's tables) as one JSON object "
                         "(docs/json.md)")

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from deck_emulator.errors import UsageError
+from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.defaults import SCENE_STORE
 
 from . import Answer, command
@@ -23,11 +24,13 @@ class SweepOptions(Many, Errata, Preset):
                        "the package)")
     base_deck: str | None = option(None, metavar="SOURCE",
                                    help="another base deck instead of --post's: a shipped "
-                                   "deck's name or a text deck file")
+                                   "deck's name or a text deck file (the scenes and sweep.md "
+                                   "are named after it: car820.dat gives car820_v40_a15)")
     speeds: str = option(metavar="MPH,...", required=True,
                          help="vehicle speeds in mph: 20,40 or 10:60:10 (stop included)")
     angles: str = option(metavar="DEG,...", required=True,
-                         help="approach angles in degrees: 0,15,30 or 0:45:5")
+                         help="approach angles in degrees, from 0 to "
+                         f"{defaults.MAX_APPROACH_ANGLE_DEG:g}: 0,15,30 or 0:45:5")
     engine: str = option("emulator", choices=ENGINES,
                          help="which engine runs the scenes (default emulator)")
     vvb_decimals: int = option(2, parse=whole_number, metavar="N",
@@ -61,12 +64,16 @@ def sweep(o: SweepOptions) -> Answer:
         raise UsageError(f"--speeds/--angles: {exc}") from None
     if any(s <= 0 for s in speeds):
         raise UsageError("--speeds must be positive (mph)")
-    if any(not (0 <= a < 90) for a in angles):
-        raise UsageError("--angles must be in [0, 90) degrees")
+    if any(not (0 <= a <= defaults.MAX_APPROACH_ANGLE_DEG) for a in angles):
+        raise UsageError(f"--angles must be from 0 to {defaults.MAX_APPROACH_ANGLE_DEG:g} "
+                         "degrees")
     if not 0 <= o.vvb_decimals <= 5:
         raise UsageError("--vvb-decimals must be 0 to 5")
     base = (Path(common.deck_file(o.base_deck, "sweep --base-deck")) if o.base_deck
             else POSTS[o.post])
+    # the scenes are named after the deck given (car820.dat: car820_v40_a15), the post's after it
+    label = o.post if not o.base_deck else Path(o.base_deck).stem
+    label = f"{label}_deck" if o.base_deck and label in POSTS else label
     base_deck = read_deck(base)  # bad deck -> DeckError, before any work
     for s in speeds:  # every VVB/ALPHA must punch: fail before running anything
         for a in angles:
@@ -75,13 +82,14 @@ def sweep(o: SweepOptions) -> Answer:
     options = (dict(errata=tuple(o.erratum)) if o.engine == "emulator" else o.core_keywords())
     store = output_store(o.out, o.resume)  # a new sweep: the scenes of the last one go
     started = time.perf_counter()
-    rows = run_sweep(speeds, angles, engine=o.engine, options=options, post=o.post, base=base,
+    rows = run_sweep(speeds, angles, engine=o.engine, options=options, post=label, base=base,
                      jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
                      scheduler=common.scheduler(o), resume=o.resume)
     wall = time.perf_counter() - started
     with OutputSet(directory=o.out) as outputs:
         outputs.write("sweep.csv", write_csv(rows))
-        outputs.write("sweep.md", render_markdown(rows, command=o.command_line, engine=o.engine))
+        outputs.write("sweep.md", render_markdown(rows, command=o.command_line, engine=o.engine,
+                                                      base=o.base_deck))
     failed = [r for r in rows if r["error"]]
     where = f"on {o.scheduler}" if o.scheduler else f"on {o.jobs or os.cpu_count()} job(s)"
     written = [str(Path(o.out) / "sweep.csv"), str(Path(o.out) / "sweep.md")]

@@ -113,7 +113,8 @@ def compartment(o) -> dict | None:
             "the model that ran tests only the points P, R and C against the car (the "
             "listing's checks), not the shaft and the arms, so it gives no pass verdict; "
             f"checked over its computed path, {clear}; the core with --shaft-contact (or "
-            "--preset physical) tests the whole post"))
+            "--preset physical) tests the whole post (docs/models.md: which model for a "
+            "safety judgement)"))
     return answer
 
 

@@ -18,6 +18,10 @@ Both give the same quantities under the same definitions:
 The convergence table runs the emulator with every "one step" literal divided by 2**k and the
 core's ``legacy`` preset with the matching start-up step (``StartupKick(step_s=h)``) and force
 cap time (20 steps), so that the difference measures the 1967 scheme's discretisation error.
+Its rows also apply the erratum ``ed-direction`` unless told not to (``ed_direction_rows``): as
+printed, SUBROUTINE ED walks away from its root on every deck once the step is halved (the
+listing's steps themselves are not the rows' concern: the side by side is the listing's run with
+the errata asked for).
 """
 
 from __future__ import annotations
@@ -83,15 +87,26 @@ def ed_tolerance(k: int) -> str:
     return f"{1e-6 / 4**k:.3e}"
 
 
+def row_errata(errata=(), ed_direction_rows=True) -> tuple[str, ...]:
+    """The errata of the convergence rows: those asked for, and ``ed-direction`` unless
+    ``ed_direction_rows`` is False."""
+    chosen = errata_policy.resolve(errata)
+    return errata_policy.resolve((*chosen, errata_policy.ED_DIRECTION)) if ed_direction_rows \
+        else chosen
+
+
 def diff_tasks(deck, *, precision="double", errata=(), ks=range(5), rtol=defaults.CORE_RTOL,
                atol=defaults.CORE_ATOL,
-               tighten_ed=True) -> list[dict]:
+               tighten_ed=True, ed_direction_rows=True) -> list[dict]:
     """The diff's runs as tasks of the scene runner: one per k (the emulator and the core at
     the step H0/2**k, side by side in one task, since the trajectory difference needs both
-    runs in one process). The deck travels as its card images."""
+    runs in one process). The deck travels as its card images. ``errata``: the side by side's
+    (the listing's run); the rows take :func:`row_errata`."""
     chosen = list(errata_policy.resolve(errata))
+    rows = list(row_errata(errata, ed_direction_rows))
     return [{"kind": "diff", "deck": str(deck.path or ""), "cards": "\n".join(deck.cards) + "\n",
              "k": int(k), "precision": precision if k == 0 else "double", "errata": chosen,
+             "row_errata": rows,
              "rtol": float(rtol), "atol": float(atol), "tighten_ed": bool(tighten_ed),
              "cost": 2.0**k} for k in ks]
 
@@ -104,11 +119,12 @@ def diff_step(task: dict) -> dict:
     from deck_emulator.engine.sources import parse_deck
 
     deck = parse_deck(task["cards"], path=task["deck"] or None)
-    k, errata = task["k"], tuple(task["errata"])
+    k, given = task["k"], tuple(task["errata"])
+    errata = tuple(task.get("row_errata", given))
     h = H0 / 2**k
     tol = ed_tolerance(k) if task["tighten_ed"] else ".0001"
 
-    def emulate(tolerance):
+    def emulate(tolerance, errata=errata):
         return EmulatorEngine(precision=task["precision"], errata=errata, step_scale_k=k,
                               ed_tolerance=tolerance, trace=True).run(deck)
 
@@ -135,8 +151,9 @@ def diff_step(task: dict) -> dict:
                "errata": list(errata),
                "ed_tolerance_rad": float(tol),
            }}
-    if k == 0 and task["tighten_ed"]:  # the side by side is the printed run: ED at .0001
-        em0 = emulate(".0001")
+    if k == 0 and (task["tighten_ed"] or errata != given):
+        # the side by side is the listing's run: ED at .0001, the errata asked for
+        em0 = emulate(".0001", given)
         if em0.error:
             return stopped(em0, "emulator")
         out["printed"] = {"emulator": outcome_summary(em0),
@@ -146,20 +163,21 @@ def diff_step(task: dict) -> dict:
 
 def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=defaults.CORE_RTOL,
               atol=defaults.CORE_ATOL,
-              tighten_ed=True, jobs=None, scheduler=None, store_dir=None, resume=False,
+              tighten_ed=True, ed_direction_rows=True, jobs=None, scheduler=None, store_dir=None, resume=False,
               quiet=False, desc="diff") -> dict:
     """Run both engines; return {emulator, core, max_trajectory_diff_ft, convergence, ...}.
 
     The side-by-side values are the listing's run as printed (k = 0, ED tolerance .0001). The
     convergence rows from k = 1 on shrink ED's tolerance with the step (``tighten_ed``): with
-    the printed .0001 rad the scheme does not converge (see ``as_printed_ed`` in the CLI).
+    the printed .0001 rad the scheme does not converge (see ``as_printed_ed`` in the CLI); the
+    rows apply ``ed-direction`` as well unless ``ed_direction_rows`` is False.
 
     The ks run on the one scene runner (:func:`deck_emulator.studies.common.run_longest_first`:
     ``jobs`` workers or the cluster at ``scheduler``), stored in ``store_dir`` (a temporary
     folder if None; ``resume`` runs only the ks not stored). A run that did not end raises
     :class:`DiffStopped` naming the smallest k at which one stopped."""
     options = dict(precision=precision, errata=errata, ks=ks, rtol=rtol, atol=atol,
-                   tighten_ed=tighten_ed)
+                   tighten_ed=tighten_ed, ed_direction_rows=ed_direction_rows)
     return diff_decks([(deck, options)], jobs=jobs, scheduler=scheduler, store_dir=store_dir,
                       resume=resume, quiet=quiet, desc=desc)[0]
 
@@ -212,6 +230,8 @@ def _diff_result(deck, options: dict, steps: list[dict]) -> dict:
         "deck": str(deck.path),
         "precision": options.get("precision", "double"),
         "errata": list(errata_policy.resolve(options.get("errata", ()))),
+        "row_errata": list(row_errata(options.get("errata", ()),
+                                      options.get("ed_direction_rows", True))),
         "core_method": "/".join(sorted({step["method"] for step in steps if not step["stopped"]})),
         "core_rtol": options.get("rtol", defaults.CORE_RTOL),
         "emulator": emu,
@@ -257,6 +277,9 @@ def format_diff(d: dict) -> str:
                  f"printed, ED's tolerance .0001 rad): {d['max_trajectory_diff_as_printed_ft']:.4f} ft")
     lines += ["", "as H is halved (emulator step literals / 2**k; core start-up over the same step; "
               + ("ED tolerance 1e-6 rad / 4**k" if d["ed_tolerance_scaled"] else "ED tolerance .0001 as printed")
+              + ("" if d["row_errata"] == d["errata"] else
+                 f"; errata: {', '.join(d['row_errata']) or 'none'}, since as printed ED walks "
+                 "away from its root once the step is halved")
               + "):",
               f"{'k':>2}{'H (s)':>12}{'hit time diff (s)':>20}{'terminal diff (ft)':>20}{'trajectory diff (ft)':>22}"]
     for r in d["convergence"]:
@@ -266,12 +289,17 @@ def format_diff(d: dict) -> str:
         lines.append(f"{r['k']:>2}{r['h_s']:>12.3e}{r['hit_time_diff_s']:>20.3e}"
                      f"{r['terminal_points_diff_ft']:>20.3e}{r['max_trajectory_diff_ft']:>22.3e}"
                      + ("" if r["same_hit"] else "   (different hit)"))
-    if d["ed_tolerance_scaled"]:
-        lines.append("(the k = 0 row runs ED at 1e-6 rad, like the rows below it; the side by "
-                     "side above is the listing as printed, ED at .0001 rad: hence two k = 0 "
-                     "trajectory differences)")
+    scaled, more = d["ed_tolerance_scaled"], d["row_errata"] != d["errata"]
+    if scaled or more:
+        row = " with ".join((["ED at 1e-6 rad"] if scaled else [])
+                           + ([f"errata {', '.join(d['row_errata'])}"] if more else []))
+        side = ", ".join((["ED at .0001 rad"] if scaled else [])
+                         + ([f"errata: {', '.join(d['errata']) or 'none'}"] if more else []))
+        lines.append(f"(the k = 0 row runs {row}, like the rows below it; the side by side "
+                     f"above is the listing as printed, {side}: hence two k = 0 trajectory "
+                     "differences)")
     if d.get("stopped_from_k") is not None:
-        lines.append(f"note: the emulator ({', '.join(d['errata']) or 'no errata'}) cannot run "
+        lines.append(f"note: the emulator ({', '.join(d['row_errata']) or 'no errata'}) cannot run "
                      f"this deck from k = {d['stopped_from_k']} on (the rows say why); the orders "
                      "below use the rows that ran")
     for key, label in (("hit_time_diff_s", "hit time"), ("terminal_points_diff_ft", "terminal points"),

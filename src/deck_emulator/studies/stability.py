@@ -107,7 +107,8 @@ def scenes(base: dict, quick: bool) -> list[dict]:
     for mph in speeds:
         out.append(_scene(f"speed-{mph}", "speed", f"{mph} mph",
                           {"VVB": round(-mph * FT_S_PER_MPH, 4)}, speed_mph=mph))
-    angles = (90,) if quick else (15, 30, 45, 60, 75, 90)
+    top = int(defaults.MAX_APPROACH_ANGLE_DEG)  # the largest angle a scene may have
+    angles = (top,) if quick else tuple(range(15, top + 1, 15))
     for deg in angles:
         out.append(_scene(f"angle-{deg}", "approach angle", f"alpha = {deg} deg",
                           {"ALPHA": round(math.radians(deg), 5)}, alpha_deg=deg))

@@ -92,9 +92,18 @@ def _fmt_num(x: float) -> str:
 
 def scene_name(speed_mph: float, angle_deg: float, post: str = "steel") -> str:
     """``steel40``, ``steel40_a15`` -- the names of decks/ and of report_tables for the report's
-    cases."""
-    s = f"{post}{_fmt_num(speed_mph)}"
+    cases; another base deck's scenes are named after it: ``car820_v40``, ``car820_v40_a15``."""
+    s = f"{post}{_fmt_num(speed_mph)}" if post in POSTS else f"{post}_v{_fmt_num(speed_mph)}"
     return s if angle_deg == 0 else f"{s}_a{_fmt_num(angle_deg)}"
+
+
+def _report_of(job: dict, deck: Deck):
+    """The report's values for a job's scene: the report's post by its scene's name; another
+    base deck only where its scene is, value for value, one of the shipped report decks."""
+    if job["post"] in POSTS:
+        return _report_for(scene_name(job["speed"], job["angle"], job["post"]), deck)
+    name = scene_name(job["speed"], job["angle"])
+    return _report_for(name, deck) if name in decks.names() else None
 
 
 def vvb_for(speed_mph: float, decimals: int = 2) -> float:
@@ -304,7 +313,7 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
             outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
     rows = []
     for job, (deck, name), res in zip(jobs, decks, outcomes):
-        report = _report_for(name, deck) if job["post"] == "steel" else None
+        report = _report_of(job, deck)
         rows.append(result_row(res, job["speed"], job["angle"], report))
     return rows
 
@@ -339,7 +348,8 @@ def sweep(
     resume: bool = False,
 ) -> list[dict]:
     """Run every (speed, angle) on ``engine`` (``engine_for(engine, **options)``); rows
-    sorted by speed, then angle.
+    sorted by speed, then angle. ``base``: another base deck than ``post``'s; ``post`` then
+    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``).
 
     The scenes run on Dask (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded
     cluster of ``jobs`` workers, or the one at ``scheduler``), a batch of scenes a task (the
@@ -407,8 +417,10 @@ def _deg(a):
     return f"{a:g}"
 
 
-def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emulator") -> str:
-    """Tables laid out like the report's Tables 11 and 12: one table per speed."""
+def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emulator",
+                    base: str | None = None) -> str:
+    """Tables laid out like the report's Tables 11 and 12: one table per speed. ``base``: the
+    base deck as the user named it (None: the report's steel post)."""
     limits = {q: "; ".join(f"{safety.STANDARDS[c.standard].name}: {c.label()}"
                            for c in safety.criteria_of(q).values())
               for q in ("occupant_compartment", *RATED)}
@@ -423,8 +435,9 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         lines += [f"Command: `{command}`", ""]
     eng = rows[0]["settings"] if rows and engine == "core" else ""
     lines += [
-        f"Engine: **{engine}**{' (' + eng + ')' if eng else ''}. Base deck: the report's steel post "
-        "(`decks/steel40.dat`), VVB and ALPHA changed (rules in `deck_emulator.studies.sweep`).",
+        f"Engine: **{engine}**{' (' + eng + ')' if eng else ''}. Base deck: "
+        + ("the report's steel post (`decks/steel40.dat`)" if base is None else f"`{base}`")
+        + ", VVB and ALPHA changed (rules in `deck_emulator.studies.sweep`).",
         "",
         "Each cell: **ours (report, ours − report)** where the report's Tables 11 (20 mph) and "
         "12 (40 mph), steel-post columns, have the case; otherwise ours alone. The report's "

@@ -57,6 +57,13 @@ MAX_WALL_S = 60.0
 SAMPLE_CONTACT_S = 0.0002
 SAMPLE_FREE_S = 0.001
 
+# ------------------------------------------------------------------- the scenes' bounds
+
+#: the largest approach angle ALPHA a scene may be given, deg (0 to this, both included): the
+#: commands that set the angle (sweep --angles, assembly --alpha-deg) and the stability study,
+#: whose largest angle it is (the emulator ends there as the core does: docs/study/stability)
+MAX_APPROACH_ANGLE_DEG = 90.0
+
 # ------------------------------------------------------------------- the studies' own settings
 
 #: where a command that runs many scenes (sweep, sensitivity, the studies) keeps them as they
