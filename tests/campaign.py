@@ -249,8 +249,10 @@ BAD_PATHS = ["{dir}/missing/x", "{dir}/file/x", "{dir}", "/dev/full", "/proc/ver
 def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
-    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0} if fast \
-        else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0}
+    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
+         "cut": 12} if fast \
+        else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
+              "cut": 300}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -280,6 +282,18 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
         cmd = ["parse", "run"][k % 2]
         cases.append(Case("mutated card images", f"{fmt}{' job' if job else ''} {kind} #{k}",
                           [cmd, "{dir}/d.img", "--card-format", fmt], {"d.img": bad}))
+
+    cut_rng = random.Random(seed + 1)  # its own, so that the other categories stay the same
+    for k in range(n["cut"]):  # a card image cut short: refused, unless cut between cards
+        (fmt, job), data = list(images.items())[k % len(images)]
+        size = cut_rng.randrange(1, len(data))
+        between = size % 160 == 0 if fmt == "binary" else bool(data[size] & 0x80)
+        cmd = [["parse"], ["run"], ["summary", "--quiet"]][k % 3]
+        card_format = ["--card-format", fmt] if k % 2 else []
+        cases.append(Case("card images cut short", f"{fmt}{' job' if job else ''} to {size} #{k}",
+                          [cmd[0], "{dir}/d.img", *cmd[1:], *card_format],
+                          {"d.img": data[:size]},
+                          statuses=frozenset(STATUSES) if between else frozenset({2})))
 
     printouts = _printouts()
     golden = printouts["carriage control"]
