@@ -4,6 +4,10 @@ end), one line for a refusal, no traceback, no hang."""
 
 from __future__ import annotations
 
+import io
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -48,3 +52,117 @@ def test_a_punched_card_image_cut_short_is_refused(tmp_path, capsys, fmt, cut, c
     # the whole image reads as the deck (1200.0 lb, the report's FCONST)
     assert main(["parse", str(whole), "--json"]) == 0
     assert '"FCONST": 1200.0' in capsys.readouterr().out.replace("\n", "").replace("  ", " ")
+
+
+# --------------------------------------------------- closed standard streams (item 7)
+
+
+@pytest.mark.parametrize("argv", [
+    ["run", "steel40"], ["parse", "steel40"], ["parse", "steel40", "--json"],
+    ["summary", "steel40"], ["corrections", "--all"], ["scene", "steel40"],
+])
+def test_an_answer_for_a_closed_stdout_is_refused_before_work(monkeypatch, tmp_path, argv):
+    err = io.StringIO()
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "stdout", None)  # as Python starts with descriptor 1 closed
+    monkeypatch.setattr(sys, "stderr", err)
+    assert main(argv) == 2
+    assert sys.stdout is None  # put back as it was
+    line = _one_line(err.getvalue())
+    assert "standard output is closed" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_with_stdout_closed_an_answer_for_a_file_is_written(monkeypatch, tmp_path):
+    err = io.StringIO()
+    monkeypatch.setattr(sys, "stdout", None)
+    monkeypatch.setattr(sys, "stderr", err)
+    assert main(["run", "steel40", "--out", str(tmp_path / "p.txt")]) == 0
+    assert (tmp_path / "p.txt").read_text() == (ROOT / "golden" / "steel40.r8.txt").read_text()
+    assert "Traceback" not in err.getvalue()
+
+
+@pytest.mark.parametrize("argv, status", [
+    (["parse", "no-such-deck"], 2), (["run", "steel40", "--max-ed-iterations", "1"], 3),
+    (["run", "steel40", "--no-such-option"], 2)])
+def test_with_stderr_closed_a_refusal_ends_with_its_status(monkeypatch, capsys, argv, status):
+    monkeypatch.setattr(sys, "stderr", None)
+    assert main(argv) == status
+    assert "error" not in capsys.readouterr().out  # not said on stdout instead
+
+
+@pytest.mark.slow
+def test_a_process_started_with_stdout_or_stderr_closed(tmp_path):
+    done = subprocess.run(
+        [sys.executable, "-m", "deck_emulator.cli", "run", "steel40"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=120,
+        preexec_fn=lambda: os.close(1))
+    assert done.returncode == 2
+    assert _one_line(done.stderr.decode()).endswith("standard output is closed, and the answer "
+                                                    "goes there: give --out FILE, or open it")
+    # stderr closed: the refusal's status, and nothing said on stdout
+    done = subprocess.run(
+        [sys.executable, "-m", "deck_emulator.cli", "parse", str(tmp_path / "missing.dat")],
+        stdout=subprocess.PIPE, timeout=120, preexec_fn=lambda: os.close(2))
+    assert (done.returncode, done.stdout) == (2, b"")
+
+
+# --------------------------------------------------------------- a bare locale (item 8)
+
+
+def _in_encoding(monkeypatch, encoding: str, argv: list[str]) -> tuple[int, bytes]:
+    raw = io.BytesIO()
+    stream = io.TextIOWrapper(raw, encoding=encoding, errors="strict", newline="\n")
+    monkeypatch.setattr(sys, "stdout", stream)
+    status = main(argv)
+    stream.flush()
+    return status, raw.getvalue()
+
+
+@pytest.mark.parametrize("argv", [["parse", "steel40"], ["corrections", "--all"]])
+@pytest.mark.parametrize("encoding", ["ascii", "latin-1"])
+def test_output_in_an_encoding_without_the_units_characters_degrades(monkeypatch, encoding,
+                                                                     argv):
+    from deck_emulator.cli import ASCII_SPELLINGS
+
+    status, utf8 = _in_encoding(monkeypatch, "utf-8", argv)
+    text = utf8.decode("utf-8")
+    assert status == 0 and not text.isascii()  # the case this is about
+    status, narrow = _in_encoding(monkeypatch, encoding, argv)
+    assert status == 0
+    # each character the encoding has not got, and only those, spelled as the table says
+    expected = "".join(ch if ch.encode(encoding, "ignore") else ASCII_SPELLINGS[ch]
+                       for ch in text)
+    assert narrow.decode(encoding) == expected
+
+
+def test_standard_error_degrades_alike(monkeypatch):
+    raw = io.BytesIO()
+    stream = io.TextIOWrapper(raw, encoding="ascii", errors="strict", newline="\n")
+    monkeypatch.setattr(sys, "stderr", stream)
+    monkeypatch.setattr("deck_emulator.cli.PROG", "deck-emulator \u2014 \u03c8\u0307")
+    assert main(["parse", "no-such-deck"]) == 2
+    stream.flush()
+    assert raw.getvalue().startswith(b"deck-emulator -- psi_dot: error: ")
+
+
+def test_every_ascii_spelling_is_ascii():
+    from deck_emulator.cli import ASCII_SPELLINGS
+
+    for ch, spelled in ASCII_SPELLINGS.items():
+        assert not ch.isascii() and spelled.isascii() and spelled, ch
+
+
+@pytest.mark.slow
+def test_a_bare_c_locale_process_writes_ascii_spellings():
+    env = {"LC_ALL": "C", "PYTHONUTF8": "0", "PYTHONCOERCECLOCALE": "0"}
+    env.pop("PYTHONIOENCODING", None)
+    for argv, spelled in ((["parse", "steel40"], b"slug*ft^2"),
+                          (["corrections", "--all"], b" -- ")):
+        done = subprocess.run([sys.executable, "-m", "deck_emulator.cli", *argv],
+                              capture_output=True, timeout=120,
+                              env={k: v for k, v in {**os.environ, **env}.items()
+                                   if k != "PYTHONIOENCODING"})
+        assert done.returncode == 0, done.stderr
+        assert b"Traceback" not in done.stderr and spelled in done.stdout
+        assert done.stdout.isascii()
