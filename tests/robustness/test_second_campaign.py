@@ -8,6 +8,8 @@ import io
 import os
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -166,3 +168,111 @@ def test_a_bare_c_locale_process_writes_ascii_spellings():
         assert done.returncode == 0, done.stderr
         assert b"Traceback" not in done.stderr and spelled in done.stdout
         assert done.stdout.isascii()
+
+
+# ------------------------------------------------- a SOURCE that is not a regular file (item 4)
+
+
+def _writer(path_or_fd, data: bytes, delay: float = 0.2) -> threading.Thread:
+    """A thread that writes ``data`` to a FIFO (a path) or a pipe (a descriptor), then closes
+    it, as a shell's writer would."""
+    def write():
+        time.sleep(delay)
+        if isinstance(path_or_fd, int):
+            with os.fdopen(path_or_fd, "wb") as fh:
+                fh.write(data)
+        else:
+            with open(path_or_fd, "wb") as fh:
+                fh.write(data)
+
+    thread = threading.Thread(target=write, daemon=True)
+    thread.start()
+    return thread
+
+
+def _body(out: str) -> str:
+    """Output without its first line (parse names the file there)."""
+    return out.split("\n", 1)[1]
+
+
+def _golden_parse(capsys) -> str:
+    assert main(["parse", str(STEEL40)]) == 0
+    return _body(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("command", ["parse", "run"])
+def test_a_pipe_named_by_its_descriptor_is_read_once_as_its_deck(capsys, command):
+    # what `deck-emulator parse <(cat D)` is given: /dev/fd/N, a pipe
+    assert main([command, str(STEEL40)]) == 0
+    expected = _body(capsys.readouterr().out)
+    read, write = os.pipe()
+    try:
+        thread = _writer(write, STEEL40.read_bytes())
+        assert main([command, f"/dev/fd/{read}"]) == 0
+        thread.join(30)
+    finally:
+        os.close(read)
+    assert _body(capsys.readouterr().out) == expected
+
+
+def test_a_fifo_is_read_as_the_deck_its_writer_sends(tmp_path, capsys):
+    expected = _golden_parse(capsys)
+    fifo = tmp_path / "f"
+    os.mkfifo(fifo)
+    thread = _writer(str(fifo), STEEL40.read_bytes(), delay=0.5)  # the reader waits for it
+    assert main(["parse", str(fifo)]) == 0
+    thread.join(30)
+    assert _body(capsys.readouterr().out) == expected
+
+
+def test_a_fifo_with_no_writer_is_refused_after_the_bound(tmp_path, capsys, monkeypatch):
+    from deck_emulator.vocabulary import defaults
+
+    monkeypatch.setattr(defaults, "SOURCE_WAIT_S", 0.5)
+    fifo = tmp_path / "f"
+    os.mkfifo(fifo)
+    started = time.monotonic()
+    assert main(["run", str(fifo)]) == 2
+    assert time.monotonic() - started < 30  # a hang guard, not a timing
+    line = _one_line(capsys.readouterr().err)
+    assert "nothing was written to it in 0.5 s" in line and str(fifo) in line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f"]
+
+
+def test_a_device_and_a_socket_are_refused_in_one_line(tmp_path, capsys):
+    import socket
+
+    assert main(["parse", "/dev/null"]) == 2
+    assert "/dev/null: is a device, not a deck file" in _one_line(capsys.readouterr().err)
+    sock = socket.socket(socket.AF_UNIX)
+    try:
+        sock.bind(str(tmp_path / "s"))
+        assert main(["run", str(tmp_path / "s")]) == 2
+        assert "is a socket, not a deck file" in _one_line(capsys.readouterr().err)
+    finally:
+        sock.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("source", ["-", "/dev/stdin"])
+@pytest.mark.parametrize("what", ["deck", "scene"])
+def test_standard_input_as_a_pipe_is_the_source(tmp_path, source, what):
+    if what == "deck":
+        data, argv, says = STEEL40.read_bytes(), ["parse"], b"FCONST   1200.00000  lb"
+    else:
+        scene = tmp_path / "s.toml"
+        assert main(["scene", "steel40", "--out", str(scene)]) == 0
+        data, argv, says = scene.read_bytes(), ["scene"], scene.read_bytes()
+    done = subprocess.run([sys.executable, "-m", "deck_emulator.cli", *argv, source],
+                          input=data, capture_output=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert says in done.stdout
+
+
+@pytest.mark.slow
+def test_standard_input_from_a_terminal_or_device_is_refused():
+    done = subprocess.run([sys.executable, "-m", "deck_emulator.cli", "run", "-"],
+                          stdin=subprocess.DEVNULL, capture_output=True, timeout=120)
+    assert done.returncode == 2
+    assert _one_line(done.stderr.decode()).endswith("stdin: is a device, not a deck file "
+                                                    "(give a file, a pipe or a FIFO)")

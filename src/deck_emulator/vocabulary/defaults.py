@@ -20,6 +20,17 @@ LISTING_CAP_STEPS = 20
 #: luminaire, which the listing has not got) is given R's
 LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 
+# ------------------------------------------------------------------- reading a SOURCE
+
+#: the longest a SOURCE that is a FIFO or a pipe may keep its reader waiting for its next
+#: bytes (no writer yet, or a writer gone silent), s: a deck is a few hundred bytes, which any
+#: writer has sent long before; past it the command is refused rather than left hanging
+SOURCE_WAIT_S = 60.0
+
+#: the largest scene file read, bytes (a scene TOML is about 2 kB; a card deck's bound is
+#: legacy.jobdeck.MAX_BYTES)
+MAX_SCENE_BYTES = 1 << 20
+
 # ------------------------------------------------------------------- the emulator's bounds
 
 #: the emulator's bounds on what the listing leaves unbounded (legacy.emulator.Limits):
