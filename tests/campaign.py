@@ -207,6 +207,30 @@ def _toml_mutation(text: str, rng: random.Random) -> tuple[str, str]:
     return "empty", ""
 
 
+def _toml_bomb(text: str, rng: random.Random) -> tuple[str, str]:
+    """A scene or assembly description with a bomb put in at a random line: arrays or inline
+    tables nested deep, a dotted key or a header of many parts, a number of many digits."""
+    lines = text.splitlines()
+    i = rng.randrange(len(lines) + 1)
+    kind = rng.choice(["arrays", "tables", "dotted key", "header", "digits", "mixed"])
+    depth = rng.choice([17, 50, 1000, 20000, 100_000])
+    if kind == "arrays":
+        bomb = "bomb = " + "[" * depth + "1" + "]" * depth
+    elif kind == "tables":
+        bomb = "bomb = " + "{a = " * depth + "1" + "}" * depth
+    elif kind == "dotted key":
+        bomb = "a" + ".a" * depth + " = 1"
+    elif kind == "header":
+        bomb = "[" + ".".join(["t"] * (depth + 1)) + "]\nx = 1"
+    elif kind == "digits":
+        key = lines[i - 1].split("=")[0].strip() if i and "=" in lines[i - 1] else "n"
+        bomb = f"{key}_x = " + rng.choice(["", "-", "0."]) + "7" * rng.choice([101, 4301, 100_000])
+    else:
+        bomb = "bomb = [" + "{a = [" * (depth // 2) + "1" + "]}" * (depth // 2) + "]"
+    lines.insert(i, bomb)
+    return f"{kind} {depth}", "\n".join(lines) + "\n"
+
+
 BAD_NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1e309", "1e-300", "", "abc", "1,5", "0x10"]
 
 #: (command line, the option that takes a bad value): the options a command checks
@@ -250,9 +274,9 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
     n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
-         "cut": 12} if fast \
+         "cut": 12, "bomb": 12} if fast \
         else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
-              "cut": 300}
+              "cut": 300, "bomb": 300}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -324,6 +348,21 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
             what, text = _toml_mutation(assembly, rng)
             cases.append(Case("scene and assembly files", f"assembly {what}",
                               ["assembly", "{dir}/a.toml", "scene"], {"a.toml": text.encode()}))
+
+    bomb_rng = random.Random(seed + 2)  # its own, so that the other categories stay the same
+    bomb_commands = [["core"], ["scene"], ["run"]]
+    for k in range(n["bomb"]):
+        if k % 2:
+            what, text = _toml_bomb(scene, bomb_rng)
+            cmd = bomb_commands[(k // 2) % len(bomb_commands)]
+            cases.append(Case("scene and assembly bombs", f"scene {what} #{k}",
+                              [cmd[0], "{dir}/s.toml"], {"s.toml": text.encode()},
+                              statuses=frozenset({2})))
+        else:
+            what, text = _toml_bomb(assembly, bomb_rng)
+            cases.append(Case("scene and assembly bombs", f"assembly {what} #{k}",
+                              ["assembly", "{dir}/a.toml", "scene"], {"a.toml": text.encode()},
+                              statuses=frozenset({2})))
 
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]

@@ -24,7 +24,7 @@ def test_the_sample_covers_every_category():
     assert {c.category for c in FAST} == {c.category for c in FULL} == {
         "mutated decks", "physically odd decks", "mutated card images",
         "scene and assembly files", "printouts", "invalid options", "output paths",
-        "card images cut short"}
+        "card images cut short", "scene and assembly bombs"}
 
 
 @pytest.mark.parametrize("case", FAST, ids=lambda c: f"{c.category}: {c.name}")

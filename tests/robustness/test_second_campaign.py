@@ -276,3 +276,65 @@ def test_standard_input_from_a_terminal_or_device_is_refused():
     assert done.returncode == 2
     assert _one_line(done.stderr.decode()).endswith("stdin: is a device, not a deck file "
                                                     "(give a file, a pipe or a FIFO)")
+
+
+# ------------------------------------------------- scene and assembly files as bombs (item 5)
+
+#: (name, text, what the refusal says): the campaign's bombs, and the bounds' own edges
+BOMBS = [
+    ("inline tables 1,000 deep", "a = " + "{b = " * 1000 + "1" + "}" * 1000 + "\n",
+     "nested more than 16 deep"),
+    ("arrays 100,000 deep", "a = " + "[" * 100_000 + "1" + "]" * 100_000 + "\n",
+     "nested more than 16 deep"),
+    ("a dotted key of 50,000 parts", "a" + ".a" * 50_000 + " = 1\n",
+     "a dotted key of more than 16 parts"),
+    ("a header of 50,000 parts", "[" + "a." * 50_000 + "a]\nx = 1\n",
+     "a dotted key of more than 16 parts"),
+    ("an integer of 100,000 digits", "[shaft]\nlength_ft = 1" + "0" * 100_000 + "\n",
+     "shaft.length_ft: a number of more than 100 digits"),
+    ("2 MB of comment", "#" * (2 << 20) + "\n", "larger than"),
+]
+
+
+@pytest.mark.parametrize("name, text, says", BOMBS, ids=[b[0] for b in BOMBS])
+@pytest.mark.parametrize("command", [["core"], ["scene"], ["run"], ["assembly", "scene"]])
+def test_a_bomb_of_a_scene_or_assembly_file_is_refused_in_one_line(tmp_path, capsys, name,
+                                                                   text, says, command):
+    bomb = tmp_path / "b.toml"
+    bomb.write_text(text)
+    assert main([command[0], str(bomb), *command[1:]]) == 2
+    out, err = capsys.readouterr()
+    assert says in _one_line(err) and out == ""
+    assert [p.name for p in tmp_path.iterdir()] == ["b.toml"]
+
+
+def test_the_bounds_hold_every_shipped_scene_and_description():
+    from deck_emulator.vocabulary.toml_limits import check
+
+    shipped = sorted((ROOT / "src" / "deck_emulator" / "assemblies").glob("*.toml"))
+    assert shipped
+    for path in shipped:
+        check(path.read_text())
+
+
+@pytest.mark.parametrize("depth, refused", [(16, False), (17, True)])
+def test_the_nesting_bound_is_sixteen(depth, refused):
+    from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
+
+    text = "a = " + "[" * depth + "1" + "]" * depth + "\n"
+    if refused:
+        with pytest.raises(TomlLimitError, match="nested more than 16 deep"):
+            loads(text)
+    else:
+        value = loads(text)["a"]
+        for _ in range(depth):
+            value = value[0]
+        assert value == 1
+
+
+def test_brackets_and_digits_inside_strings_and_comments_do_not_count():
+    from deck_emulator.vocabulary.toml_limits import loads
+
+    text = ('a = "' + "[" * 40 + "9" * 200 + '"\n' + "b = '''" + "{" * 40 + "'''\n"
+            + "# " + "[" * 40 + "." * 40 + "\n" + '"x.y" = 1\n')
+    assert loads(text)["b"] == "{" * 40

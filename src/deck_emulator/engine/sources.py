@@ -124,15 +124,11 @@ def _is_scene(name: str, data: bytes) -> bool:
     # deck of numbers) are no scene, and are told so without loading the TOML parser.
     if b"=" not in data and b"[" not in data:
         return False
-    import tomllib
+    from deck_emulator.vocabulary.toml_limits import loads
 
-    from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES  # a scene file is at most this
-
-    if len(data) > MAX_SCENE_BYTES:
-        return False
     try:
-        parsed = tomllib.loads(data.decode("utf-8"))
-    except (ValueError, RecursionError, MemoryError):
+        parsed = loads(data.decode("utf-8"))  # within the bounds: else no scene
+    except ValueError:
         return False
     return any(isinstance(v, dict) for v in parsed.values())
 

@@ -30,6 +30,14 @@ SOURCE_WAIT_S = 60.0
 #: the largest scene file read, bytes (a scene TOML is about 2 kB; a card deck's bound is
 #: legacy.jobdeck.MAX_BYTES)
 MAX_SCENE_BYTES = 1 << 20
+#: what a scene or assembly file (TOML) may hold besides (vocabulary.toml_limits, checked before
+#: it is parsed): arrays and inline tables nested at most so deep (a scene nests three), keys
+#: of at most so many dotted parts (a scene's have one to three), runs of at most so many
+#: digits (a double has 17 significant digits; the parser converts any integer, and Python
+#: refuses one of more than 4,300)
+MAX_TOML_DEPTH = 16
+MAX_TOML_KEY_PARTS = 16
+MAX_TOML_DIGITS = 100
 
 # ------------------------------------------------------------------- the emulator's bounds
 

@@ -593,8 +593,12 @@ class Scene:
                                          and str(text).endswith(".toml")):
             raise SceneError(f"{text!r}: from_toml takes the TOML text; Scene.read(path) "
                              "reads a file")
+        from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
+
         try:
-            data = tomllib.loads(text)
+            data = loads(text)  # within the bounds on size, nesting, keys and digits
+        except TomlLimitError as exc:
+            raise SceneError(str(exc)) from None
         except tomllib.TOMLDecodeError as exc:
             raise SceneError(f"not valid TOML: {exc}") from exc
         return _build_dataclass(cls, data, "")
