@@ -50,6 +50,11 @@ class Case:
     files: dict[str, bytes] = field(default_factory=dict)
     outputs: tuple[str, ...] = ()
     statuses: frozenset[int] = frozenset(STATUSES)
+    #: the standard streams it runs with: "" (text), "stdout closed", "stderr closed", or an
+    #: encoding the output must degrade to ("ascii", "latin-1")
+    streams: str = ""
+    #: bytes a writer sends through a pipe, named ``{pipe}`` in ``argv`` (/dev/fd/N)
+    pipe: bytes | None = None
 
 
 @dataclass
@@ -252,6 +257,14 @@ OPTIONS = [
     (["assembly", "steel", "core", "--alpha-deg"], ""),
 ]
 
+#: commands whose output holds characters outside ASCII, or that write to stdout at all
+STREAM_COMMANDS = [["parse", "steel40"], ["parse", "steel40", "--json"], ["run", "steel40"],
+                   ["summary", "steel40"], ["corrections", "--all"], ["scene", "steel40"],
+                   ["corrections"], ["core", "steel40"], ["diff", "steel40"]]
+
+#: SOURCEs that are neither files nor pipes
+NOT_FILES = ["/dev/null", "/dev/zero", "/dev/urandom", "/dev/full", "{dir}", "/proc/self"]
+
 #: commands and the output options they take, for the output-path cases
 WRITERS = [
     (["run", "steel40", "--out"], ()),
@@ -274,9 +287,9 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
     n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
-         "cut": 12, "bomb": 12} if fast \
+         "cut": 12, "bomb": 12, "streams": 16, "sources": 12} if fast \
         else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
-              "cut": 300, "bomb": 300}
+              "cut": 300, "bomb": 300, "streams": 120, "sources": 120}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -364,6 +377,34 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
                               ["assembly", "{dir}/a.toml", "scene"], {"a.toml": text.encode()},
                               statuses=frozenset({2})))
 
+    stream_rng = random.Random(seed + 3)  # its own, so that the other categories stay the same
+    for k in range(n["streams"]):
+        argv = stream_rng.choice(STREAM_COMMANDS)
+        streams = ["stdout closed", "stderr closed", "ascii", "latin-1"][k % 4]
+        if stream_rng.random() < 0.3:  # a refusal, said (or not) on the stream as it is
+            argv = [argv[0], "{dir}/missing.dat"]
+        cases.append(Case("closed streams and bare encodings", f"{streams}: {' '.join(argv)}",
+                          argv, streams=streams,
+                          statuses=frozenset({2}) if streams == "stdout closed" else
+                          frozenset({0, 2, 3})))
+
+    source_rng = random.Random(seed + 4)  # its own, so that the other categories stay the same
+    for k in range(n["sources"]):
+        cmd = [["parse"], ["run"], ["summary", "--quiet"], ["core"]][k % 4]
+        if k % 3 == 0:
+            what = NOT_FILES[(k // 3) % len(NOT_FILES)]
+            cases.append(Case("sources that are not files", f"{cmd[0]} {what}",
+                              [cmd[0], what, *cmd[1:]], statuses=frozenset({2})))
+            continue
+        if k % 3 == 1:
+            kind, data = "whole", deck
+        else:
+            kind, data = _mutate(deck, source_rng)
+        cases.append(Case("sources that are not files", f"{cmd[0]} a pipe of a {kind} deck #{k}",
+                          [cmd[0], "{pipe}", *cmd[1:]], pipe=data,
+                          statuses=frozenset({0, 3}) if kind == "whole" else
+                          frozenset(STATUSES)))
+
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]
         for v in values:
@@ -394,25 +435,62 @@ def run_case(case: Case, folder: Path) -> Result:
     """Run one case in process and list the promises it broke."""
     from deck_emulator.cli import main
 
+    import threading
+
     argv = _prepare(case, folder)
     before = {p.name for p in folder.iterdir()}
     out, err = io.StringIO(), io.StringIO()
+    raw_out = raw_err = None
+    if case.streams == "stdout closed":
+        out = None  # as Python starts with the descriptor closed
+    elif case.streams == "stderr closed":
+        err = None
+    elif case.streams:
+        raw_out, raw_err = io.BytesIO(), io.BytesIO()
+        out = io.TextIOWrapper(raw_out, encoding=case.streams, errors="strict")
+        err = io.TextIOWrapper(raw_err, encoding=case.streams, errors="strict")
+    pipe = writer = None
+    if case.pipe is not None:
+        pipe = os.pipe()
+        argv = [a.replace("{pipe}", f"/dev/fd/{pipe[0]}") for a in argv]
+
+        def write(fd=pipe[1], data=case.pipe):
+            with contextlib.suppress(OSError), os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+
+        writer = threading.Thread(target=write, daemon=True)
+        writer.start()
     started = time.perf_counter()
     broken = []
     cwd = os.getcwd()
+    saved = sys.stdout, sys.stderr
     try:
         os.chdir(folder)  # anything written to the current folder is seen
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            try:
-                status = main(argv)
-            except SystemExit as exc:  # not expected: main returns its status
-                status = exc.code if isinstance(exc.code, int) else 2
-                broken.append("SystemExit raised")
+        sys.stdout, sys.stderr = out, err
+        try:
+            status = main(argv)
+        except SystemExit as exc:  # not expected: main returns its status
+            status = exc.code if isinstance(exc.code, int) else 2
+            broken.append("SystemExit raised")
     except Exception as exc:  # noqa: BLE001 - the broken promise being looked for
         status = 1
         broken.append(f"traceback: {type(exc).__name__}: {exc}"[:200])
     finally:
+        sys.stdout, sys.stderr = saved
         os.chdir(cwd)
+        if pipe is not None:
+            os.close(pipe[0])
+            writer.join(30)
+    if raw_err is not None:
+        out.flush()
+        err.flush()
+        text_out = raw_out.getvalue().decode(case.streams)
+        err = io.StringIO(raw_err.getvalue().decode(case.streams))
+        if case.streams == "ascii" and not text_out.isascii():
+            broken.append("non-ASCII output")
+    unsaid = err is None  # stderr closed: nothing said can be read, the status is checked
+    if unsaid:
+        err = io.StringIO()
     seconds = time.perf_counter() - started
     text = err.getvalue()
     if status not in case.statuses:
@@ -422,7 +500,7 @@ def run_case(case: Case, folder: Path) -> Result:
     if status == 2:
         lines = [x for x in text.splitlines() if x.startswith("deck-emulator")
                  and "error:" in x]
-        if len(lines) != 1:
+        if len(lines) != 1 and not unsaid:
             broken.append(f"{len(lines)} error lines for a refusal")
         written = {p.name for p in folder.iterdir()} - before
         if written:

@@ -338,3 +338,60 @@ def test_brackets_and_digits_inside_strings_and_comments_do_not_count():
     text = ('a = "' + "[" * 40 + "9" * 200 + '"\n' + "b = '''" + "{" * 40 + "'''\n"
             + "# " + "[" * 40 + "." * 40 + "\n" + '"x.y" = 1\n')
     assert loads(text)["b"] == "{" * 40
+
+
+# ------------------------------------------------ a resume that trusts a changed deck (item 1)
+
+
+def test_a_store_knows_the_files_and_scenes_it_was_made_from(tmp_path):
+    from deck_emulator.studies.distributed import (STUDY_NAME, StudyChanged, _check_study,
+                                                   _made_from, scene_id)
+
+    deck = tmp_path / "b.dat"
+    deck.write_bytes(STEEL40.read_bytes())
+
+    def study(speeds, engine="emulator"):
+        tasks = [{"base": str(deck), "speed": s, "angle": 0.0, "engine": engine}
+                 for s in speeds]
+        return {scene_id(t): t for t in tasks}
+
+    unique = study([20.0, 40.0])
+    store = tmp_path / "store"
+    store.mkdir()
+    _check_study(store, _made_from(unique), set(), unique)  # a new store keeps it
+    assert (store / STUDY_NAME).is_file()
+    stored = set(unique)
+    _check_study(store, _made_from(unique), stored, unique)  # the same study: resumed
+    # W changed from 15.1 to 15.2 slugs: another deck under the same name
+    deck.write_bytes(STEEL40.read_bytes().replace(b"15.1      ", b"15.2      ", 1))
+    with pytest.raises(StudyChanged, match=r"b\.dat changed since .*store was made from it"):
+        _check_study(store, _made_from(unique), stored, unique)
+    deck.write_bytes(STEEL40.read_bytes())
+    _check_study(store, _made_from(unique), stored, unique)  # back as it was: resumed
+    wider = study([20.0, 40.0, 60.0])  # a grid made larger keeps the scenes both share
+    _check_study(store, _made_from(wider), stored, wider)
+    core = study([20.0, 40.0], engine="core")  # another engine: no stored scene is asked for
+    with pytest.raises(StudyChanged, match=r"none of the 2 scenes stored in .* is among the 2"):
+        _check_study(store, _made_from(core), stored, core)
+    (store / STUDY_NAME).write_text("{")
+    with pytest.raises(StudyChanged, match="unreadable"):
+        _check_study(store, _made_from(unique), stored, unique)
+
+
+@pytest.mark.slow
+def test_a_sweep_resumed_on_a_changed_deck_is_refused(tmp_path, capsys):
+    deck = tmp_path / "b.dat"
+    deck.write_bytes(STEEL40.read_bytes())
+    out = tmp_path / "D"
+    argv = ["sweep", "--base-deck", str(deck), "--speeds", "20", "--angles", "0",
+            "--erratum", "ed-direction", "--quiet", "--jobs", "1", "--out", str(out)]
+    assert main(argv) == 0
+    table = (out / "sweep.csv").read_bytes()
+    assert main([*argv, "--resume"]) == 0  # the same study: resumed, the same table
+    assert (out / "sweep.csv").read_bytes() == table
+    capsys.readouterr()
+    deck.write_bytes(STEEL40.read_bytes().replace(b"15.1      ", b"15.2      ", 1))
+    assert main([*argv, "--resume"]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert f"{deck} changed since" in line and "--resume" in line
+    assert (out / "sweep.csv").read_bytes() == table  # nothing written
