@@ -719,12 +719,15 @@ def _missing_folders(folder) -> list[Path]:
 
 def _remove_if_unused(folders: list[Path]) -> None:
     """Remove the folders a failed run made, deepest first, while each holds nothing but its
-    lock file and an empty results folder (a stored scene keeps it: --resume runs the rest)."""
+    lock file, what its scenes were to be made from and an empty results folder (a stored
+    scene keeps it: --resume runs the rest)."""
     for folder in folders:
         try:
             results = folder / RESULTS
             if results.is_dir() and not any(results.iterdir()):
                 results.rmdir()
+            if not results.exists():
+                (folder / STUDY_NAME).unlink(missing_ok=True)
             (folder / LOCK_NAME).unlink(missing_ok=True)
             folder.rmdir()  # OSError when anything else is in it: kept
         except OSError:
