@@ -50,6 +50,11 @@ class Case:
     files: dict[str, bytes] = field(default_factory=dict)
     outputs: tuple[str, ...] = ()
     statuses: frozenset[int] = frozenset(STATUSES)
+    #: the standard streams it runs with: "" (text), "stdout closed", "stderr closed", or an
+    #: encoding the output must degrade to ("ascii", "latin-1")
+    streams: str = ""
+    #: bytes a writer sends through a pipe, named ``{pipe}`` in ``argv`` (/dev/fd/N)
+    pipe: bytes | None = None
 
 
 @dataclass
@@ -207,6 +212,30 @@ def _toml_mutation(text: str, rng: random.Random) -> tuple[str, str]:
     return "empty", ""
 
 
+def _toml_bomb(text: str, rng: random.Random) -> tuple[str, str]:
+    """A scene or assembly description with a bomb put in at a random line: arrays or inline
+    tables nested deep, a dotted key or a header of many parts, a number of many digits."""
+    lines = text.splitlines()
+    i = rng.randrange(len(lines) + 1)
+    kind = rng.choice(["arrays", "tables", "dotted key", "header", "digits", "mixed"])
+    depth = rng.choice([17, 50, 1000, 20000, 100_000])
+    if kind == "arrays":
+        bomb = "bomb = " + "[" * depth + "1" + "]" * depth
+    elif kind == "tables":
+        bomb = "bomb = " + "{a = " * depth + "1" + "}" * depth
+    elif kind == "dotted key":
+        bomb = "a" + ".a" * depth + " = 1"
+    elif kind == "header":
+        bomb = "[" + ".".join(["t"] * (depth + 1)) + "]\nx = 1"
+    elif kind == "digits":
+        key = lines[i - 1].split("=")[0].strip() if i and "=" in lines[i - 1] else "n"
+        bomb = f"{key}_x = " + rng.choice(["", "-", "0."]) + "7" * rng.choice([101, 4301, 100_000])
+    else:
+        bomb = "bomb = [" + "{a = [" * (depth // 2) + "1" + "]}" * (depth // 2) + "]"
+    lines.insert(i, bomb)
+    return f"{kind} {depth}", "\n".join(lines) + "\n"
+
+
 BAD_NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1e309", "1e-300", "", "abc", "1,5", "0x10"]
 
 #: (command line, the option that takes a bad value): the options a command checks
@@ -227,6 +256,14 @@ OPTIONS = [
     (["assembly", "steel", "core", "--speed-mph"], ""),
     (["assembly", "steel", "core", "--alpha-deg"], ""),
 ]
+
+#: commands whose output holds characters outside ASCII, or that write to stdout at all
+STREAM_COMMANDS = [["parse", "steel40"], ["parse", "steel40", "--json"], ["run", "steel40"],
+                   ["summary", "steel40"], ["corrections", "--all"], ["scene", "steel40"],
+                   ["corrections"], ["core", "steel40"], ["diff", "steel40"]]
+
+#: SOURCEs that are neither files nor pipes
+NOT_FILES = ["/dev/null", "/dev/zero", "/dev/urandom", "/dev/full", "{dir}", "/proc/self"]
 
 #: commands and the output options they take, for the output-path cases
 WRITERS = [
@@ -249,8 +286,10 @@ BAD_PATHS = ["{dir}/missing/x", "{dir}/file/x", "{dir}", "/dev/full", "/proc/ver
 def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
-    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0} if fast \
-        else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0}
+    n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
+         "cut": 12, "bomb": 12, "streams": 16, "sources": 12} if fast \
+        else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
+              "cut": 300, "bomb": 300, "streams": 120, "sources": 120}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -280,6 +319,18 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
         cmd = ["parse", "run"][k % 2]
         cases.append(Case("mutated card images", f"{fmt}{' job' if job else ''} {kind} #{k}",
                           [cmd, "{dir}/d.img", "--card-format", fmt], {"d.img": bad}))
+
+    cut_rng = random.Random(seed + 1)  # its own, so that the other categories stay the same
+    for k in range(n["cut"]):  # a card image cut short: refused, unless cut between cards
+        (fmt, job), data = list(images.items())[k % len(images)]
+        size = cut_rng.randrange(1, len(data))
+        between = size % 160 == 0 if fmt == "binary" else bool(data[size] & 0x80)
+        cmd = [["parse"], ["run"], ["summary", "--quiet"]][k % 3]
+        card_format = ["--card-format", fmt] if k % 2 else []
+        cases.append(Case("card images cut short", f"{fmt}{' job' if job else ''} to {size} #{k}",
+                          [cmd[0], "{dir}/d.img", *cmd[1:], *card_format],
+                          {"d.img": data[:size]},
+                          statuses=frozenset(STATUSES) if between else frozenset({2})))
 
     printouts = _printouts()
     golden = printouts["carriage control"]
@@ -311,6 +362,49 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
             cases.append(Case("scene and assembly files", f"assembly {what}",
                               ["assembly", "{dir}/a.toml", "scene"], {"a.toml": text.encode()}))
 
+    bomb_rng = random.Random(seed + 2)  # its own, so that the other categories stay the same
+    bomb_commands = [["core"], ["scene"], ["run"]]
+    for k in range(n["bomb"]):
+        if k % 2:
+            what, text = _toml_bomb(scene, bomb_rng)
+            cmd = bomb_commands[(k // 2) % len(bomb_commands)]
+            cases.append(Case("scene and assembly bombs", f"scene {what} #{k}",
+                              [cmd[0], "{dir}/s.toml"], {"s.toml": text.encode()},
+                              statuses=frozenset({2})))
+        else:
+            what, text = _toml_bomb(assembly, bomb_rng)
+            cases.append(Case("scene and assembly bombs", f"assembly {what} #{k}",
+                              ["assembly", "{dir}/a.toml", "scene"], {"a.toml": text.encode()},
+                              statuses=frozenset({2})))
+
+    stream_rng = random.Random(seed + 3)  # its own, so that the other categories stay the same
+    for k in range(n["streams"]):
+        argv = stream_rng.choice(STREAM_COMMANDS)
+        streams = ["stdout closed", "stderr closed", "ascii", "latin-1"][k % 4]
+        if stream_rng.random() < 0.3:  # a refusal, said (or not) on the stream as it is
+            argv = [argv[0], "{dir}/missing.dat"]
+        cases.append(Case("closed streams and bare encodings", f"{streams}: {' '.join(argv)}",
+                          argv, streams=streams,
+                          statuses=frozenset({2}) if streams == "stdout closed" else
+                          frozenset({0, 2, 3})))
+
+    source_rng = random.Random(seed + 4)  # its own, so that the other categories stay the same
+    for k in range(n["sources"]):
+        cmd = [["parse"], ["run"], ["summary", "--quiet"], ["core"]][k % 4]
+        if k % 3 == 0:
+            what = NOT_FILES[(k // 3) % len(NOT_FILES)]
+            cases.append(Case("sources that are not files", f"{cmd[0]} {what}",
+                              [cmd[0], what, *cmd[1:]], statuses=frozenset({2})))
+            continue
+        if k % 3 == 1:
+            kind, data = "whole", deck
+        else:
+            kind, data = _mutate(deck, source_rng)
+        cases.append(Case("sources that are not files", f"{cmd[0]} a pipe of a {kind} deck #{k}",
+                          [cmd[0], "{pipe}", *cmd[1:]], pipe=data,
+                          statuses=frozenset({0, 3}) if kind == "whole" else
+                          frozenset(STATUSES)))
+
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]
         for v in values:
@@ -341,25 +435,62 @@ def run_case(case: Case, folder: Path) -> Result:
     """Run one case in process and list the promises it broke."""
     from deck_emulator.cli import main
 
+    import threading
+
     argv = _prepare(case, folder)
     before = {p.name for p in folder.iterdir()}
     out, err = io.StringIO(), io.StringIO()
+    raw_out = raw_err = None
+    if case.streams == "stdout closed":
+        out = None  # as Python starts with the descriptor closed
+    elif case.streams == "stderr closed":
+        err = None
+    elif case.streams:
+        raw_out, raw_err = io.BytesIO(), io.BytesIO()
+        out = io.TextIOWrapper(raw_out, encoding=case.streams, errors="strict")
+        err = io.TextIOWrapper(raw_err, encoding=case.streams, errors="strict")
+    pipe = writer = None
+    if case.pipe is not None:
+        pipe = os.pipe()
+        argv = [a.replace("{pipe}", f"/dev/fd/{pipe[0]}") for a in argv]
+
+        def write(fd=pipe[1], data=case.pipe):
+            with contextlib.suppress(OSError), os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+
+        writer = threading.Thread(target=write, daemon=True)
+        writer.start()
     started = time.perf_counter()
     broken = []
     cwd = os.getcwd()
+    saved = sys.stdout, sys.stderr
     try:
         os.chdir(folder)  # anything written to the current folder is seen
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            try:
-                status = main(argv)
-            except SystemExit as exc:  # not expected: main returns its status
-                status = exc.code if isinstance(exc.code, int) else 2
-                broken.append("SystemExit raised")
+        sys.stdout, sys.stderr = out, err
+        try:
+            status = main(argv)
+        except SystemExit as exc:  # not expected: main returns its status
+            status = exc.code if isinstance(exc.code, int) else 2
+            broken.append("SystemExit raised")
     except Exception as exc:  # noqa: BLE001 - the broken promise being looked for
         status = 1
         broken.append(f"traceback: {type(exc).__name__}: {exc}"[:200])
     finally:
+        sys.stdout, sys.stderr = saved
         os.chdir(cwd)
+        if pipe is not None:
+            os.close(pipe[0])
+            writer.join(30)
+    if raw_err is not None:
+        out.flush()
+        err.flush()
+        text_out = raw_out.getvalue().decode(case.streams)
+        err = io.StringIO(raw_err.getvalue().decode(case.streams))
+        if case.streams == "ascii" and not text_out.isascii():
+            broken.append("non-ASCII output")
+    unsaid = err is None  # stderr closed: nothing said can be read, the status is checked
+    if unsaid:
+        err = io.StringIO()
     seconds = time.perf_counter() - started
     text = err.getvalue()
     if status not in case.statuses:
@@ -369,7 +500,7 @@ def run_case(case: Case, folder: Path) -> Result:
     if status == 2:
         lines = [x for x in text.splitlines() if x.startswith("deck-emulator")
                  and "error:" in x]
-        if len(lines) != 1:
+        if len(lines) != 1 and not unsaid:
             broken.append(f"{len(lines)} error lines for a refusal")
         written = {p.name for p in folder.iterdir()} - before
         if written:

@@ -6,6 +6,13 @@ its help and spelling in the field's metadata); the parsed options become that d
 (:class:`deck_emulator.app.Answer`), and this module writes the answer to stdout (or
 ``--out``), what it says to stderr, and maps its status to the exit status: 0 done, 1
 ``compare``'s printouts differ, 2 bad input (nothing written), 3 a run could not end.
+
+Standard output and error are written here and only here (:func:`_streams`): a stream the
+process was started without (``>&-``) is a sink, so that a command's answer is refused before
+any work when it had to go to a closed standard output, and a refusal with standard error
+closed still ends with its status; a stream whose encoding cannot spell a character (a bare
+``C`` locale, ``PYTHONIOENCODING=ascii``) writes the character's ASCII spelling
+(:data:`ASCII_SPELLINGS`) instead of failing.
 """
 
 from __future__ import annotations
@@ -23,6 +30,74 @@ from deck_emulator.errors import RunFailed, UsageError
 PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
 EXIT_RUN_FAILED = 3
+
+
+#: what stdout and stderr write for a character their encoding has not got (one row a
+#: character; any other is written as "?")
+ASCII_SPELLINGS = {
+    "·": "*", "²": "^2", "¹": "^1", "°": " deg", "±": "+/-", "—": "--", "–": "-", "−": "-",
+    "α": "alpha", "Δ": "delta-", "é": "e", "×": "x", "≤": "<=", "≥": ">=", "’": "'",
+    "…": "...", "→": "->", "δ": "delta", "ζ": "zeta", "η": "eta", "θ": "theta", "ξ": "xi",
+    "φ": "phi", "χ": "chi", "ψ": "psi", "\u0307": "_dot",  # a dot above: a rate (psi_dot)
+}
+_SPELLING_ERRORS = "deck_emulator.ascii"
+
+
+def _spell(exc: UnicodeError):
+    """The codec error handler of :data:`ASCII_SPELLINGS`."""
+    if not isinstance(exc, UnicodeEncodeError):
+        raise exc
+    text = exc.object[exc.start:exc.end]
+    return "".join(ASCII_SPELLINGS.get(ch, "?") for ch in text), exc.end
+
+
+class _Closed:
+    """A standard stream the process was started without (its descriptor closed): what is
+    written to it goes nowhere."""
+
+    closed_stream = True
+    encoding = "utf-8"
+
+    def write(self, data):
+        return len(data)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+    @property
+    def buffer(self):
+        return self
+
+
+def _streams() -> list[tuple[str, object]]:
+    """Make stdout and stderr safe to write (the module docstring); the replaced, to restore."""
+    import codecs
+
+    try:
+        codecs.lookup_error(_SPELLING_ERRORS)
+    except LookupError:
+        codecs.register_error(_SPELLING_ERRORS, _spell)
+    replaced = []
+    for name in ("stdout", "stderr"):
+        stream = getattr(sys, name)
+        if stream is None:
+            replaced.append((name, stream))
+            setattr(sys, name, _Closed())
+            continue
+        encoding = (getattr(stream, "encoding", None) or "utf-8").lower().replace("_", "-")
+        if encoding not in ("utf-8", "utf8") and hasattr(stream, "reconfigure"):
+            try:
+                stream.reconfigure(errors=_SPELLING_ERRORS)
+            except (ValueError, OSError, AttributeError):
+                pass
+    return replaced
+
+
+def _closed(stream) -> bool:
+    return getattr(stream, "closed_stream", False)
 
 
 def _say(message: str) -> None:
@@ -154,7 +229,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     file is removed and every worker stopped (:mod:`deck_emulator.signals`)."""
     from deck_emulator import signals
 
-    return signals.run(_main, argv)
+    replaced = _streams()
+    try:
+        return signals.run(_main, argv)
+    finally:
+        for name, stream in replaced:
+            setattr(sys, name, stream)
 
 
 def _main(argv: Sequence[str] | None = None) -> int:
@@ -183,11 +263,15 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         value = given.get(name)
         if value == "" or (isinstance(value, str) and "\0" in value):
             why = "an empty path names no file" if value == "" else "a path holds no NUL byte"
-            print(f"{PROG}: error: --{name}: {why}", file=sys.stderr)
+            _say(f"error: --{name}: {why}")
             return EXIT_BAD_INPUT
     if given.get("worker_wait") is not None and not given.get("scheduler"):
-        print(f"{PROG}: error: --worker-wait: only with --scheduler (the embedded cluster's "
-              "workers start with it)", file=sys.stderr)
+        _say("error: --worker-wait: only with --scheduler (the embedded cluster's workers start "
+             "with it)")
+        return EXIT_BAD_INPUT
+    if _closed(sys.stdout) and given.get("out") is None:  # (a folder --out: the files hold it)
+        _say("error: standard output is closed, and the answer goes there: "
+             + ("give --out FILE, or open it" if "out" in given else "open it"))
         return EXIT_BAD_INPUT
     given = {k: tuple(v) if isinstance(v, list) else v for k, v in given.items()}
     options = cmd.options(**given, command_line=shlex.join([PROG, *argv]) if argv else "")
@@ -197,7 +281,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
             answer = cmd.run(options)
         return _write(answer)
     except (DeckError, UsageError, OSError) as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        _say(f"error: {exc}")
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT
     except ImportError as exc:  # an optional part of the install is missing: which to add
         from deck_emulator.extras import missing_extra
@@ -205,7 +289,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         message = missing_extra(exc)
         if message is None:
             raise
-        print(f"{PROG}: error: {cmd.name}: {message}", file=sys.stderr)
+        _say(f"error: {cmd.name}: {message}")
         return EXIT_BAD_INPUT
 
 
@@ -219,6 +303,9 @@ def _write(answer) -> int:
             from deck_emulator.files import write_file
 
             write_file(answer.out, printed)
+        elif _closed(sys.stdout):
+            _say(f"standard output is closed: the text for it was not written (the files in "
+                 f"{answer.out or 'the --out folder'} were)")
         elif isinstance(printed, bytes):
             sys.stdout.buffer.write(printed)
             sys.stdout.flush()

@@ -225,6 +225,34 @@ def test_cbn_record_of_odd_length():
     assert "card 1 of the file" in msg and "159 bytes" in msg
 
 
+@pytest.mark.parametrize("fmt", ["cbn", "bcd"])
+@pytest.mark.parametrize("cut", [1, 2, 8, 79])
+def test_a_card_image_cut_short_is_refused_naming_the_card_and_bytes(fmt, cut):
+    data = encode(steel40_texts(), fmt, "026")  # nine whole cards, written by hand
+    size = {"cbn": 160, "bcd": 80}[fmt]
+    if fmt == "cbn" and cut % 2:
+        return  # an odd record is refused as odd (test_cbn_record_of_odd_length)
+    for card_format in (fmt, "auto"):
+        msg = error_of(data[:-cut], card_format)
+        assert "card 9 of the file" in msg and "cut short" in msg
+        assert f"(bytes {8 * size}-{9 * size - cut - 1})" in msg
+        assert f"{size - cut} bytes, not {size}" in msg
+
+
+@pytest.mark.parametrize("fmt", ["cbn", "bcd"])
+def test_a_short_record_is_a_card_when_something_follows_it(fmt):
+    texts = steel40_texts()
+    data = bytearray(encode(texts, fmt, "026"))
+    size = {"cbn": 160, "bcd": 80}[fmt]
+    # the last card's trailing blank columns (all its columns after 76) left out, with a
+    # tape mark after it: read as blanks, the same deck
+    short = bytes(data[:8 * size]) + bytes(data[8 * size:8 * size + 76 * size // 80])
+    assert parse_job(short + bytes([0o217]), card_format=fmt).decks[0].values == \
+        read_deck(STEEL40).values
+    # the same bytes with nothing after: refused
+    assert "cut short" in error_of(short, fmt)
+
+
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_a_job_deck_without_data_fails_in_one_line_with_status_2(tmp_path, capsys, fmt):
     texts = [t for t in job_deck_texts([read_deck(STEEL40)])]
@@ -276,9 +304,10 @@ def test_punch_command_writes_every_format(tmp_path):
         expected = encode(steel40_texts(), fmt, "026")
         if fmt == "text":  # the simulator's text punch drops trailing blanks
             expected = b"".join(t.rstrip().encode() + b"\n" for t in steel40_texts())
-        if fmt == "bcd":  # trailing blank columns (0x50) end a record early
+        if fmt == "bcd":  # trailing blank columns (0x50) end a record early, but the last
+            texts = steel40_texts()  # card's, which is whole, so that a cut can be told
             expected = b"".join(re.sub(rb"(?<=.)\x50+$", b"", encode([t], "bcd", "026"), flags=re.S)
-                                for t in steel40_texts())
+                                for t in texts[:-1]) + encode(texts[-1:], "bcd", "026")
         assert out.read_bytes() == expected
         assert read_deck(STEEL40).values == parse_job(out.read_bytes()).decks[0].values
 

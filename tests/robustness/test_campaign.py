@@ -23,7 +23,9 @@ def _check(case, tmp_path):
 def test_the_sample_covers_every_category():
     assert {c.category for c in FAST} == {c.category for c in FULL} == {
         "mutated decks", "physically odd decks", "mutated card images",
-        "scene and assembly files", "printouts", "invalid options", "output paths"}
+        "scene and assembly files", "printouts", "invalid options", "output paths",
+        "card images cut short", "scene and assembly bombs", "closed streams and bare encodings",
+        "sources that are not files"}
 
 
 @pytest.mark.parametrize("case", FAST, ids=lambda c: f"{c.category}: {c.name}")

@@ -541,8 +541,12 @@ def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
     """(assembly, the file's other tables: ``[run]``, ``[source]``) of a description, or
     (``None``, ``{"name": ..., "crash_test": checked table}``) of a crash-test description.
     A text with neither ``[shaft]`` nor ``[crash_test]`` is refused."""
+    from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
+
     try:
-        data = tomllib.loads(text)
+        data = loads(text)  # within the bounds on size, nesting, keys and digits
+    except TomlLimitError as exc:
+        raise AssemblyError(f"not a description: {exc}") from None
     except tomllib.TOMLDecodeError as exc:
         raise AssemblyError(f"not valid TOML: {exc}") from None
     if "shaft" not in data:

@@ -9,6 +9,10 @@
   ``$DATA`` sections (``section`` picks one, counted from 1);
 * a scene file (TOML with tables: :class:`~deck_emulator.vocabulary.scene.Scene`).
 
+Each is read once, as a stream (:func:`deck_emulator.legacy.deck.read_bytes`), and told a
+scene or a deck by its bytes: ``-`` is standard input; a FIFO, a process substitution and a
+pipe are the file they carry; a terminal, a device or a socket is refused.
+
 A job deck that carries its own FORTRAN is run only if that FORTRAN is the listing's program:
 the emulator *is* the listing, so running another program's deck through it would print the
 listing's answers under that deck's name. ``listing_program=True`` runs the listing's program
@@ -95,28 +99,36 @@ class Source:
 
 
 def is_scene_file(path) -> bool:
-    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML."""
+    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML.
+    (Reads the file: for a regular file only; :func:`load_source` reads a SOURCE once.)"""
     if str(path).endswith(".toml"):
         return os.path.isfile(path)
-    # A table in TOML needs a '[' (a header) or an '=' (a key): a file read whole with neither
-    # (a card deck of numbers) is no scene, and is told so without loading the TOML parser.
-    head_bytes = 1 << 16
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(head_bytes)
-    except OSError:
+    if not os.path.isfile(path):
         return False
-    if len(head) < head_bytes and b"=" not in head and b"[" not in head:
-        return False
-    import tomllib
-
-    from deck_emulator.vocabulary.scene import MAX_SCENE_BYTES  # a scene file is at most this
+    from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES  # a scene file is at most this
 
     try:
         with open(path, "rb") as fh:
             data = fh.read(MAX_SCENE_BYTES)
-        parsed = tomllib.loads(data.decode("utf-8"))
-    except (OSError, ValueError):
+    except OSError:
+        return False
+    return _is_scene(str(path), data)
+
+
+def _is_scene(name: str, data: bytes) -> bool:
+    """Bytes read from ``name`` are a scene: its name ends in .toml, or they are TOML with a
+    table."""
+    if name.endswith(".toml"):
+        return True
+    # A table in TOML needs a '[' (a header) or an '=' (a key): bytes with neither (a card
+    # deck of numbers) are no scene, and are told so without loading the TOML parser.
+    if b"=" not in data and b"[" not in data:
+        return False
+    from deck_emulator.vocabulary.toml_limits import loads
+
+    try:
+        parsed = loads(data.decode("utf-8"))  # within the bounds: else no scene
+    except ValueError:
         return False
     return any(isinstance(v, dict) for v in parsed.values())
 
@@ -139,6 +151,10 @@ def _resolve(given: str) -> tuple[str, Path]:
 
     if not given:
         raise UsageError("an empty SOURCE: give a deck or scene file, or a shipped deck's name")
+    if given == "-":
+        from deck_emulator.legacy.deck import STDIN_NAME
+
+        return STDIN_NAME, Path(given)
     p = Path(given)
     if p.exists():
         return given, p
@@ -151,13 +167,11 @@ def _resolve(given: str) -> tuple[str, Path]:
                     f"{', '.join(decks.names())})", path=given)
 
 
-def _read_scene(name: str, path: Path):
-    from deck_emulator.vocabulary.scene import SceneError, read_scene
+def _read_scene(name: str, data: bytes):
+    from deck_emulator.vocabulary.scene import SceneError, scene_from_bytes
 
     try:
-        return read_scene(path)  # size-capped, UTF-8, every key checked
-    except OSError as exc:
-        raise UsageError(f"{name}: cannot read: {exc.strerror or exc}") from None
+        return scene_from_bytes(data)  # size-capped, UTF-8, every key checked
     except (SceneError, ValueError, KeyError, TypeError, OverflowError) as exc:
         import re
 
@@ -177,17 +191,23 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
     from deck_emulator.legacy.deck import DeckError, read_bytes
     from deck_emulator.legacy.jobdeck import MAX_BYTES, parse_job
 
+    from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES
+
     given = os.fspath(given)
     name, path = _resolve(given)
-    if is_scene_file(path):
+    # read once, as a stream (a FIFO or a pipe has no second reading): told a scene or a
+    # deck by its bytes, parsed, and hashed if asked
+    shown, data = read_bytes(str(path), limit=max(MAX_BYTES, MAX_SCENE_BYTES))
+    if _is_scene(str(path), data):
         if section is not None:
             raise UsageError(f"{name}: --section chooses a $DATA section of a job deck; "
                              "a scene file has none")
-        src = Source(given, name, str(path), "scene", scene=_read_scene(name, path))
+        src = Source(given, name, str(path), "scene", scene=_read_scene(name, data))
         if "scene" not in kinds:
             raise UsageError(src.refusal(command))
         return src
-    shown, data = read_bytes(str(path), limit=MAX_BYTES)  # read once: parsed, and hashed if asked
+    if len(data) > MAX_BYTES:
+        raise DeckError(f"file is larger than {MAX_BYTES} bytes", path=shown)
     job = parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
     notes = []
     if job.source_verdict:

@@ -19,14 +19,26 @@ by Richard Cornwell, in the simh repository; its header comment and the routines
     160 bytes a card: byte ``2c`` holds rows 12-3 of column ``c`` (bits 11-6 of the column),
     byte ``2c+1`` rows 4-9 (bits 5-0); bit 6 of every byte is odd parity over the byte's
     seven low bits; bit 7 is set on the first byte of each card only.  A record of one byte
-    0x8F (octal 217) is a tape mark, the end of the file.
+    0x8F (octal 217) is a tape mark, the end of the file.  The simulator's punch writes
+    every record whole; a shorter even record is read as a card with blank columns after it,
+    except as the file's last record (below).
 ``bcd``
     One record a card, at most 80 bytes, one 6-bit BCD character a byte with even parity in
     bit 6, bit 7 set on the first byte of each card (the record mark); a short record is a
     card with blanks after it.  Characters become holes as ``sim_bcd_to_hol`` has it: 020 is
     a blank column, 012 the digit 0, 000 an 8-2 punch.  ``sim_hol_to_bcd`` (the simulator's
     punch) writes a blank column as 000, which its own reader takes for 8-2; this module
-    writes a blank as 020, the inverse of the reader, so that a card it punches reads back.
+    writes a blank as 020, the inverse of the reader, so that a card it punches reads back,
+    and writes its last card whole (all 80 characters).
+
+A file cut short: in the binary format its length is not a multiple of 160 bytes; in CBN and
+BCD the cut leaves a short last record, which reads as the same card with blanks (zeros, to
+FORTRAN) where its last columns were -- 1200.0 read as 12000 or 0, and no error.  So a short
+record is taken as a card only when something follows it (the next card's record mark or a
+tape mark); a short *last* record is refused, naming the card and its bytes, as a text deck's
+last line stopping short with no line end is.  This departs from the simulator, whose reader
+takes the short last record, and whose BCD punch trims the last card's blanks too: such a
+file reads here once its last card is given all 80 columns or a tape mark is added after it.
 
 Autodetection follows the simulator: a record mark in the first byte and odd parity
 throughout the first card mean CBN, even parity BCD (the simulator's test for BCD compares
@@ -177,11 +189,19 @@ def _records(data: bytes, path, name: str) -> list[tuple[int, bytes]]:
     return records
 
 
+def _cut_short(path, number: int, offset: int, record: bytes, full: int) -> DeckError:
+    return _err(f"its record (bytes {offset}-{offset + len(record) - 1}) is the file's last "
+                f"and {len(record)} bytes, not {full}: the file looks cut short (give the last card all "
+                f"{full} bytes, or end the file with a tape mark, byte 0x8F)", path, number)
+
+
 def _read_cbn(data: bytes, path) -> list[tuple[int, ...]]:
     cards = []
     for number, (offset, record) in enumerate(_records(data, path, "CBN"), start=1):
         if data[offset] == TAPE_MARK and len(record) == 1:
             break
+        if offset + len(record) == len(data) and len(record) < BINARY_CARD_BYTES:
+            raise _cut_short(path, number, offset, record, BINARY_CARD_BYTES)
         if len(record) > BINARY_CARD_BYTES or len(record) % 2:
             raise _err(f"record of {len(record)} bytes at offset {offset}: a CBN card is "
                        f"{BINARY_CARD_BYTES} bytes (two a column) or a shorter even number",
@@ -206,6 +226,8 @@ def _read_bcd(data: bytes, path) -> list[tuple[int, ...]]:
         if len(record) > BCD_CARD_BYTES:
             raise _err(f"record of {len(record)} bytes at offset {offset}: a BCD card holds "
                        f"at most {BCD_CARD_BYTES} characters", path, number, BCD_CARD_BYTES + 1)
+        if offset + len(record) == len(data) and len(record) < BCD_CARD_BYTES:
+            raise _cut_short(path, number, offset, record, BCD_CARD_BYTES)
         columns = [0] * CARD_COLUMNS
         for i, byte in enumerate(record):
             six = byte & 0o77
@@ -368,8 +390,9 @@ def write_images(texts: list[str], card_format: str, keypunch: str | None = None
                                column)
                 card.append(bcd | parity_bit(bcd))
             blank = 0o20 | parity_bit(0o20)
-            while len(card) > 1 and card[-1] == blank:
-                card.pop()  # trailing blanks: a short record
+            last = number == len(texts)
+            while not last and len(card) > 1 and card[-1] == blank:
+                card.pop()  # trailing blanks: a short record (the last card is whole)
             card[0] |= RECORD_MARK
             out += card
         else:

@@ -185,17 +185,57 @@ def read_deck(path: str | os.PathLike[str]) -> Deck:
     return parse_deck(data, path=shown)
 
 
+#: how SOURCE ``-`` (standard input) is shown in messages and outputs
+STDIN_NAME = "stdin"
+
+
 def read_bytes(path: str | os.PathLike[str], what: str = "",
-               limit: int = _MAX_BYTES) -> tuple[str, bytes]:
-    """A deck file's name as shown to the user, and its bytes (at most ``limit``);
-    :class:`DeckError` naming the file for anything that stops the read."""
+               limit: int = _MAX_BYTES, wait_s: float | None = None) -> tuple[str, bytes]:
+    """A deck file's name as shown to the user, and its bytes (at most ``limit``), read once,
+    as a stream: a regular file; ``-``, standard input; a FIFO, a process substitution or a
+    pipe (``/dev/stdin``) as the file it carries, each wait for its next bytes bounded by
+    ``wait_s`` (:data:`~deck_emulator.vocabulary.defaults.SOURCE_WAIT_S`); a terminal, a
+    device or a socket refused.  :class:`DeckError` naming the file for anything that stops
+    the read."""
+    import stat
+
+    from deck_emulator.vocabulary.defaults import SOURCE_WAIT_S
+
+    wait_s = SOURCE_WAIT_S if wait_s is None else wait_s
     try:
         shown = os.fsdecode(path)
     except TypeError:
         raise TypeError(f"read_deck needs a path, not {type(path).__name__}") from None
+    stdin = shown == "-"
+    if stdin:
+        shown = STDIN_NAME
     try:
-        with open(path, "rb") as handle:
-            data = handle.read(limit + 1)
+        if stdin:
+            fd, opened = 0, False
+        else:
+            if stat.S_ISSOCK(os.stat(path).st_mode):  # which cannot be opened to say so
+                raise DeckError("is a socket, not a deck file (give a file, a pipe or a FIFO)",
+                                path=shown)
+            # without blocking: a FIFO with no writer must not hold the open itself
+            fd, opened = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)), True
+        try:
+            mode = os.fstat(fd).st_mode
+            if stat.S_ISDIR(mode):
+                raise IsADirectoryError
+            if stat.S_ISREG(mode):
+                data = _read_all(fd, limit)
+            elif stat.S_ISFIFO(mode):
+                data = _read_stream(fd, shown, limit, wait_s)
+            else:
+                kind = ("a terminal" if os.isatty(fd) else "a socket" if stat.S_ISSOCK(mode)
+                        else "a device")
+                raise DeckError(f"is {kind}, not a deck file (give a file, a pipe or a FIFO)",
+                                path=shown)
+        finally:
+            if opened:
+                os.close(fd)
+    except DeckError:
+        raise
     except FileNotFoundError:
         raise DeckError("no such file", path=shown) from None
     except IsADirectoryError:
@@ -209,6 +249,42 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
         raise DeckError(f"file is larger than {limit} bytes" + (f"; {what}" if what else ""),
                         path=shown)
     return shown, data
+
+
+def _read_all(fd: int, limit: int) -> bytes:
+    """A regular file's bytes, at most ``limit`` + 1 (one more tells that it is too large)."""
+    chunks, size = [], 0
+    while size <= limit:
+        chunk = os.read(fd, min(1 << 20, limit + 1 - size))
+        if not chunk:
+            break
+        chunks.append(chunk)
+        size += len(chunk)
+    return b"".join(chunks)
+
+
+def _read_stream(fd: int, shown: str, limit: int, wait_s: float) -> bytes:
+    """A FIFO's or a pipe's bytes up to its end (every writer gone), at most ``limit`` + 1;
+    no byte for ``wait_s`` seconds (no writer yet, or one gone silent) is a DeckError."""
+    import select
+
+    poller = select.poll()
+    poller.register(fd, select.POLLIN)  # the end (POLLHUP) is reported unasked
+    chunks, size = [], 0
+    while size <= limit:
+        if not poller.poll(int(wait_s * 1000)):
+            said = "nothing was written to it" if not size else "its writer stopped writing"
+            raise DeckError(f"a FIFO or pipe: {said} in {wait_s:g} s (the bound on waiting "
+                            f"for a SOURCE's next bytes); start its writer first", path=shown)
+        try:
+            chunk = os.read(fd, 1 << 16)
+        except BlockingIOError:  # woken, but another reader took the bytes
+            continue
+        if not chunk:
+            break
+        chunks.append(chunk)
+        size += len(chunk)
+    return b"".join(chunks)
 
 
 def parse_deck(text: str | bytes, path: str | None = None) -> Deck:

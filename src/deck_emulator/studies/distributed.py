@@ -51,6 +51,18 @@ restarted by its nanny and the task retried on another worker until then) is sto
 Dask's ``KilledWorker`` message. Neither stops the other scenes. Failed scenes count as stored: a
 resume does not run them again (``retry_failed=True`` does).
 
+What a store was made from
+--------------------------
+A task names its deck by its file, which the workers read; the scene id hashes the task, not
+the file.  So the store keeps ``study.json`` (:data:`STUDY_NAME`), written before its first
+scene runs: the SHA-256 of every file a task names (each string of a task that is a regular
+file's path: the deck, a base deck, a scene).  A resume is refused, in one line
+(:class:`StudyChanged`), when a file's contents changed since, naming the file, or when none
+of the stored scenes is among those asked for (the engine or its settings changed: the grid,
+the engine and its settings are in each task, so in its id; a grid made larger or smaller
+keeps the scenes both share, which are the same scenes); a store without it (made before it
+was kept) is resumed as before, and keeps it from then on.
+
 Progress: a ``tqdm`` bar on stderr, only when stderr is a terminal: scenes done, failed, rate.
 
 One run at a time on a store
@@ -124,11 +136,18 @@ MAX_SCENES = 1_000_000
 #: Longest wait (s) for a worker of an external cluster before the run ends as failed.
 WORKER_WAIT_S = 60.0
 LOCK_NAME = ".lock"
+#: what a store's scenes were made from (the module docstring)
+STUDY_NAME = "study.json"
 
 
 class StoreError(UsageError, RuntimeError):
     """A store that cannot be used as asked (e.g. results exist and ``resume`` was not given):
     bad input, exit status 2, nothing run."""
+
+
+class StudyChanged(StoreError):
+    """A resume asked of a store made for another study (a changed deck, grid, engine or
+    settings)."""
 
 
 class StoreBusy(StoreError):
@@ -238,6 +257,75 @@ def scene_id(task: dict) -> str:
 # ================================================================================ the store
 
 
+def _named_files(tasks: Iterable[dict]) -> dict[str, str]:
+    """SHA-256 of every regular file a task's string values name (a deck, a scene)."""
+    strings: set[str] = set()
+
+    def walk(v):
+        if isinstance(v, str):
+            if v and len(v) < 4096 and "\n" not in v and "\0" not in v:
+                strings.add(v)
+        elif isinstance(v, dict):
+            for x in v.values():
+                walk(x)
+        elif isinstance(v, (list, tuple)):
+            for x in v:
+                walk(x)
+
+    for t in tasks:
+        walk(t)
+    out = {}
+    for name in sorted(strings):
+        try:
+            if os.path.isfile(name):
+                with open(name, "rb") as fh:
+                    out[name] = hashlib.sha256(fh.read()).hexdigest()
+        except (OSError, ValueError):
+            continue
+    return out
+
+
+def _made_from(unique: dict[str, dict]) -> dict:
+    return {"files": _named_files(unique.values()), "scenes": len(unique)}
+
+
+def _check_study(store_dir: Path, made_from: dict, stored: set[str], asked: Iterable[str]
+                 ) -> None:
+    """Keep what the store's scenes are made from; on a resume (``stored``: the ids of its
+    scenes), :class:`StudyChanged` when the files the tasks name changed since, or when no
+    stored scene is ``asked`` for (the module docstring)."""
+    path = store_dir / STUDY_NAME
+    files: dict[str, str] = {}
+    if stored and path.is_file():
+        try:
+            files = dict(json.loads(path.read_text())["files"])
+        except (OSError, ValueError, KeyError, TypeError):
+            raise StudyChanged(f"{path}: unreadable, so the stored scenes cannot be matched to "
+                               "this study: run without --resume to start again") from None
+        for name, sha in sorted(files.items()):
+            now = made_from["files"].get(name)
+            if now is not None and now != sha:
+                raise StudyChanged(
+                    f"--resume: {name} changed since {store_dir} was made from it (SHA-256 "
+                    f"{sha[:12]}... then, {now[:12]}... now): its stored scenes are another "
+                    "deck's; run without --resume to start again, or use a new folder")
+    if stored and stored.isdisjoint(asked):
+        raise StudyChanged(
+            f"--resume: none of the {len(stored)} scenes stored in {store_dir} is among the "
+            f"{made_from['scenes']} asked for: the engine or its settings changed, so this is "
+            "another study; run without --resume to start again, or use a new folder")
+    kept = {**made_from, "files": {**files, **made_from["files"]}}  # a resume adds its files
+    if not (stored and path.is_file() and kept["files"] == files):
+        tmp = store_dir / f".{STUDY_NAME}.{os.getpid()}.tmp"  # as the store's batches are
+        try:
+            tmp.write_text(json.dumps(kept, indent=1, sort_keys=True) + "\n")
+            os.replace(tmp, path)
+        except BaseException:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+            raise
+
+
 def output_store(out_dir, resume: bool) -> Path:
     """The scene store of a command's output folder (:data:`deck_emulator.vocabulary.defaults.SCENE_STORE`
     in it).  An existing store is locked by this process until it ends (:func:`store_lock`;
@@ -339,6 +427,10 @@ class SceneStore:
     def clean_temporaries(self) -> int:
         """Remove temporaries a killed writer left behind (never a whole file)."""
         n = 0
+        for p in self.dir.glob(f".{STUDY_NAME}.*.tmp"):
+            with contextlib.suppress(FileNotFoundError):
+                p.unlink()
+                n += 1
         if self.results.is_dir():
             for p in self.results.glob(".*.tmp"):
                 with contextlib.suppress(FileNotFoundError):
@@ -627,12 +719,15 @@ def _missing_folders(folder) -> list[Path]:
 
 def _remove_if_unused(folders: list[Path]) -> None:
     """Remove the folders a failed run made, deepest first, while each holds nothing but its
-    lock file and an empty results folder (a stored scene keeps it: --resume runs the rest)."""
+    lock file, what its scenes were to be made from and an empty results folder (a stored
+    scene keeps it: --resume runs the rest)."""
     for folder in folders:
         try:
             results = folder / RESULTS
             if results.is_dir() and not any(results.iterdir()):
                 results.rmdir()
+            if not results.exists():
+                (folder / STUDY_NAME).unlink(missing_ok=True)
             (folder / LOCK_NAME).unlink(missing_ok=True)
             folder.rmdir()  # OSError when anything else is in it: kept
         except OSError:
@@ -660,6 +755,7 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
     unique: dict[str, dict] = {}
     for t in tasks:
         unique.setdefault(scene_id(t), t)
+    _check_study(store.dir, _made_from(unique), store.ids() if resume else set(), unique)
     todo = [(sid, t) for sid, t in unique.items() if sid not in done_ids]
     bar = _Bar(len(unique), len(unique) - len(todo), desc, progress, eta=eta)
     if not todo:

@@ -20,6 +20,25 @@ LISTING_CAP_STEPS = 20
 #: luminaire, which the listing has not got) is given R's
 LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 
+# ------------------------------------------------------------------- reading a SOURCE
+
+#: the longest a SOURCE that is a FIFO or a pipe may keep its reader waiting for its next
+#: bytes (no writer yet, or a writer gone silent), s: a deck is a few hundred bytes, which any
+#: writer has sent long before; past it the command is refused rather than left hanging
+SOURCE_WAIT_S = 60.0
+
+#: the largest scene file read, bytes (a scene TOML is about 2 kB; a card deck's bound is
+#: legacy.jobdeck.MAX_BYTES)
+MAX_SCENE_BYTES = 1 << 20
+#: what a scene or assembly file (TOML) may hold besides (vocabulary.toml_limits, checked before
+#: it is parsed): arrays and inline tables nested at most so deep (a scene nests three), keys
+#: of at most so many dotted parts (a scene's have one to three), runs of at most so many
+#: digits (a double has 17 significant digits; the parser converts any integer, and Python
+#: refuses one of more than 4,300)
+MAX_TOML_DEPTH = 16
+MAX_TOML_KEY_PARTS = 16
+MAX_TOML_DIGITS = 100
+
 # ------------------------------------------------------------------- the emulator's bounds
 
 #: the emulator's bounds on what the listing leaves unbounded (legacy.emulator.Limits):

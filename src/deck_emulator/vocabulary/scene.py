@@ -41,7 +41,8 @@ from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
 from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
-from deck_emulator.vocabulary.defaults import LISTING_CAP_STEPS, LISTING_STEP_S
+from deck_emulator.vocabulary.defaults import (LISTING_CAP_STEPS, LISTING_STEP_S,
+                                               MAX_SCENE_BYTES)
 from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = [
@@ -69,6 +70,7 @@ __all__ = [
     "LISTING_NORMAL_RELEASE_FT",
     "SceneError",
     "read_scene",
+    "scene_from_bytes",
     "MAX_SCENE_BYTES",
 ]
 
@@ -591,8 +593,12 @@ class Scene:
                                          and str(text).endswith(".toml")):
             raise SceneError(f"{text!r}: from_toml takes the TOML text; Scene.read(path) "
                              "reads a file")
+        from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
+
         try:
-            data = tomllib.loads(text)
+            data = loads(text)  # within the bounds on size, nesting, keys and digits
+        except TomlLimitError as exc:
+            raise SceneError(str(exc)) from None
         except tomllib.TOMLDecodeError as exc:
             raise SceneError(f"not valid TOML: {exc}") from exc
         return _build_dataclass(cls, data, "")
@@ -701,8 +707,6 @@ def toml_number(value: Any, path: str, error: type[Exception] = SceneError) -> f
 _number = toml_number
 
 
-#: Largest scene file read (bytes), as for decks: a scene TOML is about 2 kB.
-MAX_SCENE_BYTES = 1 << 20
 
 
 def read_scene(path: str | os.PathLike[str]) -> "Scene":
@@ -711,6 +715,11 @@ def read_scene(path: str | os.PathLike[str]) -> "Scene":
     line) for what the file holds; ``OSError`` when it cannot be read."""
     with open(path, "rb") as handle:
         data = handle.read(MAX_SCENE_BYTES + 1)
+    return scene_from_bytes(data)
+
+
+def scene_from_bytes(data: bytes) -> "Scene":
+    """The scene of a TOML file's bytes, read as :func:`read_scene` reads a file."""
     if len(data) > MAX_SCENE_BYTES:
         raise SceneError(f"file is larger than {MAX_SCENE_BYTES} bytes; a scene TOML is a few kB")
     if data.startswith(b"\xef\xbb\xbf"):
