@@ -25,9 +25,9 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import MISSING, fields
 
+from deck_emulator.app import PROG
 from deck_emulator.errors import RunFailed, UsageError
 
-PROG = "deck-emulator"
 EXIT_BAD_INPUT = 2
 EXIT_RUN_FAILED = 3
 

@@ -22,6 +22,9 @@ import importlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+#: the command's name, as it is installed (pyproject.toml's [project.scripts]) and says itself
+PROG = "deck-emulator"
+
 #: exit statuses, one meaning each (README, "Commands")
 EXIT = {"ok": 0, "differ": 1, "bad input": 2, "stopped": 3}
 

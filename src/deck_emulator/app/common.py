@@ -9,11 +9,8 @@ from pathlib import Path
 
 from deck_emulator.errors import UsageError
 
-from . import Answer
+from . import PROG, Answer
 from deck_emulator.extras import require
-
-PROG = "deck-emulator"
-
 
 def load(options, command: str, kinds=("deck", "scene"), given=None):
     """SOURCE read whole (:func:`deck_emulator.engine.sources.load_source`); what the reader
