@@ -161,7 +161,10 @@ class CoreResult:
     * ``events`` -- located events in time order (:class:`CoreEvent`).
     * ``hit`` -- :class:`Hit` or ``None`` (nothing hit before ``t_max_s``).
     * ``first_spring_lost_s``, ``vehicle_contact_lost_s`` -- the listing's two messages.
-    * ``delta_v_contact_mph`` -- speed the car lost during contact (positive: slowed down), mph.
+    * ``contact_end_s`` -- when the contact with the car ends (the car let go, or the post hit
+      the car while in contact); ``delta_v_contact_mph`` -- the speed the car lost by then
+      (positive: slowed down), mph, the core's own check (the engine layer's registry reads
+      the same instant: ``deck_emulator.engine.quantities``).
     * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact;
       ``max_decel_after_startup_g`` -- the same after the start-up kick (the listing's device
       of 10,000 lb over its first steps is not an impact force; its printed FSA starts after).
@@ -202,6 +205,7 @@ class CoreResult:
     no_hit_reason: str | None = None
     ground_passage: dict | None = None
     max_decel_after_startup_g: float | None = None
+    contact_end_s: float | None = None
     #: who integrated the run: "scipy" (``solve_ivp``), "compiled" (:mod:`.dop853`, the
     #: batch), or "compiled+scipy" (a batch run some of whose segments the compiled
     #: integrator cannot do -- a sliding mode, a leaf spring, a stiff contact, the shaft's

@@ -592,6 +592,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         no_hit_reason=reason,
         ground_passage=passage,
         max_decel_after_startup_g=max_g_after,
+        contact_end_s=t_release,
     )
 
 

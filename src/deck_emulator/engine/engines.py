@@ -18,7 +18,9 @@ from pathlib import Path
 
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event, EventKind, Surface
-from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
+from deck_emulator.vocabulary.units import force_in_g
+
+from .quantities import speed_lost_at
 
 from . import errata as errata_policy
 
@@ -215,7 +217,7 @@ def _emulator_arrays(out: Outcome, rows, d) -> None:
         out.pulse_t = tc[1:]
         with np.errstate(divide="ignore", invalid="ignore"):
             out.pulse_g = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
-        out.delta_v_contact_mph = speed_lost_mph(d["VVB"], float(vc[-1]))
+        out.contact_end_s = float(tc[-1])
     fs = [r["FS"] for r in rows if r["phase"] == "contact" and "FS" in r]
     if fs and d["WV"] * d["G"] != 0:
         out.max_decel_every_step_g = force_in_g(max(fs), d["WV"], d["G"])
@@ -231,7 +233,7 @@ def _printed_quantities(out: Outcome, run, deck) -> None:
         printed = extract(run.records, deck)
     except (ExtractError, ZeroDivisionError):
         return []
-    out.delta_v_crush_mph = printed.delta_v_crush_mph
+    out.crush_end_s = printed.crush_pulse_end_s
     out.max_decel_g = printed.max_decel_g
     out.terminal = {k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()}
     return list(printed.notes)
@@ -249,7 +251,7 @@ def _listing_flags(out: Outcome) -> list[str]:
         hit_time_s=out.hit_time_s,
         heights_at_hit_ft={k: (p[2] if p[2] is not None else None)
                            for k, p in out.terminal.items()} if hit else None,
-        delta_v_contact_mph=out.delta_v_contact_mph,
+        delta_v_contact_mph=speed_lost_at(out, out.contact_end_s),
         car_speed_mph=out.speed_mph,
         max_decel_g=out.max_decel_g,
         no_hit_reason=None if hit else "the listing stopped without a hit message",
@@ -480,15 +482,13 @@ class CoreEngine:
         out.evaluations, out.end_s = r.nfev, r.end_time_s
         out.engine_events = tuple((e.name, e.time_s) for e in r.events)
         out.events = core_events(r)
-        out.delta_v_contact_mph = r.delta_v_contact_mph
+        out.contact_end_s = r.contact_end_s
         out.max_decel_g = (r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None
                            else r.max_decel_g)
         out.max_decel_every_step_g = r.max_decel_g
         out.terminal = {k: v for k, v in r.terminal_points_ft.items() if v is not None}
-        cap = next((e.time_s for e in out.events if e.kind is EventKind.FORCE_CAP), None)
-        if cap is not None:  # the report's ΔV: at the force cap (extract's crush_pulse_end)
-            vv_cap = float(r.trajectory.vehicle(cap)[1])
-            out.delta_v_crush_mph = speed_lost_mph(r.scene.vehicle.initial_velocity_ft_s, vv_cap)
+        out.crush_end_s = next((e.time_s for e in out.events if e.kind is EventKind.FORCE_CAP),
+                               None)
         if self.trace:
             self._arrays(out, r)
         return out.made()

@@ -34,9 +34,11 @@ class Outcome:
     * ``events``: :class:`~deck_emulator.vocabulary.events.Event` in time order; ``hit``: the last one
       if it is a hit; ``hit_message``: the hit as the listing words it ("THE POST HAS HIT
       THE GROUND WITH POINT R"; the core's own for what the listing cannot say).
-    * ``delta_v_crush_mph``: the speed the car lost by the end of the crush pulse (the spring
-      force first capped at FCONST), the report's "DECREASE IN VEHICLE VELOCITY";
-      ``delta_v_contact_mph``: the speed lost by the end of contact with the post.
+    * ``crush_end_s``: the instant the crush pulse ends (the spring force first capped at
+      FCONST: the core's located event; the emulator's first printed step so capped, as the
+      report read the paper); ``contact_end_s``: the instant the contact with the car ends
+      (the car let go, or the post hit the car while in contact).  The registry reads the
+      speed the car lost at each (:func:`car_velocity`): the engines compute no ΔV.
     * ``max_decel_g``: the report's maximum deceleration (emulator: the largest *printed*
       FSA/(WV*G), as the report read it; core: its continuous maximum after the start-up
       kick); ``max_decel_every_step_g``: over every accepted step of the emulator, start-up
@@ -79,8 +81,8 @@ class Outcome:
     pulse_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
     events: list[Event] = field(default_factory=list)
     hit_message: str | None = None
-    delta_v_crush_mph: float | None = None
-    delta_v_contact_mph: float | None = None
+    crush_end_s: float | None = None
+    contact_end_s: float | None = None
     max_decel_g: float | None = None
     max_decel_every_step_g: float | None = None
     terminal: dict = field(default_factory=dict)
@@ -205,6 +207,16 @@ class Outcome:
             return traj.mass_centre(t) if name == "CM" else traj.point(name, t)
         xyz = np.asarray(self.points[name], dtype=float)
         return np.array([np.interp(t, self.t, xyz[:, i]) for i in range(3)])
+
+    def car_velocity(self, t: float) -> float | None:
+        """The car's velocity VV along XV at ``t``: the core's dense solution; the emulator's
+        accepted step nearest to ``t`` (its states exist only at its steps, where its events
+        and printed instants fall); None outside the run."""
+        if self.engine == "core" and self.raw is not None:
+            return float(self.raw.trajectory.vehicle(t)[1])
+        if not self.t.size or not self.t[0] <= t <= self.t[-1]:
+            return None
+        return float(self.vv[self.at(t)])
 
     def motion(self, t: float) -> dict:
         """The post's and the car's motion at ``t`` from the core's dense solution:

@@ -42,7 +42,7 @@ from types import MappingProxyType
 from deck_emulator.vocabulary.units import speed_lost_mph
 
 __all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help", "pulse",
-           "clearance", "unavailable", "why_none"]
+           "clearance", "unavailable", "why_none", "speed_lost_at"]
 
 #: what a quantity may need of its run (see the module's docstring)
 NEEDS = ("end", "contact", None)
@@ -183,32 +183,18 @@ def _of_clearance(field):
     return lambda o: None if clearance(o) is None else getattr(clearance(o), field)
 
 
-def _vv_at(o, t: float) -> float | None:
-    """The car's velocity along XV at ``t``: the core's dense solution where the outcome
-    carries one, else the outcome's samples (the emulator's accepted steps, at which its
-    events are printed), linearly between two samples."""
-    traj = getattr(o.raw, "trajectory", None)
-    if traj is not None and hasattr(traj, "vehicle"):
-        return float(traj.vehicle(t)[1])
-    if o.t.size == 0 or not o.t[0] <= t <= o.t[-1]:
-        return None
-    import numpy as np  # not at import: the command line's help reads this registry
-
-    return float(np.interp(t, o.t, o.vv))
+def speed_lost_at(o, t: float | None) -> float | None:
+    """THE reading of every ΔV: the speed (mph) the car of ``o`` has lost by the instant
+    ``t`` (its velocity at t = 0, the scene's, against
+    :meth:`~deck_emulator.engine.outcome.Outcome.car_velocity` at ``t``); None without the
+    instant or the car, or outside the run."""
+    car = o.scene.vehicle if o.scene is not None else None
+    v = None if t is None or car is None else o.car_velocity(t)
+    return None if v is None else speed_lost_mph(car.initial_velocity_ft_s, v)
 
 
-def _delta_v_first_spring(o):
-    t = o.first_spring_lost_s
-    if t is None or o.vv.size == 0:
-        return None
-    v = _vv_at(o, t)
-    return None if v is None else speed_lost_mph(float(o.vv[0]), v)
-
-
-def _delta_v_contact(o):
-    if o.delta_v_contact_mph is not None:
-        return o.delta_v_contact_mph
-    return None if pulse(o) is None else pulse(o).delta_v_contact_mph
+def _speed_lost_by(instant: str):
+    return lambda o: speed_lost_at(o, getattr(o, instant))
 
 
 _REGISTRY = (
@@ -227,15 +213,15 @@ _REGISTRY = (
              "aluminium and twin columns (docs/report_full.md, 'ΔV and the maximum "
              "deceleration') (emulator: read at the first printed step where FSA is cut to "
              "FCONST; core: at its located 'force cap engaged' event)",
-             _attr("delta_v_crush_mph"), needs=None),
+             _speed_lost_by("crush_end_s"), needs=None),
     Quantity("delta_v_first_spring_mph", "speed lost, to the first spring's loss", "mph", 2,
              "the speed the car has lost by the instant the post loses contact with the first "
              "spring (the listing's THE POST HAS LOST CONTACT WITH FIRST SPRING; emulator: "
              "the car's speed at that accepted step; core: at its located event)",
-             _delta_v_first_spring, needs=None),
+             _speed_lost_by("first_spring_lost_s"), needs=None),
     Quantity("delta_v_contact_mph", "speed lost, whole contact", "mph", 2,
              "the speed the car has lost by the end of its contact with the post",
-             _delta_v_contact, needs="contact"),
+             _speed_lost_by("contact_end_s"), needs="contact"),
     Quantity("max_decel_g", "largest deceleration of the car", "g", 2,
              "the report's MAXIMUM VEHICLE DECELERATION: the largest spring force over WV*G "
              "after the start-up steps (emulator: the largest printed FSA, as the report read "

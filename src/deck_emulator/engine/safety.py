@@ -14,7 +14,8 @@ contact with the post is over nothing slows the car: the listing's ``VVFA = VVFB
 
 Definitions (numbers in ft, s, ft/s unless the name says otherwise)
 -------------------------------------------------------------------
-* ``delta_v``: ``u(t0) - u(t_end)``, the speed the car lost, in ft/s, m/s and mph.
+* ``delta_v``: ``u(t0) - u(t_end)``, the speed the car lost (ft/s; an outcome's ΔV readings
+  are the registry's, ``engine.quantities.speed_lost_at``).
 * ``max_decel_sampled_g``: the largest deceleration between two samples of the history,
   ``-(du/dt)/G`` (not the registry's ``max_decel_g``, the report's reading: for the
   emulator's every accepted step it equals ``max_decel_every_step_g``).
@@ -47,7 +48,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from deck_emulator.vocabulary.scene import VehicleBody, car_boxes
-from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT, speed_lost_mph
+from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT
 
 __all__ = [
     "FLAIL_DISTANCE_M",
@@ -318,7 +319,6 @@ def flail_space(
 class PulseMetrics:
     """The occupant-risk numbers of one velocity history (see the module docstring)."""
 
-    delta_v_contact_mph: float
     max_decel_sampled_g: float
     max_decel_sampled_time_s: float
     max_decel_10ms_g: float
@@ -342,7 +342,6 @@ class PulseMetrics:
                                      for c in criteria_of(q).values())
         when = " (after contact ended: relative speed = ΔV)" if self.strike_after_contact else ""
         return [
-            f"ΔV {self.delta_v_contact_mph:.3f} mph",
             f"max deceleration between samples {self.max_decel_sampled_g:.2f} g at "
             f"{ms(self.max_decel_sampled_time_s)}; "
             f"max 10 ms average {self.max_decel_10ms_g:.2f} g",
@@ -368,7 +367,6 @@ def assess(
     oiv_m_s = fs.oiv_ft_s / FT_PER_M
     ora_g = fs.ora_ft_s2 / g
     return PulseMetrics(
-        delta_v_contact_mph=speed_lost_mph(float(u[0]), float(u[-1])),
         max_decel_sampled_g=amax / g,
         max_decel_sampled_time_s=tmax,
         max_decel_10ms_g=a10 / g,

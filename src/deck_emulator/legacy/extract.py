@@ -176,6 +176,7 @@ class Outcome:
     hit_time_s: float | None  # TIME of the block printed after the hit message
     final_time_s: float | None  # last TIME printed
     delta_v_crush_mph: float | None  # the candidate named by delta_v_definition
+    crush_pulse_end_s: float | None  # TIME of the block that candidate is read at
     delta_v_definition: str
     delta_v_candidates_mph: Mapping[str, float | None]
     max_decel_g: float | None  # over the printed contact blocks
@@ -338,6 +339,7 @@ def extract(printout, deck) -> Outcome:
     vv0, fconst = d["VVB"], d["FCONST"]
     cands: dict[str, float | None] = dict.fromkeys(DELTA_V_CANDIDATES)
     above = False
+    crush_end_s = None
     for b in contact:
         f = b.values.get("FSA")
         if f is None:
@@ -346,6 +348,7 @@ def extract(printout, deck) -> Outcome:
             above = True
         elif above and abs(f - fconst) <= fconst * _PRINT_EPS:
             cands["crush_pulse_end"] = _decrease_mph(vv0, b.values.get("VVA"))
+            crush_end_s = b.time
             break
     if LOST_FIRST_SPRING in before:
         cands["first_spring_lost"] = _decrease_mph(vv0, before[LOST_FIRST_SPRING].values.get("VVA"))
@@ -380,7 +383,8 @@ def extract(printout, deck) -> Outcome:
 
     return Outcome(
         events=tuple(events), hit=hit, hit_time_s=hit_time, final_time_s=final_time,
-        delta_v_crush_mph=cands[DELTA_V_DEFINITION], delta_v_definition=DELTA_V_DEFINITION,
+        delta_v_crush_mph=cands[DELTA_V_DEFINITION], crush_pulse_end_s=crush_end_s,
+        delta_v_definition=DELTA_V_DEFINITION,
         delta_v_candidates_mph=MappingProxyType(cands),
         max_decel_g=max_decel, max_decel_time_s=max_t, max_fsa_lb=max_fsa,
         terminal=MappingProxyType(terminal),

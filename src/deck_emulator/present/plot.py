@@ -515,7 +515,9 @@ def _summary_text(res: Outcome) -> str:
         lines.append(f"{1000 * e.time_s:7.1f} ms  {e.sentence()}")
     m = quantities.pulse(res)
     if m is not None:
-        lines += ["", "Occupant risk (flail-space model):"] + ["  " + s for s in m.lines()]
+        dv = quantities.QUANTITIES["delta_v_contact_mph"]
+        lines += ["", "Occupant risk (flail-space model):",
+                  f"  ΔV {dv.show(dv.of(res))} {dv.unit}"] + ["  " + s for s in m.lines()]
     c = quantities.clearance(res)
     if c is not None:
         lines.append("")
