@@ -18,18 +18,22 @@ closed still ends with its status; a stream whose encoding cannot spell a charac
 from __future__ import annotations
 
 import argparse
+import codecs
 import os
+import re
 import shlex
 import sys
 import warnings
 from collections.abc import Sequence
 from dataclasses import MISSING, fields
 
-from deck_emulator.app import PROG
+import deck_emulator
+from deck_emulator import signals
+from deck_emulator.app import EXIT, NAMES, PROG, command_named
+from deck_emulator.app.options import PATH_OPTIONS
 from deck_emulator.errors import RunFailed, UsageError
 
-EXIT_BAD_INPUT = 2
-EXIT_RUN_FAILED = 3
+EXIT_BAD_INPUT, EXIT_RUN_FAILED = EXIT["bad input"], EXIT["stopped"]  # the answers' table
 
 
 #: what stdout and stderr write for a character their encoding has not got (one row a
@@ -74,7 +78,6 @@ class _Closed:
 
 def _streams() -> list[tuple[str, object]]:
     """Make stdout and stderr safe to write (the module docstring); the replaced, to restore."""
-    import codecs
 
     try:
         codecs.lookup_error(_SPELLING_ERRORS)
@@ -152,8 +155,6 @@ class _Parser(argparse.ArgumentParser):
     number in exponent form (``--tha-start -1e-5``) is a value, not an option."""
 
     def __init__(self, *args, **kwargs):
-        import re
-
         kwargs.setdefault("formatter_class", _help_formatter)
         super().__init__(*args, **kwargs)
         # argparse's own pattern knows -1 and -.5 but not -1e-5
@@ -183,8 +184,6 @@ class _Version(argparse.Action):
     """``--version``: the installed package's metadata, read only when asked."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        import deck_emulator
-
         print(f"{parser.prog} {deck_emulator.__version__}")
         parser.exit(0)
 
@@ -193,7 +192,6 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The whole command line's parser, built from the application layer's table; with
     ``command`` (a first word), one that holds only that command's parsers (a command line
     starting with it parses alike, and the other commands' help costs nothing)."""
-    from deck_emulator.app import NAMES, command_named
 
     parser = _Parser(prog=PROG, description="Emulator of the 1967 TTI luminaire-support impact "
                      "program (Report 75-9).")
@@ -227,7 +225,6 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """The command line; SIGINT and SIGTERM end it with 130 and 143 after every temporary
     file is removed and every worker stopped (:mod:`deck_emulator.signals`)."""
-    from deck_emulator import signals
 
     replaced = _streams()
     try:
@@ -238,8 +235,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _main(argv: Sequence[str] | None = None) -> int:
-    from deck_emulator.app import NAMES
-
     argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(argv[0] if argv and argv[0] in {n.split()[0] for n in NAMES}
                           else None)
@@ -252,8 +247,6 @@ def _main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     """The parsed command line as its command's options; the command's answer written."""
-    from deck_emulator.app import command_named
-    from deck_emulator.app.options import PATH_OPTIONS
     from deck_emulator.legacy.deck import DeckError
 
     cmd = command_named(args._command)

@@ -7,6 +7,8 @@ needs more and finds it missing says, in one line, which extra to install
 
 from __future__ import annotations
 
+import importlib.util
+
 #: module (its top-level name) -> the extra that installs it
 EXTRA_OF_MODULE = {
     "scipy": "core",
@@ -43,7 +45,6 @@ def missing_extra(exc: ImportError) -> str | None:
 def require(extra: str) -> None:
     """Before any work: ``ModuleNotFoundError`` naming the first of ``extra``'s modules that
     is not installed (looked up, not imported)."""
-    import importlib.util
 
     for module, of in EXTRA_OF_MODULE.items():
         if of == extra and importlib.util.find_spec(module) is None:

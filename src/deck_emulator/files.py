@@ -32,12 +32,14 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import fcntl
 import os
 import re
 import shutil
 import signal
 import stat
 import tempfile
+import time
 from pathlib import Path
 
 __all__ = [
@@ -284,8 +286,6 @@ def _open_stream(target: Path, user) -> int:
     """A write descriptor on an existing special file.  A FIFO is opened without blocking,
     retried until a reader has it open, for at most :data:`FIFO_WAIT_S` (an ``open`` of a
     FIFO without a reader would block for ever)."""
-    import fcntl
-    import time
 
     flags = os.O_WRONLY | getattr(os, "O_CLOEXEC", 0)
     try:

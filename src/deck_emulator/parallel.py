@@ -9,6 +9,8 @@ runs in one process: no slower, measured).
 from __future__ import annotations
 
 import sys
+import threading
+import time
 
 __all__ = ["progress_bar", "busy"]
 
@@ -41,9 +43,6 @@ class busy:
         self.desc, self.quiet, self.every_s, self.status = desc, quiet, every_s, status
 
     def __enter__(self):
-        import threading
-        import time
-
         self._bar = None
         self._stop = threading.Event()
         if self.quiet or not _on_terminal():

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from test_scene import STEEL40, steel40
 
+from deck_emulator.engine import quantities
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.core import CoreError, dop853, laws, simulate, simulate_batch
 from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
@@ -363,7 +364,7 @@ def test_engine_batch_outcomes_match_the_reference_path(trace):
             (e.kind, e.point, e.surface) for e in ref.events]
         assert all(abs(a.time_s - b.time_s) <= TIME_TOL_S for a, b in zip(got.events, ref.events))
         for name in ("delta_v_contact_mph", "delta_v_crush_mph", "max_decel_g"):
-            a, b = getattr(got, name), getattr(ref, name)
+            a, b = quantities.value(name, got), quantities.value(name, ref)
             assert (a is None) == (b is None) and (a is None or abs(a - b) <= 1e-6), name
         for k, p in ref.terminal.items():
             assert max(abs(x - y) for x, y in zip(p, got.terminal[k])) <= POSITION_TOL_FT, k

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import math
+
 from deck_emulator.errors import UsageError
 from deck_emulator.vocabulary import defaults
 
-from . import Answer, command
-from . import common
+from . import Answer, command, common
 from .groups import Preset
-from .options import angle_deg, Common, Errata, option, options_class, speed_mph
+from .options import Common, Errata, angle_deg, option, options_class, speed_mph
 
 
 @options_class
@@ -43,7 +44,6 @@ def _ms(t_s) -> str:
 def assembly(o: AssemblyOptions) -> Answer:
     """Build a support assembly (or the crash test) from a description file and print its
     mass properties, its deck, its scene, or run it."""
-    import math
     import tomllib
 
     from deck_emulator.core import assembly as asm

@@ -3,14 +3,16 @@ why a run stopped, check and write the output files a command names."""
 
 from __future__ import annotations
 
+import io
 import os
 import shlex
 from pathlib import Path
 
 from deck_emulator.errors import UsageError
+from deck_emulator.extras import require
 
 from . import PROG, Answer
-from deck_emulator.extras import require
+
 
 def load(options, command: str, kinds=("deck", "scene"), given=None):
     """SOURCE read whole (:func:`deck_emulator.engine.sources.load_source`); what the reader
@@ -156,7 +158,6 @@ def write_trajectory(path: str | None, out) -> str | None:
     (written whole or not at all), what a stopped run computed included; the line to say."""
     if not path:
         return None
-    import io
 
     from deck_emulator.files import write_file
 
@@ -175,7 +176,7 @@ def scheduler(options):
     so that a command that runs no study does not load the scene runner."""
     if not options.scheduler:
         return None
-    from deck_emulator.studies.distributed import Scheduler, WORKER_WAIT_S
+    from deck_emulator.studies.distributed import WORKER_WAIT_S, Scheduler
 
     wait = options.worker_wait
     return Scheduler(options.scheduler, WORKER_WAIT_S if wait is None else float(wait))

@@ -3,8 +3,9 @@ deceleration, P/Q/R)"""
 
 from __future__ import annotations
 
-from . import Answer, command
-from . import common
+from deck_emulator.engine.quantities import definitions_help
+
+from . import Answer, command, common
 from .options import Answering, Emulator, option, options_class
 
 
@@ -15,8 +16,6 @@ class SummaryOptions(Emulator, Answering):
 
 
 def _summary_description() -> str:
-    from deck_emulator.engine.quantities import definitions_help
-
     return ("Run the emulated program and print what the report's Tables 11 and 12 give: the "
             "events as sentences, the hit, the car's speed change in mph, the largest printed "
             "deceleration in g, P, Q, R at the hit in XL, YL, ZL; then the occupant-risk numbers "

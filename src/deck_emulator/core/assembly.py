@@ -69,13 +69,22 @@ report's deck puts it on Q).
 
 from __future__ import annotations
 
+import dataclasses
+import importlib.resources
 import math
 import tomllib
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from deck_emulator.vocabulary.scene import (
+    LISTING_BASE_FRICTION,
+    LISTING_NORMAL_RELEASE_FT,
+    toml_number,
+)
+from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
 from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = [
@@ -414,7 +423,6 @@ _REQUIRED = {
 def _number(value: Any, key: str) -> float:
     """A TOML number as a finite float, or an :class:`AssemblyError` naming ``key`` (the
     scene files' check, :func:`deck_emulator.vocabulary.scene.toml_number`)."""
-    from deck_emulator.vocabulary.scene import toml_number
 
     return toml_number(value, key, AssemblyError)
 
@@ -541,7 +549,6 @@ def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
     """(assembly, the file's other tables: ``[run]``, ``[source]``) of a description, or
     (``None``, ``{"name": ..., "crash_test": checked table}``) of a crash-test description.
     A text with neither ``[shaft]`` nor ``[crash_test]`` is refused."""
-    from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
 
     try:
         data = loads(text)  # within the bounds on size, nesting, keys and digits
@@ -574,7 +581,6 @@ def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
 
 def assembly_names() -> list[str]:
     """Names of the shipped description files."""
-    import importlib.resources
 
     files = importlib.resources.files("deck_emulator.assemblies")
     return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
@@ -582,7 +588,6 @@ def assembly_names() -> list[str]:
 
 def _read_description(path: str) -> str:
     """A description file's text: at most :data:`MAX_DESCRIPTION_BYTES`, UTF-8."""
-    from pathlib import Path
 
     with Path(path).open("rb") as f:
         raw = f.read(MAX_DESCRIPTION_BYTES + 1)
@@ -598,7 +603,6 @@ def load_assembly(name_or_path: str):
     """(assembly or None, extra tables, text) of a shipped description (by name) or a file;
     for a crash-test description the assembly is ``None`` and ``extra["crash_test"]`` is its
     checked table (:func:`crash_test_description`)."""
-    import importlib.resources
 
     if name_or_path.endswith(".toml"):
         text = _read_description(name_or_path)
@@ -631,7 +635,6 @@ def scene_runs_on_listing(scene) -> str | None:
         return "the listing always has a car; this scene has none"
     if scene.base is None:
         return "the listing always has the break-away base; this scene has none"
-    from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_NORMAL_RELEASE_FT
 
     if scene.base.friction != LISTING_BASE_FRICTION:
         return "the listing's base friction is fixed (930 lb over 1 in); this scene's differs"
@@ -698,7 +701,6 @@ def calibrate_on_steel_deck(a: Assembly) -> tuple[Assembly, dict[str, float]]:
     chord's box: fractions in [0, 1], an up-swept arm) -- to the steel deck's mass centre,
     A, B, C and delta by weighted least squares (:data:`CALIBRATION_SCALES`).  Returns the
     calibrated assembly and its residuals (:func:`steel_deck_residuals`)."""
-    import dataclasses
 
     from scipy.optimize import least_squares
 

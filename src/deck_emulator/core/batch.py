@@ -26,9 +26,6 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import dop853, laws
-from .laws import _jit
-from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
 from deck_emulator.vocabulary.defaults import (
     CORE_ATOL,
     CORE_RTOL,
@@ -36,11 +33,16 @@ from deck_emulator.vocabulary.defaults import (
     MAX_STEP_S,
     T_MAX_S,
 )
+from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
 
+from . import dop853, laws
+from .kinematics import ContactMode
+from .laws import _jit
 from .solve import (
     CoreError,
     _Run,
     _simulate_with,
+    simulate,
 )
 
 __all__ = ["CompiledSolution", "component_key", "simulate_batch", "time_per_scene"]
@@ -270,8 +272,6 @@ class _CompiledRun(_Run):
 
 
 def _default_mode():
-    from .kinematics import ContactMode
-
     return ContactMode()
 
 
@@ -342,7 +342,6 @@ def time_per_scene(scenes, options: ModelOptions, *, repeats: int = 5) -> dict:
     """Process CPU time per scene (s) of both paths on ``scenes`` after a warm-up run:
     ``{"compiled": median, "scipy": median, "ratio": scipy / compiled, "n": scenes}``,
     medians over ``repeats`` repetitions (for the benchmark)."""
-    from .solve import simulate
 
     scenes = list(scenes)
     simulate_batch(scenes[:1], options)  # warm-up: load or compile the laws

@@ -21,6 +21,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
+from deck_emulator.vocabulary.units import ft_s_to_mph
+
 __all__ = [
     "check_outcome",
     "check_summary",
@@ -108,7 +111,6 @@ def check_summary(
 def ground_tolerance_ft(options) -> dict[str, float] | float:
     """The hit test's ground tolerance under ``options`` (ft; per point for the listing's)."""
     if options.listing_hit_tolerances:
-        from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
 
         return {**LISTING_GROUND_TOLERANCE_FT, "S": 0.1, "T": 0.1}
     return EXACT_GROUND_TOLERANCE_FT
@@ -116,7 +118,6 @@ def ground_tolerance_ft(options) -> dict[str, float] | float:
 
 def check_outcome(result) -> list[str]:
     """The failed checks of core run ``result`` as sentences (empty: may be reported)."""
-    from deck_emulator.vocabulary.units import ft_s_to_mph
 
     scene = result.scene
     depth = scene.environment.ground_depth_ft

@@ -21,10 +21,12 @@ A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``,
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
 
-import numpy as np
 import numba
+import numpy as np
 from numba import njit
 
 __all__ = [
@@ -57,8 +59,6 @@ def _cache_dir() -> None:
     documentation): below the user's own NUMBA_CACHE_DIR when set, else the package's
     ``__pycache__`` where it can be written, else the user's cache folder.  A changed module
     is a new folder: the old machine code is never taken for the new."""
-    import hashlib
-    import os
 
     here = os.path.dirname(os.path.abspath(__file__))
     h = hashlib.sha256()

@@ -25,8 +25,12 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
+
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
+
+from . import laws
 from .components import (
     LISTING_FRICTION_LB,
     LISTING_FRICTION_WINDOW_FT,
@@ -37,12 +41,10 @@ from .components import (
     VehicleContact,
 )
 from .kinematics import IDX_SV, IDX_VV, N_STATE, ContactMode, EventSpec, Kinematics
+from .leaf_spring import LeafSpringContact
 from .regions import FreeFlightChecks, build_checks
-from .segments import SegmentChecks, build_segment_checks
-import numpy as np
-
-from . import laws
 from .rigid import quat_about_axis, quat_multiply
+from .segments import SegmentChecks, build_segment_checks
 
 __all__ = [
     "IDX_SV",
@@ -112,7 +114,6 @@ class Model:
                     reaction=options.friction_reaction,
                 )
         if vehicle is not None and getattr(vehicle, "leaf_spring", None) is not None:
-            from .leaf_spring import LeafSpringContact
 
             comps["vehicle contact"] = LeafSpringContact(scene, options, self)
         elif vehicle is not None:

@@ -35,6 +35,7 @@ from deck_emulator.vocabulary.events import hit_message
 from deck_emulator.vocabulary.scene import car_boxes
 
 from . import laws
+from .kinematics import EventSpec
 
 __all__ = ["hit_message", "Region", "FreeFlightChecks", "build_checks"]
 
@@ -118,8 +119,6 @@ class FreeFlightChecks:
         return val
 
     def events(self):
-        from .kinematics import EventSpec
-
         out = []
         for i, terminal in enumerate(self.terminal):
             out.append(EventSpec(f"row {i}", lambda t, y, i=i: self.values(y)[i], +1.0, terminal,

@@ -50,7 +50,6 @@ part) pair; the outcome's notes say so.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

@@ -32,15 +32,19 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
-from . import sliding
-from .checks import check_outcome, ground_tolerance_ft
+from deck_emulator.vocabulary.events import (
+    LOST_MESSAGES,
+    POINT_NAMES,
+    EventKind,
+    hit_message,
+)
 from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
-from .kinematics import IDX_VV, N_STATE, ContactMode
-from .model import Model, assemble
-from deck_emulator.vocabulary.events import hit_message
-from deck_emulator.vocabulary.events import LOST_MESSAGES, POINT_NAMES, EventKind
 from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
+from . import sliding
+from .checks import check_outcome, ground_tolerance_ft
+from .kinematics import IDX_VV, N_STATE, ContactMode
+from .model import Model, assemble
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
 
 __all__ = [
@@ -61,6 +65,7 @@ from deck_emulator.vocabulary.defaults import (
     T_MAX_S,
 )
 
+from .kinematics import Kinematics
 
 # this many events in a row at the same instant is chattering (Zeno), not physics
 _MAX_REPEATS = 50
@@ -597,8 +602,6 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
 
 
 def _xl(m, y, name, q0, depth):
-    from .kinematics import Kinematics
-
     p = m.point_position(Kinematics(m, list(y)), name)
     return (p[0] - q0[0], p[1] - q0[1], p[2] + depth)
 

@@ -9,8 +9,19 @@ layer.
 
 from __future__ import annotations
 
-from deck_emulator.core.assembly import (Assembly, AssemblyError, MassProperties, load_assembly,
-                                         mass_properties)
+import dataclasses
+
+from deck_emulator.core.assembly import (
+    Assembly,
+    AssemblyError,
+    MassProperties,
+    load_assembly,
+    mass_properties,
+)
+from deck_emulator.decks import path as deck_path
+from deck_emulator.legacy.deck import READ_LIST, read_deck
+from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
+from deck_emulator.vocabulary.scene import Post, PostPoint, Scene
 
 #: the builder's description reader and its error are the studies' too (crash_test): through here
 __all__ = ["AssemblyError", "load_assembly", "to_deck_values", "to_deck_text", "to_scene"]
@@ -32,10 +43,6 @@ def to_deck_values(
     """READ-list values of the assembly's deck: the post from the builder, the car, the
     springs and everything else from the ``template`` deck, with the car's heights kept
     above the ground and its fenders kept about the shaft axis.  One arm at most."""
-    from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
-    from deck_emulator.vocabulary.scene import Post
-    from deck_emulator.decks import path as deck_path
-    from deck_emulator.legacy.deck import read_deck
 
     if len(a.arms) > 1:
         raise AssemblyError(f"{a.name}: the listing carries one arm (point R); this has {len(a.arms)}")
@@ -81,7 +88,6 @@ def _field(x: float) -> str:
 
 def to_deck_text(values: dict[str, float]) -> str:
     """The deck (``$DATA`` and 8 cards of 8 fields in 8F10.5 columns) of READ-list values."""
-    from deck_emulator.legacy.deck import READ_LIST
 
     lines = ["$DATA".ljust(80)]
     for card in READ_LIST:
@@ -98,9 +104,6 @@ def to_scene(
     alpha_rad: float | None = None,
 ):
     """The typed scene of the assembly (any number of arms up to two: R, and U)."""
-    import dataclasses
-
-    from deck_emulator.vocabulary.scene import PostPoint, Scene
 
     if len(a.arms) > 2:
         raise AssemblyError(f"{a.name}: at most two arms (R and U)")

@@ -16,13 +16,15 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from deck_emulator.legacy.arithmetic import get_arithmetic
+from deck_emulator.legacy.emulator import STEP_LITERALS, EmulatorError, Limits, Program
+from deck_emulator.legacy.printer import event_message
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event, EventKind, Surface
 from deck_emulator.vocabulary.units import force_in_g
 
-from .quantities import speed_lost_at
-
 from . import errata as errata_policy
+from .sources import load_source
 
 # Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
 # `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
@@ -58,7 +60,6 @@ def _initial_points(d) -> dict:
 def step_literals() -> tuple[str, ...]:
     """The listing's literals that mean "one step" (0.0004 s): what the emulator's
     ``step_scale_k`` divides by 2**k, in words."""
-    from deck_emulator.legacy.emulator import STEP_LITERALS
 
     return STEP_LITERALS
 
@@ -101,13 +102,9 @@ class EmulatorEngine:
     name = "emulator"
 
     def arithmetic(self):
-        from deck_emulator.legacy.arithmetic import get_arithmetic
-
         return get_arithmetic(self.precision, **self.arithmetic_options)
 
     def program(self, deck):
-        from deck_emulator.legacy.emulator import Limits, Program
-
         return Program(deck, self.arithmetic(), errata=errata_policy.resolve(self.errata),
                        step_scale_k=self.step_scale_k, tha_start=self.tha_start,
                        ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
@@ -118,7 +115,6 @@ class EmulatorEngine:
         makes from it): what the plain ``deck-emulator run`` prints.  ``watch``: called with
         the program before it runs (a progress display may read its ``step`` from another
         thread; nothing is added to the program's loop)."""
-        from deck_emulator.legacy.emulator import EmulatorError
 
         program = self.program(deck)
         if watch is not None:
@@ -169,7 +165,6 @@ class EmulatorEngine:
                       records=tuple(run.records))
         out.events = list(run.events)
         if out.hit is not None:
-            from deck_emulator.legacy.printer import event_message
 
             out.hit_message = event_message(out.hit)
         if self.trace and run.trace:
@@ -242,8 +237,9 @@ def _printed_quantities(out: Outcome, run, deck) -> None:
 def _listing_flags(out: Outcome) -> list[str]:
     """The core's outcome checks applied to what the listing printed (its hit, the terminal
     heights ZL, the speed lost), with the listing's own ground bands as tolerances."""
+    from .quantities import speed_lost_at  # the registry: not for a plain run's printout
+
     from deck_emulator.core.checks import check_summary
-    from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
 
     hit = out.hit
     return check_summary(
@@ -255,7 +251,7 @@ def _listing_flags(out: Outcome) -> list[str]:
         car_speed_mph=out.speed_mph,
         max_decel_g=out.max_decel_g,
         no_hit_reason=None if hit else "the listing stopped without a hit message",
-        ground_tolerance_ft=dict(LISTING_GROUND_TOLERANCE_FT),
+        ground_tolerance_ft=dict(defaults.LISTING_GROUND_TOLERANCE_FT),
         who="the listing",
     )
 
@@ -546,7 +542,6 @@ def run_engine(source, engine: str = "emulator", *, name: str = "", **options) -
     """One run of the named engine on a deck or a scene object, or on anything SOURCE names
     (a path, a shipped deck's name: :func:`deck_emulator.engine.sources.load_source`)."""
     if isinstance(source, (str, os.PathLike)):
-        from .sources import load_source
 
         src = load_source(source, kinds=("deck",) if engine == "emulator" else ("deck", "scene"))
         source = src.deck() if engine == "emulator" else src.scene_or_deck()

@@ -11,8 +11,11 @@ statement that the pages are a reconstruction.
 from __future__ import annotations
 
 import hashlib
+import textwrap
 from importlib import resources
 from pathlib import Path
+
+from deck_emulator import __version__
 
 __all__ = ["RECONSTRUCTION", "facts", "banner_records", "separator_records", "pdf_metadata",
            "listing_sha256"]
@@ -34,7 +37,6 @@ def facts(source, settings: list[str], listing: bool = False) -> dict[str, str]:
     of kind deck) with the emulator settings ``settings`` (one line per $DATA section run, as
     the command says them: arithmetic and errata), as ordered name -> text; ``listing``: the
     pages print a compile listing, and the facts say which source it lists."""
-    from deck_emulator import __version__
 
     program = f"the listing of Report 75-9's appendix, transcribed (luminaire.f, sha256 " \
               f"{listing_sha256()})"
@@ -70,7 +72,6 @@ def separator_records(run: int, runs: int, deck: str, settings: str, width: int 
                       ) -> list[str]:
     """The separator page before run ``run`` of ``runs`` (a job deck's $DATA sections, each
     run in turn), as printer records: a form of its own, the next record starting a new one."""
-    import textwrap
 
     rule = "-" * width
     records = ["1" + rule, " ", f" RUN {run} OF {runs}", " ", " " + rule, "0"]
@@ -84,7 +85,6 @@ def separator_records(run: int, runs: int, deck: str, settings: str, width: int 
 def banner_records(provenance: dict[str, str], width: int = 131) -> list[str]:
     """The banner page as printer records (carriage control in column 1): a form of its own,
     the facts wrapped to the print line, the next record starting a new form."""
-    import textwrap
 
     rule = "*" * width
     records = ["1" + rule, " ", " DECK_EMULATOR  --  JOB SEPARATOR", " ", " " + rule, "0"]

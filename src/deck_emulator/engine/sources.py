@@ -24,15 +24,27 @@ Every refusal is a :class:`~deck_emulator.legacy.deck.DeckError` or
 
 from __future__ import annotations
 
+import dataclasses
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from deck_emulator import decks
 from deck_emulator.errors import UsageError
 
 #: the card reader of the 1967 path: how the studies read a text deck by its file (each
 #: worker reads it) or from its cards' text, through this one way in
-from deck_emulator.legacy.deck import Deck, parse_deck, read_deck
+from deck_emulator.legacy.deck import (
+    STDIN_NAME,
+    Deck,
+    DeckError,
+    parse_deck,
+    read_bytes,
+    read_deck,
+)
+from deck_emulator.legacy.jobdeck import MAX_BYTES, parse_job
+from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES
 
 __all__ = ["Deck", "Source", "is_scene_file", "load_source", "parse_deck", "read_deck"]
 
@@ -76,7 +88,6 @@ class Source:
 
     def deck(self, command: str = "this command"):
         """The one data deck (a job deck with several sections needs ``section``)."""
-        from deck_emulator.legacy.deck import DeckError
 
         if self.kind != "deck":
             raise UsageError(self.refusal(command))
@@ -105,7 +116,6 @@ def is_scene_file(path) -> bool:
         return os.path.isfile(path)
     if not os.path.isfile(path):
         return False
-    from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES  # a scene file is at most this
 
     try:
         with open(path, "rb") as fh:
@@ -134,8 +144,6 @@ def _is_scene(name: str, data: bytes) -> bool:
 
 
 def _shipped(given: str) -> Path | None:
-    from deck_emulator import decks
-
     name = given[:-4] if given.endswith(".dat") else given
     if "/" in name or os.sep in name:
         return None
@@ -147,12 +155,10 @@ def _shipped(given: str) -> Path | None:
 
 def _resolve(given: str) -> tuple[str, Path]:
     """(name shown, file) of a SOURCE: the file if it exists, else a shipped deck."""
-    from deck_emulator.legacy.deck import DeckError
 
     if not given:
         raise UsageError("an empty SOURCE: give a deck or scene file, or a shipped deck's name")
     if given == "-":
-        from deck_emulator.legacy.deck import STDIN_NAME
 
         return STDIN_NAME, Path(given)
     p = Path(given)
@@ -161,7 +167,6 @@ def _resolve(given: str) -> tuple[str, Path]:
     shipped = _shipped(given)
     if shipped is not None:
         return Path(given).stem, shipped
-    from deck_emulator import decks  # only when a name is not a file
 
     raise DeckError(f"no such file, and no shipped deck of that name (shipped: "
                     f"{', '.join(decks.names())})", path=given)
@@ -173,7 +178,6 @@ def _read_scene(name: str, data: bytes):
     try:
         return scene_from_bytes(data)  # size-capped, UTF-8, every key checked
     except (SceneError, ValueError, KeyError, TypeError, OverflowError) as exc:
-        import re
 
         message = str(exc)
         missing = re.findall(r"'(\w+)'", message) if "required positional" in message else []
@@ -188,10 +192,6 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
                 ) -> Source:
     """Read SOURCE ``given`` (see the module docstring). ``kinds``: what the caller can use;
     a scene given where only decks are meant is refused with :meth:`Source.refusal`."""
-    from deck_emulator.legacy.deck import DeckError, read_bytes
-    from deck_emulator.legacy.jobdeck import MAX_BYTES, parse_job
-
-    from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES
 
     given = os.fspath(given)
     name, path = _resolve(given)
@@ -222,7 +222,6 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
             notes.append(f"{name}: {job.source_verdict}")
     decks_ = job.decks
     if Path(given) != path:  # a shipped deck, named by its name
-        import dataclasses
 
         decks_ = tuple(dataclasses.replace(d, path=name) for d in decks_)
     if section is not None:

@@ -29,7 +29,8 @@ import math
 import os
 import re
 import unicodedata
-from dataclasses import dataclass, field as _dc_field
+from dataclasses import dataclass
+from dataclasses import field as _dc_field
 from decimal import Decimal, localcontext
 
 __all__ = [
@@ -47,6 +48,8 @@ __all__ = [
 
 #: The READ list of MAIN, card by card (``READ(5,1)`` ... ``READ(5,130)``), the names, the
 #: card's layout: the deck-field table's (one row a field: vocabulary/deck_fields.py).
+import stat
+
 from deck_emulator.vocabulary.deck_fields import (  # noqa: E402
     CARD_COLUMNS,
     FIELD_WIDTH,
@@ -55,6 +58,7 @@ from deck_emulator.vocabulary.deck_fields import (  # noqa: E402
     READ_LIST,
     field_columns,
 )
+from deck_emulator.vocabulary import defaults
 
 N_CARDS = len(READ_LIST)
 
@@ -197,11 +201,8 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
     ``wait_s`` (:data:`~deck_emulator.vocabulary.defaults.SOURCE_WAIT_S`); a terminal, a
     device or a socket refused.  :class:`DeckError` naming the file for anything that stops
     the read."""
-    import stat
 
-    from deck_emulator.vocabulary.defaults import SOURCE_WAIT_S
-
-    wait_s = SOURCE_WAIT_S if wait_s is None else wait_s
+    wait_s = defaults.SOURCE_WAIT_S if wait_s is None else wait_s
     try:
         shown = os.fsdecode(path)
     except TypeError:

@@ -34,14 +34,18 @@ assignment (their own operations trap first anyway).
 
 from __future__ import annotations
 
+import linecache
 import math
 import operator
 from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
+from deck_emulator.legacy.printer import Printer, event_for
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event
-from deck_emulator.legacy.printer import Printer, event_for
+
+from . import emulator_tables as made
+from .emulator_text import _assigned_names, read_tables
 
 ERRATA = {
     "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
@@ -1125,7 +1129,6 @@ def _in_ed(exc) -> bool:
 
 def _assigned_variable(exc) -> str | None:
     """The variable on the left of the statement that trapped (from the traceback's line)."""
-    import linecache
 
     for f in reversed(_frames(exc)):
         line = (f.line or linecache.getline(f.filename, f.lineno)).strip()
@@ -1152,8 +1155,6 @@ def _source_tables() -> dict:
     of this file): from emulator_tables.py when it was made from this very text (its checksum
     says so), else from the text now (the pattern pass, ~2 ms, once per process).
     tests/cli/test_start.py fails while emulator_tables.py is stale."""
-    from . import emulator_tables as made
-    from .emulator_text import read_tables
 
     return read_tables(__file__, made)
 
@@ -1163,7 +1164,6 @@ _TABLES = _source_tables()
 
 def __getattr__(name):  # the pattern reader (tests/legacy/test_emulator.py), imported when asked
     if name == "_assigned_names":
-        from .emulator_text import _assigned_names
 
         return _assigned_names
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

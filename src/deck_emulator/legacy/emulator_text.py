@@ -13,6 +13,7 @@ This module does not import the emulator: it reads its file.
 from __future__ import annotations
 
 import re
+import zlib
 from pathlib import Path
 
 #: The emulator's file, beside this one.
@@ -56,7 +57,6 @@ def tables(source: str) -> dict:
 def read_tables(path, made) -> dict:
     """The tables of the program text at ``path``: ``made.TABLES`` (the module
     emulator_tables) when its checksum is that text's, else read from the text now."""
-    import zlib
 
     try:
         with open(path, "rb") as f:
@@ -71,7 +71,6 @@ def read_tables(path, made) -> dict:
 def module_text(path=EMULATOR) -> str:
     """The text of emulator_tables.py for the emulator's text as it is now."""
     import pprint
-    import zlib
 
     text = Path(path).read_bytes()
     return ('"""What legacy/emulator.py reads from its own text (legacy/emulator_text.py), made from\n'

@@ -13,6 +13,8 @@ cards a job deck carries, its own control cards (``$`` in column 1) and FORTRAN,
 
 from __future__ import annotations
 
+from deck_emulator.legacy.jobdeck import is_comment, is_continuation, listing_lines
+
 __all__ = ["listing_records", "LINES_PER_PAGE", "SHIPPED", "DECKS_OWN"]
 
 #: source cards on a form: a heading, a blank line, then the cards (66 lines a form)
@@ -33,7 +35,6 @@ def listing_records(lines: list[str] | None = None) -> list[str]:
     """The compile listing of ``lines`` as printer records, carriage control in column 1:
     a job deck's own cards (control cards and FORTRAN), or by default the package's
     luminaire.f, whose ``C$`` comment lines stand for the control cards."""
-    from deck_emulator.legacy.jobdeck import is_comment, is_continuation, listing_lines
 
     source = DECKS_OWN if lines is not None else SHIPPED
     if lines is None:

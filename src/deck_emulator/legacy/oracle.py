@@ -43,6 +43,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from deck_emulator.files import OutputSet
+from deck_emulator.legacy.deck import read_deck
+from deck_emulator.legacy.emulator import EmulatorError, run_deck
+from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
 __all__ = ["COMMON_FLAGS", "PRECISIONS", "TIMEOUT_S", "LEGACY", "compile_program", "run_program",
            "trap_record", "make_goldens", "random_deck", "corpus", "compare", "Comparison",
@@ -192,8 +195,6 @@ def random_deck(rng: random.Random):
     """One deck: the 40 mph steel deck with speed, angle, post mass and inertias, springs,
     FCONST, car outline, height and DELTA drawn at random; about one deck in eight physically
     odd (car moving away, a very light or very flat post, stiff or no springs ...)."""
-    from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
     base = read_deck(DECKS / "steel40.dat")
     d = base.values  # each drawn value is the deck's own, scaled or shifted
@@ -255,7 +256,6 @@ GUARDS = ("ed_iterations", "halvings", "time_s")
 
 def compare(deck, exe_for, workdir: Path, timeout_s: float | None = None) -> Comparison:
     """Run one deck both ways and compare. ``exe_for(erratum)`` gives the compiled program."""
-    from deck_emulator.legacy.emulator import EmulatorError, run_deck
 
     errata = ("ed-direction",) if deck["ALPHA"] != 0 else ()
     path = workdir / "deck.dat"

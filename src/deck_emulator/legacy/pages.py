@@ -35,6 +35,9 @@ version; its metadata are the facts the caller passes (the provenance of the run
 from __future__ import annotations
 
 import os
+import zlib
+
+from deck_emulator.files import OutputError, OutputSet
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
            "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "form_figure", "write_pdf"]
@@ -137,9 +140,6 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain",
     one whole, and a PDF that cannot be made (a full disk: ``zlib.error`` or ``OSError`` from
     the PDF backend) is an :class:`~deck_emulator.files.OutputError` naming ``path``, with
     nothing left behind."""
-    import zlib
-
-    from deck_emulator.files import OutputError, OutputSet
 
     if paper not in ("plain", "striped"):
         raise ValueError(f"paper must be plain or striped, not {paper!r}")

@@ -13,6 +13,7 @@ decelerations as the report tabulates them (two decimals); times in ms with one 
 
 from __future__ import annotations
 
+from deck_emulator.engine import quantities
 from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
 from deck_emulator.vocabulary.deck_fields import DECK_FIELDS, READ_LIST
 
@@ -58,7 +59,6 @@ def outcome_result(out) -> dict:
     """An engine's :class:`Outcome` as the answer of ``summary``, ``core`` or ``assembly``
     (the keys after the envelope's): the registry's quantities, read from the outcome, and
     the verdicts (:func:`deck_emulator.engine.ratings.ratings`)."""
-    from deck_emulator.engine import quantities
     from deck_emulator.engine.ratings import ratings
 
     quantities_ = quantities.values(out, OUTCOME)

@@ -20,18 +20,19 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import textwrap
 import types
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from deck_emulator.files import OutputSet, check_output_file
-from deck_emulator.engine import quantities, safety
+from deck_emulator.engine import ENGINES, Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import ratings
-from deck_emulator.engine import ENGINES, Outcome, engine_for
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.vocabulary.events import EventKind
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.units import ft_s_to_mph
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -548,8 +549,6 @@ def _summary_text(res: Outcome) -> str:
 
 
 def _wrap(s: str, width: int) -> str:
-    import textwrap
-
     return "\n".join(textwrap.wrap(s, width, subsequent_indent="    ")) if len(s) > width else s
 
 
@@ -902,7 +901,6 @@ def draw(source, name: str, *, engine: str, options: dict, out, view: str = "sid
     check_plot_outputs(out, animate)
     if engine == "core" and not pulse and hasattr(source, "values"):
         # the core refuses such a deck's scene as `core` does: bad input (2), before any run
-        from deck_emulator.vocabulary.scene import Scene
 
         problems = Scene.from_deck(source, checked=False).problems()
         if problems:

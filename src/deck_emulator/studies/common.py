@@ -21,12 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.vocabulary import defaults
-from deck_emulator.engine import CoreEngine, EmulatorEngine, errata as errata_policy, quantities
+from deck_emulator import decks
+from deck_emulator.engine import CoreEngine, EmulatorEngine, quantities
+from deck_emulator.engine import errata as errata_policy
 from deck_emulator.files import write_file
 from deck_emulator.studies.csvfile import csv_text, csv_value
-from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
 from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
+from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
+from deck_emulator.vocabulary import defaults
 
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
 #: (no effect at alpha = 0 on steel40, needed by every angled deck); said in each README
@@ -38,7 +40,6 @@ matched_options = legacy_options  # one definition: deck_emulator.studies.diff.l
 
 def default_deck() -> Path:
     """The report's deck, steel40 (the studies' base scene), as shipped with the package."""
-    from deck_emulator import decks
 
     return decks.path(decks.REPORT_DECK)
 

@@ -22,10 +22,9 @@ import math
 
 import numpy as np
 
-from deck_emulator.vocabulary.units import G_FT_S2
-
-from deck_emulator.engine import CoreEngine
+from deck_emulator.engine import CoreEngine, quantities
 from deck_emulator.engine.assemblies import AssemblyError, load_assembly
+from deck_emulator.studies.report_tables import TABLE8
 from deck_emulator.vocabulary.scene import (
     BreakawayBase,
     CrushSpring,
@@ -37,6 +36,7 @@ from deck_emulator.vocabulary.scene import (
     Scene,
     Vehicle,
 )
+from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = ["crash_description", "crash_scene", "state_row", "table10", "table9_start",
            "table9", "crash_run", "G"]
@@ -158,7 +158,6 @@ def table9_start(t8: dict) -> PostInitialState:
 def table9(scene: Scene | None = None, *, vv_ft_s: float, t_end_s: float = 0.273):
     """Free flight from Table 8's 70 ms state to ``t_end_s``: the result (rows at 270 and
     273 ms with :func:`state_row`)."""
-    from deck_emulator.studies.report_tables import TABLE8
 
     scene = scene or crash_scene()
     free_scene = dataclasses.replace(scene, vehicle=dataclasses.replace(
@@ -180,7 +179,6 @@ def crash_run(task: dict) -> dict:
     Q, XX and ZZ of P); with ``task["free_flight"]`` also Table 9's free flights from Table 8's
     state (``table9``: rows at 270 and 273 ms with the car at our 70 ms speed; ``table9_40``:
     at 270 ms with the car at 40 ft/s)."""
-    from deck_emulator.engine import quantities
 
     scene = crash_scene(**task["changes"])
     out, loss, r70 = table10(scene)

@@ -91,11 +91,15 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import fcntl
+import functools
 import hashlib
 import json
 import logging
 import math
 import os
+import shutil
+import tempfile
 import time
 import traceback
 import uuid
@@ -105,6 +109,8 @@ from pathlib import Path
 
 from deck_emulator import SPAWNED_WORKER_ENV
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.parallel import progress_bar
+from deck_emulator.vocabulary.defaults import SCENE_STORE
 
 __all__ = [
     "run_longest_first",
@@ -184,7 +190,6 @@ _HELD: dict[str, list[int]] = {}
 def _acquire(store_dir) -> str:
     """Take (or take again: it counts) this process's lock on ``store_dir``; the folder is
     made if need be.  :class:`StoreBusy` when another process holds it."""
-    import fcntl
 
     folder = Path(store_dir)
     folder.mkdir(parents=True, exist_ok=True)
@@ -331,9 +336,6 @@ def output_store(out_dir, resume: bool) -> Path:
     in it).  An existing store is locked by this process until it ends (:func:`store_lock`;
     :class:`StoreBusy` when another run holds it) and, for a new run (no ``resume``), emptied;
     a store not made yet is left to :func:`run_scenes`, which locks it as it makes it."""
-    import shutil
-
-    from deck_emulator.vocabulary.defaults import SCENE_STORE
 
     store = Path(out_dir) / SCENE_STORE
     if not store.exists():
@@ -542,7 +544,6 @@ class _Bar:
 
     def __init__(self, total: int, initial: int, desc: str, enabled: bool | None,
                  eta: bool = True):
-        from deck_emulator.parallel import progress_bar
 
         self.failed = 0
         # no time left shown where the scenes' costs differ and the costliest go first: the
@@ -851,8 +852,6 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
     died) is an error naming it: a study cannot make its tables without it.  ``many``: ``fn``
     takes a list of tasks and returns one row (or exception) per task, as :func:`run_scenes`'s
     ``many`` (the studies' core scenes reach ``CoreEngine.run_batch`` so)."""
-    import functools
-    import tempfile
 
     from deck_emulator.errors import RunFailed
 

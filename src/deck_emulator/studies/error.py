@@ -54,7 +54,7 @@ from .common import (
 
 REF_RTOL = defaults.REFERENCE_RTOL
 CHECK_RTOL = defaults.REFERENCE_CHECK_RTOL
-GRID_POINTS = 2001
+GRID_POINTS = defaults.ERROR_GRID_POINTS
 CORE_METHODS = ("DOP853", "RK45", "Radau")
 
 SERIES_LISTING = "legacy, ED as printed (double)"
@@ -159,7 +159,7 @@ def _task_check(spec):
     return row
 
 
-LONG_RUN_S = 10.0
+LONG_RUN_S = defaults.ERROR_LONG_RUN_S
 #: How a point is timed, in words (the README says it).  The least, not the median: on a
 #: machine shared with other work a run is only ever slowed down, never sped up, so the least
 #: of the repetitions is the nearest to the run's own cost (timeit's advice).

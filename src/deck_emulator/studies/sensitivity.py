@@ -49,6 +49,7 @@ task is a batch of scenes (:func:`scene_tasks`), the core's run together by
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
 import time
@@ -57,13 +58,24 @@ from pathlib import Path
 
 import numpy as np
 
-from deck_emulator.vocabulary.defaults import SCENE_STORE
-from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
-from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT
+from deck_emulator import decks
+from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords
+from deck_emulator.engine.sources import read_deck
+from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.files import OutputError, OutputSet, check_output_dir
 from deck_emulator.studies.distributed import (
     SceneStore,
     run_scenes,
     scene_id,
+)
+from deck_emulator.studies.sweep import result_row
+from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
+from deck_emulator.vocabulary.defaults import SCENE_STORE
+from deck_emulator.vocabulary.scene import (
+    LISTING_BASE_FRICTION,
+    LISTING_FRICTION_WINDOW_FT,
+    BaseFriction,
 )
 
 __all__ = [
@@ -181,9 +193,6 @@ _DECKS: dict[str, object] = {}
 
 
 def _base_deck(deck: str):
-    from deck_emulator import decks
-    from deck_emulator.engine.sources import read_deck
-
     if deck not in _DECKS:
         try:
             path = decks.path(deck)
@@ -200,9 +209,7 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
     the core also :data:`SCENE_INPUTS`), its name, and the core's scene where the deck cannot
     hold the values (the base's friction), else None.  ``preset`` and ``shaft_contact`` (None:
     the preset's) are the core's."""
-    import dataclasses
 
-    from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords
     deck_values = {k: v for k, v in values.items() if k in NAMES}
     scene_values = {k: v for k, v in values.items() if k in SCENE_INPUTS}
     unknown = set(values) - set(deck_values) - set(scene_values)
@@ -218,7 +225,6 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
     core = CoreEngine(**core_keywords(preset, shaft_contact))
     scene = None
     if scene_values:  # the deck has no friction field: the base's friction on the scene
-        from deck_emulator.vocabulary.scene import BaseFriction
 
         scene = core.scene(d)
         friction = BaseFriction(
@@ -243,8 +249,6 @@ def _run_scenes(prepared: list) -> list[dict]:
     """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their ``result_row``s,
     in order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
     emulator's one after another (the 1967 program runs one deck at a time)."""
-    from deck_emulator.engine import CoreEngine
-    from deck_emulator.studies.sweep import result_row
 
     outcomes: list = [None] * len(prepared)
     groups: list[tuple[object, list[int]]] = []  # engines are compared, not hashed
@@ -621,7 +625,6 @@ def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") ->
 def write_outputs(studies: list, out: Path, *, header: str = "") -> list[Path]:
     """``sensitivity.csv``, ``sensitivity.md`` (every study) and, per study, the picture of the
     indices and the class map. Returns the files written."""
-    from deck_emulator.files import OutputSet
 
     rows = []
     written = []
@@ -671,7 +674,7 @@ def parse_input(text: str) -> InputRange:
 
 
 #: Largest base sample N (2**16: 524,288 scenes with the six default inputs).
-MAX_N = 1 << 16
+MAX_N = defaults.MAX_SENSITIVITY_N
 
 
 def check_options(n: int | None, seed: int) -> None:
@@ -714,8 +717,6 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
     """``deck-emulator sensitivity``: the study of ``decks`` (default steel40) on ``engine``
     (``engine_keywords``: the core's preset and shaft contact), the files it wrote (``say``:
     the lines to report as it goes; ``command_line``: the command as typed, for the page)."""
-    from deck_emulator.errors import RunFailed, UsageError
-    from deck_emulator.files import OutputError, check_output_dir
 
     try:
         check_options(n, seed)

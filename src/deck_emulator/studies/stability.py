@@ -60,11 +60,12 @@ from .common import (
     run_longest_first,
 )
 
-LIMITS = Limits(ed_iterations=20000, halvings=30, time_s=3.0)
+LIMITS = Limits(ed_iterations=defaults.STABILITY_ED_ITERATIONS,
+                halvings=defaults.STABILITY_HALVINGS, time_s=defaults.STUDY_T_MAX_S)
 CORE_RTOL = defaults.STUDY_RTOL
 CORE_T_MAX_S = defaults.STUDY_T_MAX_S
-AGREE_HIT_S = 0.01
-AGREE_KE = 0.10
+AGREE_HIT_S = defaults.STABILITY_AGREE_HIT_S
+AGREE_KE = defaults.STABILITY_AGREE_KE
 
 COLUMNS = [
     "scene", "group", "description", "CK_lb_ft", "k", "H_s", "h_omega", "speed_mph", "alpha_deg",

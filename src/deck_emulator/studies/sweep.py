@@ -37,18 +37,20 @@ from __future__ import annotations
 
 import json
 import math
+import tempfile
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
 from deck_emulator import decks
-from deck_emulator.vocabulary.scene import Scene
-from deck_emulator.engine import Outcome, engine_for, quantities
-from deck_emulator.vocabulary.events import Surface
-from deck_emulator.engine.sources import Deck, read_deck
-from deck_emulator.engine import safety
+from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
+from deck_emulator.engine.sources import Deck, read_deck
 from deck_emulator.studies.csvfile import csv_text
-from deck_emulator.studies.report_tables import report_comment
+from deck_emulator.studies.distributed import run_scenes, scene_id
+from deck_emulator.studies.report_tables import REPORT, report_comment
+from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.events import Surface
+from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.units import FT_PER_MILE, S_PER_HOUR
 
 __all__ = [
@@ -127,7 +129,6 @@ def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
     ``steel40_a15`` ...; ``car`` empty), else steel40's car with VVB and ALPHA set by the
     sweep's rules (``car``: the keywords ``speed_ft_s`` and ``alpha_rad`` of
     :func:`deck_emulator.engine.assemblies.to_scene` and ``to_deck_values``)."""
-    from deck_emulator import decks
 
     template = f"steel{speed_mph:g}" + ("" if alpha_deg == 0 else f"_a{alpha_deg:g}")
     if template in decks.names():
@@ -141,7 +142,7 @@ def scene_deck(base: Deck, speed_mph: float, angle_deg: float, vvb_decimals: int
 
 #: The most values one grid may hold (a sweep is speeds x angles of them): counted before
 #: a range is expanded, so a tiny step is refused instead of filling the memory.
-MAX_GRID = 10_000
+MAX_GRID = defaults.MAX_SWEEP_GRID
 
 
 def parse_grid(text: str) -> list[float]:
@@ -185,7 +186,6 @@ def parse_grid(text: str) -> list[float]:
 
 def _report_for(name: str, deck: Deck):
     """The report's values for this scene, if it is one of the report's cases (same deck)."""
-    from deck_emulator.studies.report_tables import REPORT
 
     if name not in REPORT:
         return None
@@ -355,9 +355,6 @@ def sweep(
     cluster of ``jobs`` workers, or the one at ``scheduler``), a batch of scenes a task (the
     core's through ``CoreEngine.run_batch``), and are stored as they finish in
     ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
-    import tempfile
-
-    from deck_emulator.studies.distributed import run_scenes, scene_id
 
     base = str(base if base is not None else POSTS[post])
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,

@@ -95,3 +95,23 @@ SCENE_STORE = ".scenes"
 STUDY_RTOL = 1e-9
 #: the stability study's simulated-time bound, s
 STUDY_T_MAX_S = 3.0
+#: the stability study's emulator bounds, tighter than the emulator's own (ED_ITERATIONS,
+#: HALVINGS) so that its hundreds of runs on a 2-core machine stay within minutes: iterations
+#: of ED, consecutive halvings (its simulated time is STUDY_T_MAX_S)
+STABILITY_ED_ITERATIONS = 20_000
+STABILITY_HALVINGS = 30
+#: the stability study's agreement between the engines: hit times within this, s, and launch
+#: energies within this fraction of each other
+STABILITY_AGREE_HIT_S = 0.01
+STABILITY_AGREE_KE = 0.10
+#: the error study's grid: the points in time the trajectories are compared on
+ERROR_GRID_POINTS = 2001
+#: the error study times a run once when it lasts longer than this, s (three times otherwise)
+ERROR_LONG_RUN_S = 10.0
+
+# ------------------------------------------------------------------- the studies' bounds
+
+#: the most values one axis of a sweep's grid may have
+MAX_SWEEP_GRID = 10_000
+#: the largest base sample size N of a sensitivity study (a power of two)
+MAX_SENSITIVITY_N = 1 << 16

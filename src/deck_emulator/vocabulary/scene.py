@@ -32,17 +32,24 @@ emulator and the core can be traced to one option.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import os
 import tomllib
+import types
+import typing
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, is_dataclass, replace
+from pathlib import Path
 from typing import Any
 
 from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
-from deck_emulator.vocabulary.defaults import (LISTING_CAP_STEPS, LISTING_STEP_S,
-                                               MAX_SCENE_BYTES)
+from deck_emulator.vocabulary.defaults import (
+    LISTING_CAP_STEPS,
+    LISTING_STEP_S,
+    MAX_SCENE_BYTES,
+)
 from deck_emulator.vocabulary.units import G_FT_S2
 
 __all__ = [
@@ -581,7 +588,6 @@ class Scene:
     @classmethod
     def read(cls, path) -> "Scene":
         """Read a scene file (:meth:`from_toml` takes its text)."""
-        from pathlib import Path
 
         return cls.from_toml(Path(path).read_text(encoding="utf-8"))
 
@@ -633,15 +639,11 @@ def _plain(obj: Any) -> dict:
 def _field_types(cls: type) -> dict[str, Any]:
     """A scene class's field types, resolved once a class (typing.get_type_hints evaluates
     every annotation's text each time: most of the time Scene.from_deck took)."""
-    import typing
 
     return typing.get_type_hints(cls)
 
 
 def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
-    import types
-    import typing
-
     hints = _field_types(cls)
     known = {f.name for f in fields(cls)}
     unknown = set(data) - known
@@ -676,7 +678,6 @@ def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
             kwargs[f.name] = value
         else:  # pragma: no cover - no other field types
             raise SceneError(f"{path}: unsupported type {tp!r}")
-    import dataclasses
 
     missing = [f.name for f in fields(cls) if f.name not in data
                and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
@@ -815,8 +816,6 @@ class ModelOptions:
     name: str = "custom"
 
     def replace(self, **changes: Any) -> "ModelOptions":
-        import dataclasses
-
         if "name" not in changes:
             changes["name"] = "custom"
         return dataclasses.replace(self, **changes)

@@ -21,6 +21,7 @@ statement.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import math
 
 
@@ -94,7 +95,6 @@ def register(name: str, factory) -> None:
 def get_arithmetic(name: str, **options) -> Arithmetic:
     """The arithmetic called ``name`` (``double``, ``single`` or ``ibm7094``)."""
     if name not in _REGISTRY and name in _MODULES:  # its implementation registers itself
-        import importlib
 
         importlib.import_module(f"{__package__}.{_MODULES[name]}")
     try:
