@@ -571,31 +571,22 @@ def readings_section(lines, runs):
     for n in DELTA_V_CANDIDATES + DECEL_CANDIDATES:
         lines.append(f"* `{n}`: {QUANTITIES[n].what}.")
     lines.append("")
-    lines.append("### ΔV, mph: ours (ours − report)\n")
-    head = " | ".join(f"{DV_SHORT[n]}, emulator | {DV_SHORT[n]}, core" for n in DELTA_V_CANDIDATES)
-    lines.append(f"| column | report | {head} |")
-    lines.append("|---|---|" + "---|" * (2 * len(DELTA_V_CANDIDATES)))
-
     def cell(e, key, col):
         if e is None or e.get(key) is None:
             return "—"
         return f"{f(e[key])} ({f(_miss(e[key], report_value(col, key)), 2, True)})"
 
-    for col in CASES_ALL:
-        em, co = runs[col]["emulator"], runs[col]["core"]
-        lines.append(f"| {col} | {f(report_value(col, DELTA_V_CANDIDATES[0]))} | " + " | ".join(
-            f"{cell(em, n, col)} | {cell(co, n, col)}" for n in DELTA_V_CANDIDATES) + " |")
-    lines.append("")
-    lines.append("### Maximum deceleration, g: ours (ours − report)\n")
-    head = " | ".join(f"{DECEL_SHORT[n]}, emulator | {DECEL_SHORT[n]}, core"
-                      for n in DECEL_CANDIDATES)
-    lines.append(f"| column | report | {head} |")
-    lines.append("|---|---|" + "---|" * (2 * len(DECEL_CANDIDATES)))
-    for col in CASES_ALL:
-        em, co = runs[col]["emulator"], runs[col]["core"]
-        lines.append(f"| {col} | {f(report_value(col, DECEL_CANDIDATES[0]))} | " + " | ".join(
-            f"{cell(em, n, col)} | {cell(co, n, col)}" for n in DECEL_CANDIDATES) + " |")
-    lines.append("")
+    for title, names, short in (("ΔV, mph", DELTA_V_CANDIDATES, DV_SHORT),
+                                ("Maximum deceleration, g", DECEL_CANDIDATES, DECEL_SHORT)):
+        lines.append(f"### {title}: ours (ours − report)\n")
+        head = " | ".join(f"{short[n]}, emulator | {short[n]}, core" for n in names)
+        lines.append(f"| column | report | {head} |")
+        lines.append("|---|---|" + "---|" * (2 * len(names)))
+        for col in CASES_ALL:
+            em, co = runs[col]["emulator"], runs[col]["core"]
+            lines.append(f"| {col} | {f(report_value(col, names[0]))} | " + " | ".join(
+                f"{cell(em, n, col)} | {cell(co, n, col)}" for n in names) + " |")
+        lines.append("")
     lines.append("### Which reading fits which posts\n")
     lines.append("Mean |ours − report| over a post's six columns (least and largest signed "
                  "miss in brackets); the emulator runs aluminium and steel only.\n")

@@ -274,6 +274,21 @@ def _sign(st, cases):
     return table, {k: tally(f) for k, f in flags.items()}, {"counts": counted(flags)}
 
 
+def _end_cells(c, flags, judge) -> list[str]:
+    """'end, clearance' of each engine's run of ``c`` ('—' where it did not run); each run's
+    ``judge(outcome, clearance)`` appended to ``flags[engine]``."""
+    cells = []
+    for e in ENGINES:
+        o = _out(c, e)
+        if o is None:
+            cells.append("—")
+            continue
+        body = _q(c, e, "body_clearance_ft")
+        cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', body)}")
+        flags[e].append(judge(o, body))
+    return cells
+
+
 def _clears(st, cases):
     """The car passes under: the run ends on the ground and no segment of the post is ever
     inside the car's outline in free flight; the least clearance and how many runs clear by
@@ -283,19 +298,14 @@ def _clears(st, cases):
              "|---|---|---|---|"]
     flags = _flags()
     margins = []
+    def judge(o, body):
+        ok = None if o.hit is None else (not _on_car(o) and (body is None or body >= 0.0))
+        if ok and body is not None:
+            margins.append(body)
+        return ok
+
     for c in _cases(cases, st.runs):
-        cells = []
-        for e in ENGINES:
-            o = _out(c, e)
-            if o is None:
-                cells.append("—")
-                continue
-            body = _q(c, e, "body_clearance_ft")
-            cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', body)}")
-            ok = None if o.hit is None else (not _on_car(o) and (body is None or body >= 0.0))
-            flags[e].append(ok)
-            if ok and body is not None:
-                margins.append(body)
+        cells = _end_cells(c, flags, judge)
         rep = _rep(c.name, "comment")
         if rep is not None:
             flags["report"].append("GROUND" in rep)
@@ -379,16 +389,10 @@ def _one_exception(st, cases):
     for c in _cases(cases, st.runs):
         rep = _rep(c.name, "comment")
         flags["report"].append("CAR" in rep)
-        cells = []
+        cells = _end_cells(c, flags, lambda o, body: bool(_on_car(o)))
         for e in ENGINES:
-            o = _out(c, e)
-            if o is None:
-                cells.append("—")
-                continue
-            flags[e].append(bool(_on_car(o)))
             body = _q(c, e, "body_clearance_ft")
             through[e] += body is not None and body < 0
-            cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', body)}")
         o, off = c.core_shaft, c.core
         cell = "—" if o is None else _end(c, SHAFT)
         if o is not None and o.hit is not None:
