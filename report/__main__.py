@@ -20,5 +20,9 @@ if __name__ == "__main__":
         started = time.perf_counter()
         print(f"== python scripts/{script}", flush=True)
         sys.argv = [script]
-        runpy.run_path(str(ROOT / "scripts" / script), run_name="__main__")
+        try:  # a script ends with sys.exit: the next page is still built, a failure stops
+            runpy.run_path(str(ROOT / "scripts" / script), run_name="__main__")
+        except SystemExit as done:
+            if done.code not in (None, 0):
+                raise
         print(f"   {time.perf_counter() - started:.0f} s", flush=True)

@@ -104,13 +104,17 @@ def _at_report_time(res: Outcome, t_s: float | None) -> dict:
 
 
 def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int],
-                 report_time_s: float | None = None):
+                 report_time_s: float | None = None, shaft: Outcome | None = None):
     """One view of a case: the car at the core's hit, the post at t = 0, each engine's post at
     the end (gid ``terminal:ENGINE``), the report's terminal points (gid ``report``) and,
     where the report's run ended earlier, the core's post at the report's time (gid
     ``at_report_time``)."""
     main = outs[-1]
     a, b = axes
+    if shaft is not None:  # the core with the shaft test, where the report ends on the car
+        p = _chain_of(terminal_points_l(shaft))
+        ax.plot(p[:, a], p[:, b], ls=":", color=ENGINE_COLOUR["core"], lw=2.2, marker="s",
+                ms=4, zorder=4.5, gid="terminal:core-shaft")
     early = _chain_of(_at_report_time(main, report_time_s))
     if len(early):
         ax.plot(early[:, a], early[:, b], ls="-.", color=ENGINE_COLOUR["core"], lw=1.3,
@@ -146,9 +150,12 @@ def _report_view(ax, outs: list[Outcome], report: dict, axes: tuple[int, int],
 
 
 def _report_handles(outs: list[Outcome], report_words: str | None, trajectory=False,
-                    report_time_s: float | None = None) -> list:
+                    report_time_s: float | None = None, shaft: Outcome | None = None) -> list:
     L = mpl().Line2D
     h = []
+    if shaft is not None:
+        h.append(L([], [], ls=":", color=ENGINE_COLOUR["core"], lw=2.2, marker="s", ms=4,
+                   label=f"core with the shaft test: post at the end, {_end_words(shaft)}"))
     if _at_report_time(outs[-1], report_time_s):
         h.append(L([], [], ls="-.", color=ENGINE_COLOUR["core"], lw=1.3, marker="d", ms=4,
                    label=f"core: post at the report's time of its end "
@@ -186,10 +193,12 @@ def figure_report_terminal(rows: list[dict], title: str) -> Figure:
         axs = sub.subplots(1, 2, width_ratios=(1.25, 1.0))
         for ax, axes, view in zip(axs, ((0, 1), (0, 2)), ("plan view (XL–YL)",
                                                          "side view (XL–ZL)")):
-            _report_view(ax, row["outcomes"], row["report"], axes, row.get("report_time_s"))
+            _report_view(ax, row["outcomes"], row["report"], axes, row.get("report_time_s"),
+                         row.get("shaft"))
             ax.set_title(f"{row['label']}: {view}", fontsize=10)
         sub.legend(handles=_report_handles(row["outcomes"], row.get("report_words"),
-                                           report_time_s=row.get("report_time_s")),
+                                           report_time_s=row.get("report_time_s"),
+                                           shaft=row.get("shaft")),
                    loc="outside lower center", ncols=3, fontsize=8.5)
     return fig
 
@@ -240,7 +249,8 @@ def _report_row(case, label: str) -> dict:
         words = (f"report, Table {table}: {comment}"
                  + (f" at {t_ms:.1f} ms" if t_ms is not None else ""))
     return {"label": label, "outcomes": case.outcomes, "report": report_points(case.name),
-            "report_words": words, "report_time_s": None if t_ms is None else t_ms / 1000.0}
+            "report_words": words, "report_time_s": None if t_ms is None else t_ms / 1000.0,
+            "shaft": case.core_shaft if comment is not None and "CAR" in comment else None}
 
 
 def figure_report_part(part, cases: dict) -> Figure:

@@ -14,10 +14,11 @@ text (lines 1724, 1740-1744) say what each shows.  Our reading of the parts:
 Which α each part shows is our choice: the report does not say.
 
 The runs: the 18 columns of Tables 11 and 12 as :mod:`.report_full` builds them
-(:func:`~report.full.column_inputs`), and any other speed and angle of
-the three described posts (30 mph, the speed Chapter V's statements name) built the way
-``deck-emulator assembly NAME --speed-mph S --alpha-deg A`` builds it (the report's own deck
-where there is one, else steel40's car with VVB and ALPHA set by the sweep's rules).  Each
+(:func:`~report.full.column_inputs`), and any other speed and angle of the three posts
+(30 mph, the speed Chapter V's statements name): the steel post is the report's deck
+``steel40.dat`` with VVB and ALPHA set by the sweep's rules (as ``deck-emulator sweep``
+sets them), the aluminium and twin posts are built the way ``deck-emulator assembly NAME
+--speed-mph S --alpha-deg A`` builds them (steel40's car with VVB and ALPHA set).  Each
 scene is asked of the engines (the emulator: ``double``, erratum ``ed-direction`` for every
 column, as :mod:`.report_full` runs them; the core: the ``legacy`` preset); the twin post
 runs on the core only (the listing has no point U).  The runs are few and short (well under
@@ -32,7 +33,9 @@ from dataclasses import dataclass
 
 from deck_emulator.engine import CoreEngine, EmulatorEngine, Outcome, quantities
 from deck_emulator.engine.errata import ED_DIRECTION
-from report.full import column_inputs
+from deck_emulator.decks import path as deck_path
+from report.full import DELTA_V_CANDIDATES, column_inputs
+from report.statements import quote_of
 from deck_emulator.studies.report_tables import CASES_ALL, REPORT_ALL, SOURCE
 
 __all__ = ["POSTS", "ANGLES", "Case", "FigurePart", "FIGURES", "case_name", "case_inputs",
@@ -58,9 +61,14 @@ def case_inputs(post: str, mph: float, alpha: float):
         return deck, scene, "the column's deck (report_full)"
     from deck_emulator.core.assembly import load_assembly, mass_properties, scene_runs_on_listing
     from deck_emulator.engine.assemblies import to_deck_text, to_deck_values, to_scene
-    from deck_emulator.legacy.deck import parse_deck
-    from deck_emulator.studies.sweep import car_at
+    from deck_emulator.legacy.deck import parse_deck, read_deck
+    from deck_emulator.studies.sweep import car_at, scene_deck
+    from deck_emulator.vocabulary.scene import Scene
 
+    if post == "steel":  # the report's own deck, as deck-emulator sweep sets speed and angle
+        deck = scene_deck(read_deck(deck_path("steel40")), mph, alpha)
+        return deck, Scene.from_deck(deck, name=name), (
+            "the report's deck steel40.dat with VVB and ALPHA set by the sweep's rules")
     asm, _, _ = load_assembly(post)
     mp = mass_properties(asm)
     template, car = car_at(mph, alpha)
@@ -172,21 +180,13 @@ FIGURES: tuple[FigurePart, ...] = tuple(
 #: What the report's text says of the figures (seed line, words as printed).
 SAID_OF_ALL = (1724, "Figures 22 through 29 show the posts at various positions for different "
                      "values of the angle α and the vehicular velocity.")
-SAID_OF = {
-    24: [("1740", "From the values presented for point R in Tables 11 and 12 and from Figure 24, "
-                "it is clear that regardless of the vehicular speed, type of post used, or "
-                "vehicular approach angle, the tendency is for the single luminaire support arm "
-                "to have a negative rotation (according to the right hand rule) about the ZL "
-                "axis. This rotation causes the support arm to rotate in a direction away from "
-                "the highway after the post is impacted and not strike the highway causing an "
-                "unsafe condition for other motorists.")],
-    29: [("1742-1744", "The case involving the support post with twin luminaires shows that here the "
-                "tendency is for the rotation to be positive about the ZL axis. This is shown "
-                "in Figure 29. A positive rotation causes point U to displace towards the "
-                "highway but for the cases investigated this effect always causes the striking "
-                "point to increase in the direction away from the assumed edge of the "
-                "pavement.")],
-}
+SAID_OF = {24: [quote_of("6.4-1", "6.4-2")], 29: [quote_of("6.4-3", "6.4-4")]}
+
+#: What the text says each figure shows, as the registry reads it in our parts: figure ->
+#: (quantity, the sign the text gives it, its words).
+SHOWN = {24: ("arm_spin_deg", -1, "a negative rotation about ZL"),
+         29: ("arm_spin_deg", +1, "a positive rotation about ZL")}
+
 
 #: The cases every picture and every verdict needs: the 18 columns, and the three posts at
 #: 30 mph (Chapter V names 30 and 40 mph) at every angle.
@@ -284,12 +284,38 @@ def column_table(case: Case) -> list[str]:
         lines.append(f"| the core's post at the report's {_num(t_ms, 1)} ms: distance to the "
                      f"report's points (ft) | — | " + " | ".join(
                          ", ".join(gaps) if o is case.core else "—" for o in outs) + " |")
-    for qname in ("delta_v_crush_mph", "max_decel_g"):
+    for qname in DELTA_V_CANDIDATES + ("max_decel_g",):
         q = quantities.QUANTITIES[qname]
         ours = [q.show(quantities.value(qname, o)) for o in outs]
-        lines.append(f"| {q.label} ({q.unit}) | {_num(rep.get(qname))} | "
-                     + " | ".join(ours) + " |")
+        theirs = rep.get("delta_v_crush_mph" if qname in DELTA_V_CANDIDATES else qname)
+        lines.append(f"| {q.label} ({q.unit}) | {_num(theirs)} | " + " | ".join(ours) + " |")
     return lines
+
+
+def shown_note(number: int, cases: dict) -> str:
+    """What our parts of figure ``number`` show of what the text says it shows
+    (:data:`SHOWN`), read from the registry on the core: '' for a figure the text says
+    nothing particular of."""
+    if number not in SHOWN:
+        return ""
+    name, sign, words = SHOWN[number]
+    q = quantities.QUANTITIES[name]
+    parts = [p for p in FIGURES if p.figure == number]
+    got = [(f"{number}{p.part}", c, quantities.value(name, cases[c].core))
+           for p in parts for c in p.cases]
+    half = [f"{fig}'s {q.show(v)}° is {360 - abs(v):.1f}° the other way" for fig, _, v in got
+            if v is not None and abs(v) > 150.0]
+    cells = ", ".join(f"{fig} (`{c}`) {q.show(v)}°" for fig, c, v in got)
+    wrong = [fig for fig, _, v in got if v is None or round(v, q.digits) * sign <= 0]
+    return (f"What our parts show of it (`{name}`, the {q.label}; core): {cells}"
+            + (" (near a half turn the end attitude alone cannot tell the sense of the turn: "
+               + "; ".join(half) + ")" if half else "") + ". "
+            + (f"Part{'s' if len(wrong) > 1 else ''} {', '.join(wrong)} do"
+               f"{'' if len(wrong) > 1 else 'es'} not show {words}: the regenerated figure "
+               "does not show there what the report says its figure shows"
+               + (" (at α = 0° the twin post is symmetric about the car's path and has no "
+                  "reason to turn)" if number == 29 else "") + "."
+               if wrong else f"Each shows {words}."))
 
 
 def figures_page(cases: dict[str, Case], command: str) -> str:
@@ -315,12 +341,22 @@ def figures_page(cases: dict[str, Case], command: str) -> str:
            "then is from the report's points (for the steel post at 20 mph, where the report "
            "ended on the shaft meeting the car's front, a test the listing as printed does not "
            "make, this is where the report's post was).\n",
-           "What the pictures rest on (fitted to the report, said beside every number it "
-           "touches): the steel columns re-run the report's own deck (VVB and ALPHA set); the "
-           "aluminium and twin posts' geometries were read off these tables' own terminal "
-           "coordinates (`assemblies/aluminium.toml`, `twin.toml`), with the steel deck's base "
-           "weight, arm shape and car carried over (docs/report_full.md). The split of the "
-           "figures into parts (which α each part shows) is ours: the report does not say.\n",
+           "What the pictures rest on (fitted inputs said beside every number they touch): "
+           "the steel columns are the report's own decks (`decks/steel*.dat`), nothing fitted; "
+           "the aluminium and twin posts are the assembly builder's "
+           "(`assemblies/aluminium.toml`, `twin.toml`), whose |PQ| and arm rise were fitted "
+           "to these tables' own terminal coordinates, with the base weight and arm shape of "
+           "the builder's calibration on the steel deck and the steel deck's car carried over "
+           "(docs/report_full.md, 'Provenance'). The split of the figures into parts (which α "
+           "each part shows) is ours: the report does not say.\n",
+           "The report's one ΔV ('DECREASE IN VEHICLE VELOCITY') is defined nowhere in it; "
+           "each column's table sets it beside the registry's three readings of it (crush "
+           "pulse, first spring, whole contact: docs/report_full.md, 'ΔV and the maximum "
+           "deceleration', says which fits which post; none fits all).\n",
+           "Where the report's 20 mph run ends on the car, the post at the end of the runs "
+           "without the shaft test (the listing's point tests) lies through the car's outline; "
+           "the core's run with the shaft test (`--shaft-contact`, docs/shaft_contact.md) is "
+           "drawn beside them, dotted, ending where its shaft meets the car.\n",
            f"Line {SAID_OF_ALL[0]}: \"{SAID_OF_ALL[1]}\"\n"]
     by_figure: dict[int, list[FigurePart]] = {}
     for part in FIGURES:
@@ -337,6 +373,8 @@ def figures_page(cases: dict[str, Case], command: str) -> str:
             out.append(f"What the text says of it (line{'s' if '-' in line else ''} {line}): "
                        f"\"{words}\" These words are checked in [verdicts.md](verdicts.md) "
                        "(Section 6.4).\n")
+        if shown_note(number, cases):
+            out.append(shown_note(number, cases) + "\n")
         if number not in SAID_OF:
             out.append("The text says nothing of this figure beyond line "
                        f"{SAID_OF_ALL[0]}.\n")
@@ -350,9 +388,10 @@ def figures_page(cases: dict[str, Case], command: str) -> str:
             out.append(f"![Figure {number}{part.part}]({part.file})\n")
             for name in names:
                 case = cases[name]
-                how = (" the report's own deck, VVB and ALPHA set." if case.post == "steel"
-                       else f" fitted: the geometry was read off Tables 11 and 12's terminal "
-                            f"coordinates (`assemblies/{case.post}.toml`).")
+                how = (" the report's own deck." if case.post == "steel"
+                       else f" fitted: |PQ| and the arm rise were read off Tables 11 and 12's "
+                            f"terminal coordinates (`assemblies/{case.post}.toml`); every "
+                            "number of ours below rests on that fit.")
                 out.append(f"`{name}` (Table {CASES_ALL[name][3]}):" + how
                            + (f" The emulator cannot run it: {case.refusal}." if case.refusal
                               else "") + "\n")

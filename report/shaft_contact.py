@@ -126,6 +126,21 @@ def _diff(r: dict, report_ms) -> str:
     return f"{r['time_ms'] - report_ms:+.1f}"
 
 
+def assembly_steel_line() -> str:
+    """What `deck-emulator assembly steel core --speed-mph 20 --shaft-contact` gives against
+    the deck, in words: the builder's post on steel20's car."""
+    from deck_emulator.core.assembly import load_assembly, mass_properties
+    from deck_emulator.engine.assemblies import to_scene
+
+    asm, _, _ = load_assembly("steel")
+    out = CoreEngine(preset="legacy", shaft_contact=True, trace=False).run(
+        to_scene(asm, mass_properties(asm), template="steel20"), name="steel20-assembly")
+    t = quantities.value("hit_time_s", out)
+    return ("`assembly steel core --speed-mph 20 --shaft-contact`: "
+            + (out.hit.short() if out.hit else "no hit")
+            + ("" if t is None else f" at {1000 * t:.1f} ms"))
+
+
 def render(table: list[dict], *, command: str = "", wall_s: float | None = None) -> str:
     """The page (Markdown) of :func:`rows`' table."""
     on_car = {k: sum(1 for r in table if r[k]["on_car"]) for k in ("off", "on")}
@@ -143,10 +158,16 @@ def render(table: list[dict], *, command: str = "", wall_s: float | None = None)
         f"**The report ends on the car in {rep_car} of 9 columns; the core, without the shaft "
         f"test, in {on_car['off']}; with it, in {on_car['on']}.**",
         "",
-        "Fitted inputs: the aluminium and twin columns' geometry (arm shape, heights, the "
-        "car's fenders about the shaft) was read off the report's own tables and the steel "
-        "deck's car carried over (docs/report_full.md says which); every number of those six "
-        "columns rests on that fit. The steel columns are the shipped decks.",
+        "Fitted inputs: the aluminium and twin columns are the assembly builder's posts, "
+        "whose |PQ| and arm rise were fitted to the report's own Tables 11 and 12; their arm "
+        "shape and base weight are carried over from the builder's calibration on the steel "
+        "deck, and their car (outline, heights kept above the ground, fenders about the "
+        "shaft) from the steel deck of the same speed and angle (docs/report_full.md, "
+        "'Provenance'); every number of those six columns rests on that fit. The steel "
+        "columns are the report's own decks (`decks/steel20*.dat`, as `deck-emulator core "
+        "decks/steel20.dat --shaft-contact` runs them), not `deck-emulator assembly steel`, "
+        "whose builder's post has inertias 7-17 % off the deck's and so ends elsewhere "
+        f"({assembly_steel_line()}).",
         "",
         "| column | report's end | report ms | without: end | ms | Δ ms | "
         "with: end | ms | Δ ms | max \\|Δ\\| of XL, YL, ZL (ft), without / with |",

@@ -1,14 +1,13 @@
-"""The report's statements of Sections 5.4 and 6.2-6.4, each checked by a computation, with a
+"""The report's statements of Sections 5.4 and 6.2-6.4, each checked by its rule, with a
 verdict: holds, does not hold, or cannot be checked (and why) -- ``docs/report/verdicts.md``.
 
-Every statement is quoted with its line in the OCR text of the report.  Every number comes
-from the runs of :mod:`.report_figures` (the 18 columns of Tables 11 and 12 and the three
-posts at 30 mph, both engines where both run) through the registry of quantities
-(:mod:`deck_emulator.engine.quantities`), or from the report's own Tables 11 and 12
-(:mod:`.report_tables`) read by the same definitions (:mod:`deck_emulator.engine.attitude`).
-A verdict is given on each source that can carry it: the report's own numbers, the emulator,
-the core.  The rules that turn the numbers into a verdict are functions of this module
-(:func:`tally`, :func:`increasing`, :func:`significant`), tested on hand-made cases.
+The statements are rows of :data:`report.statements.STATEMENTS` (quote, line of the OCR text,
+quantities, rule, prose templates); this module holds the rules (:data:`RULES`) that turn the
+runs of :mod:`report.figures` (the 18 columns of Tables 11 and 12 and the three posts at
+30 mph, both engines where both run) into a table and a verdict, every value read through the
+registry of quantities (:mod:`deck_emulator.engine.quantities`), and the report's own Tables
+11 and 12 read by the same definitions (:data:`REPORT_READING`). The rules' building blocks
+(:func:`tally`, :func:`increasing`, :func:`significant`) are tested on hand-made cases.
 """
 
 from __future__ import annotations
@@ -16,40 +15,56 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from deck_emulator.engine import attitude, quantities
 from deck_emulator.engine.safety import CRITERIA
-from report.figures import ANGLES, POSTS, Case, _num, case_name
-from deck_emulator.studies.report_tables import REPORT_ALL, SOURCE
+from deck_emulator.studies.report_tables import REPORT_ALL, SOURCE, report_time_ms_all
+from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
+from report.figures import ANGLES, POSTS, Case, _num as _f, case_name
+from report.statements import STATEMENTS, Statement
 
-__all__ = ["Verdict", "HOLDS", "FAILS", "CANNOT", "tally", "increasing", "significant",
-           "verdicts", "verdicts_page", "SIGNIFICANT_FRACTION"]
+__all__ = ["Verdict", "HOLDS", "FAILS", "CANNOT", "UNDECIDED", "tally", "increasing",
+           "significant", "verdicts", "verdicts_page", "SIGNIFICANT_FRACTION", "RULES",
+           "report_mass_centre"]
 
 HOLDS = "holds"
 FAILS = "does not hold"
 CANNOT = "cannot be checked"
+#: the runs cannot tell: the deciding difference is smaller than the run's own miss
+UNDECIDED = "undecided"
 
 #: "Not significantly": our reading, since the report gives none: a change smaller than this
 #: fraction of the post's length |PQ|.
 SIGNIFICANT_FRACTION = 0.10
 
-SOURCES = ("report", "emulator", "core")
+ENGINES = ("emulator", "core")
+SOURCES = ("report",) + ENGINES
+SHAFT = "core with the shaft test"
+
+#: The mark of a run whose post was fitted to the report's tables (the aluminium and twin
+#: posts' |PQ| and arm rise were read off Tables 11 and 12's terminal coordinates).
+FITTED_MARK = "†"
 
 
 @dataclass
 class Verdict:
-    """One statement: ``section``, ``lines`` (of the OCR text), ``quote``; ``how`` (the runs
-    and the quantities); ``table`` (markdown lines of the numbers); ``on``: source
-    (report, emulator, core) -> verdict; ``verdict`` overall and ``why``."""
+    """One statement checked: its row (:class:`~report.statements.Statement`), ``how`` and
+    ``why`` (its templates filled), ``table`` (markdown lines of the numbers), ``on``: source
+    (report, emulator, core ...) -> verdict, and ``verdict`` overall."""
 
-    key: str
-    section: str
-    lines: str
-    quote: str
+    statement: Statement
     how: str
+    why: str
     table: list[str] = field(default_factory=list)
     on: dict[str, str] = field(default_factory=dict)
     verdict: str = CANNOT
-    why: str = ""
+
+    def __getattr__(self, name):  # key, section, lines, quote: the statement's
+        st = self.__dict__.get("statement")
+        if st is None:
+            raise AttributeError(name)
+        return st.line if name == "lines" else getattr(st, name)
 
 
 # --------------------------------------------------------------------------- the rules
@@ -92,20 +107,29 @@ def overall(on: dict[str, str]) -> str:
                      for k, v in known.items())
 
 
+def counted(flags: dict[str, list]) -> str:
+    """'report 3 of 6, emulator 2 of 4, core 5 of 6': the True flags of each source that has
+    any (None entries left out)."""
+    parts = []
+    for k, f in flags.items():
+        known = [x for x in f if x is not None]
+        if known:
+            parts.append(f"{k} {sum(known)} of {len(known)}")
+    return ", ".join(parts) or "none"
+
+
 # --------------------------------------------------------------------------- reading runs
-
-
-def _q(case: Case | None, engine: str, name: str):
-    if case is None:
-        return None
-    o = case.emulator if engine == "emulator" else case.core
-    return None if o is None else quantities.value(name, o)
 
 
 def _out(case: Case | None, engine: str):
     if case is None:
         return None
-    return case.emulator if engine == "emulator" else case.core
+    return {"emulator": case.emulator, "core": case.core, SHAFT: case.core_shaft}[engine]
+
+
+def _q(case: Case | None, engine: str, name: str):
+    o = _out(case, engine)
+    return None if o is None else quantities.value(name, o)
 
 
 def _end(case, engine) -> str:
@@ -115,16 +139,8 @@ def _end(case, engine) -> str:
     return o.hit.short() if o.hit else "no hit"
 
 
-def _hits_car(case, engine) -> bool | None:
-    o = _out(case, engine)
-    if o is None or o.hit is None:
-        return None
-    return o.hit.surface.value != "ground"
-
-
-#: The mark of a run whose post was fitted to the report's tables (the aluminium and twin
-#: posts' geometries were read off Tables 11 and 12's terminal coordinates).
-FITTED_MARK = "†"
+def _on_car(o) -> bool | None:
+    return None if o is None or o.hit is None else o.hit.surface.value != "ground"
 
 
 def _tag(label: str, post: str) -> str:
@@ -133,9 +149,6 @@ def _tag(label: str, post: str) -> str:
 
 def _show(name: str, v) -> str:
     return quantities.QUANTITIES[name].show(v)
-
-
-_f = _num  # a number as the figures' page shows it (one rule: report_figures._num)
 
 
 def _rep(name: str, fld: str):
@@ -147,8 +160,31 @@ def _report_point(name: str, p: str):
     return None if any(v is None for v in xyz) else tuple(xyz)
 
 
-def _report_spin(case: Case) -> float | None:
-    """The arm's spin read off the report's own P, Q, R (Tables 11, 12), from our t = 0."""
+def _rigid_fit(start, now):
+    """(rotation, start centroid, now centroid) of the rigid motion that takes the points
+    ``start`` closest to ``now`` (least squares, Kabsch)."""
+    a, b = np.asarray(start, dtype=float), np.asarray(now, dtype=float)
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((a - ca).T @ (b - cb))
+    d = np.sign(np.linalg.det(vt.T @ u.T))
+    return vt.T @ np.diag([1.0, 1.0, d]) @ u.T, ca, cb
+
+
+def report_mass_centre(case: Case):
+    """The report's mass centre at the end, (XL, YL, ZL) and the fit's largest misfit (ft):
+    our t = 0 P, Q, R and mass centre carried by the rigid motion that brings P, Q, R closest
+    to the report's terminal P, Q, R; None where the report printed no such column."""
+    now = [_report_point(case.name, p) for p in "PQR"]
+    start = [attitude.start_l(case.core, p) for p in ("P", "Q", "R", "CM")]
+    if any(v is None for v in now + start):
+        return None
+    rot, ca, cb = _rigid_fit(start[:3], now)
+    moved = [rot @ (np.asarray(p) - ca) + cb for p in start]
+    misfit = max(math.dist(m, n) for m, n in zip(moved[:3], now))
+    return tuple(float(x) for x in moved[3]), misfit
+
+
+def _report_spin(case: Case):
     now = [_report_point(case.name, p) for p in "PQR"]
     start = [attitude.start_l(case.core, p) for p in "PQR"]
     if any(v is None for v in now + start):
@@ -156,675 +192,460 @@ def _report_spin(case: Case) -> float | None:
     return attitude.spin_deg(*now, *start)
 
 
+def _report_shift(case: Case, p: str):
+    y, y0 = _rep(case.name, f"Y{p}L"), attitude.start_l(case.core, p)
+    return None if y is None or y0 is None else y - y0[1]
+
+
+def _report_cm_yl(case: Case):
+    got = report_mass_centre(case)
+    return None if got is None else got[0][1]
+
+
+#: The report's own numbers read by the registry's definitions (quantity -> case -> value),
+#: for the columns it printed.
+REPORT_READING = {
+    "arm_spin_deg": _report_spin,
+    "luminaire_yl_shift_ft": lambda c: _report_shift(c, "R"),
+    "second_luminaire_yl_shift_ft": lambda c: _report_shift(c, "U"),
+    "terminal_cm_yl_ft": _report_cm_yl,
+    **{f"terminal_{p.lower()}_{ax.lower()}l_ft": (lambda c, p=p, ax=ax: _rep(c.name, f"{ax}{p}L"))
+       for p in "PQRU" for ax in "XYZ"},
+}
+
+
+def _report_value(case: Case | None, name: str):
+    if case is None or not case.in_tables or name not in REPORT_READING:
+        return None
+    return REPORT_READING[name](case)
+
+
 def _length_ft(case: Case) -> float:
-    p, q = attitude.start_l(case.core, "P"), attitude.start_l(case.core, "Q")
-    return math.dist(p, q)
+    return math.dist(attitude.start_l(case.core, "P"), attitude.start_l(case.core, "Q"))
 
 
-def _engines(case: Case | None) -> list[str]:
-    if case is None:
-        return []
-    return [e for e in ("emulator", "core") if _out(case, e) is not None]
-
-
-def _cases(cases, posts=POSTS, speeds=(20, 40), angles=ANGLES) -> list[Case]:
+def _cases(cases, runs: dict) -> list[Case]:
     out = []
-    for mph in speeds:
-        for post in posts:
-            for a in angles:
+    for mph in runs.get("speeds", (20, 30, 40)):
+        for post in runs.get("posts", POSTS):
+            for a in runs.get("angles", ANGLES):
                 c = cases.get(case_name(post, mph, a))
                 if c is not None:
                     out.append(c)
     return out
 
 
-# ----------------------------------------------------------------------- the statements
+def _series(cases, runs: dict):
+    """(label, post, [case at each step]) of each series ``runs["along"]`` ("alpha": α =
+    0°, 15°, 30° at each speed; "speed": 20, 30, 40 mph at each α)."""
+    if runs["along"] == "alpha":
+        for mph in runs["speeds"]:
+            for post in runs["posts"]:
+                yield f"{post} {mph} mph", post, [cases.get(case_name(post, mph, a))
+                                                  for a in ANGLES]
+    else:
+        for post in runs["posts"]:
+            for a in ANGLES:
+                yield f"{post}, {a}°", post, [cases.get(case_name(post, s, a))
+                                              for s in runs["speeds"]]
 
 
-def _s54_1(cases) -> Verdict:
-    v = Verdict("5.4-1", "5.4 (1)", "1692",
-                "The luminaire support arm rotates clockwise when the post is struck by the "
-                "vehicle in the manner described in Chapter III.",
-                "every run of the single-arm posts (steel, aluminium) at 20, 30 and 40 mph and "
-                "α = 0°, 15°, 30°: `arm_spin_release_deg` (the post's spin about its own axis "
-                "from t = 0 to the moment the car lets go; for the upright post the rotation "
-                "about ZL, clockwise seen from above is negative). Clockwise is read as seen "
-                "from above (the report's ZL points up; Section 6.4 says the same arm turns "
-                "negatively about ZL). The twin post is shown, not judged (two arms).")
-    v.table = ["| run | emulator, deg | core, deg |", "|---|---|---|"]
-    flags = {"emulator": [], "core": []}
-    for c in _cases(cases, speeds=(20, 30, 40)):
-        vals = {e: _q(c, e, "arm_spin_release_deg") for e in ("emulator", "core")}
-        v.table.append(f"| {_tag(c.name, c.post)} | {_f(vals['emulator'], 1)} | "
-                       f"{_f(vals['core'], 1)} |")
-        if c.post != "twin":
-            for e in flags:
-                flags[e].append(None if vals[e] is None else vals[e] < 0)
-    v.on = {"report": CANNOT, **{e: tally(f) for e, f in flags.items()}}
-    v.verdict = overall(v.on)
-    neg = {e: (sum(x is True for x in f), sum(x is not None for x in f)) for e, f in flags.items()}
-    v.why = (f"single-arm runs turning clockwise by the time the car lets go: emulator "
-             f"{neg['emulator'][0]} of {neg['emulator'][1]}, core {neg['core'][0]} of "
-             f"{neg['core'][1]}. The report prints no attitude at the end of the contact, so its "
-             "own numbers cannot carry this check.")
-    return v
+def _flags() -> dict[str, list]:
+    return {k: [] for k in SOURCES}
 
 
-def _clears(c, e) -> bool | None:
-    """The car passes under the post: the run ends on the ground, and no segment of the post
-    (shaft and arms) is ever inside the car's outline in free flight."""
-    o = _out(c, e)
-    if o is None or o.hit is None:
-        return None
-    body = quantities.value("body_clearance_ft", o)
-    return o.hit.surface.value == "ground" and (body is None or body >= 0.0)
+def _sign(st, cases):
+    """Every run's value of the one quantity has the sign ``runs["sign"]`` (the report's own
+    numbers read the same way where it has a reading)."""
+    name, sign = st.quantity[0], st.runs["sign"]
+    judged = st.runs.get("judged", st.runs["posts"])
+    table = ["| run | report's points | emulator | core |", "|---|---|---|---|"]
+    flags = _flags()
+    for c in _cases(cases, st.runs):
+        vals = {"report": _report_value(c, name),
+                **{e: _q(c, e, name) for e in ENGINES}}
+        nd = quantities.QUANTITIES[name].digits
+        table.append(f"| {_tag(c.name, c.post)} | " + " | ".join(_f(vals[k], nd) for k in SOURCES)
+                     + " |")
+        if c.post in judged:
+            for k, v in vals.items():
+                if k != "report" or c.in_tables:
+                    flags[k].append(None if v is None else v * sign > 0)
+    return table, {k: tally(f) for k, f in flags.items()}, {"counts": counted(flags)}
 
 
-def _s54_2(cases) -> Verdict:
-    v = Verdict("5.4-2", "5.4 (2)", "1693",
-                "For vehicular speeds of 30 miles/hr and 40 miles/hr, the vehicle is seen to "
-                "pass under the post and not be struck by the post on its return path to the "
-                "ground.",
-                "every post at 30 and 40 mph, α = 0°, 15°, 30°: the run's end (the engine's hit "
-                "event: ground or a part of the car) and `body_clearance_ft` (the least height "
-                "of the post's segments Q-P, P-R, P-U above the car's outline in free flight; "
-                "negative: the shaft or an arm passes through the car, which the listing's "
-                "tests of points P, R, C, U do not see). A run holds when it ends on the "
-                "ground and the clearance is not negative.")
-    v.table = ["| run | report's end | emulator: end, clearance ft | core: end, clearance ft |",
-               "|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    for c in _cases(cases, speeds=(30, 40)):
-        cells = []
-        for e in ("emulator", "core"):
-            o = _out(c, e)
-            if o is None:
-                cells.append("—")
-                continue
-            cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', _q(c, e, 'body_clearance_ft'))}")
-            flags[e].append(_clears(c, e))
+def _end_cells(c, flags, judge) -> list[str]:
+    """'end, clearance' of each engine's run of ``c`` ('—' where it did not run); each run's
+    ``judge(outcome, clearance)`` appended to ``flags[engine]``."""
+    cells = []
+    for e in ENGINES:
+        o = _out(c, e)
+        if o is None:
+            cells.append("—")
+            continue
+        body = _q(c, e, "body_clearance_ft")
+        cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', body)}")
+        flags[e].append(judge(o, body))
+    return cells
+
+
+def _clears(st, cases):
+    """The car passes under: the run ends on the ground and no segment of the post is ever
+    inside the car's outline in free flight; the least clearance and how many runs clear by
+    less than the listing's band are figures of the verdict."""
+    band = LISTING_GROUND_TOLERANCE_FT["P"]
+    table = ["| run | report's end | emulator: end, clearance ft | core: end, clearance ft |",
+             "|---|---|---|---|"]
+    flags = _flags()
+    margins = []
+    def judge(o, body):
+        ok = None if o.hit is None else (not _on_car(o) and (body is None or body >= 0.0))
+        if ok and body is not None:
+            margins.append(body)
+        return ok
+
+    for c in _cases(cases, st.runs):
+        cells = _end_cells(c, flags, judge)
         rep = _rep(c.name, "comment")
         if rep is not None:
             flags["report"].append("GROUND" in rep)
-        v.table.append(f"| {_tag(c.name, c.post)} | {rep or 'not run'} | {cells[0]} | {cells[1]} |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"runs in which the car passes under: report {n['report'][0]} of {n['report'][1]} "
-             f"(40 mph only: it printed no 30 mph run), emulator {n['emulator'][0]} of "
-             f"{n['emulator'][1]}, core {n['core'][0]} of {n['core'][1]}.")
-    return v
+        table.append(f"| {_tag(c.name, c.post)} | {rep or 'not run'} | {cells[0]} | {cells[1]} |")
+    on = {k: tally(f) for k, f in flags.items()}
+    return table, on, {"counts": counted(flags), "band": f"{band:.1f}",
+                       "least": f"{min(margins):.3f}" if margins else "—",
+                       "inside": f"{sum(m < band for m in margins)} of {len(margins)}"}
 
 
-def _s54_3(cases) -> Verdict:
-    v = Verdict("5.4-3", "5.4 (3)", "1694-1696",
-                "The rotation of the support arm for the vehicular speeds mentioned previously "
-                "is large enough so that the luminaire comes to rest at the edge of the highway "
-                "and therefore does not cause an unsafe condition for other motorists.",
-                "every post at 30 and 40 mph: `terminal_r_yl_ft` (YL of the luminaire end R at "
-                "the hit; +YL away from the highway), `luminaire_yl_shift_ft` (how far R has "
-                "moved across the road since t = 0, where it reached 10 to 10.5 ft out over the "
-                "highway) and, for the twin post, `terminal_u_yl_ft`.")
-    v.table = ["| run | report YRL | emulator YRL, moved | core YRL, moved | core YUL |",
-               "|---|---|---|---|---|"]
+def _edge(st, cases):
+    table = ["| run | report YRL | emulator YRL, moved | core YRL, moved | core YUL |",
+             "|---|---|---|---|---|"]
     ys, twin = [], []
-    for c in _cases(cases, speeds=(30, 40)):
+    for c in _cases(cases, st.runs):
         cells = []
-        for e in ("emulator", "core"):
+        for e in ENGINES:
             y, m = _q(c, e, "terminal_r_yl_ft"), _q(c, e, "luminaire_yl_shift_ft")
-            cells.append("—" if y is None else f"{_f(y)}, {_f(m, 2)}")
+            cells.append("—" if y is None else f"{_f(y)}, {_f(m)}")
             if y is not None:
                 (twin if c.post == "twin" else ys).append(y)
-        u = _q(c, "core", "terminal_u_yl_ft")
-        v.table.append(f"| {_tag(c.name, c.post)} | {_f(_rep(c.name, 'YRL'))} | {cells[0]} | {cells[1]} | "
-                       f"{_f(u)} |")
-    v.on = {s: CANNOT for s in SOURCES}
-    v.verdict = CANNOT
-    v.why = ("the report places no edge of the highway (no lateral position of the post from "
-             "the pavement is given), and every run ends at the post's first hit: where the "
-             "luminaire comes to rest after it is not computed by the listing or the core. What "
-             f"is computed: the single arm's R lands between YL = {min(ys):.2f} and {max(ys):.2f} ft, "
-             f"so the statement would hold if the pavement ended at YL ≤ {min(ys):.2f} ft (the "
-             f"base at least {-min(ys):.1f} ft from it), and fail otherwise; the twin post's R "
-             f"lands as far out as YL = {min(twin):.2f} ft.")
-    return v
-
-
-def _s54_4(cases) -> Verdict:
-    v = Verdict("5.4-4", "5.4 (4)", "1698",
-                "Variations of up to 15 degrees in the angle Alpha do not significantly affect "
-                "the trajectory of the luminaire support assembly for the speeds considered.",
-                "each post at 30 and 40 mph, α = 0° against α = 15°: the largest distance "
-                "between the two runs' paths of the luminaire end R and of the mass centre at "
-                "the same instants (`engine.attitude.largest_distance_ft`, over the time both "
-                "ran), and the distance between their terminal points P, Q, R (`terminal_*_ft`). "
-                f"'Significant' is our reading (the report gives none): at least "
-                f"{100 * SIGNIFICANT_FRACTION:.0f} % of the post's length |PQ|. The report's "
-                "own Table 12 (40 mph) is read the same way.")
-    v.table = ["| post, speed | |PQ| ft | source | path of R, ft | path of CM, ft | "
-               "end of P, Q, R moved, ft |", "|---|---|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    largest = {k: (0.0, "") for k in flags}
-
-    def note(src, ends, where):
-        for p, d in zip("PQR", ends):
-            if d is not None and d > largest[src][0]:
-                largest[src] = (d, f"{p} of {where}")
-
-    for mph in (30, 40):
-        for post in POSTS:
-            a = cases.get(case_name(post, mph, 0))
-            b = cases.get(case_name(post, mph, 15))
-            if a is None or b is None:
-                continue
-            length = _length_ft(a)
-            for e in _engines(a):
-                oa, ob = _out(a, e), _out(b, e)
-                if ob is None:
-                    continue
-                dr = attitude.largest_distance_ft(oa, ob, "R")
-                dcm = attitude.largest_distance_ft(oa, ob, "CM")
-                ends = [_dist(_end_point(oa, p), _end_point(ob, p)) for p in "PQR"]
-                note(e, ends, f"{post} {mph} mph")
-                flags[e].append(not any(significant(d, length) for d in ends + [dr]
-                                        if d is not None))
-                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {length:.2f} | {e} | {_f(dr)} | "
-                               f"{_f(dcm)} | " + ", ".join(_f(d) for d in ends) + " |")
-            if a.name in REPORT_ALL and b.name in REPORT_ALL:
-                ends = [_dist(_report_point(a.name, p), _report_point(b.name, p)) for p in "PQR"]
-                note("report", ends, f"{post} {mph} mph")
-                flags["report"].append(not any(significant(d, length) for d in ends
-                                               if d is not None))
-                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {length:.2f} | report | — | — | "
-                               + ", ".join(_f(d) for d in ends) + " |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"cases where α = 15° changes nothing significantly: report {n['report'][0]} of "
-             f"{n['report'][1]}, emulator {n['emulator'][0]} of {n['emulator'][1]}, core "
-             f"{n['core'][0]} of {n['core'][1]}. The largest move of a terminal point: "
-             + "; ".join(f"{k} {d:.1f} ft ({w})" for k, (d, w) in largest.items() if w) + ".")
-    return v
-
-
-def _end_point(o, p):
-    return attitude.point_at_end_l(o, p)
+        table.append(f"| {_tag(c.name, c.post)} | {_f(_rep(c.name, 'YRL'))} | {cells[0]} | "
+                     f"{cells[1]} | {_f(_q(c, 'core', 'terminal_u_yl_ft'))} |")
+    return table, {s: CANNOT for s in SOURCES}, {
+        "lo": f"{min(ys):.2f}", "hi": f"{max(ys):.2f}", "gap": f"{-min(ys):.1f}",
+        "twin": f"{min(twin):.2f}"}
 
 
 def _dist(a, b):
     return None if a is None or b is None else math.dist(a, b)
 
 
-def _s62_1(cases) -> Verdict:
-    v = Verdict("6.2-1", "6.2", "1728",
-                "The reader may observe from Table 11 that for a vehicular velocity of 20 miles "
-                "per hour the support post, with one exception, strikes the vehicle before "
-                "striking the ground.",
-                "the nine 20 mph columns: the run's end (hit event: the car or the ground) on "
-                "the emulator and the core, which test the points P, R, C, U against the car as "
-                "the listing does, with `body_clearance_ft` (< 0: the post's shaft or arm "
-                "passes through the car's outline, which those tests do not see); and the core "
-                "with the shaft test (`--shaft-contact`: the shaft Q-P and the arms checked as "
-                "segments against the car, docs/shaft_contact.md). The statement holds for a "
-                "source when exactly 8 of 9 runs strike the car first.")
-    shaft = "core with the shaft test"
-    v.table = ["| column | report | emulator: end, clearance ft | core: end, clearance ft | "
-               "core with the shaft test: end |", "|---|---|---|---|---|"]
-    count = {"report": 0, "emulator": 0, "core": 0, shaft: 0}
-    through = {"emulator": 0, "core": 0}
-    ran = {"report": 0, "emulator": 0, "core": 0, shaft: 0}
-    for c in _cases(cases, speeds=(20,)):
-        rep = _rep(c.name, "comment")
-        ran["report"] += 1
-        count["report"] += "CAR" in rep
-        cells = []
-        for e in ("emulator", "core"):
-            o = _out(c, e)
-            if o is None:
-                cells.append("—")
+def _alpha_change(st, cases):
+    table = ["| post, speed | |PQ| ft | source | path of R, ft | path of CM, ft | "
+             "end of P, Q, R moved, ft |", "|---|---|---|---|---|---|"]
+    flags = _flags()
+    largest = {k: (0.0, "") for k in flags}
+    for mph in st.runs["speeds"]:
+        for post in st.runs["posts"]:
+            a, b = cases.get(case_name(post, mph, 0)), cases.get(case_name(post, mph, 15))
+            if a is None or b is None:
                 continue
-            ran[e] += 1
-            count[e] += bool(_hits_car(c, e))
+            length = _length_ft(a)
+            rows = [(e, _out(a, e), _out(b, e)) for e in ENGINES]
+            if a.in_tables and b.in_tables:
+                rows.append(("report", None, None))
+            for src, oa, ob in rows:
+                if src != "report" and (oa is None or ob is None):
+                    continue
+                if src == "report":
+                    ends = [_dist(_report_point(a.name, p), _report_point(b.name, p))
+                            for p in "PQR"]
+                    paths = []
+                else:
+                    ends = [_dist(attitude.point_at_end_l(oa, p), attitude.point_at_end_l(ob, p))
+                            for p in "PQR"]
+                    paths = [attitude.largest_distance_ft(oa, ob, k) for k in ("R", "CM")]
+                for p, d in zip("PQR", ends):
+                    if d is not None and d > largest[src][0]:
+                        largest[src] = (d, f"{p} of {post} {mph} mph")
+                flags[src].append(not any(significant(d, length) for d in ends + paths[:1]
+                                          if d is not None))
+                table.append(f"| {_tag(f'{post} {mph} mph', post)} | {length:.2f} | {src} | "
+                             + (" | ".join(_f(d) for d in paths) if paths else "— | —")
+                             + " | " + ", ".join(_f(d) for d in ends) + " |")
+    return table, {k: tally(f) for k, f in flags.items()}, {
+        "counts": counted(flags), "fraction": f"{100 * SIGNIFICANT_FRACTION:.0f}",
+        "largest": "; ".join(f"{k} {d:.1f} ft ({w})" for k, (d, w) in largest.items() if w)}
+
+
+def _one_exception(st, cases):
+    """Exactly one of the 20 mph runs ends on the ground; with the shaft test, a strike that
+    comes less before the run's ground hit than the column misses the report's end by cannot
+    decide the order of the two."""
+    table = ["| column | report | emulator: end, clearance ft | core: end, clearance ft | "
+             "core with the shaft test: end, ms before the ground hit (column's end miss, ms) |",
+             "|---|---|---|---|---|"]
+    flags = {"report": [], "emulator": [], "core": [], SHAFT: []}
+    through = {e: 0 for e in ENGINES}
+    undecided = []
+    for c in _cases(cases, st.runs):
+        rep = _rep(c.name, "comment")
+        flags["report"].append("CAR" in rep)
+        cells = _end_cells(c, flags, lambda o, body: bool(_on_car(o)))
+        for e in ENGINES:
             body = _q(c, e, "body_clearance_ft")
             through[e] += body is not None and body < 0
-            cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', body)}")
-        o = c.core_shaft
+        o, off = c.core_shaft, c.core
+        cell = "—" if o is None else _end(c, SHAFT)
         if o is not None and o.hit is not None:
-            ran[shaft] += 1
-            count[shaft] += o.hit.surface.value != "ground"
-        cells.append("—" if o is None else o.hit.short() if o.hit else "no hit")
-        v.table.append(f"| {_tag(c.name, c.post)} | {rep} | {' | '.join(cells)} |")
-    v.on = {k: (HOLDS if count[k] == ran[k] - 1 else FAILS) if ran[k] else CANNOT
-            for k in count}
-    v.verdict = overall(v.on)
-    v.why = (f"runs that strike the car: report {count['report']} of {ran['report']}; "
-             f"emulator {count['emulator']} of {ran['emulator']}, core {count['core']} of "
-             f"{ran['core']} (points only); core with the shaft test {count[shaft]} of "
-             f"{ran[shaft]}. Counting a shaft or arm that passes through the car's outline as a "
-             f"strike: emulator {through['emulator']}, core {through['core']} runs do. The "
-             "report ends its 20 mph runs on the shaft meeting the car (its words: 'front of "
-             "car', 'top of car'), a test the listing as printed does not have; with that test "
-             "the core strikes the car in every column, the report's one exception (twin 30°, "
-             "R on the ground) included.")
-    return v
+            flags[SHAFT].append(bool(_on_car(o)))
+            rt = report_time_ms_all(c.name)
+            if _on_car(o) and "GROUND" in rep and not _on_car(off) and rt \
+                    and off.hit_time_s is not None:  # the shaft test against the report
+                lead = 1000 * (off.hit_time_s - o.hit_time_s)
+                miss = 1000 * off.hit_time_s - rt
+                cell += f", {lead:.1f} ({miss:+.1f})"
+                if lead < abs(miss):
+                    undecided.append((c.name, lead, miss))
+        table.append(f"| {_tag(c.name, c.post)} | {rep} | {' | '.join(cells)} | {cell} |")
+    on = {}
+    for k, f in flags.items():
+        n, hit = len(f), sum(f)
+        on[k] = CANNOT if not n else HOLDS if hit == n - 1 else FAILS
+    n, hit = len(flags[SHAFT]), sum(flags[SHAFT])
+    if on[SHAFT] == FAILS and hit - len(undecided) <= n - 1 <= hit:  # either way: 8 of 9
+        on[SHAFT] = UNDECIDED
+    if undecided:
+        words = "; ".join(f"{n}'s strike comes {lead:.1f} ms before R lands, in a column whose "
+                          f"end misses the report's by {miss:+.1f} ms" for n, lead, miss in undecided)
+        und = (f"the one more than the report's 8 is undecided: {words}. Which end comes "
+               "first there is within the column's own miss, so the runs cannot say whether "
+               "that column is the report's exception.")
+    else:
+        und = "no strike is closer to its ground hit than the column's own miss."
+    return table, on, {"counts": counted(flags), "through_emulator": through["emulator"],
+                       "through_core": through["core"],
+                       "shaft_n": f"{sum(flags[SHAFT])} of {len(flags[SHAFT])}",
+                       "undecided": und}
 
 
-def _s62_2(cases) -> Verdict:
-    v = Verdict("6.2-2", "6.2", "1728",
-                "Table 12 shows that for a vehicular velocity of 40 miles per hour the support "
-                "assembly clears the vehicle in all cases.",
-                "the nine 40 mph columns: the run's end and `body_clearance_ft` (as for 5.4 (2)).")
-    v.table = ["| column | report | emulator: end, clearance ft | core: end, clearance ft |",
-               "|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    for c in _cases(cases, speeds=(40,)):
-        rep = _rep(c.name, "comment")
-        flags["report"].append("GROUND" in rep)
-        cells = []
-        for e in ("emulator", "core"):
-            o = _out(c, e)
-            if o is None:
-                cells.append("—")
+def _cannot(st, cases):
+    return [], {s: CANNOT for s in SOURCES}, {}
+
+
+def _energy(st, cases):
+    table = ["| post, α | engine | 20 mph | 30 mph | 40 mph |", "|---|---|---|---|---|"]
+    flags = _flags()
+    for label, post, series in _series(cases, st.runs):
+        for e in ENGINES:
+            vals = [_q(c, e, "launch_ke_ftlb") for c in series]
+            if all(x is None for x in vals):
                 continue
-            flags[e].append(_clears(c, e))
-            cells.append(f"{_end(c, e)}, {_show('body_clearance_ft', _q(c, e, 'body_clearance_ft'))}")
-        v.table.append(f"| {_tag(c.name, c.post)} | {rep} | {cells[0]} | {cells[1]} |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"runs that clear the car: report {n['report'][0]} of {n['report'][1]}, emulator "
-             f"{n['emulator'][0]} of {n['emulator'][1]}, core {n['core'][0]} of {n['core'][1]}.")
-    return v
+            flags[e].append(increasing(vals))
+            table.append(f"| {_tag(label, post)} | {e} | "
+                         + " | ".join(_show("launch_ke_ftlb", x) for x in vals) + " |")
+    first = tally(flags["emulator"] + flags["core"])
+    parts, separated = [], []
+    for post in st.runs["posts"]:
+        got = {True: [], False: []}
+        for c in _cases(cases, {**st.runs, "posts": (post,)}):
+            ke, car = _q(c, SHAFT, "launch_ke_ftlb"), _on_car(c.core_shaft)
+            if ke is not None and car is not None:
+                got[car].append(ke)
+        if got[True] and got[False]:
+            ok = max(got[True]) < min(got[False])
+            separated.append(ok)
+            parts.append(f"{post}: the runs that strike the car {min(got[True]):.0f}-"
+                         f"{max(got[True]):.0f} ft·lb, those that clear it "
+                         f"{min(got[False]):.0f}-{max(got[False]):.0f}")
+    second = tally(separated)
+    table += ["", "| post | the core with the shaft test: launch energy of the runs that strike "
+              "the car / clear it |", "|---|---|"] + [
+        f"| {p.split(':')[0]} | {p.split(': ', 1)[1]} |" for p in parts]
+    on = {"report": CANNOT, **{e: tally(flags[e]) for e in ENGINES}, SHAFT: second}
+    return table, on, {
+        "first": "the energy the car imparts (ft·lb) rises with the speed in every series of "
+                 "both engines" if first == HOLDS else
+                 "the energy the car imparts does not rise with the speed in every series",
+        "second": ("The second half, as far as runs read it: "
+                   + ("the launch energy separates the ends in every post" if second == HOLDS
+                      else "the launch energy does not separate the ends in every post")
+                   + " (" + "; ".join(parts) + "): less energy goes with striking the car; a "
+                   "run cannot show more than that it goes with it.")}
 
 
-def _s62_3(cases) -> Verdict:
-    v = Verdict("6.2-3", "6.2", "1730",
-                "The overall behavior of the support post assembly for the two vehicular "
-                "velocities considered is very similar.",
-                "none: the report names no measure of similarity.")
-    v.on = {s: CANNOT for s in SOURCES}
-    v.verdict = CANNOT
-    v.why = ("'very similar' names no quantity and no tolerance; the other statements of this "
-             "page compare the two speeds on named quantities (the end, the arm's spin, the "
-             "terminal points).")
-    return v
-
-
-def _s62_4(cases) -> Verdict:
-    v = Verdict("6.2-4", "6.2", "1730",
-                "In the case of a vehicular velocity of 20 miles per hour the slower moving "
-                "vehicle imparts less energy to the support assembly and causes it to encounter "
-                "the vehicle before striking the ground.",
-                "each post and α at 20, 30 and 40 mph: `launch_ke_ftlb` (the post's kinetic "
-                "energy, translation and rotation, when the car lets go). The energy part holds "
-                "when it rises with the speed in every series; the causal part ('causes it to "
-                "encounter the vehicle') is not a computation: see 6.2 (line 1728) for what the "
-                "20 mph runs hit.")
-    v.table = ["| post, α | engine | 20 mph | 30 mph | 40 mph |", "|---|---|---|---|---|"]
-    flags = {"emulator": [], "core": []}
-    for post in POSTS:
-        for a in ANGLES:
-            series = [cases.get(case_name(post, s, a)) for s in (20, 30, 40)]
-            for e in ("emulator", "core"):
-                vals = [_q(c, e, "launch_ke_ftlb") for c in series]
-                if all(x is None for x in vals):
-                    continue
-                flags[e].append(increasing(vals))
-                v.table.append(f"| {_tag(post, post)}, {a}° | {e} | "
-                               + " | ".join(_show("launch_ke_ftlb", x) for x in vals) + " |")
-    v.on = {"report": CANNOT, **{e: tally(f) for e, f in flags.items()}}
-    v.verdict = overall(v.on)
-    v.why = ("the energy the car imparts (ft·lb) rises with the speed in every series of "
-             "both engines" if v.verdict == HOLDS else
-             "the energy the car imparts does not rise with the speed in every series") + \
-        ("; the report prints no energy, and the causal part cannot be checked by a run.")
-    return v
-
-
-def _trend(cases, post, mph, qname, engine):
-    return [_q(cases.get(case_name(post, mph, a)), engine, qname) for a in ANGLES]
-
-
-def _s63_1(cases) -> Verdict:
-    v = Verdict("6.3-1", "6.3", "1734",
-                "The study showed that an increase in the vehicular approach angle α caused the "
-                "support post assembly to have a smaller absolute terminal coordinate in the XL "
-                "direction and a larger one in the YL direction. [...] This conclusion is "
-                "obtained by assuming that the post does not first encounter the vehicle and the "
-                "terminal coordinates are taken as the coordinates describing the position of "
-                "the assembly when it strikes the ground.",
-                "each post at 40 mph (every column ends on the ground in Table 12) and 30 mph, "
-                "for each of its points P, Q, R (U): `terminal_{p}_xl_ft`, `terminal_{p}_yl_ft` "
-                "at α = 0°, 15°, 30°. A series holds when |XL| falls and YL rises from each "
-                "angle to the next; the report's own Table 12 is read the same way.")
-    v.table = ["| post, speed, point | source | XL at 0°, 15°, 30° | YL at 0°, 15°, 30° | "
-               "holds |", "|---|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    for mph in (40, 30):
-        for post in POSTS:
-            for p in ("P", "Q", "R", "U"):
+def _by_point(st, cases):
+    """|XL| falls and YL rises with α, read point by point; the verdict of each source names
+    the points for which it holds."""
+    table = ["| post, speed, point | source | XL at 0°, 15°, 30° | YL at 0°, 15°, 30° | "
+             "holds |", "|---|---|---|---|---|"]
+    by = {p: _flags() for p in st.runs["points"]}
+    for mph in st.runs["speeds"]:
+        for post in st.runs["posts"]:
+            series = [cases.get(case_name(post, mph, a)) for a in ANGLES]
+            for p in st.runs["points"]:
                 if p == "U" and post != "twin":
                     continue
+                qx, qy = f"terminal_{p.lower()}_xl_ft", f"terminal_{p.lower()}_yl_ft"
                 rows = []
-                if mph == 40:
-                    xs = [_rep(case_name(post, mph, a), f"X{p}L") for a in ANGLES]
-                    ys = [_rep(case_name(post, mph, a), f"Y{p}L") for a in ANGLES]
-                    rows.append(("report", xs, ys))
-                for e in ("emulator", "core"):
-                    xs = _trend(cases, post, mph, f"terminal_{p.lower()}_xl_ft", e)
-                    ys = _trend(cases, post, mph, f"terminal_{p.lower()}_yl_ft", e)
-                    if all(x is None for x in xs):
-                        continue
-                    rows.append((e, xs, ys))
+                if all(c is not None and c.in_tables for c in series):
+                    rows.append(("report", [_report_value(c, qx) for c in series],
+                                 [_report_value(c, qy) for c in series]))
+                for e in ENGINES:
+                    xs = [_q(c, e, qx) for c in series]
+                    if not all(x is None for x in xs):
+                        rows.append((e, xs, [_q(c, e, qy) for c in series]))
                 for src, xs, ys in rows:
-                    ok_x = increasing([-abs(x) if x is not None else None for x in xs])
+                    ok_x = increasing([None if x is None else -abs(x) for x in xs])
                     ok_y = increasing(ys)
                     ok = None if ok_x is None or ok_y is None else ok_x and ok_y
-                    flags[src].append(ok)
-                    v.table.append(f"| {_tag(f'{post} {mph} mph', post)}, {p} | {src} | "
-                                   + ", ".join(_f(x) for x in xs) + " | "
-                                   + ", ".join(_f(y) for y in ys) + " | "
-                                   + ("yes" if ok else "no") + " |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"series (post, speed, point) that follow the statement: report {n['report'][0]} "
-             f"of {n['report'][1]}, emulator {n['emulator'][0]} of {n['emulator'][1]}, core "
-             f"{n['core'][0]} of {n['core'][1]}. The statement does not say which point; read "
-             "for every point, the report's own Table 12 does not bear it out.")
-    return v
+                    by[p][src].append(ok)
+                    table.append(f"| {_tag(f'{post} {mph} mph', post)}, {p} | {src} | "
+                                 + ", ".join(_f(x) for x in xs) + " | "
+                                 + ", ".join(_f(y) for y in ys) + " | "
+                                 + ("yes" if ok else "no") + " |")
+    on = {}
+    for src in SOURCES:
+        holds = [p for p in by if tally(by[p][src]) == HOLDS]
+        known = [p for p in by if tally(by[p][src]) != CANNOT]
+        on[src] = (CANNOT if not known else HOLDS if holds == known else FAILS if not holds
+                   else f"holds for {', '.join(holds)}; not for "
+                        + ", ".join(p for p in known if p not in holds))
+    share = {p: sum(sum(x is True for x in f) for f in by[p].values())
+             / max(1, sum(sum(x is not None for x in f) for f in by[p].values())) for p in by}
+    best = max(share, key=share.get)
+    return table, on, {"by_point": "; ".join(f"{p}: {counted(f)}" for p, f in by.items()),
+                       "best": f"The point that follows it most often is {best} "
+                               f"({counted(by[best])}); the statement names no point, so no "
+                               "one point's series is its verdict."}
 
 
-def _s63_2(cases) -> Verdict:
-    v = Verdict("6.3-2", "6.3", "1734",
-                "This fact gives the assembly a tendency to fall more in the direction away from "
-                "the highway as the angle α is increased.",
-                "each post at 30 and 40 mph: `terminal_cm_yl_ft` (YL of the post's mass centre "
-                "at the hit) at α = 0°, 15°, 30°: holds when it rises with α. The report prints "
-                "no mass centre; its YQL and YPL are in 6.3 (line 1734) above.")
-    v.table = ["| post, speed | engine | mass centre YL at 0°, 15°, 30° (ft) |", "|---|---|---|"]
-    flags = {"emulator": [], "core": []}
-    for mph in (30, 40):
-        for post in POSTS:
-            for e in ("emulator", "core"):
-                ys = _trend(cases, post, mph, "terminal_cm_yl_ft", e)
-                if all(y is None for y in ys):
-                    continue
-                flags[e].append(increasing(ys))
-                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {e} | " + ", ".join(_f(y) for y in ys)
-                               + " |")
-    v.on = {"report": CANNOT, **{e: tally(f) for e, f in flags.items()}}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"series in which the mass centre lands further from the highway as α grows: "
-             f"emulator {n['emulator'][0]} of {n['emulator'][1]}, core {n['core'][0]} of "
-             f"{n['core'][1]}.")
-    return v
+def _rises(st, cases):
+    name = st.quantity[0]
+    table = ["| post, speed | source | at 0°, 15°, 30° (ft) | holds |", "|---|---|---|---|"]
+    flags = _flags()
+    misfits = []
+    for label, post, series in _series(cases, st.runs):
+        rows = []
+        if all(c is not None and c.in_tables for c in series):
+            rows.append(("report", [_report_value(c, name) for c in series]))
+            if name == "terminal_cm_yl_ft":
+                misfits += [report_mass_centre(c)[1] for c in series]
+        for e in ENGINES:
+            ys = [_q(c, e, name) for c in series]
+            if not all(y is None for y in ys):
+                rows.append((e, ys))
+        for src, ys in rows:
+            ok = increasing(ys)
+            flags[src].append(ok)
+            table.append(f"| {_tag(label, post)} | {src} | " + ", ".join(_f(y) for y in ys)
+                         + f" | {'yes' if ok else 'no'} |")
+    return table, {k: tally(f) for k, f in flags.items()}, {
+        "counts": counted(flags), "misfit": f"{max(misfits):.2f}" if misfits else "—"}
 
 
-def _s64_1(cases) -> Verdict:
-    v = Verdict("6.4-1", "6.4", "1740",
-                "From the values presented for point R in Tables 11 and 12 and from Figure 24, "
-                "it is clear that regardless of the vehicular speed, type of post used, or "
-                "vehicular approach angle, the tendency is for the single luminaire support arm "
-                "to have a negative rotation (according to the right hand rule) about the ZL "
-                "axis.",
-                "the 12 single-arm columns (and the single-arm posts at 30 mph): `arm_spin_deg` "
-                "(the post's spin about its own axis from t = 0 to the hit, read from P, Q, R), "
-                "and the same definition (`engine.attitude.spin_deg`) applied to the report's own "
-                "terminal P, Q, R with our t = 0 points. For a post lying on the ground 'about "
-                "ZL' needs a reading: the spin about the post's own axis is the rotation about "
-                "ZL while the post stands; the report gives none.")
-    v.table = ["| run | report's points, deg | emulator, deg | core, deg |", "|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    for c in _cases(cases, posts=("aluminium", "steel"), speeds=(20, 30, 40)):
-        rep = _report_spin(c) if c.in_tables else None
-        if c.in_tables:
-            flags["report"].append(None if rep is None else rep < 0)
-        vals = {e: _q(c, e, "arm_spin_deg") for e in ("emulator", "core")}
-        for e in vals:
-            flags[e].append(None if vals[e] is None else vals[e] < 0)
-        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep, 1)} | {_f(vals['emulator'], 1)} "
-                       f"| {_f(vals['core'], 1)} |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"negative spins at the end: report's own points {n['report'][0]} of "
-             f"{n['report'][1]}, emulator {n['emulator'][0]} of {n['emulator'][1]}, core "
-             f"{n['core'][0]} of {n['core'][1]}. While the car holds the post the arm turns "
-             "clockwise (5.4 (1), line 1692, above); read at the hit, from the terminal points, "
-             "the spin has either sign, in the report's own numbers too.")
-    return v
-
-
-def _s64_2(cases) -> Verdict:
-    v = Verdict("6.4-2", "6.4", "1740",
-                "This rotation causes the support arm to rotate in a direction away from the "
-                "highway after the post is impacted and not strike the highway causing an unsafe "
-                "condition for other motorists.",
-                "the 12 single-arm columns and the single-arm posts at 30 mph: "
-                "`luminaire_yl_shift_ft` (YL of R at the hit less its YL at t = 0: positive is "
-                "away from the highway); the report's YRL less our t = 0 YL of R.")
-    v.table = ["| run | report, ft | emulator, ft | core, ft |", "|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    for c in _cases(cases, posts=("aluminium", "steel"), speeds=(20, 30, 40)):
-        r0 = attitude.start_l(c.core, "R")
-        rep = _rep(c.name, "YRL")
-        rep_shift = None if rep is None or r0 is None else rep - r0[1]
-        if c.in_tables:
-            flags["report"].append(None if rep_shift is None else rep_shift > 0)
-        vals = {e: _q(c, e, "luminaire_yl_shift_ft") for e in ("emulator", "core")}
-        for e in vals:
-            flags[e].append(None if vals[e] is None else vals[e] > 0)
-        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep_shift)} | {_f(vals['emulator'])} | "
-                       f"{_f(vals['core'])} |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    v.why = ("the luminaire end moves away from the highway in every run" if v.verdict == HOLDS
-             else "the luminaire end does not move away from the highway in every run") + \
-        ("; whether it then strikes the highway cannot be checked: the report places no edge "
-         "of the pavement (see 5.4 (3)).")
-    return v
-
-
-def _s64_3(cases) -> Verdict:
-    v = Verdict("6.4-3", "6.4", "1742",
-                "The case involving the support post with twin luminaires shows that here the "
-                "tendency is for the rotation to be positive about the ZL axis. This is shown "
-                "in Figure 29.",
-                "the twin post at α = 15° and 30° (at α = 0° the twin post is symmetric about "
-                "the car's path and has no reason to turn), 20, 30 and 40 mph: `arm_spin_deg`, "
-                "and the same definition on the report's own terminal P, Q, R. The twin post "
-                "runs on the core only (the listing has no point U).")
-    v.table = ["| run | report's points, deg | core, deg |", "|---|---|---|"]
+def _r_first(st, cases):
+    table = ["| run | report | core |", "|---|---|---|"]
     flags = {"report": [], "core": []}
-    for c in _cases(cases, posts=("twin",), speeds=(20, 30, 40), angles=(15, 30)):
-        rep = _report_spin(c) if c.in_tables else None
-        if c.in_tables:
-            flags["report"].append(None if rep is None else rep > 0)
-        val = _q(c, "core", "arm_spin_deg")
-        flags["core"].append(None if val is None else val > 0)
-        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep, 1)} | {_f(val, 1)} |")
-    v.on = {"report": tally(flags["report"]), "emulator": CANNOT, "core": tally(flags["core"])}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"positive spins: report's own points {n['report'][0]} of {n['report'][1]}, core "
-             f"{n['core'][0]} of {n['core'][1]}.")
-    return v
-
-
-def _s64_4(cases) -> Verdict:
-    v = Verdict("6.4-4", "6.4", "1742-1744",
-                "A positive rotation causes point U to displace towards the highway but for the "
-                "cases investigated this effect always causes the striking point to increase in "
-                "the direction away from the assumed edge of the pavement.",
-                "the twin post at α = 15° and 30°, 20, 30 and 40 mph: "
-                "`second_luminaire_yl_shift_ft` (YL of U at the hit less its YL at t = 0; "
-                "negative is towards the highway); the report's YUL less our t = 0 YL of U. The "
-                "second half ('the striking point ... away from the assumed edge') cannot be "
-                "checked: the report never gives the edge it assumed.")
-    v.table = ["| run | report, ft | core, ft |", "|---|---|---|"]
-    flags = {"report": [], "core": []}
-    for c in _cases(cases, posts=("twin",), speeds=(20, 30, 40), angles=(15, 30)):
-        u0 = attitude.start_l(c.core, "U")
-        rep = _rep(c.name, "YUL")
-        rep_shift = None if rep is None or u0 is None else rep - u0[1]
-        if c.in_tables:
-            flags["report"].append(None if rep_shift is None else rep_shift < 0)
-        val = _q(c, "core", "second_luminaire_yl_shift_ft")
-        flags["core"].append(None if val is None else val < 0)
-        v.table.append(f"| {_tag(c.name, c.post)} | {_f(rep_shift)} | {_f(val)} |")
-    v.on = {"report": tally(flags["report"]), "emulator": CANNOT, "core": tally(flags["core"])}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"U moves towards the highway: report's own numbers {n['report'][0]} of "
-             f"{n['report'][1]}, core {n['core'][0]} of {n['core'][1]} (the first half); the "
-             "second half cannot be checked (no edge of the pavement is given).")
-    return v
-
-
-def _s64_5(cases) -> Verdict:
-    v = Verdict("6.4-5", "6.4", "1744",
-                "Tables 11 and 12 reveal that for these cases, the point R is the first to "
-                "contact the ground.",
-                "the twin post's runs that end on the ground (20, 30, 40 mph, every α): the hit "
-                "event's point. 'R&U' (both in the listing's 0.1 ft ground band at one step) "
-                "counts as R first, as the report's own 'POINTS R&U' does.")
-    v.table = ["| run | report | core |", "|---|---|---|"]
-    flags = {"report": [], "core": []}
-    for c in _cases(cases, posts=("twin",), speeds=(20, 30, 40)):
+    for c in _cases(cases, st.runs):
         rep = _rep(c.name, "comment")
         if rep is not None and "GROUND" in rep:
             flags["report"].append("POINT R" in rep or "POINTS R" in rep)
-        o = c.core
-        if o.hit is not None and o.hit.surface.value == "ground":
-            flags["core"].append(o.hit.point in ("R", "R&U"))
-        v.table.append(f"| {_tag(c.name, c.post)} | {rep or 'not run'} | {_end(c, 'core')} |")
-    v.on = {"report": tally(flags["report"]), "emulator": CANNOT, "core": tally(flags["core"])}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"ground hits led by R: report {n['report'][0]} of {n['report'][1]}, core "
-             f"{n['core'][0]} of {n['core'][1]}.")
-    return v
+        if c.core.hit is not None and not _on_car(c.core):
+            flags["core"].append(c.core.hit.point in ("R", "R&U"))
+        table.append(f"| {_tag(c.name, c.post)} | {rep or 'not run'} | {_end(c, 'core')} |")
+    return table, {"report": tally(flags["report"]), "emulator": CANNOT,
+                   "core": tally(flags["core"])}, {"counts": counted(flags)}
 
 
-def _s64_6(cases) -> Verdict:
-    v = Verdict("6.4-6", "6.4", "1744",
-                "As the vehicle approach angle is increased, the terminal position of the point "
-                "R increases in the direction away from the highway. The same effect had been "
-                "noticed in the case of the single luminaire support assembly.",
-                "each post at 20, 30 and 40 mph: `terminal_r_yl_ft` at α = 0°, 15°, 30°: holds "
-                "when it rises with α; the report's YRL likewise.")
-    v.table = ["| post, speed | source | YRL at 0°, 15°, 30° (ft) | holds |", "|---|---|---|---|"]
-    flags = {"report": [], "emulator": [], "core": []}
-    for mph in (20, 30, 40):
-        for post in POSTS:
-            rows = []
-            if mph != 30:
-                rows.append(("report", [_rep(case_name(post, mph, a), "YRL") for a in ANGLES]))
-            for e in ("emulator", "core"):
-                ys = _trend(cases, post, mph, "terminal_r_yl_ft", e)
-                if not all(y is None for y in ys):
-                    rows.append((e, ys))
-            for src, ys in rows:
-                ok = increasing(ys)
-                flags[src].append(ok)
-                v.table.append(f"| {_tag(f'{post} {mph} mph', post)} | {src} | " + ", ".join(_f(y) for y in ys)
-                               + f" | {'yes' if ok else 'no'} |")
-    v.on = {k: tally(f) for k, f in flags.items()}
-    v.verdict = overall(v.on)
-    n = {k: (sum(x is True for x in f), sum(x is not None for x in f)) for k, f in flags.items()}
-    v.why = (f"series in which R lands further from the highway as α grows: report "
-             f"{n['report'][0]} of {n['report'][1]}, emulator {n['emulator'][0]} of "
-             f"{n['emulator'][1]}, core {n['core'][0]} of {n['core'][1]}.")
-    return v
-
-
-def _s64_7(cases) -> Verdict:
+def _limits(st, cases):
     oiv, ora = CRITERIA["nchrp350_oiv"], CRITERIA["nchrp350_ora"]
-    v = Verdict("6.4-7", "6.4", "1746",
-                "The values of the maximum vehicle deceleration presented in Tables 11 and 12 "
-                "show that in all the cases considered the impact forces are kept within "
-                "tolerable limits.",
-                "every run (20, 30, 40 mph): `max_decel_g` (the report's maximum vehicle "
-                "deceleration), judged by the only limits this project can cite (the report "
-                f"names none): `oiv_m_s` against {oiv.source} ({oiv.label()}) and `ora_g` "
-                f"against {ora.source} ({ora.label()}), a standard of 1993 the report could "
-                "not know. The report's own decelerations are set beside them.")
-    flags = {"report": [], "emulator": [], "core": []}
+    flags = _flags()
     worst = {k: {"max_decel_g": None, "oiv_m_s": None, "ora_g": None} for k in flags}
-    for c in _cases(cases, speeds=(20, 30, 40)):
-        rep = _rep(c.name, "max_decel_g")
-        if rep is not None:
-            w = worst["report"]["max_decel_g"]
-            worst["report"]["max_decel_g"] = rep if w is None else max(w, rep)
-        for e in ("emulator", "core"):
+
+    def keep(src, k, x):
+        if x is not None:
+            w = worst[src][k]
+            worst[src][k] = x if w is None else max(w, x)
+
+    for c in _cases(cases, st.runs):
+        keep("report", "max_decel_g", _rep(c.name, "max_decel_g"))
+        for e in ENGINES:
             o = _out(c, e)
             if o is None:
                 continue
             vals = quantities.values(o, ("max_decel_g", "oiv_m_s", "ora_g"))
             for k, x in vals.items():
-                if x is not None:
-                    w = worst[e][k]
-                    worst[e][k] = x if w is None else max(w, x)
+                keep(e, k, x)
             if vals["oiv_m_s"] is not None:
                 flags[e].append(vals["oiv_m_s"] <= oiv.maximum
                                 and (vals["ora_g"] is None or vals["ora_g"] <= ora.maximum))
-    v.table = ["| source | largest `max_decel_g`, g | largest `oiv_m_s`, m/s | largest `ora_g`, g |",
-               "|---|---|---|---|"]
-    for k in ("report", "emulator", "core"):
-        w = worst[k]
-        v.table.append(f"| {k} | {_f(w['max_decel_g'])} | {_f(w['oiv_m_s'])} | "
-                       f"{_f(w['ora_g'])} |")
-    v.on = {"report": CANNOT, **{e: tally(flags[e]) for e in ("emulator", "core")}}
-    v.verdict = overall(v.on)
-    v.why = ("every run's occupant impact velocity and ridedown acceleration are inside NCHRP "
-             "Report 350's limits" if v.verdict == HOLDS else
-             "some run exceeds NCHRP Report 350's limits") + \
-        ("; 'tolerable' is the report's word without a number: the report's own "
-         f"decelerations ({_f(worst['report']['max_decel_g'])} g at most) cannot be judged "
-         "without one.")
-    return v
+    table = ["| source | largest `max_decel_g`, g | largest `oiv_m_s`, m/s | largest `ora_g`, g |",
+             "|---|---|---|---|"]
+    for k in SOURCES:
+        table.append(f"| {k} | " + " | ".join(_f(worst[k][q]) for q in worst[k]) + " |")
+    on = {"report": CANNOT, **{e: tally(flags[e]) for e in ENGINES}}
+    return table, on, {
+        "oiv": f"{oiv.source} ({oiv.label()})", "ora": f"{ora.source} ({ora.label()})",
+        "within": "every run's occupant impact velocity and ridedown acceleration are inside "
+                  "NCHRP Report 350's limits" if overall(on) == HOLDS else
+                  "some run exceeds NCHRP Report 350's limits",
+        "report_max": _f(worst["report"]["max_decel_g"])}
 
 
-CHECKS = (_s54_1, _s54_2, _s54_3, _s54_4, _s62_1, _s62_2, _s62_3, _s62_4, _s63_1, _s63_2,
-          _s64_1, _s64_2, _s64_3, _s64_4, _s64_5, _s64_6, _s64_7)
+#: rule name (a statement's ``rule``) -> function(statement, cases) -> (table, on, figures)
+RULES = {"sign": _sign, "clears": _clears, "edge": _edge, "alpha_change": _alpha_change,
+         "one_exception": _one_exception, "cannot": _cannot, "energy": _energy,
+         "by_point": _by_point, "rises": _rises, "r_first": _r_first, "limits": _limits}
+
+
+def _fill(template: str, figures: dict) -> str:
+    text = template.format(**figures)
+    return text[:1].upper() + text[1:]
+
+
+def check(st: Statement, cases: dict[str, Case]) -> Verdict:
+    """One statement judged by its rule on the runs ``cases``."""
+    table, on, figures = RULES[st.rule](st, cases)
+    return Verdict(st, _fill(st.how, figures), _fill(st.why, figures), table, on, overall(on))
 
 
 def verdicts(cases: dict[str, Case]) -> list[Verdict]:
     """Every statement of Sections 5.4 and 6.2-6.4, checked on the runs ``cases``
     (:func:`report.figures.run_cases`)."""
-    return [check(cases) for check in CHECKS]
+    return [check(st, cases) for st in STATEMENTS if st.rule in RULES]
 
 
 def verdicts_page(vs: list[Verdict], command: str) -> str:
     """``docs/report/verdicts.md``."""
     out = ["# The report's statements of Sections 5.4 and 6.2-6.4, with verdicts\n",
-           f"Made by `{command}` (with [figures.md](figures.md)). Each statement is quoted "
-           "with its line in the OCR text of the report; the computation names its runs and "
-           "the quantities it reads from the registry (`engine/quantities.py`; `deck-emulator "
-           "summary --help` and docs/json.md define them). The runs: the 18 columns of Tables "
-           "11 and 12 as docs/report_full.md builds them, and the three posts at 30 mph built "
-           "as `deck-emulator assembly NAME core --speed-mph 30 [--alpha-deg A]` builds them "
-           "(steel40's car with VVB and ALPHA set); the emulator runs the listing (`double`, "
-           "erratum `ed-direction`) where it can carry the post (not the twin post: no point "
-           "U), the core its `legacy` preset. The report's own numbers: "
+           f"Made by `{command}` (with [figures.md](figures.md)). Each statement is a row of "
+           "`report/statements.py`: quoted with its line in the OCR text of the report, the "
+           "quantities it is checked by (the registry, `engine/quantities.py`; `deck-emulator "
+           "summary --help` and docs/json.md define them) and its rule (`report/verdicts.py`). "
+           "The runs: the 18 columns of Tables 11 and 12 as docs/report_full.md builds them, "
+           "and the three posts at 30 mph; the emulator runs the listing (`double`, erratum "
+           "`ed-direction`) where it can carry the post (not the twin post: no point U), the "
+           "core its `legacy` preset. The report's own numbers: "
            f"`deck_emulator.studies.report_tables` ({SOURCE}).\n",
-           "Fitted to the report (beside every number below): the steel runs re-run the "
-           "report's own deck; the aluminium and twin geometries were read off Tables 11 and "
-           "12's own terminal coordinates, with the steel deck's base, arm shape and car; the "
-           f"30 mph runs use steel40's car. In the tables, {FITTED_MARK} marks the runs of "
-           "the aluminium and twin posts (geometry fitted to the tables). The axes are the "
-           "report's XL, YL, ZL (origin on the ground under the base; the car drives to -XL; "
-           "the arm reaches over the highway along -YL, so +YL is away from the highway).\n",
+           "Where each run's inputs come from: the steel runs at 20 and 40 mph are the "
+           "report's own decks (`decks/steel*.dat`); the steel runs at 30 mph are the report's "
+           "deck `decks/steel40.dat` with VVB and ALPHA set by the sweep's rules "
+           "(`deck-emulator sweep`); none of their inputs was fitted. The aluminium and twin "
+           "posts are the assembly builder's (`assemblies/aluminium.toml`, `twin.toml`): their "
+           "|PQ| and arm rise were fitted to Tables 11 and 12's own terminal coordinates, their "
+           "base weight and arm shape carried over from the builder's calibration on the steel "
+           "deck, and their car is the steel deck's of the same speed and angle (steel40's car "
+           f"with VVB and ALPHA set at 30 mph). {FITTED_MARK} marks every run of those two "
+           "posts: fitted, beside every number it touches. The axes are the report's XL, YL, "
+           "ZL (origin on the ground under the base; the car drives to -XL; the arm reaches "
+           "over the highway along -YL, so +YL is away from the highway).\n",
            "## Verdicts\n", "| # | section, line | statement | report's numbers | emulator | "
            "core | verdict |", "|---|---|---|---|---|---|---|"]
     for i, v in enumerate(vs, 1):
         short = v.quote if len(v.quote) <= 110 else v.quote[:107].rsplit(" ", 1)[0] + " ..."
         where = f"line{'s' if '-' in v.lines else ''} {v.lines}"
         core = v.on.get("core", CANNOT)
-        if "core with the shaft test" in v.on:
-            core += f" (with the shaft test: {v.on['core with the shaft test']})"
+        if SHAFT in v.on:
+            core += f" (with the shaft test: {v.on[SHAFT]})"
         out.append(f"| {i} | {v.section}, {where} | {short} | {v.on.get('report', CANNOT)}"
                    f" | {v.on.get('emulator', CANNOT)} | {core} | **{v.verdict}** |")
     out.append("")
@@ -832,9 +653,9 @@ def verdicts_page(vs: list[Verdict], command: str) -> str:
         out.append(f"## {i}. Section {v.section}, line{'s' if '-' in v.lines else ''} "
                    f"{v.lines}\n")
         out.append(f"> {v.quote}\n")
-        out.append(f"**Computation.** {v.how[:1].upper() + v.how[1:]}\n")
+        out.append(f"**Computation.** {v.how}\n")
         if v.table:
             out += v.table
             out.append("")
-        out.append(f"**Verdict: {v.verdict}.** {v.why[:1].upper() + v.why[1:]}\n")
+        out.append(f"**Verdict: {v.verdict}.** {v.why}\n")
     return "\n".join(out) + "\n"

@@ -208,10 +208,12 @@ _REGISTRY = (
              1000.0, needs=None),
     Quantity("delta_v_crush_mph", "speed lost, crush pulse", "mph", 2,
              "the speed the car has lost by the end of the crush pulse (the spring force first "
-             "capped at FCONST): the reading of the report's DECREASE IN VEHICLE VELOCITY "
-             "(Tables 11 and 12) that fits its steel columns; the first-spring reading fits its "
-             "aluminium and twin columns (docs/report_full.md, 'ΔV and the maximum "
-             "deceleration') (emulator: read at the first printed step where FSA is cut to "
+             "capped at FCONST): one of three readings of the report's DECREASE IN VEHICLE "
+             "VELOCITY (Tables 11 and 12), which the report defines nowhere: it fits the "
+             "report's steel 40 mph columns, the first-spring reading its aluminium and twin "
+             "ones, whose base weight moves ΔV by more, so the tables cannot decide "
+             "(docs/report_full.md, 'ΔV and the maximum deceleration') (emulator: read at the "
+             "first printed step where FSA is cut to "
              "FCONST; core: at its located 'force cap engaged' event)",
              _speed_lost_by("crush_end_s"), needs=None),
     Quantity("delta_v_first_spring_mph", "speed lost, to the first spring's loss", "mph", 2,
