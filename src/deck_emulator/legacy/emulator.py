@@ -73,6 +73,31 @@ class EmulatorError(RuntimeError):
         super().__init__(f"{reason} at {where} ({when})")
 
 
+def fault_reason(exc) -> str:
+    """What an exception of the arithmetic (or a non-finite value) means, for the message."""
+    return {"_NonFinite": "non-finite value (NaN or infinity)",
+            "ZeroDivisionError": "division by zero",
+            "FloatingPointError": f"floating-point exception ({exc})",
+            "ArithmeticFault": f"arithmetic fault ({exc})",
+            "OverflowError": "overflow",
+            "ValueError": "invalid argument to an intrinsic"}[type(exc).__name__]
+
+
+def time_error(limit_s, phase: str, label, step: int, time: float) -> EmulatorError:
+    """The guard on simulated time (``phase``: ``contact`` or ``free``)."""
+    where = ("in free flight: the post has not landed" if phase == "free"
+             else "in contact with the vehicle")
+    return EmulatorError(f"simulated time passed the limit of {limit_s:g} s {where}",
+                         label=label, step=step, time=time, guard="time_s")
+
+
+def halving_error(limit: int, H, DIFF, DIFFT, label, step: int, time: float) -> EmulatorError:
+    """The guard on label 108's halving of the step (H, DIFF, DIFFT as floats)."""
+    return EmulatorError(f"step halved {limit} times in a row at label {label} (H = {H:.3g} s, "
+                         f"DIFF = {DIFF:.3g} ft, DIFFT = {DIFFT:.3g} ft)",
+                         label=label, step=step, time=time, guard="halvings")
+
+
 @dataclass(frozen=True)
 class Limits:
     """Bounds on what the 1967 program leaves unbounded."""
@@ -398,13 +423,7 @@ class Program:
             variable = exc.name if isinstance(exc, _NonFinite) else _assigned_variable(exc)
             label = self.ed.label if variable in ("D", "DH") or _in_ed(exc) else self.label
             label = f"ED {label}" if _in_ed(exc) or variable in ("D", "DH") else label
-            kind = {"_NonFinite": "non-finite value (NaN or infinity)",
-                    "ZeroDivisionError": "division by zero",
-                    "FloatingPointError": f"floating-point exception ({exc})",
-                    "ArithmeticFault": f"arithmetic fault ({exc})",
-                    "OverflowError": "overflow",
-                    "ValueError": "invalid argument to an intrinsic"}[type(exc).__name__]
-            self._fail(EmulatorError(kind, label=label, variable=variable, step=self.step,
+            self._fail(EmulatorError(fault_reason(exc), label=label, variable=variable, step=self.step,
                                      time=self.time(), guard="arithmetic"))
         return self.run_
 
@@ -737,9 +756,8 @@ class Program:
         v.Q = v.Q+v.H
         v.E = v.E+self.KSTEP(".0004")
         if self.ar.to_float(v.Q) > self.limits.time_s:
-            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
-                                "in contact with the vehicle", label=106, step=self.step,
-                                time=self.ar.to_float(v.Q), guard="time_s")
+            raise time_error(self.limits.time_s, "contact", 106, self.step,
+                             self.ar.to_float(v.Q))
         return self.IF(v.E-K("0.0016"), 54, 87, 87)
 
     def L87(self):
@@ -800,11 +818,9 @@ class Program:
         v = self.v
         self.halvings += 1
         if self.halvings > self.limits.halvings:
-            raise EmulatorError(
-                f"step halved {self.limits.halvings} times in a row at label 108 "
-                f"(H = {self.ar.to_float(v.H):.3g} s, DIFF = {self.ar.to_float(v.DIFF):.3g} ft, "
-                f"DIFFT = {self.ar.to_float(v.DIFFT):.3g} ft)",
-                label=108, step=self.step, time=self.time(), guard="halvings")
+            f = self.ar.to_float
+            raise halving_error(self.limits.halvings, f(v.H), f(v.DIFF), f(v.DIFFT), 108,
+                                self.step, self.time())
         v.Q = v.Q-v.H
         v.H = v.H/self.K("2.")
         v.HI = v.HI/self.K("2.")
@@ -887,9 +903,7 @@ class Program:
         K2 = K("2.")
         v.T = v.TF+H  # 59
         if ar.to_float(v.T) > self.limits.time_s:
-            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
-                                "in free flight: the post has not landed", label=59,
-                                step=self.step, time=ar.to_float(v.T), guard="time_s")
+            raise time_error(self.limits.time_s, "free", 59, self.step, ar.to_float(v.T))
         v.W1FA = H*((B-C)/A)*v.W2FB*v.W3FB+v.W1FB
         v.W2FA = H*((C-A)/B)*v.W1FB*v.W3FB+v.W2FB
         v.W3FA = H*((A-B)/C)*v.W1FB*v.W2FB+v.W3FB
