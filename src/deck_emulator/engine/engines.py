@@ -96,6 +96,8 @@ class EmulatorEngine:
     arithmetic_options: dict = field(default_factory=dict)
     trace: bool = True
     record_defects: bool = False
+    #: a job deck's own program (legacy.fortran.Program) run instead of the listing's
+    fortran: object = None
     name = "emulator"
 
     def arithmetic(self):
@@ -106,6 +108,8 @@ class EmulatorEngine:
     def program(self, deck):
         from deck_emulator.legacy.emulator import Limits, Program
 
+        if self.fortran is not None:
+            return self.fortran.runner(deck, self.arithmetic(), limits=self.limits or Limits())
         return Program(deck, self.arithmetic(), errata=errata_policy.resolve(self.errata),
                        step_scale_k=self.step_scale_k, tha_start=self.tha_start,
                        ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
