@@ -261,7 +261,7 @@ class Comparison:
     compiled_text: str = ""  # what the compiled program printed
 
 
-GUARDS = ("ed_iterations", "halvings", "time_s")
+GUARDS = ("ed_iterations", "halvings", "time_s", "runaway")
 
 
 def compare(deck, exe_for, workdir: Path, timeout_s: float | None = None, *,

@@ -47,6 +47,10 @@ MAX_TOML_DIGITS = 100
 ED_ITERATIONS = 100_000
 HALVINGS = 40
 EMULATOR_T_MAX_S = 5.0
+#: labelled blocks the main program of a job deck's own FORTRAN runs before it is stopped as a
+#: runaway (the front end, legacy/fortran: a loop that the listing's guards do not see; the
+#: listing runs about 10**5 on the shipped decks)
+PROGRAM_BLOCKS = 5_000_000
 
 # ------------------------------------------------------------------- the core
 

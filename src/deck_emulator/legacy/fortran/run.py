@@ -29,6 +29,7 @@ import math
 from deck_emulator.legacy.emulator import (EmulatorError, Limits, Run, fault_reason,
                                            halving_error, time_error)
 from deck_emulator.legacy.printer import Printer
+from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
 
 from .parse import INTRINSICS, Unit, kind_of, parse_units
 
@@ -153,14 +154,14 @@ class _Gen:
             self.emit(f"        nonlocal {', '.join(names)}")
         for d in u.dummies:
             self.emit(f"        {d} = a_{d}")
-        self.emit("        lab, n, blocks, limit = 'START', 0, _blocks, _G.limits.ed_iterations")
+        limit = "_G.limits.ed_iterations" if u.name != "MAIN" else "_G.program_blocks"
+        self.emit(f"        lab, n, blocks, limit = 'START', 0, _blocks, {limit}")
         self.emit("        while lab is not None:")
-        if u.name != "MAIN":
-            self.emit("            n += 1")
-            self.emit("            if n > limit:")
-            shown = [n for n in names if kind_of(n) == "R" and n in _assigned(u.statements,
-                                                                              self.units)]
-            self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown)!r})")
+        self.emit("            n += 1")
+        self.emit("            if n > limit:")
+        shown = [n for n in names if kind_of(n) == "R" and n in _assigned(u.statements,
+                                                                          self.units)]
+        self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown[:3])!r})")
         self.emit("            lab = blocks[lab]()")
         self.emit(f"        return ({''.join(d + ', ' for d in assigned_dummies)})")
         self.emit(f"    _G.units[{u.name!r}] = ({u.name}, _vars)")
@@ -184,6 +185,7 @@ class _Gen:
         end = ""  # the block's check of its values when it ends (binary64, unchecked)
         if self.native and not self.checking and checks:
             end = f"        if not _fin({'+'.join(checks)}): raise _Replay"
+        ended = False
         for s in stmts:
             last = s is stmts[-1]
             text = f"  # {str(s.label) + ' ' if s.label else ''}{s.text}"
@@ -218,12 +220,13 @@ class _Gen:
                 call = f"_G.call_{name}({', '.join(self.expr(a) for a in args)})"
                 self.emit(f"        {targets + '= ' if back else ''}{call}{text}",
                           self.where(label, next((v for v in back if v != "_"), None)))
-            else:  # GO TO, IF, RETURN, STOP, END: the block ends
-                if end:
+            else:  # GO TO, IF, RETURN, STOP, END: the block ends (what follows, unlabelled,
+                # is never reached, and is kept as written: STOP then END)
+                if end and not ended:
                     self.emit(end, self.where(label))
                 self.emit(f"        {self.jump(s)}{text}", self.where(label))
-                return
-            if last:
+                ended = True
+            if last and not ended:
                 if end:
                     self.emit(end, self.where(label))
                 self.emit(f"        return {_key(nxt)}", self.where(label))
@@ -393,6 +396,7 @@ class Runner:
         self.step, self.free, self.halvings, self.card = 0, False, 0, 0
         self.label = "START"
         self.units: dict = {}
+        self.program_blocks = PROGRAM_BLOCKS
 
     # what the generated code calls -----------------------------------------------------------
     def read(self, fmt: int):
@@ -449,9 +453,13 @@ class Runner:
 
     def runaway(self, unit: str, label, values: dict, shown: tuple):
         shown = ", ".join(f"{n} = {self.ar.to_float(values[n]):.6g}" for n in shown)
+        if unit == "MAIN":
+            raise EmulatorError(f"the main program ran {self.program_blocks} labelled blocks "
+                                f"without STOP ({shown})", label=label, step=self.step,
+                                time=self.time(), guard="runaway")
         raise EmulatorError(f"{unit} did not return in {self.limits.ed_iterations} iterations "
                             f"({shown})", label=f"{unit} {label}", step=self.step,
-                            time=self.time(), guard="ed_iterations")
+                            time=self.time(), guard="runaway")
 
     def time(self) -> float | None:
         """Simulated time (the listing's: Q in contact, T in free flight), if it has them."""
