@@ -106,10 +106,12 @@ class EmulatorEngine:
         return get_arithmetic(self.precision, **self.arithmetic_options)
 
     def program(self, deck):
+        if self.fortran is not None:  # (the port is not loaded)
+            from deck_emulator.legacy.stops import Limits
+
+            return self.fortran.runner(deck, self.arithmetic(), limits=self.limits or Limits())
         from deck_emulator.legacy.emulator import Limits, Program
 
-        if self.fortran is not None:
-            return self.fortran.runner(deck, self.arithmetic(), limits=self.limits or Limits())
         return Program(deck, self.arithmetic(), errata=errata_policy.resolve(self.errata),
                        step_scale_k=self.step_scale_k, tha_start=self.tha_start,
                        ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
@@ -120,7 +122,7 @@ class EmulatorEngine:
         makes from it): what the plain ``deck-emulator run`` prints.  ``watch``: called with
         the program before it runs (a progress display may read its ``step`` from another
         thread; nothing is added to the program's loop)."""
-        from deck_emulator.legacy.emulator import EmulatorError
+        from deck_emulator.legacy.stops import EmulatorError
 
         program = self.program(deck)
         if watch is not None:

@@ -93,6 +93,7 @@ class Unit:
     functions: dict[str, tuple[tuple[str, ...], tuple]] = field(default_factory=dict)
     formats: dict[int, str] = field(default_factory=dict)  # label -> normalised FORMAT text
     card: int = 0
+    changed: set | None = None  # the variables it assigns (legacy.fortran.run)
 
 
 # ----------------------------------------------------------------------------- expressions
@@ -110,22 +111,42 @@ class _Parser:
     ``**`` (right to left) over ``* /`` over ``+ -`` (left to right), a sign before a term."""
 
     def __init__(self, text: str, start: int, fail, unit: Unit):
-        self.text, self.pos, self.fail, self.unit = text, start, fail, unit
+        self.text, self.fail, self.unit = text, fail, unit
+        self.tokens: list[tuple[str, str, int]] = []  # (kind, text, position), read once
+        at = 0
+        while at < len(text):
+            m = _TOKEN.match(text, at)
+            if m is None:  # refused when the parse reaches it
+                self.tokens.append(("bad", text[at], at))
+                break
+            self.tokens.append((m.lastgroup, m.group(), at))
+            at = m.end()
+        self.i = 0
+        self.pos = start
+
+    @property
+    def pos(self) -> int:
+        """The position in the text of the next token (its length at the end)."""
+        return self.tokens[self.i][2] if self.i < len(self.tokens) else len(self.text)
+
+    @pos.setter
+    def pos(self, at: int):
+        self.i = next((k for k, t in enumerate(self.tokens) if t[2] >= at), len(self.tokens))
 
     def peek(self):
-        if self.pos >= len(self.text):
+        if self.i >= len(self.tokens):
             return None, None
-        m = _TOKEN.match(self.text, self.pos)
-        if m is None:
-            self.fail(f"{self.text[self.pos]!r} is outside the dialect", self.pos)
-        return m.lastgroup, m.group()
+        kind, tok, at = self.tokens[self.i]
+        if kind == "bad":
+            self.fail(f"{tok!r} is outside the dialect", at)
+        return kind, tok
 
     def take(self, want=None):
         kind, tok = self.peek()
         if tok is None or (want is not None and tok != want):
             self.fail(f"expected {want or 'more'} at {self.text[self.pos:] or 'the end'!r}",
                       self.pos)
-        self.pos += len(tok)
+        self.i += 1
         return kind, tok
 
     def expr(self):

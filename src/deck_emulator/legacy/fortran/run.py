@@ -26,8 +26,8 @@ from __future__ import annotations
 import hashlib
 import math
 
-from deck_emulator.legacy.emulator import (EmulatorError, Limits, Run, fault_reason,
-                                           halving_error, time_error)
+from deck_emulator.legacy.stops import (EmulatorError, Limits, Run, fault_reason,
+                                        halving_error, time_error)
 from deck_emulator.legacy.printer import Printer
 from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
 
@@ -142,7 +142,7 @@ class _Gen:
                       self.where(None, name))
             self.emit(f"        return {self.expr(body, kind_of(name))}", self.where(None, name))
         blocks = _blocks(u)
-        assigned_dummies = [d for d in u.dummies if d in _assigned(u.statements, self.units)]
+        assigned_dummies = [d for d in u.dummies if d in _changed(u, self.units)]
         for label, stmts, nxt in blocks:
             self.block(label, stmts, nxt)
         self.emit(f"    _blocks = {{{', '.join(f'{_key(b[0])}: L{b[0] or 0}' for b in blocks)}}}")
@@ -159,8 +159,7 @@ class _Gen:
         self.emit("        while lab is not None:")
         self.emit("            n += 1")
         self.emit("            if n > limit:")
-        shown = [n for n in names if kind_of(n) == "R" and n in _assigned(u.statements,
-                                                                          self.units)]
+        shown = [n for n in names if kind_of(n) == "R" and n in _changed(u, self.units)]
         self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown[:3])!r})")
         self.emit("            lab = blocks[lab]()")
         self.emit(f"        return ({''.join(d + ', ' for d in assigned_dummies)})")
@@ -213,7 +212,7 @@ class _Gen:
             elif s.kind == "call":
                 name, args = s.args
                 sub = self.units[name]
-                changed = _assigned(sub.statements, self.units)
+                changed = _changed(sub, self.units)
                 back = [a[1] if a[0] == "var" else "_" for d, a in zip(sub.dummies, args)
                         if d in changed]
                 targets = "".join(v + ", " for v in back)
@@ -284,10 +283,17 @@ def _assigned(stmts, units) -> set[str]:
             out.update(s.args[1])
         elif s.kind == "call":
             sub = units[s.args[0]]
-            mine = _assigned(sub.statements, units)
+            mine = _changed(sub, units)
             out.update(a[1] for d, a in zip(sub.dummies, s.args[1])
                        if a[0] == "var" and d in mine)
     return out
+
+
+def _changed(unit: Unit, units) -> set[str]:
+    """What a unit assigns (worked out once a unit)."""
+    if unit.changed is None:
+        unit.changed = _assigned(unit.statements, units)
+    return unit.changed
 
 
 def _variables(e, skip=()):
