@@ -179,10 +179,13 @@ def test_run_runs_the_job_decks_own_fortran_as_gfortran_does(tmp_path, capsys):
     assert "own FORTRAN" in facts["program"]
 
 
-def test_errata_are_refused_for_a_decks_own_fortran(tmp_path, capsys):
+def test_errata_and_a_trajectory_are_refused_for_a_decks_own_fortran(tmp_path, capsys):
     job = _job(tmp_path, "      HI=0.0004", "      HI=0.0002")
     assert main(["run", str(job), "--erratum", "ed-direction"]) == 2
     assert "--erratum change the listing's program" in capsys.readouterr().err
+    csv = tmp_path / "t.csv"
+    assert main(["run", str(job), "--trajectory", str(csv)]) == 2
+    assert "keeps no trajectory" in capsys.readouterr().err and not csv.exists()
 
 
 # ------------------------------------------------------------------- mutants and gfortran

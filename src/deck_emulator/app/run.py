@@ -55,6 +55,10 @@ def run(o: RunOptions) -> Answer:
     src = common.load(o, "run", kinds=("deck",), own_program=True)
     common.check_out(o.out)
     common.check_trajectory(o.trajectory)
+    if o.trajectory and src.fortran is not None:
+        raise UsageError(f"--trajectory: {src.name} runs its own FORTRAN, and the front end "
+                         "keeps no trajectory (the port of the listing does: "
+                         "--listing-program)")
     if o.trajectory and len(src.decks) != 1:
         raise UsageError(f"--trajectory writes one run's trajectory and {src.name} holds "
                          f"{len(src.decks)} $DATA sections: choose one with --section N")
