@@ -212,3 +212,20 @@ def test_seeded_mutants_print_what_gfortran_prints():
 @pytest.mark.slow
 def test_the_larger_corpus_of_mutants_prints_what_gfortran_prints():
     _mutants_agree(80, seed=3400)
+
+
+@pytest.mark.slow
+def test_the_differential_corpus_through_the_front_end_prints_as_the_compiled_listing():
+    """tests/legacy/test_differential.py's 20 seeded decks, the listing run by the front end."""
+    need_gfortran()
+    from test_differential import SMALL, SMALL_SEED
+
+    programs = {errata: listing_program(errata) for errata in ((), ("ed-direction",))}
+    o = oracle.Oracle(timeout_s=2.0)
+    try:
+        for deck in oracle.corpus(SMALL, SMALL_SEED):
+            outcome = oracle.compare(deck, o.exe, o.dir, o.timeout_s, ours=lambda deck, errata:
+                                     programs[tuple(errata)].runner(deck, "double").run())
+            assert outcome.agree, outcome.why
+    finally:
+        o.close()
