@@ -280,6 +280,39 @@ BAD_PATHS = ["{dir}/missing/x", "{dir}/file/x", "{dir}", "/dev/full", "/proc/ver
              "{dir}/ro/x", "/dev/null/x", "{dir}/x\x00y"]
 
 
+#: Statements a mutated program may gain: outside the front end's dialect, or in it.
+_STATEMENTS = ["      DOUBLE PRECISION HI", "      READ(3,1)Q", "      COMMON/B/HI",
+               "      DIMENSION X(10)", "      IF(Q.GT.0.0)GO TO 125", "      DO 10 I=1,5",
+               "      X=SQRT(Q)", "      GO TO (1,2),I", "      ASSIGN 10 TO I",
+               "      WRITE(6,999)Q", "      CALL NONE(Q)", "      Q=Q+", "      Q=Q**0.5",
+               "      H=H/0.0", "      GO TO 77777", "   41 CONTINUE", "      RETURN",
+               "      FUNCTION F(X)", "      END", "      STOP", "  999 FORMAT(E15.5)",
+               "  998 FORMAT(5HABC)", "      READ(5,1)Q", "      CALL ED(Q)"]
+
+
+def _program_mutation(job: list[str], rng: random.Random) -> tuple[str, list[str]]:
+    """A job deck whose FORTRAN changed: a card's character, a card dropped or repeated, or a
+    statement added (:data:`_STATEMENTS`)."""
+    texts = list(job)
+    first = texts.index("$IBFTC MAIN") + 1
+    last = texts.index("$ENTRY         MAIN")
+    at = rng.randrange(first, last)
+    kind = rng.choice(["character", "character", "drop", "repeat", "statement"])
+    if kind == "character":
+        line = texts[at].ljust(72)
+        col = rng.randrange(72)
+        new = rng.choice("ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 =+-*/(),.$'")
+        texts[at] = (line[:col] + new + line[col + 1:]).rstrip()
+        return f"card {at + 1} column {col + 1} -> {new!r}", texts
+    if kind == "drop":
+        del texts[at]
+    elif kind == "repeat":
+        texts.insert(at, texts[at])
+    else:
+        texts.insert(at, rng.choice(_STATEMENTS))
+    return f"{kind} at card {at + 1}", texts
+
+
 # ------------------------------------------------------------------------------ the corpus
 
 
@@ -287,9 +320,9 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
     n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
-         "cut": 12, "bomb": 12, "streams": 16, "sources": 12} if fast \
+         "cut": 12, "bomb": 12, "streams": 16, "sources": 12, "programs": 12} if fast \
         else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
-              "cut": 300, "bomb": 300, "streams": 120, "sources": 120}
+              "cut": 300, "bomb": 300, "streams": 120, "sources": 120, "programs": 300}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -404,6 +437,14 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
                           [cmd[0], "{pipe}", *cmd[1:]], pipe=data,
                           statuses=frozenset({0, 3}) if kind == "whole" else
                           frozenset(STATUSES)))
+
+    program_rng = random.Random(seed + 5)  # its own, so that the other categories stay the same
+    job = job_deck_texts([d40])
+    for k in range(n["programs"]):
+        what, texts = _program_mutation(job, program_rng)
+        cases.append(Case("mutated programs", f"{what} #{k}",
+                          ["run", "{dir}/p.job", "--out", "{dir}/out.txt", "--quiet"],
+                          {"p.job": ("\n".join(texts) + "\n").encode()}, outputs=("out.txt",)))
 
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]

@@ -99,14 +99,14 @@ def test_fortranformat_reads_every_field_the_deck_reader_accepts(text):
     accepts, fortranformat reads too, to the same number (to its double rounding)."""
     from fortranformat import FortranRecordReader
 
-    from deck_emulator.legacy.deck import DeckError, _NUMBER_RE, _read_field
+    from deck_emulator.legacy.deck import DeckError, _NUMBER_RE, read_field
 
     if not _NUMBER_RE.fullmatch(text):
         return
     theirs = FortranRecordReader("(F10.5)").read(text)[0]
     assert theirs is not None
     try:
-        ours, _ = _read_field(text.rjust(10), name="X", card=1, columns=(1, 10), path=None)
+        ours, _ = read_field(text.rjust(10), name="X", card=1, columns=(1, 10), path=None)
     except DeckError:  # out of binary64's range: fortranformat gives inf or 0 there
         assert not math.isfinite(theirs) or abs(theirs) < 1e-290
         return

@@ -1,6 +1,7 @@
 """The fault campaign kept: tests/campaign.py's generators of mutated decks, card
 images, scene and assembly files, physically odd decks, printouts of every layout compare
-reads (mutated, damaged as scans damage them, empty), invalid options and output paths,
+reads (mutated, damaged as scans damage them, empty), job decks whose FORTRAN is mutated,
+invalid options and output paths,
 each case held to the tool's promise (a documented exit status, no traceback, one line for a
 refusal, nothing written by a refusal).  A seeded sample by default; the full corpus (about
 2,900 cases) under ``-m slow_corpus``."""
@@ -25,7 +26,7 @@ def test_the_sample_covers_every_category():
         "mutated decks", "physically odd decks", "mutated card images",
         "scene and assembly files", "printouts", "invalid options", "output paths",
         "card images cut short", "scene and assembly bombs", "closed streams and bare encodings",
-        "sources that are not files"}
+        "sources that are not files", "mutated programs"}
 
 
 @pytest.mark.parametrize("case", FAST, ids=lambda c: f"{c.category}: {c.name}")

@@ -14,9 +14,10 @@ from deck_emulator.extras import require
 from . import PROG, Answer
 
 
-def load(options, command: str, kinds=("deck", "scene"), given=None):
+def load(options, command: str, kinds=("deck", "scene"), given=None, own_program=False):
     """SOURCE read whole (:func:`deck_emulator.engine.sources.load_source`); what the reader
-    says (the job deck's program, warnings) is in its ``notes``."""
+    says (the job deck's program, warnings) is in its ``notes``; ``own_program``: a job
+    deck's own FORTRAN may run (through the front end: its ``fortran``)."""
     from deck_emulator.engine.sources import load_source
 
     return load_source(options.source if given is None else given,
@@ -24,7 +25,7 @@ def load(options, command: str, kinds=("deck", "scene"), given=None):
                        keypunch=getattr(options, "keypunch", None),
                        section=getattr(options, "section", None),
                        listing_program=getattr(options, "listing_program", False),
-                       kinds=kinds, command=command)
+                       kinds=kinds, command=command, own_program=own_program)
 
 
 def deck_file(given: str, command: str) -> str:
@@ -61,8 +62,10 @@ def engine_scene(source, name: str = ""):
         raise UsageError(f"{where}: the core cannot solve it: {exc}") from None
 
 
-def emulator(options, *, trace: bool = True):
-    """The emulator engine the options (:class:`~.options.Emulator`) ask for."""
+def emulator(options, *, trace: bool = True, fortran=None):
+    """The emulator engine the options (:class:`~.options.Emulator`) ask for; ``fortran``: a
+    job deck's own program (:attr:`~deck_emulator.engine.sources.Source.fortran`) to run
+    instead of the listing, which takes none of the listing's departures."""
     from deck_emulator.engine import EmulatorEngine, Limits
 
     assumptions = dict(sincos=options.sincos, decimal=options.decimal,
@@ -75,10 +78,19 @@ def emulator(options, *, trace: bool = True):
                          "--precision ibm7094")
     limits = Limits(ed_iterations=options.max_ed_iterations, halvings=options.max_halvings,
                     time_s=options.max_time)
+    if fortran is not None:
+        departures = [flag for flag, on in (
+            ("--erratum", options.erratum), ("--step-scale", options.step_scale),
+            ("--tha-start", options.tha_start is not None),
+            ("--ed-tolerance", options.ed_tolerance != ".0001")) if on]
+        if departures:
+            raise UsageError(f"{', '.join(departures)} change the listing's program, and this "
+                             "job deck runs its own FORTRAN: punch the change into its cards, "
+                             "or run the listing's with --listing-program")
     return EmulatorEngine(precision=options.precision, errata=tuple(options.erratum),
                           step_scale_k=options.step_scale, tha_start=options.tha_start,
                           ed_tolerance=options.ed_tolerance, limits=limits,
-                          arithmetic_options=arithmetic, trace=trace)
+                          arithmetic_options=arithmetic, trace=trace, fortran=fortran)
 
 
 def with_progress(quiet: bool, engine, source, *, execute: bool = False):

@@ -34,9 +34,11 @@ class RunOptions(Emulator):
                                     "the car (pandas reads it)")
 
 
-def _describe(run) -> str:
+def _describe(run, own: bool = False) -> str:
     from deck_emulator.engine import errata
 
+    if own:
+        return f"arithmetic {run.arithmetic}; the job deck's own FORTRAN"
     scale = f"; step literals / 2**{run.step_scale_k}" if run.step_scale_k else ""
     return f"arithmetic {run.arithmetic}; errata: {errata.describe(run.errata)}{scale}"
 
@@ -50,9 +52,13 @@ def _describe(run) -> str:
 def run(o: RunOptions) -> Answer:
     from deck_emulator.legacy.printer import render_asa
 
-    src = common.load(o, "run", kinds=("deck",))
+    src = common.load(o, "run", kinds=("deck",), own_program=True)
     common.check_out(o.out)
     common.check_trajectory(o.trajectory)
+    if o.trajectory and src.fortran is not None:
+        raise UsageError(f"--trajectory: {src.name} runs its own FORTRAN, and the front end "
+                         "keeps no trajectory (the port of the listing does: "
+                         "--listing-program)")
     if o.trajectory and len(src.decks) != 1:
         raise UsageError(f"--trajectory writes one run's trajectory and {src.name} holds "
                          f"{len(src.decks)} $DATA sections: choose one with --section N")
@@ -68,7 +74,7 @@ def run(o: RunOptions) -> Answer:
         which = ("--paper is the paper of --pages" if o.paper != "plain"
                  else "--listing is printed on the pages of --pages")
         raise UsageError(f"{which}: give --pages FILE.pdf")
-    engine = common.emulator(o, trace=bool(o.trajectory))
+    engine = common.emulator(o, trace=bool(o.trajectory), fortran=src.fortran)
     answer = Answer("run", src.name, settings={"precision": o.precision,
                                                "errata": list(o.erratum)},
                     notes=list(src.notes), json=o.json, out=None if o.pages else o.out,
@@ -82,8 +88,9 @@ def run(o: RunOptions) -> Answer:
         out = engine.outcome_of(done, deck) if o.trajectory or done.stopped else None
         printed_by_run.append(list(run_.records))
         text += render_asa(run_.records) if o.render else run_.text()
-        answer.said.append(f"{deck.path}: {_describe(run_)}")
-        sections.append({"deck": str(deck.path), "settings": _describe(run_),
+        settings = _describe(run_, src.fortran is not None)
+        answer.said.append(f"{deck.path}: {settings}")
+        sections.append({"deck": str(deck.path), "settings": settings,
                          "records": list(run_.records), "stopped": out and out.error})
         written = common.write_trajectory(o.trajectory, out) if out is not None else None
         if written:

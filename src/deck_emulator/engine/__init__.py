@@ -30,7 +30,7 @@ def __getattr__(name: str):
     if name in _MODULES:
         return importlib.import_module(f".{name}", __name__)
     if name == "Limits":  # the emulator's bounds on what the listing leaves unbounded
-        from deck_emulator.legacy.emulator import Limits
+        from deck_emulator.legacy.stops import Limits
 
         return Limits
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

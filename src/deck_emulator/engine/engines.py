@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from deck_emulator.legacy.arithmetic import get_arithmetic
-from deck_emulator.legacy.emulator import STEP_LITERALS, EmulatorError, Limits, Program
+from deck_emulator.legacy.stops import EmulatorError, Limits
 from deck_emulator.legacy.printer import event_message
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event, EventKind, Surface
@@ -60,6 +60,7 @@ def _initial_points(d) -> dict:
 def step_literals() -> tuple[str, ...]:
     """The listing's literals that mean "one step" (0.0004 s): what the emulator's
     ``step_scale_k`` divides by 2**k, in words."""
+    from deck_emulator.legacy.emulator import STEP_LITERALS  # the port: not for a deck's program
 
     return STEP_LITERALS
 
@@ -99,12 +100,18 @@ class EmulatorEngine:
     arithmetic_options: dict = field(default_factory=dict)
     trace: bool = True
     record_defects: bool = False
+    #: a job deck's own program (legacy.fortran.Program) run instead of the listing's
+    fortran: object = None
     name = "emulator"
 
     def arithmetic(self):
         return get_arithmetic(self.precision, **self.arithmetic_options)
 
     def program(self, deck):
+        if self.fortran is not None:  # a job deck's own program: the port is not loaded
+            return self.fortran.runner(deck, self.arithmetic(), limits=self.limits or Limits())
+        from deck_emulator.legacy.emulator import Program
+
         return Program(deck, self.arithmetic(), errata=errata_policy.resolve(self.errata),
                        step_scale_k=self.step_scale_k, tha_start=self.tha_start,
                        ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),

@@ -38,9 +38,12 @@ def facts(source, settings: list[str], listing: bool = False) -> dict[str, str]:
     the command says them: arithmetic and errata), as ordered name -> text; ``listing``: the
     pages print a compile listing, and the facts say which source it lists."""
 
-    program = f"the listing of Report 75-9's appendix, transcribed (luminaire.f, sha256 " \
-              f"{listing_sha256()})"
-    if source.program:
+    sha = source.fortran.sha256 if source.fortran is not None else listing_sha256()
+    program = f"the listing of Report 75-9's appendix, transcribed (luminaire.f, sha256 {sha})"
+    if source.fortran is not None:
+        program = (f"the job deck's own FORTRAN, run by the FORTRAN front end (sha256 {sha} "
+                   f"of its {len(source.program_cards)} cards before $DATA): {source.program}")
+    elif source.program:
         program += f"; the job deck's own FORTRAN: {source.program}"
     sections = len(source.decks)
     return {
@@ -51,6 +54,7 @@ def facts(source, settings: list[str], listing: bool = False) -> dict[str, str]:
         "cards": f"{source.cards} in the file ({source.card_format or 'text'}); "
                  f"{sections} $DATA section{'s' if sections != 1 else ''} run",
         "program": program,
+        "program sha256": sha,
         "run": "; ".join(dict.fromkeys(settings)) or "not run",
         **({"listing": listed(source)} if listing else {}),
         "tool": f"deck_emulator {__version__}",

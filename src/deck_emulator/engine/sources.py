@@ -13,10 +13,14 @@ Each is read once, as a stream (:func:`deck_emulator.legacy.deck.read_bytes`), a
 scene or a deck by its bytes: ``-`` is standard input; a FIFO, a process substitution and a
 pipe are the file they carry; a terminal, a device or a socket is refused.
 
-A job deck that carries its own FORTRAN is run only if that FORTRAN is the listing's program:
-the emulator *is* the listing, so running another program's deck through it would print the
-listing's answers under that deck's name. ``listing_program=True`` runs the listing's program
-on the deck's data anyway, and :attr:`Source.notes` says so first.
+A job deck that carries its own FORTRAN, not the listing's, runs that FORTRAN where the caller
+can run it (``own_program``: ``run``, through the FORTRAN front end, :mod:`deck_emulator.legacy.
+fortran`; :attr:`Source.fortran` is the compiled program and :attr:`Source.notes` says so
+first, with where it differs from the listing); a program outside the front end's dialect is
+refused before anything runs. Elsewhere such a deck is refused: the emulator *is* the listing,
+so running another program's deck through it would print the listing's answers under that
+deck's name. ``listing_program=True`` runs the listing's program on the deck's data anyway,
+and :attr:`Source.notes` says so first.
 
 Every refusal is a :class:`~deck_emulator.legacy.deck.DeckError` or
 :class:`~deck_emulator.errors.UsageError` with one line naming the file and what to do.
@@ -71,6 +75,9 @@ class Source:
     #: a job deck's own program: its control cards and FORTRAN before its first $DATA
     #: section (() when it carries no source)
     program_cards: tuple[str, ...] = field(default=(), repr=False)
+    #: the job deck's own FORTRAN, compiled by the front end, when it is what runs (None: the
+    #: listing runs)
+    fortran: object = field(default=None, repr=False, compare=False)
 
     @property
     def sha256(self) -> str:
@@ -188,8 +195,8 @@ def _read_scene(name: str, data: bytes):
 
 def load_source(given, *, card_format: str = "auto", keypunch: str | None = None,
                 section: int | None = None, listing_program: bool = False,
-                kinds: tuple[str, ...] = ("deck", "scene"), command: str = "this command"
-                ) -> Source:
+                kinds: tuple[str, ...] = ("deck", "scene"), command: str = "this command",
+                own_program: bool = False) -> Source:
     """Read SOURCE ``given`` (see the module docstring). ``kinds``: what the caller can use;
     a scene given where only decks are meant is refused with :meth:`Source.refusal`."""
 
@@ -210,12 +217,18 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         raise DeckError(f"file is larger than {MAX_BYTES} bytes", path=shown)
     job = parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
     notes = []
+    fortran = None
     if job.source_verdict:
-        if job.program_differs and not listing_program:
-            raise DeckError(f"{job.source_verdict}. The emulator runs only the listing's "
-                            "program; --listing-program runs it on this deck's data anyway",
-                            path=name)
-        if job.program_differs:
+        if job.program_differs and not listing_program and own_program:
+            fortran = _compile(job, name)
+            notes.append(f"{name}: the job deck's own FORTRAN runs (sha256 {fortran.sha256}), "
+                         f"not the listing's: {job.source_verdict.removeprefix('source: ')}; "
+                         "--listing-program runs the listing's instead")
+        elif job.program_differs and not listing_program:
+            raise DeckError(f"{job.source_verdict}. {command} runs only the listing's "
+                            "program (`run` runs the deck's own); --listing-program runs the "
+                            "listing's on this deck's data anyway", path=name)
+        elif job.program_differs:
             notes.append(f"{name}: --listing-program: the LISTING's program runs on this job "
                          f"deck's data, not the deck's own FORTRAN ({job.source_verdict})")
         else:
@@ -235,4 +248,18 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         raise UsageError(f"{name}: a card deck; this command takes a scene file")
     return Source(given, name, str(path), "deck", decks=tuple(decks_),
                   card_format=job.card_format, program=job.source_verdict, notes=tuple(notes),
-                  data=data, cards=job.cards, program_cards=job.program_cards)
+                  data=data, cards=job.cards, program_cards=job.program_cards, fortran=fortran)
+
+
+def _compile(job, name: str):
+    """The job deck's own FORTRAN as a front-end program; outside the dialect: refused."""
+    from deck_emulator.legacy.deck import DeckError
+    from deck_emulator.legacy.fortran import DialectError, Program
+
+    cards = list(job.program_cards)
+    try:
+        return Program(cards, list(range(1, len(cards) + 1)), name=f"{name}'s own FORTRAN")
+    except DialectError as exc:
+        raise DeckError(f"the deck's own FORTRAN cannot run, nothing was run: {exc} (the "
+                        "FORTRAN front end runs the listing's dialect; --listing-program runs "
+                        "the listing's program on this deck's data)", path=name) from None

@@ -431,7 +431,7 @@ def _build(cards: list[str], path: str | None) -> Deck:
         for field_no, name in enumerate(names, start=1):
             first, last = field_columns(field_no)
             raw = card[first - 1 : last]
-            value, decimal_text = _read_field(
+            value, decimal_text = read_field(
                 raw, name=name, card=card_no, columns=(first, last), path=path
             )
             values[name] = value
@@ -443,8 +443,10 @@ def _build(cards: list[str], path: str | None) -> Deck:
     return Deck(path=path, values=values, fields=fields, cards=tuple(cards), warnings=warnings)
 
 
-def _read_field(raw: str, *, name: str, card: int, columns, path) -> tuple[float, str]:
-    """Value and exact decimal text of one 10-column field, 1967 rules."""
+def read_field(raw: str, *, name: str, card: int, columns, path,
+               decimals: int = _DECIMALS) -> tuple[float, str]:
+    """Value and exact decimal text of one field, 1967 rules (``decimals``: the d of its
+    Fw.d, the implied decimal places of a field without a point)."""
     where = dict(card=card, columns=columns, field=name, path=path)
     text = raw.lstrip(" ").replace(" ", "0")  # leading blanks ignored, the rest are zeros
     if text == "":
@@ -456,7 +458,7 @@ def _read_field(raw: str, *, name: str, card: int, columns, path) -> tuple[float
     # the number FORTRAN means, exactly, as a decimal
     mantissa = Decimal(match["mantissa"])
     if "." not in match["mantissa"]:
-        mantissa = mantissa.scaleb(-_DECIMALS)
+        mantissa = mantissa.scaleb(-decimals)
     exponent_digits = match["exponent"]
     if exponent_digits is not None and mantissa != 0:
         exponent = int((match["esign1"] or match["esign2"] or "+") + exponent_digits)
@@ -538,7 +540,7 @@ def _punch(value, *, name: str, card: int, columns, path) -> str:
         if len(text) != FIELD_WIDTH or "*" in text:
             continue
         try:
-            back, _ = _read_field(text, name=name, card=card, columns=columns, path=path)
+            back, _ = read_field(text, name=name, card=card, columns=columns, path=path)
         except DeckError:
             continue
         if _same(back, value):

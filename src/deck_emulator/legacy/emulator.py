@@ -37,12 +37,11 @@ from __future__ import annotations
 import linecache
 import math
 import operator
-from dataclasses import dataclass, field
 
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
 from deck_emulator.legacy.printer import Printer, event_for
-from deck_emulator.vocabulary import defaults
-from deck_emulator.vocabulary.events import Event
+from deck_emulator.legacy.stops import (  # noqa: F401  (the run and its stops: shared)
+    EmulatorError, Limits, Run, fault_reason, halving_error, time_error)
 
 from . import emulator_tables as made
 from .emulator_text import _assigned_names, read_tables
@@ -64,42 +63,6 @@ STEP_LITERALS = (
     "H=0.0004, HI=0.0004 at labels 354 and 42 (step reset)",
     "E=E+0.0002 (free-flight print counter: one step)",
 )
-
-
-class EmulatorError(RuntimeError):
-    """The run cannot go on: a guard fired or the arithmetic trapped."""
-
-    def __init__(self, reason, *, label, variable=None, step=0, time=None, guard=None):
-        self.reason, self.label, self.variable = reason, label, variable
-        self.step, self.time, self.guard = step, time, guard
-        where = f"label {label}" + (f", assigning {variable}" if variable else "")
-        when = f"step {step}" + (f", t = {time:.6f} s" if time is not None else "")
-        super().__init__(f"{reason} at {where} ({when})")
-
-
-@dataclass(frozen=True)
-class Limits:
-    """Bounds on what the 1967 program leaves unbounded."""
-
-    ed_iterations: int = defaults.ED_ITERATIONS  # per call of ED
-    halvings: int = defaults.HALVINGS  # consecutive halvings at label 108, no step accepted
-    time_s: float = defaults.EMULATOR_T_MAX_S  # simulated time (the report needs about 1 s)
-
-
-@dataclass
-class Run:
-    """What one run of the program produced."""
-
-    records: list[str]
-    trace: list[dict] = field(default_factory=list)  # accepted steps, floats
-    events: list[Event] = field(default_factory=list)  # what FORMATs 355, 100, 97-248 reported
-    arithmetic: str = "double"
-    errata: tuple[str, ...] = ()
-    step_scale_k: int = 0
-    error: EmulatorError | None = None
-
-    def text(self) -> str:
-        return "".join(r + "\n" for r in self.records)
 
 
 class _Vars:
@@ -402,13 +365,7 @@ class Program:
             variable = exc.name if isinstance(exc, _NonFinite) else _assigned_variable(exc)
             label = self.ed.label if variable in ("D", "DH") or _in_ed(exc) else self.label
             label = f"ED {label}" if _in_ed(exc) or variable in ("D", "DH") else label
-            kind = {"_NonFinite": "non-finite value (NaN or infinity)",
-                    "ZeroDivisionError": "division by zero",
-                    "FloatingPointError": f"floating-point exception ({exc})",
-                    "ArithmeticFault": f"arithmetic fault ({exc})",
-                    "OverflowError": "overflow",
-                    "ValueError": "invalid argument to an intrinsic"}[type(exc).__name__]
-            self._fail(EmulatorError(kind, label=label, variable=variable, step=self.step,
+            self._fail(EmulatorError(fault_reason(exc), label=label, variable=variable, step=self.step,
                                      time=self.time(), guard="arithmetic"))
         return self.run_
 
@@ -741,9 +698,8 @@ class Program:
         v.Q = v.Q+v.H
         v.E = v.E+self.KSTEP(".0004")
         if self.ar.to_float(v.Q) > self.limits.time_s:
-            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
-                                "in contact with the vehicle", label=106, step=self.step,
-                                time=self.ar.to_float(v.Q), guard="time_s")
+            raise time_error(self.limits.time_s, "contact", 106, self.step,
+                             self.ar.to_float(v.Q))
         return self.IF(v.E-K("0.0016"), 54, 87, 87)
 
     def L87(self):
@@ -804,11 +760,9 @@ class Program:
         v = self.v
         self.halvings += 1
         if self.halvings > self.limits.halvings:
-            raise EmulatorError(
-                f"step halved {self.limits.halvings} times in a row at label 108 "
-                f"(H = {self.ar.to_float(v.H):.3g} s, DIFF = {self.ar.to_float(v.DIFF):.3g} ft, "
-                f"DIFFT = {self.ar.to_float(v.DIFFT):.3g} ft)",
-                label=108, step=self.step, time=self.time(), guard="halvings")
+            f = self.ar.to_float
+            raise halving_error(self.limits.halvings, f(v.H), f(v.DIFF), f(v.DIFFT), 108,
+                                self.step, self.time())
         v.Q = v.Q-v.H
         v.H = v.H/self.K("2.")
         v.HI = v.HI/self.K("2.")
@@ -891,9 +845,7 @@ class Program:
         K2 = K("2.")
         v.T = v.TF+H  # 59
         if ar.to_float(v.T) > self.limits.time_s:
-            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
-                                "in free flight: the post has not landed", label=59,
-                                step=self.step, time=ar.to_float(v.T), guard="time_s")
+            raise time_error(self.limits.time_s, "free", 59, self.step, ar.to_float(v.T))
         v.W1FA = H*((B-C)/A)*v.W2FB*v.W3FB+v.W1FB
         v.W2FA = H*((C-A)/B)*v.W1FB*v.W3FB+v.W2FB
         v.W3FA = H*((A-B)/C)*v.W1FB*v.W2FB+v.W3FB

@@ -53,6 +53,9 @@ class Statement:
     label: str
     text: str  # columns 7-72 of the card and its continuations, blanks removed
     line: int  # card (or line) where it starts, 1-based
+    #: (card or line number, columns 1-72 padded with blanks) of each of its cards: what a
+    #: Hollerith text keeps (its blanks) and where a column is (the FORTRAN front end's)
+    cards: tuple[tuple[int, str], ...] = field(default=(), repr=False, compare=False)
 
 
 def is_comment(line: str) -> bool:
@@ -75,11 +78,12 @@ def statements(lines: list[str], numbers: list[int] | None = None) -> list[State
         if is_comment(line):
             continue
         body = "".join(line[6:].split())
+        card = ((number, line.ljust(72)),)
         if is_continuation(line) and result:
             last = result[-1]
-            result[-1] = Statement(last.label, last.text + body, last.line)
+            result[-1] = Statement(last.label, last.text + body, last.line, last.cards + card)
             continue
-        result.append(Statement("".join(line[:5].split()), body, number))
+        result.append(Statement("".join(line[:5].split()), body, number, card))
     return result
 
 

@@ -47,9 +47,9 @@ from deck_emulator.legacy.deck import read_deck
 from deck_emulator.legacy.emulator import EmulatorError, run_deck
 from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
-__all__ = ["COMMON_FLAGS", "PRECISIONS", "TIMEOUT_S", "LEGACY", "compile_program", "run_program",
-           "trap_record", "make_goldens", "random_deck", "corpus", "compare", "Comparison",
-           "Oracle"]
+__all__ = ["COMMON_FLAGS", "PRECISIONS", "TIMEOUT_S", "LEGACY", "compile_program",
+           "compile_source", "run_program", "trap_record", "make_goldens", "random_deck",
+           "corpus", "compare", "Comparison", "Oracle", "mutant", "mutants"]
 
 #: The checkout's legacy/ folder: the listing and its errata.
 LEGACY = Path(__file__).resolve().parents[3] / "legacy"
@@ -91,9 +91,20 @@ def compile_program(build: Path, precision: str, erratum: str | None) -> Path:
                 check=True,
             )
     exe = build / f"luminaire-{erratum or 'printed'}-{precision}"
-    cmd = ["gfortran", *COMMON_FLAGS, *PRECISIONS[precision], "-o", str(exe),
-           str(src_dir / "legacy" / SOURCE)]
-    subprocess.run(cmd, check=True, cwd=build)
+    return _compile(src_dir / "legacy" / SOURCE, exe, precision, build)
+
+
+def compile_source(build: Path, lines: list[str], precision: str, name: str) -> Path:
+    """Any FORTRAN (``lines``, the listing's dialect: a mutant, a job deck's program) compiled
+    for ``precision`` with the goldens' flags into ``build``: the executable's path."""
+    src = build / f"{name}.f"
+    src.write_text("".join(line + "\n" for line in lines))
+    return _compile(src, build / name, precision, build)
+
+
+def _compile(src: Path, exe: Path, precision: str, build: Path) -> Path:
+    cmd = ["gfortran", *COMMON_FLAGS, *PRECISIONS[precision], "-o", str(exe), str(src)]
+    subprocess.run(cmd, check=True, cwd=build, capture_output=True)
     return exe
 
 
@@ -251,19 +262,25 @@ class Comparison:
     compiled_text: str = ""  # what the compiled program printed
 
 
-GUARDS = ("ed_iterations", "halvings", "time_s")
+GUARDS = ("ed_iterations", "halvings", "time_s", "runaway")
 
 
-def compare(deck, exe_for, workdir: Path, timeout_s: float | None = None) -> Comparison:
-    """Run one deck both ways and compare. ``exe_for(erratum)`` gives the compiled program."""
+def compare(deck, exe_for, workdir: Path, timeout_s: float | None = None, *,
+            ours=None, errata=None) -> Comparison:
+    """Run one deck both ways and compare. ``exe_for(erratum)`` gives the compiled program;
+    ``ours(deck, errata)`` runs our side (default: the emulator in binary64) and returns its
+    ``Run`` or raises its ``EmulatorError``; ``errata``: default ed-direction on an angled
+    deck."""
 
-    errata = ("ed-direction",) if deck["ALPHA"] != 0 else ()
+    if errata is None:
+        errata = ("ed-direction",) if deck["ALPHA"] != 0 else ()
     path = workdir / "deck.dat"
     path.write_text(deck.to_text())
     out, _err, ending = run_program(exe_for(errata[0] if errata else None), path, timeout_s)
     theirs = out.splitlines()
+    ours = ours or (lambda deck, errata: run_deck(deck, "double", errata=errata, trace=False))
     try:
-        run = run_deck(deck, "double", errata=errata, trace=False)
+        run = ours(deck, errata)
         ours, ours_ending = run.records, "normal"
     except EmulatorError as exc:
         ours, ours_ending = exc.run.records, exc.guard or "error"
@@ -325,3 +342,84 @@ class Oracle:
         self._tmp.cleanup()
 
 
+
+
+# ------------------------------------------------------------------ mutated programs
+
+
+#: What a mutant changes: one digit of a REAL constant of an executable statement, one letter
+#: of a FORMAT's Hollerith text, or one digit of a FORMAT's Fw.d or nX.
+MUTATIONS = ("constant", "format text", "format field")
+_REAL_CONSTANT = re.compile(r"(?<![A-Z0-9.])(\d+\.\d*|\.\d+)")
+
+
+def _sites(lines: list[str]) -> dict[str, list[tuple[int, int]]]:
+    """(line index, column index) of every character a mutation may change, by kind."""
+    from deck_emulator.legacy.jobdeck import is_comment, statements
+
+    sites: dict[str, list[tuple[int, int]]] = {kind: [] for kind in MUTATIONS}
+    starts = {s.line - 1: s for s in statements(lines)}
+    for index, s in starts.items():
+        cards = [n - 1 for n, _ in s.cards]
+        if s.text.upper().startswith("FORMAT("):
+            if s.text.upper() == "FORMAT(8F10.5)":
+                continue  # the READs' (the cards' layout stays)
+            for n in cards:
+                line = lines[n]
+                inside = _hollerith_columns(line, n == index)
+                for col in range(6, min(len(line), 72)):
+                    ch = line[col]
+                    if col in inside and ch.isalpha():
+                        sites["format text"].append((n, col))
+                    elif col not in inside and ch.isdigit() and col > 5 and (
+                            line[col - 1] in "F." or line[col + 1:col + 2] == "X"):
+                        if not (line[col - 1] == "." and ch == "0"):
+                            sites["format field"].append((n, col))
+            continue
+        for n in cards:
+            line = lines[n][:72]
+            if is_comment(line):
+                continue
+            for m in _REAL_CONSTANT.finditer(line, 6):
+                sites["constant"] += [(n, c) for c in range(m.start(), m.end())
+                                      if line[c].isdigit()]
+    return sites
+
+
+def _hollerith_columns(line: str, first: bool) -> set[int]:
+    """The columns of ``line`` inside nH texts (a text that runs on to the next card is
+    counted on this card only)."""
+    inside: set[int] = set()
+    col = 6
+    while col < min(len(line), 72):
+        m = re.match(r"(\d+)H", line[col:])
+        if m and line[col - 1] in "(,/":
+            start = col + m.end()
+            inside |= set(range(start, min(start + int(m.group(1)), 72)))
+            col = start + int(m.group(1))
+            continue
+        col += 1
+    return inside
+
+
+def mutant(rng: random.Random, lines: list[str] | None = None, kind: str | None = None):
+    """One mutated program: (what changed, its lines), from the listing (``lines``) by one
+    seeded change of ``kind`` (default: drawn from :data:`MUTATIONS`)."""
+    from deck_emulator.legacy.jobdeck import listing_lines
+
+    lines = list(lines or listing_lines())
+    sites = _sites(lines)
+    kind = kind or rng.choice(MUTATIONS)
+    n, col = rng.choice(sites[kind])
+    old = lines[n][col]
+    pool = ("ABCDEFGHIJKLMNOPQRSTUVWXYZ" if old.isalpha() else
+            "123456789" if kind == "format field" else "0123456789")
+    new = rng.choice([c for c in pool if c != old])
+    lines[n] = lines[n][:col] + new + lines[n][col + 1:]
+    return f"{kind}: line {n + 1}, column {col + 1}: {old!r} -> {new!r}", lines
+
+
+def mutants(count: int, seed: int):
+    """``count`` seeded mutants of the listing (see :func:`mutant`)."""
+    rng = random.Random(seed)
+    return [mutant(rng) for _ in range(count)]

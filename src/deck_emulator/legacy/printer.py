@@ -150,6 +150,11 @@ def _compile(fmt: str) -> list[list]:
 _LAYOUTS = {label: _compile(text) for label, text in FORMATS.items()}
 
 
+def _fields(layout: list[list]) -> list[tuple[int, int]]:
+    """The ``(w, d)`` F fields of a compiled FORMAT, in order."""
+    return [p for pieces in layout for p in pieces if type(p) is tuple]
+
+
 @dataclass(frozen=True)
 class ValueField:
     """One labelled value the listing prints: ``THE VALUE OF name IS`` and an Fw.d field.
@@ -244,13 +249,20 @@ class Printer:
     formatting, which is correctly rounded from the exact binary value with exact ties to even,
     as gfortran's; a minus zero prints as ``-0.00000``, as gfortran prints it."""
 
-    def __init__(self, exact=None, rounding: str = "nearest", *, binary: bool = False):
+    def __init__(self, exact=None, rounding: str = "nearest", *, binary: bool = False,
+                 formats: dict[int, str] | None = None):
         if exact is None:
             from fractions import Fraction as exact
         self._exact = exact
         self._rounding = rounding
         self._binary = binary and rounding == "nearest"
         self.records: list[str] = []
+        # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
+        self._layouts, self._decimals = _LAYOUTS, _DECIMALS
+        if formats is not None:
+            self._layouts = {label: _compile(text) for label, text in formats.items()}
+            self._decimals = {label: [d for _, d in _fields(layout)]
+                              for label, layout in self._layouts.items()}
 
     def _field(self, value, w: int, d: int) -> str:
         if self._binary:
@@ -263,8 +275,8 @@ class Printer:
 
     def write(self, label: int, *values) -> None:
         """``WRITE(6,label) values``: append the records that FORMAT ``label`` makes."""
-        layout = _LAYOUTS[label]
-        decimals = _DECIMALS[label]
+        layout = self._layouts[label]
+        decimals = self._decimals[label]
         if len(values) != len(decimals):
             raise ValueError(f"FORMAT {label} takes {len(decimals)} values, got {len(values)}")
         it = iter(values)

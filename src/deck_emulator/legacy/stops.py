@@ -1,0 +1,72 @@
+"""What a run of the 1967 program gives, and how it stops: shared by the hand port
+(:mod:`deck_emulator.legacy.emulator`) and the FORTRAN front end (:mod:`deck_emulator.legacy.
+fortran`), so that both say the same thing the same way (and a run of a job deck's own FORTRAN
+loads no part of the port)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.events import Event
+
+
+class EmulatorError(RuntimeError):
+    """The run cannot go on: a guard fired or the arithmetic trapped."""
+
+    def __init__(self, reason, *, label, variable=None, step=0, time=None, guard=None):
+        self.reason, self.label, self.variable = reason, label, variable
+        self.step, self.time, self.guard = step, time, guard
+        where = f"label {label}" + (f", assigning {variable}" if variable else "")
+        when = f"step {step}" + (f", t = {time:.6f} s" if time is not None else "")
+        super().__init__(f"{reason} at {where} ({when})")
+
+
+def fault_reason(exc) -> str:
+    """What an exception of the arithmetic (or a non-finite value) means, for the message."""
+    return {"_NonFinite": "non-finite value (NaN or infinity)",
+            "ZeroDivisionError": "division by zero",
+            "FloatingPointError": f"floating-point exception ({exc})",
+            "ArithmeticFault": f"arithmetic fault ({exc})",
+            "OverflowError": "overflow",
+            "ValueError": "invalid argument to an intrinsic"}[type(exc).__name__]
+
+
+def time_error(limit_s, phase: str, label, step: int, time: float) -> EmulatorError:
+    """The guard on simulated time (``phase``: ``contact`` or ``free``)."""
+    where = ("in free flight: the post has not landed" if phase == "free"
+             else "in contact with the vehicle")
+    return EmulatorError(f"simulated time passed the limit of {limit_s:g} s {where}",
+                         label=label, step=step, time=time, guard="time_s")
+
+
+def halving_error(limit: int, H, DIFF, DIFFT, label, step: int, time: float) -> EmulatorError:
+    """The guard on label 108's halving of the step (H, DIFF, DIFFT as floats)."""
+    return EmulatorError(f"step halved {limit} times in a row at label {label} (H = {H:.3g} s, "
+                         f"DIFF = {DIFF:.3g} ft, DIFFT = {DIFFT:.3g} ft)",
+                         label=label, step=step, time=time, guard="halvings")
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Bounds on what the 1967 program leaves unbounded."""
+
+    ed_iterations: int = defaults.ED_ITERATIONS  # per call of ED
+    halvings: int = defaults.HALVINGS  # consecutive halvings at label 108, no step accepted
+    time_s: float = defaults.EMULATOR_T_MAX_S  # simulated time (the report needs about 1 s)
+
+
+@dataclass
+class Run:
+    """What one run of the program produced."""
+
+    records: list[str]
+    trace: list[dict] = field(default_factory=list)  # accepted steps, floats
+    events: list[Event] = field(default_factory=list)  # what FORMATs 355, 100, 97-248 reported
+    arithmetic: str = "double"
+    errata: tuple[str, ...] = ()
+    step_scale_k: int = 0
+    error: EmulatorError | None = None
+
+    def text(self) -> str:
+        return "".join(r + "\n" for r in self.records)
