@@ -52,3 +52,18 @@ def test_the_core_is_compiled_once_and_says_so(monkeypatch, tmp_path):
     assert [p.name.startswith("compiled-") for p in tmp_path.iterdir()] == [True]
     common.compile_core(quiet=False)
     assert runs == [True]  # not again
+
+
+def test_the_pages_are_counted_as_they_are_drawn(monkeypatch, tmp_path):
+    pytest.importorskip("matplotlib")
+    from deck_emulator.legacy.pages import write_pdf
+
+    err = Terminal()
+    monkeypatch.setattr(sys, "stderr", err)
+    records = ["1FIRST FORM", "1SECOND FORM"]
+    assert write_pdf(records, tmp_path / "a.pdf", progress="writing the pages") == 2
+    assert "writing the pages" in err.getvalue() and "2/2" in err.getvalue()
+    quiet = Terminal()
+    monkeypatch.setattr(sys, "stderr", quiet)
+    write_pdf(records, tmp_path / "b.pdf")  # no words: no display
+    assert quiet.getvalue() == ""
