@@ -100,33 +100,12 @@ COMPILING = f"{PROG}: compiling the core once, about 25 s"
 
 
 def compile_core(quiet: bool) -> None:
-    """Before a command's first run of the core after an install (or an upgrade): numba
-    compiles the core and caches it, a wait no progress can count, said as what it is.  It
-    compiles here, once, by solving the report's steel post on the compiled batch, so that a
-    study's workers load the cache instead of each compiling it at the same time (85 s on
-    the first scene, with a meaningless time left).  A marker beside numba's cache
-    (``numba.config.CACHE_DIR``, where the core keeps it) says it was done."""
-    import sys
-
-    import numba
-
-    import deck_emulator.core.laws  # noqa: F401 -- it sets numba's cache folder for the core
-
-    marker = Path(numba.config.CACHE_DIR) / (
-        f"compiled-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
-    if marker.exists():
-        return
-    from deck_emulator.decks import path
-    from deck_emulator.engine import CoreEngine
-    from deck_emulator.legacy.deck import read_deck
+    """Before a command's first run of the core after an install (or an upgrade): the wait
+    for numba's compilation, said as what it is (:func:`deck_emulator.engine.compile_core`)."""
+    from deck_emulator.engine import compile_core as compile_once
     from deck_emulator.parallel import busy
 
-    with busy(COMPILING, quiet=quiet):
-        CoreEngine(batched=True, trace=False).run_batch([read_deck(path("steel40"))])
-    try:
-        marker.touch()
-    except OSError:  # no cache could be written: numba compiles in each process, as it must
-        pass
+    compile_once(lambda: busy(COMPILING, quiet=quiet))
 
 
 def with_progress(quiet: bool, engine, source, *, execute: bool = False):

@@ -529,6 +529,33 @@ class CoreEngine:
             out.pulse_g = force_in_g(force, car.mass_slug, g) * sign
 
 
+def compile_core(wait) -> None:
+    """Numba compiles the core at its first use after an install (or an upgrade), a wait no
+    progress can count: compile it here, once, by solving the report's steel post on the
+    compiled batch inside ``wait()`` (a context manager that says the wait), so that a
+    study's workers load the cache instead of each compiling it at the same time.  A marker
+    beside numba's cache (``numba.config.CACHE_DIR``, where the core keeps it) says it was
+    done; where none can be written numba compiles in each process, as it must."""
+    import sys
+
+    import numba
+
+    import deck_emulator.core.laws  # noqa: F401 -- it sets numba's cache folder for the core
+    from deck_emulator import decks
+
+    marker = Path(numba.config.CACHE_DIR) / (
+        f"compiled-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
+    if marker.exists():
+        return
+    with wait():
+        CoreEngine(batched=True, trace=False).run_batch([load_source(decks.path("steel40"))
+                                                          .deck()])
+    try:
+        marker.touch()
+    except OSError:
+        pass
+
+
 def core_keywords(preset: str, shaft_contact: bool | None = None) -> dict:
     """:class:`CoreEngine`'s keywords for a preset and the command line's ``--shaft-contact``
     (``shaft_contact`` left out when None: the preset's, and a stored task keeps its key)."""
