@@ -395,3 +395,157 @@ def test_a_sweep_resumed_on_a_changed_deck_is_refused(tmp_path, capsys):
     line = _one_line(capsys.readouterr().err)
     assert f"{deck} changed since" in line and "--resume" in line
     assert (out / "sweep.csv").read_bytes() == table  # nothing written
+
+
+# ------------------------------------------ a core run past its wall bound is stopped (item 3)
+
+
+def test_a_core_run_past_its_wall_bound_is_a_stopped_scene(monkeypatch):
+    from deck_emulator.studies import common
+    from deck_emulator.studies.distributed import Stopped
+    from deck_emulator.vocabulary import defaults
+    from deck_emulator.vocabulary.scene import LEGACY, Scene
+
+    from deck_emulator.legacy.deck import read_deck
+
+    scene = Scene.from_deck(read_deck(STEEL40))
+    monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)  # any run passes it at its first step
+    with pytest.raises(Stopped, match=r"max_wall_s = 0 s .*starved or suspended machine"):
+        common.run_core(scene, LEGACY)
+
+
+def test_a_study_whose_core_run_passes_its_wall_bound_stops_and_its_resume_runs_it(
+        tmp_path, capsys, monkeypatch):
+    """The study ended in KeyError: 'guard', and every resume again: the stopped run was
+    stored as done.  Now exit 3 naming the run, nothing but the store written, and a resume
+    runs each stopped scene again (the workers are this process's threads, so the bound set
+    here holds in them)."""
+    from collections import Counter
+
+    from distributed import LocalCluster
+
+    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.vocabulary import defaults
+
+    monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)
+    out = tmp_path / "e"
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                      dashboard_address=None) as cluster:
+        argv = ["study", "error", "steel40", "--quick", "--quiet", "--out", str(out),
+                "--scheduler", cluster.scheduler_address]
+        assert main(argv) == 3
+        line = _one_line(capsys.readouterr().err)
+        assert "stopped: CoreError" in line and "max_wall_s = 0 s" in line
+        assert "--resume runs it again" in line
+        store = SceneStore(out / defaults.SCENE_STORE)
+        first = Counter(r["scene_id"] for r in store.rows() if r["status"] == "stopped")
+        assert first and not store.ids()  # stored, and none counted as done
+        assert sorted(p.name for p in out.iterdir()) == [defaults.SCENE_STORE]
+        assert main([*argv, "--resume"]) == 3  # still past the bound: run again, stopped again
+        again = Counter(r["scene_id"] for r in store.rows() if r["status"] == "stopped")
+        assert again == Counter({sid: 2 for sid in first})
+    capsys.readouterr()
+
+
+# ------------------------------------------------------- schedulers that are not Dask's (item 6)
+
+
+class _Hostile:
+    """A TCP server on a free local port that answers every connection as ``mode`` does:
+    ``silent`` says nothing, ``http`` answers HTTP 400, ``drip`` one byte every 0.3 s."""
+
+    def __init__(self, mode: str):
+        import socket
+
+        self.sock = socket.socket()
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.listen(8)
+        self.mode, self.address = mode, f"tcp://127.0.0.1:{self.sock.getsockname()[1]}"
+        threading.Thread(target=self._serve, daemon=True).start()
+
+    def _serve(self):
+        while True:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                return
+            threading.Thread(target=self._answer, args=(conn,), daemon=True).start()
+
+    def _answer(self, conn):
+        try:
+            if self.mode == "http":
+                conn.recv(1024)
+                conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+            while self.mode == "drip":
+                conn.sendall(b"x")
+                time.sleep(0.3)
+            time.sleep(30)
+        except OSError:
+            pass
+        finally:
+            conn.close()
+
+    def close(self):
+        self.sock.close()
+
+
+def _free_port_address() -> str:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return f"tcp://127.0.0.1:{s.getsockname()[1]}"  # nothing listens once it is closed
+
+
+SCHEDULER_COMMANDS = {
+    "sweep": ["sweep", "--speeds", "20", "--angles", "0"],
+    "study error": ["study", "error", "steel40", "--quick"],
+    "sensitivity": ["sensitivity", "--quick"],
+}
+
+
+@pytest.mark.parametrize("command", sorted(SCHEDULER_COMMANDS))
+@pytest.mark.parametrize("mode, says", [
+    ("silent", "something took the connection and said nothing a Dask scheduler says in 1 s"),
+    ("drip", "something took the connection and said nothing a Dask scheduler says in 1 s"),
+    ("http", "something answered there, not in Dask's protocol (not a Dask scheduler)"),
+    ("refused", "nothing listens there ("),
+    ("tls", "tls:// needs Dask's TLS settings"),
+    ("ucx", "this install cannot connect so"),
+])
+def test_a_scheduler_that_is_not_dasks_is_refused_within_the_bound(tmp_path, capsys,
+                                                                   monkeypatch, command,
+                                                                   mode, says):
+    from deck_emulator.vocabulary import defaults
+
+    monkeypatch.setattr(defaults, "SCHEDULER_CONNECT_S", 1.0)
+    server = _Hostile(mode) if mode in ("silent", "drip", "http") else None
+    address = (server.address if server else _free_port_address() if mode == "refused"
+               else f"{mode}://127.0.0.1:8786")
+    try:
+        started = time.monotonic()
+        status = main([*SCHEDULER_COMMANDS[command], "--quiet", "--out", str(tmp_path / "o"),
+                       "--scheduler", address])
+        assert time.monotonic() - started < 30  # a hang guard, not a timing
+    finally:
+        if server:
+            server.close()
+    assert status == 2
+    line = _one_line(capsys.readouterr().err)
+    assert f"--scheduler {address}: {says}" in line
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_a_dask_worker_given_as_the_scheduler_is_refused(tmp_path, capsys):
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, processes=False, protocol="tcp://",
+                      dashboard_address=None) as cluster:
+        worker = next(iter(cluster.scheduler.workers))
+        assert main(["sweep", "--speeds", "20", "--angles", "0", "--quiet", "--out",
+                     str(tmp_path / "o"), "--scheduler", worker]) == 2
+        assert "a Dask Worker answered there, not a Dask scheduler" in _one_line(
+            capsys.readouterr().err)
+        # the scheduler itself is taken
+        assert main(["sweep", "--speeds", "20", "--angles", "0", "--quiet", "--out",
+                     str(tmp_path / "o"), "--scheduler", cluster.scheduler_address]) == 0

@@ -49,7 +49,9 @@ A scene whose ``fn`` raises is stored with ``status = "failed"`` and the error t
 worker died more than Dask's ``distributed.scheduler.allowed-failures`` times (the worker is
 restarted by its nanny and the task retried on another worker until then) is stored failed with
 Dask's ``KilledWorker`` message. Neither stops the other scenes. Failed scenes count as stored: a
-resume does not run them again (``retry_failed=True`` does).
+resume does not run them again (``retry_failed=True`` does).  A scene stopped by a bound of the
+machine (``fn`` raised :class:`Stopped`: a core run past its wall time) is stored with
+``status = "stopped"`` and why; it does not count as stored, so a resume runs it again.
 
 What a store was made from
 --------------------------
@@ -79,12 +81,15 @@ killed run never leaves a folder locked.  No command deletes a store another run
 Bounds
 ------
 At most ``max_scenes`` (default :data:`MAX_SCENES`) scenes a call (:class:`SceneLimitError`,
-before anything runs).  On an external scheduler (``scheduler=``), the run waits at most
-``worker_wait_s`` (default :data:`WORKER_WAIT_S`) for a worker: at the start, and whenever
-every worker is gone while scenes remain; then it ends with
-:class:`~deck_emulator.errors.RunFailed` naming the scheduler (the scenes completed so far
-stay stored; ``--resume`` runs the rest).  An address Dask cannot reach or parse is a
-:class:`ClusterError`.
+before anything runs).  An external scheduler (``scheduler=``) must take the connection and
+answer Dask's handshake as a scheduler within ``SCHEDULER_CONNECT_S`` (a row of
+:mod:`deck_emulator.vocabulary.defaults`); an address by a scheme this install cannot serve
+(``ucx://`` without its library, ``tls://`` without Dask's TLS settings), one where nothing
+listens, or something else (an HTTP server, a silent port), is a :class:`ClusterError` saying
+what was found there, before anything runs.  The run then waits at most ``worker_wait_s``
+(default ``WORKER_WAIT_S``, the defaults' row) for a worker: at the start, and whenever every
+worker is gone while scenes remain; then it ends with :class:`~deck_emulator.errors.RunFailed`
+naming the scheduler (the scenes completed so far stay stored; ``--resume`` runs the rest).
 """
 
 from __future__ import annotations
@@ -105,6 +110,8 @@ from pathlib import Path
 
 from deck_emulator import SPAWNED_WORKER_ENV
 from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.defaults import WORKER_WAIT_S
 
 __all__ = [
     "run_longest_first",
@@ -123,6 +130,7 @@ __all__ = [
     "BATCH_TASK_MAX",
     "batch_size",
     "Scheduler",
+    "Stopped",
 ]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
@@ -133,8 +141,6 @@ BATCH_MAX = 256
 
 #: Most scenes one call of :func:`run_scenes` takes.
 MAX_SCENES = 1_000_000
-#: Longest wait (s) for a worker of an external cluster before the run ends as failed.
-WORKER_WAIT_S = 60.0
 LOCK_NAME = ".lock"
 #: what a store's scenes were made from (the module docstring)
 STUDY_NAME = "study.json"
@@ -159,7 +165,15 @@ class SceneLimitError(UsageError, ValueError):
 
 
 class ClusterError(UsageError, ValueError):
-    """The scheduler's address cannot be parsed or reached: bad input, exit status 2."""
+    """The scheduler's address cannot be parsed or reached, or no Dask scheduler answers
+    there: bad input, exit status 2."""
+
+
+class Stopped(Exception):
+    """Raised by a task's ``fn`` (or answered by a batch ``fn`` for one task): the scene
+    stopped at a bound of the machine, not of the model (a core run past its wall time on a
+    starved or suspended machine).  It is stored with status ``"stopped"`` and why, and a
+    resume runs it again."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -380,14 +394,16 @@ class SceneStore:
         return pa.Table.from_pylist(rows) if rows else pa.table({c: [] for c in META_COLUMNS})
 
     def ids(self, *, include_failed: bool = True) -> set[str]:
+        """The stored scenes a resume does not run again: those that ended (``ok``), and
+        those that failed unless not ``include_failed``; never a :class:`Stopped` one."""
         import pyarrow.parquet as pq
 
+        keep = {"ok", "failed"} if include_failed else {"ok"}
         out: set[str] = set()
         for f in self.files():
             t = pq.read_table(f, columns=["scene_id", "status"])
-            for sid, st in zip(t.column("scene_id").to_pylist(), t.column("status").to_pylist()):
-                if include_failed or st == "ok":
-                    out.add(sid)
+            out.update(sid for sid, st in zip(t.column("scene_id").to_pylist(),
+                                              t.column("status").to_pylist()) if st in keep)
         return out
 
     def by_id(self) -> dict[str, dict]:
@@ -483,7 +499,9 @@ def _call(fn: Callable[[dict], dict], task: dict) -> dict:
 
 def _row_of(out, run_s: float) -> dict:
     """One task's stored row: ``out`` (its outcomes, or the exception that ended it)."""
-    if isinstance(out, Exception):
+    if isinstance(out, Stopped):
+        row = {"status": "stopped", "error": str(out)}
+    elif isinstance(out, Exception):
         tb = traceback.format_exception_only(type(out), out)[-1].strip()
         row = {"status": "failed", "error": tb}
     elif not isinstance(out, dict):
@@ -566,8 +584,9 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
     from distributed import Client, LocalCluster
 
     if scheduler:
+        _reach(scheduler)
         try:
-            client = Client(scheduler, timeout=max(1.0, worker_wait_s))
+            client = Client(scheduler, timeout=defaults.SCHEDULER_CONNECT_S)
         except (ValueError, OSError, TimeoutError) as exc:
             why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise ClusterError(f"--scheduler {scheduler}: cannot reach the scheduler: "
@@ -611,6 +630,65 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
                 cluster.close()
         else:  # a start cut short by a signal
             _close_half_started_clusters()
+
+
+def _reach(address: str) -> None:
+    """:class:`ClusterError` in one line unless a Dask scheduler answers at ``address`` by a
+    scheme this install serves, within ``SCHEDULER_CONNECT_S`` for the connection and the
+    handshake together (Dask's own connection timeout leaves the handshake unbounded: a port
+    that accepts and says nothing held a sweep for ever, one that answers HTTP a traceback).
+    An in-process address (``inproc://``) is this process's own cluster: not asked."""
+    import asyncio
+    import concurrent.futures
+
+    from distributed.comm import parse_address
+    from distributed.comm.registry import get_backend
+    from distributed.security import Security
+
+    where, bound = f"--scheduler {address}", defaults.SCHEDULER_CONNECT_S
+    try:
+        scheme, loc = parse_address(address)
+        connector = get_backend(scheme).get_connector()  # ucx:// without its library: none
+    except (ValueError, TypeError, ImportError) as exc:
+        raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
+                           "tcp://HOST:PORT") from None
+    if scheme == "inproc":
+        return
+    args = Security().get_connection_args("client")  # Dask's TLS settings, if any
+    if scheme in ("tls", "wss") and args.get("ssl_context") is None:
+        raise ClusterError(f"{where}: {scheme}:// needs Dask's TLS settings (distributed.comm."
+                           "tls.ca-file, .client.cert, .client.key) and none are set")
+    said = {"connect": f"no connection in {bound:g} s", "answer": "something took the "
+            f"connection and said nothing a Dask scheduler says in {bound:g} s"}
+    stage = ["connect"]
+
+    async def identity():  # Dask's handshake, then the scheduler's "identity"
+        comm = await connector.connect(loc, deserialize=True, **args)
+        stage[0] = "answer"
+        try:
+            await comm.write(comm.handshake_info())
+            await comm.read()
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    with concurrent.futures.ThreadPoolExecutor(1) as pool:  # its own event loop, in any caller
+        try:
+            who = pool.submit(asyncio.run, asyncio.wait_for(identity(), bound)).result()
+        except asyncio.TimeoutError:
+            raise ClusterError(f"{where}: {said[stage[0]]}") from None
+        except Exception as exc:  # noqa: BLE001 - refused, reset, or bytes that are not Dask's
+            if stage[0] == "answer":
+                raise ClusterError(f"{where}: something answered there, not in Dask's protocol "
+                                   "(not a Dask scheduler)") from None
+            cause = exc.__cause__ or exc
+            why = str(cause).splitlines()[0][:120] if str(cause) else type(cause).__name__
+            raise ClusterError(f"{where}: {'not an address' if isinstance(cause, ValueError) else 'nothing listens there'} ({why})") from None
+    kind = who.get("type") if isinstance(who, dict) else None
+    if kind != "Scheduler":
+        raise ClusterError(f"{where}: {'a Dask ' + kind if kind else 'something'} answered "
+                           "there, not a Dask scheduler")
 
 
 #: in the environment of the worker processes an embedded cluster spawns (and only there):
@@ -869,6 +947,9 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
         got = stored.get(scene_id(t))
         if got is None or got.get("status") != "ok":
             why = "not run" if got is None else got.get("error")
+            if got is not None and got.get("status") == "stopped":
+                raise RunFailed(f"{desc}: the run {_label(t)} stopped: {why}; the runs that "
+                                "ended are stored, --resume runs it again")
             raise RunFailed(f"{desc}: the run {_label(t)} failed: {why}")
         rows.append(json.loads(got["row_json"]))
     return rows
