@@ -549,3 +549,60 @@ def test_a_dask_worker_given_as_the_scheduler_is_refused(tmp_path, capsys):
         # the scheduler itself is taken
         assert main(["sweep", "--speeds", "20", "--angles", "0", "--quiet", "--out",
                      str(tmp_path / "o"), "--scheduler", cluster.scheduler_address]) == 0
+
+
+# ------------------------------------------------------------------------- limits (item 9)
+
+
+def _limited(argv: list[str], cwd=None, **limits) -> subprocess.CompletedProcess:
+    """A command in a process of its own under ``limits`` (resource name -> soft and hard)."""
+    import resource
+
+    def limit():
+        for name, value in limits.items():
+            resource.setrlimit(getattr(resource, name), (value, value))
+
+    return subprocess.run([sys.executable, "-m", "deck_emulator.cli", *argv], cwd=cwd,
+                          preexec_fn=limit, capture_output=True, timeout=300)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("files, says", [
+    (16, "the open-file limit (16, ulimit -n) is too low for 2 worker process(es)"),
+    (40, "give --jobs 1, or raise it (ulimit -n 1024)")])
+def test_an_open_file_limit_too_low_for_the_workers_is_said_before_they_start(tmp_path, files,
+                                                                              says):
+    done = _limited(["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2", "--quiet",
+                     "--out", str(tmp_path / "o")], RLIMIT_NOFILE=files)
+    assert done.returncode == 2
+    assert says in _one_line(done.stderr.decode())
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("argv", [["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2"],
+                                  ["core", "steel40"]])
+@pytest.mark.parametrize("megabytes", [200, 400, 800])
+def test_under_an_address_space_limit_a_command_ends_or_says_which_limit(tmp_path, argv,
+                                                                         megabytes):
+    out = ["--quiet", "--out", str(tmp_path / "o")] if argv[0] == "sweep" else []
+    done = _limited([*argv, *out], RLIMIT_AS=megabytes << 20)
+    err = done.stderr.decode()
+    assert done.returncode in (0, 2), err  # computed, or refused in one line
+    if done.returncode == 2:
+        assert "(ulimit -v): raise them" in _one_line(err)
+        assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+def test_a_sweep_from_a_deleted_folder_runs(tmp_path):
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    done = subprocess.Popen(
+        [sys.executable, "-c", "import os, sys; os.rmdir(os.getcwd()); "
+         "from deck_emulator.cli import main; sys.exit(main(sys.argv[1:]))",
+         "sweep", "--speeds", "20", "--angles", "0", "--jobs", "1", "--quiet",
+         "--out", str(tmp_path / "o")], cwd=gone, stderr=subprocess.PIPE)
+    _, err = done.communicate(timeout=300)
+    assert done.returncode == 0, err
+    assert (tmp_path / "o" / "sweep.csv").is_file()

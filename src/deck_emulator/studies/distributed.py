@@ -109,7 +109,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from deck_emulator import SPAWNED_WORKER_ENV
-from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.errors import RunFailed, UsageError, process_limits
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.defaults import WORKER_WAIT_S
 
@@ -167,6 +167,11 @@ class SceneLimitError(UsageError, ValueError):
 class ClusterError(UsageError, ValueError):
     """The scheduler's address cannot be parsed or reached, or no Dask scheduler answers
     there: bad input, exit status 2."""
+
+
+class LimitError(UsageError, RuntimeError):
+    """The process's limits (ulimit) keep a worker or a library from starting: exit 2, in one
+    line naming the limits and what to change."""
 
 
 class Stopped(Exception):
@@ -378,8 +383,7 @@ class SceneStore:
 
     def rows(self) -> list[dict]:
         """Every stored row (plain dicts), in the order the files were written."""
-        import pyarrow.parquet as pq
-
+        _, pq = _arrow()
         out: list[dict] = []
         for f in self.files():
             out.extend(pq.read_table(f).to_pylist())
@@ -388,16 +392,14 @@ class SceneStore:
     def table(self):
         """All rows as one ``pyarrow.Table`` (columns unified; a column missing from a file is
         null there)."""
-        import pyarrow as pa
-
+        pa, _ = _arrow()
         rows = self.rows()
         return pa.Table.from_pylist(rows) if rows else pa.table({c: [] for c in META_COLUMNS})
 
     def ids(self, *, include_failed: bool = True) -> set[str]:
         """The stored scenes a resume does not run again: those that ended (``ok``), and
         those that failed unless not ``include_failed``; never a :class:`Stopped` one."""
-        import pyarrow.parquet as pq
-
+        _, pq = _arrow()
         keep = {"ok", "failed"} if include_failed else {"ok"}
         out: set[str] = set()
         for f in self.files():
@@ -423,9 +425,7 @@ class SceneStore:
         """Write ``rows`` as one new Parquet file, atomically (temporary name, then rename)."""
         if not rows:
             return None
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
+        pa, pq = _arrow()
         self.results.mkdir(parents=True, exist_ok=True)
         name = f"batch-{time.strftime('%Y%m%dT%H%M%S')}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
         final = self.results / f"{name}.parquet"
@@ -453,6 +453,21 @@ class SceneStore:
                     p.unlink()
                     n += 1
         return n
+
+
+def _arrow():
+    """pyarrow and its Parquet module, on the system's allocator: pyarrow's own (mimalloc)
+    crashed the process writing a batch under an address-space limit (ulimit -v); a library
+    that cannot load under the process's limits is a :class:`LimitError`."""
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ModuleNotFoundError:
+        raise
+    except ImportError as exc:  # a library found but not loaded: "failed to map segment"
+        raise LimitError(_cannot_load("pyarrow", exc)) from None
+    pa.set_memory_pool(pa.system_memory_pool())
+    return pa, pq
 
 
 def _uniform(rows: list[dict]) -> list[dict]:
@@ -603,6 +618,13 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
                 client.close()
         return
     n = max(1, int(jobs or os.cpu_count() or 1))
+    _files_for(n)
+    try:  # the workers start in this process's folder: a deleted one failed every start
+        os.getcwd()
+    except FileNotFoundError:
+        import tempfile
+
+        os.chdir(tempfile.gettempdir())  # a relative path named nothing already
     cluster = client = None
     try:
         # workers ignore a terminal's Ctrl-C: the command handles it and closes them.  The
@@ -611,14 +633,17 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
         # second earlier.  It is set only while the workers are spawned.
         with warnings.catch_warnings(), _worker_environment():
             warnings.simplefilter("ignore", UserWarning)  # "port 8787 in use": another HTTP
-            cluster = LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
-                preload=["deck_emulator.studies.worker_preload"],
-            )
+            try:
+                cluster = LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
+                    preload=["deck_emulator.studies.worker_preload"],
+                )
+            except Exception as exc:  # noqa: BLE001 - "Nanny failed to start" and the like
+                raise LimitError(_no_workers(n, exc)) from None
         client = Client(cluster)
         yield client
     finally:
@@ -630,6 +655,38 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
                 cluster.close()
         else:  # a start cut short by a signal
             _close_half_started_clusters()
+
+
+def _files_for(n: int) -> None:
+    """:class:`ClusterError` when the open-file limit cannot hold ``n`` workers (they failed
+    to start one by one, each with a traceback: the rows ``CLUSTER_FILES``, ``WORKER_FILES``
+    of :mod:`deck_emulator.vocabulary.defaults`)."""
+    import resource
+
+    soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
+    try:
+        now = len(os.listdir("/proc/self/fd"))
+    except OSError:  # no /proc: the limit is checked as the workers start
+        return
+    need = now + defaults.CLUSTER_FILES + defaults.WORKER_FILES * n
+    if soft != resource.RLIM_INFINITY and soft < need:
+        fit = (soft - now - defaults.CLUSTER_FILES) // defaults.WORKER_FILES
+        raise LimitError(f"the open-file limit ({soft}, ulimit -n) is too low for {n} "
+                           f"worker process(es), which need about {need}: "
+                           + (f"give --jobs {fit}, or " if fit >= 1 else "")
+                           + f"raise it (ulimit -n {max(need, 1024)})")
+
+
+def _no_workers(n: int, exc: BaseException) -> str:
+    """Why ``n`` workers did not start, in one line: the limits they may have hit."""
+    return _cannot_load(f"{n} worker process(es)", exc, "or give fewer --jobs")
+
+
+def _cannot_load(what: str, exc: BaseException, also: str = "") -> str:
+    why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    limits = ", ".join(process_limits())
+    return (f"could not start {what} ({why[:160]})" + (f" under the limits of {limits}: raise "
+            f"them{', ' + also if also else ''}" if limits else f": {also or 'free memory'}"))
 
 
 def _reach(address: str) -> None:
