@@ -131,6 +131,7 @@ __all__ = [
     "batch_size",
     "Scheduler",
     "Stopped",
+    "temporary_store",
 ]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
@@ -386,7 +387,8 @@ class SceneStore:
         _, pq = _arrow()
         out: list[dict] = []
         for f in self.files():
-            out.extend(pq.read_table(f).to_pylist())
+            with open(f, "rb") as fh:  # (pyarrow takes a path only as UTF-8)
+                out.extend(pq.read_table(fh).to_pylist())
         return out
 
     def table(self):
@@ -403,7 +405,8 @@ class SceneStore:
         keep = {"ok", "failed"} if include_failed else {"ok"}
         out: set[str] = set()
         for f in self.files():
-            t = pq.read_table(f, columns=["scene_id", "status"])
+            with open(f, "rb") as fh:
+                t = pq.read_table(fh, columns=["scene_id", "status"])
             out.update(sid for sid, st in zip(t.column("scene_id").to_pylist(),
                                               t.column("status").to_pylist()) if st in keep)
         return out
@@ -432,7 +435,8 @@ class SceneStore:
         tmp = self.results / f".{name}.parquet.tmp"
         table = pa.Table.from_pylist(_uniform(rows))
         try:
-            pq.write_table(table, tmp)
+            with open(tmp, "wb") as fh:  # a path's undecodable bytes: pyarrow takes UTF-8 only
+                pq.write_table(table, fh)
             os.replace(tmp, final)
         except BaseException:
             with contextlib.suppress(FileNotFoundError):
@@ -987,12 +991,9 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
     takes a list of tasks and returns one row (or exception) per task, as :func:`run_scenes`'s
     ``many`` (the studies' core scenes reach ``CoreEngine.run_batch`` so)."""
     import functools
-    import tempfile
-
-    from deck_emulator.errors import RunFailed
 
     order = sorted(tasks, key=lambda t: -t["cost"])
-    with tempfile.TemporaryDirectory(prefix="scenes-") as tmp:
+    with temporary_store("scenes-") as tmp:
         store = run_scenes(order, functools.partial(_json_rows if many else _json_row, fn),
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
@@ -1010,6 +1011,31 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
             raise RunFailed(f"{desc}: the run {_label(t)} failed: {why}")
         rows.append(json.loads(got["row_json"]))
     return rows
+
+
+@contextlib.contextmanager
+def temporary_store(prefix: str):
+    """A temporary folder for a store no one asked to keep (``tempfile.TemporaryDirectory``),
+    after removing those of earlier runs killed with SIGKILL: a ``prefix`` folder of the
+    temporary folder older than a minute whose lock no process holds (:func:`store_lock`,
+    held here for the block)."""
+    import fcntl
+    import shutil
+    import tempfile
+
+    home = Path(tempfile.gettempdir())
+    for old in home.glob(f"{prefix}*"):
+        with contextlib.suppress(OSError):
+            if time.time() - old.stat().st_mtime < 60 or old.is_symlink() or not old.is_dir():
+                continue
+            fd = os.open(old / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # BlockingIOError: in use
+                shutil.rmtree(old)
+            finally:
+                os.close(fd)
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp, store_lock(tmp):
+        yield tmp
 
 
 def _label(task: dict) -> str:

@@ -365,15 +365,13 @@ def sweep(
     cluster of ``jobs`` workers, or the one at ``scheduler``), a batch of scenes a task (the
     core's through ``CoreEngine.run_batch``), and are stored as they finish in
     ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
-    import tempfile
-
-    from deck_emulator.studies.distributed import run_scenes, scene_id
+    from deck_emulator.studies.distributed import run_scenes, scene_id, temporary_store
 
     base = str(base if base is not None else POSTS[post])
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
-    with tempfile.TemporaryDirectory(prefix="sweep-") as tmp:
+    with temporary_store("sweep-") as tmp:
         store = run_scenes(todo, _stored_scene_jobs, store_dir=store_dir or tmp, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True)
