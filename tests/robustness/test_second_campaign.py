@@ -606,3 +606,61 @@ def test_a_sweep_from_a_deleted_folder_runs(tmp_path):
     _, err = done.communicate(timeout=300)
     assert done.returncode == 0, err
     assert (tmp_path / "o" / "sweep.csv").is_file()
+
+
+# ------------------------------------------------------------------ smaller promises (item 10)
+
+
+@pytest.mark.parametrize("epoch", ["abc", "1e9", "253402300800", "-1", " 1"])
+def test_a_source_date_epoch_that_is_not_whole_seconds_is_refused(tmp_path, capsys,
+                                                                  monkeypatch, epoch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", epoch)
+    assert main(["run", "steel40", "--pages", str(tmp_path / "p.pdf")]) == 2
+    assert "SOURCE_DATE_EPOCH=" in _one_line(capsys.readouterr().err)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("length", [240, 250, 255])
+def test_a_legal_output_name_of_up_to_255_bytes_is_written(tmp_path, length):
+    from deck_emulator.files import write_file
+
+    name = tmp_path / ("t" * (length - 4) + ".csv")
+    write_file(name, "x\n")
+    assert name.read_text() == "x\n" and [p.name for p in tmp_path.iterdir()] == [name.name]
+
+
+def test_a_folder_with_undecodable_bytes_holds_the_store_and_the_tables(tmp_path, monkeypatch):
+    monkeypatch.setattr(sys, "stderr", io.StringIO())  # (a process's stderr escapes them)
+    out = Path(os.fsdecode(bytes(tmp_path) + b"/x\xff"))
+    assert main(["sweep", "--speeds", "20", "--angles", "0", "--jobs", "1", "--quiet",
+                 "--out", str(out)]) == 0
+    assert {p.name for p in out.iterdir()} == {"sweep.csv", "sweep.md", ".scenes"}
+    assert bytes(out) in (out / "sweep.md").read_bytes()  # the bytes as given
+
+
+def test_a_temporary_store_left_by_a_killed_run_is_removed_by_the_next(tmp_path, monkeypatch):
+    import tempfile
+
+    from deck_emulator.studies.distributed import store_lock, temporary_store
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    dead, young, held = (tmp_path / f"sweep-{n}" for n in ("dead", "young", "held"))
+    for folder in (dead, young, held):
+        (folder / "results").mkdir(parents=True)
+    for folder in (dead, held):
+        os.utime(folder, (time.time() - 3600,) * 2)
+    # a live run's lock: held by another process (a lock this process holds is re-entrant)
+    holder = subprocess.Popen([sys.executable, "-c", "import fcntl, os, sys, time; "
+                               "fd = os.open(sys.argv[1], os.O_RDWR | os.O_CREAT); "
+                               "fcntl.flock(fd, fcntl.LOCK_EX); print(1, flush=True); "
+                               "time.sleep(60)", str(held / ".lock")], stdout=subprocess.PIPE)
+    try:
+        holder.stdout.readline()
+        with temporary_store("sweep-") as tmp:
+            assert Path(tmp).is_dir()
+        assert not dead.exists() and young.exists() and held.exists()
+    finally:
+        holder.kill()
+        holder.wait()
+    with store_lock(tmp_path / "x"):
+        pass
