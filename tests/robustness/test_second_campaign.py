@@ -450,53 +450,6 @@ def test_a_study_whose_core_run_passes_its_wall_bound_stops_and_its_resume_runs_
 # ------------------------------------------------------- schedulers that are not Dask's (item 6)
 
 
-class _Hostile:
-    """A TCP server on a free local port that answers every connection as ``mode`` does:
-    ``silent`` says nothing, ``http`` answers HTTP 400, ``drip`` one byte every 0.3 s."""
-
-    def __init__(self, mode: str):
-        import socket
-
-        self.sock = socket.socket()
-        self.sock.bind(("127.0.0.1", 0))
-        self.sock.listen(8)
-        self.mode, self.address = mode, f"tcp://127.0.0.1:{self.sock.getsockname()[1]}"
-        threading.Thread(target=self._serve, daemon=True).start()
-
-    def _serve(self):
-        while True:
-            try:
-                conn, _ = self.sock.accept()
-            except OSError:
-                return
-            threading.Thread(target=self._answer, args=(conn,), daemon=True).start()
-
-    def _answer(self, conn):
-        try:
-            if self.mode == "http":
-                conn.recv(1024)
-                conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
-            while self.mode == "drip":
-                conn.sendall(b"x")
-                time.sleep(0.3)
-            time.sleep(30)
-        except OSError:
-            pass
-        finally:
-            conn.close()
-
-    def close(self):
-        self.sock.close()
-
-
-def _free_port_address() -> str:
-    import socket
-
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return f"tcp://127.0.0.1:{s.getsockname()[1]}"  # nothing listens once it is closed
-
-
 SCHEDULER_COMMANDS = {
     "sweep": ["sweep", "--speeds", "20", "--angles", "0"],
     "study error": ["study", "error", "steel40", "--quick"],
@@ -518,10 +471,13 @@ def test_a_scheduler_that_is_not_dasks_is_refused_within_the_bound(tmp_path, cap
                                                                    mode, says):
     from deck_emulator.vocabulary import defaults
 
+    from campaign import Hostile
+
     monkeypatch.setattr(defaults, "SCHEDULER_CONNECT_S", 1.0)
-    server = _Hostile(mode) if mode in ("silent", "drip", "http") else None
-    address = (server.address if server else _free_port_address() if mode == "refused"
-               else f"{mode}://127.0.0.1:8786")
+    server = (Hostile("answer", b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+              if mode == "http" else Hostile(mode, b"x") if mode in ("silent", "drip", "refused")
+              else None)
+    address = server.address if server else f"{mode}://127.0.0.1:8786"
     try:
         started = time.monotonic()
         status = main([*SCHEDULER_COMMANDS[command], "--quiet", "--out", str(tmp_path / "o"),
