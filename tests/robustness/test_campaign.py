@@ -26,7 +26,7 @@ def test_the_sample_covers_every_category():
         "mutated decks", "physically odd decks", "mutated card images",
         "scene and assembly files", "printouts", "invalid options", "output paths",
         "card images cut short", "scene and assembly bombs", "closed streams and bare encodings",
-        "sources that are not files", "mutated programs"}
+        "sources that are not files", "mutated programs", "hostile schedulers"}
 
 
 @pytest.mark.parametrize("case", FAST, ids=lambda c: f"{c.category}: {c.name}")

@@ -146,6 +146,10 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain",
 
     if paper not in ("plain", "striped"):
         raise ValueError(f"paper must be plain or striped, not {paper!r}")
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "")
+    if epoch and not (epoch.isascii() and epoch.isdigit() and int(epoch) <= 253402300799):
+        raise OutputError(path, f"SOURCE_DATE_EPOCH={epoch[:40]!r} is not a whole number of "
+                          "seconds from 1970 to the year 9999 (reproducible-builds.org)")
     if outputs is None:
         with OutputSet() as own:
             return write_pdf(records, path, paper, outputs=own, metadata=metadata,

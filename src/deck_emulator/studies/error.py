@@ -559,8 +559,8 @@ def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
         what = (f"k = {r['k']}, H = {r['h_s']:.3g} s" if r["engine"] == "emulator"
                 else f"rtol {r['rtol']:g}")
         status = (r["hit"].replace("THE POST HAS HIT THE ", "").lower() if r["status"] == "hit"
-                  else f"**{r['status']}**" + (f" ({r['guard']})" if r["guard"] != r["status"]
-                                                else "") + f": {r['error'][:100]}")
+                  else f"**{r['status']}**" + (f" ({r['guard']})" if r.get("guard", r["status"])
+                                                != r["status"] else "") + f": {r['error'][:100]}")
         table.append([r["series"], what, status, fmt(r.get("err_traj_ft")), fmt(r.get("err_hit_time_s")),
                       fmt(r.get("err_R_ft")), fmt(r.get("err_traj_ref0_ft")), fmt(r["wall_s"]),
                       r.get("steps") or r.get("nfev") or ""])
