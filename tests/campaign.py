@@ -57,6 +57,8 @@ class Case:
     pipe: bytes | None = None
     #: a hostile scheduler (:class:`Hostile`'s mode and answer), named ``{scheduler}``
     scheduler: tuple[str, bytes] | None = None
+    #: environment variables set while it runs
+    env: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -384,10 +386,10 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     rng = random.Random(seed)
     n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
          "cut": 12, "bomb": 12, "streams": 16, "sources": 12, "programs": 12,
-         "schedulers": 6} if fast \
+         "schedulers": 6, "stopped": 3, "promises": 6} if fast \
         else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
               "cut": 300, "bomb": 300, "streams": 120, "sources": 120, "programs": 300,
-              "schedulers": 60}
+              "schedulers": 60, "stopped": 40, "promises": 60}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -520,6 +522,38 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
                           [*cmd, "--quiet", "--out", "{dir}/o", "--scheduler", "{scheduler}"],
                           outputs=("o",), statuses=frozenset({2}), scheduler=(mode, answer)))
 
+    stopped_rng = random.Random(seed + 7)  # its own, so that the other categories stay the same
+    for k in range(n["stopped"]):
+        # a core run past its wall bound: a stopped scene, exit 3, said in one line
+        wall = stopped_rng.choice([1e-9, 1e-6, 1e-4])
+        source = stopped_rng.choice(["steel40", "steel20_a15", "{dir}/s.toml"])
+        extra = stopped_rng.choice([[], ["--json"], ["--preset", "physical"]])
+        cases.append(Case("stopped core runs", f"core {source} --max-wall {wall:g} #{k}",
+                          ["core", source, "--max-wall", repr(wall), *extra],
+                          {"s.toml": _scene_bytes()}, statuses=frozenset({3})))
+    promise_rng = random.Random(seed + 8)
+    for k in range(n["promises"]):
+        # the smaller promises: long legal names, undecodable bytes in a name, a bad
+        # SOURCE_DATE_EPOCH; each a documented status and no traceback
+        kind = ["long name", "undecodable", "epoch"][k % 3]
+        if kind == "long name":
+            name = "n" * promise_rng.randint(236, 251) + ".csv"
+            cases.append(Case("smaller promises", f"core --trajectory, {len(name)}-byte name",
+                              ["core", "steel40", "--trajectory", "{dir}/" + name],
+                              outputs=(name,), statuses=frozenset({0})))
+        elif kind == "undecodable":
+            name = os.fsdecode(bytes(promise_rng.randrange(0x80, 0x100) for _ in range(3))
+                               + b".txt")
+            cases.append(Case("smaller promises", f"run --out, undecodable name #{k}",
+                              ["run", "steel40", "--out", "{dir}/" + name],
+                              outputs=(name,), statuses=frozenset({0})))
+        else:
+            epoch = promise_rng.choice(["abc", "1e9", "-1", "", " 12", "0x10", "1.5",
+                                        "253402300800", "9" * 30])
+            cases.append(Case("smaller promises", f"run --pages, SOURCE_DATE_EPOCH={epoch!r}",
+                              ["run", "steel40", "--pages", "{dir}/o.pdf", "--quiet"],
+                              outputs=("o.pdf",), env={"SOURCE_DATE_EPOCH": epoch}))
+
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]
         for v in values:
@@ -582,6 +616,8 @@ def run_case(case: Case, folder: Path) -> Result:
         server = Hostile(*case.scheduler)
         argv = [a.replace("{scheduler}", server.address) for a in argv]
         bound, defaults.SCHEDULER_CONNECT_S = defaults.SCHEDULER_CONNECT_S, 0.5
+    saved_env = {k: os.environ.get(k) for k in case.env}
+    os.environ.update(case.env)
     started = time.perf_counter()
     broken = []
     cwd = os.getcwd()
@@ -606,6 +642,11 @@ def run_case(case: Case, folder: Path) -> Result:
         if server is not None:
             server.close()
             defaults.SCHEDULER_CONNECT_S = bound
+        for k, v in saved_env.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
     if raw_err is not None:
         out.flush()
         err.flush()

@@ -103,7 +103,7 @@ def _from_numba_cache(exc: BaseException) -> bool:
 def recompiling(fn):
     """``fn`` (an entry of the core), run again once when numba's cache of the core turned out
     unreadable: the core's cache folder is removed first, so numba compiles anew and caches
-    again (about 25 s), instead of the run ending in an ``UnpicklingError`` at every start."""
+    again, instead of the run ending in an ``UnpicklingError`` at every start."""
 
     @functools.wraps(fn)
     def entry(*args, **kwargs):
