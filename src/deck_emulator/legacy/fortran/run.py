@@ -23,12 +23,14 @@ start checking every assignment, so the message names the statement (as the emul
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 
-from deck_emulator.legacy.stops import (EmulatorError, Limits, Run, fault_reason,
-                                        halving_error, time_error)
-from deck_emulator.legacy.printer import Printer
+from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
+                                        fault_reason, halving_error, time_error, trace_row)
+from deck_emulator.legacy.printer import EVENT_FORMATS, Printer, event_for
+from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
 
 from .parse import INTRINSICS, Unit, kind_of, parse_units
@@ -38,8 +40,40 @@ from .parse import INTRINSICS, Unit, kind_of, parse_units
 #: the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
 #: free flight) is bounded by ``Limits.time_s`` where 106 and 59 advance it.  A program that
 #: lacks a label lacks that guard; the bound on a subroutine's blocks always holds.
+#: The trace (``stops.TRACE_ROWS``) is recorded where a block starts at ``records``' labels;
+#: the checks of the points P, R and C against the car start at ``points``' labels (a hit's
+#: event names the point); a WRITE of a FORMAT of ``printer.EVENT_FORMATS`` reports its event
+#: at the contact clock (Q), or the free-flight clock (T) for a hit; a ``search`` subroutine
+#: (ED's root search) that does not return is the guard ``ed_iterations``, showing those values.
 LISTING_WATCH = dict(steps=(125, 57), free_from=42, halving=108, accept=41,
-                     clocks={(106, "Q"): "contact", (59, "T"): "free"}, time=("Q", "T"))
+                     clocks={(106, "Q"): "contact", (59, "T"): "free"}, time=("Q", "T"),
+                     records={41: "contact", 42: "contact", 400: "free", 82: "free"},
+                     points={500: "P", 112: "R", 300: "C"}, search=("ED", ("D", "DH", "H")))
+
+#: The listing's literals that mean "one step" (0.0004 s), divided by 2**k by the option
+#: ``step_scale_k``: (the statements, as punched without blanks, the literal, in words).  The
+#: print intervals (0.0016 s in contact, 0.008 s in free flight) are times and stay.
+STEP_LITERALS = (
+    (("HI=0.0004", "H=0.0004"), "0.0004", "HI=0.0004, H=0.0004 (initial values)"),
+    (("IF(Q-0.0004)123,44,44",), "0.0004",
+     "IF(Q-0.0004) at label 125 (first step: the start-up at label 123)"),
+    (("IF(Q-.0004)83,84,84",), ".0004", "IF(Q-.0004) before label 83 (first step: FSA=1320.0)"),
+    (("THA=0.000022",), "0.000022",
+     "THA=0.000022 at label 123 (the tilt after the first step: 0.0545 rad/s * 0.0004 s, "
+     "rounded)"),
+    (("E=E+.0004",), ".0004", "E=E+.0004 (contact print counter: one step)"),
+    (("IF(LL-20)600,501,501",), "20",
+     "IF(LL-20) before label 501 (the FCONST cap after 20 steps = 8 ms: 20*2**k steps)"),
+    (("H=0.0004", "HI=0.0004"), "0.0004", "H=0.0004, HI=0.0004 at labels 354 and 42 (step reset)"),
+    (("E=E+0.0002",), "0.0002", "E=E+0.0002 (free-flight print counter: one step)"),
+)
+#: The start-up tilt THA (option ``tha_start``) and ED's |DF| tolerance at labels 15 and 16
+#: (option ``ed_tolerance``): (unit, statements, the literal the option replaces).
+OPTION_LITERALS = {
+    "tha_start": ("MAIN", ("THA=0.000022",), "0.000022"),
+    "ed_tolerance": ("ED", ("IF(ABS(DF(DH))-.0001)20,20,4", "IF(ABS(DF(DH))-.0001)20,20,13"),
+                     ".0001"),
+}
 
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
 
@@ -58,6 +92,10 @@ class _Stop(Exception):
     """STOP in a subroutine."""
 
 
+def _nothing(*_):
+    """A trace not kept."""
+
+
 def _const_name(text: str) -> str:
     return "k_" + text.replace(".", "p").replace("-", "m").replace("+", "")
 
@@ -69,11 +107,15 @@ class _Gen:
     """Python source of one unit (see the module docstring)."""
 
     def __init__(self, unit: Unit, units: dict[str, Unit], native: bool, checking: bool,
-                 lines: list, watch: dict | None):
+                 lines: list, watch: dict | None, literals: dict):
         self.u, self.units, self.native, self.checking = unit, units, native, checking
         self.lines = lines  # (python line, (unit, label, variable) or None)
         self.watch = watch if unit.name == "MAIN" else None
+        self.program_watch = watch
         self.consts: set[str] = set()
+        self.literals = literals  # (unit, statement text, literal) -> what stands for it
+        self.steps: set[str] = set()  # literals divided by 2**k (Program.steps)
+        self.text = None  # the statement being made
 
     def emit(self, text: str, where=None):
         self.lines.append((text, where))
@@ -90,6 +132,17 @@ class _Gen:
     def _expr(self, e) -> str:
         tag = e[0]
         if tag == "const":
+            instead = self.literals.get((self.u.name, self.text, e[1]))
+            if instead is not None:  # an option of the listing's (Program.literals)
+                how, value = instead
+                if how == "step":
+                    self.consts.add(value)
+                    self.steps.add(value)
+                    return "s_" + _const_name(value)
+                if how == "int":
+                    return value
+                self.consts.add(value)
+                return _const_name(value)
             if e[2] == "I":
                 return e[1]
             self.consts.add(e[1])
@@ -159,8 +212,11 @@ class _Gen:
         self.emit("        while lab is not None:")
         self.emit("            n += 1")
         self.emit("            if n > limit:")
-        shown = [n for n in names if kind_of(n) == "R" and n in _changed(u, self.units)]
-        self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown[:3])!r})")
+        shown = [n for n in names if kind_of(n) == "R" and n in _changed(u, self.units)][:3]
+        search = (self.program_watch or {}).get("search")
+        if search and search[0] == u.name and set(search[1]) <= set(names):
+            shown = list(search[1])
+        self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown)!r})")
         self.emit("            lab = blocks[lab]()")
         self.emit(f"        return ({''.join(d + ', ' for d in assigned_dummies)})")
         self.emit(f"    _G.units[{u.name!r}] = ({u.name}, _vars)")
@@ -180,6 +236,14 @@ class _Gen:
             self.emit("        _G.halve()")
         if w and label == w["accept"]:
             self.emit("        _G.halvings = 0")
+        if w and label in w.get("points", ()):
+            self.emit(f"        _G.point = {w['points'][label]!r}")
+        if w and label in w.get("records", ()):
+            phase = w["records"][label]
+            names = [n for n in TRACE_ROWS[phase].values() if n]
+            if set(names) <= set(_names(self.u)):  # (a program without them keeps no trace)
+                self.emit(f"        _G.record({phase!r}, {', '.join(names)})",
+                          self.where(label))
         checks = [n for n in sorted(assigned) if kind_of(n) == "R"]
         end = ""  # the block's check of its values when it ends (binary64, unchecked)
         if self.native and not self.checking and checks:
@@ -187,6 +251,7 @@ class _Gen:
         ended = False
         for s in stmts:
             last = s is stmts[-1]
+            self.text = s.text
             text = f"  # {str(s.label) + ' ' if s.label else ''}{s.text}"
             if s.kind == "assign":
                 var, e = s.args
@@ -209,6 +274,9 @@ class _Gen:
                 values = "".join(f", {self.expr(e)}" for e in items)
                 self.emit(f"        _G.write_{self.u.name}({fmt}{values}){text}",
                           self.where(label))
+                if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
+                    clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
+                    self.emit(f"        _G.event({fmt}, {clock})", self.where(label))
             elif s.kind == "call":
                 name, args = s.args
                 sub = self.units[name]
@@ -336,13 +404,18 @@ class Program:
     arithmetic that traps or never leaves the finite numbers), run on any deck."""
 
     def __init__(self, lines: list[str], numbers: list[int] | None = None, *,
-                 path: str | None = None, name: str = "", watch: dict | None = LISTING_WATCH):
+                 path: str | None = None, name: str = "", watch: dict | None = LISTING_WATCH,
+                 literals: dict | None = None, step_scale_k: int = 0, errata=()):
         from deck_emulator.legacy.jobdeck import statements
 
         self.lines = list(lines)
         self.name = name or path or "the program"
         self.units = {u.name: u for u in parse_units(statements(self.lines, numbers), path)}
         self.watch = watch
+        #: (unit, statement text, literal) -> ("step", literal): divided by 2**step_scale_k;
+        #: ("const", text): that literal instead; ("int", text): that INTEGER instead
+        self.literals = literals or {}
+        self.step_scale_k, self.errata = step_scale_k, tuple(errata)
         self._made: dict = {}
 
     @property
@@ -359,19 +432,24 @@ class Program:
         if key not in self._made:
             lines: list = []
             consts: set[str] = set()
+            steps: set[str] = set()
             for unit in self.units.values():
-                gen = _Gen(unit, self.units, native, checking, lines, self.watch)
+                gen = _Gen(unit, self.units, native, checking, lines, self.watch, self.literals)
                 gen.unit_source()
                 consts |= gen.consts
+                steps |= gen.steps
             head = [(f"{_const_name(c)} = _K({c!r})", None) for c in sorted(consts)]
+            half = "".join("/_K('2.')" for _ in range(self.step_scale_k))
+            head += [(f"s_{_const_name(c)} = {_const_name(c)}{half}  # one step / "
+                      f"2**{self.step_scale_k}", None) for c in sorted(steps)]
             lines[:0] = head
             code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
             self._made[key] = (code, lines)
         return self._made[key]
 
-    def runner(self, deck, arithmetic, *, limits: Limits = Limits(), errata=(),
-               checking: bool = False) -> "Runner":
-        return Runner(self, deck, arithmetic, limits=limits, errata=errata, checking=checking)
+    def runner(self, deck, arithmetic, *, limits: Limits = Limits(), checking: bool = False,
+               trace: bool = True) -> "Runner":
+        return Runner(self, deck, arithmetic, limits=limits, checking=checking, trace=trace)
 
 
 class Runner:
@@ -380,19 +458,20 @@ class Runner:
     records so far); ``step`` and ``label`` may be read while it runs (progress)."""
 
     def __init__(self, program: Program, deck, arithmetic, *, limits: Limits = Limits(),
-                 errata=(), checking: bool = False):
+                 checking: bool = False, trace: bool = True):
         from deck_emulator.legacy.arithmetic import get_arithmetic
 
         self.program, self.deck = program, deck
         self.ar = get_arithmetic(arithmetic) if isinstance(arithmetic, str) else arithmetic
-        self.limits, self.errata = limits, tuple(errata)
+        self.limits, self.errata, self.keep_trace = limits, program.errata, trace
         native = bool(getattr(self.ar, "native_float", False))
         finite = bool(getattr(self.ar, "always_finite", False))
         self.native = native
         self.checking = checking or not (native or finite)
         self._underflows_at_start = getattr(getattr(self.ar, "indicators", None), "underflows", 0)
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
-        self.run_ = Run(records=[], arithmetic=self.ar.describe(), errata=self.errata)
+        self.run_ = Run(records=[], arithmetic=self.ar.describe(), errata=self.errata,
+                        step_scale_k=program.step_scale_k)
         self.printers = {}
         for name, unit in program.units.items():
             p = Printer(self.ar.exact, rounding, binary=getattr(self.ar, "binary", False),
@@ -400,6 +479,9 @@ class Runner:
             p.records = self.run_.records
             self.printers[name] = p
         self.step, self.free, self.halvings, self.card = 0, False, 0, 0
+        self.point = None  # the point the checks against the car are on: P, R or C
+        if not trace:
+            self.record = _nothing
         self.label = "START"
         self.units: dict = {}
         self.program_blocks = PROGRAM_BLOCKS
@@ -443,6 +525,12 @@ class Runner:
                 return unit.formats[fmt]
         raise KeyError(fmt)
 
+    def record(self, phase: str, *values):
+        self.run_.trace.append(trace_row(phase, values, self.ar.to_float))
+
+    def event(self, fmt: int, t):
+        self.run_.events.append(event_for(fmt, self.ar.to_float(t), self.point))
+
     def halve(self):
         self.halvings += 1
         if self.halvings > self.limits.halvings:
@@ -459,6 +547,12 @@ class Runner:
 
     def runaway(self, unit: str, label, values: dict, shown: tuple):
         shown = ", ".join(f"{n} = {self.ar.to_float(values[n]):.6g}" for n in shown)
+        search = (self.program.watch or {}).get("search")
+        if search and unit == search[0]:  # as the listing's emulator names it
+            raise EmulatorError(f"{unit}'s root search did not converge in "
+                                f"{self.limits.ed_iterations} iterations ({shown})",
+                                label=f"{unit} {label}", step=self.step, time=self.time(),
+                                guard="ed_iterations")
         if unit == "MAIN":
             raise EmulatorError(f"the main program ran {self.program_blocks} labelled blocks "
                                 f"without STOP ({shown})", label=label, step=self.step,
@@ -529,8 +623,8 @@ class Runner:
         indicators = getattr(self.ar, "indicators", None)
         if indicators is not None:
             indicators.underflows = self._underflows_at_start
-        return Runner(self.program, self.deck, self.ar, limits=self.limits,
-                      errata=self.errata, checking=True).run()
+        return Runner(self.program, self.deck, self.ar, limits=self.limits, checking=True,
+                      trace=self.keep_trace).run()
 
     def _fail(self, exc: EmulatorError):
         self.run_.error = exc
@@ -557,9 +651,23 @@ class Runner:
         return unit, label, function or variable
 
 
-def listing_program(errata=()) -> Program:
+def listing_program(errata=(), *, step_scale_k: int = 0, tha_start: str | None = None,
+                    ed_tolerance: str = ".0001") -> Program:
     """The listing (the package's ``luminaire.f``) as a :class:`Program`, with ``errata``
-    applied (legacy/errata/*.patch: their lines replaced, checked against the listing's)."""
+    applied (legacy/errata/*.patch: their lines replaced, checked against the listing's) and
+    the options of its literals: ``step_scale_k`` divides each of :data:`STEP_LITERALS` by
+    2**k, ``tha_start`` and ``ed_tolerance`` replace those of :data:`OPTION_LITERALS`.  Made
+    once a process for each set of arguments."""
+    unknown = set(errata) - set(ERRATA)
+    if unknown:
+        raise ValueError(f"unknown erratum {sorted(unknown)}: known are {sorted(ERRATA)}")
+    if int(step_scale_k) < 0:
+        raise ValueError("step_scale_k must be >= 0")
+    return _listing(tuple(errata), int(step_scale_k), tha_start, ed_tolerance)
+
+
+@functools.lru_cache(maxsize=16)
+def _listing(errata, k, tha_start, ed_tolerance) -> Program:
     from importlib import resources
 
     from deck_emulator.legacy.jobdeck import listing_lines
@@ -569,7 +677,18 @@ def listing_program(errata=()) -> Program:
         patch = resources.files("deck_emulator.legacy").joinpath(
             "errata", f"{name}.patch").read_text("ascii").splitlines()
         lines = _apply(lines, patch, name)
-    return Program(lines, name="legacy/luminaire.f" + "".join(f" + {e}" for e in errata))
+    literals = {}
+    if k:
+        for texts, literal, _ in STEP_LITERALS:
+            for text in texts:
+                literals["MAIN", text, literal] = (("int", str(int(literal) * 2**k))
+                                                   if literal.isdigit() else ("step", literal))
+    for option, value in (("tha_start", tha_start), ("ed_tolerance", ed_tolerance)):
+        unit, texts, literal = OPTION_LITERALS[option]
+        if value is not None and value != literal:
+            literals.update({(unit, text, literal): ("const", value) for text in texts})
+    return Program(lines, name="legacy/luminaire.f" + "".join(f" + {e}" for e in errata),
+                   literals=literals, step_scale_k=k, errata=errata)
 
 
 def _apply(lines: list[str], patch: list[str], name: str) -> list[str]:
