@@ -24,8 +24,9 @@ start checking every assignment, so the message names the statement (as the emul
 from __future__ import annotations
 
 import functools
-import hashlib
 import math
+import zlib
+from pathlib import Path
 
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
@@ -76,6 +77,32 @@ OPTION_LITERALS = {
 }
 
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
+#: The listing's binary64 source as made (scripts/make_listing_source.py writes it).
+MADE_LISTING = Path(__file__).with_name("listing_made.py")
+#: The package's copy of the listing (what jobdeck.listing_lines reads), checked by its bytes.
+LISTING_FILE = Path(__file__).parent.parent / "luminaire.f"
+
+
+@functools.cache
+def _front_end_crc() -> int:
+    """CRC-32 of this front end's text (parse.py, run.py): a made file names it."""
+    here = Path(__file__).parent
+    return zlib.crc32((here / "parse.py").read_bytes() + (here / "run.py").read_bytes())
+
+
+def _made_code(path: Path, header: str):
+    """The code of a made file (from the bytecode cache, as an imported module's) if its
+    first line is ``header`` (the same cards, the same front end), else None."""
+    import importlib.util
+
+    try:
+        with open(path, encoding="ascii") as f:
+            if f.readline().rstrip("\n") != header:
+                return None
+    except OSError:
+        return None
+    spec = importlib.util.spec_from_file_location(f"{__package__}.{path.stem}", path)
+    return spec.loader.get_code(spec.name)
 
 
 class _NonFinite(ArithmeticError):
@@ -405,32 +432,86 @@ class Program:
 
     def __init__(self, lines: list[str], numbers: list[int] | None = None, *,
                  path: str | None = None, name: str = "", watch: dict | None = LISTING_WATCH,
-                 literals: dict | None = None, step_scale_k: int = 0, errata=()):
-        from deck_emulator.legacy.jobdeck import statements
-
-        self.lines = list(lines)
+                 literals: dict | None = None, step_scale_k: int = 0, errata=(),
+                 made: Path | None = None, cards_file: Path | None = None):
+        #: ``lines``: the cards' text, or a function that reads them (when first asked for:
+        #: ``cards_file``, the file they are read from, is then what a made file is checked on)
+        self._cards_text = lines if callable(lines) else list(lines)
+        self.cards_file = cards_file
         self.name = name or path or "the program"
-        self.units = {u.name: u for u in parse_units(statements(self.lines, numbers), path)}
+        self._cards = (numbers, path)
+        #: ``made``: a file holding this program's binary64 source as made (MADE_LISTING),
+        #: used while it says it was made from these cards by this front end; the units are
+        #: then parsed only when asked for (the source of another mode, a fault's statement)
+        self.made = made
+        self._units = None
+        if made is None:
+            self.units  # noqa: B018  (parsed now: a statement outside the dialect is refused)
         self.watch = watch
         #: (unit, statement text, literal) -> ("step", literal): divided by 2**step_scale_k;
         #: ("const", text): that literal instead; ("int", text): that INTEGER instead
         self.literals = literals or {}
         self.step_scale_k, self.errata = step_scale_k, tuple(errata)
         self._made: dict = {}
+        self._lines: dict = {}
+
+    @property
+    def lines(self) -> list[str]:
+        if callable(self._cards_text):
+            self._cards_text = list(self._cards_text())
+        return self._cards_text
+
+    def _cards_crc(self) -> int:
+        """CRC-32 of the cards' text, one line each (read from ``cards_file`` if not yet read:
+        the same when the file is those lines, each ended by a newline)."""
+        if callable(self._cards_text) and self.cards_file is not None:
+            return zlib.crc32(self.cards_file.read_bytes())
+        return zlib.crc32("".join(line + "\n" for line in self.lines).encode())
+
+    @property
+    def units(self) -> dict:
+        if self._units is None:
+            from deck_emulator.legacy.jobdeck import statements
+
+            numbers, path = self._cards
+            self._units = {u.name: u for u in parse_units(statements(self.lines, numbers), path)}
+        return self._units
 
     @property
     def sha256(self) -> str:
         """Of the program's cards: their text, one line each, as read."""
+        import hashlib  # (here: a plain run never asks)
+
         return hashlib.sha256("".join(line + "\n" for line in self.lines).encode()).hexdigest()
 
     def python(self, *, native: bool = True, checking: bool = False) -> str:
         """The generated Python source (one FORTRAN statement a line, its text beside it)."""
-        return "\n".join(text for text, _ in self._make(native, checking)[1]) + "\n"
+        return "\n".join(text for text, _ in self.made_lines(native, checking)) + "\n"
 
     def _make(self, native: bool, checking: bool):
+        """(code, its lines or None: :meth:`made_lines`) of the source for a way of running."""
         key = (native, checking)
         if key not in self._made:
-            lines: list = []
+            code = None
+            if self.made is not None and key == (True, False):
+                code = _made_code(self.made, self._header(native, checking))
+            if code is None:
+                lines = self.made_lines(native, checking)
+                code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
+            self._made[key] = code
+        return self._made[key], self._lines.get(key)
+
+    def _header(self, native: bool, checking: bool) -> str:
+        how = ("binary64, checked per block" if native and not checking else
+               "checked per assignment" if checking else "an arithmetic that traps")
+        return (f"# {self.name} (its cards' CRC-32 {self._cards_crc()}): the Python of "
+                f"deck_emulator.legacy.fortran (its CRC-32 {_front_end_crc()}), {how}")
+
+    def made_lines(self, native: bool, checking: bool) -> list:
+        """The generated source's lines: (text, (unit, label, variable) or None)."""
+        key = (native, checking)
+        if key not in self._lines:
+            lines: list = [(self._header(native, checking), None)]
             consts: set[str] = set()
             steps: set[str] = set()
             for unit in self.units.values():
@@ -442,10 +523,11 @@ class Program:
             half = "".join("/_K('2.')" for _ in range(self.step_scale_k))
             head += [(f"s_{_const_name(c)} = {_const_name(c)}{half}  # one step / "
                       f"2**{self.step_scale_k}", None) for c in sorted(steps)]
-            lines[:0] = head
-            code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
-            self._made[key] = (code, lines)
-        return self._made[key]
+            lines[1:1] = head
+            formats = {name: u.formats for name, u in self.units.items()}
+            lines.append((f"_FORMATS = {formats!r}", None))  # the units' FORMATs
+            self._lines[key] = lines
+        return self._lines[key]
 
     def runner(self, deck, arithmetic, *, limits: Limits = Limits(), checking: bool = False,
                trace: bool = True) -> "Runner":
@@ -472,12 +554,9 @@ class Runner:
         rounding = getattr(self.ar, "format_rounding", lambda: "nearest")()
         self.run_ = Run(records=[], arithmetic=self.ar.describe(), errata=self.errata,
                         step_scale_k=program.step_scale_k)
-        self.printers = {}
-        for name, unit in program.units.items():
-            p = Printer(self.ar.exact, rounding, binary=getattr(self.ar, "binary", False),
-                        formats=unit.formats)
-            p.records = self.run_.records
-            self.printers[name] = p
+        self._printer = lambda formats: Printer(
+            self.ar.exact, rounding, binary=getattr(self.ar, "binary", False), formats=formats)
+        self.formats: dict = {}
         self.step, self.free, self.halvings, self.card = 0, False, 0, 0
         self.point = None  # the point the checks against the car are on: P, R or C
         if not trace:
@@ -520,10 +599,7 @@ class Runner:
         return values
 
     def _format_of(self, fmt: int) -> str:
-        for unit in self.program.units.values():
-            if fmt in unit.formats:
-                return unit.formats[fmt]
-        raise KeyError(fmt)
+        return next(formats[fmt] for formats in self.formats.values() if fmt in formats)
 
     def record(self, phase: str, *values):
         self.run_.trace.append(trace_row(phase, values, self.ar.to_float))
@@ -586,10 +662,13 @@ class Runner:
         try:
             with ar.trapping():
                 exec(code, namespace)
-                for name in self.program.units:
-                    setattr(self, f"write_{name}", self.printers[name].write)
-                mains = {name: namespace[f"make_{name}"](self) for name in self.program.units}
-                for name in self.program.units:
+                self.formats = namespace["_FORMATS"]
+                for name, formats in self.formats.items():
+                    printer = self._printer(formats)
+                    printer.records = self.run_.records
+                    setattr(self, f"write_{name}", printer.write)
+                mains = {name: namespace[f"make_{name}"](self) for name in self.formats}
+                for name in self.formats:
                     if name != "MAIN":
                         setattr(self, f"call_{name}", mains[name])
                 try:
@@ -606,7 +685,9 @@ class Runner:
                 ArithmeticError) as exc:
             if isinstance(exc, ValueError) and "math domain" not in str(exc):
                 raise
-            unit, label, variable = self._where(exc, lines)
+            if lines is None:  # (a made file's code: its lines, made again, are the same)
+                lines = self.program.made_lines(self.native, self.checking)
+            unit, label, variable = self._where(exc, lines, code.co_filename)
             if isinstance(exc, _NonFinite):
                 variable = exc.name
             label = (("START" if label is None else label) if unit == "MAIN"
@@ -632,12 +713,12 @@ class Runner:
         raise exc
 
     @staticmethod
-    def _where(exc, lines):
+    def _where(exc, lines, filename):
         """(unit, label, variable) of the statement that raised, from the traceback's lines
         of the generated code; a statement function's name is the variable when it raised."""
         import traceback
 
-        frames = [f for f in traceback.extract_tb(exc.__traceback__) if f.filename == _FILE]
+        frames = [f for f in traceback.extract_tb(exc.__traceback__) if f.filename == filename]
         found, function = (None, None, None), None
         for f in frames:
             where = lines[f.lineno - 1][1]
@@ -668,15 +749,24 @@ def listing_program(errata=(), *, step_scale_k: int = 0, tha_start: str | None =
 
 @functools.lru_cache(maxsize=16)
 def _listing(errata, k, tha_start, ed_tolerance) -> Program:
-    from importlib import resources
-
     from deck_emulator.legacy.jobdeck import listing_lines
 
+    literals = _literals(k, tha_start, ed_tolerance)
+    name = "legacy/luminaire.f" + "".join(f" + {e}" for e in errata)
+    if not errata and not literals:  # the listing as printed: its made source
+        return Program(listing_lines, name=name, made=MADE_LISTING, cards_file=LISTING_FILE)
+    from importlib import resources
+
     lines = listing_lines()
-    for name in errata:
+    for erratum in errata:
         patch = resources.files("deck_emulator.legacy").joinpath(
-            "errata", f"{name}.patch").read_text("ascii").splitlines()
-        lines = _apply(lines, patch, name)
+            "errata", f"{erratum}.patch").read_text("ascii").splitlines()
+        lines = _apply(lines, patch, erratum)
+    return Program(lines, name=name, literals=literals, step_scale_k=k, errata=errata)
+
+
+def _literals(k, tha_start, ed_tolerance) -> dict:
+    """Program.literals of the listing's options."""
     literals = {}
     if k:
         for texts, literal, _ in STEP_LITERALS:
@@ -687,8 +777,7 @@ def _listing(errata, k, tha_start, ed_tolerance) -> Program:
         unit, texts, literal = OPTION_LITERALS[option]
         if value is not None and value != literal:
             literals.update({(unit, text, literal): ("const", value) for text in texts})
-    return Program(lines, name="legacy/luminaire.f" + "".join(f" + {e}" for e in errata),
-                   literals=literals, step_scale_k=k, errata=errata)
+    return literals
 
 
 def _apply(lines: list[str], patch: list[str], name: str) -> list[str]:
