@@ -284,3 +284,51 @@ def test_the_differential_corpus_through_the_front_end_prints_as_the_compiled_li
             assert outcome.agree, outcome.why
     finally:
         o.close()
+
+
+# ------------------------------------------------------------ the listing's made source
+
+
+def test_the_made_listing_source_is_what_the_front_end_makes_now():
+    """legacy/fortran/listing_made.py is what ``python scripts/make_listing_source.py`` writes
+    now (after a change to the listing or the front end, run it: meanwhile its first line no
+    longer matches and the source is made at each start, never a stale one run)."""
+    from deck_emulator.legacy.fortran.run import LISTING_FILE, MADE_LISTING
+
+    assert MADE_LISTING.read_text() == listing_program().python(), \
+        "run: python scripts/make_listing_source.py"
+    program = Program(listing_lines, name="legacy/luminaire.f", made=MADE_LISTING,
+                      cards_file=LISTING_FILE)
+    code, _ = program._make(True, False)
+    assert code.co_filename == str(MADE_LISTING)  # the made file's code is what runs
+    assert program._units is None  # and nothing was parsed for it
+
+
+def test_a_made_source_whose_first_line_differs_is_not_used(tmp_path):
+    from deck_emulator.legacy.fortran.run import MADE_LISTING, LISTING_FILE
+
+    stale = tmp_path / "listing_made.py"
+    text = MADE_LISTING.read_text().replace("k_2p = _K('2.')", "k_2p = _K('3.')")
+    stale.write_text(text)  # the same first line: it would be used
+    lines = listing_lines()
+    name = "legacy/luminaire.f"
+    fresh = Program(lambda: lines, name=name, made=stale, cards_file=LISTING_FILE)
+    assert fresh._make(True, False)[0].co_filename == str(stale)
+    stale.write_text("# another program" + text[text.index("\n"):])
+    other = Program(lambda: lines, name=name, made=stale, cards_file=LISTING_FILE)
+    assert other._make(True, False)[0].co_filename == "<fortran>"
+    assert other.runner(_deck("steel40"), "double").run().text() == (
+        GOLDEN / "steel40.r8.txt").read_text()
+
+
+def test_the_engine_runs_the_listing_through_the_front_end():
+    from deck_emulator.engine import EmulatorEngine
+    from deck_emulator.legacy.fortran import Runner
+
+    engine = EmulatorEngine(errata=("ed-direction",), step_scale_k=1)
+    program = engine.program(_deck("steel40"))
+    assert isinstance(program, Runner) and program.errata == ("ed-direction",)
+    out = engine.run(_deck("steel40"))
+    port, _ = _both(_deck("steel40"), "double", errata=("ed-direction",), step_scale_k=1)
+    assert out.records == tuple(port[0].records) and out.events == port[0].events
+    assert len(out.t) > 2000  # the trajectory, from the front end's trace

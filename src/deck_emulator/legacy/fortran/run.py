@@ -143,6 +143,11 @@ class _Gen:
         self.literals = literals  # (unit, statement text, literal) -> what stands for it
         self.steps: set[str] = set()  # literals divided by 2**k (Program.steps)
         self.text = None  # the statement being made
+        #: binary64's SIN and COS of a block (pure: the C library's, no indicators): the
+        #: call's code -> (the local that keeps its value, the variables it reads), while none
+        #: of them is assigned again (the same value as calling it again, bit for bit)
+        self.known: dict | None = None
+        self.kept = 0
 
     def emit(self, text: str, where=None):
         self.lines.append((text, where))
@@ -189,7 +194,16 @@ class _Gen:
         if tag == "call":
             name, args = e[1], e[2]
             if name in INTRINSICS:
-                return f"{INTRINSICS[name]}({self.expr(args[0])})"
+                call = f"{INTRINSICS[name]}({self.expr(args[0])})"
+                if self.known is None or name not in ("SIN", "COS"):
+                    return call
+                if call not in self.known:  # its first in the block: kept in a local
+                    simple = args[0][0] == "var"
+                    self.kept += 1
+                    local = f"{INTRINSICS[name]}_{args[0][1] if simple else self.kept}"
+                    self.known[call] = (local, set(_variables(args[0])))
+                    return f"({local} := {call})"
+                return self.known[call][0]
             dummies, body = self.u.functions[name]
             return f"{name}({', '.join(self.expr(a, kind_of(d)) for a, d in zip(args, dummies))})"
         _, op, left, right, typ = e
@@ -276,9 +290,13 @@ class _Gen:
         if self.native and not self.checking and checks:
             end = f"        if not _fin({'+'.join(checks)}): raise _Replay"
         ended = False
+        self.known = {} if self.native else None
         for s in stmts:
             last = s is stmts[-1]
             self.text = s.text
+            if self.known and s is not stmts[0]:
+                self.forget(before)
+            before = s
             text = f"  # {str(s.label) + ' ' if s.label else ''}{s.text}"
             if s.kind == "assign":
                 var, e = s.args
@@ -324,6 +342,12 @@ class _Gen:
                 if end:
                     self.emit(end, self.where(label))
                 self.emit(f"        return {_key(nxt)}", self.where(label))
+        self.known = None
+
+    def forget(self, s):
+        """Drop the kept SIN and COS whose arguments statement ``s`` assigned."""
+        changed = _assigned([s], self.units)
+        self.known = {k: v for k, v in self.known.items() if not v[1] & changed}
 
     def jump(self, s) -> str:
         if s.kind == "goto":
