@@ -67,14 +67,13 @@ def test_input_ranges_are_parsed_and_checked():
 
 
 def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
-    plain = sa.outcomes_of(sa._run_scene({}, "core", "legacy", "steel40"))
-    nominal = sa.outcomes_of(
-        sa._run_scene(
-            {"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333},
-            "core", "legacy", "steel40",
-        )
-    )
-    changed = sa.outcomes_of(sa._run_scene({"friction_lb": 465.0}, "core", "legacy", "steel40"))
+    def run(inputs):
+        return sa.scene_task({"deck": "steel40", "engine": "core", "preset": "legacy",
+                              "inputs": inputs})
+
+    plain = run({})
+    nominal = run({"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333})
+    changed = run({"friction_lb": 465.0})
     for k in sa.OUTCOMES:
         assert nominal[k] == pytest.approx(plain[k], rel=1e-9, abs=1e-12), k
     assert changed["delta_v_contact_mph"] != pytest.approx(plain["delta_v_contact_mph"], rel=1e-6)
