@@ -355,8 +355,9 @@ def ishigami_indices(a: float = 7.0, b: float = 0.1) -> dict:
 
 @dataclass
 class Study:
-    """One sample run and analysed: the problem, the sample, the tasks, the store and the
-    indices (:func:`analyse`'s rows)."""
+    """One sample run and analysed: the problem, the sample, the tasks, the store, each
+    task's stored row (``rows``, in the tasks' order; None: not stored) and the indices
+    (:func:`analyse`'s rows)."""
 
     problem: dict
     n: int
@@ -365,6 +366,7 @@ class Study:
     store: SceneStore
     outputs: list
     indices: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
     Y: dict = field(default_factory=dict)
     wall_s: float = 0.0
     ran: int = 0
@@ -403,18 +405,18 @@ def run_study(
         desc=desc, progress=progress, chunk=chunk, many=many,
     )
     wall = time.perf_counter() - started
-    rows = store.by_id()
+    by_id = store.by_id()  # read once; each task's id hashed once
+    rows = [by_id.get(scene_id(t)) for t in tasks]
     Xused = np.array([[t["inputs"][k] for k in problem["names"]] for t in tasks])
     Y = {}
     for key in outputs:
         vals = []
-        for t in tasks:
-            r = rows.get(scene_id(t))
+        for r in rows:
             v = None if r is None or r.get("status") != "ok" else r.get(key)
             vals.append(np.nan if v is None else float(v))
         Y[key] = np.array(vals)
     sizes = [n // 2, n] if convergence and n >= 4 else [n]
-    study = Study(problem, n, Xused, tasks, store, list(outputs), Y=Y, wall_s=wall)
+    study = Study(problem, n, Xused, tasks, store, list(outputs), rows=rows, Y=Y, wall_s=wall)
     study.ran = len(store.ids()) - before
     study.indices = analyse(problem, Y, sizes, seed=seed)
     return study
@@ -424,8 +426,7 @@ def all_failed(study: Study) -> str | None:
     """The first scene's error when no scene of ``study`` ran to its end (each failed, or its
     engine stopped early: the inputs' ranges left the model's domain, e.g. ``--input
     W=-1:-0.5``), else ``None``."""
-    rows = study.store.by_id()
-    got = [rows.get(scene_id(t)) for t in study.tasks]
+    got = study.rows
 
     def why(r):  # None: the scene ran to its end
         if r is None:
@@ -598,16 +599,13 @@ def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rows = study.store.by_id()
     names = study.problem["names"]
     ix = [names.index(k) for k in inputs]
     surf = []
-    for t in study.tasks:
-        r = rows.get(scene_id(t))
+    for r in study.rows:
         surf.append("FAILED" if r is None or r.get("status") != "ok" else r.get("hit_surface"))
     clear = []
-    for t in study.tasks:
-        r = rows.get(scene_id(t))
+    for r in study.rows:
         v = None if r is None else r.get("roof_clearance_ft")
         clear.append(np.nan if v is None else float(v))
     clear = np.array(clear)
