@@ -471,8 +471,12 @@ class CoreEngine:
 
         from .outcome import Outcome
 
-        scene = (source if isinstance(source, Scene)
-                 else Scene.from_deck(source, name=source_name(source), checked=False))
+        if isinstance(source, Scene):
+            scene = source
+        elif not isinstance(r, Exception):  # the deck's scene as the core checked and ran it
+            scene = r.scene
+        else:  # the deck as it is (the core refused it, or its run stopped)
+            scene = Scene.from_deck(source, name=source_name(source), checked=False)
         out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
                       arithmetic="IEEE double",
                       contact_test="segments" if self.model_options().shaft_contact

@@ -287,9 +287,12 @@ COLUMNS: tuple[str, ...] = tuple(
 )
 
 
-def _scene_of(job: dict) -> tuple[Deck, str]:
-    """A job's deck and name."""
-    deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"], job["vvb_decimals"])
+def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
+    """A job's deck and name (``bases``: the base decks read so far, by path: a batch reads
+    its base deck once)."""
+    if job["base"] not in bases:
+        bases[job["base"]] = read_deck(job["base"])
+    deck = scene_deck(bases[job["base"]], job["speed"], job["angle"], job["vvb_decimals"])
     return deck, scene_name(job["speed"], job["angle"], job["post"])
 
 
@@ -298,7 +301,8 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
     at a time).  A scene that cannot run is a row saying why, not a crash."""
-    decks = [_scene_of(job) for job in jobs]
+    bases: dict = {}
+    decks = [_scene_of(job, bases) for job in jobs]
     groups: dict[str, list[int]] = {}
     for i, job in enumerate(jobs):
         groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
