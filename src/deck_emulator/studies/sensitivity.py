@@ -222,6 +222,21 @@ def _core_engine(preset: str, shaft_contact: bool | None, scene_friction: bool) 
         core, options=core.model_options().replace(listing_friction=False))
 
 
+@functools.lru_cache(maxsize=64)
+def _deck_with(deck: str, values: tuple):
+    """The deck ``deck`` with ``values`` ((name, value) pairs), punched; kept for the next
+    scenes of a batch (Saltelli's scheme repeats a row's deck values in the rows that change
+    only a scene input)."""
+    base = _base_deck(deck)
+    return base.with_values(**dict(values)) if values else base
+
+
+@functools.lru_cache(maxsize=64)
+def _deck_scene(deck: str, values: tuple):
+    """:func:`_deck_with`'s deck as the core's scene."""
+    return CoreEngine().scene(_deck_with(deck, values))
+
+
 def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
              shaft_contact: bool | None = None):
     """What one scene runs: ``(engine, deck, name, scene)`` -- the engine object, the deck
@@ -237,15 +252,14 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
         raise ValueError(f"unknown input(s) {sorted(unknown)}")
     if scene_values and engine != "core":
         raise ValueError(f"{sorted(scene_values)}: only the core has base friction inputs")
-    base = _base_deck(deck)
-    d = base.with_values(**deck_values) if deck_values else base
+    d = _deck_with(deck, tuple(deck_values.items()))
     name = Path(deck).stem
     if engine == "emulator":
         return EmulatorEngine(errata=tuple(errata)), d, name, None
     core = _core_engine(preset, shaft_contact, bool(scene_values))
     scene = None
     if scene_values:  # the deck has no friction field: the base's friction on the scene
-        scene = core.scene(d)
+        scene = _deck_scene(deck, tuple(deck_values.items()))
         friction = BaseFriction(
             force_lb=scene_values.get("friction_lb", LISTING_FRICTION_LB),
             slip_window_ft=scene_values.get("friction_travel_ft", LISTING_FRICTION_TRAVEL_FT))
