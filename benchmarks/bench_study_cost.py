@@ -47,13 +47,11 @@ def load() -> str:
     return "load %.1f %.1f %.1f" % os.getloadavg()
 
 
-def _cpu(run, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.process_time()
-        run()
-        times.append(time.process_time() - t0)
-    return statistics.median(times)
+def _cpu(run) -> float:
+    """The CPU seconds of one ``run()``."""
+    t0 = time.process_time()
+    run()
+    return time.process_time() - t0
 
 
 def in_process(n: int, repeat: int) -> float:
@@ -67,7 +65,12 @@ def in_process(n: int, repeat: int) -> float:
     tasks = sa.tasks_for(problem, sa.sample(problem, base),
                          {"deck": "steel40", "engine": "core", "preset": "legacy"})[:n]
     sa.scene_tasks(tasks[:4])  # warm-up: the compiled laws loaded
-    prep = lambda: [sa._prepare(t["inputs"], "core", "legacy", "steel40") for t in tasks]  # noqa: E731
+    def prep():
+        for kept in ("_deck_with", "_deck_scene"):  # a batch's own reuse only, none across runs
+            if hasattr(sa, kept):
+                getattr(sa, kept).cache_clear()
+        return [sa._prepare(t["inputs"], "core", "legacy", "steel40") for t in tasks]
+
     prepared = prep()
     scenes = [p[0].scene(p[3] if p[3] is not None else p[1]) for p in prepared]
     options = [p[0].model_options() for p in prepared]
@@ -87,9 +90,9 @@ def in_process(n: int, repeat: int) -> float:
     core.simulate_batch = timed_solve
     try:
         for _ in range(repeat):
-            alone = _cpu(lambda: simulate_batch(scenes, options, **kw), 1) / n
+            alone = _cpu(lambda: simulate_batch(scenes, options, **kw)) / n
             inside.clear()
-            pairs.append((alone, _cpu(lambda: sa.scene_tasks(tasks), 1) / n, sum(inside) / n))
+            pairs.append((alone, _cpu(lambda: sa.scene_tasks(tasks)) / n, sum(inside) / n))
     finally:
         core.simulate_batch = simulate_batch
     solve = statistics.median(p[0] for p in pairs)
@@ -97,7 +100,7 @@ def in_process(n: int, repeat: int) -> float:
     ratio = statistics.median(p[1] / p[0] for p in pairs)
     own = statistics.median(p[1] / p[2] for p in pairs)
     rows = sa.scene_tasks(tasks)
-    prepare = _cpu(prep, repeat) / n
+    prepare = statistics.median(_cpu(prep) for _ in range(repeat)) / n
     with tempfile.TemporaryDirectory() as tmp:
         store = SceneStore(Path(tmp) / "s")
         ids = [f"{i:064x}" for i in range(n)]
