@@ -10,13 +10,15 @@ start, imports, the run, the printout written to /dev/null) of
 * ``python benchmarks/plain_listing.py decks/steel40.dat``: the listing transcribed into plain
   Python floats, its output formatted by ``%`` (the reference; tests/legacy/test_plain_listing.py
   checks that it prints the r8 golden and the emulator's printout byte for byte);
-* ``deck-emulator run decks/steel40.dat`` and the same with ``--precision ibm7094``;
+* ``deck-emulator run decks/steel40.dat`` and the same with ``--precision ibm7094``: the
+  listing through the FORTRAN front end, its binary64 source made beforehand
+  (legacy/fortran/listing_made.py, scripts/make_listing_source.py: no parse at the start);
 * ``deck-emulator run`` on a job deck of steel40 (``punch --job``) whose FORTRAN is the listing
   with one constant respelled (``HI=0.00040``): the deck's own program, read from its cards,
   parsed, made Python and run by the FORTRAN front end (legacy/fortran), in binary64 and in the
   7094's arithmetic: the listing through the front end;
 
-then the ratio of ``run`` (the port, and the front end) to the transcription and whether each
+then the ratio of ``run`` (the listing, and a job deck's own program) to the transcription and whether each
 target is met: within 2x the transcription, ``--precision ibm7094`` at most 1.5 s; the targets are judged on the
 median wall time, and again on the median CPU time (user + system, from ``os.wait4``), which
 other people's work on a shared machine inflates less.
@@ -120,8 +122,8 @@ def main(argv=None) -> int:
     print()
     for what, m in (("wall", med), ("CPU", cpu)):
         for who, run, ibm7094 in (
-                ("port", "deck-emulator run steel40", "run steel40 --precision ibm7094"),
-                ("front end", "front end: run the job deck",
+                ("listing", "deck-emulator run steel40", "run steel40 --precision ibm7094"),
+                ("job deck", "front end: run the job deck",
                  "front end: ... --precision ibm7094")):
             ratio = m[run] / m["plain transcription"]
             ibm = m[ibm7094]

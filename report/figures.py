@@ -298,24 +298,46 @@ def shown_note(number: int, cases: dict) -> str:
     nothing particular of."""
     if number not in SHOWN:
         return ""
+    name = SHOWN[number][0]
+    got = [(f"{number}{p.part}", c, quantities.value(name, cases[c].core))
+           for p in FIGURES if p.figure == number for c in p.cases]
+    return shown_words(number, got)
+
+
+def shown_words(number: int, got: list) -> str:
+    """:func:`shown_note`'s words for ``got`` ((part, case, value) of each part): each part
+    judged on the value the page displays (the quantity's digits), so a part shown as 0.0°
+    is said to show no rotation, whatever the sign of the unrounded value."""
     name, sign, words = SHOWN[number]
     q = quantities.QUANTITIES[name]
-    parts = [p for p in FIGURES if p.figure == number]
-    got = [(f"{number}{p.part}", c, quantities.value(name, cases[c].core))
-           for p in parts for c in p.cases]
-    half = [f"{fig}'s {q.show(v)}° is {360 - abs(v):.1f}° the other way" for fig, _, v in got
-            if v is not None and abs(v) > 150.0]
-    cells = ", ".join(f"{fig} (`{c}`) {q.show(v)}°" for fig, c, v in got)
-    wrong = [fig for fig, _, v in got if v is None or round(v, q.digits) * sign <= 0]
+
+    def show(v):  # no '-0.0'
+        return q.show(0.0 if v is not None and float(q.show(v)) == 0.0 else v)
+
+    shown = [(fig, c, v, None if v is None else float(show(v))) for fig, c, v in got]
+    half = [f"{fig}'s {show(v)}° is {360 - abs(v):.1f}° the other way" for fig, _, v, _ in
+            shown if v is not None and abs(v) > 150.0]
+    cells = ", ".join(f"{fig} (`{c}`) {show(v)}°" for fig, c, v, _ in shown)
+    zero = [fig for fig, _, _, d in shown if d == 0.0]
+    other = [fig for fig, _, _, d in shown if d is None or d * sign < 0]
+
+    def parts(figs):
+        return f"Part{'s' if len(figs) > 1 else ''} {', '.join(figs)}"
+
+    verdict = []
+    if zero:
+        verdict.append(f"{parts(zero)} show{'' if len(zero) > 1 else 's'} no rotation (zero at "
+                       f"the page's {q.digits} decimal{'s' if q.digits != 1 else ''})")
+    if other:
+        verdict.append(f"{parts(other)} do{'' if len(other) > 1 else 'es'} not show {words}")
     return (f"What our parts show of it (`{name}`, the {q.label}; core): {cells}"
             + (" (near a half turn the end attitude alone cannot tell the sense of the turn: "
                + "; ".join(half) + ")" if half else "") + ". "
-            + (f"Part{'s' if len(wrong) > 1 else ''} {', '.join(wrong)} do"
-               f"{'' if len(wrong) > 1 else 'es'} not show {words}: the regenerated figure "
-               "does not show there what the report says its figure shows"
+            + ("; ".join(verdict) + ": the regenerated figure does not show there what the "
+               "report says its figure shows"
                + (" (at α = 0° the twin post is symmetric about the car's path and has no "
-                  "reason to turn)" if number == 29 else "") + "."
-               if wrong else f"Each shows {words}."))
+                  "reason to turn)" if number == 29 and zero else "") + "."
+               if verdict else f"Each shows {words}."))
 
 
 def figures_page(cases: dict[str, Case], command: str) -> str:

@@ -26,6 +26,7 @@ from deck_emulator.core.assembly import (
 from deck_emulator.files import OutputSet
 from deck_emulator.studies import crash_test as ct
 from report import shaft_contact
+from report.page_text import INCONSISTENCIES, UNFINISHED, say
 from report.statements import STATEMENTS
 from report.full import (
     DECEL_CANDIDATES, DELTA_V_CANDIDATES, DOUBTFUL, PROVENANCE, PROVENANCE_CRASH,
@@ -173,11 +174,9 @@ def geometry_cause(geo, col, key, miss) -> str:
     what was tried."""
     post, mph, _, _ = CASES_ALL[col]
     if (post, GEOMETRY_VARIANTS[0], mph) not in (geo or {}):
-        return "unexplained (the base-weight variants were not run)"
+        return say("cause.no_variants")
     if key not in ("time_ms", "XQL", "ZQL", "max_decel_g") + DELTA_V_CANDIDATES:
-        w = geometry_width(geo, col, key)
-        return (f"unexplained (the base weight, 0-120 lb, moves XQL and ZQL by up to "
-                f"{w[0]:.2f} ft at {mph} mph 0°; this cell is not among the variants' runs)")
+        return say("cause.not_among", width=geometry_width(geo, col, key)[0], mph=mph)
     unit, nd = {"time_ms": ("ms", 1)}.get(key, ("g" if key in DECEL_CANDIDATES else
                                                   "mph" if key.endswith("mph") else "ft", 2))
     shipped = _variant_value(geo, post, mph, GEOMETRY_VARIANTS[0], key)
@@ -187,27 +186,23 @@ def geometry_cause(geo, col, key, miss) -> str:
         vals = {w: _variant_value(geo, post, mph, label, key)
                 for label, w in BASE_VARIANTS.items()}
         w_near = min(vals, key=lambda w: abs(vals[w] - needed))
-        return (f"unexplained (tried: no base weight in 0-120 lb gives the {needed:.{nd}f} "
-                f"{unit} the miss needs at {mph} mph 0°; nearest {vals[w_near]:.{nd}f} at "
-                f"{w_near:.0f} lb)")
+        return say("cause.none_reaches", weights=ws, needed=f"{needed:.{nd}f}", unit=unit,
+                   mph=mph, nearest=f"{vals[w_near]:.{nd}f}", w_near=w_near)
     if key in ("max_decel_g",) + DELTA_V_CANDIDATES:
-        return (f"the base weight (fitted inputs): {', '.join(f'{w:.0f}' for w in ws)} lb "
-                f"gives the value at {mph} mph 0° (the shipped base is 61 lb, carried over)")
+        return say("cause.base_fits_reading", weights=", ".join(f"{w:.0f}" for w in ws),
+                   mph=mph)
     rep_decel = REPORT_ALL[f"{post}{mph}"]["max_decel_g"]
     fits = [(w, _at_base(geo, post, mph, "max_decel_g", w)) for w in ws]
     good = [(w, d) for w, d in fits if d is not None and abs(d - rep_decel) <= FIT_DECEL_G]
     if good:
-        return (f"the base weight (fitted inputs): {good[0][0]:.0f} lb gives it at {mph} mph "
-                f"0°, where the max decel. {good[0][1]:.2f} g still fits the report's "
-                f"{rep_decel:.2f}")
+        return say("cause.base_fits", w=good[0][0], mph=mph, decel=good[0][1],
+                   rep_decel=rep_decel, fit=FIT_DECEL_G)
     w_dec = base_weight_fitting(geo, post, mph, "max_decel_g")
-    at_dec = "" if w_dec is None else (
-        f"; at the {w_dec:.0f} lb that fits the deceleration the α = 0 miss is "
-        f"{_at_base(geo, post, mph, key, w_dec) - report_value(f'{post}{mph}', key):+.{nd}f} "
-        f"{unit}")
-    return ("unexplained (tried: the base weight reaches it only at "
-            + ", ".join(f"{w:.0f} lb, where the max decel. is {d:.2f} g" for w, d in fits)
-            + f", against the report's {rep_decel:.2f}{at_dec})")
+    at_dec = "" if w_dec is None else say(
+        "cause.base_misfits.at_dec", w=w_dec, unit=unit,
+        miss=f"{_at_base(geo, post, mph, key, w_dec) - report_value(f'{post}{mph}', key):+.{nd}f}")
+    return say("cause.base_misfits", rep_decel=rep_decel, at_dec=at_dec, tried=", ".join(
+        f"{w:.0f} lb, where the max decel. is {d:.2f} g" for w, d in fits))
 
 
 def cause(col, key, rep, ours, geo=None):
@@ -217,23 +212,19 @@ def cause(col, key, rep, ours, geo=None):
     post, mph, alpha, _ = CASES_ALL[col]
     kind = cell_kind(col, key)
     if kind is not None:
-        return {"input": "not a test: the input reach, kept by the symmetry",
-                "symmetry": "not a test: fixed by the symmetry of α = 0",
-                "end condition": "not a test: the height of the hitting point (the end "
-                                 "condition; the listing stops in a 0.1 ft band)"}[kind]
+        return say(f"not_a_test.{kind}")
     nd = 1 if key == "time_ms" else 2
     half = 0.2 if key == "time_ms" else 0.5 * 10 ** -nd
     if rep is None or ours is None or abs(ours - rep) <= half + 1e-12:
         return ""
     if key in DELTA_V_CANDIDATES:
-        causes = ["which reading is the report's: 'ΔV and the maximum deceleration'"]
+        causes = [say("cause.reading")]
         if post != "steel":
             causes.append(geometry_cause(geo, col, key, ours - rep))
     elif hits_car_at_20(col):
-        causes = ["points only: the listing tests no shaft against the car (the summary and "
-                  "docs/shaft_contact.md: the column with the shaft test)"]
+        causes = [say("cause.points_only")]
     elif post == "steel":
-        causes = ["unexplained (the report's own deck)"]
+        causes = [say("cause.steel")]
     else:
         causes = [geometry_cause(geo, col, key, ours - rep)]
     return "; ".join(causes)
@@ -241,31 +232,7 @@ def cause(col, key, rep, ours, geo=None):
 
 def columns_section(lines, runs, geo):
     lines.append("## Tables 11 and 12, all 18 columns\n")
-    lines.append(
-        "Each column: the report's value, the emulator (the 1967 listing, `double`, erratum "
-        "`ed-direction` for α ≠ 0) where the listing can run the post, the core (`LEGACY` "
-        "options), and the difference ours − report. The report's one ΔV is set beside the "
-        "three readings ('ΔV and the maximum deceleration' compares them). The steel columns "
-        "run the shipped decks (the report's deck and its variants); aluminium runs a deck "
-        "from the builder; twin runs the builder's scene on the core only (the listing has "
-        "no point U: `scene_runs_on_listing` refuses it). For the twin post, \"R&U\" means: "
-        "when the first of R and U enters the listing's 0.1 ft ground band (a located "
-        "event), the other is inside the band too, i.e. both would be seen on the ground at "
-        "one step of the listing (`core/pair_hits.py`). The causes named, each backed by a "
-        "computation on this page: **the base weight** (aluminium, twin, fitted inputs: only "
-        "where a base weight in 0-120 lb gives the value the miss needs in the post's α = 0 "
-        "column of the same speed and, for the end and the base point, the car's largest "
-        "deceleration there still fits the report's; section 'How much the inferred geometry "
-        "moves the answer'; else the miss is **unexplained**, with the base weight that "
-        "was tried), **points only** "
-        "(20 mph 'hits car' columns: the listing and the core's legacy preset test the points "
-        "P, R, C, U against the car, not the shaft; the core's post at the report's time is "
-        "below each such column, and the column with the shaft test in the summary and in "
-        "docs/shaft_contact.md), "
-        "**arithmetic** (the listing's own step and scheme: the emulator matches, the core "
-        "does not); a miss none of these explains is **unexplained**. Cells that equal an "
-        "input, a symmetry or the end condition are marked **not a test** and are left out "
-        "of the summary's largest coordinate miss.\n")
+    lines.append(say("columns.intro"))
     for col in CASES_ALL:
         post, mph, alpha, table = CASES_ALL[col]
         r = runs[col]
@@ -286,15 +253,16 @@ def columns_section(lines, runs, geo):
             cv = co.get(key)
             de, dc = _miss(ev, rv), _miss(cv, rv)
             why = cause(col, key, rv, cv, geo) or cause(col, key, rv, ev, geo)
-            half = 0.2 if key == "time_ms" else 0.005
-            if (cell_kind(col, key) is None and ev is not None and rv is not None
-                    and cv is not None and abs(ev - rv) <= half and abs(cv - rv) > half):
-                why = ("arithmetic (the listing's difference scheme, step 0.0004 s: the "
-                       "emulator matches, the core's accurate solution does not)")
-            elif (key in DECEL_CANDIDATES and ev is not None and rv is not None
-                    and cv is not None and abs(cv - rv) <= half and abs(ev - rv) > half):
-                why = ("the listing's step, 0.0004 s (the core, the same model solved "
-                       "continuously, matches: 'ΔV and the maximum deceleration')")
+            misses = dict(em_miss=None if de is None else abs(de),
+                          core_miss=None if dc is None else abs(dc),
+                          half=0.2 if key == "time_ms" else 0.005)
+            if None not in misses.values():
+                if cell_kind(col, key) is None and misses["em_miss"] <= misses["half"] \
+                        < misses["core_miss"]:
+                    why = say("cause.arithmetic", **misses)
+                elif key in DECEL_CANDIDATES and misses["core_miss"] <= misses["half"] \
+                        < misses["em_miss"]:
+                    why = say("cause.step", **misses)
             lines.append(f"| {label} | {f(rv, nd)} | {f(ev, nd)} | {f(de, nd, True)} | "
                          f"{f(cv, nd)} | {f(dc, nd, True)} | {why} |")
         lines.append(f"| end | {rep['comment'].lower()} | "
@@ -308,8 +276,8 @@ def columns_section(lines, runs, geo):
                     rr = tuple(rep.get(f"{a}{k}L") for a in "XYZ")
                     d = max(abs(a - b) for a, b in zip(xl, rr)) if None not in rr else None
                     cells.append(f"{k} ({f(xl[0])}, {f(xl[1])}, {f(xl[2])}), max |Δ| {f(d)} ft")
-                lines.append(f"\nAt the report's time ({rep_time} ms) the core's post is at: "
-                             + "; ".join(cells) + ".")
+                lines.append(say("columns.at_report_time", ms=rep_time,
+                                 cells="; ".join(cells)))
         lines.append("")
 
 
@@ -338,20 +306,20 @@ def shaft_cause(col, run) -> str:
     rt = report_time_ms_all(col)
     sh, off = run.get("shaft"), run.get("shaft_off")
     d = at_report_time_miss(run) if hits_car_at_20(col) else None
-    at_time = f"; at the report's time ours is within {f(d)} ft" if d is not None else ""
+    at_time = say("shaft.at_time", d=f(d)) if d is not None else ""
     if sh is None or sh["time_ms"] is None or sh["surface"] is None:
-        return "points only: the listing tests no shaft against the car" + at_time
-    ends = (f"with the shaft test (docs/shaft_contact.md) the core ends on the {sh['surface']} "
-            f"({sh['point']}) at {f(sh['time_ms'] - rt, 1, True)} ms")
+        return say("shaft.none", at_time=at_time)
+    ends = say("shaft.ends", surface=sh["surface"], point=sh["point"],
+               dt=f(sh["time_ms"] - rt, 1, True))
     dist = ""
     if off is not None and sh["max_coordinate_diff_ft"] is not None \
             and off["max_coordinate_diff_ft"] is not None:
         a, b = sh["max_coordinate_diff_ft"], off["max_coordinate_diff_ft"]
-        dist = (f", its end coordinates {a:.2f} ft from the report's against {b:.2f} without"
-                + (" (farther)" if round(a, 2) > round(b, 2) else ""))
+        dist = say("shaft.dist", a=a, b=b,
+                   farther=" (farther)" if round(a, 2) > round(b, 2) else "")
     if not hits_car_at_20(col):
-        return ("tried: " + ends + dist + ", where the report ends on the ground")
-    return "points only: " + ends + dist + at_time
+        return say("shaft.tried", ends=ends, dist=dist)
+    return say("shaft.cause", ends=ends, dist=dist, at_time=at_time)
 
 
 def main_cause(col, runs, geo) -> str:
@@ -365,31 +333,38 @@ def main_cause(col, runs, geo) -> str:
     rt = report_time_ms_all(col)
     miss = None if co["time_ms"] is None or rt is None else co["time_ms"] - rt
     if post == "steel" and not hits_car_at_20(col):
-        parts.append("end: unexplained (the report's own deck)")
+        parts.append(say("main.end_steel"))
     elif post != "steel" and miss is not None and not hits_car_at_20(col):
         parts.append("end: " + geometry_cause(geo, col, "time_ms", miss))
     name, d = best_reading(col, co, DELTA_V_CANDIDATES)
     if d is not None and abs(d) <= FIT_DV_MPH:
-        parts.append(f"ΔV: the {DV_SHORT[name]} reading fits ({d:+.2f})" + (
-            ", at the carried-over base weight (fitted inputs), which moves ΔV by more"
-            if post != "steel" else ""))
+        parts.append(say("main.dv_fits", reading=DV_SHORT[name], miss=d, fit=FIT_DV_MPH,
+                         carried=say("main.dv_carried") if post != "steel" else ""))
     else:
-        parts.append("ΔV: no reading within "
-                     f"{FIT_DV_MPH} mph (nearest: {DV_SHORT.get(name, '-')}, {f(d, 2, True)})"
-                     + (": unexplained" if post == "steel" else ""))
+        parts.append(say("main.dv_none", fit=FIT_DV_MPH, reading=DV_SHORT.get(name, "-"),
+                         miss=f(d, 2, True), steel=": unexplained" if post == "steel" else ""))
     dd = _miss(co.get("max_decel_g"), report_value(col, "max_decel_g"))
     if dd is not None and abs(dd) > FIT_DECEL_G:
-        parts.append(f"max decel. {dd:+.2f} g: " + (
-            geometry_cause(geo, col, "max_decel_g", dd) if post != "steel" else "unexplained"))
+        parts.append(say("main.decel", miss=dd, fit=FIT_DECEL_G, why=(
+            geometry_cause(geo, col, "max_decel_g", dd) if post != "steel" else "unexplained")))
     return "; ".join(parts)
+
+
+def _short_end(words: str) -> str:
+    """'post hits ground with point r' -> 'r': an end as the summary's cell gives it."""
+    for cut in ("post hits ", "ground with ", "points ", "point "):
+        words = words.replace(cut, "")
+    return words
+
+
+def predictions() -> int:
+    """How many of the 18 columns are genuine predictions (the provenance table's)."""
+    return sum(PROVENANCE[CASES_ALL[c][0]]["prediction"] for c in CASES_ALL)
 
 
 def summary_section(lines, runs, geo):
     lines.append("## Summary of the misses (core; emulator in brackets where the listing runs)\n")
-    lines.append("Largest coordinate Δ: over the cells that test the model (not those equal to "
-                 "an input, a symmetry or the end condition). ΔV Δ: the three readings "
-                 "(crush pulse / first spring / whole contact). Each cause names the "
-                 "computation that backs it; 'unexplained' where none does.\n")
+    lines.append(say("summary.intro"))
     lines.append("| column | end: report / ours | time Δ, ms | largest coordinate Δ, ft | ΔV Δ, mph: crush / first spring / contact | max decel. Δ, g | main cause |")
     lines.append("|---|---|---|---|---|---|---|")
     for col in CASES_ALL:
@@ -405,10 +380,8 @@ def summary_section(lines, runs, geo):
             return " / ".join(f(_miss(e.get(n), rep["delta_v_crush_mph"]), 2, True)
                               for n in DELTA_V_CANDIDATES)
 
-        same = hit_word(co["hit"]).replace("ground with ", "").replace("points ", "").replace("point ", "")
-        rword = rep["comment"].lower().replace("post hits ", "").replace("ground with ", "").replace("points ", "").replace("point ", "")
         lines.append(
-            f"| {col} | {rword} / {same} | "
+            f"| {col} | {_short_end(rep['comment'].lower())} / {_short_end(hit_word(co['hit']))} | "
             + cellpair(lambda e: _miss(e["time_ms"], rt), 1)
             + f" | {f(largest_coordinate_miss(col, co))}"
             + (f" ({f(largest_coordinate_miss(col, em))})" if em else "") + " | "
@@ -416,10 +389,8 @@ def summary_section(lines, runs, geo):
             + " | " + cellpair(lambda e: _miss(e["max_decel_g"], rep["max_decel_g"]), 2)
             + f" | {main_cause(col, runs, geo)} |")
     lines.append("")
-    n_pred = sum(PROVENANCE[CASES_ALL[c][0]]["prediction"] for c in CASES_ALL)
-    lines.append(f"Genuine predictions among the 18 columns: **{n_pred}** (the provenance "
-                 "table below says why each is not one); the crash test of Chapter V is "
-                 + ("one" if PROVENANCE_CRASH["prediction"] else "not one") + ".\n")
+    lines.append(say("summary.predictions", n_pred=predictions(),
+                     crash="one" if PROVENANCE_CRASH["prediction"] else "not one"))
 
 
 #: The inferred geometry's variants the page runs (label of each, per post).
@@ -484,9 +455,31 @@ def base_weight_fitting(runs: dict, post: str, mph: int, key: str) -> float | No
     return float(np.interp(target, ys, ws))
 
 
-def geometry_sensitivity_section(lines, runs: dict):
+def variants_move(runs: dict, cols_runs: dict) -> dict:
+    """How far the base weight (0-120 lb) moves the α = 0 columns of aluminium and twin (the
+    least and largest over posts and speeds: the end in ms, the base point XQL, ZQL in ft, ΔV
+    and the deceleration) and the largest of their columns' misses (core; ΔV by the nearest
+    reading): what 'variants.moves' claims."""
+    def widths(keys, scale=1.0):
+        w = [scale * (b - a) for k in keys for a, b in (geometry_spread(runs, p, m, k)
+             for m in GEOMETRY_SPEEDS for p in ("aluminium", "twin"))]
+        return min(w), max(w)
+
+    cols = [c for c in CASES_ALL if CASES_ALL[c][0] != "steel"]
+    dv_miss = max(abs(best_reading(c, cols_runs[c]["core"], DELTA_V_CANDIDATES)[1])
+                  for c in cols)
+    decel_miss = max(abs(_miss(cols_runs[c]["core"].get("max_decel_g"),
+                               report_value(c, "max_decel_g"))) for c in cols)
+    out = dict(dv_miss=dv_miss, decel_miss=decel_miss)
+    for name, keys, scale in (("end", ("hit_time_s",), 1000.0), ("base", ("XQL", "ZQL"), 1.0),
+                              ("dv", DELTA_V_CANDIDATES, 1.0), ("decel", ("max_decel_g",), 1.0)):
+        out[f"{name}_lo"], out[f"{name}_hi"] = widths(keys, scale)
+    return out
+
+
+def geometry_sensitivity_section(lines, runs: dict, cols_runs: dict):
     """How much the two calibrated unknowns move the aluminium and twin 0° columns
-    (``runs``: (post, variant, mph) -> :func:`geometry_run`)."""
+    (``runs``: (post, variant, mph) -> :func:`geometry_run`; ``cols_runs``: the columns')."""
     lines.append("### How much the inferred geometry moves the answer (core, α = 0°)\n")
     lines.append("| post | mph | variant | A, B, C (slug ft²) | δ, deg | end | time, ms (report) | XQL, ZQL (report) | ΔV crush / first spring / contact, mph (report) | max decel., g (report) |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|")
@@ -505,16 +498,8 @@ def geometry_sensitivity_section(lines, runs: dict):
                     f"{f(r['XQL'])}, {f(r['ZQL'])} ({rep['XQL']}, {rep['ZQL']}) | "
                     f"{dvs} ({rep['delta_v_crush_mph']:.2f}) | "
                     f"{f(r['max_decel_g'])} ({rep['max_decel_g']:.2f}) |")
-    lines.append("\nThe base's weight (the shaft's wall follows from the total weight) moves the "
-                 "end by tens of ms and the base point by feet, and the car's ΔV and largest "
-                 "deceleration by more than any of their misses: the base sits at Q, 1.0 ft "
-                 "below the impact point S, so it adds to the mass the car has to push. The "
-                 "aluminium and twin misses are of the size of what Figure 21 would have "
-                 "fixed.\n")
-    lines.append("Base weight (lb) at which each reading equals the report's (linear between "
-                 "the base-weight variants above; '—' outside 0-120 lb), and the deceleration "
-                 "the core gives at that base: a ΔV reading is consistent with a post's tables "
-                 "only where both fit at one base weight.\n")
+    lines.append(say("variants.moves", **variants_move(runs, cols_runs)))
+    lines.append(say("variants.fit_intro"))
     lines.append("| post | mph | reading | base that fits the report's value, lb | max decel. at that base, g (report) |")
     lines.append("|---|---|---|---|---|")
     ws = list(BASE_VARIANTS.values())
@@ -535,16 +520,11 @@ def geometry_sensitivity_section(lines, runs: dict):
     lines.append("")
     for (post, mph), rows in joint.items():
         _, d, k, w = min(rows)
-        lines.append(f"* **{post}, {mph} mph**, read jointly: the {DV_SHORT[k]} reading (ΔV "
-                     f"fits at a base of {w:.0f} lb, where the deceleration misses by "
-                     f"{d:+.2f} g)" + ("; the others " + ", ".join(
-                         f"{DV_SHORT[k2]} {d2:+.2f} g" for _, d2, k2, _ in rows if k2 != k)
-                         if len(rows) > 1 else "") + ".")
-    lines.append(
-        "\nThe shipped base (61 lb) was calibrated on the steel deck's mass centre, not on "
-        "these tables. Where a ΔV reading fits at a base weight at which the deceleration "
-        "misses by more than the misses above, that reading is not consistent with the "
-        "post's tables under this builder.\n")
+        lines.append(say("variants.joint", post=post, mph=mph, reading=DV_SHORT[k], w=w, miss=d,
+                         others="; the others " + ", ".join(
+                             f"{DV_SHORT[k2]} {d2:+.2f} g" for _, d2, k2, _ in rows if k2 != k)
+                         if len(rows) > 1 else ""))
+    lines.append(say("variants.closing"))
 
 
 def _fit_stats(runs, cols, engine, key):
@@ -560,14 +540,7 @@ def readings_section(lines, runs):
     """Issue 24, item 4: every reading of ΔV and of the maximum deceleration, all 18
     columns, both engines where both run; which fits which posts, by how much."""
     lines.append("## ΔV and the maximum deceleration: every reading, all 18 columns\n")
-    lines.append(
-        "The report defines neither row. Its text gives the car's law, M_v V̇ + FS = 0 "
-        "(section 3.2), so its deceleration is FS/M_v; the listing prints two instants of the "
-        "contact, the post's loss of the first spring (FORMAT 355) and of the car; the crush "
-        "pulse ends where the spring force is first capped at FCONST; after the contact the "
-        "car keeps its speed (section 3.8), so the end of the run reads as the contact's end. "
-        "The readings, each a quantity of the registry (`engine/quantities.py`, "
-        "docs/json.md):\n")
+    lines.append(say("readings.intro"))
     for n in DELTA_V_CANDIDATES + DECEL_CANDIDATES:
         lines.append(f"* `{n}`: {QUANTITIES[n].what}.")
     lines.append("")
@@ -588,8 +561,7 @@ def readings_section(lines, runs):
                 f"{cell(em, n, col)} | {cell(co, n, col)}" for n in names) + " |")
         lines.append("")
     lines.append("### Which reading fits which posts\n")
-    lines.append("Mean |ours − report| over a post's six columns (least and largest signed "
-                 "miss in brackets); the emulator runs aluminium and steel only.\n")
+    lines.append(say("readings.mean"))
     lines.append("| post | engine | " + " | ".join(f"ΔV {DV_SHORT[n]}" for n in DELTA_V_CANDIDATES)
                  + " | " + " | ".join(f"decel. {DECEL_SHORT[n]}" for n in DECEL_CANDIDATES) + " |")
     lines.append("|---|---|" + "---|" * (len(DELTA_V_CANDIDATES) + len(DECEL_CANDIDATES)))
@@ -611,11 +583,10 @@ def readings_section(lines, runs):
         st = best[(post, "core")]
         dv = min(DELTA_V_CANDIDATES, key=lambda n: st[n][0])
         dc = min(DECEL_CANDIDATES, key=lambda n: st[n][0])
-        lines.append(f"* **{post}** (core): ΔV fits best as the {DV_SHORT[dv]} reading (mean "
-                     f"miss {st[dv][0]:.3f} mph; the others "
-                     + ", ".join(f"{DV_SHORT[n]} {st[n][0]:.3f}" for n in DELTA_V_CANDIDATES
-                                 if n != dv)
-                     + f"); the deceleration as {DECEL_SHORT[dc]} ({st[dc][0]:.3f} g).")
+        lines.append(say("readings.best", post=post, dv=DV_SHORT[dv], dv_mean=st[dv][0],
+                         dc=DECEL_SHORT[dc], dc_mean=st[dc][0], others=", ".join(
+                             f"{DV_SHORT[n]} {st[n][0]:.3f}" for n in DELTA_V_CANDIDATES
+                             if n != dv)))
     em_core = [runs[c]["emulator"]["max_decel_g"] - runs[c]["core"]["max_decel_g"]
                for c in CASES_ALL if runs[c]["emulator"]
                and runs[c]["emulator"].get("max_decel_g") is not None]
@@ -624,16 +595,12 @@ def readings_section(lines, runs):
                 for c in steel]
     co_steel = [_miss(runs[c]["core"]["max_decel_g"], report_value(c, "max_decel_g"))
                 for c in steel]
-    lines.append(
-        f"* Deceleration on the report's own steel deck: the listing's printed value (the "
-        f"emulator) is {min(em_steel):+.2f} to {max(em_steel):+.2f} g off the report, the "
-        f"core's continuous maximum {min(co_steel):+.2f} to {max(co_steel):+.2f} g; emulator "
-        f"− core on the same decks (aluminium and steel) {min(em_core):+.2f} to "
-        f"{max(em_core):+.2f} g, the listing's 0.0004 s step against a continuous solution of "
-        "the same model. Why the listing prints more than the report did for the report's "
-        "own deck: unexplained. For twin no reading comes within "
-        f"{FIT_DECEL_G} g at 40 mph; the base weight moves it by more "
-        "('How much the inferred geometry moves the answer').")
+    twin40 = [c for c in CASES_ALL if CASES_ALL[c][:2] == ("twin", 40)]
+    lines.append(say(
+        "readings.steel_decel", em_lo=min(em_steel), em_hi=max(em_steel), co_lo=min(co_steel),
+        co_hi=max(co_steel), d_lo=min(em_core), d_hi=max(em_core), fit=FIT_DECEL_G,
+        twin40_best=min(abs(_miss(runs[c]["core"].get(n), report_value(c, n)))
+                        for c in twin40 for n in DECEL_CANDIDATES)))
 
     def rng(post, n, engine="core", speed=None):
         cols = [c for c in CASES_ALL if CASES_ALL[c][0] == post
@@ -642,23 +609,12 @@ def readings_section(lines, runs):
         ds = [abs(d) for d in ds if d is not None]
         return f"{min(ds):.2f}-{max(ds):.2f}"
 
-    lines.append(
-        "* No one reading fits all three posts (core): the crush-pulse reading misses steel "
-        f"at 40 mph by {rng('steel', 'delta_v_crush_mph', speed=40)} mph, aluminium by "
-        f"{rng('aluminium', 'delta_v_crush_mph')} and twin by "
-        f"{rng('twin', 'delta_v_crush_mph')}; the first-spring reading misses aluminium by "
-        f"{rng('aluminium', 'delta_v_first_spring_mph')}, twin by "
-        f"{rng('twin', 'delta_v_first_spring_mph')} and steel by "
-        f"{rng('steel', 'delta_v_first_spring_mph')}; the whole-contact reading misses "
-        f"aluminium by {rng('aluminium', 'delta_v_contact_mph')}, twin by "
-        f"{rng('twin', 'delta_v_contact_mph')} and steel by "
-        f"{rng('steel', 'delta_v_contact_mph')}. Aluminium's and twin's ΔV and deceleration "
-        "move with the base weight carried over from the steel calibration by more than "
-        "these misses, so their own fit does not decide the definition; read jointly with the "
-        "deceleration, see the 'read jointly' lines under 'How much the inferred geometry "
-        "moves the answer'. The steel 20 mph columns fit no reading (crush pulse "
-        f"{rng('steel', 'delta_v_crush_mph', speed=20)}, first spring "
-        f"{rng('steel', 'delta_v_first_spring_mph', speed=20)} mph off): unexplained.")
+    short = {"delta_v_crush_mph": "crush", "delta_v_first_spring_mph": "first",
+             "delta_v_contact_mph": "contact"}
+    lines.append(say("readings.no_one", **{
+        f"{short[n]}_{post}{speed or ''}": rng(post, n, speed=speed)
+        for n in DELTA_V_CANDIDATES for post in ("aluminium", "steel", "twin")
+        for speed in (None, 20, 40)}))
     lines.append("")
 
 
@@ -670,31 +626,20 @@ def _cells(*texts) -> str:
 def provenance_section(lines):
     """Issue 24, item 5: where each column's inputs come from."""
     lines.append("## Provenance: what each column's inputs come from\n")
-    lines.append("**deck**: the report's own $DATA deck (`decks/steel40.dat`) or its "
-                 "variants; **description**: the report's written description (Chapter VI's "
-                 "text, the tables' header rows; Chapter V for the crash test); **fitted**: read "
-                 "off the very tables the column is compared with; **assumed**: the project's "
-                 "choice, or the steel deck's calibration carried over.\n")
+    lines.append(say("provenance.intro"))
     lines.append("| columns | deck | description | fitted to the tables | assumed | a prediction? |")
     lines.append("|---|---|---|---|---|---|")
-    for post in ("steel", "aluminium", "twin"):
-        p = PROVENANCE[post]
-        cols = ", ".join(f"`{c}`" for c in CASES_ALL if CASES_ALL[c][0] == post)
+    rows = [(", ".join(f"`{c}`" for c in CASES_ALL if CASES_ALL[c][0] == post), PROVENANCE[post])
+            for post in ("steel", "aluminium", "twin")]
+    for cols, p in rows + [("crash test (Tables 9, 10)", PROVENANCE_CRASH)]:
         lines.append(_cells(cols, p['deck'], p['description'], p['fitted'], p['assumed'],
                             f"{'yes' if p['prediction'] else 'no'}: {p['why']}"))
-    p = PROVENANCE_CRASH
-    lines.append(_cells("crash test (Tables 9, 10)", p['deck'], p['description'], p['fitted'],
-                        p['assumed'], f"{'yes' if p['prediction'] else 'no'}: {p['why']}"))
-    n_pred = sum(PROVENANCE[CASES_ALL[c][0]]["prediction"] for c in CASES_ALL)
     marked = [(c, k) for c in CASES_ALL for k in REPORT_ALL[c]
               if len(k) == 3 and k[-1] == "L" and cell_kind(c, k) is not None]
     by_kind = {}
     for c, k in marked:
         by_kind.setdefault(cell_kind(c, k), []).append(f"{c} {k}")
-    lines.append(
-        f"\nGenuine predictions: **{n_pred} of 18** columns, and the crash test. Cells that "
-        "equal an input, a symmetry or the end condition are not tests of the model; the "
-        "column tables mark them 'not a test' and the summary leaves them out:\n")
+    lines.append(say("provenance.predictions", n_pred=predictions()))
     for kind, cells in by_kind.items():
         lines.append(f"* {kind} ({len(cells)}): " + ", ".join(cells))
     lines.append("")
@@ -708,13 +653,8 @@ def doubtful_section(lines, runs):
     em, co = runs[col]["emulator"], runs[col]["core"]
     fit = as_rigid_body_requires(col, key)
     means = fit["means"]
-    lines.append(
-        f"**Table 11, `{col}` {key}, printed '00.39'.** Read as +0.39 (the page's reading) or "
-        "as −0.39 (a lost minus sign). A rigid body keeps |PQ| and |QR| in every column; the "
-        "means over the four aluminium columns without a doubtful cell are "
-        f"|PQ| {means['PQ']:.2f}, |QR| {means['QR']:.2f} ft. The value of {key} that fits them "
-        f"best (least squares, the other cells as printed) is {fit['value']:+.2f} (misfit "
-        f"{fit['misfit_ft']:.2f} ft).\n")
+    lines.append(say("doubtful.sign", col=col, key=key, pq=means["PQ"], qr=means["QR"],
+                     value=fit["value"], misfit=fit["misfit_ft"]))
     lines.append(f"| reading of {key} | \\|PQ\\|, ft | \\|QR\\|, ft | Δ emulator | Δ core |")
     lines.append("|---|---|---|---|---|")
     for v in (rep[key], -rep[key], fit["value"]):
@@ -724,24 +664,18 @@ def doubtful_section(lines, runs):
                      f"{f(_miss(co.get(key), v), 2, True)} |")
     shifts = [abs(2 * rep[key])]  # the miss moves by the readings' difference, each engine
     other = largest_coordinate_miss(col, co)
-    lines.append(
-        "\nNeither printed reading is the rigid body's: +0.39 is "
-        f"{rigid_distances(col)['PQ'] - means['PQ']:+.2f} ft off in |PQ|, −0.39 "
-        f"{rigid_distances(col, {key: -rep[key]})['PQ'] - means['PQ']:+.2f} ft. Between the "
-        f"readings the {key} cell's miss moves by {shifts[0]:.2f} ft; the column's largest "
-        f"miss (core) is {f(other)} ft in other cells, so no conclusion of the page turns on "
-        "the reading.\n")
+    lines.append(say(
+        "doubtful.sign_effect", key=key, shift=shifts[0], other=f(other), other_ft=other,
+        plus=rigid_distances(col)["PQ"] - means["PQ"],
+        minus=rigid_distances(col, {key: -rep[key]})["PQ"] - means["PQ"]))
     col, _ = DOUBTFUL[1]
     rep = REPORT_ALL[col]
     em, co = runs[col]["emulator"], runs[col]["core"]
     d0 = rigid_distances(col)
     fits = {k: as_rigid_body_requires(col, k) for k in ("XRL", "YRL", "ZRL")}
     means = fits["XRL"]["means"]
-    lines.append(
-        f"**Table 11, `{col}` R.** As printed, |PR| = {d0['PR']:.2f} and |QR| = "
-        f"{d0['QR']:.2f} ft against {means['PR']:.2f} and {means['QR']:.2f} ft in the four "
-        "aluminium columns without a doubtful cell. Changing one of R's three cells to fit "
-        "both distances (least squares):\n")
+    lines.append(say("doubtful.r", col=col, pr=d0["PR"], qr=d0["QR"], pr_mean=means["PR"],
+                     qr_mean=means["QR"]))
     lines.append("| cell changed | printed | as the rigid body requires | misfit left, ft | Δ emulator: printed → rigid | Δ core: printed → rigid |")
     lines.append("|---|---|---|---|---|---|")
     for k, fk in fits.items():
@@ -750,18 +684,14 @@ def doubtful_section(lines, runs):
                      f"{f(_miss(ev, rep[k]), 2, True)} → {f(_miss(ev, fk['value']), 2, True)} | "
                      f"{f(_miss(cv, rep[k]), 2, True)} → {f(_miss(cv, fk['value']), 2, True)} |")
     best = min(fits, key=lambda k: fits[k]["misfit_ft"])
-    lines.append(
-        f"\nOnly {best} can be the misprint: read as {fits[best]['value']:+.2f} (printed "
-        f"{rep[best]:+.2f}) it leaves {fits[best]['misfit_ft']:.2f} ft, the others "
-        + " and ".join(f"{fits[k]['misfit_ft']:.2f}" for k in fits if k != best)
-        + " ft. The column tables keep the printed value.\n")
+    lines.append(say("doubtful.r_best", best=best, value=fits[best]["value"],
+                     printed=rep[best], misfit=fits[best]["misfit_ft"], others=" and ".join(
+                         f"{fits[k]['misfit_ft']:.2f}" for k in fits if k != best)))
 
 
 def geometry_section(lines):
     lines.append("## Geometry from the tables (rigid-body invariants)\n")
-    lines.append("Terminal coordinates are positions of one rigid body, so the distance between "
-                 "two of its points is the same in every column of a post. Distances (ft) over "
-                 "the six columns (Table 11: 0°, 15°, 30°; Table 12: 0°, 15°, 30°):\n")
+    lines.append(say("geometry.intro"))
     lines.append("| post | pair | 20 mph 0° | 15° | 30° | 40 mph 0° | 15° | 30° | mean | s.d. |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|")
     out = {}
@@ -778,30 +708,44 @@ def geometry_section(lines):
                          + f" | {v['mean']:.2f} | {v['sd']:.2f} |")
     lines.append("")
     for post, g in out.items():
-        lines.append(f"* **{post}**: |PQ| = {g['PQ']['mean']:.2f} ± {g['PQ']['sd']:.2f} ft; the arm's "
-                     f"R is {g['reach_ft']:.2f} ft from the axis and {g['rise_ft']:.2f} ft above P "
-                     f"(law of cosines on the means).")
-    lines.append(
-        "\nConsistency: steel |PQ| = 36.70-36.71 in all six columns (deck 36.708). Steel |PR| "
-        "is 11.18 at 20 mph (deck √125 = 11.180) but 11.25-11.26 at 40 mph, where ZRL is "
-        "printed 0.00: the report evidently set the hitting point to the ground (the listing "
-        "prints it anywhere in the 0.1 ft band), which moves R by up to 0.1 ft. Aluminium "
-        "|PQ| = 29.49-29.57 (29.50 in five columns), not the nominal 30 ft 0 in; the 20 mph 15° "
-        "column's R is 0.4 ft (|PR| 11.19) and 0.7 ft (|QR| 32.94) off the other five — one of "
-        "XRL, YRL, ZRL of that column is misprinted (which one, and what each reading does: "
-        "'Two doubtful cells'). Twin |PQ| = 27.24-27.26, not the nominal "
-        "27 ft 9 in (27.75): 0.50 ft short, as aluminium; |RU| = 21.00-21.08 (twice a 10.5 ft "
-        "reach), |PR| 11.53-11.60 and |PU| 11.52-11.55 agree to 0.08 ft. The two posts' "
-        "nominal heights evidently include 0.5 ft below Q (a base); the builder uses the "
-        "tables' |PQ|.\n")
+        lines.append(say("geometry.post", post=post, pq=g["PQ"]["mean"], sd=g["PQ"]["sd"],
+                         reach=g["reach_ft"], rise=g["rise_ft"]))
+    lines.append(say("geometry.consistency", **consistency(out)))
+
+
+def _span(values) -> str:
+    """'36.70-36.71' (one number where they agree to the page's two decimals)."""
+    lo, hi = f"{min(values):.2f}", f"{max(values):.2f}"
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
+def consistency(g: dict) -> dict:
+    """The figures of 'geometry.consistency' from the rigid-body distances of each post's six
+    columns (``g``: post -> :func:`inferred_geometry`; columns in Tables 11-12's order, the
+    20 mph ones first; the aluminium 20 mph 15° column second)."""
+    steel, al, twin = (g[p] for p in ("steel", "aluminium", "twin"))
+    pq = [round(v, 2) for v in al["PQ"]["values"]]
+    mode = max(set(pq), key=pq.count)
+    others = [i for i in range(6) if i != 1]
+
+    def off(pair):
+        v = al[pair]["values"]
+        return abs(v[1] - sum(v[i] for i in others) / len(others))
+
+    return dict(steel_pq=_span(steel["PQ"]["values"]), steel_pr20=_span(steel["PR"]["values"][:3]),
+                steel_pr40=_span(steel["PR"]["values"][3:]), al_pq=_span(al["PQ"]["values"]),
+                al_pq_mode=f"{mode:.2f}", al_pq_n=pq.count(mode), al_pr=al["PR"]["values"][1],
+                al_pr_off=off("PR"), al_qr=al["QR"]["values"][1], al_qr_off=off("QR"),
+                twin_pq=_span(twin["PQ"]["values"]), twin_short=27.75 - twin["PQ"]["mean"],
+                twin_ru=_span(twin["RU"]["values"]), twin_pr=_span(twin["PR"]["values"]),
+                twin_pu=_span(twin["PU"]["values"]),
+                twin_pr_pu=max(twin["PR"]["values"] + twin["PU"]["values"])
+                - min(twin["PR"]["values"] + twin["PU"]["values"]))
 
 
 def builder_section(lines):
     lines.append("## The post-assembly builder against the report's steel deck\n")
-    lines.append("`deck_emulator.core.assembly` (formulas and their reasoning in its docstring): "
-                 "thin-wall tapered tube (wall solved from the total weight), the arm a thin rod "
-                 "along a quadratic Bezier curve, the luminaire and the base point masses, the "
-                 "parallel-axis theorem, principal axes by `numpy.linalg.eigh`.\n")
+    lines.append(say("builder.intro"))
     plain = Assembly("steel", Shaft(490.0, 9.5, 4.0, 36.708), arms=(Arm(10.0, 5.0, 83.5, 35.0),),
                      total_weight_lb=485.07)
     cal, _, _ = load_assembly("steel")
@@ -825,19 +769,9 @@ def builder_section(lines):
         lines.append(f"| {label} | {tv} | " + " | ".join(cells) + " |")
     b = cal.base
     arm = cal.arms[0]
-    lines.append(
-        f"\nCalibrated on the steel deck only (`calibrate_on_steel_deck`, weighted least "
-        f"squares, the control point kept inside the chord's box): base **{b.weight_lb:.1f} lb** "
-        f"at Q, arm control point at **{arm.control[0]:.3f} of the reach, {arm.control[1]:.3f} of "
-        f"the rise** (an up-swept arm); wall {mps[1].wall_in:.4f} in. With the mass centre "
-        "in place, no shape of the arm brings A, B and C together: the tube model stays "
-        "+7 % in A and B and +17 % in C. The report's inertias cannot come from this "
-        "model. The steel columns of this page (and of docs/report/, docs/shaft_contact.md) "
-        "run the report's deck itself; `deck-emulator assembly steel` runs this builder's "
-        "post, with these inertias, so its ends differ from the deck's (at 20 mph with the "
-        "shaft test: docs/shaft_contact.md). The aluminium and twin posts carry this misfit. "
-        "The same base and arm shape are carried over to aluminium and twin (an assumption: "
-        "Figure 21 is lost).\n")
+    lines.append(say("builder.calibrated", base_lb=b.weight_lb, reach=arm.control[0],
+                     rise=arm.control[1], wall_in=mps[1].wall_in,
+                     **{f"{k.lower()}_pct": 100 * (getattr(mps[1], k) / T[k] - 1) for k in "ABC"}))
     lines.append("| post | weight, lb | W, slug | wall, in | A | B | C | δ, deg | mass centre above Q, ft | YY from axis, ft |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|")
     for name in ("steel", "aluminium", "twin"):
@@ -985,15 +919,12 @@ def table10_tasks() -> list[dict]:
             for s, c in (("grid", 1.0), ("two", 1.0), ("column", 4.0))]
 
 
-def table10_section(lines, found: dict):
+def table10_section(lines, found: dict, ours: dict):
     """Issue 24, item 6: which variant of the crash test's model reproduces Table 10's model
-    column (``found``: search -> :func:`table10_search`)."""
+    column (``found``: search -> :func:`table10_search`; ``ours``: our run's Table 10 row at
+    the loss of contact)."""
     lines.append("### Table 10's model column: which variant reproduces it\n")
-    lines.append(
-        "The report's model lost contact at 71.8 ms with θ̇ = 12.50 rad/s; ours, reading "
-        "section 5.2, at 40.0 ms with 9.21. Section 5.2's spring first (Figure 17's "
-        "stiffnesses; the unloading as read, or at 12,000 lb/ft only, the softest branch it "
-        "gives), over the impact height S, which the report does not give:\n")
+    lines.append(say("t10.intro", ours_ms=ours["time_ms"], ours_spin=ours["thetadot_rad_s"]))
     lines.append("| unloading | " + " | ".join(f"S {s:.1f} ft" for s in T10_GRID_HEIGHTS) + " |")
     lines.append("|---|" + "---|" * len(T10_GRID_HEIGHTS))
     rows = found["grid"]["rows"]
@@ -1007,25 +938,16 @@ def table10_section(lines, found: dict):
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     ok = [r for r in rows if r["loss"] is not None]
     near = [r for r in ok if abs(r["loss"]["time_ms"] - 71.8) <= 5.0]
-    lines.append(
-        "\nWith Figure 17's stiffnesses no impact height gives both: "
-        + ("where the contact lasts 67-77 ms (" + ", ".join(
-            f"S {r['impact_height_ft']:.1f} ft, {r['unloading']}" for r in near)
-           + ") θ̇ is " + ", ".join(f"{r['loss']['thetadot_rad_s']:.2f}" for r in near)
-           + " rad/s" if near else "no run keeps the contact for 67-77 ms")
-        + f"; the largest θ̇ on the grid is {max(r['loss']['thetadot_rad_s'] for r in ok):.2f} "
-        "rad/s, with the contact lost at "
-        f"{max(ok, key=lambda r: r['loss']['thetadot_rad_s'])['loss']['time_ms']:.1f} ms.\n")
+    top = max(ok, key=lambda r: r["loss"]["thetadot_rad_s"])["loss"]
+    lines.append(say("t10.grid", top=top["thetadot_rad_s"], top_ms=top["time_ms"], near=say(
+        "t10.grid_near", cases=", ".join(f"S {r['impact_height_ft']:.1f} ft, {r['unloading']}"
+                                          for r in near),
+        spins=", ".join(f"{r['loss']['thetadot_rad_s']:.2f}" for r in near))
+        if near else say("t10.grid_none")))
     two, col = found["two"], found["column"]
-    lines.append(
-        f"**Two numbers, two unknowns** (fitted to Table 10's model column): one unloading "
-        f"stiffness for both branches and S, solved for the contact lost at 71.8 ms and θ̇ "
-        f"12.50: {two['x'][0]:,.0f} lb/ft (section 5.2: 38,400 and 12,000) with S "
-        f"{two['x'][1]:.2f} ft. **The whole column** (fitted to it: 8 numbers, 3 unknowns, "
-        f"the same minimum from all {col['starts']} starts: "
-        f"{'yes' if col['starts_agree'] else 'no'}): unloading {col['x'][0]:,.0f} lb/ft, S "
-        f"{col['x'][1]:.2f} ft, the constant force beyond the stop {col['plateau_lb']:,.0f} lb "
-        f"(section 5.2's curve: 6,300 lb).\n")
+    lines.append(say("t10.fits", two_k=two["x"][0], two_s=two["x"][1], starts=col["starts"],
+                     agree="yes" if col["starts_agree"] else "no", col_k=col["x"][0],
+                     col_s=col["x"][1], plateau=col["plateau_lb"]))
     lines.append("| quantity | report's model | two unknowns (fitted) | Δ | whole column (fitted) | Δ |")
     lines.append("|---|---|---|---|---|---|")
     for key, label, nd in T10_KEYS:
@@ -1036,20 +958,11 @@ def table10_section(lines, found: dict):
     label = {k: lab.split(",")[0] for k, lab, _ in T10_KEYS}
     worst = max(T10_TARGET_SCALES, key=lambda k: abs(two["loss"][k] - TABLE10[k][0])
                 / T10_TARGET_SCALES[k])
-    lines.append(
-        f"\nThe two-number solution reproduces the contact and θ̇ but not the rest (its worst "
-        f"miss: {label[worst]} {two['loss'][worst] - TABLE10[worst][0]:+.2f}): its post "
-        "leaves faster than the report's. The whole-column fit misses by "
-        + ", ".join(f"{label[k]} {col['loss'][k] - TABLE10[k][0]:+.2f}"
-                    for k in T10_TARGET_SCALES)
-        + ": the report's model column is close to what a spring unloading at "
-        f"{col['x'][0]:,.0f} lb/ft, with a constant force of {col['plateau_lb']:,.0f} lb, "
-        f"struck {col['x'][1]:.2f} ft above the base, gives. "
-        "These are fits to the report's own numbers, not readings of its text: section 5.2 "
-        "gives 38,400 and 12,000 lb/ft for the unloading and the loading curve's 6,300 lb, and "
-        "with those no impact height reproduces the column (the grid above). Friction at the "
-        "base (the test's base was greased) and the contact law (the contact ends when the "
-        "spring's force returns to zero) were not varied.\n")
+    lines.append(say(
+        "t10.closing", worst=f"{label[worst]} {two['loss'][worst] - TABLE10[worst][0]:+.2f}",
+        misses=", ".join(f"{label[k]} {col['loss'][k] - TABLE10[k][0]:+.2f}"
+                         for k in T10_TARGET_SCALES),
+        col_k=col["x"][0], col_s=col["x"][1], plateau=col["plateau_lb"]))
 
 
 def hit_ft(xcm_ft: float, theta_deg: float, sv_ft: float) -> float:
@@ -1068,17 +981,7 @@ def crash_section(lines, fig_path, crash: dict, found: dict):
     """Chapter V's tables from the crash-test rows (label -> :func:`crash_test.crash_run`)
     and the searches for Table 10's model column (:func:`table10_search`)."""
     lines.append("## Chapter V: the crash test (Tables 9 and 10, Figure 18)\n")
-    lines.append(
-        "The scene: `assemblies/crash_test.toml` through `deck_emulator.studies.crash_test` — a "
-        "planar post (215 lb, 62 slug ft², mass centre 4.63 ft above the base end, 9 ft long), "
-        "no base friction, the base's normal force until the base has slid 5 in, a 2,800 lb "
-        "car at 40 ft/s with the hysteretic leaf spring (`core/leaf_spring.py`: 12,000 lb/ft to "
-        "3.0 in, 26,400 lb/ft to 4.5 in, constant 6,300 lb beyond until it unloads; unloading "
-        "38,400 lb/ft, then 12,000 lb/ft below 3.0 in), solved by the core with the `PHYSICAL` "
-        "options. Assumptions (Figure 17 and the impact height are lost): impact point S 1.5 ft "
-        "above the base (the report's deck has its spring 1.5 ft above the ground); the unloading "
-        "knee at 3.0 in; the 5 in normal-force release of the listing; the base on the ground; "
-        "axial inertia 0.5 slug ft² (planar motion: no effect).\n")
+    lines.append(say("crash.scene"))
     base = crash[next(iter(CRASH_VARIANTS))]
     loss, r70 = base["loss"], base["at_70"]
     lines.append("### Table 10: model against crash test at ~70 ms\n")
@@ -1090,29 +993,14 @@ def crash_section(lines, fig_path, crash: dict, found: dict):
         lines.append(f"| {label} | {f(m, nd)} | {f(t, nd)} | {f(a, nd)} | {f(b, nd)} | {f(b - t, nd, True)} |")
     ev = ", ".join(f"{name} {1000 * t:.1f} ms" for name, t in base["events"])
     x_m, x_set = base["leaf_spring_peak_compression_ft"], base["leaf_spring_set_ft"]
-    lines.append(f"\nEvents of our run: {ev}. The car's speed at separation: "
-                 f"{abs(loss['VV_ft_s']):.2f} ft/s. Peak compression {12 * x_m:.2f} in (past the "
-                 f"4.5 in stop), so the unloading line at 38,400 lb/ft reaches zero force at "
-                 f"{12 * x_set:.2f} in, before the "
-                 "3.0 in knee: where the knee is does not matter in this test (table below).\n")
+    lines.append(say("crash.events", events=ev, vv=abs(loss["VV_ft_s"]), peak_in=12 * x_m,
+                     set_in=12 * x_set))
     ours_ms = 1000 * base["vehicle_contact_lost_s"]
     soft_ms = crash["unloading at 12,000 lb/ft only (no stiff branch)"]["loss"]["time_ms"]
     longest = max(CRASH_VARIANTS, key=lambda k: crash[k]["loss"]["time_ms"])
-    lines.append(
-        f"Our post leaves the spring at {ours_ms:.1f} ms, the report's model at 71.8 ms and the "
-        "test at 70 ms (Table 8: 'when the post and the vehicle lose contact'): "
-        f"{71.8 - ours_ms:.1f} ms earlier than the report's model. Our spring unloads at "
-        "38,400 lb/ft as soon as the compression stops growing; the report's model 'kept [the "
-        "constant force] present until displacements reached values such that the spring "
-        "started to unload'. How much of the early loss the stiff unloading accounts for, by "
-        "the variants below: unloading at 12,000 lb/ft alone (the softest stiffness section "
-        f"5.2 gives) keeps the contact to {soft_ms:.1f} ms, {soft_ms - ours_ms:.1f} of the "
-        f"{71.8 - ours_ms:.1f} ms; the longest contact of all the variants below is "
-        f"{crash[longest]['loss']['time_ms']:.1f} ms ({longest}), so the rest is unexplained "
-        "(the impact heights of 'Table 10's model column' below were tried too, and what "
-        "fits that column is a spring other than section 5.2's). Our "
-        f"θ̇, {loss['thetadot_rad_s']:.2f} rad/s, is between the model's 12.50 and the test's "
-        "8.75.\n")
+    lines.append(say("crash.early", ours_ms=ours_ms, early=71.8 - ours_ms, soft_ms=soft_ms,
+                     gained=soft_ms - ours_ms, longest_ms=crash[longest]["loss"]["time_ms"],
+                     longest=longest, thetadot=loss["thetadot_rad_s"]))
 
     # sensitivity
     lines.append("### How much each assumption moves Table 10\n")
@@ -1129,26 +1017,12 @@ def crash_section(lines, fig_path, crash: dict, found: dict):
                      f"{f(lo['V1_ft_s'])} | {f(lo['V3_ft_s'])} | {f(lo['SV_ft'])} | {hit} |")
     hs = [got[k]["thetadot_rad_s"] for k in got if k.startswith(("S ", "as assumed"))]
     soft = got["unloading at 12,000 lb/ft only (no stiff branch)"]
-    lines.append(
-        f"\nThe impact height moves θ̇ over {min(hs):.2f}-{max(hs):.2f} rad/s for S at 1.0-2.5 ft; "
-        f"the normal force and the base's height hardly matter before 70 ms. The spring's "
-        f"unloading moves it most: unloading at 12,000 lb/ft alone keeps the post on the car "
-        f"to {soft['time_ms']:.1f} ms and gives θ̇ = {soft['thetadot_rad_s']:.2f} rad/s, towards "
-        "the report's model (12.50, contact to 71.8 ms) but short of it. We keep our reading "
-        "(the stiff unloading the report gives) and do not tune it.\n")
-    table10_section(lines, found)
+    lines.append(say("crash.variants", lo=min(hs), hi=max(hs), soft_ms=soft["time_ms"],
+                     soft_spin=soft["thetadot_rad_s"]))
+    table10_section(lines, found, loss)
 
     lines.append("### Table 9: free flight from the crash test's state at 70 ms\n")
-    lines.append(
-        "Start: Table 8's 70 ms column (θ = 25°, θ̇ = 8.75 rad/s, XCM = −1.50, ZCM = +0.01 ft, "
-        "V1 = −28.5, V3 = −12.5 ft/s, SV = 3.2 ft) — what the report says it fed its "
-        "program. Table 8 has no car speed: ours is taken from our run at 70 ms "
-        f"({abs(r70['VV_ft_s']):.2f} ft/s) and, as a check, 40 ft/s. No car outline is "
-        "checked (the crash car's is not given). HIT, 'the distance from the front end of "
-        "the vehicle to the point on the vehicle where the post strikes' (section 5.3), is "
-        "read as the distance along the car's path from its front (at the post's axis at "
-        "the impact, SV behind since) to the post's top P: XCM + 4.37 sin θ + SV (`hit_ft`; "
-        "XCM signed as Table 8).\n")
+    lines.append(say("t9.intro", vv=abs(r70["VV_ft_s"])))
     lines.append("| quantity | report's model | crash test (Table 9) | crash test (Table 8) | ours at 270 ms | ours at 273 ms | ours − test (270 ms; XCM, ZCM signed as Table 8, SV as Table 9) | ours, car at 40 ft/s, 270 ms |")
     lines.append("|---|---|---|---|---|---|---|---|")
     a, b = base["table9"]["at_270"], base["table9"]["at_273"]
@@ -1169,34 +1043,14 @@ def crash_section(lines, fig_path, crash: dict, found: dict):
     lines.append(f"| HIT, ft | {TABLE9['HIT_ft'][0]} | {TABLE9['HIT_ft'][1]} | — | "
                  f"{hits['ours 270']:.2f} | {hits['ours 273']:.2f} | "
                  f"{hits['ours 270'] - TABLE9['HIT_ft'][1]:+.2f} | {hits['ours 40']:.2f} |")
-    lines.append(
-        "\nThe free flight is a closed form in the plane (constant θ̇, parabolic mass centre), "
-        "so these numbers follow from Table 8's state alone: from it no program can reach the "
-        "report's model XCM 7.61 ft with the sign Table 8 gives (−7.10); the report's "
-        "(7.61, 0.27) are magnitudes, and even so ours, |XCM| = {:.2f}, |ZCM| = {:.2f}, differ "
-        "from them by {:+.2f} and {:+.2f} ft. The start values themselves (θ = 25°, "
-        "V1 = −28.5, V3 = −12.5) carry the test's reading error.\n".format(
-            abs(a["XCM_ft"]), abs(a["ZCM_ft"]), abs(a["XCM_ft"]) - 7.61, abs(a["ZCM_ft"]) - 0.27))
-    lines.append(
-        f"HIT by the same reading from the report's own states: its model (θ 121.0°, XCM "
-        f"−7.61, SV 11.5) gives {hits['model']:.2f} ft against its printed 7.55; the test's "
-        f"Table 9 state (122.0°, −7.10, 11.04) {hits['test9']:.2f} against 7.83, and with "
-        f"Table 8's SV 12.60 {hits['test8']:.2f}. The reading reproduces the model's HIT to "
-        f"{abs(hits['model'] - 7.55):.2f} ft; the test's 7.83 it misses by "
-        f"{hits['test9'] - 7.83:+.2f} ft (Table 9's SV) or {hits['test8'] - 7.83:+.2f} ft "
-        "(Table 8's): unexplained.\n")
+    lines.append(say("t9.closed_form", x=abs(a["XCM_ft"]), z=abs(a["ZCM_ft"]),
+                     dx=abs(a["XCM_ft"]) - 7.61, dz=abs(a["ZCM_ft"]) - 0.27))
+    lines.append(say("t9.hit", model=hits["model"], test9=hits["test9"], test8=hits["test8"],
+                     model_miss=abs(hits["model"] - 7.55), miss9=hits["test9"] - 7.83,
+                     miss8=hits["test8"] - 7.83))
     figure18(base, fig_path, a)
     lines.append(f"![Figure 18 regenerated]({FIG_NAME})\n")
-    lines.append(
-        "Figure 18 (regenerated): the post (Q to P) in the XX-ZZ plane, our full run every "
-        "20 ms (grey; black at 70 and 270 ms), the crash test's two measured instants "
-        "(Table 8, red), the report's model at 71.8 ms (Table 10, blue dashed) and Table 9's "
-        "'model' column at 273 ms (blue dotted), which is not the same run: the report's "
-        "program restarted from the test's 70 ms state (section 5.3), drawn beside our own "
-        "free flight from that state at 270 ms (green). The report's Figure 18 shows its "
-        "model's whole run, whose 12.50 rad/s makes it overtake the test; the report prints "
-        "no state of that run after 71.8 ms, so this figure cannot draw it, and it does not "
-        "show the overtaking the report's figure shows.\n")
+    lines.append(say("fig18.caption"))
     return base, loss, r70, a
 
 
@@ -1257,12 +1111,7 @@ def figure18(run: dict, path, free: dict):
 def statements_section(lines, runs, crash):
     base, loss, r70, f270 = crash
     lines.append("## The report's statements, checked\n")
-    lines.append("The statements of Sections 5.4 and 6.2-6.4 (the arm's turn, the car passing "
-                 "under the post, the effect of the speed and of α, the twin post) are judged "
-                 "in [report/verdicts.md](report/verdicts.md), each by one computation "
-                 "(`report.verdicts`, made by `python "
-                 "scripts/make_report_figures.py` with Figures 22-29). Chapter V's statements "
-                 "about the crash test:\n")
+    lines.append(say("statements.intro"))
     lead70 = "ahead of" if r70["theta_deg"] > 25.0 else "behind"
     lead270 = "ahead of" if base["at_270"]["theta_deg"] > 122.0 else "behind"
     figures = {
@@ -1278,51 +1127,6 @@ def statements_section(lines, runs, crash):
     for s, w in rows:
         lines.append(f"| {s} | {w} |")
     lines.append("")
-
-
-INCONSISTENCIES = [
-    "Table 8 vs Table 9 at the same instant (270 ms): XCM −7.10 vs 7.10, ZCM −0.19 vs 0.19 — "
-    "Table 9 prints magnitudes; we take Table 8's signs (the post moves with the car, to −XX).",
-    "Table 8 vs Table 9: SV 12.60 vs 11.04 ft at 270 ms. From SV = 3.2 ft at 70 ms, 12.60 "
-    "needs 47 ft/s over 200 ms, faster than the car's 40 ft/s at impact; 11.04 needs 39.2 ft/s. "
-    "We take 11.04 (Table 9).",
-    "Table 8 SV = 3.2 ft at 70 ms is more than 40 ft/s × 70 ms = 2.8 ft, the most a car "
-    "slowing from 40 ft/s can travel from the impact: the test's time or distance origin "
-    "differs from the model's (the model's 2.80 ft at 71.8 ms is consistent with its own).",
-    "Table 9's model SV 11.5 ft at 273 ms needs 41.4 ft/s from Table 8's 3.2 ft at 70 ms, "
-    "again faster than the car ever was.",
-    "Table 9's model (121.0°, 7.61, 0.27 ft at 273 ms) is not what free flight from Table 8's "
-    "70 ms state gives (closed form: θ 126.8°, XCM −7.82, ZCM −0.51 ft at 273 ms); the "
-    "report does not print the car speed or any other start value it used.",
-    "Table 8 gives θ̇ = 8.75 rad/s at both instants, while θ grows 97° in 200 ms (8.5 rad/s): "
-    "consistent with free flight to the reading accuracy.",
-    "Section 5.3 calls θ and θ̇ 'the angular displacement and velocity ... of the post mass "
-    "center'; they are the post's attitude and rate.",
-    "Notation (seed ~line 172) puts XCM, YCM, ZCM along X, Y, Z; section 5.3 along XX, ZZ "
-    "(the same for the planar crash test, δ = 0).",
-    "Table 10 is headed '70 milliseconds' but the model column is at 71.8 ms; Table 9 "
-    "'270 milliseconds' with the model at 273.0 ms.",
-    "HIT (Table 9) is defined in section 5.3 with Table 8, but Table 8 has no HIT row.",
-    "Section 5.2 gives the leaf spring's two unloading stiffnesses but not where one "
-    "takes over from the other (Figure 17 lost); we take 3.0 in.",
-    "Chapter VI's 'arm length 10.5 ft' against the report's deck: R is 10.0 ft out and "
-    "5.0 ft up (|PR| = 11.18 ft); the aluminium and twin tables imply 10.5 ft out.",
-    "Chapter VI's post lengths (30 ft 0 in, 27 ft 9 in) against the tables: |PQ| = 29.50 "
-    "and 27.25 ft (both 0.50 ft short); the steel post's 36 ft 8.5 in matches (36.71).",
-    "Table 11, aluminium 20 mph 15°: R is inconsistent with the five other columns "
-    "(|PR| 11.19 vs 10.80-10.84 ft): a misprint in one of XRL, YRL, ZRL; the section 'Two "
-    "doubtful cells' finds which and what each reading does to the comparison.",
-    "Table 11, aluminium 0°: YQL printed '00.39' (read 0.39); both readings and the rigid "
-    "body's value, and their effect: 'Two doubtful cells'.",
-    "Tables 11-12 print the hitting point's height as 0.00 (ZRL, ZPL), while the listing "
-    "stops anywhere in a 0.1 ft band; Table 12 aluminium 30° prints ZRL 0.99 with 'HITS "
-    "GROUND WITH POINT P' (ZPL 0.00), consistent.",
-    "Chapter VI's car: '3200 lb_m' (99.5 slug) against the deck's WV = 100.0 slug.",
-    "Table 11, twin 20 mph 15° (line 1759): ZRL 0.08 ft, inside the listing's 0.1 ft ground "
-    "band for R, beside 'POST HITS TOP OF CAR': by the listing's own ground test R was on "
-    "the ground at the step printed, yet the report names only the car (the twin 20 mph "
-    "30° column, with R at 0.0, says 'HITS GROUND WITH POINT R').",
-]
 
 
 def write_page(page: Path, *, jobs=None, scheduler=None, store_dir=None, resume=False,
@@ -1350,24 +1154,14 @@ def write_page(page: Path, *, jobs=None, scheduler=None, store_dir=None, resume=
                      if t["kind"] == "geometry"}
     table10_rows = {t["search"]: r for t, r in zip(tasks, rows) if t["kind"] == "table10"}
     lines = ["# The report's Tables 9-12, all columns, against both engines\n"]
-    lines.append(f"Made by `python scripts/make_report_full.py`; report numbers from "
-                 f"`deck_emulator.studies.report_tables` ({SOURCE}; Tables 11-12 lines "
-                 "1748-1792, Tables 8-10 lines 1622-1674). No column is a prediction from the "
-                 "written descriptions alone: the provenance table says, column by column, "
-                 "which inputs come from the report's deck, from its text, and which were read "
-                 "off these tables themselves.\n")
-    lines.append("Contents: the summary of the misses; provenance; the builder against the "
-                 "steel deck; geometry the tables imply and how much it moves the answer; "
-                 "every reading of ΔV and the deceleration; Tables 11 and 12 (18 columns); the "
-                 "two doubtful cells of the source; Chapter V's crash test (Tables 9, 10, "
-                 "Figure 18) with every assumption's effect; the report's statements checked; "
-                 "inconsistencies in the source; what is unfinished.\n")
+    lines.append(say("head", source=SOURCE, n_pred=predictions()))
+    lines.append(say("contents"))
     with OutputSet() as files:  # the page and its figure: both, or neither
         summary_section(lines, runs, geometry_rows)
         provenance_section(lines)
         builder_section(lines)
         geometry_section(lines)
-        geometry_sensitivity_section(lines, geometry_rows)
+        geometry_sensitivity_section(lines, geometry_rows, runs)
         readings_section(lines, runs)
         columns_section(lines, runs, geometry_rows)
         doubtful_section(lines, runs)
@@ -1378,15 +1172,7 @@ def write_page(page: Path, *, jobs=None, scheduler=None, store_dir=None, resume=
             lines.append(f"{i}. {s}")
         lines.append("")
         lines.append("## Unfinished\n")
-        lines.append(
-            "* The shaft's wall is uniform: a wall that thins towards the top, or a transformer "
-            "base with its own inertia, might close the +7 %/+17 % inertia misfit; the report "
-            "does not give either.\n"
-            "* Table 9's HIT is computed by one reading of its definition (the car's front "
-            "to the post's top); whether the post strikes the crash car at 270 ms needs the "
-            "car's outline (not given).\n"
-            "* The aluminium and twin posts use the steel deck's base weight and arm shape, and "
-            "the steel deck's car (heights kept above the ground, fenders about the shaft).\n")
+        lines.append("".join(f"* {u}\n" for u in UNFINISHED))
         lines.append(f"\n_Wall time of this script: {time.perf_counter() - t0:.0f} s._\n")
         files.write(page, "\n".join(lines))
     return fig

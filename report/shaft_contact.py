@@ -15,6 +15,7 @@ tables: see docs/report_full.md).
 
 from __future__ import annotations
 
+import re
 import time
 from pathlib import Path
 
@@ -56,6 +57,10 @@ def run_tasks(tasks: list[dict]) -> list[dict]:
     return rows
 
 
+#: the engine's words for the edge a segment met the car on ("at its edge with the front")
+_EDGE = re.compile(r"at its edge with the (.+?):")
+
+
 def _row(column: str, shaft: bool, out) -> dict:
     """:func:`run_task`'s row of one column's outcome."""
     hit = out.hit
@@ -64,10 +69,10 @@ def _row(column: str, shaft: bool, out) -> dict:
     report = REPORT_ALL[column]
     diffs = [abs(ours[k] - report[k]) for k in COORDINATES
              if report.get(k) is not None and ours.get(k) is not None]
-    notes = [n for n in getattr(out.raw, "notes", ()) or ()
-             if " hit the car's " in n]
-    raw_hit = getattr(out.raw, "hit", None)  # a segment's hit: where along it, on which edge
-    edge = list(getattr(raw_hit, "edge", ()) or ())
+    notes = [n for n in out.notes if " hit the car's " in n]
+    # the edge of a segment's hit, as the engine's note words it (the Outcome's hit event
+    # carries the surface and the segment, not the edge)
+    edge = _EDGE.search(notes[0]) if notes else None
     return {
         "column": column,
         "shaft_contact": shaft,
@@ -78,7 +83,7 @@ def _row(column: str, shaft: bool, out) -> dict:
         "time_ms": None if t is None else 1000.0 * t,
         "sentence": hit.sentence() if hit is not None else None,
         "segment_note": notes[0] if notes else None,
-        "edge": [e.lower() for e in edge],
+        "edge": edge.group(1).split(" and the ") if edge else [],
         "max_coordinate_diff_ft": max(diffs) if diffs else None,
     }
 

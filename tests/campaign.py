@@ -55,6 +55,10 @@ class Case:
     streams: str = ""
     #: bytes a writer sends through a pipe, named ``{pipe}`` in ``argv`` (/dev/fd/N)
     pipe: bytes | None = None
+    #: a hostile scheduler (:class:`Hostile`'s mode and answer), named ``{scheduler}``
+    scheduler: tuple[str, bytes] | None = None
+    #: environment variables set while it runs
+    env: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -313,6 +317,67 @@ def _program_mutation(job: list[str], rng: random.Random) -> tuple[str, list[str
     return f"{kind} at card {at + 1}", texts
 
 
+class Hostile:
+    """A TCP server on a free local port that is not a Dask scheduler: to every connection it
+    says nothing (``silent``), sends ``answer`` once after reading (``answer``), or sends it a
+    byte every 0.3 s (``drip``); ``refused``: nothing listens at the port."""
+
+    def __init__(self, mode: str, answer: bytes = b""):
+        import socket
+        import threading
+
+        self.sock = socket.socket()
+        self.sock.bind(("127.0.0.1", 0))
+        self.address = f"tcp://127.0.0.1:{self.sock.getsockname()[1]}"
+        self.mode, self.answer = mode, answer
+        if mode == "refused":
+            self.sock.close()
+            return
+        self.sock.listen(8)
+        threading.Thread(target=self._serve, daemon=True).start()
+
+    def _serve(self):
+        import threading
+
+        while True:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                return
+            threading.Thread(target=self._answer, args=(conn,), daemon=True).start()
+
+    def _answer(self, conn):
+        try:
+            if self.mode == "answer":
+                conn.recv(1024)
+                conn.sendall(self.answer)
+            for k in range(100 if self.mode == "drip" else 0):
+                conn.sendall(self.answer[k % len(self.answer):][:1] or b"x")
+                time.sleep(0.3)
+            time.sleep(30)
+        except OSError:
+            pass
+        finally:
+            conn.close()
+
+    def close(self):
+        self.sock.close()
+
+
+def _hostile_answer(rng: random.Random) -> tuple[str, bytes]:
+    """What a server that is not Dask's says: an HTTP status, random bytes, a frame header
+    promising more than it sends, a line of text."""
+    kind = rng.choice(["http", "random", "frames", "text"])
+    if kind == "http":
+        code = rng.choice([200, 400, 404, 500, 503])
+        return f"HTTP {code}", f"HTTP/1.1 {code} X\r\nContent-Length: 0\r\n\r\n".encode()
+    if kind == "random":
+        return "random bytes", bytes(rng.randrange(256) for _ in range(rng.randint(1, 64)))
+    if kind == "frames":
+        return "a short frame", rng.randint(1, 2**40).to_bytes(8, "little") * 2 + b"\x00" * 7
+    return "text", b"220 mail.example ESMTP ready\r\n"
+
+
 # ------------------------------------------------------------------------------ the corpus
 
 
@@ -320,9 +385,11 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     """The campaign's cases: a sample of each category (``fast``) or the full corpus."""
     rng = random.Random(seed)
     n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
-         "cut": 12, "bomb": 12, "streams": 16, "sources": 12, "programs": 12} if fast \
+         "cut": 12, "bomb": 12, "streams": 16, "sources": 12, "programs": 12,
+         "schedulers": 6, "stopped": 3, "promises": 6} if fast \
         else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
-              "cut": 300, "bomb": 300, "streams": 120, "sources": 120, "programs": 300}
+              "cut": 300, "bomb": 300, "streams": 120, "sources": 120, "programs": 300,
+              "schedulers": 60, "stopped": 40, "promises": 60}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -445,6 +512,47 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
         cases.append(Case("mutated programs", f"{what} #{k}",
                           ["run", "{dir}/p.job", "--out", "{dir}/out.txt", "--quiet"],
                           {"p.job": ("\n".join(texts) + "\n").encode()}, outputs=("out.txt",)))
+    scheduler_rng = random.Random(seed + 6)  # its own, so that the other categories stay the same
+    for k in range(n["schedulers"]):
+        cmd = [["sweep", "--speeds", "20", "--angles", "0"], ["study", "error", "steel40"],
+               ["sensitivity", "--quick"]][k % 3]
+        mode = scheduler_rng.choice(["silent", "answer", "answer", "drip", "refused"])
+        what, answer = _hostile_answer(scheduler_rng)
+        cases.append(Case("hostile schedulers", f"{' '.join(cmd[:2])}: {mode} {what} #{k}",
+                          [*cmd, "--quiet", "--out", "{dir}/o", "--scheduler", "{scheduler}"],
+                          outputs=("o",), statuses=frozenset({2}), scheduler=(mode, answer)))
+
+    stopped_rng = random.Random(seed + 7)  # its own, so that the other categories stay the same
+    for k in range(n["stopped"]):
+        # a core run past its wall bound: a stopped scene, exit 3, said in one line
+        wall = stopped_rng.choice([1e-9, 1e-6, 1e-4])
+        source = stopped_rng.choice(["steel40", "steel20_a15", "{dir}/s.toml"])
+        extra = stopped_rng.choice([[], ["--json"], ["--preset", "physical"]])
+        cases.append(Case("stopped core runs", f"core {source} --max-wall {wall:g} #{k}",
+                          ["core", source, "--max-wall", repr(wall), *extra],
+                          {"s.toml": _scene_bytes()}, statuses=frozenset({3})))
+    promise_rng = random.Random(seed + 8)
+    for k in range(n["promises"]):
+        # the smaller promises: long legal names, undecodable bytes in a name, a bad
+        # SOURCE_DATE_EPOCH; each a documented status and no traceback
+        kind = ["long name", "undecodable", "epoch"][k % 3]
+        if kind == "long name":
+            name = "n" * promise_rng.randint(236, 251) + ".csv"
+            cases.append(Case("smaller promises", f"core --trajectory, {len(name)}-byte name",
+                              ["core", "steel40", "--trajectory", "{dir}/" + name],
+                              outputs=(name,), statuses=frozenset({0})))
+        elif kind == "undecodable":
+            name = os.fsdecode(bytes(promise_rng.randrange(0x80, 0x100) for _ in range(3))
+                               + b".txt")
+            cases.append(Case("smaller promises", f"run --out, undecodable name #{k}",
+                              ["run", "steel40", "--out", "{dir}/" + name],
+                              outputs=(name,), statuses=frozenset({0})))
+        else:
+            epoch = promise_rng.choice(["abc", "1e9", "-1", "", " 12", "0x10", "1.5",
+                                        "253402300800", "9" * 30])
+            cases.append(Case("smaller promises", f"run --pages, SOURCE_DATE_EPOCH={epoch!r}",
+                              ["run", "steel40", "--pages", "{dir}/o.pdf", "--quiet"],
+                              outputs=("o.pdf",), env={"SOURCE_DATE_EPOCH": epoch}))
 
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]
@@ -501,6 +609,15 @@ def run_case(case: Case, folder: Path) -> Result:
 
         writer = threading.Thread(target=write, daemon=True)
         writer.start()
+    server = None
+    if case.scheduler is not None:
+        from deck_emulator.vocabulary import defaults
+
+        server = Hostile(*case.scheduler)
+        argv = [a.replace("{scheduler}", server.address) for a in argv]
+        bound, defaults.SCHEDULER_CONNECT_S = defaults.SCHEDULER_CONNECT_S, 0.5
+    saved_env = {k: os.environ.get(k) for k in case.env}
+    os.environ.update(case.env)
     started = time.perf_counter()
     broken = []
     cwd = os.getcwd()
@@ -522,6 +639,14 @@ def run_case(case: Case, folder: Path) -> Result:
         if pipe is not None:
             os.close(pipe[0])
             writer.join(30)
+        if server is not None:
+            server.close()
+            defaults.SCHEDULER_CONNECT_S = bound
+        for k, v in saved_env.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
     if raw_err is not None:
         out.flush()
         err.flush()

@@ -211,7 +211,13 @@ def _remove_stale(folder: Path) -> None:
 
 
 def _temp_prefix(name: str) -> str:
-    return f".{name}{_MARK}{os.getpid()}."
+    """The hidden name of a temporary beside ``name``: the name cut to leave room for the
+    pid, mkstemp's 8 characters and the suffix within a file name's 255 bytes (a legal name
+    of 240 bytes was refused: its temporary's was too long)."""
+    room = 255 - len(f".{_MARK}{os.getpid()}.") - 8 - len(".part") - 16  # 16: an extension
+    cut = os.fsencode(name)[:room].decode(errors="ignore") if len(os.fsencode(name)) > room \
+        else name
+    return f".{cut}{_MARK}{os.getpid()}."
 
 
 def _fsync_dir(folder: Path) -> None:
@@ -348,7 +354,8 @@ def _existing(target: Path, user) -> os.stat_result | None:
 
 
 def _as_bytes(data: str | bytes) -> bytes:
-    return data.encode() if isinstance(data, str) else bytes(data)
+    """Text as UTF-8; a path's undecodable bytes in it (held as surrogates) as they were."""
+    return data.encode(errors="surrogateescape") if isinstance(data, str) else bytes(data)
 
 
 # --------------------------------------------------------------------------- one file

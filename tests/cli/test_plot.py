@@ -321,8 +321,34 @@ def test_animation_is_a_gif_with_frames(tmp_path, steel40_emulator):
     with Image.open(out) as im:
         assert im.format == "GIF"
         assert im.n_frames == n > 5
-        w, h = plot.FIGSIZE["animate"]
-        assert im.size == (round(w * 40), round(h * 40))
+        assert im.size[0] == round(plot.FIGSIZE["animate"][0] * 40)
+        im.seek(n - 1)
+        assert im.info["duration"] >= 1000  # the end is held (a second), not a flash
+
+
+def test_the_animation_says_the_post_goes_through_the_car(tmp_path, monkeypatch):
+    """steel20 as printed: the listing's run ends with C on the ground, but the shaft Q-P
+    has been inside the car's outline since 778 ms (docs/safety.md's table, from the
+    clearance over the computed path): the caption says so beside the listing's hit, and
+    the frame is the shape of the scene (the view's feet the same both ways, the axes
+    filling it), not a wide strip two thirds blank."""
+    res = run_engine(read_deck(ROOT / "decks" / "steel20.dat"), "emulator")
+    figures = []
+    made = plot.mpl().Figure
+    monkeypatch.setattr(plot.mpl(), "Figure",
+                        lambda *a, **k: figures.append(made(*a, **k)) or figures[-1])
+    plot.save_animation(res, tmp_path / "fall.gif", frame_s=0.1, dpi=40)
+    (fig,) = figures
+    caption = " ".join(t.get_text() for t in fig.texts)
+    assert "Post hit the ground with the point C" in caption
+    assert "Occupant compartment fails: the shaft Q-P enters the car" in caption
+    ax = fig.axes[0]
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    box = ax.get_position()
+    w, h = fig.get_size_inches()
+    feet_per_inch = ((x1 - x0) / (box.width * w), (y1 - y0) / (box.height * h))
+    assert feet_per_inch[0] == pytest.approx(feet_per_inch[1], rel=1e-6)
+    assert box.width * box.height > 0.7  # the axes take most of the frame
 
 
 def _parser():

@@ -74,16 +74,71 @@ def test_a_run_stops_where_and_as_the_port_stops(change, label, variable, guard)
     assert run.records == port.value.run.records
 
 
-def test_ed_walking_away_is_a_runaway_at_the_ports_label_and_step():
+def test_ed_walking_away_stops_as_the_ports_root_search_guard():
     deck = _deck("steel40_a15")
     limits = Limits(ed_iterations=5000)
     run, err = _ended(listing_program().runner(deck, "double", limits=limits))
     with pytest.raises(EmulatorError) as port:
         run_deck(deck, limits=limits, trace=False)
-    assert err.guard == "runaway" and "ED did not return in 5000 iterations" in str(err)
+    assert err.guard == "ed_iterations" == port.value.guard
+    assert "ED's root search did not converge in 5000 iterations (D = " in str(err)
+    assert str(err) == str(port.value)
     assert (err.label, err.step, err.time) == (port.value.label, port.value.step,
                                                port.value.time)
     assert run.records == port.value.run.records
+
+
+# ------------------------------------------- one engine: what the port gives, the front end gives
+
+
+def _both(deck, precision, *, errata=(), limits=Limits(), trace=True, **options):
+    """(port's run, its error), (front end's run, its error) of the listing on ``deck``."""
+    from deck_emulator.legacy.emulator import Program as Port
+
+    port = _ended(Port(deck, precision, errata=errata, limits=limits, trace=trace,
+                       **options))
+    program = listing_program(errata, **options)
+    return port, _ended(program.runner(deck, precision, limits=limits, trace=trace))
+
+
+def _same(port, ours):
+    (a, ea), (b, eb) = port, ours
+    assert b.records == a.records
+    assert b.trace == a.trace  # the rows the Outcome's arrays are built from
+    assert b.events == a.events
+    assert (b.errata, b.step_scale_k, b.arithmetic) == (a.errata, a.step_scale_k, a.arithmetic)
+    assert str(eb) == str(ea) and getattr(eb, "guard", None) == getattr(ea, "guard", None)
+
+
+@pytest.mark.parametrize("precision", ["double", "single", "ibm7094"])
+@pytest.mark.parametrize("errata", [(), ("ed-direction",)])
+def test_the_front_end_gives_the_ports_records_trace_events_and_stop(precision, errata):
+    """steel40 (lands; three events) in each precision and errata setting; binary32 stops."""
+    port, ours = _both(_deck("steel40"), precision, errata=errata)
+    _same(port, ours)
+    assert len(ours[0].events) == (3 if precision != "single" else 0)
+
+
+@pytest.mark.parametrize("options", [
+    dict(step_scale_k=1), dict(step_scale_k=2, errata=("ed-direction",)),
+    dict(tha_start="0.00003"), dict(ed_tolerance=".00001"),
+    dict(step_scale_k=2, tha_start="0.000011", ed_tolerance=".00005"),
+], ids=str)
+def test_the_listings_options_through_the_front_end_give_the_ports_run(options):
+    deck = _deck("steel40")
+    errata = options.pop("errata", ())
+    port, ours = _both(deck, "double", errata=errata, **options)
+    _same(port, ours)
+
+
+def test_step_scale_divides_the_listings_step_literals_in_its_generated_source():
+    source = listing_program(step_scale_k=2).python()
+    assert "s_k_0p0004 = k_0p0004/_K('2.')/_K('2.')" in source
+    assert "HI = s_k_0p0004  # HI=0.0004" in source
+    assert "LL-80" in source and "# IF(LL-20)600,501,501" in source
+    assert "THA = k_0p00003  # THA=0.000022" in listing_program(tha_start="0.00003").python()
+    with pytest.raises(ValueError, match="unknown erratum"):
+        listing_program(("no-such",))
 
 
 def test_the_generated_source_keeps_the_statements_one_a_line_with_their_labels():
@@ -229,3 +284,51 @@ def test_the_differential_corpus_through_the_front_end_prints_as_the_compiled_li
             assert outcome.agree, outcome.why
     finally:
         o.close()
+
+
+# ------------------------------------------------------------ the listing's made source
+
+
+def test_the_made_listing_source_is_what_the_front_end_makes_now():
+    """legacy/fortran/listing_made.py is what ``python scripts/make_listing_source.py`` writes
+    now (after a change to the listing or the front end, run it: meanwhile its first line no
+    longer matches and the source is made at each start, never a stale one run)."""
+    from deck_emulator.legacy.fortran.run import LISTING_FILE, MADE_LISTING
+
+    assert MADE_LISTING.read_text() == listing_program().python(), \
+        "run: python scripts/make_listing_source.py"
+    program = Program(listing_lines, name="legacy/luminaire.f", made=MADE_LISTING,
+                      cards_file=LISTING_FILE)
+    code, _ = program._make(True, False)
+    assert code.co_filename == str(MADE_LISTING)  # the made file's code is what runs
+    assert program._units is None  # and nothing was parsed for it
+
+
+def test_a_made_source_whose_first_line_differs_is_not_used(tmp_path):
+    from deck_emulator.legacy.fortran.run import MADE_LISTING, LISTING_FILE
+
+    stale = tmp_path / "listing_made.py"
+    text = MADE_LISTING.read_text().replace("k_2p = _K('2.')", "k_2p = _K('3.')")
+    stale.write_text(text)  # the same first line: it would be used
+    lines = listing_lines()
+    name = "legacy/luminaire.f"
+    fresh = Program(lambda: lines, name=name, made=stale, cards_file=LISTING_FILE)
+    assert fresh._make(True, False)[0].co_filename == str(stale)
+    stale.write_text("# another program" + text[text.index("\n"):])
+    other = Program(lambda: lines, name=name, made=stale, cards_file=LISTING_FILE)
+    assert other._make(True, False)[0].co_filename == "<fortran>"
+    assert other.runner(_deck("steel40"), "double").run().text() == (
+        GOLDEN / "steel40.r8.txt").read_text()
+
+
+def test_the_engine_runs_the_listing_through_the_front_end():
+    from deck_emulator.engine import EmulatorEngine
+    from deck_emulator.legacy.fortran import Runner
+
+    engine = EmulatorEngine(errata=("ed-direction",), step_scale_k=1)
+    program = engine.program(_deck("steel40"))
+    assert isinstance(program, Runner) and program.errata == ("ed-direction",)
+    out = engine.run(_deck("steel40"))
+    port, _ = _both(_deck("steel40"), "double", errata=("ed-direction",), step_scale_k=1)
+    assert out.records == tuple(port[0].records) and out.events == port[0].events
+    assert len(out.t) > 2000  # the trajectory, from the front end's trace

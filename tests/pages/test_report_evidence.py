@@ -196,3 +196,39 @@ def test_the_base_weight_is_a_cause_only_where_some_base_weight_reaches_the_valu
     assert geometry_cause(geo, "twin20_a30", "time_ms", 2.5).startswith("the base weight")
     # twin20_a30 ends on the ground (no shaft-on-car cause): a 50 ms miss is unexplained
     assert cause("twin20_a30", "time_ms", 992.0, 942.0, geo).startswith("unexplained")
+
+
+def test_a_sentence_of_the_page_is_refused_where_its_figures_do_not_back_it():
+    from report.page_text import say
+
+    # the unloading line reaches zero force at 3.4 in, above the 3.0 in knee: said
+    words = say("crash.events", events="e", vv=40.0, peak_in=5.0, set_in=3.4)
+    assert "3.40 in, before the 3.0 in knee" in words
+    # at 2.5 in it would pass the knee first: the sentence is refused, not printed
+    with pytest.raises(ValueError, match="crash.events"):
+        say("crash.events", events="e", vv=40.0, peak_in=5.0, set_in=2.5)
+    # 'no column is a prediction' needs none to be one
+    with pytest.raises(ValueError, match="head"):
+        say("head", source="s", n_pred=1)
+
+
+def test_the_consistency_figures_are_read_off_the_distances():
+    from report.page import consistency
+
+    def g(**pairs):
+        out = {k: {"values": v, "mean": sum(v) / len(v)} for k, v in pairs.items()}
+        return out
+
+    six = [1.0] * 6
+    al = g(PQ=[29.57, 29.497, 29.5, 29.502, 29.494, 29.559], PR=[10.8, 11.2, 10.8, 10.8, 10.8, 10.8],
+           QR=[33.7, 32.9, 33.7, 33.7, 33.7, 33.7])
+    got = consistency({"steel": g(PQ=[36.704, 36.704, 36.701, 36.712, 36.703, 36.708],
+                                  PR=[11.176, 11.182, 11.179, 11.251, 11.257, 11.247]),
+                       "aluminium": al,
+                       "twin": g(PQ=[27.25] * 6, RU=six, PR=[11.5] * 6, PU=[11.6] * 6)})
+    assert got["steel_pq"] == "36.70-36.71" and got["steel_pr20"] == "11.18"
+    assert got["steel_pr40"] == "11.25-11.26"
+    # 29.57, 29.50, 29.50, 29.50, 29.49, 29.56 to two decimals: 29.50 three times
+    assert (got["al_pq_mode"], got["al_pq_n"]) == ("29.50", 3)
+    assert got["al_pr_off"] == pytest.approx(0.4) and got["al_qr_off"] == pytest.approx(0.8)
+    assert got["twin_short"] == pytest.approx(0.5) and got["twin_pr_pu"] == pytest.approx(0.1)

@@ -160,6 +160,22 @@ def test_the_rules_that_turn_numbers_into_verdicts():
                    "hold on the core"
 
 
+def test_a_figure_is_judged_on_the_rotation_the_page_displays():
+    # 29a's spin 0.04 deg and -0.04 deg both display as 0.0: zero, neither sign
+    for tiny in (0.04, -0.04):
+        words = rf.shown_words(29, [("29a", "twin40", tiny), ("29b", "twin40_a30", 45.0)])
+        assert "29a (`twin40`) 0.0°" in words
+        assert "Part 29a shows no rotation" in words and "Each shows" not in words
+        assert "29b" not in words.split(". ", 1)[1]  # 29b's 45.0 deg is positive: not named
+    # 0.06 displays as 0.1, a positive rotation: every part shows it
+    words = rf.shown_words(29, [("29a", "twin40", 0.06), ("29b", "twin40_a30", 45.0)])
+    assert words.endswith("Each shows a positive rotation about ZL.")
+    # Figure 24 says negative: a positive part is named as not showing it, a half turn noted
+    words = rf.shown_words(24, [("24a", "steel40", 152.6), ("24b", "steel40_a30", -171.2)])
+    assert "Part 24a does not show a negative rotation about ZL" in words
+    assert "24a's 152.6° is 207.4° the other way" in words and "no rotation" not in words
+
+
 # ------------------------------------------------------------- the runs, once for the module
 
 

@@ -395,3 +395,228 @@ def test_a_sweep_resumed_on_a_changed_deck_is_refused(tmp_path, capsys):
     line = _one_line(capsys.readouterr().err)
     assert f"{deck} changed since" in line and "--resume" in line
     assert (out / "sweep.csv").read_bytes() == table  # nothing written
+
+
+# ------------------------------------------ a core run past its wall bound is stopped (item 3)
+
+
+def test_a_core_run_past_its_wall_bound_is_a_stopped_scene(monkeypatch):
+    from deck_emulator.studies import common
+    from deck_emulator.studies.distributed import Stopped
+    from deck_emulator.vocabulary import defaults
+    from deck_emulator.vocabulary.scene import LEGACY, Scene
+
+    from deck_emulator.legacy.deck import read_deck
+
+    scene = Scene.from_deck(read_deck(STEEL40))
+    monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)  # any run passes it at its first step
+    with pytest.raises(Stopped, match=r"max_wall_s = 0 s .*starved or suspended machine"):
+        common.run_core(scene, LEGACY)
+
+
+def test_a_study_whose_core_run_passes_its_wall_bound_stops_and_its_resume_runs_it(
+        tmp_path, capsys, monkeypatch):
+    """The study ended in KeyError: 'guard', and every resume again: the stopped run was
+    stored as done.  Now exit 3 naming the run, nothing but the store written, and a resume
+    runs each stopped scene again (the workers are this process's threads, so the bound set
+    here holds in them)."""
+    from collections import Counter
+
+    from distributed import LocalCluster
+
+    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.vocabulary import defaults
+
+    monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)
+    out = tmp_path / "e"
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                      dashboard_address=None) as cluster:
+        argv = ["study", "error", "steel40", "--quick", "--quiet", "--out", str(out),
+                "--scheduler", cluster.scheduler_address]
+        assert main(argv) == 3
+        line = _one_line(capsys.readouterr().err)
+        assert "stopped: CoreError" in line and "max_wall_s = 0 s" in line
+        assert "--resume runs it again" in line
+        store = SceneStore(out / defaults.SCENE_STORE)
+        first = Counter(r["scene_id"] for r in store.rows() if r["status"] == "stopped")
+        assert first and not store.ids()  # stored, and none counted as done
+        assert sorted(p.name for p in out.iterdir()) == [defaults.SCENE_STORE]
+        assert main([*argv, "--resume"]) == 3  # still past the bound: run again, stopped again
+        again = Counter(r["scene_id"] for r in store.rows() if r["status"] == "stopped")
+        assert again == Counter({sid: 2 for sid in first})
+    capsys.readouterr()
+
+
+# ------------------------------------------------------- schedulers that are not Dask's (item 6)
+
+
+SCHEDULER_COMMANDS = {
+    "sweep": ["sweep", "--speeds", "20", "--angles", "0"],
+    "study error": ["study", "error", "steel40", "--quick"],
+    "sensitivity": ["sensitivity", "--quick"],
+}
+
+
+@pytest.mark.parametrize("command", sorted(SCHEDULER_COMMANDS))
+@pytest.mark.parametrize("mode, says", [
+    ("silent", "something took the connection and said nothing a Dask scheduler says in 1 s"),
+    ("drip", "something took the connection and said nothing a Dask scheduler says in 1 s"),
+    ("http", "something answered there, not in Dask's protocol (not a Dask scheduler)"),
+    ("refused", "nothing listens there ("),
+    ("tls", "tls:// needs Dask's TLS settings"),
+    ("ucx", "this install cannot connect so"),
+])
+def test_a_scheduler_that_is_not_dasks_is_refused_within_the_bound(tmp_path, capsys,
+                                                                   monkeypatch, command,
+                                                                   mode, says):
+    from deck_emulator.vocabulary import defaults
+
+    from campaign import Hostile
+
+    monkeypatch.setattr(defaults, "SCHEDULER_CONNECT_S", 1.0)
+    server = (Hostile("answer", b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+              if mode == "http" else Hostile(mode, b"x") if mode in ("silent", "drip", "refused")
+              else None)
+    address = server.address if server else f"{mode}://127.0.0.1:8786"
+    try:
+        started = time.monotonic()
+        status = main([*SCHEDULER_COMMANDS[command], "--quiet", "--out", str(tmp_path / "o"),
+                       "--scheduler", address])
+        assert time.monotonic() - started < 30  # a hang guard, not a timing
+    finally:
+        if server:
+            server.close()
+    assert status == 2
+    line = _one_line(capsys.readouterr().err)
+    assert f"--scheduler {address}: {says}" in line
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_a_dask_worker_given_as_the_scheduler_is_refused(tmp_path, capsys):
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, processes=False, protocol="tcp://",
+                      dashboard_address=None) as cluster:
+        worker = next(iter(cluster.scheduler.workers))
+        assert main(["sweep", "--speeds", "20", "--angles", "0", "--quiet", "--out",
+                     str(tmp_path / "o"), "--scheduler", worker]) == 2
+        assert "a Dask Worker answered there, not a Dask scheduler" in _one_line(
+            capsys.readouterr().err)
+        # the scheduler itself is taken
+        assert main(["sweep", "--speeds", "20", "--angles", "0", "--quiet", "--out",
+                     str(tmp_path / "o"), "--scheduler", cluster.scheduler_address]) == 0
+
+
+# ------------------------------------------------------------------------- limits (item 9)
+
+
+def _limited(argv: list[str], cwd=None, **limits) -> subprocess.CompletedProcess:
+    """A command in a process of its own under ``limits`` (resource name -> soft and hard)."""
+    import resource
+
+    def limit():
+        for name, value in limits.items():
+            resource.setrlimit(getattr(resource, name), (value, value))
+
+    return subprocess.run([sys.executable, "-m", "deck_emulator.cli", *argv], cwd=cwd,
+                          preexec_fn=limit, capture_output=True, timeout=300)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("files, says", [
+    (16, "the open-file limit (16, ulimit -n) is too low for 2 worker process(es)"),
+    (40, "give --jobs 1, or raise it (ulimit -n 1024)")])
+def test_an_open_file_limit_too_low_for_the_workers_is_said_before_they_start(tmp_path, files,
+                                                                              says):
+    done = _limited(["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2", "--quiet",
+                     "--out", str(tmp_path / "o")], RLIMIT_NOFILE=files)
+    assert done.returncode == 2
+    assert says in _one_line(done.stderr.decode())
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("argv", [["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2"],
+                                  ["core", "steel40"]])
+@pytest.mark.parametrize("megabytes", [200, 400, 800])
+def test_under_an_address_space_limit_a_command_ends_or_says_which_limit(tmp_path, argv,
+                                                                         megabytes):
+    out = ["--quiet", "--out", str(tmp_path / "o")] if argv[0] == "sweep" else []
+    done = _limited([*argv, *out], RLIMIT_AS=megabytes << 20)
+    err = done.stderr.decode()
+    assert done.returncode in (0, 2), err  # computed, or refused in one line
+    if done.returncode == 2:
+        assert "(ulimit -v): raise them" in _one_line(err)
+        assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+def test_a_sweep_from_a_deleted_folder_runs(tmp_path):
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    done = subprocess.Popen(
+        [sys.executable, "-c", "import os, sys; os.rmdir(os.getcwd()); "
+         "from deck_emulator.cli import main; sys.exit(main(sys.argv[1:]))",
+         "sweep", "--speeds", "20", "--angles", "0", "--jobs", "1", "--quiet",
+         "--out", str(tmp_path / "o")], cwd=gone, stderr=subprocess.PIPE)
+    _, err = done.communicate(timeout=300)
+    assert done.returncode == 0, err
+    assert (tmp_path / "o" / "sweep.csv").is_file()
+
+
+# ------------------------------------------------------------------ smaller promises (item 10)
+
+
+@pytest.mark.parametrize("epoch", ["abc", "1e9", "253402300800", "-1", " 1"])
+def test_a_source_date_epoch_that_is_not_whole_seconds_is_refused(tmp_path, capsys,
+                                                                  monkeypatch, epoch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", epoch)
+    assert main(["run", "steel40", "--pages", str(tmp_path / "p.pdf")]) == 2
+    assert "SOURCE_DATE_EPOCH=" in _one_line(capsys.readouterr().err)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("length", [240, 250, 255])
+def test_a_legal_output_name_of_up_to_255_bytes_is_written(tmp_path, length):
+    from deck_emulator.files import write_file
+
+    name = tmp_path / ("t" * (length - 4) + ".csv")
+    write_file(name, "x\n")
+    assert name.read_text() == "x\n" and [p.name for p in tmp_path.iterdir()] == [name.name]
+
+
+def test_a_folder_with_undecodable_bytes_holds_the_store_and_the_tables(tmp_path, monkeypatch):
+    monkeypatch.setattr(sys, "stderr", io.StringIO())  # (a process's stderr escapes them)
+    out = Path(os.fsdecode(bytes(tmp_path) + b"/x\xff"))
+    assert main(["sweep", "--speeds", "20", "--angles", "0", "--jobs", "1", "--quiet",
+                 "--out", str(out)]) == 0
+    assert {p.name for p in out.iterdir()} == {"sweep.csv", "sweep.md", ".scenes"}
+    assert bytes(out) in (out / "sweep.md").read_bytes()  # the bytes as given
+
+
+def test_a_temporary_store_left_by_a_killed_run_is_removed_by_the_next(tmp_path, monkeypatch):
+    import tempfile
+
+    from deck_emulator.studies.distributed import store_lock, temporary_store
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    dead, young, held = (tmp_path / f"sweep-{n}" for n in ("dead", "young", "held"))
+    for folder in (dead, young, held):
+        (folder / "results").mkdir(parents=True)
+    for folder in (dead, held):
+        os.utime(folder, (time.time() - 3600,) * 2)
+    # a live run's lock: held by another process (a lock this process holds is re-entrant)
+    holder = subprocess.Popen([sys.executable, "-c", "import fcntl, os, sys, time; "
+                               "fd = os.open(sys.argv[1], os.O_RDWR | os.O_CREAT); "
+                               "fcntl.flock(fd, fcntl.LOCK_EX); print(1, flush=True); "
+                               "time.sleep(60)", str(held / ".lock")], stdout=subprocess.PIPE)
+    try:
+        holder.stdout.readline()
+        with temporary_store("sweep-") as tmp:
+            assert Path(tmp).is_dir()
+        assert not dead.exists() and young.exists() and held.exists()
+    finally:
+        holder.kill()
+        holder.wait()
+    with store_lock(tmp_path / "x"):
+        pass

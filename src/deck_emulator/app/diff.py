@@ -53,6 +53,7 @@ def diff(o: DiffOptions) -> Answer:
     common.check_out(o.out)
     if o.resume and not o.store:
         raise UsageError("--resume needs --store DIR (the folder the runs were stored in)")
+    common.compile_core(o.quiet)
     try:
         data = diff_deck(deck, precision=o.precision, errata=tuple(o.erratum),
                          ks=range(o.max_k + 1), rtol=o.rtol, atol=o.rtol,

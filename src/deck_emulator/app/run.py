@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from deck_emulator.errors import UsageError
 
-from . import Answer, command
+from . import PROG, Answer, command
 from . import common
 from .options import Emulator, option, options_class
 
@@ -128,7 +128,8 @@ def run(o: RunOptions) -> Answer:
                                                           section["settings"])
                 pages += printed
             write_pdf(pages, o.pages, paper=o.paper, outputs=outputs,
-                      metadata=provenance.pdf_metadata(facts))
+                      metadata=provenance.pdf_metadata(facts),
+                      progress=None if o.quiet else f"{PROG}: writing the pages")
         answer.said.append(f"wrote the line printer's pages to {o.pages}")
         if o.out or not o.json:
             answer.text, answer.json = None, False  # written, or not for the terminal

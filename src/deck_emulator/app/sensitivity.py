@@ -46,6 +46,8 @@ def sensitivity(o: SensitivityOptions) -> Answer:
     for deck in o.deck:  # shipped names stay names (the outputs are named by them)
         common.deck_file(deck, "sensitivity --deck")
     answer = Answer("sensitivity", list(o.deck) or ["steel40"], json=o.json)
+    if o.engine == "core":
+        common.compile_core(o.quiet)
     try:
         run_command(out=o.out, decks=o.deck, engine=o.engine, engine_keywords=o.core_keywords(),
                     inputs_text=o.input, only=o.only, n=o.n, quick=o.quick, seed=o.seed,

@@ -81,6 +81,8 @@ def sweep(o: SweepOptions) -> Answer:
     check_output_dir(o.out)
     options = (dict(errata=tuple(o.erratum)) if o.engine == "emulator" else o.core_keywords())
     store = output_store(o.out, o.resume)  # a new sweep: the scenes of the last one go
+    if o.engine == "core":
+        common.compile_core(o.quiet)
     started = time.perf_counter()
     rows = run_sweep(speeds, angles, engine=o.engine, options=options, post=label, base=base,
                      jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,

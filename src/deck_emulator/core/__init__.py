@@ -27,12 +27,22 @@ _WHERE = {
 }
 
 
+#: the core's entries: each runs again once, compiled anew, after an unreadable numba cache
+#: (:func:`deck_emulator.core.laws.recompiling`)
+_ENTRIES = ("simulate", "free_flight", "simulate_batch")
+
+
 def __getattr__(name: str):
     try:
         module = _WHERE[name]
     except KeyError:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
-    return getattr(importlib.import_module(f".{module}", __name__), name)
+    found = getattr(importlib.import_module(f".{module}", __name__), name)
+    if name in _ENTRIES:
+        from .laws import recompiling
+
+        found = globals()[name] = recompiling(found)
+    return found
 
 
 def __dir__():

@@ -21,9 +21,11 @@ A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``,
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 import os
+import shutil
 
 import numba
 import numpy as np
@@ -84,6 +86,36 @@ def _cache_dir() -> None:
 
 
 _cache_dir()
+
+
+def _from_numba_cache(exc: BaseException) -> bool:
+    """``exc`` was raised while numba read a cached function (its traceback passes through
+    numba's cache loading): a cache file truncated or garbled (an interrupted write, a full
+    disk, a copy cut short), which numba unpickles without checking."""
+    tb = exc.__traceback__
+    while tb is not None:
+        if tb.tb_frame.f_code.co_filename.endswith(os.path.join("numba", "core", "caching.py")):
+            return True
+        tb = tb.tb_next
+    return False
+
+
+def recompiling(fn):
+    """``fn`` (an entry of the core), run again once when numba's cache of the core turned out
+    unreadable: the core's cache folder is removed first, so numba compiles anew and caches
+    again, instead of the run ending in an ``UnpicklingError`` at every start."""
+
+    @functools.wraps(fn)
+    def entry(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except Exception as exc:  # MemoryError too: a garbled pickle can ask for any size
+            if not _from_numba_cache(exc):
+                raise
+            shutil.rmtree(numba.config.CACHE_DIR, ignore_errors=True)
+            return fn(*args, **kwargs)
+
+    return entry
 
 
 def _jit(fn):

@@ -60,9 +60,9 @@ def _initial_points(d) -> dict:
 def step_literals() -> tuple[str, ...]:
     """The listing's literals that mean "one step" (0.0004 s): what the emulator's
     ``step_scale_k`` divides by 2**k, in words."""
-    from deck_emulator.legacy.emulator import STEP_LITERALS  # the port: not for a deck's program
+    from deck_emulator.legacy.fortran import STEP_LITERALS
 
-    return STEP_LITERALS
+    return tuple(words for _, _, words in STEP_LITERALS)
 
 
 @dataclass(frozen=True)
@@ -86,8 +86,8 @@ class Execution:
 class EmulatorEngine:
     """The 1967 program. ``precision``: ``double``, ``single`` or ``ibm7094`` (with the
     7094's ``arithmetic_options``); ``errata`` as requested (default: as printed); the
-    options of :class:`deck_emulator.legacy.emulator.Program` (``step_scale_k``,
-    ``ed_tolerance``, ``tha_start``, ``limits``); ``trace``: build the trajectory arrays;
+    options of :func:`deck_emulator.legacy.fortran.listing_program` (``step_scale_k``,
+    ``ed_tolerance``, ``tha_start``) and ``limits``; ``trace``: build the trajectory arrays;
     ``record_defects``: an exception that is not one of the emulator's guards (a defect of
     ours) ends the run as guard ``"crash"`` instead of propagating (the studies record it)."""
 
@@ -108,14 +108,15 @@ class EmulatorEngine:
         return get_arithmetic(self.precision, **self.arithmetic_options)
 
     def program(self, deck):
-        if self.fortran is not None:  # a job deck's own program: the port is not loaded
-            return self.fortran.runner(deck, self.arithmetic(), limits=self.limits or Limits())
-        from deck_emulator.legacy.emulator import Program
+        """The run of the program on ``deck``: a job deck's own program, or the listing with
+        the errata and options asked, both through the FORTRAN front end."""
+        from deck_emulator.legacy.fortran import listing_program
 
-        return Program(deck, self.arithmetic(), errata=errata_policy.resolve(self.errata),
-                       step_scale_k=self.step_scale_k, tha_start=self.tha_start,
-                       ed_tolerance=self.ed_tolerance, limits=self.limits or Limits(),
-                       trace=self.trace)
+        program = self.fortran or listing_program(
+            errata_policy.resolve(self.errata), step_scale_k=self.step_scale_k,
+            tha_start=self.tha_start, ed_tolerance=self.ed_tolerance)
+        return program.runner(deck, self.arithmetic(), limits=self.limits or Limits(),
+                              trace=self.trace)
 
     def execute(self, deck, *, watch=None) -> "Execution":
         """The program's run alone, without the :class:`Outcome` (which :meth:`outcome_of`
@@ -549,6 +550,33 @@ class CoreEngine:
         if "C" in out.points and out.hit_time_s is not None:
             c = out.to_l(traj.point("C", min(out.hit_time_s, t_end)))
             out.terminal["C"] = tuple(float(x) for x in c)
+
+
+def compile_core(wait) -> None:
+    """Numba compiles the core at its first use after an install (or an upgrade), a wait no
+    progress can count: compile it here, once, by solving the report's steel post on the
+    compiled batch inside ``wait()`` (a context manager that says the wait), so that a
+    study's workers load the cache instead of each compiling it at the same time.  A marker
+    beside numba's cache (``numba.config.CACHE_DIR``, where the core keeps it) says it was
+    done; where none can be written numba compiles in each process, as it must."""
+    import sys
+
+    import numba
+
+    import deck_emulator.core.laws  # noqa: F401 -- it sets numba's cache folder for the core
+    from deck_emulator import decks
+
+    marker = Path(numba.config.CACHE_DIR) / (
+        f"compiled-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
+    if marker.exists():
+        return
+    with wait():
+        CoreEngine(batched=True, trace=False).run_batch([load_source(decks.path("steel40"))
+                                                          .deck()])
+    try:
+        marker.touch()
+    except OSError:
+        pass
 
 
 def core_keywords(preset: str, shaft_contact: bool | None = None) -> dict:

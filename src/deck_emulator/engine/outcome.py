@@ -210,13 +210,13 @@ class Outcome:
 
     def car_velocity(self, t: float) -> float | None:
         """The car's velocity VV along XV at ``t``: the core's dense solution; the emulator's
-        accepted step nearest to ``t`` (its states exist only at its steps, where its events
-        and printed instants fall); None outside the run."""
+        accepted steps, linearly between two (its step VVA = VVB + (H/WV)*FSB is linear in
+        time; its events and printed instants fall on steps); None outside the run."""
         if self.engine == "core" and self.raw is not None:
             return float(self.raw.trajectory.vehicle(t)[1])
         if not self.t.size or not self.t[0] <= t <= self.t[-1]:
             return None
-        return float(self.vv[self.at(t)])
+        return float(np.interp(t, self.t, self.vv))
 
     def motion(self, t: float) -> dict:
         """The post's and the car's motion at ``t`` from the core's dense solution:

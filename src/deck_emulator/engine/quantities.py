@@ -197,12 +197,14 @@ def _of_clearance(field):
 
 def speed_lost_at(o, t: float | None) -> float | None:
     """THE reading of every ΔV: the speed (mph) the car of ``o`` has lost by the instant
-    ``t`` (its velocity at t = 0, the scene's, against
-    :meth:`~deck_emulator.engine.outcome.Outcome.car_velocity` at ``t``); None without the
-    instant or the car, or outside the run."""
+    ``t``: its velocity at the start (the scene's car's, else the first sample) against
+    :meth:`~deck_emulator.engine.outcome.Outcome.car_velocity` at ``t``; None without the
+    instant or outside the run."""
     car = o.scene.vehicle if o.scene is not None else None
-    v = None if t is None or car is None else o.car_velocity(t)
-    return None if v is None else speed_lost_mph(car.initial_velocity_ft_s, v)
+    v0 = car.initial_velocity_ft_s if car is not None else (
+        float(o.vv[0]) if o.vv.size else None)
+    v = None if t is None or v0 is None else o.car_velocity(t)
+    return None if v is None else speed_lost_mph(v0, v)
 
 
 def arrays_for(which: Iterable[str]) -> tuple[str, ...]:

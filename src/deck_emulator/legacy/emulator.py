@@ -12,7 +12,8 @@ binary64, binary32 or the IBM 7094's words.
 Departures from the listing are options, off by default:
 
 * ``errata``: ``"ed-direction"`` (legacy/errata/ed-direction.patch, see CORRECTIONS.md);
-* ``step_scale_k``: divide every literal that means "one step" by ``2**k`` (see STEP_LITERALS);
+* ``step_scale_k``: divide every literal that means "one step" by ``2**k`` (the front end's
+  ``legacy.fortran.STEP_LITERALS``);
 * ``tha_start``: the start-up value of THA at label 123 (printed: 0.000022);
 * ``ed_tolerance``: ED's |DF| tolerance at labels 15 and 16 (printed: .0001 rad). It does not
   shrink with the step, so the listing's scheme stops converging as H is halved (measured by
@@ -41,28 +42,12 @@ import operator
 from deck_emulator.legacy.arithmetic import Arithmetic, ArithmeticFault, get_arithmetic
 from deck_emulator.legacy.printer import Printer, event_for
 from deck_emulator.legacy.stops import (  # noqa: F401  (the run and its stops: shared)
-    EmulatorError, Limits, Run, fault_reason, halving_error, time_error)
+    ERRATA, TRACE_ROWS, EmulatorError, Limits, Run, fault_reason, halving_error, time_error,
+    trace_row)
 
 from . import emulator_tables as made
 from .emulator_text import _assigned_names, read_tables
 
-ERRATA = {
-    "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
-    "(labels 1 and 15: DH=D-H, DH=D-H/2.)",
-}
-
-#: The literals that mean "one step" (0.0004 s) and are divided by 2**k by ``step_scale_k``.
-#: The print intervals (0.0016 s in contact, 0.008 s in free flight) are times and stay.
-STEP_LITERALS = (
-    "HI=0.0004, H=0.0004 (initial values)",
-    "IF(Q-0.0004) at label 125 (first step: the start-up at label 123)",
-    "IF(Q-.0004) before label 83 (first step: FSA=1320.0)",
-    "THA=0.000022 at label 123 (the tilt after the first step: 0.0545 rad/s * 0.0004 s, rounded)",
-    "E=E+.0004 (contact print counter: one step)",
-    "IF(LL-20) before label 501 (the FCONST cap after 20 steps = 8 ms: 20*2**k steps)",
-    "H=0.0004, HI=0.0004 at labels 354 and 42 (step reset)",
-    "E=E+0.0002 (free-flight print counter: one step)",
-)
 
 
 class _Vars:
@@ -322,22 +307,9 @@ class Program:
     def _record(self, phase: str):
         if not self.keep_trace:
             return
-        v, f = self.v, self.ar.to_float
-        if phase == "contact":
-            row = dict(phase=phase, t=f(v.Q), XCM=f(v.XCMA), YYCM=f(v.YYCMA), ZZCM=f(v.ZZCMA),
-                       VV=f(v.VVA), SV=f(v.SVA), FS=f(v.FSA),
-                       XP=f(v.XPA), YYP=f(v.YYPA), ZZP=f(v.ZZPA), XQ=f(v.XQA), YYQ=f(v.YYQA),
-                       ZZQ=f(v.ZZQA), XR=f(v.XRA), YYR=f(v.YYRA), ZZR=f(v.ZZRA),
-                       TH=f(v.THA), PHI=f(v.PHIA), PSI=f(v.PSIA),
-                       V1=f(v.V1A), V2=f(v.V2A), V3=f(v.V3A), W1=f(v.W1A), W2=f(v.W2A), W3=f(v.W3A))
-        else:
-            row = dict(phase=phase, t=f(v.T), XCM=f(v.XCMFA), YYCM=f(v.YYCMFA), ZZCM=f(v.ZZCMFA),
-                       VV=f(v.VVFA), SV=f(v.SVFA), FS=0.0,
-                       XP=f(v.XPFA), YYP=f(v.YYPFA), ZZP=f(v.ZZPFA), XQ=f(v.XQFA), YYQ=f(v.YYQFA),
-                       ZZQ=f(v.ZZQFA), XR=f(v.XRFA), YYR=f(v.YYRFA), ZZR=f(v.ZZRFA),
-                       XC=f(v.XCFA), YYC=f(v.YYCFA), ZZC=f(v.ZZCFA),
-                       TH=f(v.THFA), PHI=f(v.PHIFA), PSI=f(v.PSIFA),
-                       V1=f(v.V1FA), V2=f(v.V2FA), V3=f(v.V3FA), W1=f(v.W1FA), W2=f(v.W2FA), W3=f(v.W3FA))
+        v = self.v
+        row = trace_row(phase, [getattr(v, n) for n in TRACE_ROWS[phase].values() if n],
+                        self.ar.to_float)
         self.run_.trace.append(row)
 
     def _event(self, label: int, t):

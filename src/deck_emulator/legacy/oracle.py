@@ -44,7 +44,7 @@ from pathlib import Path
 
 from deck_emulator.files import OutputSet
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.legacy.emulator import EmulatorError, run_deck
+from deck_emulator.legacy.stops import EmulatorError
 from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
 __all__ = ["COMMON_FLAGS", "PRECISIONS", "TIMEOUT_S", "LEGACY", "compile_program",
@@ -265,6 +265,13 @@ class Comparison:
 GUARDS = ("ed_iterations", "halvings", "time_s", "runaway")
 
 
+def _listing_run(deck, errata):
+    """The listing through the FORTRAN front end, binary64: the engine's road."""
+    from deck_emulator.legacy.fortran import listing_program
+
+    return listing_program(tuple(errata)).runner(deck, "double", trace=False).run()
+
+
 def compare(deck, exe_for, workdir: Path, timeout_s: float | None = None, *,
             ours=None, errata=None) -> Comparison:
     """Run one deck both ways and compare. ``exe_for(erratum)`` gives the compiled program;
@@ -278,7 +285,7 @@ def compare(deck, exe_for, workdir: Path, timeout_s: float | None = None, *,
     path.write_text(deck.to_text())
     out, _err, ending = run_program(exe_for(errata[0] if errata else None), path, timeout_s)
     theirs = out.splitlines()
-    ours = ours or (lambda deck, errata: run_deck(deck, "double", errata=errata, trace=False))
+    ours = ours or (lambda deck, errata: _listing_run(deck, errata))
     try:
         run = ours(deck, errata)
         ours, ours_ending = run.records, "normal"

@@ -11,6 +11,13 @@ from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Event
 
 
+#: The errata (legacy/errata/NAME.patch: patches to the listing's statements) by name.
+ERRATA = {
+    "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
+    "(labels 1 and 15: DH=D-H, DH=D-H/2.)",
+}
+
+
 class EmulatorError(RuntimeError):
     """The run cannot go on: a guard fired or the arithmetic trapped."""
 
@@ -45,6 +52,31 @@ def halving_error(limit: int, H, DIFF, DIFFT, label, step: int, time: float) -> 
     return EmulatorError(f"step halved {limit} times in a row at label {label} (H = {H:.3g} s, "
                          f"DIFF = {DIFF:.3g} ft, DIFFT = {DIFFT:.3g} ft)",
                          label=label, step=step, time=time, guard="halvings")
+
+
+#: The trace: the row the program records where a step is accepted (labels 41 and 400), where
+#: the post leaves the vehicle (42: the last contact values) and at STOP (82), by phase: the
+#: row's key -> the listing's variable (None: 0.0, no such variable in that phase).
+TRACE_ROWS = {
+    "contact": dict(t="Q", XCM="XCMA", YYCM="YYCMA", ZZCM="ZZCMA", VV="VVA", SV="SVA", FS="FSA",
+                    XP="XPA", YYP="YYPA", ZZP="ZZPA", XQ="XQA", YYQ="YYQA", ZZQ="ZZQA",
+                    XR="XRA", YYR="YYRA", ZZR="ZZRA", TH="THA", PHI="PHIA", PSI="PSIA",
+                    V1="V1A", V2="V2A", V3="V3A", W1="W1A", W2="W2A", W3="W3A"),
+    "free": dict(t="T", XCM="XCMFA", YYCM="YYCMFA", ZZCM="ZZCMFA", VV="VVFA", SV="SVFA", FS=None,
+                 XP="XPFA", YYP="YYPFA", ZZP="ZZPFA", XQ="XQFA", YYQ="YYQFA", ZZQ="ZZQFA",
+                 XR="XRFA", YYR="YYRFA", ZZR="ZZRFA", XC="XCFA", YYC="YYCFA", ZZC="ZZCFA",
+                 TH="THFA", PHI="PHIFA", PSI="PSIFA", V1="V1FA", V2="V2FA", V3="V3FA",
+                 W1="W1FA", W2="W2FA", W3="W3FA"),
+}
+
+
+def trace_row(phase: str, values, to_float) -> dict:
+    """One row of the trace: ``values`` of TRACE_ROWS[phase]'s variables (None skipped), in
+    its order, as floats."""
+    row, it = {"phase": phase}, iter(values)
+    for key, name in TRACE_ROWS[phase].items():
+        row[key] = 0.0 if name is None else to_float(next(it))
+    return row
 
 
 @dataclass(frozen=True)

@@ -109,18 +109,23 @@ def _setting(v) -> str:
     return str(v)
 
 
+def compartment_words(comp: dict) -> str:
+    """The occupant compartment's verdict (:func:`~deck_emulator.engine.ratings.compartment`)
+    in a line: for a failure, which part enters the car, over what, when and how deep."""
+    if comp["verdict"] != "fails":
+        return comp["verdict"]
+    return (f"fails: {comp['part']} enters the car over the {comp['surface']} at "
+            f"{1000 * comp['time_s']:.1f} ms, {comp['depth_ft']:.3f} ft deep at the most"
+            + (f" (over the {comp['deepest_surface']})" if comp["deepest_surface"] else ""))
+
+
 def _rating_lines(ratings: dict) -> list[str]:
     """The verdicts as lines: the occupant compartment, then each rated reading against
     each standard's limit."""
     from deck_emulator.engine.safety import CRITERIA, STANDARDS
 
     comp = ratings["occupant_compartment"]
-    head = f"  occupant compartment: {comp['verdict']}"
-    if comp["verdict"] == "fails":
-        head += (f": {comp['part']} enters the car over the {comp['surface']} at "
-                 f"{1000 * comp['time_s']:.1f} ms, {comp['depth_ft']:.3f} ft deep at the most"
-                 + (f" (over the {comp['deepest_surface']})" if comp["deepest_surface"] else ""))
-    lines = [head, f"    {comp['reason']}"]
+    lines = [f"  occupant compartment: {compartment_words(comp)}", f"    {comp['reason']}"]
     for name, r in ratings.items():
         if name == "occupant_compartment" or not r["verdicts"]:
             continue

@@ -191,7 +191,24 @@ def _legend_title(res: Outcome) -> str:
     )
     if res.engine == "core":
         eng = f"core, {res.settings}"
-    return f"{res.name}: {res.speed_mph:.3g} mph, α = {res.angle_deg:.3g}°\n{t}\nengine: {eng}"
+    return (f"{res.name}: {res.speed_mph:.3g} mph, α = {res.angle_deg:.3g}°\n{t}\n"
+            + "".join(f"{line}\n" for line in _compartment_lines(res)) + f"engine: {eng}")
+
+
+def _compartment_lines(res: Outcome, width: int = 60) -> list[str]:
+    """What the run's ratings say of the occupant compartment, for a caption: the post that
+    goes through the car is said, whatever point the listing's hit names."""
+    import textwrap
+
+    from .answers import compartment_words
+
+    comp = (ratings(res) or {}).get("occupant_compartment")
+    if comp is None:
+        return []
+    words = f"Occupant compartment {compartment_words(comp)}"
+    if comp["verdict"] == "not judged":
+        words += " (this model tests only P, R and C against the car)"
+    return textwrap.wrap(words, width, subsequent_indent="  ")
 
 
 def _every_label(res: Outcome, idx: list[int]) -> str:
@@ -750,54 +767,65 @@ def save_animation(
 
 
 def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi: int) -> int:
+    """The frames: the post every ``frame_s`` (a trail every fifth), the car, the instant the
+    post first enters the car (where the ratings say it does: the car's outline turns red
+    and the post there stays drawn), and the run's end held for a second, its hit point
+    starred; the caption is the still picture's (:func:`_legend_title`).  The figure takes
+    the shape of what it shows, so the axes fill the frame."""
     import matplotlib
     from matplotlib.animation import FuncAnimation
 
-    if view not in ("side", "plan"):
-        view = "side"
-    cmap = matplotlib.colormaps[CMAP]
-    norm = _norm(res)
-    fig = mpl().Figure(figsize=FIGSIZE["animate"], dpi=dpi)  # fixed layout: fast frames
-    mpl().FigureCanvasAgg(fig)
-    ax = fig.add_subplot()
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.12, top=0.9)
+    cmap, norm = matplotlib.colormaps[CMAP], _norm(res)
     comp = (0, 2) if view == "side" else (0, 1)
     body = safety.car_body(res.scene)
     yl, yr = body.left_fender_ft, body.right_fender_ft
     base_yy = res.scene.post.base.yy_ft
+    last = len(res.t) - 1
     # fixed limits from the whole run and the car's path
-    allp = np.vstack(
-        [post_l(res, i) for i in range(0, len(res.t), 5)] + [post_l(res, len(res.t) - 1)]
-    )
+    allp = np.vstack([post_l(res, i) for i in range(0, len(res.t), 5)] + [post_l(res, last)])
     car_x = []
-    for i in (0, len(res.t) - 1):
+    for i in (0, last):
         o = body.outline_xv(res.sv[i])
         xs, _ = _car_xy_l(res, res.sv[i], np.array([o["XBUMP"], o["XTAIL"]]), np.array([yl, yr]))
         car_x += list(xs)
-    x0 = min(allp[:, 0].min(), min(car_x)) - 2
-    x1 = max(allp[:, 0].max(), 12.0) + 2
-    frames = sorted(
-        {res.at(t) for t in np.arange(0, res.end_time_s + 1e-9, frame_s)} | {len(res.t) - 1}
-    )
-    (trail_lines) = []
+    x0, x1 = min(allp[:, 0].min(), min(car_x)) - 2, max(allp[:, 0].max(), 12.0) + 2
+    if view == "side":
+        y0, y1 = min(-1.0, allp[:, 2].min() - 1), max(allp[:, 2].max(), 6) + 1
+    else:
+        y0 = min(allp[:, 1].min(), yl - base_yy - 2) - 1
+        y1 = max(allp[:, 1].max(), yr - base_yy + 2) + 1
+    title = _legend_title(res)
+    top_in = 0.2 + 0.16 * title.count("\n")  # the caption's lines above the axes
+    width = FIGSIZE["animate"][0]
+    box_h = min(max((width - 0.9) * (y1 - y0) / (x1 - x0), 2.0), 1.5 * width)
+    height = box_h + top_in + 0.6
+    # one foot the same length both ways: where the box was bounded, the view widens to fill it
+    grow = max(box_h / (width - 0.9) * (x1 - x0) - (y1 - y0), 0.0)
+    y0, y1 = y0 - grow / 2, y1 + grow / 2
+    grow = max((width - 0.9) / box_h * (y1 - y0) - (x1 - x0), 0.0)
+    x0, x1 = x0 - grow / 2, x1 + grow / 2
+    fig = mpl().Figure(figsize=(width, height), dpi=dpi)  # fixed layout: fast frames
+    mpl().FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    fig.subplots_adjust(left=0.7 / width, right=1 - 0.2 / width, bottom=0.6 / height,
+                        top=1 - top_in / height)
+    ax.set(xlim=(x0, x1), ylim=(y0, y1))
+    ax.set_xlabel("XL (ft)")
+    ax.set_ylabel("ZL (ft)" if view == "side" else "YL (ft)")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    if view == "side":
+        ax.axhline(0.0, color="saddlebrown", lw=1.5)
+    fig.text(0.1 / width, 1 - 0.1 / height, title, ha="left", va="top", fontsize=8)
+    clock = fig.text(1 - 0.2 / width, 1 - 0.1 / height, "", ha="right", va="top", fontsize=9)
+    compartment = (ratings(res) or {}).get("occupant_compartment") or {}
+    enters = compartment.get("time_s") if compartment.get("verdict") == "fails" else None
+    entry = None if enters is None else res.at(enters)
+    frames = sorted({res.at(t) for t in np.arange(0, res.end_time_s + 1e-9, frame_s)}
+                    | {last} | ({entry} if entry is not None else set()))
     (post,) = ax.plot([], [], "-o", color=HIT_COLOUR, lw=2.5, ms=3, zorder=5)
     car = mpl().Polygon(np.zeros((4, 2)), closed=True, fc="0.85", ec=CAR_COLOUR, zorder=2)
     ax.add_patch(car)
-    label = ax.text(0.99, 0.97, "", transform=ax.transAxes, ha="right", va="top", fontsize=9)
-    if view == "side":
-        ax.axhline(0.0, color="saddlebrown", lw=1.5)
-        ax.set_ylim(min(-1.0, allp[:, 2].min() - 1), max(allp[:, 2].max(), 6) + 1)
-        ax.set_ylabel("ZL (ft)")
-    else:
-        ylo = min(allp[:, 1].min(), yl - base_yy - 2)
-        yhi = max(allp[:, 1].max(), yr - base_yy + 2)
-        ax.set_ylim(ylo - 1, yhi + 1)
-        ax.set_ylabel("YL (ft)")
-    ax.set_xlim(x0, x1)
-    ax.set_aspect("equal", adjustable="box")
-    ax.set_xlabel("XL (ft)")
-    ax.grid(True, lw=0.4, alpha=0.5)
-    ax.set_title(_legend_title(res).replace("\n", " — "), fontsize=8)
+    hp = _hit_point_l(res)
 
     def car_shape(i):
         sv = res.sv[i]
@@ -805,36 +833,36 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
             xl, zl = _profile(res, sv, 0.5 * (yl + yr))
             return np.c_[xl, zl]
         o = body.outline_xv(sv)
-        xv = np.array([o["XBUMP"], o["XTAIL"], o["XTAIL"], o["XBUMP"]])
-        yv = np.array([yl, yl, yr, yr])
-        x, y = _car_xy_l(res, sv, xv, yv)
+        x, y = _car_xy_l(res, sv, np.array([o["XBUMP"], o["XTAIL"], o["XTAIL"], o["XBUMP"]]),
+                         np.array([yl, yl, yr, yr]))
         return np.c_[x, y]
 
     def update(k):
+        if k >= len(frames):  # the end, held
+            return []
         i = frames[k]
         p = post_l(res, i)
         post.set_data(p[:, comp[0]], p[:, comp[1]])
         if k and k % 5 == 0:
-            j = frames[k - 5]
-            q = post_l(res, j)
-            (ln,) = ax.plot(
-                q[:, comp[0]],
-                q[:, comp[1]],
-                "-",
-                color=cmap(norm(res.t[j])),
-                lw=1,
-                alpha=0.6,
-                zorder=3,
-            )
-            trail_lines.append(ln)
+            q = post_l(res, frames[k - 5])
+            ax.plot(q[:, comp[0]], q[:, comp[1]], "-", color=cmap(norm(res.t[frames[k - 5]])),
+                    lw=1, alpha=0.6, zorder=3)
         car.set_xy(car_shape(i))
-        label.set_text(
-            f"t = {1000 * res.t[i]:.0f} ms"
-            + ("\n" + res.hit.sentence() if i == len(res.t) - 1 and res.hit else "")
-        )
-        return [post, car, label, *trail_lines]
+        words = f"t = {1000 * res.t[i]:.0f} ms"
+        if i == entry:
+            ax.plot(p[:, comp[0]], p[:, comp[1]], "--", color=HIT_COLOUR, lw=1.5, zorder=4)
+            car.set(ec=HIT_COLOUR, lw=2.5)
+        if entry is not None and i >= entry:
+            words += f"\n{compartment['part']} inside the car since {1000 * enters:.0f} ms"
+        if i == last:
+            words += "\n" + (res.hit.sentence() if res.hit else _legend_title(res).split("\n")[1])
+            if hp is not None:
+                ax.plot(hp[comp[0]], hp[comp[1]], marker="*", ms=14, color="gold", mec="k",
+                        zorder=6)
+        clock.set_text(words)
+        return []
 
-    anim = FuncAnimation(fig, update, frames=len(frames), blit=False)
+    anim = FuncAnimation(fig, update, frames=len(frames) + fps, blit=False)
     anim.save(str(out), writer=animation_writer(out)(fps=fps), dpi=dpi)
     return len(frames)
 

@@ -27,7 +27,7 @@ from deck_emulator.engine import errata as errata_policy
 from deck_emulator.files import write_file
 from deck_emulator.studies.csvfile import csv_text, csv_value
 from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
-from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
+from deck_emulator.studies.distributed import Stopped, run_longest_first  # noqa: F401 - the studies' runner
 from deck_emulator.vocabulary import defaults
 
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
@@ -96,9 +96,13 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
              t_max_s=defaults.T_MAX_S) -> dict:
     """One core run through the engine layer -> {status, error, result, wall_s, warnings,
     outcome}; ``status`` "hit", "no hit" (t_max reached) or "error" (CoreError or any
-    exception, in ``error``); ``result``: the outcome of a run without an error, else None."""
+    exception, in ``error``); ``result``: the outcome of a run without an error, else None.
+    A run past the wall bound (``defaults.MAX_WALL_S``, read as it starts) raises
+    :class:`Stopped` (:func:`stopped_at_wall`): the machine's bound, not the model's, so its
+    scene is run again on resume."""
     engine = CoreEngine(options=options, method=method, rtol=rtol,
-                        atol=rtol if atol is None else atol, t_max_s=t_max_s, trace=False)
+                        atol=rtol if atol is None else atol, t_max_s=t_max_s, trace=False,
+                        max_wall_s=defaults.MAX_WALL_S)
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -108,11 +112,21 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
             return {"status": "error", "error": f"{type(exc).__name__}: {exc}", "result": None,
                     "wall_s": time.perf_counter() - started, "warnings": _warnings(caught),
                     "outcome": None}
+    stopped_at_wall(out, engine.max_wall_s)
     if out.error is not None:
         return {"status": "error", "error": out.error, "result": None, "wall_s": out.run_s,
                 "warnings": _warnings(caught), "outcome": out}
     return {"status": "hit" if out.hit is not None else "no hit", "error": "", "result": out,
             "wall_s": out.run_s, "warnings": _warnings(caught), "outcome": out}
+
+
+def stopped_at_wall(out, max_wall_s: float):
+    """:class:`Stopped` when the core run ``out`` (an Outcome) ended with an error after its
+    wall bound ``max_wall_s`` (the bound ended it: a starved or suspended machine), else
+    ``out``."""
+    if out.error is not None and out.run_s >= max_wall_s:
+        raise Stopped(f"{out.error} (a slow, starved or suspended machine)")
+    return out
 
 
 def _warnings(caught) -> str:

@@ -49,7 +49,9 @@ A scene whose ``fn`` raises is stored with ``status = "failed"`` and the error t
 worker died more than Dask's ``distributed.scheduler.allowed-failures`` times (the worker is
 restarted by its nanny and the task retried on another worker until then) is stored failed with
 Dask's ``KilledWorker`` message. Neither stops the other scenes. Failed scenes count as stored: a
-resume does not run them again (``retry_failed=True`` does).
+resume does not run them again (``retry_failed=True`` does).  A scene stopped by a bound of the
+machine (``fn`` raised :class:`Stopped`: a core run past its wall time) is stored with
+``status = "stopped"`` and why; it does not count as stored, so a resume runs it again.
 
 What a store was made from
 --------------------------
@@ -79,12 +81,15 @@ killed run never leaves a folder locked.  No command deletes a store another run
 Bounds
 ------
 At most ``max_scenes`` (default :data:`MAX_SCENES`) scenes a call (:class:`SceneLimitError`,
-before anything runs).  On an external scheduler (``scheduler=``), the run waits at most
-``worker_wait_s`` (default :data:`WORKER_WAIT_S`) for a worker: at the start, and whenever
-every worker is gone while scenes remain; then it ends with
-:class:`~deck_emulator.errors.RunFailed` naming the scheduler (the scenes completed so far
-stay stored; ``--resume`` runs the rest).  An address Dask cannot reach or parse is a
-:class:`ClusterError`.
+before anything runs).  An external scheduler (``scheduler=``) must take the connection and
+answer Dask's handshake as a scheduler within ``SCHEDULER_CONNECT_S`` (a row of
+:mod:`deck_emulator.vocabulary.defaults`); an address by a scheme this install cannot serve
+(``ucx://`` without its library, ``tls://`` without Dask's TLS settings), one where nothing
+listens, or something else (an HTTP server, a silent port), is a :class:`ClusterError` saying
+what was found there, before anything runs.  The run then waits at most ``worker_wait_s``
+(default ``WORKER_WAIT_S``, the defaults' row) for a worker: at the start, and whenever every
+worker is gone while scenes remain; then it ends with :class:`~deck_emulator.errors.RunFailed`
+naming the scheduler (the scenes completed so far stay stored; ``--resume`` runs the rest).
 """
 
 from __future__ import annotations
@@ -99,7 +104,6 @@ import logging
 import math
 import os
 import shutil
-import tempfile
 import time
 import traceback
 import uuid
@@ -108,9 +112,10 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from deck_emulator import SPAWNED_WORKER_ENV
-from deck_emulator.errors import RunFailed, UsageError
+from deck_emulator.errors import RunFailed, UsageError, process_limits
 from deck_emulator.parallel import progress_bar
-from deck_emulator.vocabulary.defaults import SCENE_STORE
+from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.defaults import SCENE_STORE, WORKER_WAIT_S
 
 __all__ = [
     "run_longest_first",
@@ -129,6 +134,8 @@ __all__ = [
     "BATCH_TASK_MAX",
     "batch_size",
     "Scheduler",
+    "Stopped",
+    "temporary_store",
 ]
 
 #: Columns every stored row has, before the outcome columns ``fn`` returns.
@@ -139,8 +146,6 @@ BATCH_MAX = 256
 
 #: Most scenes one call of :func:`run_scenes` takes.
 MAX_SCENES = 1_000_000
-#: Longest wait (s) for a worker of an external cluster before the run ends as failed.
-WORKER_WAIT_S = 60.0
 LOCK_NAME = ".lock"
 #: what a store's scenes were made from (the module docstring)
 STUDY_NAME = "study.json"
@@ -165,7 +170,20 @@ class SceneLimitError(UsageError, ValueError):
 
 
 class ClusterError(UsageError, ValueError):
-    """The scheduler's address cannot be parsed or reached: bad input, exit status 2."""
+    """The scheduler's address cannot be parsed or reached, or no Dask scheduler answers
+    there: bad input, exit status 2."""
+
+
+class LimitError(UsageError, RuntimeError):
+    """The process's limits (ulimit) keep a worker or a library from starting: exit 2, in one
+    line naming the limits and what to change."""
+
+
+class Stopped(Exception):
+    """Raised by a task's ``fn`` (or answered by a batch ``fn`` for one task): the scene
+    stopped at a bound of the machine, not of the model (a core run past its wall time on a
+    starved or suspended machine).  It is stored with status ``"stopped"`` and why, and a
+    resume runs it again."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -366,30 +384,31 @@ class SceneStore:
 
     def rows(self) -> list[dict]:
         """Every stored row (plain dicts), in the order the files were written."""
-        import pyarrow.parquet as pq
-
+        _, pq = _arrow()
         out: list[dict] = []
         for f in self.files():
-            out.extend(pq.read_table(f).to_pylist())
+            with open(f, "rb") as fh:  # (pyarrow takes a path only as UTF-8)
+                out.extend(pq.read_table(fh).to_pylist())
         return out
 
     def table(self):
         """All rows as one ``pyarrow.Table`` (columns unified; a column missing from a file is
         null there)."""
-        import pyarrow as pa
-
+        pa, _ = _arrow()
         rows = self.rows()
         return pa.Table.from_pylist(rows) if rows else pa.table({c: [] for c in META_COLUMNS})
 
     def ids(self, *, include_failed: bool = True) -> set[str]:
-        import pyarrow.parquet as pq
-
+        """The stored scenes a resume does not run again: those that ended (``ok``), and
+        those that failed unless not ``include_failed``; never a :class:`Stopped` one."""
+        _, pq = _arrow()
+        keep = {"ok", "failed"} if include_failed else {"ok"}
         out: set[str] = set()
         for f in self.files():
-            t = pq.read_table(f, columns=["scene_id", "status"])
-            for sid, st in zip(t.column("scene_id").to_pylist(), t.column("status").to_pylist()):
-                if include_failed or st == "ok":
-                    out.add(sid)
+            with open(f, "rb") as fh:
+                t = pq.read_table(fh, columns=["scene_id", "status"])
+            out.update(sid for sid, st in zip(t.column("scene_id").to_pylist(),
+                                              t.column("status").to_pylist()) if st in keep)
         return out
 
     def by_id(self) -> dict[str, dict]:
@@ -409,16 +428,15 @@ class SceneStore:
         """Write ``rows`` as one new Parquet file, atomically (temporary name, then rename)."""
         if not rows:
             return None
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
+        pa, pq = _arrow()
         self.results.mkdir(parents=True, exist_ok=True)
         name = f"batch-{time.strftime('%Y%m%dT%H%M%S')}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
         final = self.results / f"{name}.parquet"
         tmp = self.results / f".{name}.parquet.tmp"
         table = pa.Table.from_pylist(_uniform(rows))
         try:
-            pq.write_table(table, tmp)
+            with open(tmp, "wb") as fh:  # a path's undecodable bytes: pyarrow takes UTF-8 only
+                pq.write_table(table, fh)
             os.replace(tmp, final)
         except BaseException:
             with contextlib.suppress(FileNotFoundError):
@@ -439,6 +457,21 @@ class SceneStore:
                     p.unlink()
                     n += 1
         return n
+
+
+def _arrow():
+    """pyarrow and its Parquet module, on the system's allocator: pyarrow's own (mimalloc)
+    crashed the process writing a batch under an address-space limit (ulimit -v); a library
+    that cannot load under the process's limits is a :class:`LimitError`."""
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ModuleNotFoundError:
+        raise
+    except ImportError as exc:  # a library found but not loaded: "failed to map segment"
+        raise LimitError(_cannot_load("pyarrow", exc)) from None
+    pa.set_memory_pool(pa.system_memory_pool())
+    return pa, pq
 
 
 def _uniform(rows: list[dict]) -> list[dict]:
@@ -485,7 +518,9 @@ def _call(fn: Callable[[dict], dict], task: dict) -> dict:
 
 def _row_of(out, run_s: float) -> dict:
     """One task's stored row: ``out`` (its outcomes, or the exception that ended it)."""
-    if isinstance(out, Exception):
+    if isinstance(out, Stopped):
+        row = {"status": "stopped", "error": str(out)}
+    elif isinstance(out, Exception):
         tb = traceback.format_exception_only(type(out), out)[-1].strip()
         row = {"status": "failed", "error": tb}
     elif not isinstance(out, dict):
@@ -567,8 +602,9 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
     from distributed import Client, LocalCluster
 
     if scheduler:
+        _reach(scheduler)
         try:
-            client = Client(scheduler, timeout=max(1.0, worker_wait_s))
+            client = Client(scheduler, timeout=defaults.SCHEDULER_CONNECT_S)
         except (ValueError, OSError, TimeoutError) as exc:
             why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise ClusterError(f"--scheduler {scheduler}: cannot reach the scheduler: "
@@ -585,6 +621,13 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
                 client.close()
         return
     n = max(1, int(jobs or os.cpu_count() or 1))
+    _files_for(n)
+    try:  # the workers start in this process's folder: a deleted one failed every start
+        os.getcwd()
+    except FileNotFoundError:
+        import tempfile
+
+        os.chdir(tempfile.gettempdir())  # a relative path named nothing already
     cluster = client = None
     try:
         # workers ignore a terminal's Ctrl-C: the command handles it and closes them.  The
@@ -593,14 +636,17 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
         # second earlier.  It is set only while the workers are spawned.
         with warnings.catch_warnings(), _worker_environment():
             warnings.simplefilter("ignore", UserWarning)  # "port 8787 in use": another HTTP
-            cluster = LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
-                preload=["deck_emulator.studies.worker_preload"],
-            )
+            try:
+                cluster = LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
+                    preload=["deck_emulator.studies.worker_preload"],
+                )
+            except Exception as exc:  # noqa: BLE001 - "Nanny failed to start" and the like
+                raise LimitError(_no_workers(n, exc)) from None
         client = Client(cluster)
         yield client
     finally:
@@ -612,6 +658,97 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
                 cluster.close()
         else:  # a start cut short by a signal
             _close_half_started_clusters()
+
+
+def _files_for(n: int) -> None:
+    """:class:`ClusterError` when the open-file limit cannot hold ``n`` workers (they failed
+    to start one by one, each with a traceback: the rows ``CLUSTER_FILES``, ``WORKER_FILES``
+    of :mod:`deck_emulator.vocabulary.defaults`)."""
+    import resource
+
+    soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
+    try:
+        now = len(os.listdir("/proc/self/fd"))
+    except OSError:  # no /proc: the limit is checked as the workers start
+        return
+    need = now + defaults.CLUSTER_FILES + defaults.WORKER_FILES * n
+    if soft != resource.RLIM_INFINITY and soft < need:
+        fit = (soft - now - defaults.CLUSTER_FILES) // defaults.WORKER_FILES
+        raise LimitError(f"the open-file limit ({soft}, ulimit -n) is too low for {n} "
+                           f"worker process(es), which need about {need}: "
+                           + (f"give --jobs {fit}, or " if fit >= 1 else "")
+                           + f"raise it (ulimit -n {max(need, 1024)})")
+
+
+def _no_workers(n: int, exc: BaseException) -> str:
+    """Why ``n`` workers did not start, in one line: the limits they may have hit."""
+    return _cannot_load(f"{n} worker process(es)", exc, "or give fewer --jobs")
+
+
+def _cannot_load(what: str, exc: BaseException, also: str = "") -> str:
+    why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    limits = ", ".join(process_limits())
+    return (f"could not start {what} ({why[:160]})" + (f" under the limits of {limits}: raise "
+            f"them{', ' + also if also else ''}" if limits else f": {also or 'free memory'}"))
+
+
+def _reach(address: str) -> None:
+    """:class:`ClusterError` in one line unless a Dask scheduler answers at ``address`` by a
+    scheme this install serves, within ``SCHEDULER_CONNECT_S`` for the connection and the
+    handshake together (Dask's own connection timeout leaves the handshake unbounded: a port
+    that accepts and says nothing held a sweep for ever, one that answers HTTP a traceback).
+    An in-process address (``inproc://``) is this process's own cluster: not asked."""
+    import asyncio
+    import concurrent.futures
+
+    from distributed.comm import parse_address
+    from distributed.comm.registry import get_backend
+    from distributed.security import Security
+
+    where, bound = f"--scheduler {address}", defaults.SCHEDULER_CONNECT_S
+    try:
+        scheme, loc = parse_address(address)
+        connector = get_backend(scheme).get_connector()  # ucx:// without its library: none
+    except (ValueError, TypeError, ImportError) as exc:
+        raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
+                           "tcp://HOST:PORT") from None
+    if scheme == "inproc":
+        return
+    args = Security().get_connection_args("client")  # Dask's TLS settings, if any
+    if scheme in ("tls", "wss") and args.get("ssl_context") is None:
+        raise ClusterError(f"{where}: {scheme}:// needs Dask's TLS settings (distributed.comm."
+                           "tls.ca-file, .client.cert, .client.key) and none are set")
+    said = {"connect": f"no connection in {bound:g} s", "answer": "something took the "
+            f"connection and said nothing a Dask scheduler says in {bound:g} s"}
+    stage = ["connect"]
+
+    async def identity():  # Dask's handshake, then the scheduler's "identity"
+        comm = await connector.connect(loc, deserialize=True, **args)
+        stage[0] = "answer"
+        try:
+            await comm.write(comm.handshake_info())
+            await comm.read()
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    with concurrent.futures.ThreadPoolExecutor(1) as pool:  # its own event loop, in any caller
+        try:
+            who = pool.submit(asyncio.run, asyncio.wait_for(identity(), bound)).result()
+        except asyncio.TimeoutError:
+            raise ClusterError(f"{where}: {said[stage[0]]}") from None
+        except Exception as exc:  # noqa: BLE001 - refused, reset, or bytes that are not Dask's
+            if stage[0] == "answer":
+                raise ClusterError(f"{where}: something answered there, not in Dask's protocol "
+                                   "(not a Dask scheduler)") from None
+            cause = exc.__cause__ or exc
+            why = str(cause).splitlines()[0][:120] if str(cause) else type(cause).__name__
+            raise ClusterError(f"{where}: {'not an address' if isinstance(cause, ValueError) else 'nothing listens there'} ({why})") from None
+    kind = who.get("type") if isinstance(who, dict) else None
+    if kind != "Scheduler":
+        raise ClusterError(f"{where}: {'a Dask ' + kind if kind else 'something'} answered "
+                           "there, not a Dask scheduler")
 
 
 #: in the environment of the worker processes an embedded cluster spawns (and only there):
@@ -853,10 +990,8 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
     takes a list of tasks and returns one row (or exception) per task, as :func:`run_scenes`'s
     ``many`` (the studies' core scenes reach ``CoreEngine.run_batch`` so)."""
 
-    from deck_emulator.errors import RunFailed
-
     order = sorted(tasks, key=lambda t: -t["cost"])
-    with tempfile.TemporaryDirectory(prefix="scenes-") as tmp:
+    with temporary_store("scenes-") as tmp:
         store = run_scenes(order, functools.partial(_json_rows if many else _json_row, fn),
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
@@ -868,9 +1003,37 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
         got = stored.get(scene_id(t))
         if got is None or got.get("status") != "ok":
             why = "not run" if got is None else got.get("error")
+            if got is not None and got.get("status") == "stopped":
+                raise RunFailed(f"{desc}: the run {_label(t)} stopped: {why}; the runs that "
+                                "ended are stored, --resume runs it again")
             raise RunFailed(f"{desc}: the run {_label(t)} failed: {why}")
         rows.append(json.loads(got["row_json"]))
     return rows
+
+
+@contextlib.contextmanager
+def temporary_store(prefix: str):
+    """A temporary folder for a store no one asked to keep (``tempfile.TemporaryDirectory``),
+    after removing those of earlier runs killed with SIGKILL: a ``prefix`` folder of the
+    temporary folder older than a minute whose lock no process holds (:func:`store_lock`,
+    held here for the block)."""
+    import fcntl
+    import shutil
+    import tempfile
+
+    home = Path(tempfile.gettempdir())
+    for old in home.glob(f"{prefix}*"):
+        with contextlib.suppress(OSError):
+            if time.time() - old.stat().st_mtime < 60 or old.is_symlink() or not old.is_dir():
+                continue
+            fd = os.open(old / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # BlockingIOError: in use
+                shutil.rmtree(old)
+            finally:
+                os.close(fd)
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp, store_lock(tmp):
+        yield tmp
 
 
 def _label(task: dict) -> str:

@@ -345,8 +345,33 @@ _STYLE = {
 }
 
 
-#: where a core point's tolerance is written, beside the point (offset points)
-_LABEL_AT = {"core DOP853": (5, 3), "core RK45": (5, -9), "core Radau": (-24, 3)}
+#: where a label may go, in points from its point: the nearest first, then further out
+_PLACES = [(dx * r, dy * r) for r in (1, 2, 3.2) for dx, dy in
+           ((5, 3), (5, -9), (-5, 3), (-5, -9), (0, 7), (0, -13), (8, -3), (-8, -3))]
+
+
+def _labels_apart(ax, labelled) -> None:
+    """Write each ``(x, y, text, colour)`` beside its point where it covers no label already
+    written and no point: the first free place of :data:`_PLACES` (beyond the nearest ring
+    with a leader line), on white where a line passes under it.  The core's points lie close together (a method's tolerances take
+    about the same time), and labels written at one fixed offset read as one ('1e43')."""
+    renderer = ax.figure.canvas.get_renderer()
+    dots = ax.transData.transform([(x, y) for x, y, *_ in labelled])
+    taken = []
+    for (x, y, text, colour), dot in zip(labelled, dots):
+        for k, (dx, dy) in enumerate(_PLACES):
+            note = ax.annotate(text, (x, y), textcoords="offset points", xytext=(dx, dy),
+                               ha="left" if dx >= 0 else "right", fontsize=7, color=colour,
+                               bbox=dict(fc="white", ec="none", alpha=0.75, pad=0.3),
+                               arrowprops=dict(arrowstyle="-", color=colour, lw=0.5)
+                               if k >= 8 else None)
+            box = note.get_window_extent(renderer).expanded(1.1, 1.2)
+            if not any(box.overlaps(t) for t in taken) and not any(
+                    box.contains(*d) for d in dots):
+                break
+            if k < len(_PLACES) - 1:
+                note.remove()
+        taken.append(box)
 
 
 def _tolerance_label(rtol: float) -> str:
@@ -360,6 +385,7 @@ def _plot(rows, summary, path: Path, title: str = "") -> None:
     from matplotlib.ticker import NullFormatter
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(15, 7.4), gridspec_kw={"width_ratios": [1.35, 1]})
+    labelled = []
     for series, style in _STYLE.items():
         ok = _ok(rows, series)
         if not ok:
@@ -371,10 +397,9 @@ def _plot(rows, summary, path: Path, title: str = "") -> None:
             if r["engine"] == "emulator":
                 ax.annotate(f"k={r['k']}", (r["wall_s"], r["err_traj_ft"]), textcoords="offset points",
                             xytext=(5, 4), fontsize=8.5, color=style["color"])
-            else:  # each core point by its tolerance, the methods' labels apart
-                ax.annotate(_tolerance_label(r["rtol"]), (r["wall_s"], r["err_traj_ft"]),
-                            textcoords="offset points", xytext=_LABEL_AT.get(series, (5, 4)),
-                            fontsize=7, color=style["color"])
+            else:  # each core point by its tolerance, written once the layout is made
+                labelled.append((r["wall_s"], r["err_traj_ft"], _tolerance_label(r["rtol"]),
+                                 style["color"]))
     ref_err = summary["reference_error_all_ft"]
     if np.isfinite(ref_err) and ref_err > 0:
         ax.axhline(ref_err, color="grey", ls=":", lw=1)
@@ -421,6 +446,7 @@ def _plot(rows, summary, path: Path, title: str = "") -> None:
     bx.grid(True, which="major", alpha=0.4)
     bx.legend(fontsize=8.5, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=1, frameon=False)
     fig.tight_layout()
+    _labels_apart(ax, labelled)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -533,8 +559,8 @@ def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
         what = (f"k = {r['k']}, H = {r['h_s']:.3g} s" if r["engine"] == "emulator"
                 else f"rtol {r['rtol']:g}")
         status = (r["hit"].replace("THE POST HAS HIT THE ", "").lower() if r["status"] == "hit"
-                  else f"**{r['status']}**" + (f" ({r['guard']})" if r["guard"] != r["status"]
-                                                else "") + f": {r['error'][:100]}")
+                  else f"**{r['status']}**" + (f" ({r['guard']})" if r.get("guard", r["status"])
+                                                != r["status"] else "") + f": {r['error'][:100]}")
         table.append([r["series"], what, status, fmt(r.get("err_traj_ft")), fmt(r.get("err_hit_time_s")),
                       fmt(r.get("err_R_ft")), fmt(r.get("err_traj_ref0_ft")), fmt(r["wall_s"]),
                       r.get("steps") or r.get("nfev") or ""])

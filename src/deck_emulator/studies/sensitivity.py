@@ -565,41 +565,41 @@ def _top_inputs(rows: list, n: int) -> list[str]:
 
 
 def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
-    import matplotlib
+    """One panel an outcome that has indices (S1 and ST, bars to the 95 % half-width, the
+    axis wide enough for every bar: they pass 1.0 and 0 at small N); the outcomes that have
+    none (constant over the sample) are named under the title, not drawn as empty panels."""
+    from deck_emulator.studies.common import agg_backend
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = agg_backend()
     outs = [o for o in OUTCOMES if any(r["output"] == o and r["N"] == n for r in rows)]
     outs += [o for o in dict.fromkeys(r["output"] for r in rows) if o not in outs]
-    ncol = 4 if len(outs) > 3 else len(outs)
-    nrow = math.ceil(len(outs) / ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(3.6 * ncol, 3.0 * nrow), squeeze=False)
-    for ax, out in zip(axes.flat, outs):
-        rs = [r for r in rows if r["output"] == out and r["N"] == n]
-        names = [r["input"] for r in rs]
+    of = {o: [r for r in rows if r["output"] == o and r["N"] == n] for o in outs}
+    drawn = [o for o in outs if of[o] and of[o][0]["S1"] is not None]
+    none = [f"{OUTCOMES.get(o, (o,))[0]}: {of[o][0]['note'] if of[o] else 'no data'}"
+            for o in outs if o not in drawn]
+    nrow = max(1, math.ceil(len(drawn) / 4))
+    ncol = max(1, math.ceil(len(drawn) / nrow))  # rows as full as they can be
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.6 * ncol, 3.0 * nrow + 0.3 * bool(none)),
+                             squeeze=False)
+    for ax, out in zip(axes.flat, drawn):
+        rs = of[out]
         x = np.arange(len(rs))
-        label = OUTCOMES.get(out, (out, ""))[0]
-        ax.set_title(label, fontsize=8)
-        if not rs or rs[0]["S1"] is None:
-            ax.text(0.5, 0.5, (rs[0]["note"] if rs else "no data").replace(": ", ":\n"),
-                    ha="center", va="center", fontsize=7, transform=ax.transAxes)
-        else:
-            s1 = [r["S1"] for r in rs]
-            st = [r["ST"] for r in rs]
-            ax.bar(x - 0.2, s1, 0.4, yerr=[r["S1_conf"] for r in rs], capsize=2, label="S1")
-            ax.bar(x + 0.2, st, 0.4, yerr=[r["ST_conf"] for r in rs], capsize=2, label="ST")
-            ax.axhline(0, color="k", lw=0.5)
-            ax.set_ylim(min(-0.1, min(s1) - 0.1), max(1.05, max(st) + 0.1))
-        ax.set_xticks(x, names, rotation=45, ha="right", fontsize=7)
+        ax.set_title(OUTCOMES.get(out, (out, ""))[0], fontsize=8)
+        ends = []
+        for shift, key in ((-0.2, "S1"), (0.2, "ST")):
+            v, e = np.array([r[key] for r in rs]), np.array([r[f"{key}_conf"] for r in rs])
+            ax.bar(x + shift, v, 0.4, yerr=e, capsize=2, label=key)
+            ends += [np.nanmin(v - e), np.nanmax(v + e)]
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_ylim(min(-0.1, ends[0], ends[2]) - 0.05, max(1.05, ends[1], ends[3]) + 0.05)
+        ax.set_xticks(x, [r["input"] for r in rs], rotation=45, ha="right", fontsize=7)
         ax.tick_params(axis="y", labelsize=7)
-    for ax in list(axes.flat)[len(outs):]:
+    for ax in list(axes.flat)[len(drawn):]:
         ax.axis("off")
-    for ax in axes.flat:
-        if ax.containers:
-            ax.legend(fontsize=7)
-            break
-    fig.suptitle(title + f" (N = {n}; bars: 95 % confidence)", fontsize=9)
+    if drawn:
+        axes.flat[0].legend(fontsize=7)
+    fig.suptitle(title + f" (N = {n}; bars: 95 % confidence)"
+                 + "".join(f"\n{w}" for w in none), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -456,6 +456,11 @@ def _short(msg: str) -> str:
     return msg.replace(" OF THE VEHICLE", "").lower()
 
 
+def _per_cent(fraction, spec: str) -> str:
+    """A relative drift as the README and the figure both give it: in per cent."""
+    return fmt(None if fraction is None else 100 * fraction, spec)
+
+
 def _cell_text(r, engine):
     if engine == "emulator":
         cls = r["emulator_class"]
@@ -500,7 +505,7 @@ def _plot_extremes(rows, path: Path) -> None:
             ax.text(j * 0.5 + 0.245, y, _cell_text(r, engine), ha="center", va="center", fontsize=8)
         drift = r.get("emulator_free_flight_energy_drift")
         if _finite(drift):
-            ax.text(1.005, y, f"{100 * drift:+.2g} %", ha="left", va="center", fontsize=8)
+            ax.text(1.005, y, f"{_per_cent(drift, '+.2g')} %", ha="left", va="center", fontsize=8)
     ax.text(0.245, n - 0.2, "emulator (k = 0, as printed)", ha="center", fontsize=9.5, weight="bold")
     ax.text(0.745, n - 0.2, "core (legacy preset, DOP853)", ha="center", fontsize=9.5, weight="bold")
     ax.text(1.005, n - 0.2, "emulator's free-\nflight energy drift", ha="left", fontsize=8.5,
@@ -548,7 +553,7 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
         f"(the *launch energy*) within {100 * AGREE_KE:.0f} %; **same hit, off** when the hit "
         "is the same but further off; **other hit** when it ends cleanly with another hit. "
         "Energy drift: (E_end - E_start) / E_start over the free "
-        "flight, E = kinetic + W G (ZZ + HEIGHT).",
+        "flight in per cent, as the figure gives it, E = kinetic + W G (ZZ + HEIGHT).",
         "",
         "![stability map](stability_map.png)",
         "",
@@ -571,12 +576,14 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
             r["emulator_class"], _cell_text(r, "emulator"), _cell_text(r, "core"),
             _cell_text(r, "physical"),
             fmt(r.get("launch_ke_rel_diff"), "+.1%"), fmt(r.get("traj_diff_ft"), ".2g"),
-            fmt(r.get("emulator_free_flight_energy_drift"), "+.2e"), fmt(r.get("core_free_flight_energy_drift"), "+.1e"),
+            _per_cent(r.get("emulator_free_flight_energy_drift"), "+.2g"),
+            _per_cent(r.get("core_free_flight_energy_drift"), "+.1e"),
         ])
     lines += [md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
                         "core's end, physical preset",
                         "launch energy, emulator vs core", "largest mass-centre distance (ft)",
-                        "emulator free-flight drift", "core free-flight drift"], table), ""]
+                        "emulator free-flight drift (%)", "core free-flight drift (%)"],
+                       table), ""]
     errors = [r for r in rows
               if r.get("emulator_error") or r.get("core_error") or r.get("physical_error")]
     if errors:
@@ -740,8 +747,8 @@ def failure_modes(rows, summary) -> list[str]:
         out.append(
             "**Energy drift in free flight.** With gravity alone the post's energy should stay "
             f"constant; the emulator's explicit steps add energy{b}, most in `{r['scene']}` "
-            f"({100 * r['emulator_free_flight_energy_drift']:+.2g} %); the core's largest relative drift is "
-            f"{max(c, default=math.nan):.1e}. Figure: {EXT} (last column).")
+            f"({100 * r['emulator_free_flight_energy_drift']:+.2g} %); the core's largest drift is "
+            f"{100 * max(c, default=math.nan):.1e} %. Figure: {EXT} (last column).")
     return out
 
 

@@ -47,7 +47,7 @@ from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
 from deck_emulator.engine.sources import Deck, read_deck
 from deck_emulator.studies.csvfile import csv_text
-from deck_emulator.studies.distributed import run_scenes, scene_id
+from deck_emulator.studies.distributed import run_scenes, scene_id, temporary_store
 from deck_emulator.studies.report_tables import REPORT, report_comment
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Surface
@@ -300,7 +300,11 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
-    at a time).  A scene that cannot run is a row saying why, not a crash."""
+    at a time).  A scene that cannot run is a row saying why, not a crash; a core run past
+    its wall bound is :class:`~deck_emulator.studies.distributed.Stopped` instead (the
+    machine's bound: its scene runs again on resume)."""
+    from deck_emulator.studies.common import stopped_at_wall
+
     bases: dict = {}
     decks = [_scene_of(job, bases) for job in jobs]
     groups: dict[str, list[int]] = {}
@@ -308,6 +312,7 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
         groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
                           []).append(i)
     outcomes: list = [None] * len(jobs)
+    walls = [math.inf] * len(jobs)  # the core's wall bound, by scene
     for members in groups.values():
         first = jobs[members[0]]
         engine = engine_for(first["engine"], **first["options"])
@@ -322,10 +327,14 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
             got = [None] * len(members)
         for i, res in zip(members, got):
             outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
-    rows = []
-    for job, (deck, name), res in zip(jobs, decks, outcomes):
-        report = _report_of(job, deck)
-        rows.append(result_row(res, job["speed"], job["angle"], report))
+            walls[i] = getattr(engine, "max_wall_s", math.inf)
+    rows: list = []
+    for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
+        try:
+            rows.append(result_row(stopped_at_wall(res, wall), job["speed"], job["angle"],
+                                   _report_of(job, deck)))
+        except Exception as exc:  # noqa: BLE001 - Stopped: the store's, not a row
+            rows.append(exc)
     return rows
 
 
@@ -340,7 +349,8 @@ def _run_one(engine, engine_name: str, deck: Deck, name: str) -> Outcome:
 def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
     """Worker (Dask): a batch of scenes -> one row each, as JSON in one column (the store's own
     columns, such as ``error`` and ``run_s``, never mix with the row's)."""
-    return [{"row_json": json.dumps(row)} for row in _scene_rows(jobs)]
+    return [row if isinstance(row, Exception) else {"row_json": json.dumps(row)}
+            for row in _scene_rows(jobs)]
 
 
 def sweep(
@@ -371,7 +381,7 @@ def sweep(
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
-    with tempfile.TemporaryDirectory(prefix="sweep-") as tmp:
+    with temporary_store("sweep-") as tmp:
         store = run_scenes(todo, _stored_scene_jobs, store_dir=store_dir or tmp, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True)

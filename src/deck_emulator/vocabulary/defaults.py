@@ -96,6 +96,17 @@ MAX_APPROACH_ANGLE_DEG = 90.0
 #: where a command that runs many scenes (sweep, sensitivity, the studies) keeps them as they
 #: finish, inside its output folder, for --resume
 SCENE_STORE = ".scenes"
+#: longest wait for an external Dask scheduler (--scheduler) to take the connection and answer
+#: as a scheduler, s: an address where nothing, or something else, listens is refused after it
+SCHEDULER_CONNECT_S = 10.0
+#: longest wait for a worker of an external cluster (at the start, and whenever every worker is
+#: gone while scenes remain) before the run ends as failed, s (--worker-wait)
+WORKER_WAIT_S = 60.0
+#: files a command's embedded Dask cluster holds open beside those open before it starts, and
+#: more for each worker process (measured with Dask 2026.8: 24 + 9 a worker at rest); a
+#: command checks them against the open-file limit (ulimit -n) before it starts the workers
+CLUSTER_FILES = 16
+WORKER_FILES = 10
 
 #: the stability study's core (and the studies' one-scene core runs, studies.common.run_core):
 #: its grid holds scenes up to 1e10 lb/ft springs and 120 mph, where 1e-9 keeps the stiff rows

@@ -7,7 +7,7 @@ line printer of :mod:`deck_emulator.legacy.printer`.
 """
 
 from .parse import EDIT_DESCRIPTORS, INTRINSICS, STATEMENTS, DialectError
-from .run import LISTING_WATCH, Program, Runner, listing_program
+from .run import LISTING_WATCH, STEP_LITERALS, Program, Runner, listing_program
 
 __all__ = ["DialectError", "EDIT_DESCRIPTORS", "INTRINSICS", "LISTING_WATCH", "Program",
-           "Runner", "STATEMENTS", "listing_program"]
+           "Runner", "STATEMENTS", "STEP_LITERALS", "listing_program"]
