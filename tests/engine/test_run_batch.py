@@ -146,3 +146,37 @@ def test_batched_true_without_a_batched_core_says_so(monkeypatch):
     monkeypatch.setattr(core, "simulate_batch", None, raising=False)  # as if not there
     with pytest.raises(ValueError, match="no simulate_batch"):
         CoreEngine(batched=True).run_batch([read_deck(deck_path("steel40"))])
+
+
+def test_each_quantity_says_which_arrays_it_reads():
+    """The registry's declarations the engine is asked by: the hit's time and the ΔVs read
+    none (the events and the core's dense solution), the occupant-risk pulse the car's
+    velocity over the contact, the clearances the post's points too."""
+    assert quantities.arrays_for(["hit_time_s", "delta_v_crush_mph",
+                                  "delta_v_contact_mph", "max_decel_g"]) == ()
+    assert quantities.arrays_for(["oiv_m_s", "hit_time_s"]) == ("car",)
+    assert quantities.arrays_for(["roof_clearance_ft"]) == ("car", "points")
+    assert all(set(q.reads) <= set(quantities.ARRAYS) for q in quantities.QUANTITIES.values())
+    assert not any("pulse" in q.reads for q in quantities.QUANTITIES.values())
+
+
+@pytest.mark.parametrize("arrays", [(), ("car",), ("car", "points"), ("pulse",)])
+def test_an_engine_asked_for_fewer_arrays_gives_the_same_numbers(arrays):
+    """An outcome made with only the arrays ``arrays`` gives every quantity that reads no
+    other array the very value (bit for bit) of the outcome made with every array, on the
+    compiled batch a study runs, for runs that end and one that ends without a hit; the
+    arrays not asked for are not made."""
+    scenes = _scenes()
+    for kw in ({}, {"t_max_s": 0.05}):  # 50 ms: in contact still, no hit
+        full = CoreEngine(**kw).run_batch(scenes)
+        lean = CoreEngine(arrays=arrays, **kw).run_batch(scenes)
+        for a, b in zip(full, lean):
+            assert a.events == b.events and a.error == b.error and (a.hit is None) == bool(kw)
+            for name, q in quantities.QUANTITIES.items():
+                if set(q.reads) <= set(arrays):
+                    x, y = q.of(a), q.of(b)
+                    assert x == y or (x is None and y is None) or (
+                        math.isnan(x) and math.isnan(y)), (name, x, y)
+            assert (b.t.size > 0) == bool({"car", "points"} & set(arrays))
+            assert bool(b.points) == ("points" in arrays)
+            assert (b.pulse_t.size > 0) == ("pulse" in arrays)

@@ -67,14 +67,13 @@ def test_input_ranges_are_parsed_and_checked():
 
 
 def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
-    plain = sa.outcomes_of(sa._run_scene({}, "core", "legacy", "steel40"))
-    nominal = sa.outcomes_of(
-        sa._run_scene(
-            {"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333},
-            "core", "legacy", "steel40",
-        )
-    )
-    changed = sa.outcomes_of(sa._run_scene({"friction_lb": 465.0}, "core", "legacy", "steel40"))
+    def run(inputs):
+        return sa.scene_task({"deck": "steel40", "engine": "core", "preset": "legacy",
+                              "inputs": inputs})
+
+    plain = run({})
+    nominal = run({"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333})
+    changed = run({"friction_lb": 465.0})
     for k in sa.OUTCOMES:
         assert nominal[k] == pytest.approx(plain[k], rel=1e-9, abs=1e-12), k
     assert changed["delta_v_contact_mph"] != pytest.approx(plain["delta_v_contact_mph"], rel=1e-6)
@@ -196,3 +195,50 @@ def test_a_study_whose_every_scene_fails_exits_3_without_tables(tmp_path, capsys
     err = capsys.readouterr().err
     assert "every scene failed" in err and "mass must be positive" in err
     assert not (out / "sensitivity.csv").exists() and not (out / "sensitivity.md").exists()
+
+
+def test_a_studys_rows_are_the_whole_outcomes_numbers_bit_for_bit():
+    """The study's rows (its engine asked only for the arrays its quantities read, its row
+    made from those quantities) hold, number for number, what the sweep's row says of the
+    same scenes' whole outcomes (every array made): the same definitions, the same numbers.
+    The sample's own scenes (friction inputs included), one that stops at its cap on the
+    spring force and one on the emulator."""
+    import dataclasses
+
+    from deck_emulator.engine import CoreEngine
+    from deck_emulator.studies.sweep import result_row
+    from deck_emulator.vocabulary.defaults import OUTCOME_ARRAYS
+
+    base = {"deck": "steel40", "engine": "core", "preset": "legacy"}
+    problem = sa.problem_for(sa.DEFAULT_INPUTS)
+    tasks = sa.tasks_for(problem, sa.sample(problem, 4), base)
+    tasks += [{**base, "inputs": {"WV": 120.0, "FCONST": 9000.0}},
+              {**base, "engine": "emulator", "inputs": {"WV": 90.0}}]
+    rows = sa.scene_tasks(tasks)
+    assert len(rows) == len(tasks) == 4 * 8 + 2
+    for task, row in zip(tasks, rows):
+        engine, deck, name, scene = sa._prepare(task["inputs"], task["engine"],
+                                                task["preset"], task["deck"])
+        if isinstance(engine, CoreEngine):
+            assert engine.arrays == ("car", "points")  # oiv's pulse, the roof clearance
+            engine = dataclasses.replace(engine, arrays=OUTCOME_ARRAYS)
+            (whole,) = engine.run_batch([scene if scene is not None else deck], names=[name])
+            assert whole.pulse_t.size  # every array made
+        else:
+            whole = engine.run(deck, name=name)
+        ref = result_row(whole, whole.speed_mph, whole.angle_deg)
+        surface = ref["hit_surface"].upper()
+        expected = {
+            "hit_surface": surface or "NONE",
+            "hits_car": float(surface != "GROUND") if surface else None,
+            "hits_roof": float(surface in ("WINDSHIELD", "TOP")) if surface else None,
+            "hit_time_ms": None if ref["hit_time_s"] is None else 1000 * ref["hit_time_s"],
+            **{k: ref[k] for k in ("delta_v_crush_mph", "delta_v_contact_mph", "max_decel_g",
+                                   "oiv_m_s", "roof_clearance_ft")},
+            "engine_error": ref["error"],
+        }
+        got = dict(row)
+        assert got.pop("engine_run_s") > 0
+        assert got == expected, task
+    assert sum(r["roof_clearance_ft"] is not None for r in rows) > 0
+    assert len({r["delta_v_contact_mph"] for r in rows}) > 20

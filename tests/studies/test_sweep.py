@@ -238,3 +238,28 @@ def test_the_angle_bound_is_the_stability_studys_largest_angle(tmp_path):
         call("sweep", speeds="40", angles="90.5", out=str(tmp_path / "x"))
     assert call("sweep", speeds="40", angles="90", erratum=("ed-direction",), jobs=1,
                 quiet=True, out=str(tmp_path / "y")).exit_status == 0
+
+
+def test_a_core_row_made_without_the_contact_force_is_the_whole_outcomes_row():
+    """The sweep asks the core for the arrays its row reads (not the force on the car, which
+    only pictures draw); the row is, value for value, the row of the outcome with every
+    array."""
+    import math
+
+    from deck_emulator.decks import path as deck_path
+    from deck_emulator.engine import CoreEngine
+
+    assert "pulse" not in sweep.ROW_ARRAYS
+    base = read_deck(deck_path("steel40"))
+    cases = ((40.0, 0.0), (20.0, 15.0), (40.0, 30.0), (60.0, 45.0))
+    decks = [sweep.scene_deck(base, s, a) for s, a in cases]
+    whole = CoreEngine().run_batch(decks)
+    lean = CoreEngine(arrays=sweep.ROW_ARRAYS).run_batch(decks)
+    for (s, a), x, y in zip(cases, whole, lean):
+        rx, ry = sweep.result_row(x, s, a), sweep.result_row(y, s, a)
+        rx.pop("run_s"), ry.pop("run_s")
+        assert rx.keys() == ry.keys()
+        for k in rx:
+            assert rx[k] == ry[k] or (isinstance(rx[k], float) and math.isnan(rx[k])
+                                      and math.isnan(ry[k])), (s, a, k)
+        assert x.pulse_t.size and not y.pulse_t.size

@@ -304,7 +304,9 @@ class CoreEngine:
     ``t_max_s``: simulated time at most, ``max_wall_s``: wall time at most (every default:
     :mod:`deck_emulator.vocabulary.defaults`, the same for every door);
     ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
-    ``trace``: sample them at all; ``shaft_contact``: True or False sets the option of that
+    ``trace``: sample them at all; ``arrays``: which of them
+    (:data:`~deck_emulator.engine.quantities.ARRAYS`, default all; a study asks for what its
+    quantities read: ``quantities.arrays_for``); ``shaft_contact``: True or False sets the option of that
     name (the shaft and arms checked against the car) over the preset's, None keeps it;
     ``batched``: how :meth:`run_batch` solves its scenes -- True: the compiled batched core
     (``deck_emulator.core.simulate_batch``), False: one :meth:`simulate` after another (the
@@ -322,6 +324,7 @@ class CoreEngine:
     sample_contact_s: float = defaults.SAMPLE_CONTACT_S
     sample_free_s: float = defaults.SAMPLE_FREE_S
     trace: bool = True
+    arrays: tuple[str, ...] = defaults.OUTCOME_ARRAYS
     batched: bool | None = None
     name = "core"
 
@@ -469,8 +472,12 @@ class CoreEngine:
 
         from .outcome import Outcome
 
-        scene = (source if isinstance(source, Scene)
-                 else Scene.from_deck(source, name=source_name(source), checked=False))
+        if isinstance(source, Scene):
+            scene = source
+        elif not isinstance(r, Exception):  # the deck's scene as the core checked and ran it
+            scene = r.scene
+        else:  # the deck as it is (the core refused it, or its run stopped)
+            scene = Scene.from_deck(source, name=source_name(source), checked=False)
         out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
                       arithmetic="IEEE double",
                       contact_test="segments" if self.model_options().shaft_contact
@@ -498,6 +505,27 @@ class CoreEngine:
         return out.made()
 
     def _arrays(self, out: Outcome, r) -> None:
+        """The outcome's sampled arrays that :attr:`arrays` asks for, and no others."""
+        import numpy as np
+
+        asked = set(self.arrays)
+        if not asked <= set(defaults.OUTCOME_ARRAYS):
+            raise ValueError(f"arrays {sorted(asked)}: not among {defaults.OUTCOME_ARRAYS}")
+        if asked & {"car", "points"}:
+            self._sampled(out, r, points="points" in asked)
+        if "pulse" in asked:
+            t_f, force = r.trajectory.contact_force(self.sample_contact_s / 2)
+            car, g = r.scene.vehicle, r.scene.environment.gravity_ft_s2
+            out.pulse_t = t_f
+            if car is None:
+                out.pulse_g = np.zeros(0)
+            else:  # force on the car along +XV; the car moves towards -XV when VVB < 0
+                sign = 1.0 if car.initial_velocity_ft_s < 0 else -1.0
+                out.pulse_g = force_in_g(force, car.mass_slug, g) * sign
+
+    def _sampled(self, out: Outcome, r, *, points: bool) -> None:
+        """``t``, ``sv``, ``vv``, ``free`` on the sampling grid; with ``points`` the post's
+        points on it and C at the hit."""
         import numpy as np
 
         traj = r.trajectory
@@ -511,23 +539,17 @@ class CoreEngine:
         t = np.unique(np.clip(grid, t0, t_end))
         out.t = t
         state = traj.state(t)  # evaluated once for the points, the mass centre and the car
-        allp = traj.points_of(state)
-        out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C", "U") if k in allp}
-        out.points["CM"] = np.asarray(state[0:3]).T
         veh = state[13:15]
         out.sv, out.vv = np.asarray(veh[0]), np.asarray(veh[1])
         out.free = t > t_c + 1e-12
+        if not points:
+            return
+        allp = traj.points_of(state)
+        out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C", "U") if k in allp}
+        out.points["CM"] = np.asarray(state[0:3]).T
         if "C" in out.points and out.hit_time_s is not None:
             c = out.to_l(traj.point("C", min(out.hit_time_s, t_end)))
             out.terminal["C"] = tuple(float(x) for x in c)
-        t_f, force = traj.contact_force(self.sample_contact_s / 2)
-        car, g = r.scene.vehicle, r.scene.environment.gravity_ft_s2
-        out.pulse_t = t_f
-        if car is None:
-            out.pulse_g = np.zeros(0)
-        else:  # force on the car along +XV; the car moves towards -XV when VVB < 0
-            sign = 1.0 if car.initial_velocity_ft_s < 0 else -1.0
-            out.pulse_g = force_in_g(force, car.mass_slug, g) * sign
 
 
 def compile_core(wait) -> None:

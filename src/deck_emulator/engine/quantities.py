@@ -39,13 +39,22 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
+from deck_emulator.vocabulary.defaults import OUTCOME_ARRAYS
 from deck_emulator.vocabulary.units import speed_lost_mph
 
-__all__ = ["Quantity", "QUANTITIES", "value", "values", "names", "definitions_help", "pulse",
-           "clearance", "unavailable", "why_none", "speed_lost_at"]
+__all__ = ["Quantity", "QUANTITIES", "ARRAYS", "value", "values", "names", "definitions_help",
+           "pulse", "clearance", "unavailable", "why_none", "speed_lost_at", "arrays_for"]
 
 #: what a quantity may need of its run (see the module's docstring)
 NEEDS = ("end", "contact", None)
+
+#: The sampled arrays an outcome may carry, each made only when asked (the core's
+#: ``CoreEngine.arrays``; the emulator's accepted steps are its arrays, made whole or not at
+#: all): ``car`` -- ``t``, ``sv``, ``vv``, ``free`` on the sampling grid (the occupant-risk
+#: pulse reads them); ``points`` -- the post's points on that grid and C at the hit (the
+#: clearances, the attitude, the pictures; they come with ``car``); ``pulse`` -- ``pulse_t``,
+#: ``pulse_g``, the force on the car over the contact (the pictures only).
+ARRAYS = OUTCOME_ARRAYS
 
 
 @dataclass(frozen=True)
@@ -53,7 +62,9 @@ class Quantity:
     """``name`` (the JSON key and CSV column), ``unit`` and ``label`` as a table shows them,
     ``digits`` shown, ``what`` it is in one line (with its source where it is a criterion's
     reading), ``value(outcome)`` in the unit of the name, ``scale``: shown = value * scale,
-    ``needs``: what of the run it needs (:data:`NEEDS`)."""
+    ``needs``: what of the run it needs (:data:`NEEDS`); ``reads``: the sampled arrays
+    (:data:`ARRAYS`) its definition reads -- none where it reads the events, the engine's
+    own numbers or the core's dense solution (a ΔV: ``Outcome.car_velocity``)."""
 
     name: str
     label: str
@@ -63,6 +74,7 @@ class Quantity:
     value: Callable[[object], float | None]
     scale: float = 1.0
     needs: str | None = "end"
+    reads: tuple[str, ...] = ()
 
     def of(self, outcome) -> float | None:
         """The value for ``outcome`` (``None`` where it has none, where its run stopped before
@@ -195,9 +207,18 @@ def speed_lost_at(o, t: float | None) -> float | None:
     return None if v is None else speed_lost_mph(v0, v)
 
 
+def arrays_for(which: Iterable[str]) -> tuple[str, ...]:
+    """The sampled arrays (:data:`ARRAYS`, in that order) the quantities ``which`` read: what
+    an engine must make for them, and no more."""
+    wanted = {a for name in which for a in QUANTITIES[name].reads}
+    return tuple(a for a in ARRAYS if a in wanted)
+
+
 def _speed_lost_by(instant: str):
     return lambda o: speed_lost_at(o, getattr(o, instant))
 
+
+_CAR, _POINTS = ("car",), ("car", "points")  # the points come on the car's grid
 
 _REGISTRY = (
     Quantity("hit_time_s", "post hits", "ms", 1, "time of the hit that ends the run",
@@ -239,25 +260,26 @@ _REGISTRY = (
              _attr("max_decel_every_step_g"), needs="contact"),
     Quantity("max_decel_10ms_g", "largest 10 ms average deceleration", "g", 2,
              "the largest average deceleration of the car over any 10 ms window of the contact",
-             _of_pulse("max_decel_10ms_g"), needs="contact"),
+             _of_pulse("max_decel_10ms_g"), needs="contact", reads=_CAR),
     Quantity("oiv_m_s", "occupant impact velocity (OIV)", "m/s", 2,
              "flail-space model (0.6 m): the occupant's speed relative to the car when it "
              "strikes the interior; judged by the cited limits of NCHRP Report 350 and MASH "
              "(engine.safety.CRITERIA)",
-             _of_pulse("oiv_m_s"), needs="contact"),
+             _of_pulse("oiv_m_s"), needs="contact", reads=_CAR),
     Quantity("ora_g", "occupant ridedown acceleration (ORA)", "g", 2,
              "the largest 10 ms average deceleration of the car after the occupant strikes; "
              "judged by the cited limits (engine.safety.CRITERIA)",
-             _of_pulse("ora_g"), needs="contact"),
+             _of_pulse("ora_g"), needs="contact", reads=_CAR),
     Quantity("occupant_strike_time_s", "occupant strikes the interior", "ms", 1,
              "flail-space model: when the occupant has moved 0.6 m relative to the car "
-             "(none: never)", _of_pulse("occupant_strike_time_s"), 1000.0, needs="contact"),
+             "(none: never)", _of_pulse("occupant_strike_time_s"), 1000.0, needs="contact",
+             reads=_CAR),
     Quantity("body_clearance_ft", "least clearance above the car body", "ft", 3,
              "the post's least height above the car's outline (hood, roof, trunk) while over "
-             "it in free flight, every arm included", _of_clearance("body_ft")),
+             "it in free flight, every arm included", _of_clearance("body_ft"), reads=_POINTS),
     Quantity("roof_clearance_ft", "least clearance above the roof", "ft", 3,
              "the same over the passenger compartment only (windshield base to the end of the "
-             "top)", _of_clearance("roof_ft")),
+             "top)", _of_clearance("roof_ft"), reads=_POINTS),
     Quantity("launch_ke_ftlb", "post's kinetic energy as the car lets go", "ft·lb", 1,
              "translational plus rotational kinetic energy of the post when its contact with "
              "the car ends", lambda o: _energies(o)["launch_ke_ftlb"], needs="contact"),
@@ -275,24 +297,25 @@ _REGISTRY = (
              "for the upright post the rotation about ZL, negative = clockwise seen from "
              "above): the final attitude as a spin about the initial axis followed by the "
              "smallest swing of the axis, read from P, Q, R (engine.attitude.spin_deg)",
-             lambda o: _attitude().arm_spin_deg(o, "end")),
+             lambda o: _attitude().arm_spin_deg(o, "end"), reads=_POINTS),
     Quantity("arm_spin_release_deg", "arm's spin about the post's axis, car lets go", "deg", 1,
              "the same rotation from t = 0 to the loss of contact with the car",
-             lambda o: _attitude().arm_spin_deg(o, "release"), needs="contact"),
+             lambda o: _attitude().arm_spin_deg(o, "release"), needs="contact",
+             reads=_POINTS),
     *(Quantity(f"terminal_{p.lower()}_{ax.lower()}_ft", f"{ax} of {what} at the end", "ft", 2,
                f"{ax} of {what} at the hit (the report's XL, YL, ZL axes: origin on the ground "
                f"under the base, +YL away from the highway; Tables 11 and 12's {ax[0]}{p}L)",
-               _terminal(p, i))
+               _terminal(p, i), reads=_POINTS)
       for p, what in (("P", "the top P"), ("Q", "the base Q"), ("R", "the luminaire end R"),
                       ("U", "the second luminaire end U"))
       for i, ax in enumerate(("XL", "YL", "ZL"))),
     *(Quantity(f"terminal_cm_{ax.lower()}_ft", f"{ax} of the mass centre at the end", "ft", 2,
                f"{ax} of the post's mass centre at the hit (the report's axes)",
-               _terminal("CM", i))
+               _terminal("CM", i), reads=_POINTS)
       for i, ax in enumerate(("XL", "YL"))),
     *(Quantity(f"{name}_yl_shift_ft", f"{what} moved across the road", "ft", 2,
                f"YL of {what} at the hit less its YL at t = 0 (positive: away from the "
-               "highway, the arm reaching over it along -YL)", _yl_shift(p))
+               "highway, the arm reaching over it along -YL)", _yl_shift(p), reads=_POINTS)
       for p, name, what in (("R", "luminaire", "the luminaire end R"),
                             ("U", "second_luminaire", "the second luminaire end U"))),
 )

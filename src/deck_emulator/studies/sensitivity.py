@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import functools
 import io
 import math
 import time
@@ -59,7 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from deck_emulator import decks
-from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords
+from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords, quantities
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
@@ -68,7 +69,6 @@ from deck_emulator.studies.distributed import (
     run_scenes,
     scene_id,
 )
-from deck_emulator.studies.sweep import result_row
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
 from deck_emulator.vocabulary.defaults import SCENE_STORE
@@ -89,6 +89,8 @@ __all__ = [
     "tasks_for",
     "run_study",
     "analyse",
+    "REPORTED",
+    "study_row",
     "scene_task",
     "scene_tasks",
     "ishigami_task",
@@ -148,7 +150,6 @@ OUTCOMES: dict[str, tuple[str, str]] = {
     "oiv_m_s": ("occupant impact velocity", "m/s"),
     "roof_clearance_ft": ("least clearance above the roof", "ft"),
 }
-CAR_SURFACES = ("HOOD", "WINDSHIELD", "TOP", "TRUNK", "FRONT", "SIDE")
 ROOF_SURFACES = ("WINDSHIELD", "TOP")
 
 
@@ -202,6 +203,40 @@ def _base_deck(deck: str):
     return _DECKS[deck]
 
 
+#: The registry's quantities the study reports (:data:`OUTCOMES` are read from them and the
+#: hit): its engines compute these and what they need, and nothing else.
+REPORTED = ("hit_time_s", "delta_v_crush_mph", "delta_v_contact_mph", "max_decel_g",
+            "oiv_m_s", "roof_clearance_ft")
+
+
+@functools.lru_cache(maxsize=None)
+def _core_engine(preset: str, shaft_contact: bool | None, scene_friction: bool) -> CoreEngine:
+    """The core engine of a study's scenes: the preset's, making only the arrays
+    :data:`REPORTED` reads; with ``scene_friction`` the listing's friction switched off (the
+    scene's used).  One object per setting, so that a batch's scenes run together."""
+    core = CoreEngine(**core_keywords(preset, shaft_contact),
+                      arrays=quantities.arrays_for(REPORTED))
+    if not scene_friction:
+        return core
+    return dataclasses.replace(
+        core, options=core.model_options().replace(listing_friction=False))
+
+
+@functools.lru_cache(maxsize=64)
+def _deck_with(deck: str, values: tuple):
+    """The deck ``deck`` with ``values`` ((name, value) pairs), punched; kept for the next
+    scenes of a batch (Saltelli's scheme repeats a row's deck values in the rows that change
+    only a scene input)."""
+    base = _base_deck(deck)
+    return base.with_values(**dict(values)) if values else base
+
+
+@functools.lru_cache(maxsize=64)
+def _deck_scene(deck: str, values: tuple):
+    """:func:`_deck_with`'s deck as the core's scene."""
+    return CoreEngine().scene(_deck_with(deck, values))
+
+
 def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
              shaft_contact: bool | None = None):
     """What one scene runs: ``(engine, deck, name, scene)`` -- the engine object, the deck
@@ -217,37 +252,25 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
         raise ValueError(f"unknown input(s) {sorted(unknown)}")
     if scene_values and engine != "core":
         raise ValueError(f"{sorted(scene_values)}: only the core has base friction inputs")
-    base = _base_deck(deck)
-    d = base.with_values(**deck_values) if deck_values else base
+    d = _deck_with(deck, tuple(deck_values.items()))
     name = Path(deck).stem
     if engine == "emulator":
         return EmulatorEngine(errata=tuple(errata)), d, name, None
-    core = CoreEngine(**core_keywords(preset, shaft_contact))
+    core = _core_engine(preset, shaft_contact, bool(scene_values))
     scene = None
     if scene_values:  # the deck has no friction field: the base's friction on the scene
-
-        scene = core.scene(d)
+        scene = _deck_scene(deck, tuple(deck_values.items()))
         friction = BaseFriction(
             force_lb=scene_values.get("friction_lb", LISTING_FRICTION_LB),
             slip_window_ft=scene_values.get("friction_travel_ft", LISTING_FRICTION_TRAVEL_FT))
         scene = dataclasses.replace(
             scene, base=dataclasses.replace(scene.base, friction=friction))
-        core = CoreEngine(options=core.model_options().replace(listing_friction=False))
     return core, d, name, scene
 
 
-def _run_scene(values: dict, engine: str, preset: str, deck: str, errata=(),
-               shaft_contact: bool | None = None) -> dict:
-    """THE adapter to the engine layer for one scene (:func:`_run_scenes` of one): the deck
-    ``deck`` with ``values`` run by ``engine`` -> the flat row of ``result_row`` (every output
-    the sweep has)."""
-    (row,) = _run_scenes([_prepare(values, engine, preset, deck, errata, shaft_contact)])
-    return row
-
-
-def _run_scenes(prepared: list) -> list[dict]:
-    """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their ``result_row``s,
-    in order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
+def _run_scenes(prepared: list) -> list:
+    """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their outcomes, in
+    order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
     emulator's one after another (the 1967 program runs one deck at a time)."""
 
     outcomes: list = [None] * len(prepared)
@@ -268,37 +291,38 @@ def _run_scenes(prepared: list) -> list[dict]:
             got = [engine.run(prepared[i][1], name=prepared[i][2]) for i in members]
         for i, res in zip(members, got):
             outcomes[i] = res
-    return [result_row(res, res.speed_mph, res.angle_deg) for res in outcomes]  # as ran
+    return outcomes
 
 
-def outcomes_of(row: dict) -> dict:
-    """A ``result_row`` -> the study's outcomes (:data:`OUTCOMES`) plus the hit surface and the
-    engine's error text."""
-    surf = (row.get("hit_surface") or "").upper()
-    hit = bool(surf)
+def study_row(outcome) -> dict:
+    """An outcome -> the study's outcomes (:data:`OUTCOMES`, from the registry's values of
+    :data:`REPORTED`) plus the hit surface, the engine's error text and its run time."""
+    got = quantities.values(outcome, REPORTED)
+    hit = outcome.hit
+    where = hit.surface if hit is not None else None  # a Surface, or None
+    surf = where.value.upper() if where is not None else ""
+    t = got["hit_time_s"]
     return {
         "hit_surface": surf or "NONE",
-        "hits_car": float(surf in CAR_SURFACES) if hit else None,
-        "hits_roof": float(surf in ROOF_SURFACES) if hit else None,
-        "hit_time_ms": None if row.get("hit_time_s") is None else 1000 * row["hit_time_s"],
-        "delta_v_crush_mph": row.get("delta_v_crush_mph"),
-        "delta_v_contact_mph": row.get("delta_v_contact_mph"),
-        "max_decel_g": row.get("max_decel_g"),
-        "oiv_m_s": row.get("oiv_m_s"),
-        "roof_clearance_ft": row.get("roof_clearance_ft"),
-        "engine_error": row.get("error") or "",
-        "engine_run_s": row.get("run_s"),
+        "hits_car": float(where.on_car) if surf else None,
+        "hits_roof": float(surf in ROOF_SURFACES) if surf else None,
+        "hit_time_ms": None if t is None else 1000 * t,
+        **{k: got[k] for k in REPORTED[1:]},
+        "engine_error": outcome.error or "",
+        "engine_run_s": outcome.run_s,
     }
 
 
 def scene_task(task: dict) -> dict:
     """A worker's function: ``{"deck", "engine", "preset", "inputs"}`` -> outcomes."""
-    return outcomes_of(_run_scene(task["inputs"], task["engine"], task["preset"], task["deck"],
-                                  task.get("errata", ()), task.get("shaft_contact")))
+    (row,) = scene_tasks([task])
+    if isinstance(row, Exception):
+        raise row
+    return row
 
 
 def scene_tasks(tasks: list[dict]) -> list:
-    """A worker's batch function (``run_scenes(many=True)``): :func:`scene_task` of each task,
+    """A worker's batch function (``run_scenes(many=True)``): each task's :func:`study_row`,
     the core's scenes run together; a task that cannot be prepared (an unknown input) is its
     exception, in its place."""
     prepared: list = []
@@ -309,8 +333,8 @@ def scene_tasks(tasks: list[dict]) -> list:
                                      task.get("shaft_contact")))
         except Exception as exc:  # noqa: BLE001 - that task's failure, stored as its row
             prepared.append(exc)
-    rows = iter(_run_scenes([p for p in prepared if not isinstance(p, Exception)]))
-    return [p if isinstance(p, Exception) else outcomes_of(next(rows)) for p in prepared]
+    done = iter(_run_scenes([p for p in prepared if not isinstance(p, Exception)]))
+    return [p if isinstance(p, Exception) else study_row(next(done)) for p in prepared]
 
 
 # ============================================================== a function with known indices
@@ -345,8 +369,9 @@ def ishigami_indices(a: float = 7.0, b: float = 0.1) -> dict:
 
 @dataclass
 class Study:
-    """One sample run and analysed: the problem, the sample, the tasks, the store and the
-    indices (:func:`analyse`'s rows)."""
+    """One sample run and analysed: the problem, the sample, the tasks, the store, each
+    task's stored row (``rows``, in the tasks' order; None: not stored) and the indices
+    (:func:`analyse`'s rows)."""
 
     problem: dict
     n: int
@@ -355,6 +380,7 @@ class Study:
     store: SceneStore
     outputs: list
     indices: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
     Y: dict = field(default_factory=dict)
     wall_s: float = 0.0
     ran: int = 0
@@ -393,18 +419,18 @@ def run_study(
         desc=desc, progress=progress, chunk=chunk, many=many,
     )
     wall = time.perf_counter() - started
-    rows = store.by_id()
+    by_id = store.by_id()  # read once; each task's id hashed once
+    rows = [by_id.get(scene_id(t)) for t in tasks]
     Xused = np.array([[t["inputs"][k] for k in problem["names"]] for t in tasks])
     Y = {}
     for key in outputs:
         vals = []
-        for t in tasks:
-            r = rows.get(scene_id(t))
+        for r in rows:
             v = None if r is None or r.get("status") != "ok" else r.get(key)
             vals.append(np.nan if v is None else float(v))
         Y[key] = np.array(vals)
     sizes = [n // 2, n] if convergence and n >= 4 else [n]
-    study = Study(problem, n, Xused, tasks, store, list(outputs), Y=Y, wall_s=wall)
+    study = Study(problem, n, Xused, tasks, store, list(outputs), rows=rows, Y=Y, wall_s=wall)
     study.ran = len(store.ids()) - before
     study.indices = analyse(problem, Y, sizes, seed=seed)
     return study
@@ -414,8 +440,7 @@ def all_failed(study: Study) -> str | None:
     """The first scene's error when no scene of ``study`` ran to its end (each failed, or its
     engine stopped early: the inputs' ranges left the model's domain, e.g. ``--input
     W=-1:-0.5``), else ``None``."""
-    rows = study.store.by_id()
-    got = [rows.get(scene_id(t)) for t in study.tasks]
+    got = study.rows
 
     def why(r):  # None: the scene ran to its end
         if r is None:
@@ -588,16 +613,13 @@ def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rows = study.store.by_id()
     names = study.problem["names"]
     ix = [names.index(k) for k in inputs]
     surf = []
-    for t in study.tasks:
-        r = rows.get(scene_id(t))
+    for r in study.rows:
         surf.append("FAILED" if r is None or r.get("status") != "ok" else r.get("hit_surface"))
     clear = []
-    for t in study.tasks:
-        r = rows.get(scene_id(t))
+    for r in study.rows:
         v = None if r is None else r.get("roof_clearance_ft")
         clear.append(np.nan if v is None else float(v))
     clear = np.array(clear)

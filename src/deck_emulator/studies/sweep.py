@@ -35,6 +35,7 @@ Rules (stated once, here)
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import tempfile
@@ -204,6 +205,11 @@ ROW_QUANTITIES = (
 )
 
 
+#: The sampled arrays a row reads: its quantities' (the clearances' points also give the
+#: ratings their compartment and the terminal C); not the contact force, a picture's.
+ROW_ARRAYS = quantities.arrays_for(ROW_QUANTITIES)
+
+
 def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) -> dict:
     """Everything one scene gives, as a flat dict of plain values (a CSV row): the scene, the
     run, the registry's quantities (:data:`ROW_QUANTITIES`, names and units of
@@ -281,9 +287,12 @@ COLUMNS: tuple[str, ...] = tuple(
 )
 
 
-def _scene_of(job: dict) -> tuple[Deck, str]:
-    """A job's deck and name."""
-    deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"], job["vvb_decimals"])
+def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
+    """A job's deck and name (``bases``: the base decks read so far, by path: a batch reads
+    its base deck once)."""
+    if job["base"] not in bases:
+        bases[job["base"]] = read_deck(job["base"])
+    deck = scene_deck(bases[job["base"]], job["speed"], job["angle"], job["vvb_decimals"])
     return deck, scene_name(job["speed"], job["angle"], job["post"])
 
 
@@ -296,7 +305,8 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     machine's bound: its scene runs again on resume)."""
     from deck_emulator.studies.common import stopped_at_wall
 
-    decks = [_scene_of(job) for job in jobs]
+    bases: dict = {}
+    decks = [_scene_of(job, bases) for job in jobs]
     groups: dict[str, list[int]] = {}
     for i, job in enumerate(jobs):
         groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
@@ -306,7 +316,8 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     for members in groups.values():
         first = jobs[members[0]]
         engine = engine_for(first["engine"], **first["options"])
-        if first["engine"] == "core":
+        if first["engine"] == "core":  # the arrays the row reads, and no others
+            engine = dataclasses.replace(engine, arrays=ROW_ARRAYS)
             try:
                 got = engine.run_batch([decks[i][0] for i in members],
                                        names=[decks[i][1] for i in members])

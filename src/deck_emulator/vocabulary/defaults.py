@@ -80,6 +80,9 @@ MAX_WALL_S = 60.0
 #: the grid a core outcome's arrays are sampled on: in contact with the car, and in free flight, s
 SAMPLE_CONTACT_S = 0.0002
 SAMPLE_FREE_S = 0.001
+#: the sampled arrays a core outcome carries unless a study asks for fewer (what each is:
+#: engine.quantities.ARRAYS): the car's, the post's points, the force on the car
+OUTCOME_ARRAYS = ("car", "points", "pulse")
 
 # ------------------------------------------------------------------- the scenes' bounds
 
