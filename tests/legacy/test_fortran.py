@@ -1,6 +1,6 @@
-"""The FORTRAN front end (legacy/fortran) against independent sources: the goldens (gfortran's
-build of legacy/luminaire.f), gfortran's build of each mutated program, and, for the 7094's
-arithmetic, the hand port of the listing (another program over the same arithmetic)."""
+"""The FORTRAN front end (legacy/fortran) against independent sources: gfortran's build of the
+listing with the options' literals respelled in its text, and of each mutated program; for the
+7094's arithmetic, the goldens' story (test_emulator.py holds the listing against the goldens)."""
 
 from __future__ import annotations
 
@@ -14,8 +14,8 @@ import pytest
 from deck_emulator.cli import main
 from deck_emulator.legacy import oracle
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.legacy.emulator import EmulatorError, Limits, run_deck
-from deck_emulator.legacy.fortran import DialectError, Program, listing_program
+from deck_emulator.legacy.stops import EmulatorError
+from deck_emulator.legacy.fortran import DialectError, Program, listing_program, run_deck
 from deck_emulator.legacy.jobdeck import job_deck_texts, listing_lines
 
 from test_emulator import GOLDEN, ROOT, golden_runs
@@ -33,102 +33,76 @@ def _ended(runner):
         return exc.run, exc
 
 
-@pytest.mark.parametrize("deck_name, errata, golden", golden_runs("r8"))
-def test_the_listing_through_the_front_end_prints_the_r8_golden(deck_name, errata, golden):
-    run = listing_program(errata).runner(_deck(deck_name), "double").run()
-    assert run.text() == golden.read_text()  # byte for byte
+def test_the_7094s_arithmetic_tells_the_goldens_story():
+    """The 7094's 27-bit words take other steps than binary64 (4129 records, the golden 4769),
+    so its printout is not the golden's; the story is: the same three events, in order, at
+    times within 2 % of those gfortran's binary64 build printed (measured: 0.4, 0.7, 1.8 %)."""
+    from deck_emulator.legacy.printer import event_message
+
+    run = run_deck(_deck("steel40"), "ibm7094", trace=False)
+    golden = (GOLDEN / "steel40.r8.txt").read_text()
+    printed = re.findall(r"TIME IS\s+(\S+)\s*\n(?:.*\n){2}\s*(THE POST HAS .*)", golden)
+    assert [event_message(e) for e in run.events] == [m for _, m in printed]
+    for event, (t, _) in zip(run.events, printed):
+        assert event.time_s == pytest.approx(float(t), rel=0.02)
+    assert len(run.records) > 4000
 
 
-@pytest.mark.parametrize("deck_name, errata, golden", golden_runs("r4"))
-def test_binary32_stops_where_gfortran_traps(deck_name, errata, golden):
-    trap = golden.with_suffix("").with_suffix(".r4.trap").read_text()
-    run, err = _ended(listing_program(errata).runner(_deck(deck_name), "single"))
-    assert err is not None and err.guard == "arithmetic"
-    assert run.records == golden.read_text().splitlines()
-    assert err.variable == re.search(r"statement:\n\s+(\w+)=", trap).group(1)  # PHIA
-    assert err.label == 44 and err.step == 2
+#: The listing's options as its text respelled (gfortran compiles that): each statement of
+#: STEP_LITERALS with its step halved (k=1) or quartered (k=2): binary64 divides by 2 exactly.
+_RESPELLED = {
+    1: {"HI=0.0004": "HI=0.0002", "H=0.0004": "H=0.0002", "IF(Q-0.0004)123,44,44":
+        "IF(Q-0.0002)123,44,44", "IF(Q-.0004)83,84,84": "IF(Q-.0002)83,84,84",
+        "THA=0.000022": "THA=0.000011", "IF(LL-20)600,501,501": "IF(LL-40)600,501,501",
+        "E=E+.0004": "E=E+.0002", "E=E+0.0002": "E=E+0.0001"},
+    2: {"HI=0.0004": "HI=0.0001", "H=0.0004": "H=0.0001", "IF(Q-0.0004)123,44,44":
+        "IF(Q-0.0001)123,44,44", "IF(Q-.0004)83,84,84": "IF(Q-.0001)83,84,84",
+        "THA=0.000022": "THA=0.0000055", "IF(LL-20)600,501,501": "IF(LL-80)600,501,501",
+        "E=E+.0004": "E=E+.0001", "E=E+0.0002": "E=E+0.00005"},
+}
 
 
-def test_the_7094s_arithmetic_prints_what_the_port_prints():
-    deck = _deck("steel40")
-    ours = listing_program().runner(deck, "ibm7094").run()
-    assert ours.text() == run_deck(deck, "ibm7094", trace=False).text()
-    assert len(ours.records) > 4000
-
-
-@pytest.mark.parametrize("change, label, variable, guard", [
-    (dict(W=0.0), 124, "V1A", "arithmetic"),  # a massless post: F1B/W
-    (dict(XCMB=1.0), "ED 21", "DF", "arithmetic"),  # DF divides by SIN(THB + ...) = 0
-    (dict(XCMB=1.0, THB=0.000022, THDB=0.0545, W2B=0.0545), 108, None, "halvings"),
-    (dict(HEIGHT=5000.0), 59, None, "time_s"),  # a post that never lands
-])
-def test_a_run_stops_where_and_as_the_port_stops(change, label, variable, guard):
-    deck = _deck("steel40").with_values(**change)
-    limits = Limits(halvings=12, time_s=1.5)
-    run, err = _ended(listing_program().runner(deck, "double", limits=limits))
-    with pytest.raises(EmulatorError) as port:
-        run_deck(deck, limits=limits, trace=False)
-    assert err is not None and err.guard == guard == port.value.guard
-    assert (err.label, err.variable, err.step) == (label, variable, port.value.step)
-    assert err.time == port.value.time and str(err) == str(port.value)
-    assert run.records == port.value.run.records
-
-
-def test_ed_walking_away_stops_as_the_ports_root_search_guard():
-    deck = _deck("steel40_a15")
-    limits = Limits(ed_iterations=5000)
-    run, err = _ended(listing_program().runner(deck, "double", limits=limits))
-    with pytest.raises(EmulatorError) as port:
-        run_deck(deck, limits=limits, trace=False)
-    assert err.guard == "ed_iterations" == port.value.guard
-    assert "ED's root search did not converge in 5000 iterations (D = " in str(err)
-    assert str(err) == str(port.value)
-    assert (err.label, err.step, err.time) == (port.value.label, port.value.step,
-                                               port.value.time)
-    assert run.records == port.value.run.records
-
-
-# ------------------------------------------- one engine: what the port gives, the front end gives
-
-
-def _both(deck, precision, *, errata=(), limits=Limits(), trace=True, **options):
-    """(port's run, its error), (front end's run, its error) of the listing on ``deck``."""
-    from deck_emulator.legacy.emulator import Program as Port
-
-    port = _ended(Port(deck, precision, errata=errata, limits=limits, trace=trace,
-                       **options))
-    program = listing_program(errata, **options)
-    return port, _ended(program.runner(deck, precision, limits=limits, trace=trace))
-
-
-def _same(port, ours):
-    (a, ea), (b, eb) = port, ours
-    assert b.records == a.records
-    assert b.trace == a.trace  # the rows the Outcome's arrays are built from
-    assert b.events == a.events
-    assert (b.errata, b.step_scale_k, b.arithmetic) == (a.errata, a.step_scale_k, a.arithmetic)
-    assert str(eb) == str(ea) and getattr(eb, "guard", None) == getattr(ea, "guard", None)
-
-
-@pytest.mark.parametrize("precision", ["double", "single", "ibm7094"])
-@pytest.mark.parametrize("errata", [(), ("ed-direction",)])
-def test_the_front_end_gives_the_ports_records_trace_events_and_stop(precision, errata):
-    """steel40 (lands; three events) in each precision and errata setting; binary32 stops."""
-    port, ours = _both(_deck("steel40"), precision, errata=errata)
-    _same(port, ours)
-    assert len(ours[0].events) == (3 if precision != "single" else 0)
+def _gfortran_listing(tmp: Path, precision: str, errata=(), step_scale_k=0, tha_start=None,
+                      ed_tolerance=None) -> Path:
+    """The listing (errata applied by the oracle's build) with the options spelled in its text,
+    compiled by gfortran with the goldens' flags."""
+    erratum = errata[0] if errata else None
+    oracle.compile_program(tmp, precision, erratum)
+    lines = (tmp / f"src-{erratum or 'printed'}" / "legacy" / "luminaire.f").read_text().splitlines()
+    respelled = dict(_RESPELLED.get(step_scale_k, {}))
+    if tha_start:
+        respelled["THA=0.000022"] = f"THA={tha_start}"
+    if ed_tolerance:
+        for end in ("4", "13"):
+            respelled[f"IF(ABS(DF(DH))-.0001)20,20,{end}"] = (
+                f"IF(ABS(DF(DH))-{ed_tolerance})20,20,{end}")
+    lines = [line[:6] + respelled.get(line[6:].strip(), line[6:]) for line in lines]
+    return oracle.compile_source(tmp, lines, precision, f"options-{precision}")
 
 
 @pytest.mark.parametrize("options", [
-    dict(step_scale_k=1), dict(step_scale_k=2, errata=("ed-direction",)),
-    dict(tha_start="0.00003"), dict(ed_tolerance=".00001"),
-    dict(step_scale_k=2, tha_start="0.000011", ed_tolerance=".00005"),
+    dict(errata=("ed-direction",)), dict(step_scale_k=1),
+    dict(step_scale_k=2, errata=("ed-direction",)), dict(tha_start="0.00003"),
+    dict(ed_tolerance=".00001"), dict(step_scale_k=2, tha_start="0.000011", ed_tolerance=".00005"),
 ], ids=str)
-def test_the_listings_options_through_the_front_end_give_the_ports_run(options):
-    deck = _deck("steel40")
-    errata = options.pop("errata", ())
-    port, ours = _both(deck, "double", errata=errata, **options)
-    _same(port, ours)
+@pytest.mark.parametrize("precision, build", [("double", "r8"), ("single", "r4")])
+def test_the_listings_options_print_what_gfortran_prints_for_them_spelled(tmp_path, options,
+                                                                          precision, build):
+    """Errata and the options of listing_program against gfortran's build of the listing with
+    the same changes made in its text (binary32: both trap at the same statement)."""
+    need_gfortran()
+    exe = _gfortran_listing(tmp_path, build, **options)
+    errata = options.get("errata", ())
+    o = oracle.compare(_deck("steel40"), lambda erratum: exe, tmp_path, timeout_s=5.0,
+                       ours=lambda deck, errata: run_deck(deck, precision, errata=errata,
+                                                          trace=False, **{
+                           k: v for k, v in options.items() if k != "errata"}),
+                       errata=errata)
+    assert o.agree, o.why  # (the same records; both end, both trap, or a guard where it hangs)
+    if precision == "double":
+        assert o.records > 20
+    else:  # binary32 traps at step 2, before any record (as in the r4 goldens)
+        assert o.ending_compiled == "trap"
 
 
 def test_step_scale_divides_the_listings_step_literals_in_its_generated_source():
@@ -234,13 +208,34 @@ def test_run_runs_the_job_decks_own_fortran_as_gfortran_does(tmp_path, capsys):
     assert "own FORTRAN" in facts["program"]
 
 
-def test_errata_and_a_trajectory_are_refused_for_a_decks_own_fortran(tmp_path, capsys):
+def test_errata_are_refused_for_a_decks_own_fortran(tmp_path, capsys):
     job = _job(tmp_path, "      HI=0.0004", "      HI=0.0002")
     assert main(["run", str(job), "--erratum", "ed-direction"]) == 2
     assert "--erratum change the listing's program" in capsys.readouterr().err
-    csv = tmp_path / "t.csv"
+
+
+def test_a_trajectory_of_a_decks_own_fortran_where_it_keeps_the_listings_labels(tmp_path,
+                                                                                capsys):
+    """The trace is recorded at the listing's labels 41, 42, 400 and 82: a program that keeps
+    them writes its own trajectory (ending at the hit its printout shows); one whose label 82
+    is renumbered 890 is refused, nothing written."""
+    job = _job(tmp_path, "      HI=0.0004", "      HI=0.0002")
+    csv, listing_csv = tmp_path / "t.csv", tmp_path / "listing.csv"
+    assert main(["run", str(job), "--trajectory", str(csv), "--quiet", "--out",
+                 str(tmp_path / "own.txt")]) == 0
+    assert main(["run", str(job), "--listing-program", "--trajectory", str(listing_csv),
+                 "--quiet", "--out", str(tmp_path / "listing.txt")]) == 0
+    own, listing = csv.read_text().splitlines(), listing_csv.read_text().splitlines()
+    assert own[0] == listing[0] and len(own) > 1000 and own[1:] != listing[1:]
+    printed = re.findall(r"TIME IS\s+(\S+)", (tmp_path / "own.txt").read_text())
+    assert float(own[-1].split(",")[0]) == pytest.approx(float(printed[-1]), abs=5e-6)  # the hit
+    capsys.readouterr()
+    job = _job(tmp_path, "      IF(I-1)81,82,81", "      IF(I-1)81,890,81", name="82.job")
+    job.write_text(job.read_text().replace("   82 CONTINUE\n", "  890 CONTINUE\n", 1))
+    csv.unlink()
     assert main(["run", str(job), "--trajectory", str(csv)]) == 2
-    assert "keeps no trajectory" in capsys.readouterr().err and not csv.exists()
+    err = capsys.readouterr().err
+    assert "keeps no trajectory" in err and "82" in err and not csv.exists()
 
 
 # ------------------------------------------------------------------- mutants and gfortran
@@ -321,7 +316,7 @@ def test_a_made_source_whose_first_line_differs_is_not_used(tmp_path):
         GOLDEN / "steel40.r8.txt").read_text()
 
 
-def test_the_engine_runs_the_listing_through_the_front_end():
+def test_the_engine_runs_the_listing_through_the_front_end(tmp_path):
     from deck_emulator.engine import EmulatorEngine
     from deck_emulator.legacy.fortran import Runner
 
@@ -329,6 +324,26 @@ def test_the_engine_runs_the_listing_through_the_front_end():
     program = engine.program(_deck("steel40"))
     assert isinstance(program, Runner) and program.errata == ("ed-direction",)
     out = engine.run(_deck("steel40"))
-    port, _ = _both(_deck("steel40"), "double", errata=("ed-direction",), step_scale_k=1)
-    assert out.records == tuple(port[0].records) and out.events == port[0].events
     assert len(out.t) > 2000  # the trajectory, from the front end's trace
+    need_gfortran()
+    exe = _gfortran_listing(tmp_path, "r8", errata=("ed-direction",), step_scale_k=1)
+    path = tmp_path / "steel40.dat"
+    path.write_text(_deck("steel40").to_text())
+    theirs, _, ending = oracle.run_program(exe, path)
+    assert ending == "normal" and "".join(r + "\n" for r in out.records) == theirs
+
+
+def test_a_defect_of_ours_names_the_label_it_stopped_in(monkeypatch):
+    """record_defects: an exception that is not the program's (here: the event of FORMAT 355,
+    written in the block of label 354, made to fail) is named with the label it ran in."""
+    from deck_emulator.engine import EmulatorEngine
+    from deck_emulator.legacy.fortran import Runner
+
+    def fails(self, fmt, t):
+        raise RuntimeError(f"no event for FORMAT {fmt}")
+
+    monkeypatch.setattr(Runner, "event", fails)
+    out = EmulatorEngine(record_defects=True, trace=False).run(_deck("steel40"))
+    assert out.guard == "crash"
+    assert re.fullmatch(r"RuntimeError: no event for FORMAT 355 \(label 354, step \d+\)",
+                        out.error), out.error

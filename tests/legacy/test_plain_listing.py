@@ -24,7 +24,7 @@ def test_plain_transcription_prints_the_golden(deck):
 
 def test_plain_transcription_prints_what_the_emulator_prints():
     from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.legacy.emulator import run_deck
+    from deck_emulator.legacy.fortran import run_deck
 
     deck = ROOT / "decks" / "steel40.dat"
     out = subprocess.run([sys.executable, str(PLAIN), str(deck)], capture_output=True,

@@ -55,9 +55,11 @@ def run(o: RunOptions) -> Answer:
     src = common.load(o, "run", kinds=("deck",), own_program=True)
     common.check_out(o.out)
     common.check_trajectory(o.trajectory)
-    if o.trajectory and src.fortran is not None:
-        raise UsageError(f"--trajectory: {src.name} runs its own FORTRAN, and the front end "
-                         "keeps no trajectory (the port of the listing does: "
+    if o.trajectory and src.fortran is not None and not src.fortran.keeps_trace:
+        labels = ", ".join(map(str, (src.fortran.watch or {}).get("records", ())))
+        raise UsageError(f"--trajectory: {src.name} runs its own FORTRAN, which keeps no "
+                         f"trajectory: it is recorded at the listing's labels {labels}, with "
+                         "their variables, and this program lacks one (the listing's: "
                          "--listing-program)")
     if o.trajectory and len(src.decks) != 1:
         raise UsageError(f"--trajectory writes one run's trajectory and {src.name} holds "

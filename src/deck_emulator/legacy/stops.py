@@ -1,7 +1,7 @@
-"""What a run of the 1967 program gives, and how it stops: shared by the hand port
-(:mod:`deck_emulator.legacy.emulator`) and the FORTRAN front end (:mod:`deck_emulator.legacy.
-fortran`), so that both say the same thing the same way (and a run of a job deck's own FORTRAN
-loads no part of the port)."""
+"""What a run of the 1967 program gives, and how it stops: the run's records, trace and events
+(:class:`Run`), its guards (:class:`Limits`, :class:`EmulatorError`) and the errata, apart from
+the FORTRAN front end (:mod:`deck_emulator.legacy.fortran`) that runs it, so that the layers
+above read them without loading it."""
 
 from __future__ import annotations
 

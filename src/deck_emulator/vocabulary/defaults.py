@@ -12,7 +12,7 @@ options' defaults without loading numpy or scipy.
 # ------------------------------------------------------------------- the listing's own
 
 #: the listing's integration step, s (its literal 0.0004: DELT, and the other literals that
-#: mean one step, legacy/emulator.py's STEP_LITERALS)
+#: mean one step, legacy/fortran's STEP_LITERALS)
 LISTING_STEP_S = 0.0004
 #: the steps the listing takes before it caps the spring force (IF(LL-20))
 LISTING_CAP_STEPS = 20
@@ -41,7 +41,7 @@ MAX_TOML_DIGITS = 100
 
 # ------------------------------------------------------------------- the emulator's bounds
 
-#: the emulator's bounds on what the listing leaves unbounded (legacy.emulator.Limits):
+#: the emulator's bounds on what the listing leaves unbounded (legacy.stops.Limits):
 #: iterations of one call of ED, consecutive step halvings at label 108 with no step accepted,
 #: simulated time, s (the report needs about 1 s)
 ED_ITERATIONS = 100_000

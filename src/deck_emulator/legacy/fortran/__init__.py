@@ -1,4 +1,6 @@
-"""A front end for the FORTRAN IV of the listing's dialect: a job deck runs its own program.
+"""A front end for the FORTRAN IV of the listing's dialect: the 1967 path's one engine, running
+the listing (``legacy/luminaire.f``: :func:`listing_program`, :func:`run_deck`) and a job deck's
+own program alike.
 
 :mod:`.parse` reads source cards into program units (the dialect as tables: ``STATEMENTS``,
 ``EDIT_DESCRIPTORS``, ``INTRINSICS``; anything else is a :class:`DialectError`), :mod:`.run`
@@ -7,7 +9,7 @@ line printer of :mod:`deck_emulator.legacy.printer`.
 """
 
 from .parse import EDIT_DESCRIPTORS, INTRINSICS, STATEMENTS, DialectError
-from .run import LISTING_WATCH, STEP_LITERALS, Program, Runner, listing_program
+from .run import LISTING_WATCH, STEP_LITERALS, Program, Runner, listing_program, run_deck
 
 __all__ = ["DialectError", "EDIT_DESCRIPTORS", "INTRINSICS", "LISTING_WATCH", "Program",
-           "Runner", "STATEMENTS", "STEP_LITERALS", "listing_program"]
+           "Runner", "STATEMENTS", "STEP_LITERALS", "listing_program", "run_deck"]

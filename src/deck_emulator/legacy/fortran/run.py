@@ -13,7 +13,7 @@ is ``X*X`` (as gfortran and the 7094's FORTRAN expand it); INTEGERs are Python i
 where they meet a REAL.  Output goes through :class:`deck_emulator.legacy.printer.Printer` with
 the program's own FORMATs.
 
-Stops (:class:`deck_emulator.legacy.emulator.EmulatorError`, as the emulator of the listing):
+Stops (:class:`deck_emulator.legacy.stops.EmulatorError`):
 an arithmetic fault or a non-finite value names the unit, the label, the variable and the
 step; a subroutine call that runs more than ``Limits.ed_iterations`` blocks; and, where the
 program keeps the listing's labels, the listing's own guards (:data:`LISTING_WATCH`).  Binary64
@@ -36,9 +36,8 @@ from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
 
 from .parse import INTRINSICS, Unit, kind_of, parse_units
 
-#: The listing's runaway guards, by its labels in MAIN, as emulator.py applies them to its
-#: port: a step starts at 125 (contact) or 57 (free flight), which starts at 42; 108 halves
-#: the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
+#: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
+#: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
 #: free flight) is bounded by ``Limits.time_s`` where 106 and 59 advance it.  A program that
 #: lacks a label lacks that guard; the bound on a subroutine's blocks always holds.
 #: The trace (``stops.TRACE_ROWS``) is recorded where a block starts at ``records``' labels;
@@ -508,6 +507,18 @@ class Program:
 
         return hashlib.sha256("".join(line + "\n" for line in self.lines).encode()).hexdigest()
 
+    @property
+    def keeps_trace(self) -> bool:
+        """Whether a run records the trace (a trajectory): its MAIN has the listing's labels
+        where the trace is recorded (``watch["records"]``), each with the variables its row
+        reads."""
+        main = self.units.get("MAIN") if self.watch else None
+        if main is None:
+            return False
+        labels, names = {s.label for s in main.statements}, set(_names(main))
+        return all(label in labels and {n for n in TRACE_ROWS[phase].values() if n} <= names
+                   for label, phase in self.watch["records"].items())
+
     def python(self, *, native: bool = True, checking: bool = False) -> str:
         """The generated Python source (one FORTRAN statement a line, its text beside it)."""
         return "\n".join(text for text, _ in self.made_lines(native, checking)) + "\n"
@@ -559,9 +570,9 @@ class Program:
 
 
 class Runner:
-    """One run of a :class:`Program` on a deck: ``run()`` gives the emulator's
-    :class:`~deck_emulator.legacy.emulator.Run` or raises its ``EmulatorError`` (``.run``: the
-    records so far); ``step`` and ``label`` may be read while it runs (progress)."""
+    """One run of a :class:`Program` on a deck: ``run()`` gives its
+    :class:`~deck_emulator.legacy.stops.Run` or raises ``EmulatorError`` (``.run``: the records
+    so far); ``step`` may be read while it runs (progress), ``label`` once it stopped (where)."""
 
     def __init__(self, program: Program, deck, arithmetic, *, limits: Limits = Limits(),
                  checking: bool = False, trace: bool = True):
@@ -705,18 +716,19 @@ class Runner:
             if not self.checking and self.native and not self._all_finite():
                 return self._replay()
             self._fail(exc)
-        except (_NonFinite, ZeroDivisionError, FloatingPointError, OverflowError, ValueError,
-                ArithmeticError) as exc:
-            if isinstance(exc, ValueError) and "math domain" not in str(exc):
-                raise
+        except Exception as exc:
             if lines is None:  # (a made file's code: its lines, made again, are the same)
                 lines = self.program.made_lines(self.native, self.checking)
             unit, label, variable = self._where(exc, lines, code.co_filename)
+            if unit is not None:  # where it stopped (a defect's message names it too)
+                self.label = (("START" if label is None else label) if unit == "MAIN"
+                              else f"{unit} {label or 0}")
+            if not isinstance(exc, (ArithmeticError, ValueError)) or (
+                    isinstance(exc, ValueError) and "math domain" not in str(exc)):
+                raise  # a defect of ours, not the program's arithmetic
             if isinstance(exc, _NonFinite):
                 variable = exc.name
-            label = (("START" if label is None else label) if unit == "MAIN"
-                     else f"{unit} {label or 0}")
-            self._fail(EmulatorError(fault_reason(exc), label=label, variable=variable,
+            self._fail(EmulatorError(fault_reason(exc), label=self.label, variable=variable,
                                      step=self.step, time=self.time(), guard="arithmetic"))
         return self.run_
 
@@ -728,8 +740,12 @@ class Runner:
         indicators = getattr(self.ar, "indicators", None)
         if indicators is not None:
             indicators.underflows = self._underflows_at_start
-        return Runner(self.program, self.deck, self.ar, limits=self.limits, checking=True,
-                      trace=self.keep_trace).run()
+        again = Runner(self.program, self.deck, self.ar, limits=self.limits, checking=True,
+                       trace=self.keep_trace)
+        try:
+            return again.run()
+        finally:  # (what a progress display or a defect's message reads)
+            self.run_, self.step, self.label = again.run_, again.step, again.label
 
     def _fail(self, exc: EmulatorError):
         self.run_.error = exc
@@ -754,6 +770,16 @@ class Runner:
             found = where
         unit, label, variable = found
         return unit, label, function or variable
+
+
+def run_deck(deck, precision="double", *, errata=(), limits: Limits = Limits(),
+             trace: bool = True, **options) -> Run:
+    """The listing (:func:`listing_program` with ``errata`` and ``options``) run on ``deck`` in
+    ``precision`` (an arithmetic's name or the arithmetic): its :class:`Run`; raises
+    :class:`EmulatorError` (its ``run``: the records printed up to then) when a guard fires or
+    the arithmetic traps."""
+    return listing_program(errata, **options).runner(deck, precision, limits=limits,
+                                                     trace=trace).run()
 
 
 def listing_program(errata=(), *, step_scale_k: int = 0, tha_start: str | None = None,
