@@ -32,6 +32,16 @@ def process_limits() -> list[str]:
     return out
 
 
+def address_space_mb() -> int | None:
+    """The address space this process may use (ulimit -v), MB; None: no limit."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not a POSIX system
+        return None
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    return None if soft == resource.RLIM_INFINITY else soft >> 20
+
+
 def out_of_memory(exc: BaseException | None = None) -> str | None:
     """What a command says when memory ran out (``exc``: a library that did not load, which
     is said only under a memory limit, else None): the limits, and what to change."""

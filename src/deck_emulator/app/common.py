@@ -8,8 +8,9 @@ import os
 import shlex
 from pathlib import Path
 
-from deck_emulator.errors import UsageError
+from deck_emulator.errors import UsageError, address_space_mb, process_limits
 from deck_emulator.extras import require
+from deck_emulator.vocabulary import defaults
 
 from . import PROG, Answer
 
@@ -105,6 +106,11 @@ def compile_core(quiet: bool) -> None:
     from deck_emulator.engine import compile_core as compile_once
     from deck_emulator.parallel import busy
 
+    space = address_space_mb()
+    if space is not None and space < defaults.CORE_ADDRESS_SPACE_MB:
+        raise UsageError(  # below it the compiler aborts the process: no line, no status
+            f"the core needs {defaults.CORE_ADDRESS_SPACE_MB} MB of address space at the "
+            f"least, under the limits of {', '.join(process_limits())}: raise them")
     compile_once(lambda: busy(COMPILING, quiet=quiet))
 
 

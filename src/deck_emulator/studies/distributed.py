@@ -625,9 +625,13 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
     try:  # the workers start in this process's folder: a deleted one failed every start
         os.getcwd()
     except FileNotFoundError:
+        import sys
         import tempfile
 
         os.chdir(tempfile.gettempdir())  # a relative path named nothing already
+        # '' on the import path meant the deleted folder: a spawned worker would get it as
+        # None (multiprocessing's ORIGINAL_DIR) and fail importing Dask; it names nothing now
+        sys.path[:] = [entry for entry in sys.path if entry != ""]
     cluster = client = None
     try:
         # workers ignore a terminal's Ctrl-C: the command handles it and closes them.  The

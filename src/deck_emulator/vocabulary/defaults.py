@@ -134,3 +134,10 @@ ERROR_LONG_RUN_S = 10.0
 MAX_SWEEP_GRID = 10_000
 #: the largest base sample size N of a sensitivity study (a power of two)
 MAX_SENSITIVITY_N = 1 << 16
+
+# ------------------------------------------------------------------- the machine's limits
+
+#: the least address space (ulimit -v) a command that runs the core is started under, MB:
+#: numba's compiler and OpenBLAS abort the process outright below it (measured on this
+#: project's pinned versions with an empty cache: 500 and 700 MB aborted, 800 MB and more ran)
+CORE_ADDRESS_SPACE_MB = 800
