@@ -18,7 +18,7 @@ from deck_emulator.legacy.stops import EmulatorError
 from deck_emulator.legacy.fortran import DialectError, Program, listing_program, run_deck
 from deck_emulator.legacy.jobdeck import job_deck_texts, listing_lines
 
-from test_emulator import GOLDEN, ROOT, golden_runs
+from test_emulator import GOLDEN, ROOT
 from test_goldens import need_gfortran
 
 
@@ -259,26 +259,9 @@ def test_seeded_mutants_print_what_gfortran_prints():
     _mutants_agree(6, seed=34)
 
 
-@pytest.mark.slow
+@pytest.mark.slow_corpus  # a larger corpus: on request (-m slow_corpus)
 def test_the_larger_corpus_of_mutants_prints_what_gfortran_prints():
     _mutants_agree(80, seed=3400)
-
-
-@pytest.mark.slow
-def test_the_differential_corpus_through_the_front_end_prints_as_the_compiled_listing():
-    """tests/legacy/test_differential.py's 20 seeded decks, the listing run by the front end."""
-    need_gfortran()
-    from test_differential import SMALL, SMALL_SEED
-
-    programs = {errata: listing_program(errata) for errata in ((), ("ed-direction",))}
-    o = oracle.Oracle(timeout_s=2.0)
-    try:
-        for deck in oracle.corpus(SMALL, SMALL_SEED):
-            outcome = oracle.compare(deck, o.exe, o.dir, o.timeout_s, ours=lambda deck, errata:
-                                     programs[tuple(errata)].runner(deck, "double").run())
-            assert outcome.agree, outcome.why
-    finally:
-        o.close()
 
 
 # ------------------------------------------------------------ the listing's made source
