@@ -253,7 +253,6 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
 
 def _compile(job, name: str):
     """The job deck's own FORTRAN as a front-end program; outside the dialect: refused."""
-    from deck_emulator.legacy.deck import DeckError
     from deck_emulator.legacy.fortran import DialectError, Program
 
     cards = list(job.program_cards)

@@ -98,8 +98,6 @@ MIN_EVERY_MS = 0.1
 def check_every(every_ms: float | None) -> None:
     """``--every`` before any work: ``None`` (the default), or a finite number of ms at least
     :data:`MIN_EVERY_MS`; ``UsageError`` (one line) otherwise."""
-    from deck_emulator.errors import UsageError
-
     if every_ms is None:
         return
     if not (math.isfinite(every_ms) and every_ms > 0):
@@ -198,8 +196,6 @@ def _legend_title(res: Outcome) -> str:
 def _compartment_lines(res: Outcome, width: int = 60) -> list[str]:
     """What the run's ratings say of the occupant compartment, for a caption: the post that
     goes through the car is said, whatever point the listing's hit names."""
-    import textwrap
-
     from .answers import compartment_words
 
     comp = (ratings(res) or {}).get("occupant_compartment")
@@ -880,8 +876,6 @@ def animation_writer(path):
     """The animation writer for ``path``'s suffix, or a UsageError saying why there is none."""
     from matplotlib.animation import FFMpegWriter, PillowWriter, writers
 
-    from deck_emulator.errors import UsageError
-
     suffix = Path(path).suffix.lower()
     if suffix == ".gif":
         return PillowWriter
@@ -895,8 +889,6 @@ def animation_writer(path):
 
 def check_plot_outputs(out, animate=None) -> None:
     """Before any work: the formats, and that every output can be written."""
-    from deck_emulator.errors import UsageError
-
     formats = picture_formats()
     if Path(out).suffix.lower().lstrip(".") not in formats:
         raise UsageError(f"--out {out}: name a picture file ending in ." + ", .".join(

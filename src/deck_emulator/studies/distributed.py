@@ -103,7 +103,10 @@ import json
 import logging
 import math
 import os
+import resource
 import shutil
+import sys
+import tempfile
 import time
 import traceback
 import uuid
@@ -625,9 +628,6 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
     try:  # the workers start in this process's folder: a deleted one failed every start
         os.getcwd()
     except FileNotFoundError:
-        import sys
-        import tempfile
-
         os.chdir(tempfile.gettempdir())  # a relative path named nothing already
         # '' on the import path meant the deleted folder: a spawned worker would get it as
         # None (multiprocessing's ORIGINAL_DIR) and fail importing Dask; it names nothing now
@@ -668,8 +668,6 @@ def _files_for(n: int) -> None:
     """:class:`ClusterError` when the open-file limit cannot hold ``n`` workers (they failed
     to start one by one, each with a traceback: the rows ``CLUSTER_FILES``, ``WORKER_FILES``
     of :mod:`deck_emulator.vocabulary.defaults`)."""
-    import resource
-
     soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
     try:
         now = len(os.listdir("/proc/self/fd"))
@@ -1021,10 +1019,6 @@ def temporary_store(prefix: str):
     after removing those of earlier runs killed with SIGKILL: a ``prefix`` folder of the
     temporary folder older than a minute whose lock no process holds (:func:`store_lock`,
     held here for the block)."""
-    import fcntl
-    import shutil
-    import tempfile
-
     home = Path(tempfile.gettempdir())
     for old in home.glob(f"{prefix}*"):
         with contextlib.suppress(OSError):
