@@ -99,9 +99,9 @@ def compiled_seconds(repeat: int) -> float | None:
     """The compiled listing (REAL*8, as printed) on steel40: median whole-process seconds."""
     import shutil
 
-    sys.path.insert(0, str(ROOT / "src"))
+    sys.path[:0] = [str(ROOT / "src"), str(ROOT)]
     from deck_emulator import decks
-    from deck_emulator.legacy import oracle
+    import oracle
 
     if shutil.which("gfortran") is None:
         return None

@@ -64,11 +64,11 @@ def main(argv=None) -> int:
     ap.add_argument("--ibm7094-repeat", type=int, default=1)
     ap.add_argument("--sweep", action="store_true", help="also time the 1,000-scene sweep on both engines")
     args = ap.parse_args(argv)
-    sys.path.insert(0, str(ROOT / "src"))
+    sys.path[:0] = [str(ROOT / "src"), str(ROOT)]  # the package and oracle/ beside it
     from deck_emulator.engine import EmulatorEngine
     from deck_emulator.legacy.deck import read_deck
 
-    from deck_emulator.legacy import oracle as mg
+    import oracle as mg
     rows = []
     env = _env()
     with tempfile.TemporaryDirectory() as tmp:

@@ -2,7 +2,7 @@
 """The compiled listing as a standing oracle: seeded plausible decks (and some physically odd
 ones), run through the compiled legacy/luminaire.f (REAL*8, built as scripts/make_goldens.py
 builds it) and through the emulator in binary64, printouts compared byte for byte
-(:mod:`deck_emulator.legacy.oracle`).
+(:mod:`the checkout's oracle/`).
 
     python benchmarks/differential.py [--decks 500] [--seed 1] [--keep DIR]
 
@@ -28,7 +28,8 @@ import sys
 import time
 from pathlib import Path
 
-from deck_emulator.legacy.oracle import Oracle, corpus
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # oracle/, beside the package
+from oracle import Oracle, corpus  # noqa: E402
 
 
 def main(argv=None) -> int:

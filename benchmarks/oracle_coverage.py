@@ -5,7 +5,7 @@
 
 Compiles the listing as scripts/make_goldens.py does (REAL*8; its functions, with ``--coverage``
 added to the flags), as printed and with the ``ed-direction`` erratum, runs every deck of the
-corpus (deck_emulator.legacy.oracle; the erratum where ALPHA != 0) and the decks in ``--extra``,
+corpus (the checkout's oracle/; the erratum where ALPHA != 0) and the decks in ``--extra``,
 and reads the counts with ``gcov``. The erratum changes two statements and no line numbers, so
 the two builds' executed lines are merged by line number.
 
@@ -25,7 +25,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "src"))
+sys.path[:0] = [str(ROOT / "src"), str(ROOT)]  # the package and oracle/ beside it
 
 
 
@@ -59,7 +59,7 @@ def main(argv=None) -> int:
         return 2
     from deck_emulator.legacy.deck import read_deck
 
-    from deck_emulator.legacy import oracle as mg
+    import oracle as mg
 
     mg.COMMON_FLAGS = [*mg.COMMON_FLAGS, "--coverage"]
     mg.TIMEOUT_S = args.timeout

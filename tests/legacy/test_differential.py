@@ -1,4 +1,4 @@
-"""The compiled listing as a standing oracle (deck_emulator.legacy.oracle): seeded random decks,
+"""The compiled listing as a standing oracle (the checkout's oracle/): seeded random decks,
 run through the compiled legacy/luminaire.f (REAL*8) and through the emulator in binary64,
 printouts compared byte for byte, and how each run ended compared too.
 
@@ -20,7 +20,7 @@ pytestmark = pytest.mark.skipif(shutil.which("gfortran") is None,
 
 
 def _differential():
-    from deck_emulator.legacy import oracle
+    import oracle
 
     return oracle
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from deck_emulator.cli import main
-from deck_emulator.legacy import oracle
+import oracle
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.legacy.stops import EmulatorError
 from deck_emulator.legacy.fortran import DialectError, Program, listing_program, run_deck

@@ -1,5 +1,9 @@
 """The compiled listing as an oracle: legacy/luminaire.f built with gfortran and run on a deck.
 
+A tool of the checkout, beside the package (it needs gfortran and the checkout's ``legacy/``):
+the goldens, the differential corpus and the front end's mutants are made with it; no command
+of the installed package uses it.
+
 * :func:`make_goldens` -- every shipped deck through the compiled listing in both precisions:
   the only way golden/ is made (``python scripts/make_goldens.py``);
 * :class:`Oracle` -- a deck through the compiled listing (REAL*8) and through the emulator
@@ -52,9 +56,9 @@ __all__ = ["COMMON_FLAGS", "PRECISIONS", "TIMEOUT_S", "LEGACY", "compile_program
            "corpus", "compare", "Comparison", "Oracle", "mutant", "mutants"]
 
 #: The checkout's legacy/ folder: the listing and its errata.
-LEGACY = Path(__file__).resolve().parents[3] / "legacy"
+LEGACY = Path(__file__).resolve().parents[1] / "legacy"
 #: The shipped decks.
-DECKS = Path(__file__).resolve().parents[1] / "decks"
+DECKS = LEGACY.parent / "src" / "deck_emulator" / "decks"
 SOURCE = "luminaire.f"
 ERRATA = {"ed-direction": LEGACY / "errata" / "ed-direction.patch"}
 
