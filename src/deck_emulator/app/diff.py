@@ -19,8 +19,9 @@ class DiffOptions(Source, Errata, Cluster, Answering):
                             help="the emulator's arithmetic at k = 0 (must run the deck to its "
                             "end)")
     max_k: int = option(4, parse=max_k, metavar="K",
-                        help="halve the step up to K times, 0 <= K <= 8 (default 4; K = 8 runs "
-                        "the listing's 2,054 steps 256 times over)")
+                        help=f"halve the step up to K times, 0 <= K <= {defaults.MAX_HALVINGS} "
+                        f"(default %(default)s; K = {defaults.MAX_HALVINGS} runs the listing's "
+                        f"steps {2 ** defaults.MAX_HALVINGS} times over)")
     rtol: float = option(defaults.CORE_RTOL, parse=tolerance,
                          help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default "
                          "%(default)g)")

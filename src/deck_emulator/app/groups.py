@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import os
 
+from deck_emulator.vocabulary import defaults
+
 from .options import PRESETS, Common, option, options_class, positive_int, worker_wait
 
 
@@ -42,7 +44,7 @@ class Cluster:
     worker_wait: float | None = option(None, parse=worker_wait, metavar="SECONDS",
                                        help="with --scheduler: how long to wait for a worker, "
                                        "at the start and whenever every worker is gone, before "
-                                       "the run ends with exit status 3 (default 60)")
+                                       f"the run ends with exit status 3 (default {defaults.WORKER_WAIT_S:g})")
     resume: bool = option(False, help="run only the scenes not yet stored in the output "
                           "directory")
 

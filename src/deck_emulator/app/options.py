@@ -81,8 +81,9 @@ def nonnegative_int(text: str) -> int:
 
 def max_k(text: str) -> int:
     k = nonnegative_int(text)
-    if k > 8:
-        raise ValueError(f"at most 8 (2**8 times the listing's steps), not {k}")
+    if k > defaults.MAX_HALVINGS:
+        raise ValueError(f"at most {defaults.MAX_HALVINGS} (2**{defaults.MAX_HALVINGS} times "
+                         f"the listing's steps), not {k}")
     return k
 
 
@@ -105,8 +106,9 @@ def positive_float(text: str) -> float:
 
 def speed_mph(text: str) -> float:
     x = positive_float(text)
-    if not 1.0 <= x <= 200.0:
-        raise ValueError(f"a speed from 1 to 200 mph, not {text}")
+    lo, hi = defaults.SPEED_RANGE_MPH
+    if not lo <= x <= hi:
+        raise ValueError(f"a speed from {lo:g} to {hi:g} mph, not {text}")
     return x
 
 
@@ -150,8 +152,9 @@ def positive_number_text(text: str) -> str:
 
 def worker_wait(text: str) -> float:
     value = finite_float(text)
-    if not 1.0 <= value <= 86400.0:
-        raise ValueError(f"{text}: from 1 to 86400 seconds")
+    lo, hi = defaults.WORKER_WAIT_RANGE_S
+    if not lo <= value <= hi:
+        raise ValueError(f"{text}: from {lo:g} to {hi:g} seconds")
     return value
 
 

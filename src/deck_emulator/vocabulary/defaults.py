@@ -90,6 +90,10 @@ OUTCOME_ARRAYS = ("car", "points", "pulse")
 #: commands that set the angle (sweep --angles, assembly --alpha-deg) and the stability study,
 #: whose largest angle it is (the emulator ends there as the core does: docs/study/stability)
 MAX_APPROACH_ANGLE_DEG = 90.0
+#: the speeds a command may set a scene's car to, mph (assembly --speed-mph; both included)
+SPEED_RANGE_MPH = (1.0, 200.0)
+#: the most times diff halves the listing's step (--max-k): 2**8 = 256 times its steps
+MAX_HALVINGS = 8
 
 # ------------------------------------------------------------------- the studies' own settings
 
@@ -102,6 +106,8 @@ SCHEDULER_CONNECT_S = 10.0
 #: longest wait for a worker of an external cluster (at the start, and whenever every worker is
 #: gone while scenes remain) before the run ends as failed, s (--worker-wait)
 WORKER_WAIT_S = 60.0
+#: the waits --worker-wait may be given, s (both included)
+WORKER_WAIT_RANGE_S = (1.0, 86400.0)
 #: files a command's embedded Dask cluster holds open beside those open before it starts, and
 #: more for each worker process (measured with Dask 2026.8: 24 + 9 a worker at rest); a
 #: command checks them against the open-file limit (ulimit -n) before it starts the workers
