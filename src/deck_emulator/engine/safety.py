@@ -14,8 +14,6 @@ contact with the post is over nothing slows the car: the listing's ``VVFA = VVFB
 
 Definitions (numbers in ft, s, ft/s unless the name says otherwise)
 -------------------------------------------------------------------
-* ``delta_v``: ``u(t0) - u(t_end)``, the speed the car lost (ft/s; an outcome's ΔV readings
-  are the registry's, ``engine.quantities.speed_lost_at``).
 * ``max_decel_sampled_g``: the largest deceleration between two samples of the history,
   ``-(du/dt)/G`` (not the registry's ``max_decel_g``, the report's reading: for the
   emulator's every accepted step it equals ``max_decel_every_step_g``).
@@ -29,7 +27,7 @@ Definitions (numbers in ft, s, ft/s unless the name says otherwise)
   round figure: pass ``flail_distance_ft=2.0`` for that). ``oiv`` is the relative speed
   ``u0 - u`` then. If the history (the contact) ends before that, the relative speed stays
   at the car's speed change from then on: that is the OIV, and the strike comes at
-  ``t_end + (D - x_end) / delta_v``. If the car lost no speed, the occupant never strikes:
+  ``t_end + (D - x_end) / (u0 - u_end)``. If the car lost no speed, the occupant never strikes:
   ``oiv = 0`` and no strike time.
 * ``ora_g`` (occupant ridedown acceleration): the largest 10 ms average deceleration of the
   car over windows that start at or after the strike (0 if the car is no longer slowing).
@@ -62,7 +60,6 @@ __all__ = [
     "criteria_of",
     "PulseMetrics",
     "assess",
-    "delta_v",
     "max_deceleration",
     "max_window_average",
     "flail_space",
@@ -227,12 +224,6 @@ def _history(t, vv):
 def _speed_at(t, u, x):
     """u at times x: linear between samples, constant outside."""
     return np.interp(x, t, u)
-
-
-def delta_v(t, vv) -> float:
-    """Speed lost over the history, ft/s."""
-    t, u = _history(t, vv)
-    return float(u[0] - u[-1])
 
 
 def max_deceleration(t, vv) -> tuple[float, float]:
