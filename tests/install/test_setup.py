@@ -38,6 +38,6 @@ def test_both_setup_commands_install_the_locked_versions():
         if line and not line.startswith("#"):
             name, version = line.split("==")
             pins[name.lower().replace("_", "-")] = version
-    for needed in ("numpy", "scipy", "fortranformat", "matplotlib", "pytest", "hypothesis",
+    for needed in ("numpy", "scipy", "fortranformat", "matplotlib", "pytest", "pytest-xdist", "hypothesis",
                    "import-linter", "setuptools", "dask", "salib", "pyarrow"):
         assert needed in pins, needed
