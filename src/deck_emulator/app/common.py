@@ -106,12 +106,18 @@ def compile_core(quiet: bool) -> None:
     from deck_emulator.engine import compile_core as compile_once
     from deck_emulator.parallel import busy
 
-    space = address_space_mb()
-    if space is not None and space < defaults.CORE_ADDRESS_SPACE_MB:
-        raise UsageError(  # below it the compiler aborts the process: no line, no status
-            f"the core needs {defaults.CORE_ADDRESS_SPACE_MB} MB of address space at the "
-            f"least, under the limits of {', '.join(process_limits())}: raise them")
+    need_address_space("the core")  # below it the compiler aborts the process: no line
     compile_once(lambda: busy(COMPILING, quiet=quiet))
+
+
+def need_address_space(what: str) -> None:
+    """A UsageError (one line) when this process may use less address space than ``what``
+    needs (the row ``MIN_ADDRESS_SPACE_MB``)."""
+    space = address_space_mb()
+    if space is not None and space < defaults.MIN_ADDRESS_SPACE_MB:
+        raise UsageError(f"{what} need{'s' if what == 'the core' else ''} "
+                         f"{defaults.MIN_ADDRESS_SPACE_MB} MB of address space at the least, "
+                         f"under the limits of {', '.join(process_limits())}: raise them")
 
 
 def with_progress(quiet: bool, engine, source, *, execute: bool = False):
@@ -207,9 +213,11 @@ def write_trajectory(path: str | None, out) -> str | None:
 
 
 def scheduler(options):
-    """The external cluster the options name (None: the embedded one); imported when asked,
-    so that a command that runs no study does not load the scene runner."""
+    """The external cluster the options name (None: the embedded one, whose worker processes
+    this process starts: refused under too small an address space); imported when asked, so
+    that a command that runs no study does not load the scene runner."""
     if not options.scheduler:
+        need_address_space("the worker processes")
         return None
     from deck_emulator.studies.distributed import WORKER_WAIT_S, Scheduler
 

@@ -143,7 +143,9 @@ MAX_SENSITIVITY_N = 1 << 16
 
 # ------------------------------------------------------------------- the machine's limits
 
-#: the least address space (ulimit -v) a command that runs the core is started under, MB:
-#: numba's compiler and OpenBLAS abort the process outright below it (measured on this
-#: project's pinned versions with an empty cache: 500 and 700 MB aborted, 800 MB and more ran)
-CORE_ADDRESS_SPACE_MB = 800
+#: the least address space (ulimit -v) a command that runs the core or starts its own worker
+#: processes is started under, MB, refused below it in one line before any work (measured on
+#: this project's pinned versions: numba's compiler and OpenBLAS aborted the process outright
+#: at 500 and 700 MB with an empty cache; a sweep's embedded Dask cluster failed at 400 to 700
+#: MB, some starts with the workers' tracebacks on stderr; 800 MB and more ran)
+MIN_ADDRESS_SPACE_MB = 800
