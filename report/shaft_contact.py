@@ -15,7 +15,6 @@ tables: see docs/report_full.md).
 
 from __future__ import annotations
 
-import re
 import time
 from pathlib import Path
 
@@ -57,10 +56,6 @@ def run_tasks(tasks: list[dict]) -> list[dict]:
     return rows
 
 
-#: the engine's words for the edge a segment met the car on ("at its edge with the front")
-_EDGE = re.compile(r"at its edge with the (.+?):")
-
-
 def _row(column: str, shaft: bool, out) -> dict:
     """:func:`run_task`'s row of one column's outcome."""
     hit = out.hit
@@ -70,9 +65,6 @@ def _row(column: str, shaft: bool, out) -> dict:
     diffs = [abs(ours[k] - report[k]) for k in COORDINATES
              if report.get(k) is not None and ours.get(k) is not None]
     notes = [n for n in out.notes if " hit the car's " in n]
-    # the edge of a segment's hit, as the engine's note words it (the Outcome's hit event
-    # carries the surface and the segment, not the edge)
-    edge = _EDGE.search(notes[0]) if notes else None
     return {
         "column": column,
         "shaft_contact": shaft,
@@ -83,7 +75,7 @@ def _row(column: str, shaft: bool, out) -> dict:
         "time_ms": None if t is None else 1000.0 * t,
         "sentence": hit.sentence() if hit is not None else None,
         "segment_note": notes[0] if notes else None,
-        "edge": edge.group(1).split(" and the ") if edge else [],
+        "edge": [s.value for s in hit.edge] if hit is not None else [],
         "max_coordinate_diff_ft": max(diffs) if diffs else None,
     }
 

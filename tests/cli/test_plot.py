@@ -14,7 +14,7 @@ from PIL import Image
 from deck_emulator.present import plot
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.legacy.deck import read_deck
-from deck_emulator.engine import run_engine
+from deck_emulator.engine import engine_for
 from deck_emulator.vocabulary.units import ft_s_to_mph
 from pictures import (
     Mapper,
@@ -233,12 +233,12 @@ def check_pulse_content(path: Path, fig, results, least: int = 30) -> dict:
 
 @pytest.fixture(scope="module")
 def steel40_emulator():
-    return run_engine(read_deck(ROOT / "decks" / "steel40.dat"), "emulator")
+    return engine_for("emulator").run(read_deck(ROOT / "decks" / "steel40.dat"))
 
 
 @pytest.fixture(scope="module")
 def steel40_core():
-    return run_engine(read_deck(ROOT / "decks" / "steel40.dat"), "core")
+    return engine_for("core").run(read_deck(ROOT / "decks" / "steel40.dat"))
 
 
 @pytest.mark.parametrize("view", plot.VIEWS)
@@ -332,7 +332,7 @@ def test_the_animation_says_the_post_goes_through_the_car(tmp_path, monkeypatch)
     clearance over the computed path): the caption says so beside the listing's hit, and
     the frame is the shape of the scene (the view's feet the same both ways, the axes
     filling it), not a wide strip two thirds blank."""
-    res = run_engine(read_deck(ROOT / "decks" / "steel20.dat"), "emulator")
+    res = engine_for("emulator").run(read_deck(ROOT / "decks" / "steel20.dat"))
     figures = []
     made = plot.mpl().Figure
     monkeypatch.setattr(plot.mpl(), "Figure",
@@ -366,8 +366,8 @@ def test_command_runs_an_angle_deck_with_the_erratum_requested(tmp_path, capsys)
     )
     assert args.func(args) == 0
     check_png(out, "plan")
-    res = run_engine(read_deck(ROOT / "decks" / "steel40_a15.dat"), "emulator",
-                     errata=("ed-direction",))
+    res = engine_for("emulator", errata=("ed-direction",)).run(
+        read_deck(ROOT / "decks" / "steel40_a15.dat"))
     assert res.hit and np.allclose(res.points["C"][0], res.points["Q"][0])
     check_trajectory_content(out, res, "plan")
 
@@ -380,7 +380,7 @@ def test_command_as_printed_on_an_angle_deck_names_the_erratum(tmp_path, capsys)
     assert args.func(args) == 3  # ED stops it as printed; the picture shows what it computed
     err = capsys.readouterr().err
     assert "stopped early" in err and "--erratum ed-direction" in err
-    res = run_engine(read_deck(ROOT / "decks" / "steel40_a15.dat"), "emulator")
+    res = engine_for("emulator").run(read_deck(ROOT / "decks" / "steel40_a15.dat"))
     assert res.error and res.hit is None and np.allclose(res.points["C"][0], res.points["Q"][0])
     # the post at the end (6 ms) in HIT_COLOUR, over the post at t = 0, the one instant
     check_trajectory_content(out, res, "side", instants=0)

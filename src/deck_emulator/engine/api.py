@@ -19,7 +19,7 @@ from deck_emulator.errors import UsageError
 from . import errata as errata_policy
 from .engines import engine_for
 from .outcome import Outcome
-from .sources import load_source
+from .sources import kinds_for, load_source
 
 __all__ = ["run"]
 
@@ -41,11 +41,10 @@ def run(source, engine: str = "emulator", *, section: int | None = None,
     options = _command_line_names(options)
     if hasattr(source, "values") or hasattr(source, "post"):  # a Deck or a Scene already
         return engine_for(engine, **options).run(source)
-    kinds = ("deck",) if engine == "emulator" else ("deck", "scene")
     src = load_source(source, card_format=card_format, keypunch=keypunch, section=section,
-                      listing_program=listing_program, kinds=kinds, command=f"the {engine}")
-    target = src.deck("run") if engine == "emulator" else src.scene_or_deck(f"the {engine}")
-    return engine_for(engine, **options).run(target, name=src.stem)
+                      listing_program=listing_program, kinds=kinds_for(engine),
+                      command=f"the {engine}")
+    return engine_for(engine, **options).run(src.for_engine(engine), name=src.stem)
 
 
 def _command_line_names(options: dict) -> dict:

@@ -24,7 +24,7 @@ from deck_emulator.vocabulary.events import Event, EventKind, Surface
 from deck_emulator.vocabulary.units import force_in_g
 
 from . import errata as errata_policy
-from .sources import load_source
+from .sources import kinds_for, load_source
 
 # Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
 # `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
@@ -34,6 +34,15 @@ if TYPE_CHECKING:
     from .outcome import Outcome
 
 ENGINES = ("emulator", "core")
+
+
+def given(source, engine: str) -> tuple[object, str]:
+    """``source`` as ``engine`` runs it, and its name: a deck or a scene object as it is (no
+    name); a shipped deck's name or a file read as :func:`deck_emulator.run` reads it."""
+    if not isinstance(source, (str, os.PathLike)):
+        return source, ""
+    src = load_source(source, kinds=kinds_for(engine), command=f"the {engine}")
+    return src.for_engine(engine), src.stem
 
 
 def source_name(source) -> str:
@@ -122,9 +131,9 @@ class EmulatorEngine:
         """The program's run alone, without the :class:`Outcome` (which :meth:`outcome_of`
         makes from it): what the plain ``deck-emulator run`` prints.  ``watch``: called with
         the program before it runs (a progress display may read its ``step`` from another
-        thread; nothing is added to the program's loop)."""
-
-        program = self.program(deck)
+        thread; nothing is added to the program's loop).  ``deck``: a deck, a shipped deck's
+        name or a file (:func:`given`)."""
+        program = self.program(given(deck, self.name)[0])
         if watch is not None:
             watch(program)
         error = defect = None
@@ -141,8 +150,10 @@ class EmulatorEngine:
         return Execution(run, error, defect, time.perf_counter() - started)
 
     def run(self, deck, *, name: str = "", watch=None) -> Outcome:
-        """``watch``: as :meth:`execute`."""
-        return self.outcome_of(self.execute(deck, watch=watch), deck, name=name)
+        """``deck`` (or its name, or a file: :func:`given`) run; ``watch``: as
+        :meth:`execute`."""
+        deck, stem = given(deck, self.name)
+        return self.outcome_of(self.execute(deck, watch=watch), deck, name=name or stem)
 
     def outcome_of(self, done: "Execution", deck, *, name: str = "") -> Outcome:
         """The :class:`Outcome` of an :meth:`execute` of ``deck``."""
@@ -282,8 +293,9 @@ def core_events(result) -> list[Event]:
         if kind is not None and not any(x.kind is kind for x in events):
             events.append(Event(EventKind(kind), e.time_s))
     if result.hit:
-        events.append(Event(EventKind.HIT, result.hit.time_s,
-                            Surface[result.hit.surface], result.hit.point))
+        hit = result.hit
+        events.append(Event(EventKind.HIT, hit.time_s, Surface[hit.surface], hit.point,
+                            fraction=hit.fraction, edge=tuple(Surface[s] for s in hit.edge)))
     return sorted(events, key=lambda e: e.time_s)
 
 
@@ -364,9 +376,12 @@ class CoreEngine:
         return f"preset {opts.name}; {self.method}, rtol {self.rtol:g}"
 
     def run(self, source, *, name: str = "", scene=None) -> Outcome:
-        """Run ``source`` (a deck or a scene); ``scene``: run this scene instead, keeping the
-        deck ``source``'s name for the outcome (a deck with changes the deck cannot hold,
-        such as the base's friction); the outcome carries the scene that ran."""
+        """Run ``source`` (a deck or a scene, or its name or file: :func:`given`); ``scene``:
+        run this scene instead, keeping the deck ``source``'s name for the outcome (a deck
+        with changes the deck cannot hold, such as the base's friction); the outcome carries
+        the scene that ran."""
+        source, stem = given(source, self.name)
+        name = name or stem
         target = scene if scene is not None else source
         return self._run(target, name or source_name(source), lambda: self.simulate(target))
 
@@ -594,12 +609,3 @@ def engine_for(name: str, **options):
         return CoreEngine(**options)
     raise ValueError(f"unknown engine {name!r}: {ENGINES}")
 
-
-def run_engine(source, engine: str = "emulator", *, name: str = "", **options) -> Outcome:
-    """One run of the named engine on a deck or a scene object, or on anything SOURCE names
-    (a path, a shipped deck's name: :func:`deck_emulator.engine.sources.load_source`)."""
-    if isinstance(source, (str, os.PathLike)):
-
-        src = load_source(source, kinds=("deck",) if engine == "emulator" else ("deck", "scene"))
-        source = src.deck() if engine == "emulator" else src.scene_or_deck()
-    return engine_for(engine, **options).run(source, name=name)

@@ -108,6 +108,10 @@ class Source:
         """What the core runs: the scene, or the one data deck."""
         return self.scene if self.kind == "scene" else self.deck(command)
 
+    def for_engine(self, engine: str):
+        """What ``engine`` runs of this SOURCE (:func:`kinds_for`)."""
+        return self.deck("run") if engine == "emulator" else self.scene_or_deck(f"the {engine}")
+
     def refusal(self, command: str) -> str:
         """One line: why ``command`` (which runs the 1967 program) cannot take a scene, and
         the conversion that would let it."""
@@ -191,6 +195,11 @@ def _read_scene(name: str, data: bytes):
         if missing:
             message = "missing " + ", ".join(f"[{m}]" for m in missing)
         raise UsageError(f"{name}: not a scene: {message}") from None
+
+
+def kinds_for(engine: str) -> tuple[str, ...]:
+    """What ``engine`` runs: the emulator a deck, the core a deck or a scene."""
+    return ("deck",) if engine == "emulator" else ("deck", "scene")
 
 
 def load_source(given, *, card_format: str = "auto", keypunch: str | None = None,

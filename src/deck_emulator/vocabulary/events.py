@@ -95,13 +95,18 @@ POINT_NAMES = {
 class Event:
     """One event: ``kind``, ``time_s``; for a hit the ``surface`` and the post ``point`` that
     touched it (``None`` where the source does not say); ``label`` the listing's FORMAT label
-    when the 1967 program printed it."""
+    when the 1967 program printed it.  A hit of a segment of the post (``point`` Q-P, P-R,
+    P-U: the core's shaft test) says where along it (``fraction``, 0 at its first letter) and
+    the other faces of the car it met at once (``edge``: the hit is on that edge of
+    ``surface``)."""
 
     kind: EventKind
     time_s: float
     surface: Surface | None = None
     point: str | None = None
     label: int | None = None
+    fraction: float | None = None
+    edge: tuple[Surface, ...] = ()
 
     @property
     def is_hit(self) -> bool:
@@ -133,5 +138,7 @@ class Event:
             "surface": self.surface.value if self.surface else None,
             "point": self.point,
             "label": self.label,
+            "fraction": self.fraction,
+            "edge": [s.value for s in self.edge],
             "sentence": self.sentence(),
         }
