@@ -31,7 +31,7 @@ import deck_emulator
 from deck_emulator import signals
 from deck_emulator.app import EXIT, NAMES, PROG, command_named
 from deck_emulator.app.options import PATH_OPTIONS
-from deck_emulator.errors import RunFailed, UsageError, process_limits
+from deck_emulator.errors import RunFailed, UsageError, out_of_memory, process_limits
 
 EXIT_BAD_INPUT, EXIT_RUN_FAILED = EXIT["bad input"], EXIT["stopped"]  # the answers' table
 
@@ -276,14 +276,10 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
             answer = cmd.run(options)
         return _write(answer)
     except (DeckError, UsageError, OSError) as exc:  # (a library that cannot load: OSError)
-        from deck_emulator.errors import out_of_memory
-
         _say(f"error: {(isinstance(exc, OSError) and out_of_memory(exc)) or exc}")
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT
     except ImportError as exc:  # an optional part of the install is missing: which to add
         from deck_emulator.extras import missing_extra
-
-        from deck_emulator.errors import out_of_memory
 
         message = missing_extra(exc) or out_of_memory(exc)
         if message is None:
@@ -291,8 +287,6 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         _say(f"error: {cmd.name}: {message}")
         return EXIT_BAD_INPUT
     except MemoryError:  # an address-space limit (ulimit -v) the work or a library hit
-        from deck_emulator.errors import out_of_memory
-
         _say(f"error: {cmd.name}: {out_of_memory()}")
         return EXIT_BAD_INPUT
 

@@ -12,11 +12,14 @@ what was computed up to then.
 from __future__ import annotations
 
 import os
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from deck_emulator import decks
 from deck_emulator.legacy.arithmetic import get_arithmetic
+from deck_emulator.legacy.fortran import STEP_LITERALS, listing_program
 from deck_emulator.legacy.stops import EmulatorError, Limits
 from deck_emulator.legacy.printer import event_message
 from deck_emulator.vocabulary import defaults
@@ -69,8 +72,6 @@ def _initial_points(d) -> dict:
 def step_literals() -> tuple[str, ...]:
     """The listing's literals that mean "one step" (0.0004 s): what the emulator's
     ``step_scale_k`` divides by 2**k, in words."""
-    from deck_emulator.legacy.fortran import STEP_LITERALS
-
     return tuple(words for _, _, words in STEP_LITERALS)
 
 
@@ -119,8 +120,6 @@ class EmulatorEngine:
     def program(self, deck):
         """The run of the program on ``deck``: a job deck's own program, or the listing with
         the errata and options asked, both through the FORTRAN front end."""
-        from deck_emulator.legacy.fortran import listing_program
-
         program = self.fortran or listing_program(
             errata_policy.resolve(self.errata), step_scale_k=self.step_scale_k,
             tha_start=self.tha_start, ed_tolerance=self.ed_tolerance)
@@ -574,12 +573,9 @@ def compile_core(wait) -> None:
     study's workers load the cache instead of each compiling it at the same time.  A marker
     beside numba's cache (``numba.config.CACHE_DIR``, where the core keeps it) says it was
     done; where none can be written numba compiles in each process, as it must."""
-    import sys
-
     import numba
 
     import deck_emulator.core.laws  # noqa: F401 -- it sets numba's cache folder for the core
-    from deck_emulator import decks
 
     marker = Path(numba.config.CACHE_DIR) / (
         f"compiled-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")

@@ -38,6 +38,7 @@ import os
 import zlib
 
 from deck_emulator.files import OutputError, OutputSet
+from deck_emulator.parallel import progress_bar
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
            "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "form_figure", "write_pdf"]
@@ -169,8 +170,6 @@ def _render_pdf(records: list[str], path, paper: str, metadata: dict[str, str],
                 progress: str | None) -> int:
     from matplotlib import rc_context
     from matplotlib.backends.backend_pdf import PdfPages
-
-    from deck_emulator.parallel import progress_bar
 
     info = dict(metadata)
     if not os.environ.get("SOURCE_DATE_EPOCH"):

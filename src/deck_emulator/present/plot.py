@@ -35,6 +35,8 @@ from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.units import ft_s_to_mph
 
+from .answers import compartment_words
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
@@ -196,8 +198,6 @@ def _legend_title(res: Outcome) -> str:
 def _compartment_lines(res: Outcome, width: int = 60) -> list[str]:
     """What the run's ratings say of the occupant compartment, for a caption: the post that
     goes through the car is said, whatever point the listing's hit names."""
-    from .answers import compartment_words
-
     comp = (ratings(res) or {}).get("occupant_compartment")
     if comp is None:
         return []
