@@ -161,17 +161,23 @@ class Deck:
 
         A changed field is punched right-justified in ``F10.5`` style (fewer or more
         decimals, or an exponent, when the value needs them) and must read back to exactly
-        the value given; otherwise :class:`DeckError`.  Unchanged fields keep their text.
+        the value given; otherwise :class:`DeckError`.  Unchanged fields keep their text and
+        their values (only the changed fields are read again: a study makes a deck a scene).
         """
         cards = [list(card) for card in self.cards]
+        values, fields = dict(self.values), dict(self.fields)
         for name, value in changes.items():
             if name not in _POSITION:
                 raise DeckError(f"unknown READ-list name {name!r}", path=self.path)
             card_no, field_no = _POSITION[name]
             first, last = field_columns(field_no)
-            text = _punch(value, name=name, card=card_no, columns=(first, last), path=self.path)
+            where = dict(name=name, card=card_no, columns=(first, last), path=self.path)
+            text = _punch(value, **where)
             cards[card_no - 1][first - 1 : last] = text
-        return _build(["".join(card) for card in cards], self.path)
+            values[name], fields[name] = read_field(text, **where)
+        images = ["".join(card) for card in cards]
+        return Deck(path=self.path, values=values, fields=fields, cards=tuple(images),
+                    warnings=_blank_cards(images))
 
     def to_text(self) -> str:
         """The deck file: a ``$DATA`` card and the eight data cards, 80 columns each."""
@@ -436,11 +442,14 @@ def _build(cards: list[str], path: str | None) -> Deck:
             )
             values[name] = value
             fields[name] = decimal_text
-    warnings = tuple(
-        f"card {n} was blank: its 8 fields ({', '.join(READ_LIST[n - 1])}) read as 0.0"
-        for n, card in enumerate(cards, start=1) if not card.strip(" ")
-    )
-    return Deck(path=path, values=values, fields=fields, cards=tuple(cards), warnings=warnings)
+    return Deck(path=path, values=values, fields=fields, cards=tuple(cards),
+                warnings=_blank_cards(cards))
+
+
+def _blank_cards(cards: list[str]) -> tuple[str, ...]:
+    """A deck's warnings: each blank card, whose 8 fields read as 0.0."""
+    return tuple(f"card {n} was blank: its 8 fields ({', '.join(READ_LIST[n - 1])}) read as 0.0"
+                 for n, card in enumerate(cards, start=1) if not card.strip(" "))
 
 
 def read_field(raw: str, *, name: str, card: int, columns, path,
