@@ -553,20 +553,3 @@ def clearance_of(out) -> Clearance | None:
         pts.pop("C")
     return body_clearance(out.t, pts, out.sv, car_body(out.scene),
                           approach_angle_rad(out.scene), free=out.free)
-
-
-def summary(out) -> dict:
-    """The occupant-risk numbers, the limits they are judged by, and the post's margin above
-    the car, as plain JSON-able values (for ``deck-emulator summary``)."""
-    m = assess_outcome(out)
-    c = clearance_of(out)
-    return {
-        "basis": "vehicle velocity over the contact phase; flail-space model (0.6 m); "
-        "see docs/safety.md",
-        "pulse": None if m is None else m.as_dict(),
-        "limits": {
-            k: {"preferred": v.preferred, "maximum": v.maximum, "unit": v.unit, "source": v.source}
-            for k, v in CRITERIA.items()
-        },
-        "clearance_ft": None if c is None else c.as_dict(),
-    }
