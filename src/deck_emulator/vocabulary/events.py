@@ -108,10 +108,6 @@ class Event:
     fraction: float | None = None
     edge: tuple[Surface, ...] = ()
 
-    @property
-    def is_hit(self) -> bool:
-        return self.kind is EventKind.HIT
-
     def sentence(self) -> str:
         """'post hit the ground with the luminaire end R at 819.2 ms'."""
         when = f"at {1000.0 * self.time_s:.1f} ms"

@@ -112,9 +112,6 @@ class PostPoint:
         c, s = math.cos(principal_tilt_rad), math.sin(principal_tilt_rad)
         return (self.xx_ft, self.yy_ft * c + self.zz_ft * s, -self.yy_ft * s + self.zz_ft * c)
 
-    def as_tuple(self) -> Vec3:
-        return (self.xx_ft, self.yy_ft, self.zz_ft)
-
 
 @dataclass(frozen=True)
 class Post:
@@ -276,16 +273,6 @@ class VehicleBody:
         xentop = sv_ft + self.top_length_ft
         return {"XBUMP": sv_ft - self.hood_length_ft, "SV": sv_ft, "XENTOP": xentop,
                 "XTAIL": xentop + self.trunk_length_ft}
-
-    @classmethod
-    def from_values(cls, values: Mapping[str, float]) -> "VehicleBody | None":
-        """The outline from the deck's names (HLEN ... YRFEN); ``None`` if all are zero."""
-        outline = tuple(float(values.get(k, 0.0)) for k in
-                        ("HLEN", "TLEN", "TRLEN", "HHV", "HTV", "HTRV"))
-        if not any(outline):
-            return None
-        return cls(*outline, left_fender_ft=float(values.get("YLFEN", 0.0)),
-                   right_fender_ft=float(values.get("YRFEN", 0.0)))
 
 
 @dataclass(frozen=True)
