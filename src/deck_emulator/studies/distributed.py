@@ -82,7 +82,7 @@ Bounds
 ------
 At most ``max_scenes`` (default :data:`MAX_SCENES`) scenes a call (:class:`SceneLimitError`,
 before anything runs).  An external scheduler (``scheduler=``) must take the connection and
-answer Dask's handshake as a scheduler within ``SCHEDULER_CONNECT_S`` (a row of
+then answer Dask's handshake as a scheduler, each within ``SCHEDULER_CONNECT_S`` (a row of
 :mod:`deck_emulator.vocabulary.defaults`); an address by a scheme this install cannot serve
 (``ucx://`` without its library, ``tls://`` without Dask's TLS settings), one where nothing
 listens, or something else (an HTTP server, a silent port), is a :class:`ClusterError` saying
@@ -696,8 +696,8 @@ def _cannot_load(what: str, exc: BaseException, also: str = "") -> str:
 
 def _reach(address: str) -> None:
     """:class:`ClusterError` in one line unless a Dask scheduler answers at ``address`` by a
-    scheme this install serves, within ``SCHEDULER_CONNECT_S`` for the connection and the
-    handshake together (Dask's own connection timeout leaves the handshake unbounded: a port
+    scheme this install serves, within ``SCHEDULER_CONNECT_S`` for the connection and again
+    for the handshake (Dask's own connection timeout leaves the handshake unbounded: a port
     that accepts and says nothing held a sweep for ever, one that answers HTTP a traceback).
     An in-process address (``inproc://``) is this process's own cluster: not asked."""
     import asyncio
@@ -725,19 +725,22 @@ def _reach(address: str) -> None:
     stage = ["connect"]
 
     async def identity():  # Dask's handshake, then the scheduler's "identity"
-        comm = await connector.connect(loc, deserialize=True, **args)
+        comm = await asyncio.wait_for(connector.connect(loc, deserialize=True, **args), bound)
         stage[0] = "answer"
-        try:
+
+        async def answer():
             await comm.write(comm.handshake_info())
             await comm.read()
             await comm.write({"op": "identity", "reply": True})
             return await comm.read()
+        try:
+            return await asyncio.wait_for(answer(), bound)
         finally:
             comm.abort()
 
     with concurrent.futures.ThreadPoolExecutor(1) as pool:  # its own event loop, in any caller
         try:
-            who = pool.submit(asyncio.run, asyncio.wait_for(identity(), bound)).result()
+            who = pool.submit(asyncio.run, identity()).result()
         except asyncio.TimeoutError:
             raise ClusterError(f"{where}: {said[stage[0]]}") from None
         except Exception as exc:  # noqa: BLE001 - refused, reset, or bytes that are not Dask's

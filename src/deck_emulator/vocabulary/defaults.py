@@ -100,8 +100,9 @@ MAX_HALVINGS = 8
 #: where a command that runs many scenes (sweep, sensitivity, the studies) keeps them as they
 #: finish, inside its output folder, for --resume
 SCENE_STORE = ".scenes"
-#: longest wait for an external Dask scheduler (--scheduler) to take the connection and answer
-#: as a scheduler, s: an address where nothing, or something else, listens is refused after it
+#: longest wait for an external Dask scheduler (--scheduler) to take the connection, and then
+#: again to answer as a scheduler, s: an address where nothing, or something else, listens is
+#: refused after it (each stage its own bound: which one ran out does not hang on the other)
 SCHEDULER_CONNECT_S = 10.0
 #: longest wait for a worker of an external cluster (at the start, and whenever every worker is
 #: gone while scenes remain) before the run ends as failed, s (--worker-wait)
