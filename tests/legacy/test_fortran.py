@@ -135,10 +135,12 @@ def test_the_generated_source_keeps_the_statements_one_a_line_with_their_labels(
 @pytest.mark.parametrize("card, kind, columns", [
     ("      DOUBLE PRECISION X", "DOUBLE PRECISION", "columns 7-72"),
     ("      READ(3,1)X", "READ", "column 12"),
-    ("      IF(Q.GT.0.)GO TO 125", "IF", "column 11"),
-    ("      DO 10 I=1,5", "DO", "columns 7-72"),
+    ("      IF(Q.GT.0.)DO 10 I=1,5", "IF", "column 18"),  # a DO in a logical IF
+    ("      DO 10 I=1,5", "DO", "columns 7-72"),  # MAIN has no statement 10
     ("      X=SQRT(Q)", "assignment", "column 9"),
-    ("      DIMENSION X(10)", "DIMENSION", "columns 7-72"),
+    ("      DIMENSION X(10)", "DIMENSION", "columns 7-72"),  # after executable statements
+    ("      IF(Q.GT.0.)Q=Q.GT.1.", "IF", "column 20"),  # a relation assigned
+    ("      GO TO (125, 12), Q", "GO TO", "column 24"),  # a REAL index
 ])
 def test_a_statement_outside_the_dialect_is_refused_naming_card_columns_and_kind(card, kind,
                                                                                   columns):

@@ -34,7 +34,7 @@ from deck_emulator.legacy.printer import EVENT_FORMATS, Printer, event_for
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
 
-from .parse import INTRINSICS, Unit, kind_of, parse_units
+from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of, parse_units
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -118,6 +118,14 @@ class _Stop(Exception):
     """STOP in a subroutine."""
 
 
+class _Bad(Exception):
+    """A subscript outside its storage, an assigned GO TO to no label of its list: a stop."""
+
+    def __init__(self, reason, name):
+        super().__init__(reason)
+        self.name = name
+
+
 def _nothing(*_):
     """A trace not kept."""
 
@@ -147,9 +155,48 @@ class _Gen:
         #: of them is assigned again (the same value as calling it again, bit for bit)
         self.known: dict | None = None
         self.kept = 0
+        self.end = ""  # the block's check of its values where it ends (binary64, unchecked)
+        self.label = None  # the label shown for the block being made
+        self.body: dict = {}  # id of a DO -> the key of its range's first block
+        self.ends: dict = {}  # label -> the DOs whose range ends there, innermost first
+        for s in unit.statements:
+            if s.kind == "do":
+                self.ends.setdefault(s.args[0], []).insert(0, s)
 
     def emit(self, text: str, where=None):
         self.lines.append((text, where))
+
+    # names ----------------------------------------------------------------------------------
+    def ref(self, name: str) -> str:
+        """A scalar variable's code: its name, or its place in a COMMON block."""
+        at = self.u.commons.get(name)
+        return f"_C{at[0]}[{at[1]}]" if at else name
+
+    def store(self, name: str) -> tuple[str, str]:
+        """An array's storage (a list) and the index of its first element there."""
+        at = self.u.commons.get(name)
+        if at:
+            return f"_C{at[0]}", str(at[1])
+        return name, (f"b_{name}" if name in self.u.dummies else "0")
+
+    def place(self, name: str, subs) -> tuple[str, str]:
+        """(storage, index) of an array element, by columns, the index checked to lie in the
+        storage (gfortran's and the 7094's: an element of a COMMON block's or an actual
+        argument's storage past the array's bounds is that storage's)."""
+        lst, base = self.store(name)
+        parts, scale = ([] if base == "0" else [base]), []
+        for sub, bound in zip(subs, self.u.arrays[name]):
+            one = str(int(sub[1]) - 1) if sub[0] == "const" else f"{self._expr(sub)}-1"
+            parts.append(f"({one})*{'*'.join(scale)}" if scale else one)
+            scale.append(str(bound))
+        size = str(math.prod(self.u.arrays[name])) if base == "0" else f"len({lst})"
+        return lst, f"_o if 0 <= (_o := {'+'.join(parts)}) < {size} else _sub({name!r}, _o)"
+
+    def target(self, t) -> str:
+        if t[0] == "var":
+            return self.ref(t[1])
+        lst, index = self.place(t[1], t[2])
+        return f"{lst}[{index}]"
 
     # expressions -------------------------------------------------------------------------
     def expr(self, e, want: str | None = None) -> str:
@@ -175,11 +222,13 @@ class _Gen:
                 self.consts.add(value)
                 return _const_name(value)
             if e[2] == "I":
-                return e[1]
+                return str(int(e[1]))  # (0010 is 10)
             self.consts.add(e[1])
             return _const_name(e[1])
         if tag == "var":
-            return e[1]
+            return self.ref(e[1])
+        if tag == "elem":
+            return self.target(e)
         if tag == "neg":
             inner = self._expr(e[1])
             return f"-({inner})" if e[1][0] == "bin" else f"-{inner}"
@@ -190,21 +239,15 @@ class _Gen:
             if e[2] == 2:
                 return f"({base}*{base})"
             return f"_ipow({base}, {e[2]})"
+        if tag == "rel":
+            typ = "I" if e[2][-1] == e[3][-1] == "I" else "R"
+            return f"{self.expr(e[2], typ)} {e[1]} {self.expr(e[3], typ)}"
+        if tag == "log":
+            return f"({self._expr(e[2])}) {e[1]} ({self._expr(e[3])})"
+        if tag == "not":
+            return f"not ({self._expr(e[1])})"
         if tag == "call":
-            name, args = e[1], e[2]
-            if name in INTRINSICS:
-                call = f"{INTRINSICS[name]}({self.expr(args[0])})"
-                if self.known is None or name not in ("SIN", "COS"):
-                    return call
-                if call not in self.known:  # its first in the block: kept in a local
-                    simple = args[0][0] == "var"
-                    self.kept += 1
-                    local = f"{INTRINSICS[name]}_{args[0][1] if simple else self.kept}"
-                    self.known[call] = (local, set(_variables(args[0])))
-                    return f"({local} := {call})"
-                return self.known[call][0]
-            dummies, body = self.u.functions[name]
-            return f"{name}({', '.join(self.expr(a, kind_of(d)) for a, d in zip(args, dummies))})"
+            return self.call(e)
         _, op, left, right, typ = e
         if typ == "I" and op == "/":
             return f"_idiv({self._expr(left)}, {self._expr(right)})"
@@ -215,6 +258,45 @@ class _Gen:
             rcode = f"({rcode})"
         return f"{lcode}{_PY_OPS[op]}{rcode}"
 
+    def call(self, e) -> str:
+        name, args = e[1], e[2]
+        if name in INTRINSICS:
+            call = f"{INTRINSICS[name]}({self.expr(args[0])})"
+            if self.known is None or name not in ("SIN", "COS") or not self.pure(args[0]):
+                return call
+            if call not in self.known:  # its first in the block: kept in a local
+                simple = args[0][0] == "var"
+                self.kept += 1
+                local = f"{INTRINSICS[name]}_{args[0][1] if simple else self.kept}"
+                self.known[call] = (local, set(_variables(args[0])))
+                return f"({local} := {call})"
+            return self.known[call][0]
+        if name in self.u.functions:
+            dummies, body = self.u.functions[name]
+            return f"{name}({', '.join(self.expr(a, kind_of(d)) for a, d in zip(args, dummies))})"
+        return f"_G.call_{name}({self.actuals(name, args)})"  # a FUNCTION
+
+    def pure(self, e) -> bool:
+        """Whether ``e`` reads only the unit's own scalars (no COMMON, no array, no call but
+        an intrinsic's): what a kept SIN or COS may stand on."""
+        if e[0] == "var":
+            return e[1] not in self.u.commons
+        if e[0] == "call":
+            return e[1] in INTRINSICS and self.pure(e[2][0])
+        return e[0] != "elem" and all(self.pure(x) for x in e[1:-1] if isinstance(x, tuple))
+
+    def actuals(self, name: str, args) -> str:
+        """A subprogram's arguments: a scalar's value; an array's storage and first index."""
+        sub, out = self.units[name], []
+        for a, d in zip(args, sub.dummies):
+            if d not in sub.arrays:
+                out.append(self.expr(a))
+            elif a[0] == "arr":
+                out += self.store(a[1])
+            else:
+                out += self.place(a[1], a[2])
+        return ", ".join(out)
+
     # statements ----------------------------------------------------------------------------
     def where(self, label, variable=None):
         return (self.u.name, label, variable)
@@ -224,133 +306,195 @@ class _Gen:
         names = _names(u)
         reals = [n for n in names if kind_of(n) == "R"]
         ints = [n for n in names if kind_of(n) == "I"]
+        arrays = [a for a in u.arrays if a not in u.commons]
         self.emit(f"def make_{u.name}(_G):")
-        self.emit(f"    # {'SUBROUTINE ' + u.name if u.name != 'MAIN' else 'MAIN'}: its "
+        self.emit(f"    # {u.kind + ' ' + u.name if u.name != 'MAIN' else 'MAIN'}: its "
                   "variables, zero at load and kept between calls")
         for group, zero in ((reals, "_Z"), (ints, "0")):
             for i in range(0, len(group), 8):
                 self.emit(f"    {' = '.join(group[i:i + 8])} = {zero}")
+        for a in arrays:
+            self.emit(f"    {a}, b_{a} = None, 0" if a in u.dummies else
+                      f"    {a} = [{'_Z' if kind_of(a) == 'R' else '0'}] * "
+                      f"{math.prod(u.arrays[a])}")
         for name, (dummies, body) in u.functions.items():
             self.emit(f"    def {name}({', '.join(dummies)}):  # statement function",
                       self.where(None, name))
             self.emit(f"        return {self.expr(body, kind_of(name))}", self.where(None, name))
         blocks = _blocks(u)
-        assigned_dummies = [d for d in u.dummies if d in _changed(u, self.units)]
-        for label, stmts, nxt in blocks:
-            self.block(label, stmts, nxt)
-        self.emit(f"    _blocks = {{{', '.join(f'{_key(b[0])}: L{b[0] or 0}' for b in blocks)}}}")
+        for i, (key, label, stmts, nxt) in enumerate(blocks):
+            if stmts[-1].kind == "do":
+                self.body[id(stmts[-1])] = nxt
+        for key, label, stmts, nxt in blocks:
+            self.block(key, label, stmts, nxt)
+        table = ", ".join(f"{_key(b[0])}: {_fname(b[0])}" for b in blocks)
+        start = "" if blocks[0][0] is None else f"'START': {_fname(blocks[0][0])}, "
+        self.emit(f"    _blocks = {{{start}{table}}}")
         self.emit("    def _vars():")
-        self.emit(f"        return {{{', '.join(f'{n!r}: {n}' for n in names)}}}")
-        args = ", ".join(f"a_{d}" for d in u.dummies)
-        self.emit(f"    def {u.name}({args}):")
-        if names:
-            self.emit(f"        nonlocal {', '.join(names)}")
+        shown_vars = [(n, self.ref(n)) for n in names + sorted(u.commons)
+                      if n not in u.arrays] + [(a, self.store(a)[0]) for a in u.arrays]
+        self.emit(f"        return {{{', '.join(f'{n!r}: {c}' for n, c in shown_vars)}}}")
+        scalars = [d for d in u.dummies if d not in u.arrays]
+        args = ", ".join(f"a_{d}" if d in scalars else f"a_{d}, a_b_{d}" for d in u.dummies)
+        self.emit(f"    def _entry({args}):")
+        rebound = names + [f"{p}{a}" for a in arrays if a in u.dummies for p in ("", "b_")]
+        if rebound:
+            self.emit(f"        nonlocal {', '.join(rebound)}")
         for d in u.dummies:
-            self.emit(f"        {d} = a_{d}")
+            self.emit(f"        {d} = a_{d}" if d in scalars else
+                      f"        {d}, b_{d} = a_{d}, a_b_{d}")
         limit = "_G.limits.ed_iterations" if u.name != "MAIN" else "_G.program_blocks"
         self.emit(f"        lab, n, blocks, limit = 'START', 0, _blocks, {limit}")
         self.emit("        while lab is not None:")
         self.emit("            n += 1")
         self.emit("            if n > limit:")
-        shown = [n for n in names if kind_of(n) == "R" and n in _changed(u, self.units)][:3]
+        mine = changed(u, self.units)
+        shown = [n for n in names if kind_of(n) == "R" and n in mine][:3]
         search = (self.program_watch or {}).get("search")
         if search and search[0] == u.name and set(search[1]) <= set(names):
             shown = list(search[1])
         self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown)!r})")
         self.emit("            lab = blocks[lab]()")
-        self.emit(f"        return ({''.join(d + ', ' for d in assigned_dummies)})")
-        self.emit(f"    _G.units[{u.name!r}] = ({u.name}, _vars)")
-        self.emit(f"    return {u.name}")
+        if u.kind == "FUNCTION":
+            self.emit(f"        return {self.ref(u.name)}")
+        else:
+            back = [d for d in scalars if d in mine]
+            self.emit(f"        return ({''.join(d + ', ' for d in back)})")
+        self.emit(f"    _G.units[{u.name!r}] = (_entry, _vars)")
+        self.emit("    return _entry")
 
-    def block(self, label, stmts, nxt):
-        self.emit(f"    def L{label or 0}():  # {'label ' + str(label) if label else 'entry'}")
-        assigned = _assigned(stmts, self.units)
-        if assigned:
-            self.emit(f"        nonlocal {', '.join(sorted(assigned))}")
-        w = self.watch
-        if w and label in w["steps"]:
+    def block(self, key, label, stmts, nxt):
+        self.label = label
+        self.emit(f"    def {_fname(key)}():  # "
+                  f"{'label ' + str(key) if isinstance(key, int) else key or 'entry'}")
+        names = assigned(stmts, self.units) | {do.args[1] for s in stmts if s.label is not None
+                                               for do in self.ends.get(s.label, ())}
+        local = set(_names(self.u))
+        if names & local:
+            self.emit(f"        nonlocal {', '.join(sorted(names & local))}")
+        w = self.watch if isinstance(key, int) else None
+        if w and key in w["steps"]:
             self.emit("        _G.step += 1")
-        if w and label == w["free_from"]:
+        if w and key == w["free_from"]:
             self.emit("        _G.free = True")
-        if w and label == w["halving"]:
+        if w and key == w["halving"]:
             self.emit("        _G.halve()")
-        if w and label == w["accept"]:
+        if w and key == w["accept"]:
             self.emit("        _G.halvings = 0")
-        if w and label in w.get("points", ()):
-            self.emit(f"        _G.point = {w['points'][label]!r}")
-        if w and label in w.get("records", ()):
-            phase = w["records"][label]
-            names = [n for n in TRACE_ROWS[phase].values() if n]
-            if set(names) <= set(_names(self.u)):  # (a program without them keeps no trace)
-                self.emit(f"        _G.record({phase!r}, {', '.join(names)})",
-                          self.where(label))
-        checks = [n for n in sorted(assigned) if kind_of(n) == "R"]
-        end = ""  # the block's check of its values when it ends (binary64, unchecked)
+        if w and key in w.get("points", ()):
+            self.emit(f"        _G.point = {w['points'][key]!r}")
+        if w and key in w.get("records", ()):
+            phase = w["records"][key]
+            rows = [n for n in TRACE_ROWS[phase].values() if n]
+            if set(rows) <= set(_names(self.u)):  # (a program without them keeps no trace)
+                self.emit(f"        _G.record({phase!r}, {', '.join(map(self.ref, rows))})",
+                          self.where(key))
+        checks = [self.ref(n) for n in sorted(names)
+                  if kind_of(n) == "R" and n not in self.u.arrays]
+        self.end = ""
         if self.native and not self.checking and checks:
-            end = f"        if not _fin({'+'.join(checks)}): raise _Replay"
-        ended = False
+            self.end = f"if not _fin({'+'.join(checks)}): raise _Replay"
+        self.ended = False  # (what follows a jump, unlabelled, is never reached: no checks)
         self.known = {} if self.native else None
         for s in stmts:
-            last = s is stmts[-1]
-            self.text = s.text
             if self.known and s is not stmts[0]:
                 self.forget(before)
             before = s
-            text = f"  # {str(s.label) + ' ' if s.label else ''}{s.text}"
-            if s.kind == "assign":
-                var, e = s.args
-                self.emit(f"        {var} = {self.expr(e, kind_of(var))}{text}",
-                          self.where(label, var))
-                if self.checking and kind_of(var) == "R":
-                    self.emit(f"        if not _fin({var}): raise _NonFinite({var!r})",
-                              self.where(label, var))
-                if w and (label, var) in w["clocks"]:
-                    self.emit(f"        _G.clock({var}, {w['clocks'][label, var]!r}, {label})",
-                              self.where(label, var))
-            elif s.kind == "continue":
-                self.emit(f"        pass{text}", self.where(label))
-            elif s.kind == "read":
-                fmt, items = s.args
-                self.emit(f"        {', '.join(items)}, = _G.read({fmt}){text}",
-                          self.where(label, items[0] if items else None))
-            elif s.kind == "write":
-                fmt, items = s.args
-                values = "".join(f", {self.expr(e)}" for e in items)
-                self.emit(f"        _G.write_{self.u.name}({fmt}{values}){text}",
-                          self.where(label))
-                if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
-                    clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
-                    self.emit(f"        _G.event({fmt}, {clock})", self.where(label))
-            elif s.kind == "call":
-                name, args = s.args
-                sub = self.units[name]
-                changed = _changed(sub, self.units)
-                back = [a[1] if a[0] == "var" else "_" for d, a in zip(sub.dummies, args)
-                        if d in changed]
-                targets = "".join(v + ", " for v in back)
-                call = f"_G.call_{name}({', '.join(self.expr(a) for a in args)})"
-                self.emit(f"        {targets + '= ' if back else ''}{call}{text}",
-                          self.where(label, next((v for v in back if v != "_"), None)))
-            else:  # GO TO, IF, RETURN, STOP, END: the block ends (what follows, unlabelled,
-                # is never reached, and is kept as written: STOP then END)
-                if end and not ended:
-                    self.emit(end, self.where(label))
-                self.emit(f"        {self.jump(s)}{text}", self.where(label))
-                ended = True
-            if last and not ended:
-                if end:
-                    self.emit(end, self.where(label))
-                self.emit(f"        return {_key(nxt)}", self.where(label))
+            self.text = s.text
+            self.statement(s, "        ", f"  # {str(s.label) + ' ' if s.label else ''}{s.text}")
+            self.ended = self.ended or s.kind in _JUMPS
+            for do in self.ends.get(s.label, ()) if s.label is not None else ():
+                n, var, _m1, m2, m3 = do.args
+                where = self.where(label, var)
+                self.emit(f"        {self.ref(var)} = {self.ref(var)}+{self.expr(m3)}  "
+                          f"# DO {n} {var}: the next", where)
+                self.emit(f"        if {self.ref(var)} <= {self.expr(m2)}:", where)
+                if self.end:
+                    self.emit(f"            {self.end}", where)
+                self.emit(f"            return {_key(self.body[id(do)])}", where)
+        if not self.ended:
+            if self.end:
+                self.emit(f"        {self.end}", self.where(label))
+            self.emit(f"        return {_key(nxt)}", self.where(label))
         self.known = None
+
+    def statement(self, s, ind: str, text: str):
+        """A statement's lines, indented by ``ind``, ``text`` (its card's) beside the first."""
+        label, w, kind = self.label, self.watch, s.kind
+        if kind == "assign":
+            t, e = s.args
+            var, code, value = t[1], self.target(t), self.expr(e, t[-1])
+            where = self.where(label, var)
+            check = kind_of(var) == "R" and (self.checking or self.native)
+            if t[0] == "elem" and check:  # (binary64: run again, checking every assignment)
+                fault = f"_NonFinite({var!r})" if self.checking else "_Replay"
+                self.emit(f"{ind}{code} = _v = {value}{text}", where)
+                self.emit(f"{ind}if not _fin(_v): raise {fault}", where)
+            else:
+                self.emit(f"{ind}{code} = {value}{text}", where)
+                if self.checking and check:
+                    self.emit(f"{ind}if not _fin({code}): raise _NonFinite({var!r})", where)
+            if w and (label, var) in w["clocks"] and t[0] == "var":
+                self.emit(f"{ind}_G.clock({code}, {w['clocks'][label, var]!r}, {label})",
+                          where)
+        elif kind == "continue":
+            self.emit(f"{ind}pass{text}", self.where(label))
+        elif kind == "read":
+            fmt, items = s.args
+            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt})"
+                      f"{text}", self.where(label, items[0][1] if items else None))
+        elif kind == "write":
+            fmt, items = s.args
+            values = "".join(f", {self.expr(e)}" for e in items)
+            self.emit(f"{ind}_G.write_{self.u.name}({fmt}{values}){text}", self.where(label))
+            if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
+                clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
+                self.emit(f"{ind}_G.event({fmt}, {self.ref(clock)})", self.where(label))
+        elif kind == "call":
+            name, args = s.args
+            sub = self.units[name]
+            mine = changed(sub, self.units)
+            back = [self.target(a) if a[0] in ("var", "elem") else "_"
+                    for d, a in zip(sub.dummies, args) if d in mine and d not in sub.arrays]
+            targets = "".join(v + ", " for v in back)
+            call = f"_G.call_{name}({self.actuals(name, args)})"
+            self.emit(f"{ind}{targets + '= ' if back else ''}{call}{text}",
+                      self.where(label, next((a[1] for d, a in zip(sub.dummies, args)
+                                              if d in mine and a[0] == "var"), None)))
+        elif kind == "label":
+            self.emit(f"{ind}{self.ref(s.args[1])} = {s.args[0]}{text}",
+                      self.where(label, s.args[1]))
+        elif kind == "do":
+            n, var, m1, _m2, _m3 = s.args
+            self.emit(f"{ind}{self.ref(var)} = {self.expr(m1)}{text}", self.where(label, var))
+        elif kind == "lif":
+            self.emit(f"{ind}if {self.expr(s.args[0])}:{text}", self.where(label))
+            self.statement(s.args[1], ind + "    ", "")
+        elif kind == "cgoto":
+            labels, e = s.args
+            self.emit(f"{ind}if 1 <= (_i := {self.expr(e)}) <= {len(labels)}:{text}",
+                      self.where(label))
+            if self.end:
+                self.emit(f"{ind}    {self.end}", self.where(label))
+            self.emit(f"{ind}    return {labels}[_i - 1]", self.where(label))
+        else:  # GO TO, IF, RETURN, STOP, END: the block ends (what follows, unlabelled,
+            # is never reached, and is kept as written: STOP then END)
+            if self.end and not self.ended:
+                self.emit(f"{ind}{self.end}", self.where(label))
+            self.emit(f"{ind}{self.jump(s)}{text}", self.where(label))
 
     def forget(self, s):
         """Drop the kept SIN and COS whose arguments statement ``s`` assigned."""
-        changed = _assigned([s], self.units)
-        self.known = {k: v for k, v in self.known.items() if not v[1] & changed}
+        gone = assigned([s], self.units)
+        self.known = {k: v for k, v in self.known.items() if not v[1] & gone}
 
     def jump(self, s) -> str:
         if s.kind == "goto":
             return f"return {s.args[0]}"
+        if s.kind == "agoto":
+            var, labels = s.args
+            return (f"return {self.ref(var)} if {self.ref(var)} in {labels} else "
+                    f"_lost({var!r}, {self.ref(var)})")
         if s.kind == "if":
             e, neg, zero, pos = s.args
             x = self.expr(e)
@@ -362,6 +506,18 @@ class _Gen:
         return "return None"
 
 
+#: Statements after which the block's next statement is not reached (but by a label).
+_JUMPS = ("goto", "agoto", "if", "return", "stop", "end")
+
+
+def _sub(name, index):
+    raise _Bad(f"a subscript of {name} outside its storage (element {index + 1})", name)
+
+
+def _lost(name, value):
+    raise _Bad(f"assigned GO TO {name}: {value} is no label of its list", name)
+
+
 def _weaker(e, op: str, right: bool) -> bool:
     """Whether operand ``e`` of ``op`` needs parentheses to keep FORTRAN's order."""
     if e[0] == "neg":  # a sign: as the first operand of + or -, as written
@@ -371,81 +527,73 @@ def _weaker(e, op: str, right: bool) -> bool:
     return rank[inner] < rank[op] or (right and rank[inner] == rank[op])
 
 
-def _key(label) -> str:
-    return "None" if label is False else "'START'" if label is None else str(label)
+def _key(key) -> str:
+    return "None" if key is False else "'START'" if key is None else repr(key)
+
+
+def _fname(key) -> str:
+    """A block's function: L125 for label 125, L0 for the unit's start, DO10_I for the range of
+    DO 10 I where it starts without a label."""
+    return f"L{key or 0}" if not isinstance(key, str) else key.replace(" ", "", 1).replace(" ", "_")
 
 
 def _blocks(u: Unit):
-    """(label, statements, the label it falls into) of each block: a block starts at the
-    unit's first statement and at each labelled statement."""
-    blocks = []
+    """(key, the label shown for it, statements, the key it falls into) of each block: a block
+    starts at the unit's first statement, at each labelled statement and after each DO (its
+    range's first statement: key 'DO n i' if unlabelled)."""
+    blocks, shown = [], None
     for s in u.statements:
-        if not blocks or s.label is not None:
-            blocks.append([s.label, []])
-        blocks[-1][1].append(s)
-    out = []
-    for i, (label, stmts) in enumerate(blocks):
-        nxt = blocks[i + 1][0] if i + 1 < len(blocks) else False
-        out.append((label, stmts, nxt))
-    return out
-
-
-def _assigned(stmts, units) -> set[str]:
-    """The variables ``stmts`` assign (a CALL assigns the actual arguments its subroutine's
-    assigned dummies stand for; a READ its list)."""
-    out: set[str] = set()
-    for s in stmts:
-        if s.kind == "assign":
-            out.add(s.args[0])
-        elif s.kind == "read":
-            out.update(s.args[1])
-        elif s.kind == "call":
-            sub = units[s.args[0]]
-            mine = _changed(sub, units)
-            out.update(a[1] for d, a in zip(sub.dummies, s.args[1])
-                       if a[0] == "var" and d in mine)
-    return out
-
-
-def _changed(unit: Unit, units) -> set[str]:
-    """What a unit assigns (worked out once a unit)."""
-    if unit.changed is None:
-        unit.changed = _assigned(unit.statements, units)
-    return unit.changed
+        if s.label is not None:
+            shown = s.label
+        if not blocks or s.label is not None or blocks[-1][2][-1].kind == "do":
+            do = blocks[-1][2][-1].args if blocks else None
+            key = s.label if s.label is not None or not blocks else f"DO {do[0]} {do[1]}"
+            blocks.append([key, shown, []])
+        blocks[-1][2].append(s)
+    return [(key, shown, stmts, blocks[i + 1][0] if i + 1 < len(blocks) else False)
+            for i, (key, shown, stmts) in enumerate(blocks)]
 
 
 def _variables(e, skip=()):
-    """The variables an expression reads, in order."""
-    if e[0] == "var":
+    """The scalar variables an expression (or an assignment's target) reads, in order."""
+    tag = e[0]
+    if tag == "var":
         if e[1] not in skip:
             yield e[1]
-    elif e[0] in ("neg", "pow"):
+    elif tag in ("neg", "pow", "not"):
         yield from _variables(e[1], skip)
-    elif e[0] == "call":
+    elif tag in ("call", "elem"):
         for a in e[2]:
             yield from _variables(a, skip)
-    elif e[0] == "bin":
+    elif tag in ("bin", "rel", "log"):
         yield from _variables(e[2], skip)
         yield from _variables(e[3], skip)
 
 
+def _expressions(s):
+    """A statement's expressions and targets, as variables ("var") where it names one."""
+    k, a = s.kind, s.args
+    if k == "lif":
+        return (a[0], *_expressions(a[1]))
+    return {"assign": lambda: a, "read": lambda: a[1], "write": lambda: a[1],
+            "call": lambda: a[1], "if": lambda: a[:1], "cgoto": lambda: a[1:],
+            "agoto": lambda: (("var", a[0], "I"),), "label": lambda: (("var", a[1], "I"),),
+            "do": lambda: (("var", a[1], "I"), *a[2:])}.get(k, tuple)()
+
+
 def _names(u: Unit) -> list[str]:
-    """Every variable of a unit, in order of first appearance (dummies first)."""
+    """Every scalar variable of a unit, not in COMMON, in order of first appearance (dummies
+    first; a FUNCTION's name, its value)."""
     seen = dict.fromkeys(u.dummies)
+    if u.kind == "FUNCTION":
+        seen.setdefault(u.name)
     for dummies, body in u.functions.values():
         seen.update(dict.fromkeys(_variables(body, set(dummies))))
     for s in u.statements:
-        if s.kind == "assign":
-            seen.setdefault(s.args[0])
-            seen.update(dict.fromkeys(_variables(s.args[1])))
-        elif s.kind == "read":
-            seen.update(dict.fromkeys(s.args[1]))
-        elif s.kind in ("write", "call"):
-            for e in s.args[1]:
-                seen.update(dict.fromkeys(_variables(e)))
-        elif s.kind == "if":
-            seen.update(dict.fromkeys(_variables(s.args[0])))
-    return [n for n in seen if n not in u.functions]
+        for e in _expressions(s):
+            seen.update(dict.fromkeys(_variables(e)))
+    return [n for n in seen if n not in u.functions and n not in u.arrays
+            and n not in u.commons]
 
 
 class Program:
@@ -555,6 +703,12 @@ class Program:
                 consts |= gen.consts
                 steps |= gen.steps
             head = [(f"{_const_name(c)} = _K({c!r})", None) for c in sorted(consts)]
+            for block, places in common_blocks(list(self.units.values())).items():
+                runs = [[places[0], 0]]  # (a COMMON block: its places, zero)
+                for t in places:
+                    runs[-1][1] += 1 if t == runs[-1][0] else runs.append([t, 1]) or 0
+                head.append((f"_C{block} = " + " + ".join(
+                    f"[{'_Z' if t == 'R' else '0'}] * {n}" for t, n in runs), None))
             half = "".join("/_K('2.')" for _ in range(self.step_scale_k))
             head += [(f"s_{_const_name(c)} = {_const_name(c)}{half}  # one step / "
                       f"2**{self.step_scale_k}", None) for c in sorted(steps)]
@@ -688,7 +842,7 @@ class Runner:
         zero = ar.decimal("0.0")
         namespace = dict(
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
-            _Stop=_Stop, sin=ar.sin, cos=ar.cos, sign=ar.sign, _ipow=ar.ipow,
+            _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign, _ipow=ar.ipow,
             _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: int(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
@@ -723,18 +877,25 @@ class Runner:
             if unit is not None:  # where it stopped (a defect's message names it too)
                 self.label = (("START" if label is None else label) if unit == "MAIN"
                               else f"{unit} {label or 0}")
-            if not isinstance(exc, (ArithmeticError, ValueError)) or (
+            if isinstance(exc, _Bad):
+                error = EmulatorError(str(exc), label=self.label, variable=exc.name,
+                                      step=self.step, time=self.time(), guard="program")
+            elif not isinstance(exc, (ArithmeticError, ValueError)) or (
                     isinstance(exc, ValueError) and "math domain" not in str(exc)):
                 raise  # a defect of ours, not the program's arithmetic
-            if isinstance(exc, _NonFinite):
-                variable = exc.name
-            self._fail(EmulatorError(fault_reason(exc), label=self.label, variable=variable,
-                                     step=self.step, time=self.time(), guard="arithmetic"))
+            else:
+                error = EmulatorError(fault_reason(exc), label=self.label, variable=(
+                    exc.name if isinstance(exc, _NonFinite) else variable), step=self.step,
+                    time=self.time(), guard="arithmetic")
+            if not self.checking and self.native and not self._all_finite():
+                return self._replay()  # (a value went non-finite before: where, replayed)
+            self._fail(error)
         return self.run_
 
     def _all_finite(self) -> bool:
         return all(self.ar.isfinite(x) for _, get in self.units.values()
-                   for x in get().values() if type(x) is not int)
+                   for v in get().values() for x in (v if type(v) is list else (v,))
+                   if type(x) is not int and x is not None)
 
     def _replay(self) -> Run:
         indicators = getattr(self.ar, "indicators", None)
