@@ -346,3 +346,41 @@ def test_a_job_deck_whose_program_uses_the_kinds_runs_as_gfortran_runs_it(tmp_pa
     data = texts[texts.index("$DATA") + 1:texts.index("$IBSYS")]
     theirs, _err, ending = _gfortran(tmp_path, program, "r8", data)
     assert ending == "normal" and out.read_text() == theirs and theirs.startswith(" SUMS ")
+
+
+# -------------------------------------------------------------------------------- refusals
+
+
+@pytest.mark.parametrize("text, where", [
+    ("      X = F(1.0)\n      END\n      FUNCTION F(A)\n      A = 2.0\n      F = A\n      END",
+     "card 3: FUNCTION statement: FUNCTION F assigns its dummy A"),
+    ("      COMMON X\n      X = 1.0\n      END\n      SUBROUTINE S\n      COMMON K\n      END",
+     "card 4: COMMON statement: COMMON //: place 1 is I as K in S, R elsewhere"),
+    ("      CALL S\n      END\n      SUBROUTINE S\n      CALL T\n      END\n"
+     "      SUBROUTINE T\n      CALL S\n      END", "card 3: SUBROUTINE statement: S calls itself"),
+    ("      DO 10 I = 1, 2\n   10 GO TO 20\n   20 STOP\n      END",
+     "card 2, columns 7-72: GO TO statement: a DO's range ends at 10, a transfer or a DO"),
+    ("      DO 10 I = 1, 2\n      DO 20 J = 1, 2\n   10 CONTINUE\n   20 CONTINUE\n      END",
+     "card 3, columns 7-72: CONTINUE statement: the DO ranges ending at 10 cross"),
+    ("      CALL S(1.0)\n      END\n      SUBROUTINE S(A)\n      COMMON A\n      END",
+     "card 4, column 14: COMMON statement: A twice in COMMON, or a dummy in COMMON"),
+    ("      DIMENSION A(2)\n      CALL S(A)\n      END\n      SUBROUTINE S(X)\n      END",
+     "card 2, columns 7-72: CALL statement: argument 1 of S: an array against a scalar"),
+    ("      X = 1.0\n      DIMENSION A(2)\n      END",
+     "card 2, columns 7-72: DIMENSION statement: a DIMENSION after the unit's first"),
+    ("      ASSIGN 10 TO X\n   10 STOP\n      END",
+     "card 1, column 20: ASSIGN statement: X is no INTEGER variable"),
+])
+def test_what_the_kinds_refuse_is_refused_in_one_line_naming_card_and_kind(text, where):
+    from deck_emulator.legacy.fortran import DialectError
+
+    with pytest.raises(DialectError) as info:
+        Program(text.splitlines())
+    assert "\n" not in str(info.value) and str(info.value).startswith(where), str(info.value)
+
+
+def test_every_kind_read_is_a_kind_of_the_dialects_table():
+    from deck_emulator.legacy.fortran import STATEMENTS
+    from deck_emulator.legacy.fortran.parse import _SYNTAX
+
+    assert {kind for kind, _, _ in _SYNTAX} <= set(STATEMENTS)

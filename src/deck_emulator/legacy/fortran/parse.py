@@ -754,8 +754,10 @@ def _kind_name(text: str) -> str:
             return {"DOUBLEPRECISION": "DOUBLE PRECISION", "BLOCKDATA": "BLOCK DATA",
                     "REALFUNCTION": "REAL FUNCTION",
                     "INTEGERFUNCTION": "INTEGER FUNCTION"}.get(word, word)
+    if "=" in text and not text.startswith(("IF(", "DO")):
+        return "assignment"
     for word in ("READ", "WRITE", "IF", "GOTO", "CALL", "FORMAT", "SUBROUTINE", "FUNCTION",
-                 "DIMENSION", "COMMON", "ASSIGN", "DO"):
+                 "DIMENSION", "COMMON", "ASSIGN", "DO", "CONTINUE", "RETURN", "STOP", "END"):
         if text.startswith(word):
             return {"GOTO": "GO TO"}.get(word, word)
     return "assignment" if "=" in text else "unknown"
