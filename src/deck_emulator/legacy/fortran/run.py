@@ -158,6 +158,7 @@ class _Gen:
         self.end = ""  # the block's check of its values where it ends (binary64, unchecked)
         self.label = None  # the label shown for the block being made
         self.body: dict = {}  # id of a DO -> the key of its range's first block
+        self.names = _names(unit)  # its scalars not in COMMON
         self.ends: dict = {}  # label -> the DOs whose range ends there, innermost first
         for s in unit.statements:
             if s.kind == "do":
@@ -302,8 +303,7 @@ class _Gen:
         return (self.u.name, label, variable)
 
     def unit_source(self):
-        u = self.u
-        names = _names(u)
+        u, names = self.u, self.names
         reals = [n for n in names if kind_of(n) == "R"]
         ints = [n for n in names if kind_of(n) == "I"]
         arrays = [a for a in u.arrays if a not in u.commons]
@@ -369,7 +369,7 @@ class _Gen:
                   f"{'label ' + str(key) if isinstance(key, int) else key or 'entry'}")
         names = assigned(stmts, self.units) | {do.args[1] for s in stmts if s.label is not None
                                                for do in self.ends.get(s.label, ())}
-        local = set(_names(self.u))
+        local = set(self.names)
         if names & local:
             self.emit(f"        nonlocal {', '.join(sorted(names & local))}")
         w = self.watch if isinstance(key, int) else None
@@ -386,7 +386,7 @@ class _Gen:
         if w and key in w.get("records", ()):
             phase = w["records"][key]
             rows = [n for n in TRACE_ROWS[phase].values() if n]
-            if set(rows) <= set(_names(self.u)):  # (a program without them keeps no trace)
+            if set(rows) <= local:  # (a program without them keeps no trace)
                 self.emit(f"        _G.record({phase!r}, {', '.join(map(self.ref, rows))})",
                           self.where(key))
         checks = [self.ref(n) for n in sorted(names)
