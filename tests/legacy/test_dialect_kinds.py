@@ -23,6 +23,12 @@ from deck_emulator.legacy.stops import EmulatorError
 from test_emulator import ROOT
 from test_goldens import need_gfortran
 
+
+@pytest.fixture(autouse=True)
+def _made_code_kept_in_a_temporary_folder(tmp_path, monkeypatch):
+    """(a program's made code is kept in the user's cache folder: here, a temporary one)"""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+
 CARD = "      1.25       0.5"  # P and Q by FORMAT 1
 HEAD = """\
       READ(5,1) P, Q

@@ -23,6 +23,12 @@ from test_emulator import GOLDEN, ROOT
 from test_goldens import need_gfortran
 
 
+@pytest.fixture(autouse=True)
+def _made_code_kept_in_a_temporary_folder(tmp_path, monkeypatch):
+    """(a program's made code is kept in the user's cache folder: here, a temporary one)"""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+
+
 def _deck(name: str):
     return read_deck(ROOT / "decks" / f"{name}.dat")
 

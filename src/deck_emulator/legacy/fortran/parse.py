@@ -9,6 +9,7 @@ anything runs.  Names and labels are the program's own.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass, field
@@ -127,13 +128,13 @@ class Unit:
 # ----------------------------------------------------------------------------- expressions
 
 _DOTS = r"\.(?:LT|LE|EQ|NE|GT|GE|AND|OR|NOT)\."
-_TOKEN = re.compile(rf"""
+_TOKEN = rf"""
     (?P<real>(\d+\.(?!{_DOTS[2:]})\d*|\.\d+)(E[+-]?\d+)?|\d+E[+-]?\d+)
   | (?P<int>\d+)
   | (?P<name>[A-Z][A-Z0-9]*)
   | (?P<dot>{_DOTS})
   | (?P<op>\*\*|[-+*/(),=])
-""", re.X)
+"""
 
 
 class _Parser:
@@ -157,7 +158,7 @@ class _Parser:
         self.tokens: list[tuple[str, str, int]] = []  # (kind, text, position)
         self.i = 0
         while at < len(self.text):
-            m = _TOKEN.match(self.text, at)
+            m = _syntax()[0].match(self.text, at)
             if m is None:  # refused when the parse reaches it
                 self.tokens.append(("bad", self.text[at], at))
                 break
@@ -445,7 +446,7 @@ _LABEL = re.compile(r"\d{1,5}")
 _N = r"([A-Z][A-Z0-9]*)"
 #: How each statement kind (of STATEMENTS) is recognised on its blank-free text, and the method
 #: of _Reader that reads it: tried in order, the first whose pattern matches reads it.
-_SYNTAX = tuple((kind, re.compile(pattern), method) for kind, pattern, method in (
+_SYNTAX = (  # (compiled when first read: _syntax(); the listing's made code reads none)
     ("END", r"END", "simple"),
     ("CONTINUE", r"CONTINUE", "simple"),
     ("RETURN", r"RETURN", "simple"),
@@ -462,7 +463,14 @@ _SYNTAX = tuple((kind, re.compile(pattern), method) for kind, pattern, method in
     ("DIMENSION", r"DIMENSION([^=]*)", "dimension"),
     ("COMMON", r"COMMON([^=]*)", "common"),
     ("assignment", rf"{_N}(\(.*\))?=(.*)", "assignment"),
-))
+)
+
+
+@functools.cache
+def _syntax():
+    """(the token pattern, the kinds' table) compiled."""
+    return re.compile(_TOKEN, re.X), tuple((kind, re.compile(pattern), method)
+                                           for kind, pattern, method in _SYNTAX)
 _DECLARATIONS = ("dimension", "common", "statement function")
 
 
@@ -492,7 +500,7 @@ class _Reader:
     def read(self, at: int = 0, inner: bool = False):
         """The statement from ``at`` on: a Stmt, or None for a declaration or a FORMAT (kept
         in the unit)."""
-        for kind, pattern, method in _SYNTAX:
+        for kind, pattern, method in _syntax()[1]:
             m = pattern.fullmatch(self.text, at)
             if m is not None:
                 break

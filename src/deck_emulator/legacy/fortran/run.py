@@ -23,6 +23,7 @@ start checking every assignment, so the message names the statement (as the emul
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import zlib
@@ -102,6 +103,61 @@ def _made_code(path: Path, header: str):
         return None
     spec = importlib.util.spec_from_file_location(f"{__package__}.{path.stem}", path)
     return spec.loader.get_code(spec.name)
+
+
+#: The ways of running a program: (binary64, checked per assignment).
+_MODES = ((True, False), (False, False), (False, True), (True, True))
+#: Made code kept in the user's cache folder at most (the least recently used go).
+CACHE_ENTRIES = 64
+_CACHE_MAGIC = b"deck_emulator fortran code "
+
+
+def _cache_folder() -> Path:
+    """The user's cache folder's (``$XDG_CACHE_HOME``, else ``~/.cache``) deck_emulator/fortran."""
+    import os
+
+    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(home) / "deck_emulator" / "fortran"
+
+
+def _kept(path: Path):
+    """The code kept in ``path`` if its first line's SHA-256 is that of the rest, else None
+    (a garbled or cut file is removed and made again)."""
+    import hashlib
+    import marshal
+    import os
+
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
+    head, _, payload = data.partition(b"\n")
+    if head != _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode():
+        with contextlib.suppress(OSError):
+            path.unlink()
+        return None
+    with contextlib.suppress(OSError):
+        os.utime(path)  # (recently used)
+    return marshal.loads(payload)
+
+
+def _keep(path: Path, code) -> None:
+    """Keep ``code`` in ``path`` (written whole or not at all: files.write_file); the oldest
+    entries beyond CACHE_ENTRIES go. A cache that cannot be written is left alone: the code
+    is made again next time."""
+    import hashlib
+    import marshal
+
+    from deck_emulator.files import write_file
+
+    payload = marshal.dumps(code)
+    with contextlib.suppress(OSError):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_file(path, _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode() + b"\n"
+                   + payload)
+        entries = sorted(path.parent.glob("*.code"), key=lambda p: p.stat().st_mtime)
+        for old in entries[:-CACHE_ENTRIES]:
+            old.unlink()
 
 
 class _NonFinite(ArithmeticError):
@@ -604,7 +660,8 @@ class Program:
     def __init__(self, lines: list[str], numbers: list[int] | None = None, *,
                  path: str | None = None, name: str = "", watch: dict | None = LISTING_WATCH,
                  literals: dict | None = None, step_scale_k: int = 0, errata=(),
-                 made: Path | None = None, cards_file: Path | None = None):
+                 made: Path | None = None, cards_file: Path | None = None,
+                 cache: bool | None = None):
         #: ``lines``: the cards' text, or a function that reads them (when first asked for:
         #: ``cards_file``, the file they are read from, is then what a made file is checked on)
         self._cards_text = lines if callable(lines) else list(lines)
@@ -616,8 +673,6 @@ class Program:
         #: then parsed only when asked for (the source of another mode, a fault's statement)
         self.made = made
         self._units = None
-        if made is None:
-            self.units  # noqa: B018  (parsed now: a statement outside the dialect is refused)
         self.watch = watch
         #: (unit, statement text, literal) -> ("step", literal): divided by 2**step_scale_k;
         #: ("const", text): that literal instead; ("int", text): that INTEGER instead
@@ -625,6 +680,12 @@ class Program:
         self.step_scale_k, self.errata = step_scale_k, tuple(errata)
         self._made: dict = {}
         self._lines: dict = {}
+        #: ``cache``: keep the made code in the user's cache folder (:func:`_kept`; default:
+        #: a program without a made file or literals, such as a job deck's own; not the
+        #: listing's variants, made once a process)
+        self.cache = made is None and not literals if cache is None else cache
+        if made is None and not (self.cache and any(self._cached(mode) for mode in _MODES)):
+            self.units  # noqa: B018  (parsed now: a statement outside the dialect is refused)
 
     @property
     def lines(self) -> list[str]:
@@ -678,11 +739,34 @@ class Program:
             code = None
             if self.made is not None and key == (True, False):
                 code = _made_code(self.made, self._header(native, checking))
+            if code is None and self.cache:
+                code = self._cached(key)
             if code is None:
                 lines = self.made_lines(native, checking)
                 code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
+                if self.cache:
+                    _keep(self._cache_file(key), code)
             self._made[key] = code
         return self._made[key], self._lines.get(key)
+
+    def _cache_file(self, key) -> Path:
+        """Where the made code of a way of running is kept: named by the SHA-256 of the cards,
+        this front end's CRC-32, the watch, the way and Python's bytecode tag."""
+        import hashlib
+        import sys
+
+        name = hashlib.sha256(repr((self.sha256, _front_end_crc(), self.watch, key,
+                                    sys.implementation.cache_tag)).encode()).hexdigest()
+        return _cache_folder() / f"{name}.code"
+
+    def _cached(self, key):
+        """The kept code of a way of running (checked by its SHA-256), or None."""
+        if key not in self._made:
+            code = _kept(self._cache_file(key))
+            if code is None:
+                return None
+            self._made[key] = code
+        return self._made[key]
 
     def _header(self, native: bool, checking: bool) -> str:
         how = ("binary64, checked per block" if native and not checking else
@@ -973,7 +1057,8 @@ def _listing(errata, k, tha_start, ed_tolerance) -> Program:
         patch = resources.files("deck_emulator.legacy").joinpath(
             "errata", f"{erratum}.patch").read_text("ascii").splitlines()
         lines = _apply(lines, patch, erratum)
-    return Program(lines, name=name, literals=literals, step_scale_k=k, errata=errata)
+    return Program(lines, name=name, literals=literals, step_scale_k=k, errata=errata,
+                   cache=False)
 
 
 def _literals(k, tha_start, ed_tolerance) -> dict:
