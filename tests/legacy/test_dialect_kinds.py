@@ -359,11 +359,12 @@ def test_a_job_deck_whose_program_uses_the_kinds_runs_as_gfortran_runs_it(tmp_pa
 
 @pytest.mark.parametrize("text, where", [
     ("      X = F(1.0)\n      END\n      FUNCTION F(A)\n      A = 2.0\n      F = A\n      END",
-     "card 3: FUNCTION statement: FUNCTION F assigns its dummy A"),
+     "card 3, columns 7-72: FUNCTION statement: FUNCTION F assigns its dummy A"),
     ("      COMMON X\n      X = 1.0\n      END\n      SUBROUTINE S\n      COMMON K\n      END",
-     "card 4: COMMON statement: COMMON //: place 1 is I as K in S, R elsewhere"),
+     "card 5, columns 7-72: COMMON statement: COMMON //: place 1 is I as K in S, R elsewhere"),
     ("      CALL S\n      END\n      SUBROUTINE S\n      CALL T\n      END\n"
-     "      SUBROUTINE T\n      CALL S\n      END", "card 3: SUBROUTINE statement: S calls itself"),
+     "      SUBROUTINE T\n      CALL S\n      END",
+     "card 3, columns 7-72: SUBROUTINE statement: S calls itself"),
     ("      DO 10 I = 1, 2\n   10 GO TO 20\n   20 STOP\n      END",
      "card 2, columns 7-72: GO TO statement: a DO's range ends at 10, a transfer or a DO"),
     ("      DO 10 I = 1, 2\n      DO 20 J = 1, 2\n   10 CONTINUE\n   20 CONTINUE\n      END",

@@ -121,7 +121,7 @@ class Unit:
     arrays: dict[str, tuple] = field(default_factory=dict)  # name -> bounds (int or a name)
     #: name -> (COMMON block, its place there): see common_blocks()
     commons: dict[str, tuple[str, int]] = field(default_factory=dict)
-    common_lists: list = field(default_factory=list)  # (block, [names]) as declared
+    common_lists: list = field(default_factory=list)  # (block, [names], card) as declared
     externals: list = field(default_factory=list)  # (FUNCTION name, arguments, card, column)
 
 
@@ -646,7 +646,7 @@ class _Reader:
                     p.fail("a COMMON block's name", p.pos)
                 p.take("/")
             names = self.declare(p.pos, common=block)
-            self.unit.common_lists.append((block, names))
+            self.unit.common_lists.append((block, names, self.st.line))
         return "common"
 
     def declare(self, at, common):
@@ -802,13 +802,13 @@ def changed(unit: Unit, units) -> set[str]:
     return unit.changed
 
 
-def common_blocks(units) -> dict[str, list[str]]:
+def common_blocks(units, path=None) -> dict[str, list[str]]:
     """Each COMMON block's places, by type ("R" or "I"); sets each unit's ``commons`` (name ->
     (block, place)). A place's type must be the same in every unit (else DialectError)."""
     blocks: dict[str, list[str]] = {}
     for u in units:
         at: dict[str, int] = {}
-        for block, names in u.common_lists:
+        for block, names, card in u.common_lists:
             places = blocks.setdefault(block, [])
             for name in names:
                 start = at.get(block, 0)
@@ -817,8 +817,8 @@ def common_blocks(units) -> dict[str, list[str]]:
                     if k < len(places) and places[k] != kind_of(name):
                         raise DialectError(f"COMMON /{block}/: place {k + 1} is "
                                            f"{kind_of(name)} as {name} in {u.name}, "
-                                           f"{places[k]} elsewhere", card=u.card,
-                                           kind="COMMON")
+                                           f"{places[k]} elsewhere", card=card,
+                                           columns=(7, 72), kind="COMMON", path=path)
                     if k >= len(places):
                         places.append(kind_of(name))
                 u.commons[name] = (block, start)
@@ -884,8 +884,9 @@ def _check(units: list[Unit], path) -> None:
             bad = [d for d in u.dummies if d in changed(u, by_name) and d not in u.arrays]
             if bad:
                 raise DialectError(f"FUNCTION {u.name} assigns its dummy {bad[0]}: outside the "
-                                   "dialect", card=u.card, kind="FUNCTION", path=path)
-    common_blocks(units)
+                                   "dialect", card=u.card, columns=(7, 72), kind="FUNCTION",
+                                   path=path)
+    common_blocks(units, path)
 
 
 def _targets(s: Stmt) -> tuple:
@@ -909,7 +910,7 @@ def _no_recursion(units, by_name, path) -> None:
             name = todo.pop()
             if name == u.name:
                 raise DialectError(f"{u.name} calls itself: recursion is outside the dialect",
-                                   card=u.card, kind=u.kind, path=path)
+                                   card=u.card, columns=(7, 72), kind=u.kind, path=path)
             if name not in seen:
                 seen.add(name)
                 todo += _calls(by_name[name])

@@ -930,7 +930,8 @@ class Runner:
         zero = ar.decimal("0.0")
         namespace = dict(
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
-            _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign, _ipow=ar.ipow,
+            _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign,
+            _ipow=ar.ipow,
             _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: int(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
