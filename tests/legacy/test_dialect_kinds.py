@@ -282,6 +282,24 @@ def test_a_value_that_overflows_in_a_do_range_of_a_function_stops_naming_it(tmp_
     assert "".join(r + "\n" for r in run.records) == theirs
 
 
+def test_a_nan_made_integer_stops_where_gfortran_traps(tmp_path):
+    """inf - inf inside one expression, assigned to an INTEGER: gfortran's build traps
+    (invalid), after the first line; the front end stops at that statement."""
+    lines = (HEAD + """\
+      WRITE(6,2) P, Q, P
+      X = 1.0E300
+      K = X*P*1.0E10 - X*Q*1.0E10
+      WRITE(6,2) P, Q, P
+      STOP
+      END
+""").splitlines()
+    run, stop = _stopped(lines, "double")
+    assert stop.guard == "arithmetic" and stop.variable == "K"
+    need_gfortran()
+    theirs, _err, ending = _gfortran(tmp_path, lines, "r8", [CARD])
+    assert ending == "trap" and "".join(r + "\n" for r in run.records) == theirs
+
+
 def test_a_loop_that_never_returns_stops_as_a_runaway_where_gfortran_hangs(tmp_path):
     lines = (HEAD + """\
       WRITE(6,2) P, Q, P

@@ -570,6 +570,13 @@ class _Gen:
 _JUMPS = ("goto", "agoto", "if", "return", "stop", "end")
 
 
+def _integer(x: float) -> int:
+    """A REAL's INTEGER (toward zero); NaN has none (gfortran's build traps: invalid)."""
+    if x != x:
+        raise FloatingPointError("invalid: NaN made INTEGER")
+    return int(x)
+
+
 def _sub(name, index):
     raise _Bad(f"a subscript of {name} outside its storage (element {index + 1})", name)
 
@@ -932,7 +939,7 @@ class Runner:
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
             _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign,
             _ipow=ar.ipow,
-            _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: int(ar.to_float(x)),
+            _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: _integer(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
         if self.native:
