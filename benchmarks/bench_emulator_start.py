@@ -25,7 +25,9 @@ other people's work on a shared machine inflates less.
 
 The processes run with their bytecode cached, as an installed package's is (the environment's
 PYTHONDONTWRITEBYTECODE is dropped and PYTHONPYCACHEPREFIX points into a temporary folder, so
-the checkout is left untouched); one unmeasured run of each fills the cache.  The commands
+the checkout is left untouched), and a job deck's own program made once (the front end keeps
+its made code by the cards' SHA-256 in the user's cache folder: XDG_CACHE_HOME points into the
+same temporary folder); one unmeasured run of each fills the caches.  The commands
 alternate within each repetition, so that a change in the machine's load falls on all of
 them alike.  Times are wall-clock: say how loaded the machine was when quoting them.
 """
@@ -76,6 +78,7 @@ def environment(cache: str) -> dict[str, str]:
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPYCACHEPREFIX"] = cache
+    env["XDG_CACHE_HOME"] = cache  # (the job deck's made code is kept there, as the bytecode)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
     return env
 

@@ -5,6 +5,7 @@ listing with the options' literals respelled in its text, and of each mutated pr
 from __future__ import annotations
 
 import json
+import random
 import re
 import tempfile
 from pathlib import Path
@@ -20,6 +21,12 @@ from deck_emulator.legacy.jobdeck import job_deck_texts, listing_lines
 
 from test_emulator import GOLDEN, ROOT
 from test_goldens import need_gfortran
+
+
+@pytest.fixture(autouse=True)
+def _made_code_kept_in_a_temporary_folder(tmp_path, monkeypatch):
+    """(a program's made code is kept in the user's cache folder: here, a temporary one)"""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
 
 
 def _deck(name: str):
@@ -135,10 +142,12 @@ def test_the_generated_source_keeps_the_statements_one_a_line_with_their_labels(
 @pytest.mark.parametrize("card, kind, columns", [
     ("      DOUBLE PRECISION X", "DOUBLE PRECISION", "columns 7-72"),
     ("      READ(3,1)X", "READ", "column 12"),
-    ("      IF(Q.GT.0.)GO TO 125", "IF", "column 11"),
-    ("      DO 10 I=1,5", "DO", "columns 7-72"),
+    ("      IF(Q.GT.0.)DO 10 I=1,5", "IF", "column 18"),  # a DO in a logical IF
+    ("      DO 10 I=1,5", "DO", "columns 7-72"),  # MAIN has no statement 10
     ("      X=SQRT(Q)", "assignment", "column 9"),
-    ("      DIMENSION X(10)", "DIMENSION", "columns 7-72"),
+    ("      DIMENSION X(10)", "DIMENSION", "columns 7-72"),  # after executable statements
+    ("      IF(Q.GT.0.)Q=Q.GT.1.", "IF", "column 20"),  # a relation assigned
+    ("      GO TO (125, 12), Q", "GO TO", "column 24"),  # a REAL index
 ])
 def test_a_statement_outside_the_dialect_is_refused_naming_card_columns_and_kind(card, kind,
                                                                                   columns):
@@ -241,12 +250,44 @@ def test_a_trajectory_of_a_decks_own_fortran_where_it_keeps_the_listings_labels(
 # ------------------------------------------------------------------- mutants and gfortran
 
 
-def _mutants_agree(count: int, seed: int):
+_NAME = re.compile(r"[A-Z][A-Z0-9]*")
+
+
+def reordered(rng, lines: list[str]) -> tuple[str, list[str]]:
+    """A mutant of the listing whose meaning is the listing's: two adjacent assignments swapped
+    where neither reads or assigns what the other assigns (one card each, the second
+    unlabelled; a label of the first stays in columns 1-5, so a GO TO to it still reaches
+    both)."""
+    from deck_emulator.legacy.jobdeck import statements
+
+    pairs = []
+    for a, b in zip(statements(lines), statements(lines)[1:]):
+        if b.label or len(a.cards) != 1 or len(b.cards) != 1 or b.line != a.line + 1:
+            continue
+        sides = [s.text.split("=", 1) for s in (a, b)]
+        if any(len(x) != 2 or not _NAME.fullmatch(x[0]) for x in sides):
+            continue
+        (left1, right1), (left2, right2) = sides
+        if left1 != left2 and left1 not in _NAME.findall(right2) and (
+                left2 not in _NAME.findall(right1)):
+            pairs.append(a.line - 1)
+    n = rng.choice(pairs)
+    lines = list(lines)
+    lines[n], lines[n + 1] = lines[n][:6] + lines[n + 1][6:], lines[n + 1][:6] + lines[n][6:]
+    return f"reordered: lines {n + 1} and {n + 2}", lines
+
+
+def _mutants_agree(count: int, seed: int, swaps: int):
+    """``count`` of oracle.mutants (a constant, a FORMAT's letter or field changed) and
+    ``swaps`` reordered ones, each on steel40 or steel20, against gfortran's build of it."""
     need_gfortran()
     decks = [_deck("steel40"), _deck("steel20")]
+    rng = random.Random(seed)
+    corpus = oracle.mutants(count, seed) + [reordered(rng, listing_lines())
+                                            for _ in range(swaps)]
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        for k, (what, lines) in enumerate(oracle.mutants(count, seed)):
+        for k, (what, lines) in enumerate(corpus):
             exe = oracle.compile_source(tmp, lines, "r8", f"m{k}")
             program = Program(lines)
             o = oracle.compare(decks[k % 2], lambda erratum: exe, tmp, timeout_s=3.0,
@@ -256,12 +297,23 @@ def _mutants_agree(count: int, seed: int):
 
 
 def test_seeded_mutants_print_what_gfortran_prints():
-    _mutants_agree(6, seed=34)
+    _mutants_agree(6, seed=34, swaps=3)
 
 
 @pytest.mark.slow_corpus  # a larger corpus: on request (-m slow_corpus)
 def test_the_larger_corpus_of_mutants_prints_what_gfortran_prints():
-    _mutants_agree(80, seed=3400)
+    _mutants_agree(80, seed=3400, swaps=40)
+
+
+def test_a_reordered_mutant_swaps_two_independent_assignments_and_keeps_the_labels():
+    lines = listing_lines()
+    rng = random.Random(7)
+    for _ in range(20):
+        what, mutant = reordered(rng, lines)
+        n = int(re.search(r"lines (\d+)", what).group(1)) - 1
+        changed = [i for i, (a, b) in enumerate(zip(lines, mutant)) if a != b]
+        assert changed == [n, n + 1] and [m[:6] for m in mutant] == [x[:6] for x in lines]
+        assert mutant[n][6:] == lines[n + 1][6:] and mutant[n + 1][6:] == lines[n][6:]
 
 
 # ------------------------------------------------------------ the listing's made source

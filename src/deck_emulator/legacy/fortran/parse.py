@@ -9,21 +9,39 @@ anything runs.  Names and labels are the program's own.
 
 from __future__ import annotations
 
+import functools
+import math
 import re
 from dataclasses import dataclass, field
 
 #: The dialect, one row a statement kind: what the front end takes (anything else is refused).
 STATEMENTS = {
-    "assignment": "V = e: REAL or INTEGER by the implicit rule (I-N), mixed operands converted",
+    "assignment": "V = e or A(s, ...) = e: REAL or INTEGER by the implicit rule (I-N), mixed "
+                  "operands converted",
     "statement function": "F(a, ...) = e, before the unit's first executable statement",
+    "DIMENSION": "DIMENSION A(d, ...), ...: arrays of 1-3 constant bounds (a dummy array's may "
+                 "be INTEGER dummies), stored by columns; subscripts INTEGER expressions",
+    "COMMON": "COMMON a, ... and COMMON /B/ a, ...: storage shared by position among the units "
+              "(names may differ, the types of a place may not)",
     "CONTINUE": "does nothing; a label to go to",
     "GO TO n": "unconditional",
+    "GO TO (n1, ...), i": "computed: to the i-th label; i outside the list: the next statement",
+    "ASSIGN n TO i": "i holds label n for an assigned GO TO",
+    "GO TO i, (n1, ...)": "assigned: to the label i holds, one of the list",
     "IF (e) n1, n2, n3": "arithmetic IF: to n1, n2, n3 as e < 0, = 0, > 0",
-    "CALL s(a, ...)": "a SUBROUTINE of the program; arguments by reference (variables)",
+    "IF (l) s": "logical IF: s (neither a DO nor a logical IF) when l holds; l of relations "
+                ".LT. .LE. .EQ. .NE. .GT. .GE., .NOT., .AND., .OR.",
+    "DO n i = m1, m2, m3": "IBM FORTRAN IV: i = m1; the statements up to n (not a transfer) run, "
+                           "then i = i + m3 and again while i <= m2: at least once; i INTEGER, "
+                           "m INTEGER constants or variables (m3 = 1 if left out)",
+    "CALL s(a, ...)": "a SUBROUTINE of the program; arguments by reference (variables, array "
+                      "elements, arrays)",
     "SUBROUTINE s(a, ...)": "starts a subprogram; its locals are static and start at zero",
-    "RETURN": "from a subroutine",
+    "FUNCTION f(a, ...)": "starts a function subprogram, f(a, ...) in an expression: its value "
+                          "f, by the implicit rule; it does not assign its scalar dummies",
+    "RETURN": "from a subprogram",
     "STOP": "ends the run",
-    "END": "ends a unit (a RETURN in a subroutine, a STOP in the main program)",
+    "END": "ends a unit (a RETURN in a subprogram, a STOP in the main program)",
     "READ (5, n) list": "unit 5: the next $DATA card, FORMAT n of Fw.d fields",
     "WRITE (6, n) list": "unit 6: the line printer, FORMAT n",
     "FORMAT (...)": "the edit descriptors below",
@@ -39,13 +57,14 @@ EDIT_DESCRIPTORS = {
 INTRINSICS = {"SIN": "sin", "COS": "cos", "ABS": "abs"}
 #: Units the program may READ and WRITE.
 READ_UNIT, WRITE_UNIT = 5, 6
+#: Relational operators -> Python's.
+RELATIONS = {".LT.": "<", ".LE.": "<=", ".EQ.": "==", ".NE.": "!=", ".GT.": ">", ".GE.": ">="}
 
 #: Statement kinds of FORTRAN IV outside the dialect, by the keyword they start with: named
 #: in the refusal.
-_OTHER_KINDS = ("DOUBLEPRECISION", "DIMENSION", "COMMON", "EQUIVALENCE", "FUNCTION",
-                "REALFUNCTION", "INTEGERFUNCTION", "INTEGER", "REAL", "LOGICAL", "COMPLEX",
-                "EXTERNAL", "DATA", "ASSIGN", "PAUSE", "PRINT", "PUNCH", "REWIND",
-                "BACKSPACE", "ENDFILE", "BLOCKDATA", "ENTRY", "DO")
+_OTHER_KINDS = ("DOUBLEPRECISION", "EQUIVALENCE", "REALFUNCTION", "INTEGERFUNCTION",
+                "INTEGER", "REAL", "LOGICAL", "COMPLEX", "EXTERNAL", "DATA", "PAUSE", "PRINT",
+                "PUNCH", "REWIND", "BACKSPACE", "ENDFILE", "BLOCKDATA", "ENTRY")
 
 
 class DialectError(ValueError):
@@ -67,8 +86,11 @@ class DialectError(ValueError):
 
 
 # -------------------------------------------------------------------------------- the tree
-# Expressions: ("const", text, type) ("var", name, type) ("call", name, args, type)
-# ("neg", e, type) ("bin", op, left, right, type) -- type "I" (INTEGER) or "R" (REAL).
+# Expressions, each ending in its type: "I" (INTEGER), "R" (REAL) or "L" (a relation's):
+# ("const", text, t) ("var", name, t) ("elem", array, subscripts, t) ("arr", array, t) (a whole
+# array, as an argument) ("call", name, args, t) (an intrinsic, a statement function or a
+# FUNCTION) ("neg", e, t) ("pow", e, n, t) ("bin", op, left, right, t) ("rel", op, l, r, "L")
+# ("log", op, l, r, "L") (op .AND., .OR.) ("not", e, "L").
 
 
 def kind_of(name: str) -> str:
@@ -78,7 +100,8 @@ def kind_of(name: str) -> str:
 
 @dataclass
 class Stmt:
-    kind: str  # assign, sfun, continue, goto, if, call, return, stop, end, read, write, format
+    kind: str  # assign sfun continue goto cgoto agoto label if lif do call return stop end
+    # read write
     label: int | None
     card: int  # the card it starts on
     text: str  # as punched, blanks removed (shown in generated code and messages)
@@ -87,41 +110,40 @@ class Stmt:
 
 @dataclass
 class Unit:
-    name: str  # MAIN or the subroutine's
+    name: str  # MAIN or the subprogram's
     dummies: tuple[str, ...] = ()
     statements: list[Stmt] = field(default_factory=list)
     functions: dict[str, tuple[tuple[str, ...], tuple]] = field(default_factory=dict)
     formats: dict[int, str] = field(default_factory=dict)  # label -> normalised FORMAT text
     card: int = 0
-    changed: set | None = None  # the variables it assigns (legacy.fortran.run)
+    changed: set | None = None  # the variables it assigns (assigned())
+    kind: str = "MAIN"  # MAIN, SUBROUTINE or FUNCTION
+    arrays: dict[str, tuple] = field(default_factory=dict)  # name -> bounds (int or a name)
+    #: name -> (COMMON block, its place there): see common_blocks()
+    commons: dict[str, tuple[str, int]] = field(default_factory=dict)
+    common_lists: list = field(default_factory=list)  # (block, [names], card) as declared
+    externals: list = field(default_factory=list)  # (FUNCTION name, arguments, card, column)
 
 
 # ----------------------------------------------------------------------------- expressions
 
-_TOKEN = re.compile(r"""
-    (?P<real>(\d+\.\d*|\.\d+)(E[+-]?\d+)?|\d+E[+-]?\d+)
+_DOTS = r"\.(?:LT|LE|EQ|NE|GT|GE|AND|OR|NOT)\."
+_TOKEN = rf"""
+    (?P<real>(\d+\.(?!{_DOTS[2:]})\d*|\.\d+)(E[+-]?\d+)?|\d+E[+-]?\d+)
   | (?P<int>\d+)
   | (?P<name>[A-Z][A-Z0-9]*)
+  | (?P<dot>{_DOTS})
   | (?P<op>\*\*|[-+*/(),=])
-""", re.X)
+"""
 
 
 class _Parser:
     """Recursive descent over one statement's blank-free text, FORTRAN's precedence:
-    ``**`` (right to left) over ``* /`` over ``+ -`` (left to right), a sign before a term."""
+    ``.OR.`` under ``.AND.`` under ``.NOT.`` under the relations under ``+ -`` (left to right,
+    a sign before a term) under ``* /`` under ``**`` (an INTEGER constant exponent)."""
 
     def __init__(self, text: str, start: int, fail, unit: Unit):
         self.text, self.fail, self.unit = text, fail, unit
-        self.tokens: list[tuple[str, str, int]] = []  # (kind, text, position), read once
-        at = 0
-        while at < len(text):
-            m = _TOKEN.match(text, at)
-            if m is None:  # refused when the parse reaches it
-                self.tokens.append(("bad", text[at], at))
-                break
-            self.tokens.append((m.lastgroup, m.group(), at))
-            at = m.end()
-        self.i = 0
         self.pos = start
 
     @property
@@ -131,7 +153,17 @@ class _Parser:
 
     @pos.setter
     def pos(self, at: int):
-        self.i = next((k for k, t in enumerate(self.tokens) if t[2] >= at), len(self.tokens))
+        """Read the text's tokens from ``at`` on (a keyword's end: FORTRAN has no blanks
+        between a keyword and a name)."""
+        self.tokens: list[tuple[str, str, int]] = []  # (kind, text, position)
+        self.i = 0
+        while at < len(self.text):
+            m = _syntax()[0].match(self.text, at)
+            if m is None:  # refused when the parse reaches it
+                self.tokens.append(("bad", self.text[at], at))
+                break
+            self.tokens.append((m.lastgroup, m.group(), at))
+            at = m.end()
 
     def peek(self):
         if self.i >= len(self.tokens):
@@ -149,7 +181,44 @@ class _Parser:
         self.i += 1
         return kind, tok
 
+    def typed(self, e, want: str, at: int):
+        """``e`` if it is a relation's (``want`` "L") or a number's (else), or refused."""
+        if (e[-1] == "L") != (want == "L"):
+            self.fail("a relation where a number belongs" if want != "L" else
+                      "a number where a relation (.GT. ...) belongs", at)
+        return e
+
     def expr(self):
+        return self.joined(".OR.", lambda: self.joined(".AND.", self.negation))
+
+    def joined(self, op: str, operand):
+        """Operands joined by the logical ``op``, left to right."""
+        at = self.pos
+        e = operand()
+        while self.peek()[1] == op:
+            self.typed(e, "L", at)
+            self.take()
+            e = ("log", op.strip(".").lower(), e, self.typed(operand(), "L", at), "L")
+        return e
+
+    def negation(self):
+        at = self.pos
+        if self.peek()[1] == ".NOT.":
+            self.take()
+            return ("not", self.typed(self.negation(), "L", at), "L")
+        e = self.arith()
+        if self.peek()[1] in RELATIONS:
+            _, op = self.take()
+            right = self.typed(self.arith(), "R", self.pos)
+            e = ("rel", RELATIONS[op], self.typed(e, "R", at), right, "L")
+        return e
+
+    def number(self):
+        """An arithmetic expression (no relation)."""
+        at = self.pos
+        return self.typed(self.expr(), "R", at)
+
+    def arith(self):
         kind, tok = self.peek()
         if tok in ("+", "-"):
             self.take()
@@ -171,7 +240,10 @@ class _Parser:
         return e
 
     def factor(self):
+        at = self.pos
         base = self.primary()
+        if base[-1] == "L" and self.peek()[1] in ("**", "*", "/", "+", "-"):
+            self.fail("arithmetic on a relation", at)
         if self.peek()[1] == "**":
             at = self.pos
             self.take()
@@ -182,6 +254,27 @@ class _Parser:
             self.take()
             return ("pow", base, int(tok), base[-1])
         return base
+
+    def listed(self, item) -> tuple:
+        """``(item, item, ...)``"""
+        self.take("(")
+        out = [item()]
+        while self.peek()[1] == ",":
+            self.take()
+            out.append(item())
+        self.take(")")
+        return tuple(out)
+
+    def arguments(self, arrays: bool) -> tuple:
+        """``(a, ...)``: expressions, and whole arrays where ``arrays``."""
+        def argument():
+            tok = self.peek()[1]
+            if arrays and tok in self.unit.arrays and (
+                    self.i + 1 >= len(self.tokens) or self.tokens[self.i + 1][1] in ",)"):
+                self.take()
+                return ("arr", tok, kind_of(tok))
+            return self.number()
+        return self.listed(argument)
 
     def primary(self):
         at = self.pos
@@ -196,27 +289,63 @@ class _Parser:
             return e
         if kind != "name":
             self.fail(f"{tok!r} where a value was expected", at)
+        if tok in self.unit.arrays:
+            if self.peek()[1] != "(":
+                self.fail(f"the array {tok} without a subscript (an argument only)", at)
+            return ("elem", tok, self.subscripts(tok, at), kind_of(tok))
         if self.peek()[1] != "(":
             return ("var", tok, kind_of(tok))
-        self.take("(")
-        args = [self.expr()]
-        while self.peek()[1] == ",":
-            self.take()
-            args.append(self.expr())
-        self.take(")")
+        args = self.arguments(arrays=tok not in self.unit.functions and tok not in INTRINSICS)
         if tok in self.unit.functions:
             dummies, _body = self.unit.functions[tok]
             if len(args) != len(dummies):
                 self.fail(f"statement function {tok} takes {len(dummies)} arguments", at)
-            return ("call", tok, tuple(args), kind_of(tok))
+            return ("call", tok, args, kind_of(tok))
         if tok in INTRINSICS:
             if len(args) != 1:
                 self.fail(f"{tok} takes one argument", at)
             if tok != "ABS" and args[0][-1] != "R":
                 self.fail(f"{tok} of an INTEGER is outside the dialect", at)
-            return ("call", tok, tuple(args), args[0][-1] if tok == "ABS" else "R")
-        self.fail(f"{tok}(...): neither a statement function of the unit nor an intrinsic of "
-                  f"the dialect ({', '.join(INTRINSICS)}); arrays are outside the dialect", at)
+            return ("call", tok, args, args[0][-1] if tok == "ABS" else "R")
+        if tok == self.unit.name:
+            self.fail(f"{tok} calls itself: recursion is outside the dialect", at)
+        self.unit.externals.append((tok, args, self.locate(at)))  # (looked for by _check)
+        return ("call", tok, args, kind_of(tok))
+
+    def subscripts(self, name: str, at: int) -> tuple:
+        subs = self.arguments(arrays=False)
+        if len(subs) != len(self.unit.arrays[name]):
+            self.fail(f"{name} has {len(self.unit.arrays[name])} subscripts", at)
+        if any(s[-1] != "I" for s in subs):
+            self.fail(f"a subscript of {name} that is not INTEGER", at)
+        return subs
+
+    def target(self):
+        """An assignment's or a READ's: a variable or an array element."""
+        at = self.pos
+        kind, tok = self.take()
+        if kind != "name":
+            self.fail(f"{tok!r} where a variable was expected", at)
+        if tok in self.unit.arrays:
+            return ("elem", tok, self.subscripts(tok, at), kind_of(tok))
+        if self.peek()[1] == "(":
+            self.fail(f"{tok}(...) where a variable was expected: {tok} is no array (no "
+                      "DIMENSION)", at)
+        return ("var", tok, kind_of(tok))
+
+    def labels(self) -> tuple[int, ...]:
+        """``(n1, n2, ...)``"""
+        def label():
+            at = self.pos
+            kind, tok = self.take()
+            if kind != "int":
+                self.fail(f"{tok!r} where a statement label was expected", at)
+            return int(tok)
+        return self.listed(label)
+
+    def end(self):
+        if self.peek()[1] is not None:
+            self.fail(f"unexpected text {self.text[self.pos:]!r} after the statement", self.pos)
 
 
 def _binary(op, left, right):
@@ -312,20 +441,277 @@ def _format_text(cards, fail) -> str:
     return text
 
 
-def _split_top(text: str, sep: str) -> list[str]:
-    parts, depth, cur = [], 0, ""
-    for ch in text:
-        depth += {"(": 1, ")": -1}.get(ch, 0)
-        if ch == sep and depth == 0:
-            parts.append(cur)
-            cur = ""
-        else:
-            cur += ch
-    return parts + [cur]
-
-
 _NAME = re.compile(r"[A-Z][A-Z0-9]*")
 _LABEL = re.compile(r"\d{1,5}")
+_N = r"([A-Z][A-Z0-9]*)"
+#: How each statement kind (of STATEMENTS) is recognised on its blank-free text, and the method
+#: of _Reader that reads it: tried in order, the first whose pattern matches reads it.
+_SYNTAX = (  # (compiled when first read: _syntax(); the listing's made code reads none)
+    ("END", r"END", "simple"),
+    ("CONTINUE", r"CONTINUE", "simple"),
+    ("RETURN", r"RETURN", "simple"),
+    ("STOP", r"STOP", "simple"),
+    ("GO TO n", r"GOTO(\d+)", "goto"),
+    ("GO TO (n1, ...), i", r"GOTO(\(.*)", "computed_goto"),
+    ("GO TO i, (n1, ...)", rf"GOTO{_N},?(\(.*)", "assigned_goto"),
+    ("ASSIGN n TO i", rf"ASSIGN(\d+)TO{_N}", "assign_label"),
+    ("IF (e) n1, n2, n3", r"IF(\(.*)", "if_"),
+    ("DO n i = m1, m2, m3", rf"DO(\d+){_N}=([^=]*,[^=]*)", "do"),
+    ("READ (5, n) list", r"(READ|WRITE)\((\d+),(\d+)\)(.*)", "io"),
+    ("CALL s(a, ...)", rf"CALL{_N}(\(.*\))?", "call"),
+    ("FORMAT (...)", r"FORMAT\(.*", "format"),
+    ("DIMENSION", r"DIMENSION([^=]*)", "dimension"),
+    ("COMMON", r"COMMON([^=]*)", "common"),
+    ("assignment", rf"{_N}(\(.*\))?=(.*)", "assignment"),
+)
+
+
+@functools.cache
+def _syntax():
+    """(the token pattern, the kinds' table) compiled."""
+    return re.compile(_TOKEN, re.X), tuple((kind, re.compile(pattern), method)
+                                           for kind, pattern, method in _SYNTAX)
+_DECLARATIONS = ("dimension", "common", "statement function")
+
+
+class _Reader:
+    """Reads one statement (:meth:`read`) of ``unit``; refuses with the card and column."""
+
+    def __init__(self, st, label, unit: Unit, executable_seen: bool, path):
+        self.st, self.label, self.unit, self.path = st, label, unit, path
+        self.text = st.text.upper()
+        self.executable_seen = executable_seen
+        self.p = _Parser(self.text, 0, self.fail, unit)
+        self.p.locate = self.locate
+
+    def locate(self, at: int) -> tuple[int, int | None]:
+        return _columns(self.st.cards, at) if self.st.cards else (self.st.line, None)
+
+    def fail(self, why, at, kind=None):
+        card, col = at if isinstance(at, tuple) else self.locate(at)
+        raise DialectError(why, card=card, columns=(col, col) if col else None,
+                           kind=kind or _kind_name(self.text), path=self.path)
+
+    def whole(self, why, kind=None):
+        card, col = _columns(self.st.cards, 0) if self.st.cards else (self.st.line, 7)
+        raise DialectError(why, card=card, columns=(col, 72), kind=kind or _kind_name(self.text),
+                           path=self.path)
+
+    def read(self, at: int = 0, inner: bool = False):
+        """The statement from ``at`` on: a Stmt, or None for a declaration or a FORMAT (kept
+        in the unit)."""
+        for kind, pattern, method in _syntax()[1]:
+            m = pattern.fullmatch(self.text, at)
+            if m is not None:
+                break
+        else:
+            self.whole(f"statement outside the dialect (the dialect: {'; '.join(STATEMENTS)})")
+        stmt = getattr(self, method)(m, inner)
+        if stmt is None or stmt in _DECLARATIONS:
+            if inner:
+                self.fail(f"a logical IF's statement is executable, not a {kind}", at)
+            if stmt is not None and self.executable_seen:
+                self.whole(f"a {kind} after the unit's first executable statement",
+                           kind=kind if stmt != "statement function" else
+                           "array element or statement function")
+            return None
+        return stmt
+
+    def stmt(self, kind, *args):
+        return Stmt(kind, self.label, self.st.line, self.text, args)
+
+    # the kinds ---------------------------------------------------------------------------
+    def simple(self, m, inner):
+        word = m.group()
+        if word == "RETURN" and self.unit.kind == "MAIN":
+            self.whole("RETURN in the main program")
+        if word == "END" and inner:
+            self.fail("END in a logical IF", m.start())
+        return self.stmt(word.lower())
+
+    def goto(self, m, inner):
+        return self.stmt("goto", int(m.group(1)))
+
+    def computed_goto(self, m, inner):
+        p = self.p
+        p.pos = m.start(1)
+        labels = p.labels()
+        if p.peek()[1] == ",":
+            p.take()
+        at = p.pos
+        e = p.number()
+        if e[-1] != "I":
+            p.fail("a computed GO TO's index is INTEGER", at)
+        p.end()
+        return self.stmt("cgoto", labels, e)
+
+    def assigned_goto(self, m, inner):
+        if kind_of(m.group(1)) != "I":
+            self.fail(f"{m.group(1)} is no INTEGER variable", m.start(1))
+        self.p.pos = m.start(2)
+        labels = self.p.labels()
+        self.p.end()
+        return self.stmt("agoto", m.group(1), labels)
+
+    def assign_label(self, m, inner):
+        if kind_of(m.group(2)) != "I" or m.group(2) in self.unit.arrays:
+            self.fail(f"{m.group(2)} is no INTEGER variable", m.start(2))
+        return self.stmt("label", int(m.group(1)), m.group(2))
+
+    def if_(self, m, inner):
+        p = self.p
+        p.pos = m.start(1)
+        p.take("(")
+        at = p.pos
+        e = p.expr()
+        p.take(")")
+        rest = self.text[p.pos:]
+        if re.fullmatch(r"\d+,\d+,\d+", rest):
+            p.typed(e, "R", at)
+            return self.stmt("if", e, *map(int, rest.split(",")))
+        p.typed(e, "L", at)
+        if inner:
+            self.fail("a logical IF in a logical IF", m.start())
+        if not rest:
+            self.fail("a logical IF without its statement", len(self.text))
+        at = p.pos
+        then = self.read(at, inner=True)
+        if then.kind == "do":
+            self.fail("a DO in a logical IF", at)
+        return self.stmt("lif", e, then)
+
+    def do(self, m, inner):
+        var = m.group(2)
+        if kind_of(var) != "I" or var in self.unit.arrays:
+            self.fail(f"the DO variable {var} is no INTEGER variable", m.start(2))
+        p = self.p
+        p.pos = m.start(3)
+        bounds = []
+        while True:
+            at = p.pos
+            e = p.number()
+            if e[0] not in ("const", "var") or e[-1] != "I":
+                p.fail("a DO's m1, m2, m3 are INTEGER constants or variables", at)
+            bounds.append(e)
+            if p.peek()[1] != ",":
+                break
+            p.take()
+        p.end()
+        if len(bounds) not in (2, 3):
+            self.whole("a DO takes m1, m2 and m3 (or m1, m2)")
+        return self.stmt("do", int(m.group(1)), var, *bounds, *(("const", "1", "I"),)[
+            :3 - len(bounds)])
+
+    def io(self, m, inner):
+        which, io_unit, fmt = m.group(1), int(m.group(2)), int(m.group(3))
+        want = READ_UNIT if which == "READ" else WRITE_UNIT
+        if io_unit != want:
+            self.fail(f"{which} from unit {io_unit}: the program has unit {want} only "
+                      f"({'the $DATA cards' if which == 'READ' else 'the line printer'})",
+                      m.start(2), kind=which)
+        p, items = self.p, []
+        p.pos = m.start(4)
+        while m.group(4) and p.peek()[1] is not None:
+            items.append(p.target() if which == "READ" else p.number())
+            if p.peek()[1] is not None:
+                p.take(",")
+        return self.stmt(which.lower(), fmt, tuple(items))
+
+    def call(self, m, inner):
+        args = ()
+        if m.group(2):
+            self.p.pos = m.start(2)
+            args = self.p.arguments(arrays=True)
+            self.p.end()
+        return self.stmt("call", m.group(1), args)
+
+    def format(self, m, inner):
+        if self.label is None:
+            self.whole("a FORMAT without a label")
+        self.unit.formats[self.label] = (_format_text(self.st.cards, self.fail)
+                                         if self.st.cards else self.text[6:])
+
+    def dimension(self, m, inner):
+        self.declare(m.start(1), common=None)
+        return "dimension"
+
+    def common(self, m, inner):
+        block, p = "", self.p
+        p.pos = m.start(1)
+        while p.peek()[1] is not None:
+            if p.peek()[1] == "/":
+                p.take()
+                block = p.take()[1] if p.peek()[1] != "/" else ""
+                if not _NAME.fullmatch(block or "A"):
+                    p.fail("a COMMON block's name", p.pos)
+                p.take("/")
+            names = self.declare(p.pos, common=block)
+            self.unit.common_lists.append((block, names, self.st.line))
+        return "common"
+
+    def declare(self, at, common):
+        """Names (arrays with their bounds) from ``at`` up to the end or a COMMON's ``/``:
+        their names; a bound is an INTEGER constant or, for a dummy array, an INTEGER dummy."""
+        p, u, names = self.p, self.unit, []
+        p.pos = at
+        while True:
+            at = p.pos
+            kind, name = p.take()
+            if kind != "name":
+                p.fail(f"{name!r} where a name was expected", at)
+            if name in names or (common is not None and (name in u.commons or name in
+                                                         u.dummies)):
+                p.fail(f"{name} twice in COMMON, or a dummy in COMMON", at)
+            if p.peek()[1] == "(":
+                if name in u.arrays:
+                    p.fail(f"{name}'s bounds declared twice", at)
+                def bound():
+                    at = p.pos
+                    kind, tok = p.take()
+                    if not (kind == "int" and int(tok) > 0 or kind == "name" and tok in
+                            u.dummies and name in u.dummies and kind_of(tok) == "I"
+                            and common is None):
+                        p.fail("a bound is a positive INTEGER constant (a dummy array's: "
+                               "or an INTEGER dummy)", at)
+                    return int(tok) if kind == "int" else tok
+                bounds = p.listed(bound)
+                if len(bounds) > 3:
+                    p.fail("more than 3 bounds", at)
+                u.arrays[name] = bounds
+            elif common is None:
+                p.fail(f"DIMENSION {name} without bounds", at)
+            if common is not None:
+                u.commons[name] = (common, -1)  # (its place: common_blocks())
+            names.append(name)
+            if p.peek()[1] != ",":
+                break
+            p.take()
+        if common is None:
+            p.end()
+        elif p.peek()[1] not in (None, "/"):
+            p.fail(f"unexpected text {p.text[p.pos:]!r}", p.pos)
+        return names
+
+    def assignment(self, m, inner):
+        name, p = m.group(1), self.p
+        if m.group(2) is not None and name not in self.unit.arrays:  # a statement function
+            if self.executable_seen or inner:
+                self.whole(f"{name}(...) = after the first executable statement: {name} is no "
+                           "array (DIMENSION), and a statement function comes before",
+                           kind="array element or statement function")
+            dummies = tuple(m.group(2)[1:-1].split(","))
+            if not all(_NAME.fullmatch(d) for d in dummies):
+                self.whole("a statement function's dummy arguments are names")
+            p.pos = m.start(3)
+            body = p.number()
+            p.end()
+            self.unit.functions[name] = (dummies, body)
+            return "statement function"
+        target = p.target()
+        p.take("=")
+        e = p.number()
+        p.end()
+        return self.stmt("assign", target, e)
 
 
 def parse_units(statements, path: str | None = None) -> list[Unit]:
@@ -336,20 +722,6 @@ def parse_units(statements, path: str | None = None) -> list[Unit]:
     executable_seen = False
     for st in statements:
         text = st.text.upper()
-
-        def fail(why, at, kind=None, st=st):
-            if isinstance(at, tuple):
-                card, col = at
-            else:
-                card, col = _columns(st.cards, at) if st.cards else (st.line, None)
-            raise DialectError(why, card=card, columns=(col, col) if col else None,
-                               kind=kind or _kind_name(text), path=path)
-
-        def whole(why, kind=None, st=st):
-            card, col = _columns(st.cards, 0) if st.cards else (st.line, 7)
-            raise DialectError(why, card=card, columns=(col, 72),
-                               kind=kind or _kind_name(text), path=path)
-
         label = None
         if st.label:
             if not _LABEL.fullmatch(st.label) or int(st.label) == 0:
@@ -357,104 +729,20 @@ def parse_units(statements, path: str | None = None) -> list[Unit]:
                                    card=st.line, columns=(1, 5), path=path)
             label = int(st.label)
         if unit is None:
-            m = re.fullmatch(r"SUBROUTINE([A-Z][A-Z0-9]*)(?:\((.*)\))?", text)
+            executable_seen = False
+            m = re.fullmatch(rf"(SUBROUTINE|FUNCTION){_N}(?:\((.*)\))?", text)
             if m:
-                dummies = tuple(m.group(2).split(",")) if m.group(2) else ()
-                if not all(_NAME.fullmatch(d) for d in dummies):
-                    whole("a dummy argument that is not a name")
-                unit = Unit(m.group(1), dummies, card=st.line)
-                executable_seen = False
+                dummies = tuple(m.group(3).split(",")) if m.group(3) else ()
+                if not all(_NAME.fullmatch(d) for d in dummies) or (
+                        m.group(1) == "FUNCTION" and not dummies):
+                    _Reader(st, label, Unit("MAIN"), False, path).whole(
+                        "a subprogram's dummy arguments are names (a FUNCTION's: one or more)")
+                unit = Unit(m.group(2), dummies, card=st.line, kind=m.group(1))
                 continue
             unit = Unit("MAIN", card=st.line)
-            executable_seen = False
-        p = _Parser(text, 0, fail, unit)
-        stmt = None
-        if text == "END":
-            stmt = Stmt("end", label, st.line, text)
-        elif text in ("CONTINUE", "RETURN", "STOP"):
-            if text == "RETURN" and unit.name == "MAIN":
-                whole("RETURN in the main program")
-            stmt = Stmt(text.lower(), label, st.line, text)
-        elif re.fullmatch(r"GOTO\d+", text):
-            stmt = Stmt("goto", label, st.line, text, (int(text[4:]),))
-        elif text.startswith("FORMAT("):
-            if label is None:
-                whole("a FORMAT without a label")
-            unit.formats[label] = _format_text(st.cards, fail) if st.cards else text[6:]
+        stmt = _Reader(st, label, unit, executable_seen, path).read()
+        if stmt is None:
             continue
-        elif m := re.match(r"(READ|WRITE)\((\d+),(\d+)\)", text):
-            which, io_unit, fmt = m.group(1), int(m.group(2)), int(m.group(3))
-            want = READ_UNIT if which == "READ" else WRITE_UNIT
-            if io_unit != want:
-                fail(f"{which} from unit {io_unit}: the program has unit {want} only "
-                     f"({'the $DATA cards' if which == 'READ' else 'the line printer'})",
-                     len(which) + 1)
-            items = []
-            p.pos = m.end()
-            if len(text) > m.end():
-                while True:
-                    if which == "READ":
-                        at = p.pos
-                        k, name = p.take()
-                        if k != "name" or p.peek()[1] == "(":
-                            fail("a READ list holds variables only", at)
-                        items.append(name)
-                    else:
-                        items.append(p.expr())
-                    if p.peek()[1] is None:
-                        break
-                    p.take(",")
-            stmt = Stmt(which.lower(), label, st.line, text, (fmt, tuple(items)))
-        elif text.startswith("IF("):
-            p.pos = 2
-            p.take("(")
-            e = p.expr()
-            p.take(")")
-            rest = text[p.pos:]
-            if not re.fullmatch(r"\d+,\d+,\d+", rest):
-                whole("a logical IF (or an IF not followed by three labels) is outside the "
-                      "dialect", kind="logical IF" if not rest[:1].isdigit() else None)
-            stmt = Stmt("if", label, st.line, text, (e, *map(int, rest.split(","))))
-            p.pos = len(text)
-        elif m := re.fullmatch(r"CALL([A-Z][A-Z0-9]*)(?:\((.*)\))?", text):
-            args = []
-            if m.group(2):
-                p.pos = m.start(2)
-                while True:
-                    args.append(p.expr())
-                    if p.peek()[1] == ")":
-                        p.take(")")
-                        break
-                    p.take(",")
-            stmt = Stmt("call", label, st.line, text, (m.group(1), tuple(args)))
-        else:
-            parts = _split_top(text, "=")
-            if len(parts) == 2 and (m := re.fullmatch(r"([A-Z][A-Z0-9]*)(?:\((.*)\))?",
-                                                      parts[0])):
-                if len(_split_top(parts[1], ",")) > 1:
-                    whole("a DO loop is outside the dialect", kind="DO")
-                if m.group(2) is not None:  # a statement function
-                    if executable_seen:
-                        whole(f"{m.group(1)}(...) = after the first executable statement: "
-                              "arrays are outside the dialect, and a statement function "
-                              "comes before", kind="array element or statement function")
-                    dummies = tuple(m.group(2).split(","))
-                    if not all(_NAME.fullmatch(d) for d in dummies):
-                        whole("a statement function's dummy arguments are names")
-                    p.pos = len(parts[0]) + 1
-                    body = p.expr()
-                    if p.peek()[1] is not None:
-                        fail("unexpected text after the expression", p.pos)
-                    unit.functions[m.group(1)] = (dummies, body)
-                    continue
-                p.pos = len(parts[0]) + 1
-                e = p.expr()
-                stmt = Stmt("assign", label, st.line, text, (m.group(1), e))
-            else:
-                whole(f"statement outside the dialect (the dialect: "
-                      f"{'; '.join(STATEMENTS)})")
-        if stmt.kind in ("assign", "if", "write", "read", "call") and p.peek()[1] is not None:
-            fail(f"unexpected text {text[p.pos:]!r} after the statement", p.pos)
         executable_seen = True
         unit.statements.append(stmt)
         if stmt.kind == "end":
@@ -474,20 +762,79 @@ def _kind_name(text: str) -> str:
             return {"DOUBLEPRECISION": "DOUBLE PRECISION", "BLOCKDATA": "BLOCK DATA",
                     "REALFUNCTION": "REAL FUNCTION",
                     "INTEGERFUNCTION": "INTEGER FUNCTION"}.get(word, word)
-    for word in ("READ", "WRITE", "IF", "GOTO", "CALL", "FORMAT", "SUBROUTINE"):
+    if "=" in text and not text.startswith(("IF(", "DO")):
+        return "assignment"
+    for word in ("READ", "WRITE", "IF", "GOTO", "CALL", "FORMAT", "SUBROUTINE", "FUNCTION",
+                 "DIMENSION", "COMMON", "ASSIGN", "DO", "CONTINUE", "RETURN", "STOP", "END"):
         if text.startswith(word):
             return {"GOTO": "GO TO"}.get(word, word)
     return "assignment" if "=" in text else "unknown"
 
 
+def assigned(stmts, units) -> set[str]:
+    """The names ``stmts`` assign: variables, arrays (an element of them), DO variables, READ
+    lists; a CALL the actual arguments its subroutine's assigned scalar dummies stand for."""
+    out: set[str] = set()
+    for s in stmts:
+        if s.kind == "lif":
+            s = s.args[1]
+        if s.kind == "assign":
+            out.add(s.args[0][1])
+        elif s.kind == "read":
+            out.update(t[1] for t in s.args[1])
+        elif s.kind == "do":
+            out.add(s.args[1])
+        elif s.kind == "label":
+            out.add(s.args[1])
+        elif s.kind == "call":
+            sub = units[s.args[0]]
+            mine = changed(sub, units)
+            out.update(a[1] for d, a in zip(sub.dummies, s.args[1])
+                       if a[0] in ("var", "elem") and d in mine and d not in sub.arrays)
+    return out
+
+
+def changed(unit: Unit, units) -> set[str]:
+    """What a unit assigns (worked out once a unit)."""
+    if unit.changed is None:
+        unit.changed = set()  # (a CALL of itself: refused by _check)
+        unit.changed = assigned(unit.statements, units)
+    return unit.changed
+
+
+def common_blocks(units, path=None) -> dict[str, list[str]]:
+    """Each COMMON block's places, by type ("R" or "I"); sets each unit's ``commons`` (name ->
+    (block, place)). A place's type must be the same in every unit (else DialectError)."""
+    blocks: dict[str, list[str]] = {}
+    for u in units:
+        at: dict[str, int] = {}
+        for block, names, card in u.common_lists:
+            places = blocks.setdefault(block, [])
+            for name in names:
+                start = at.get(block, 0)
+                size = math.prod(u.arrays.get(name, ()))
+                for k in range(start, start + size):
+                    if k < len(places) and places[k] != kind_of(name):
+                        raise DialectError(f"COMMON /{block}/: place {k + 1} is "
+                                           f"{kind_of(name)} as {name} in {u.name}, "
+                                           f"{places[k]} elsewhere", card=card,
+                                           columns=(7, 72), kind="COMMON", path=path)
+                    if k >= len(places):
+                        places.append(kind_of(name))
+                u.commons[name] = (block, start)
+                at[block] = start + size
+    return blocks
+
+
 def _check(units: list[Unit], path) -> None:
-    """What the statements must agree on: labels defined once and gone to where they are,
-    FORMATs and subroutines that exist, a main program, READ and WRITE lists against their
-    FORMATs' fields."""
+    """What the statements must agree on: labels defined once and gone to where they are, DO
+    ranges nested and ended, FORMATs and subprograms that exist and are called as declared,
+    a main program, READ and WRITE lists against their FORMATs' fields, COMMON's places."""
     names = [u.name for u in units]
-    if names.count("MAIN") != 1:
-        raise DialectError("the program needs exactly one main program", path=path)
-    subs = {u.name: u for u in units if u.name != "MAIN"}
+    if names.count("MAIN") != 1 or len(set(names)) != len(names):
+        raise DialectError("the program needs exactly one main program and units of "
+                           "different names", path=path)
+    by_name = {u.name: u for u in units}
     for u in units:
         labels = {}
         for s in u.statements:
@@ -496,31 +843,98 @@ def _check(units: list[Unit], path) -> None:
                     raise DialectError(f"label {s.label} defined twice in {u.name}",
                                        card=s.card, columns=(1, 5), path=path)
                 labels[s.label] = s
+        open_do: list[Stmt] = []
         for s in u.statements:
-            where = dict(card=s.card, path=path, kind=s.kind.upper())
-            targets = {"goto": s.args[:1], "if": s.args[1:]}.get(s.kind, ())
-            for t in targets:
+            where = dict(card=s.card, columns=(7, 72), path=path, kind=_kind_name(s.text))
+            while open_do and open_do[-1].args[0] == s.label:
+                open_do.pop()
+                if s.kind in ("goto", "cgoto", "agoto", "if", "return", "stop", "end", "do"):
+                    raise DialectError(f"a DO's range ends at {s.label}, a transfer or a DO",
+                                       **where)
+            if any(d.args[0] == s.label for d in open_do):
+                raise DialectError(f"the DO ranges ending at {s.label} cross", **where)
+            if s.kind == "do":
+                open_do.append(s)
+            inner = s.args[1] if s.kind == "lif" else s
+            for t in _targets(inner):
                 if t not in labels:
                     raise DialectError(f"no executable statement {t} in {u.name}", **where)
-            if s.kind in ("read", "write"):
-                fmt, items = s.args
+            if inner.kind in ("read", "write"):
+                fmt, items = inner.args
                 if fmt not in u.formats:
                     raise DialectError(f"no FORMAT {fmt} in {u.name}", **where)
                 fields = len(re.findall(r"F\d+\.\d+", _strip_hollerith(u.formats[fmt])))
                 if fields != len(items):
                     raise DialectError(f"{len(items)} items against the {fields} F fields of "
                                        f"FORMAT {fmt}", **where)
-                if any((item if isinstance(item, str) else None) and kind_of(item) == "I"
-                       or (not isinstance(item, str) and item[-1] == "I") for item in items):
+                if any(item[-1] == "I" for item in items):
                     raise DialectError("an INTEGER item against an F field", **where)
-            if s.kind == "call":
-                name, args = s.args
-                if name not in subs:
-                    raise DialectError(f"CALL {name}: no SUBROUTINE {name} in the program",
-                                       **where)
-                if len(args) != len(subs[name].dummies):
-                    raise DialectError(f"CALL {name} with {len(args)} arguments, the "
-                                       f"SUBROUTINE has {len(subs[name].dummies)}", **where)
+            if inner.kind == "call":
+                _arguments(by_name, inner.args[0], inner.args[1], "SUBROUTINE",
+                           dict(where, kind="CALL"))
+        if open_do:
+            raise DialectError(f"no statement {open_do[-1].args[0]} ends the DO's range",
+                               card=open_do[-1].card, columns=(7, 72), kind="DO", path=path)
+        for name, args, (card, col) in u.externals:
+            _arguments(by_name, name, args, "FUNCTION", dict(
+                card=card, columns=(col, col) if col else None, path=path, kind="assignment"))
+    _no_recursion(units, by_name, path)
+    for u in units:
+        if u.kind == "FUNCTION":
+            bad = [d for d in u.dummies if d in changed(u, by_name) and d not in u.arrays]
+            if bad:
+                raise DialectError(f"FUNCTION {u.name} assigns its dummy {bad[0]}: outside the "
+                                   "dialect", card=u.card, columns=(7, 72), kind="FUNCTION",
+                                   path=path)
+    common_blocks(units, path)
+
+
+def _targets(s: Stmt) -> tuple:
+    """The labels a statement may go to."""
+    return {"goto": lambda a: a[:1], "if": lambda a: a[1:], "cgoto": lambda a: a[0],
+            "agoto": lambda a: a[1], "label": lambda a: a[:1]}.get(s.kind, lambda a: ())(s.args)
+
+
+def _calls(u: Unit) -> set[str]:
+    """The subprograms a unit calls (CALL, a FUNCTION reference)."""
+    return ({s.args[0] for s in u.statements if s.kind == "call"}
+            | {s.args[1].args[0] for s in u.statements if s.kind == "lif"
+               and s.args[1].kind == "call"} | {e[0] for e in u.externals})
+
+
+def _no_recursion(units, by_name, path) -> None:
+    """Refuses a unit that calls itself, directly or through others."""
+    for u in units:
+        seen, todo = set(), list(_calls(u))
+        while todo:
+            name = todo.pop()
+            if name == u.name:
+                raise DialectError(f"{u.name} calls itself: recursion is outside the dialect",
+                                   card=u.card, columns=(7, 72), kind=u.kind, path=path)
+            if name not in seen:
+                seen.add(name)
+                todo += _calls(by_name[name])
+
+
+def _arguments(units, name, args, kind, where) -> None:
+    """A CALL's or a FUNCTION reference's arguments against the subprogram's dummies."""
+    sub = units.get(name)
+    if sub is None or sub.kind != kind:
+        what = ("neither a statement function of the unit, an array, an intrinsic of the "
+                f"dialect ({', '.join(INTRINSICS)}) nor" if kind == "FUNCTION" else "no")
+        raise DialectError(f"{name}(...): {what} a {kind} of the program", **where)
+    if len(args) != len(sub.dummies):
+        raise DialectError(f"{name} with {len(args)} arguments, the {kind} has "
+                           f"{len(sub.dummies)}", **where)
+    for k, (a, d) in enumerate(zip(args, sub.dummies), start=1):
+        if (a[0] == "arr") > (d in sub.arrays) or (a[0] not in ("arr", "elem")
+                                                  and d in sub.arrays):
+            raise DialectError(f"argument {k} of {name}: an array against a scalar dummy, or "
+                               "an expression against an array", **where)
+        if a[-1] != kind_of(d):
+            raise DialectError(f"argument {k} of {name} is "
+                               f"{'INTEGER' if a[-1] == 'I' else 'REAL'}, the dummy {d} is not",
+                               **where)
 
 
 def _strip_hollerith(fmt: str) -> str:

@@ -3,9 +3,12 @@ statement, every value through an arithmetic of :mod:`deck_emulator.legacy.arith
 
 Each unit becomes a function that makes it (its variables, static as on IBSYS and gfortran's
 ``-fno-automatic -finit-local-zero``: zero at load, kept between calls) holding one function a
-labelled block (``L125``: from label 125 to the next label), which returns the label it goes
-to. The program's statements stay one a line, with their cards' text beside them
-(:meth:`Program.python` prints it), so the source reads side by side with the cards.
+labelled block (``L125``: from label 125 to the next label; ``DO10_I``: a DO range's first
+statement when unlabelled), which returns the label it goes to. Arrays are lists (a COMMON
+block one list, by place); a DO's test ends its range's last statement. The program's
+statements stay one a line, with their cards' text beside them (:meth:`Program.python` prints
+it), so the source reads side by side with the cards. A program other than the listing keeps
+its made code in the user's cache folder, by its cards' SHA-256 (:meth:`Program._cache_file`).
 
 Arithmetic: the number type's ``+ - * /`` and unary ``-``, ``abs()``, the arithmetic's
 ``decimal`` for every REAL constant and card field, its ``sin``, ``cos`` and ``sign``; ``X**2``
@@ -15,7 +18,8 @@ the program's own FORMATs.
 
 Stops (:class:`deck_emulator.legacy.stops.EmulatorError`):
 an arithmetic fault or a non-finite value names the unit, the label, the variable and the
-step; a subroutine call that runs more than ``Limits.ed_iterations`` blocks; and, where the
+step; so does a subscript outside its array's storage and an assigned GO TO to a label not
+in its list; a subprogram call that runs more than ``Limits.ed_iterations`` blocks; and, where the
 program keeps the listing's labels, the listing's own guards (:data:`LISTING_WATCH`).  Binary64
 runs check each block's values when it ends and, when one is not finite, run again from the
 start checking every assignment, so the message names the statement (as the emulator does).
@@ -23,6 +27,7 @@ start checking every assignment, so the message names the statement (as the emul
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import zlib
@@ -34,7 +39,7 @@ from deck_emulator.legacy.printer import EVENT_FORMATS, Printer, event_for
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
 
-from .parse import INTRINSICS, Unit, kind_of, parse_units
+from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of, parse_units
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -104,6 +109,61 @@ def _made_code(path: Path, header: str):
     return spec.loader.get_code(spec.name)
 
 
+#: The ways of running a program: (binary64, checked per assignment).
+_MODES = ((True, False), (False, False), (False, True), (True, True))
+#: Made code kept in the user's cache folder at most (the least recently used go).
+CACHE_ENTRIES = 64
+_CACHE_MAGIC = b"deck_emulator fortran code "
+
+
+def _cache_folder() -> Path:
+    """The user's cache folder's (``$XDG_CACHE_HOME``, else ``~/.cache``) deck_emulator/fortran."""
+    import os
+
+    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(home) / "deck_emulator" / "fortran"
+
+
+def _kept(path: Path):
+    """The code kept in ``path`` if its first line's SHA-256 is that of the rest, else None
+    (a garbled or cut file is removed and made again)."""
+    import hashlib
+    import marshal
+    import os
+
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
+    head, _, payload = data.partition(b"\n")
+    if head != _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode():
+        with contextlib.suppress(OSError):
+            path.unlink()
+        return None
+    with contextlib.suppress(OSError):
+        os.utime(path)  # (recently used)
+    return marshal.loads(payload)
+
+
+def _keep(path: Path, code) -> None:
+    """Keep ``code`` in ``path`` (written whole or not at all: files.write_file); the oldest
+    entries beyond CACHE_ENTRIES go. A cache that cannot be written is left alone: the code
+    is made again next time."""
+    import hashlib
+    import marshal
+
+    from deck_emulator.files import write_file
+
+    payload = marshal.dumps(code)
+    with contextlib.suppress(OSError):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_file(path, _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode() + b"\n"
+                   + payload)
+        entries = sorted(path.parent.glob("*.code"), key=lambda p: p.stat().st_mtime)
+        for old in entries[:-CACHE_ENTRIES]:
+            old.unlink()
+
+
 class _NonFinite(ArithmeticError):
     def __init__(self, name):
         super().__init__(name)
@@ -116,6 +176,14 @@ class _Replay(Exception):
 
 class _Stop(Exception):
     """STOP in a subroutine."""
+
+
+class _Bad(Exception):
+    """A subscript outside its storage, an assigned GO TO to no label of its list: a stop."""
+
+    def __init__(self, reason, name):
+        super().__init__(reason)
+        self.name = name
 
 
 def _nothing(*_):
@@ -147,9 +215,49 @@ class _Gen:
         #: of them is assigned again (the same value as calling it again, bit for bit)
         self.known: dict | None = None
         self.kept = 0
+        self.end = ""  # the block's check of its values where it ends (binary64, unchecked)
+        self.label = None  # the label shown for the block being made
+        self.body: dict = {}  # id of a DO -> the key of its range's first block
+        self.names = _names(unit)  # its scalars not in COMMON
+        self.ends: dict = {}  # label -> the DOs whose range ends there, innermost first
+        for s in unit.statements:
+            if s.kind == "do":
+                self.ends.setdefault(s.args[0], []).insert(0, s)
 
     def emit(self, text: str, where=None):
         self.lines.append((text, where))
+
+    # names ----------------------------------------------------------------------------------
+    def ref(self, name: str) -> str:
+        """A scalar variable's code: its name, or its place in a COMMON block."""
+        at = self.u.commons.get(name)
+        return f"_C{at[0]}[{at[1]}]" if at else name
+
+    def store(self, name: str) -> tuple[str, str]:
+        """An array's storage (a list) and the index of its first element there."""
+        at = self.u.commons.get(name)
+        if at:
+            return f"_C{at[0]}", str(at[1])
+        return name, (f"b_{name}" if name in self.u.dummies else "0")
+
+    def place(self, name: str, subs) -> tuple[str, str]:
+        """(storage, index) of an array element, by columns, the index checked to lie in the
+        storage (gfortran's and the 7094's: an element of a COMMON block's or an actual
+        argument's storage past the array's bounds is that storage's)."""
+        lst, base = self.store(name)
+        parts, scale = ([] if base == "0" else [base]), []
+        for sub, bound in zip(subs, self.u.arrays[name]):
+            one = str(int(sub[1]) - 1) if sub[0] == "const" else f"{self._expr(sub)}-1"
+            parts.append(f"({one})*{'*'.join(scale)}" if scale else one)
+            scale.append(str(bound))
+        size = str(math.prod(self.u.arrays[name])) if base == "0" else f"len({lst})"
+        return lst, f"_o if 0 <= (_o := {'+'.join(parts)}) < {size} else _sub({name!r}, _o)"
+
+    def target(self, t) -> str:
+        if t[0] == "var":
+            return self.ref(t[1])
+        lst, index = self.place(t[1], t[2])
+        return f"{lst}[{index}]"
 
     # expressions -------------------------------------------------------------------------
     def expr(self, e, want: str | None = None) -> str:
@@ -175,11 +283,13 @@ class _Gen:
                 self.consts.add(value)
                 return _const_name(value)
             if e[2] == "I":
-                return e[1]
+                return str(int(e[1]))  # (0010 is 10)
             self.consts.add(e[1])
             return _const_name(e[1])
         if tag == "var":
-            return e[1]
+            return self.ref(e[1])
+        if tag == "elem":
+            return self.target(e)
         if tag == "neg":
             inner = self._expr(e[1])
             return f"-({inner})" if e[1][0] == "bin" else f"-{inner}"
@@ -190,21 +300,15 @@ class _Gen:
             if e[2] == 2:
                 return f"({base}*{base})"
             return f"_ipow({base}, {e[2]})"
+        if tag == "rel":
+            typ = "I" if e[2][-1] == e[3][-1] == "I" else "R"
+            return f"{self.expr(e[2], typ)} {e[1]} {self.expr(e[3], typ)}"
+        if tag == "log":
+            return f"({self._expr(e[2])}) {e[1]} ({self._expr(e[3])})"
+        if tag == "not":
+            return f"not ({self._expr(e[1])})"
         if tag == "call":
-            name, args = e[1], e[2]
-            if name in INTRINSICS:
-                call = f"{INTRINSICS[name]}({self.expr(args[0])})"
-                if self.known is None or name not in ("SIN", "COS"):
-                    return call
-                if call not in self.known:  # its first in the block: kept in a local
-                    simple = args[0][0] == "var"
-                    self.kept += 1
-                    local = f"{INTRINSICS[name]}_{args[0][1] if simple else self.kept}"
-                    self.known[call] = (local, set(_variables(args[0])))
-                    return f"({local} := {call})"
-                return self.known[call][0]
-            dummies, body = self.u.functions[name]
-            return f"{name}({', '.join(self.expr(a, kind_of(d)) for a, d in zip(args, dummies))})"
+            return self.call(e)
         _, op, left, right, typ = e
         if typ == "I" and op == "/":
             return f"_idiv({self._expr(left)}, {self._expr(right)})"
@@ -215,142 +319,242 @@ class _Gen:
             rcode = f"({rcode})"
         return f"{lcode}{_PY_OPS[op]}{rcode}"
 
+    def call(self, e) -> str:
+        name, args = e[1], e[2]
+        if name in INTRINSICS:
+            call = f"{INTRINSICS[name]}({self.expr(args[0])})"
+            if self.known is None or name not in ("SIN", "COS") or not self.pure(args[0]):
+                return call
+            if call not in self.known:  # its first in the block: kept in a local
+                simple = args[0][0] == "var"
+                self.kept += 1
+                local = f"{INTRINSICS[name]}_{args[0][1] if simple else self.kept}"
+                self.known[call] = (local, set(_variables(args[0])))
+                return f"({local} := {call})"
+            return self.known[call][0]
+        if name in self.u.functions:
+            dummies, body = self.u.functions[name]
+            return f"{name}({', '.join(self.expr(a, kind_of(d)) for a, d in zip(args, dummies))})"
+        return f"_G.call_{name}({self.actuals(name, args)})"  # a FUNCTION
+
+    def pure(self, e) -> bool:
+        """Whether ``e`` reads only the unit's own scalars (no COMMON, no array, no call but
+        an intrinsic's): what a kept SIN or COS may stand on."""
+        if e[0] == "var":
+            return e[1] not in self.u.commons
+        if e[0] == "call":
+            return e[1] in INTRINSICS and self.pure(e[2][0])
+        return e[0] != "elem" and all(self.pure(x) for x in e[1:-1] if isinstance(x, tuple))
+
+    def actuals(self, name: str, args) -> str:
+        """A subprogram's arguments: a scalar's value; an array's storage and first index."""
+        sub, out = self.units[name], []
+        for a, d in zip(args, sub.dummies):
+            if d not in sub.arrays:
+                out.append(self.expr(a))
+            elif a[0] == "arr":
+                out += self.store(a[1])
+            else:
+                out += self.place(a[1], a[2])
+        return ", ".join(out)
+
     # statements ----------------------------------------------------------------------------
     def where(self, label, variable=None):
         return (self.u.name, label, variable)
 
     def unit_source(self):
-        u = self.u
-        names = _names(u)
+        u, names = self.u, self.names
         reals = [n for n in names if kind_of(n) == "R"]
         ints = [n for n in names if kind_of(n) == "I"]
+        arrays = [a for a in u.arrays if a not in u.commons]
         self.emit(f"def make_{u.name}(_G):")
-        self.emit(f"    # {'SUBROUTINE ' + u.name if u.name != 'MAIN' else 'MAIN'}: its "
+        self.emit(f"    # {u.kind + ' ' + u.name if u.name != 'MAIN' else 'MAIN'}: its "
                   "variables, zero at load and kept between calls")
         for group, zero in ((reals, "_Z"), (ints, "0")):
             for i in range(0, len(group), 8):
                 self.emit(f"    {' = '.join(group[i:i + 8])} = {zero}")
+        for a in arrays:
+            self.emit(f"    {a}, b_{a} = None, 0" if a in u.dummies else
+                      f"    {a} = [{'_Z' if kind_of(a) == 'R' else '0'}] * "
+                      f"{math.prod(u.arrays[a])}")
         for name, (dummies, body) in u.functions.items():
             self.emit(f"    def {name}({', '.join(dummies)}):  # statement function",
                       self.where(None, name))
             self.emit(f"        return {self.expr(body, kind_of(name))}", self.where(None, name))
         blocks = _blocks(u)
-        assigned_dummies = [d for d in u.dummies if d in _changed(u, self.units)]
-        for label, stmts, nxt in blocks:
-            self.block(label, stmts, nxt)
-        self.emit(f"    _blocks = {{{', '.join(f'{_key(b[0])}: L{b[0] or 0}' for b in blocks)}}}")
+        for i, (key, label, stmts, nxt) in enumerate(blocks):
+            if stmts[-1].kind == "do":
+                self.body[id(stmts[-1])] = nxt
+        for key, label, stmts, nxt in blocks:
+            self.block(key, label, stmts, nxt)
+        table = ", ".join(f"{_key(b[0])}: {_fname(b[0])}" for b in blocks)
+        start = "" if blocks[0][0] is None else f"'START': {_fname(blocks[0][0])}, "
+        self.emit(f"    _blocks = {{{start}{table}}}")
         self.emit("    def _vars():")
-        self.emit(f"        return {{{', '.join(f'{n!r}: {n}' for n in names)}}}")
-        args = ", ".join(f"a_{d}" for d in u.dummies)
-        self.emit(f"    def {u.name}({args}):")
-        if names:
-            self.emit(f"        nonlocal {', '.join(names)}")
+        shown_vars = [(n, self.ref(n)) for n in names + sorted(u.commons)
+                      if n not in u.arrays] + [(a, self.store(a)[0]) for a in u.arrays]
+        self.emit(f"        return {{{', '.join(f'{n!r}: {c}' for n, c in shown_vars)}}}")
+        scalars = [d for d in u.dummies if d not in u.arrays]
+        args = ", ".join(f"a_{d}" if d in scalars else f"a_{d}, a_b_{d}" for d in u.dummies)
+        self.emit(f"    def _entry({args}):")
+        rebound = names + [f"{p}{a}" for a in arrays if a in u.dummies for p in ("", "b_")]
+        if rebound:
+            self.emit(f"        nonlocal {', '.join(rebound)}")
         for d in u.dummies:
-            self.emit(f"        {d} = a_{d}")
+            self.emit(f"        {d} = a_{d}" if d in scalars else
+                      f"        {d}, b_{d} = a_{d}, a_b_{d}")
         limit = "_G.limits.ed_iterations" if u.name != "MAIN" else "_G.program_blocks"
         self.emit(f"        lab, n, blocks, limit = 'START', 0, _blocks, {limit}")
         self.emit("        while lab is not None:")
         self.emit("            n += 1")
         self.emit("            if n > limit:")
-        shown = [n for n in names if kind_of(n) == "R" and n in _changed(u, self.units)][:3]
+        mine = changed(u, self.units)
+        shown = [n for n in names if kind_of(n) == "R" and n in mine][:3]
         search = (self.program_watch or {}).get("search")
         if search and search[0] == u.name and set(search[1]) <= set(names):
             shown = list(search[1])
         self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown)!r})")
         self.emit("            lab = blocks[lab]()")
-        self.emit(f"        return ({''.join(d + ', ' for d in assigned_dummies)})")
-        self.emit(f"    _G.units[{u.name!r}] = ({u.name}, _vars)")
-        self.emit(f"    return {u.name}")
+        if u.kind == "FUNCTION":
+            self.emit(f"        return {self.ref(u.name)}")
+        else:
+            back = [d for d in scalars if d in mine]
+            self.emit(f"        return ({''.join(d + ', ' for d in back)})")
+        self.emit(f"    _G.units[{u.name!r}] = (_entry, _vars)")
+        self.emit("    return _entry")
 
-    def block(self, label, stmts, nxt):
-        self.emit(f"    def L{label or 0}():  # {'label ' + str(label) if label else 'entry'}")
-        assigned = _assigned(stmts, self.units)
-        if assigned:
-            self.emit(f"        nonlocal {', '.join(sorted(assigned))}")
-        w = self.watch
-        if w and label in w["steps"]:
+    def block(self, key, label, stmts, nxt):
+        self.label = label
+        self.emit(f"    def {_fname(key)}():  # "
+                  f"{'label ' + str(key) if isinstance(key, int) else key or 'entry'}")
+        names = assigned(stmts, self.units) | {do.args[1] for s in stmts if s.label is not None
+                                               for do in self.ends.get(s.label, ())}
+        local = set(self.names)
+        if names & local:
+            self.emit(f"        nonlocal {', '.join(sorted(names & local))}")
+        w = self.watch if isinstance(key, int) else None
+        if w and key in w["steps"]:
             self.emit("        _G.step += 1")
-        if w and label == w["free_from"]:
+        if w and key == w["free_from"]:
             self.emit("        _G.free = True")
-        if w and label == w["halving"]:
+        if w and key == w["halving"]:
             self.emit("        _G.halve()")
-        if w and label == w["accept"]:
+        if w and key == w["accept"]:
             self.emit("        _G.halvings = 0")
-        if w and label in w.get("points", ()):
-            self.emit(f"        _G.point = {w['points'][label]!r}")
-        if w and label in w.get("records", ()):
-            phase = w["records"][label]
-            names = [n for n in TRACE_ROWS[phase].values() if n]
-            if set(names) <= set(_names(self.u)):  # (a program without them keeps no trace)
-                self.emit(f"        _G.record({phase!r}, {', '.join(names)})",
-                          self.where(label))
-        checks = [n for n in sorted(assigned) if kind_of(n) == "R"]
-        end = ""  # the block's check of its values when it ends (binary64, unchecked)
+        if w and key in w.get("points", ()):
+            self.emit(f"        _G.point = {w['points'][key]!r}")
+        if w and key in w.get("records", ()):
+            phase = w["records"][key]
+            rows = [n for n in TRACE_ROWS[phase].values() if n]
+            if set(rows) <= local:  # (a program without them keeps no trace)
+                self.emit(f"        _G.record({phase!r}, {', '.join(map(self.ref, rows))})",
+                          self.where(key))
+        checks = [self.ref(n) for n in sorted(names)
+                  if kind_of(n) == "R" and n not in self.u.arrays]
+        self.end = ""
         if self.native and not self.checking and checks:
-            end = f"        if not _fin({'+'.join(checks)}): raise _Replay"
-        ended = False
+            self.end = f"if not _fin({'+'.join(checks)}): raise _Replay"
+        self.ended = False  # (what follows a jump, unlabelled, is never reached: no checks)
         self.known = {} if self.native else None
         for s in stmts:
-            last = s is stmts[-1]
-            self.text = s.text
             if self.known and s is not stmts[0]:
                 self.forget(before)
             before = s
-            text = f"  # {str(s.label) + ' ' if s.label else ''}{s.text}"
-            if s.kind == "assign":
-                var, e = s.args
-                self.emit(f"        {var} = {self.expr(e, kind_of(var))}{text}",
-                          self.where(label, var))
-                if self.checking and kind_of(var) == "R":
-                    self.emit(f"        if not _fin({var}): raise _NonFinite({var!r})",
-                              self.where(label, var))
-                if w and (label, var) in w["clocks"]:
-                    self.emit(f"        _G.clock({var}, {w['clocks'][label, var]!r}, {label})",
-                              self.where(label, var))
-            elif s.kind == "continue":
-                self.emit(f"        pass{text}", self.where(label))
-            elif s.kind == "read":
-                fmt, items = s.args
-                self.emit(f"        {', '.join(items)}, = _G.read({fmt}){text}",
-                          self.where(label, items[0] if items else None))
-            elif s.kind == "write":
-                fmt, items = s.args
-                values = "".join(f", {self.expr(e)}" for e in items)
-                self.emit(f"        _G.write_{self.u.name}({fmt}{values}){text}",
-                          self.where(label))
-                if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
-                    clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
-                    self.emit(f"        _G.event({fmt}, {clock})", self.where(label))
-            elif s.kind == "call":
-                name, args = s.args
-                sub = self.units[name]
-                changed = _changed(sub, self.units)
-                back = [a[1] if a[0] == "var" else "_" for d, a in zip(sub.dummies, args)
-                        if d in changed]
-                targets = "".join(v + ", " for v in back)
-                call = f"_G.call_{name}({', '.join(self.expr(a) for a in args)})"
-                self.emit(f"        {targets + '= ' if back else ''}{call}{text}",
-                          self.where(label, next((v for v in back if v != "_"), None)))
-            else:  # GO TO, IF, RETURN, STOP, END: the block ends (what follows, unlabelled,
-                # is never reached, and is kept as written: STOP then END)
-                if end and not ended:
-                    self.emit(end, self.where(label))
-                self.emit(f"        {self.jump(s)}{text}", self.where(label))
-                ended = True
-            if last and not ended:
-                if end:
-                    self.emit(end, self.where(label))
-                self.emit(f"        return {_key(nxt)}", self.where(label))
+            self.text = s.text
+            self.statement(s, "        ", f"  # {str(s.label) + ' ' if s.label else ''}{s.text}")
+            self.ended = self.ended or s.kind in _JUMPS
+            for do in self.ends.get(s.label, ()) if s.label is not None else ():
+                n, var, _m1, m2, m3 = do.args
+                where = self.where(label, var)
+                self.emit(f"        {self.ref(var)} = {self.ref(var)}+{self.expr(m3)}  "
+                          f"# DO {n} {var}: the next", where)
+                self.emit(f"        if {self.ref(var)} <= {self.expr(m2)}:", where)
+                if self.end:
+                    self.emit(f"            {self.end}", where)
+                self.emit(f"            return {_key(self.body[id(do)])}", where)
+        if not self.ended:
+            if self.end:
+                self.emit(f"        {self.end}", self.where(label))
+            self.emit(f"        return {_key(nxt)}", self.where(label))
         self.known = None
+
+    def statement(self, s, ind: str, text: str):
+        """A statement's lines, indented by ``ind``, ``text`` (its card's) beside the first."""
+        label, w, kind = self.label, self.watch, s.kind
+        if kind == "assign":
+            t, e = s.args
+            var, code, value = t[1], self.target(t), self.expr(e, t[-1])
+            where = self.where(label, var)
+            check = kind_of(var) == "R" and (self.checking or self.native)
+            if t[0] == "elem" and check:  # (binary64: run again, checking every assignment)
+                fault = f"_NonFinite({var!r})" if self.checking else "_Replay"
+                self.emit(f"{ind}{code} = _v = {value}{text}", where)
+                self.emit(f"{ind}if not _fin(_v): raise {fault}", where)
+            else:
+                self.emit(f"{ind}{code} = {value}{text}", where)
+                if self.checking and check:
+                    self.emit(f"{ind}if not _fin({code}): raise _NonFinite({var!r})", where)
+            if w and (label, var) in w["clocks"] and t[0] == "var":
+                self.emit(f"{ind}_G.clock({code}, {w['clocks'][label, var]!r}, {label})",
+                          where)
+        elif kind == "continue":
+            self.emit(f"{ind}pass{text}", self.where(label))
+        elif kind == "read":
+            fmt, items = s.args
+            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt})"
+                      f"{text}", self.where(label, items[0][1] if items else None))
+        elif kind == "write":
+            fmt, items = s.args
+            values = "".join(f", {self.expr(e)}" for e in items)
+            self.emit(f"{ind}_G.write_{self.u.name}({fmt}{values}){text}", self.where(label))
+            if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
+                clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
+                self.emit(f"{ind}_G.event({fmt}, {self.ref(clock)})", self.where(label))
+        elif kind == "call":
+            name, args = s.args
+            sub = self.units[name]
+            mine = changed(sub, self.units)
+            back = [self.target(a) if a[0] in ("var", "elem") else "_"
+                    for d, a in zip(sub.dummies, args) if d in mine and d not in sub.arrays]
+            targets = "".join(v + ", " for v in back)
+            call = f"_G.call_{name}({self.actuals(name, args)})"
+            self.emit(f"{ind}{targets + '= ' if back else ''}{call}{text}",
+                      self.where(label, next((a[1] for d, a in zip(sub.dummies, args)
+                                              if d in mine and a[0] == "var"), None)))
+        elif kind == "label":
+            self.emit(f"{ind}{self.ref(s.args[1])} = {s.args[0]}{text}",
+                      self.where(label, s.args[1]))
+        elif kind == "do":
+            n, var, m1, _m2, _m3 = s.args
+            self.emit(f"{ind}{self.ref(var)} = {self.expr(m1)}{text}", self.where(label, var))
+        elif kind == "lif":
+            self.emit(f"{ind}if {self.expr(s.args[0])}:{text}", self.where(label))
+            self.statement(s.args[1], ind + "    ", "")
+        elif kind == "cgoto":
+            labels, e = s.args
+            self.emit(f"{ind}if 1 <= (_i := {self.expr(e)}) <= {len(labels)}:{text}",
+                      self.where(label))
+            if self.end:
+                self.emit(f"{ind}    {self.end}", self.where(label))
+            self.emit(f"{ind}    return {labels}[_i - 1]", self.where(label))
+        else:  # GO TO, IF, RETURN, STOP, END: the block ends (what follows, unlabelled,
+            # is never reached, and is kept as written: STOP then END)
+            if self.end and not self.ended:
+                self.emit(f"{ind}{self.end}", self.where(label))
+            self.emit(f"{ind}{self.jump(s)}{text}", self.where(label))
 
     def forget(self, s):
         """Drop the kept SIN and COS whose arguments statement ``s`` assigned."""
-        changed = _assigned([s], self.units)
-        self.known = {k: v for k, v in self.known.items() if not v[1] & changed}
+        gone = assigned([s], self.units)
+        self.known = {k: v for k, v in self.known.items() if not v[1] & gone}
 
     def jump(self, s) -> str:
         if s.kind == "goto":
             return f"return {s.args[0]}"
+        if s.kind == "agoto":
+            var, labels = s.args
+            return (f"return {self.ref(var)} if {self.ref(var)} in {labels} else "
+                    f"_lost({var!r}, {self.ref(var)})")
         if s.kind == "if":
             e, neg, zero, pos = s.args
             x = self.expr(e)
@@ -362,6 +566,25 @@ class _Gen:
         return "return None"
 
 
+#: Statements after which the block's next statement is not reached (but by a label).
+_JUMPS = ("goto", "agoto", "if", "return", "stop", "end")
+
+
+def _integer(x: float) -> int:
+    """A REAL's INTEGER (toward zero); NaN has none (gfortran's build traps: invalid)."""
+    if x != x:
+        raise FloatingPointError("invalid: NaN made INTEGER")
+    return int(x)
+
+
+def _sub(name, index):
+    raise _Bad(f"a subscript of {name} outside its storage (element {index + 1})", name)
+
+
+def _lost(name, value):
+    raise _Bad(f"assigned GO TO {name}: {value} is no label of its list", name)
+
+
 def _weaker(e, op: str, right: bool) -> bool:
     """Whether operand ``e`` of ``op`` needs parentheses to keep FORTRAN's order."""
     if e[0] == "neg":  # a sign: as the first operand of + or -, as written
@@ -371,81 +594,73 @@ def _weaker(e, op: str, right: bool) -> bool:
     return rank[inner] < rank[op] or (right and rank[inner] == rank[op])
 
 
-def _key(label) -> str:
-    return "None" if label is False else "'START'" if label is None else str(label)
+def _key(key) -> str:
+    return "None" if key is False else "'START'" if key is None else repr(key)
+
+
+def _fname(key) -> str:
+    """A block's function: L125 for label 125, L0 for the unit's start, DO10_I for the range of
+    DO 10 I where it starts without a label."""
+    return f"L{key or 0}" if not isinstance(key, str) else key.replace(" ", "", 1).replace(" ", "_")
 
 
 def _blocks(u: Unit):
-    """(label, statements, the label it falls into) of each block: a block starts at the
-    unit's first statement and at each labelled statement."""
-    blocks = []
+    """(key, the label shown for it, statements, the key it falls into) of each block: a block
+    starts at the unit's first statement, at each labelled statement and after each DO (its
+    range's first statement: key 'DO n i' if unlabelled)."""
+    blocks, shown = [], None
     for s in u.statements:
-        if not blocks or s.label is not None:
-            blocks.append([s.label, []])
-        blocks[-1][1].append(s)
-    out = []
-    for i, (label, stmts) in enumerate(blocks):
-        nxt = blocks[i + 1][0] if i + 1 < len(blocks) else False
-        out.append((label, stmts, nxt))
-    return out
-
-
-def _assigned(stmts, units) -> set[str]:
-    """The variables ``stmts`` assign (a CALL assigns the actual arguments its subroutine's
-    assigned dummies stand for; a READ its list)."""
-    out: set[str] = set()
-    for s in stmts:
-        if s.kind == "assign":
-            out.add(s.args[0])
-        elif s.kind == "read":
-            out.update(s.args[1])
-        elif s.kind == "call":
-            sub = units[s.args[0]]
-            mine = _changed(sub, units)
-            out.update(a[1] for d, a in zip(sub.dummies, s.args[1])
-                       if a[0] == "var" and d in mine)
-    return out
-
-
-def _changed(unit: Unit, units) -> set[str]:
-    """What a unit assigns (worked out once a unit)."""
-    if unit.changed is None:
-        unit.changed = _assigned(unit.statements, units)
-    return unit.changed
+        if s.label is not None:
+            shown = s.label
+        if not blocks or s.label is not None or blocks[-1][2][-1].kind == "do":
+            do = blocks[-1][2][-1].args if blocks else None
+            key = s.label if s.label is not None or not blocks else f"DO {do[0]} {do[1]}"
+            blocks.append([key, shown, []])
+        blocks[-1][2].append(s)
+    return [(key, shown, stmts, blocks[i + 1][0] if i + 1 < len(blocks) else False)
+            for i, (key, shown, stmts) in enumerate(blocks)]
 
 
 def _variables(e, skip=()):
-    """The variables an expression reads, in order."""
-    if e[0] == "var":
+    """The scalar variables an expression (or an assignment's target) reads, in order."""
+    tag = e[0]
+    if tag == "var":
         if e[1] not in skip:
             yield e[1]
-    elif e[0] in ("neg", "pow"):
+    elif tag in ("neg", "pow", "not"):
         yield from _variables(e[1], skip)
-    elif e[0] == "call":
+    elif tag in ("call", "elem"):
         for a in e[2]:
             yield from _variables(a, skip)
-    elif e[0] == "bin":
+    elif tag in ("bin", "rel", "log"):
         yield from _variables(e[2], skip)
         yield from _variables(e[3], skip)
 
 
+def _expressions(s):
+    """A statement's expressions and targets, as variables ("var") where it names one."""
+    k, a = s.kind, s.args
+    if k == "lif":
+        return (a[0], *_expressions(a[1]))
+    return {"assign": lambda: a, "read": lambda: a[1], "write": lambda: a[1],
+            "call": lambda: a[1], "if": lambda: a[:1], "cgoto": lambda: a[1:],
+            "agoto": lambda: (("var", a[0], "I"),), "label": lambda: (("var", a[1], "I"),),
+            "do": lambda: (("var", a[1], "I"), *a[2:])}.get(k, tuple)()
+
+
 def _names(u: Unit) -> list[str]:
-    """Every variable of a unit, in order of first appearance (dummies first)."""
+    """Every scalar variable of a unit, not in COMMON, in order of first appearance (dummies
+    first; a FUNCTION's name, its value)."""
     seen = dict.fromkeys(u.dummies)
+    if u.kind == "FUNCTION":
+        seen.setdefault(u.name)
     for dummies, body in u.functions.values():
         seen.update(dict.fromkeys(_variables(body, set(dummies))))
     for s in u.statements:
-        if s.kind == "assign":
-            seen.setdefault(s.args[0])
-            seen.update(dict.fromkeys(_variables(s.args[1])))
-        elif s.kind == "read":
-            seen.update(dict.fromkeys(s.args[1]))
-        elif s.kind in ("write", "call"):
-            for e in s.args[1]:
-                seen.update(dict.fromkeys(_variables(e)))
-        elif s.kind == "if":
-            seen.update(dict.fromkeys(_variables(s.args[0])))
-    return [n for n in seen if n not in u.functions]
+        for e in _expressions(s):
+            seen.update(dict.fromkeys(_variables(e)))
+    return [n for n in seen if n not in u.functions and n not in u.arrays
+            and n not in u.commons]
 
 
 class Program:
@@ -456,7 +671,8 @@ class Program:
     def __init__(self, lines: list[str], numbers: list[int] | None = None, *,
                  path: str | None = None, name: str = "", watch: dict | None = LISTING_WATCH,
                  literals: dict | None = None, step_scale_k: int = 0, errata=(),
-                 made: Path | None = None, cards_file: Path | None = None):
+                 made: Path | None = None, cards_file: Path | None = None,
+                 cache: bool | None = None):
         #: ``lines``: the cards' text, or a function that reads them (when first asked for:
         #: ``cards_file``, the file they are read from, is then what a made file is checked on)
         self._cards_text = lines if callable(lines) else list(lines)
@@ -468,8 +684,6 @@ class Program:
         #: then parsed only when asked for (the source of another mode, a fault's statement)
         self.made = made
         self._units = None
-        if made is None:
-            self.units  # noqa: B018  (parsed now: a statement outside the dialect is refused)
         self.watch = watch
         #: (unit, statement text, literal) -> ("step", literal): divided by 2**step_scale_k;
         #: ("const", text): that literal instead; ("int", text): that INTEGER instead
@@ -477,6 +691,12 @@ class Program:
         self.step_scale_k, self.errata = step_scale_k, tuple(errata)
         self._made: dict = {}
         self._lines: dict = {}
+        #: ``cache``: keep the made code in the user's cache folder (:func:`_kept`; default:
+        #: a program without a made file or literals, such as a job deck's own; not the
+        #: listing's variants, made once a process)
+        self.cache = made is None and not literals if cache is None else cache
+        if made is None and not (self.cache and any(self._cached(mode) for mode in _MODES)):
+            self.units  # noqa: B018  (parsed now: a statement outside the dialect is refused)
 
     @property
     def lines(self) -> list[str]:
@@ -530,11 +750,34 @@ class Program:
             code = None
             if self.made is not None and key == (True, False):
                 code = _made_code(self.made, self._header(native, checking))
+            if code is None and self.cache:
+                code = self._cached(key)
             if code is None:
                 lines = self.made_lines(native, checking)
                 code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
+                if self.cache:
+                    _keep(self._cache_file(key), code)
             self._made[key] = code
         return self._made[key], self._lines.get(key)
+
+    def _cache_file(self, key) -> Path:
+        """Where the made code of a way of running is kept: named by the SHA-256 of the cards,
+        this front end's CRC-32, the watch, the way and Python's bytecode tag."""
+        import hashlib
+        import sys
+
+        name = hashlib.sha256(repr((self.sha256, _front_end_crc(), self.watch, key,
+                                    sys.implementation.cache_tag)).encode()).hexdigest()
+        return _cache_folder() / f"{name}.code"
+
+    def _cached(self, key):
+        """The kept code of a way of running (checked by its SHA-256), or None."""
+        if key not in self._made:
+            code = _kept(self._cache_file(key))
+            if code is None:
+                return None
+            self._made[key] = code
+        return self._made[key]
 
     def _header(self, native: bool, checking: bool) -> str:
         how = ("binary64, checked per block" if native and not checking else
@@ -555,6 +798,12 @@ class Program:
                 consts |= gen.consts
                 steps |= gen.steps
             head = [(f"{_const_name(c)} = _K({c!r})", None) for c in sorted(consts)]
+            for block, places in common_blocks(list(self.units.values())).items():
+                runs = [[places[0], 0]]  # (a COMMON block: its places, zero)
+                for t in places:
+                    runs[-1][1] += 1 if t == runs[-1][0] else runs.append([t, 1]) or 0
+                head.append((f"_C{block} = " + " + ".join(
+                    f"[{'_Z' if t == 'R' else '0'}] * {n}" for t, n in runs), None))
             half = "".join("/_K('2.')" for _ in range(self.step_scale_k))
             head += [(f"s_{_const_name(c)} = {_const_name(c)}{half}  # one step / "
                       f"2**{self.step_scale_k}", None) for c in sorted(steps)]
@@ -688,8 +937,9 @@ class Runner:
         zero = ar.decimal("0.0")
         namespace = dict(
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
-            _Stop=_Stop, sin=ar.sin, cos=ar.cos, sign=ar.sign, _ipow=ar.ipow,
-            _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: int(ar.to_float(x)),
+            _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign,
+            _ipow=ar.ipow,
+            _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: _integer(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
         if self.native:
@@ -723,18 +973,25 @@ class Runner:
             if unit is not None:  # where it stopped (a defect's message names it too)
                 self.label = (("START" if label is None else label) if unit == "MAIN"
                               else f"{unit} {label or 0}")
-            if not isinstance(exc, (ArithmeticError, ValueError)) or (
+            if isinstance(exc, _Bad):
+                error = EmulatorError(str(exc), label=self.label, variable=exc.name,
+                                      step=self.step, time=self.time(), guard="program")
+            elif not isinstance(exc, (ArithmeticError, ValueError)) or (
                     isinstance(exc, ValueError) and "math domain" not in str(exc)):
                 raise  # a defect of ours, not the program's arithmetic
-            if isinstance(exc, _NonFinite):
-                variable = exc.name
-            self._fail(EmulatorError(fault_reason(exc), label=self.label, variable=variable,
-                                     step=self.step, time=self.time(), guard="arithmetic"))
+            else:
+                error = EmulatorError(fault_reason(exc), label=self.label, variable=(
+                    exc.name if isinstance(exc, _NonFinite) else variable), step=self.step,
+                    time=self.time(), guard="arithmetic")
+            if not self.checking and self.native and not self._all_finite():
+                return self._replay()  # (a value went non-finite before: where, replayed)
+            self._fail(error)
         return self.run_
 
     def _all_finite(self) -> bool:
         return all(self.ar.isfinite(x) for _, get in self.units.values()
-                   for x in get().values() if type(x) is not int)
+                   for v in get().values() for x in (v if type(v) is list else (v,))
+                   if type(x) is not int and x is not None)
 
     def _replay(self) -> Run:
         indicators = getattr(self.ar, "indicators", None)
@@ -812,7 +1069,8 @@ def _listing(errata, k, tha_start, ed_tolerance) -> Program:
         patch = resources.files("deck_emulator.legacy").joinpath(
             "errata", f"{erratum}.patch").read_text("ascii").splitlines()
         lines = _apply(lines, patch, erratum)
-    return Program(lines, name=name, literals=literals, step_scale_k=k, errata=errata)
+    return Program(lines, name=name, literals=literals, step_scale_k=k, errata=errata,
+                   cache=False)
 
 
 def _literals(k, tha_start, ed_tolerance) -> dict:
