@@ -53,7 +53,7 @@ from deck_emulator.vocabulary.units import FT_S_PER_MPH
 
 __all__ = ["COMMON_FLAGS", "PRECISIONS", "TIMEOUT_S", "LEGACY", "compile_program",
            "compile_source", "run_program", "trap_record", "make_goldens", "random_deck",
-           "corpus", "compare", "Comparison", "Oracle", "mutant", "mutants"]
+           "corpus", "compare", "Comparison", "Oracle", "mutant", "mutants", "reordered"]
 
 #: The checkout's legacy/ folder: the listing and its errata.
 LEGACY = Path(__file__).resolve().parents[1] / "legacy"
@@ -430,7 +430,35 @@ def mutant(rng: random.Random, lines: list[str] | None = None, kind: str | None 
     return f"{kind}: line {n + 1}, column {col + 1}: {old!r} -> {new!r}", lines
 
 
-def mutants(count: int, seed: int):
-    """``count`` seeded mutants of the listing (see :func:`mutant`)."""
+_NAME = re.compile(r"[A-Z][A-Z0-9]*")
+
+
+def reordered(rng: random.Random, lines: list[str] | None = None) -> tuple[str, list[str]]:
+    """A mutant of the listing whose meaning is the listing's: two adjacent assignments swapped
+    where neither reads or assigns what the other assigns (one card each, the second
+    unlabelled; a label of the first stays in columns 1-5, so a GO TO to it still reaches
+    both)."""
+    from deck_emulator.legacy.jobdeck import listing_lines, statements
+
+    lines = list(lines or listing_lines())
+    pairs = []
+    for a, b in zip(statements(lines), statements(lines)[1:]):
+        if b.label or len(a.cards) != 1 or len(b.cards) != 1 or b.line != a.line + 1:
+            continue
+        sides = [s.text.split("=", 1) for s in (a, b)]
+        if any(len(x) != 2 or not _NAME.fullmatch(x[0]) for x in sides):
+            continue
+        (left1, right1), (left2, right2) = sides
+        if left1 != left2 and left1 not in _NAME.findall(right2) and (
+                left2 not in _NAME.findall(right1)):
+            pairs.append(a.line - 1)
+    n = rng.choice(pairs)
+    lines[n], lines[n + 1] = lines[n][:6] + lines[n + 1][6:], lines[n + 1][:6] + lines[n][6:]
+    return f"reordered: lines {n + 1} and {n + 2}", lines
+
+
+def mutants(count: int, seed: int, swaps: int = 0):
+    """``count`` seeded mutants of the listing (see :func:`mutant`) and ``swaps`` reordered
+    ones (:func:`reordered`)."""
     rng = random.Random(seed)
-    return [mutant(rng) for _ in range(count)]
+    return [mutant(rng) for _ in range(count)] + [reordered(rng) for _ in range(swaps)]

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from deck_emulator.cli import main
-from deck_emulator.legacy import oracle
+import oracle
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.legacy.fortran import Program
 from deck_emulator.legacy.jobdeck import job_deck_texts

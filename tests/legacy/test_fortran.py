@@ -250,41 +250,12 @@ def test_a_trajectory_of_a_decks_own_fortran_where_it_keeps_the_listings_labels(
 # ------------------------------------------------------------------- mutants and gfortran
 
 
-_NAME = re.compile(r"[A-Z][A-Z0-9]*")
-
-
-def reordered(rng, lines: list[str]) -> tuple[str, list[str]]:
-    """A mutant of the listing whose meaning is the listing's: two adjacent assignments swapped
-    where neither reads or assigns what the other assigns (one card each, the second
-    unlabelled; a label of the first stays in columns 1-5, so a GO TO to it still reaches
-    both)."""
-    from deck_emulator.legacy.jobdeck import statements
-
-    pairs = []
-    for a, b in zip(statements(lines), statements(lines)[1:]):
-        if b.label or len(a.cards) != 1 or len(b.cards) != 1 or b.line != a.line + 1:
-            continue
-        sides = [s.text.split("=", 1) for s in (a, b)]
-        if any(len(x) != 2 or not _NAME.fullmatch(x[0]) for x in sides):
-            continue
-        (left1, right1), (left2, right2) = sides
-        if left1 != left2 and left1 not in _NAME.findall(right2) and (
-                left2 not in _NAME.findall(right1)):
-            pairs.append(a.line - 1)
-    n = rng.choice(pairs)
-    lines = list(lines)
-    lines[n], lines[n + 1] = lines[n][:6] + lines[n + 1][6:], lines[n + 1][:6] + lines[n][6:]
-    return f"reordered: lines {n + 1} and {n + 2}", lines
-
-
 def _mutants_agree(count: int, seed: int, swaps: int):
     """``count`` of oracle.mutants (a constant, a FORMAT's letter or field changed) and
     ``swaps`` reordered ones, each on steel40 or steel20, against gfortran's build of it."""
     need_gfortran()
     decks = [_deck("steel40"), _deck("steel20")]
-    rng = random.Random(seed)
-    corpus = oracle.mutants(count, seed) + [reordered(rng, listing_lines())
-                                            for _ in range(swaps)]
+    corpus = oracle.mutants(count, seed, swaps=swaps)
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         for k, (what, lines) in enumerate(corpus):
@@ -309,7 +280,7 @@ def test_a_reordered_mutant_swaps_two_independent_assignments_and_keeps_the_labe
     lines = listing_lines()
     rng = random.Random(7)
     for _ in range(20):
-        what, mutant = reordered(rng, lines)
+        what, mutant = oracle.reordered(rng, lines)
         n = int(re.search(r"lines (\d+)", what).group(1)) - 1
         changed = [i for i, (a, b) in enumerate(zip(lines, mutant)) if a != b]
         assert changed == [n, n + 1] and [m[:6] for m in mutant] == [x[:6] for x in lines]
