@@ -9,6 +9,21 @@ import pytest
 from stubs import SRC, STUB
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _user_cache_in_a_temporary_folder(tmp_path_factory):
+    """What the package keeps in the user's cache folder (a job deck's made code) goes to a
+    folder of the test session's, for every test and the commands they start, not to the
+    user's own (numba's machine code stays in the package's __pycache__ where it can be
+    written, as for a user)."""
+    before = os.environ.get("XDG_CACHE_HOME")
+    os.environ["XDG_CACHE_HOME"] = str(tmp_path_factory.mktemp("user-cache"))
+    yield
+    if before is None:
+        os.environ.pop("XDG_CACHE_HOME", None)
+    else:
+        os.environ["XDG_CACHE_HOME"] = before
+
+
 @pytest.fixture
 def stub(tmp_path, monkeypatch):
     """The stub engine of :mod:`stubs`, importable here and in Dask's worker processes."""

@@ -79,7 +79,7 @@ def test_a_program_outside_the_dialect_keeps_nothing_and_a_fault_is_named_from_k
 
 
 def test_the_least_recently_used_entries_go_beyond_the_bound(kept, monkeypatch):
-    monkeypatch.setattr(front_end, "CACHE_ENTRIES", 2)
+    monkeypatch.setattr(front_end, "PROGRAM_CACHE_ENTRIES", 2)
     for value in ("0.00040", "0.000400", "0.0004000"):
         _printed(Program(_respelled("      HI=0.0004", f"      HI={value}")))
     assert len(kept()) == 2

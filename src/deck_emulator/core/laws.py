@@ -31,6 +31,8 @@ import numba
 import numpy as np
 from numba import njit
 
+from deck_emulator.files import user_cache_folder
+
 __all__ = [
     "LETTERS",
     "N_M",
@@ -81,8 +83,7 @@ def _cache_dir() -> None:
     if writable:
         numba.config.CACHE_DIR = os.path.join(in_tree, stamp)
     else:
-        home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        numba.config.CACHE_DIR = os.path.join(home, stamp)
+        numba.config.CACHE_DIR = os.path.join(user_cache_folder(), stamp)
 
 
 _cache_dir()

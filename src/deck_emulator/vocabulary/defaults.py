@@ -20,6 +20,10 @@ LISTING_CAP_STEPS = 20
 #: luminaire, which the listing has not got) is given R's
 LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 
+#: the job decks' made programs kept in the user's cache folder at most (legacy/fortran: the
+#: least recently used go)
+PROGRAM_CACHE_ENTRIES = 64
+
 # ------------------------------------------------------------------- reading a SOURCE
 
 #: the longest a SOURCE that is a FIFO or a pipe may keep its reader waiting for its next

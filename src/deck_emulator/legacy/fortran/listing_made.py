@@ -1,4 +1,4 @@
-# legacy/luminaire.f (its cards' CRC-32 4117971191): the Python of deck_emulator.legacy.fortran (its CRC-32 868930610), binary64, checked per block
+# legacy/luminaire.f (its cards' CRC-32 4117971191): the Python of deck_emulator.legacy.fortran (its CRC-32 1852125147), binary64, checked per block
 k_p0001 = _K('.0001')
 k_p0004 = _K('.0004')
 k_p15 = _K('.15')

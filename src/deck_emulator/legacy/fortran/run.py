@@ -37,7 +37,7 @@ from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limit
                                         fault_reason, halving_error, time_error, trace_row)
 from deck_emulator.legacy.printer import EVENT_FORMATS, Printer, event_for
 from deck_emulator.vocabulary.events import EventKind
-from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS
+from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES
 
 from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of, parse_units
 
@@ -111,17 +111,14 @@ def _made_code(path: Path, header: str):
 
 #: The ways of running a program: (binary64, checked per assignment).
 _MODES = ((True, False), (False, False), (False, True), (True, True))
-#: Made code kept in the user's cache folder at most (the least recently used go).
-CACHE_ENTRIES = 64
 _CACHE_MAGIC = b"deck_emulator fortran code "
 
 
 def _cache_folder() -> Path:
-    """The user's cache folder's (``$XDG_CACHE_HOME``, else ``~/.cache``) deck_emulator/fortran."""
-    import os
+    """Where a program's made code is kept: the package's user cache folder's fortran/."""
+    from deck_emulator.files import user_cache_folder
 
-    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(home) / "deck_emulator" / "fortran"
+    return user_cache_folder() / "fortran"
 
 
 def _kept(path: Path):
@@ -147,7 +144,7 @@ def _kept(path: Path):
 
 def _keep(path: Path, code) -> None:
     """Keep ``code`` in ``path`` (written whole or not at all: files.write_file); the oldest
-    entries beyond CACHE_ENTRIES go. A cache that cannot be written is left alone: the code
+    entries beyond PROGRAM_CACHE_ENTRIES go. A cache that cannot be written is left alone: the code
     is made again next time."""
     import hashlib
     import marshal
@@ -160,7 +157,7 @@ def _keep(path: Path, code) -> None:
         write_file(path, _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode() + b"\n"
                    + payload)
         entries = sorted(path.parent.glob("*.code"), key=lambda p: p.stat().st_mtime)
-        for old in entries[:-CACHE_ENTRIES]:
+        for old in entries[:-PROGRAM_CACHE_ENTRIES]:
             old.unlink()
 
 
