@@ -11,8 +11,8 @@ start, imports, the run, the printout written to /dev/null) of
   Python floats, its output formatted by ``%`` (the reference; tests/legacy/test_plain_listing.py
   checks that it prints the r8 golden and the emulator's printout byte for byte);
 * ``deck-emulator run decks/steel40.dat`` and the same with ``--precision ibm7094``: the
-  listing through the FORTRAN front end, its binary64 source made beforehand
-  (legacy/fortran/listing_made.py, scripts/make_listing_source.py: no parse at the start);
+  listing through the FORTRAN front end, its made code kept in the user's cache folder (made
+  by a first run outside the timing: no parse at the start);
 * ``deck-emulator run`` on a job deck of steel40 (``punch --job``) whose FORTRAN is the listing
   with one constant respelled (``HI=0.00040``): the deck's own program, read from its cards,
   parsed, made Python and run by the FORTRAN front end (legacy/fortran), in binary64 and in the

@@ -416,7 +416,7 @@ def _hollerith_columns(line: str, first: bool) -> set[int]:
 def mutant(rng: random.Random, lines: list[str] | None = None, kind: str | None = None):
     """One mutated program: (what changed, its lines), from the listing (``lines``) by one
     seeded change of ``kind`` (default: drawn from :data:`MUTATIONS`)."""
-    from deck_emulator.legacy.jobdeck import listing_lines
+    from deck_emulator.legacy import listing_lines
 
     lines = list(lines or listing_lines())
     sites = _sites(lines)
@@ -438,7 +438,8 @@ def reordered(rng: random.Random, lines: list[str] | None = None) -> tuple[str, 
     where neither reads or assigns what the other assigns (one card each, the second
     unlabelled; a label of the first stays in columns 1-5, so a GO TO to it still reaches
     both)."""
-    from deck_emulator.legacy.jobdeck import listing_lines, statements
+    from deck_emulator.legacy import listing_lines
+    from deck_emulator.legacy.jobdeck import statements
 
     lines = list(lines or listing_lines())
     pairs = []

@@ -149,14 +149,6 @@ def check_distinct(*paths) -> None:
         seen[real] = p
 
 
-def user_cache_folder() -> Path:
-    """The package's folder in the user's cache (``$XDG_CACHE_HOME``, else ``~/.cache``):
-    what is made once and kept between runs (a job deck's made code; numba's machine code
-    where the package's own folder cannot be written)."""
-    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(home) / "deck_emulator"
-
-
 def check_output_dir(path) -> None:
     """Fail now (:class:`OutputError`) unless ``path`` is a writable folder, or does not exist
     and its parent is a writable folder (it will be created)."""

@@ -17,7 +17,8 @@ import oracle
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.legacy.stops import EmulatorError
 from deck_emulator.legacy.fortran import DialectError, Program, listing_program, run_deck
-from deck_emulator.legacy.jobdeck import job_deck_texts, listing_lines
+from deck_emulator.legacy import listing_lines
+from deck_emulator.legacy.jobdeck import job_deck_texts
 
 from test_emulator import GOLDEN, ROOT
 from test_goldens import need_gfortran
@@ -287,38 +288,20 @@ def test_a_reordered_mutant_swaps_two_independent_assignments_and_keeps_the_labe
         assert mutant[n][6:] == lines[n + 1][6:] and mutant[n + 1][6:] == lines[n][6:]
 
 
-# ------------------------------------------------------------ the listing's made source
+# ------------------------------------------------------------ the listing's made code
 
 
-def test_the_made_listing_source_is_what_the_front_end_makes_now():
-    """legacy/fortran/listing_made.py is what ``python scripts/make_listing_source.py`` writes
-    now (after a change to the listing or the front end, run it: meanwhile its first line no
-    longer matches and the source is made at each start, never a stale one run)."""
-    from deck_emulator.legacy.fortran.run import LISTING_FILE, MADE_LISTING
-
-    assert MADE_LISTING.read_text() == listing_program().python(), \
-        "run: python scripts/make_listing_source.py"
-    program = Program(listing_lines, name="legacy/luminaire.f", made=MADE_LISTING,
-                      cards_file=LISTING_FILE)
-    code, _ = program._make(True, False)
-    assert code.co_filename == str(MADE_LISTING)  # the made file's code is what runs
-    assert program._units is None  # and nothing was parsed for it
-
-
-def test_a_made_source_whose_first_line_differs_is_not_used(tmp_path):
-    from deck_emulator.legacy.fortran.run import MADE_LISTING, LISTING_FILE
-
-    stale = tmp_path / "listing_made.py"
-    text = MADE_LISTING.read_text().replace("k_2p = _K('2.')", "k_2p = _K('3.')")
-    stale.write_text(text)  # the same first line: it would be used
-    lines = listing_lines()
-    name = "legacy/luminaire.f"
-    fresh = Program(lambda: lines, name=name, made=stale, cards_file=LISTING_FILE)
-    assert fresh._make(True, False)[0].co_filename == str(stale)
-    stale.write_text("# another program" + text[text.index("\n"):])
-    other = Program(lambda: lines, name=name, made=stale, cards_file=LISTING_FILE)
-    assert other._make(True, False)[0].co_filename == "<fortran>"
-    assert other.runner(_deck("steel40"), "double").run().text() == (
+def test_the_listings_made_code_is_kept_and_a_later_start_parses_nothing():
+    """The listing, as any program, is parsed and made once; a later start (a new Program of
+    the same cards) runs the kept code and prints the golden without parsing."""
+    first = Program(listing_lines, name="legacy/luminaire.f")
+    assert first.runner(_deck("steel40"), "double").run().text() == (
+        GOLDEN / "steel40.r8.txt").read_text()
+    again = Program(listing_lines, name="legacy/luminaire.f")
+    assert again._units is None  # nothing parsed: its code was kept
+    code, _ = again._make(True, False)
+    assert code.co_filename == "<fortran>" and again._units is None
+    assert again.runner(_deck("steel40"), "double").run().text() == (
         GOLDEN / "steel40.r8.txt").read_text()
 
 

@@ -9,7 +9,7 @@ import pytest
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.legacy.fortran import DialectError, Program
 from deck_emulator.legacy.fortran import run as front_end
-from deck_emulator.legacy.jobdeck import listing_lines
+from deck_emulator.legacy import listing_lines
 from deck_emulator.legacy.stops import EmulatorError
 
 from test_emulator import GOLDEN, ROOT

@@ -31,7 +31,7 @@ import numba
 import numpy as np
 from numba import njit
 
-from deck_emulator.files import user_cache_folder
+from deck_emulator.vocabulary.defaults import user_cache_folder
 
 __all__ = [
     "LETTERS",

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from deck_emulator.legacy import listing_lines
 from deck_emulator.legacy.cardimage import END_CARDS, card_texts, read_images
 from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck, read_bytes
 
@@ -85,14 +86,6 @@ def statements(lines: list[str], numbers: list[int] | None = None) -> list[State
             continue
         result.append(Statement("".join(line[:5].split()), body, number, card))
     return result
-
-
-def listing_lines() -> list[str]:
-    """The lines of the listing (the package's copy of ``legacy/luminaire.f``)."""
-    from importlib import resources  # here: a plain deck never reads the listing (~6 ms)
-
-    text = resources.files("deck_emulator.legacy").joinpath("luminaire.f").read_text("ascii")
-    return text.splitlines()
 
 
 def _shown(s: Statement) -> str:

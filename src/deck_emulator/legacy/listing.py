@@ -13,7 +13,8 @@ cards a job deck carries, its own control cards (``$`` in column 1) and FORTRAN,
 
 from __future__ import annotations
 
-from deck_emulator.legacy.jobdeck import is_comment, is_continuation, listing_lines
+from deck_emulator.legacy import listing_lines
+from deck_emulator.legacy.jobdeck import is_comment, is_continuation
 
 __all__ = ["listing_records", "LINES_PER_PAGE", "SHIPPED", "DECKS_OWN"]
 

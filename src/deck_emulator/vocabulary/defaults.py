@@ -5,8 +5,8 @@ Every layer reads its defaults from here -- the core's ``simulate``, :class:`Cor
 ``deck_emulator.run``, the command line's options and their help, the studies -- so that
 ``CoreEngine()``, ``deck_emulator.run(..., engine="core")`` and ``deck-emulator core`` are
 the same run.  A study that deliberately runs at other settings names its row here too, with
-the reason beside it.  Nothing here imports anything: the command line shows these as its
-options' defaults without loading numpy or scipy.
+the reason beside it.  Nothing here imports anything (the cache folder reads os when asked):
+the command line shows these as its options' defaults without loading numpy or scipy.
 """
 
 # ------------------------------------------------------------------- the listing's own
@@ -23,6 +23,18 @@ LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1
 #: the job decks' made programs kept in the user's cache folder at most (legacy/fortran: the
 #: least recently used go)
 PROGRAM_CACHE_ENTRIES = 64
+
+
+
+def user_cache_folder() -> str:
+    """The package's folder in the user's cache (``$XDG_CACHE_HOME``, else ``~/.cache``): what
+    is made once and kept between runs (a program's made code; numba's machine code where the
+    package's own folder cannot be written)."""
+    import os
+
+    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(home, "deck_emulator")
+
 
 # ------------------------------------------------------------------- reading a SOURCE
 

@@ -7,8 +7,9 @@ labelled block (``L125``: from label 125 to the next label; ``DO10_I``: a DO ran
 statement when unlabelled), which returns the label it goes to. Arrays are lists (a COMMON
 block one list, by place); a DO's test ends its range's last statement. The program's
 statements stay one a line, with their cards' text beside them (:meth:`Program.python` prints
-it), so the source reads side by side with the cards. A program other than the listing keeps
-its made code in the user's cache folder, by its cards' SHA-256 (:meth:`Program._cache_file`).
+it), so the source reads side by side with the cards. A program keeps its made code in the
+user's cache folder, by its cards' SHA-256 (:meth:`Program._cache_file`): the listing, as a job
+deck's own program, is parsed and made once a machine.
 
 Arithmetic: the number type's ``+ - * /`` and unary ``-``, ``abs()``, the arithmetic's
 ``decimal`` for every REAL constant and card field, its ``sin``, ``cos`` and ``sign``; ``X**2``
@@ -37,7 +38,8 @@ from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limit
                                         fault_reason, halving_error, time_error, trace_row)
 from deck_emulator.legacy.printer import EVENT_FORMATS, Printer, event_for
 from deck_emulator.vocabulary.events import EventKind
-from deck_emulator.vocabulary.defaults import PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES
+from deck_emulator.vocabulary.defaults import (PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES,
+                                               user_cache_folder)
 
 from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of, parse_units
 
@@ -81,32 +83,11 @@ OPTION_LITERALS = {
 }
 
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
-#: The listing's binary64 source as made (scripts/make_listing_source.py writes it).
-MADE_LISTING = Path(__file__).with_name("listing_made.py")
-#: The package's copy of the listing (what jobdeck.listing_lines reads), checked by its bytes.
-LISTING_FILE = Path(__file__).parent.parent / "luminaire.f"
-
-
 @functools.cache
 def _front_end_crc() -> int:
-    """CRC-32 of this front end's text (parse.py, run.py): a made file names it."""
+    """CRC-32 of this front end's text (parse.py, run.py): kept code names it."""
     here = Path(__file__).parent
     return zlib.crc32((here / "parse.py").read_bytes() + (here / "run.py").read_bytes())
-
-
-def _made_code(path: Path, header: str):
-    """The code of a made file (from the bytecode cache, as an imported module's) if its
-    first line is ``header`` (the same cards, the same front end), else None."""
-    import importlib.util
-
-    try:
-        with open(path, encoding="ascii") as f:
-            if f.readline().rstrip("\n") != header:
-                return None
-    except OSError:
-        return None
-    spec = importlib.util.spec_from_file_location(f"{__package__}.{path.stem}", path)
-    return spec.loader.get_code(spec.name)
 
 
 #: The ways of running a program: (binary64, checked per assignment).
@@ -116,9 +97,7 @@ _CACHE_MAGIC = b"deck_emulator fortran code "
 
 def _cache_folder() -> Path:
     """Where a program's made code is kept: the package's user cache folder's fortran/."""
-    from deck_emulator.files import user_cache_folder
-
-    return user_cache_folder() / "fortran"
+    return Path(user_cache_folder()) / "fortran"
 
 
 def _kept(path: Path):
@@ -668,18 +647,13 @@ class Program:
     def __init__(self, lines: list[str], numbers: list[int] | None = None, *,
                  path: str | None = None, name: str = "", watch: dict | None = LISTING_WATCH,
                  literals: dict | None = None, step_scale_k: int = 0, errata=(),
-                 made: Path | None = None, cards_file: Path | None = None,
                  cache: bool | None = None):
-        #: ``lines``: the cards' text, or a function that reads them (when first asked for:
-        #: ``cards_file``, the file they are read from, is then what a made file is checked on)
+        #: ``lines``: the cards' text, or a function that reads them (when first asked for)
         self._cards_text = lines if callable(lines) else list(lines)
-        self.cards_file = cards_file
         self.name = name or path or "the program"
         self._cards = (numbers, path)
-        #: ``made``: a file holding this program's binary64 source as made (MADE_LISTING),
-        #: used while it says it was made from these cards by this front end; the units are
-        #: then parsed only when asked for (the source of another mode, a fault's statement)
-        self.made = made
+        #: the units, parsed when first asked for: at once unless the code of every way of
+        #: running asked for is kept (then only for a fault's statement, another way)
         self._units = None
         self.watch = watch
         #: (unit, statement text, literal) -> ("step", literal): divided by 2**step_scale_k;
@@ -689,10 +663,10 @@ class Program:
         self._made: dict = {}
         self._lines: dict = {}
         #: ``cache``: keep the made code in the user's cache folder (:func:`_kept`; default:
-        #: a program without a made file or literals, such as a job deck's own; not the
-        #: listing's variants, made once a process)
-        self.cache = made is None and not literals if cache is None else cache
-        if made is None and not (self.cache and any(self._cached(mode) for mode in _MODES)):
+        #: a program without literals, the listing's or a job deck's own; not the listing's
+        #: variants with respelled literals, made once a process)
+        self.cache = not literals if cache is None else cache
+        if not (self.cache and any(self._cached(mode) for mode in _MODES)):
             self.units  # noqa: B018  (parsed now: a statement outside the dialect is refused)
 
     @property
@@ -702,10 +676,7 @@ class Program:
         return self._cards_text
 
     def _cards_crc(self) -> int:
-        """CRC-32 of the cards' text, one line each (read from ``cards_file`` if not yet read:
-        the same when the file is those lines, each ended by a newline)."""
-        if callable(self._cards_text) and self.cards_file is not None:
-            return zlib.crc32(self.cards_file.read_bytes())
+        """CRC-32 of the cards' text, one line each."""
         return zlib.crc32("".join(line + "\n" for line in self.lines).encode())
 
     @property
@@ -744,11 +715,7 @@ class Program:
         """(code, its lines or None: :meth:`made_lines`) of the source for a way of running."""
         key = (native, checking)
         if key not in self._made:
-            code = None
-            if self.made is not None and key == (True, False):
-                code = _made_code(self.made, self._header(native, checking))
-            if code is None and self.cache:
-                code = self._cached(key)
+            code = self._cached(key) if self.cache else None
             if code is None:
                 lines = self.made_lines(native, checking)
                 code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
@@ -1053,12 +1020,12 @@ def listing_program(errata=(), *, step_scale_k: int = 0, tha_start: str | None =
 
 @functools.lru_cache(maxsize=16)
 def _listing(errata, k, tha_start, ed_tolerance) -> Program:
-    from deck_emulator.legacy.jobdeck import listing_lines
+    from deck_emulator.legacy import listing_lines
 
     literals = _literals(k, tha_start, ed_tolerance)
     name = "legacy/luminaire.f" + "".join(f" + {e}" for e in errata)
     if not errata and not literals:  # the listing as printed: its made source
-        return Program(listing_lines, name=name, made=MADE_LISTING, cards_file=LISTING_FILE)
+        return Program(listing_lines, name=name)
     from importlib import resources
 
     lines = listing_lines()
