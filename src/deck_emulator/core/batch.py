@@ -248,8 +248,9 @@ class _CompiledRun(_Run):
         self.compiled_segments += 1
         sol = CompiledSolution(ts, t_old, h, y_old, F)
         y_end = sol(ts[-1]) if len(t_old) else np.asarray(y0, dtype=float)
-        t_events = [rec_t[rec_k == i] for i in range(len(events))]
-        y_events = [rec_y[rec_k == i] for i in range(len(events))]
+        t_events, y_events = [rec_t[:0]] * len(events), [rec_y[:0]] * len(events)
+        for i in set(rec_k.tolist()):  # the events that were recorded
+            t_events[i], y_events[i] = rec_t[rec_k == i], rec_y[rec_k == i]
         return SimpleNamespace(
             t=ts, y=y_end[:, None], sol=sol, t_events=t_events, y_events=y_events,
             nfev=nfev, status=1 if status == dop853.STATUS_EVENT else 0, message="",
