@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -187,6 +188,47 @@ def test_batch_answers_in_order_with_errors_in_place():
     out = simulate_batch([good, bad, good], LEGACY)
     assert isinstance(out[1], Exception) and "triangle inequality" in str(out[1])
     assert out[0].hit_message == out[2].hit_message == simulate(good, LEGACY).hit_message
+
+
+# --------------------------------------------------------------------------------------
+# the batch's wall bound (a starved or suspended machine)
+
+
+def test_a_batch_past_its_wall_bound_stops_every_scene_it_has_not_finished():
+    good = steel40()
+    out = simulate_batch([good, good], LEGACY, max_wall_s=0.0)
+    for got in out:  # the bound passed before either started
+        assert isinstance(got, CoreError)
+        assert re.fullmatch(r"run stopped: the batch took more than max_wall_s = 0 s of wall "
+                            r"time \(before this scene started; a slow, starved or suspended "
+                            r"machine\)", str(got)), got
+    (ran,) = simulate_batch([good], LEGACY, max_wall_s=math.inf)
+    assert ran.hit_message == simulate(good, LEGACY).hit_message
+
+
+def test_a_scene_in_progress_stops_at_its_next_segment_once_the_batch_is_past_its_bound(
+        monkeypatch):
+    """The clock is the test's: it passes the bound after the scene's first segment."""
+    import deck_emulator.core.batch as batch
+
+    solved, now = [], [0.0]
+    real = batch._CompiledRun._solve
+
+    def solve(self, *args, **kwargs):
+        got = real(self, *args, **kwargs)
+        solved.append(got.t[-1])
+        now[0] = 100.0  # the machine was suspended during the first segment
+        return got
+
+    monkeypatch.setattr(batch._CompiledRun, "_solve", solve)
+    monkeypatch.setattr(batch.time, "perf_counter", lambda: now[0])
+    good = steel40()
+    first, second = simulate_batch([good, good], LEGACY, max_wall_s=50.0)
+    assert len(solved) == 1  # the first segment ran; the second did not start
+    assert str(first) == ("run stopped: the batch took more than max_wall_s = 50 s of wall "
+                          f"time (at t = {solved[0]:.6g} s; a slow, starved or suspended "
+                          "machine)")
+    assert "before this scene started" in str(second)
 
 
 # --------------------------------------------------------------------------------------

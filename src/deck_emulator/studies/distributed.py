@@ -433,7 +433,9 @@ class SceneStore:
             return None
         pa, pq = _arrow()
         self.results.mkdir(parents=True, exist_ok=True)
-        name = f"batch-{time.strftime('%Y%m%dT%H%M%S')}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+        # named in the order written (to the nanosecond: a resume's rows of a scene re-run
+        # in the same second as its stopped row come after it), as :meth:`rows` reads them
+        name = f"batch-{time.time_ns():020d}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
         final = self.results / f"{name}.parquet"
         tmp = self.results / f".{name}.parquet.tmp"
         table = pa.Table.from_pylist(_uniform(rows))
