@@ -414,3 +414,20 @@ def test_engine_batch_outcomes_match_the_reference_path(trace):
             assert got.t.shape == ref.t.shape or abs(got.t[-1] - ref.t[-1]) <= TIME_TOL_S
             n = min(len(got.t), len(ref.t)) - 2
             assert np.max(np.abs(got.points["P"][:n] - ref.points["P"][:n])) <= POSITION_TOL_FT
+
+
+def test_the_steps_subdivided_at_once_are_linspaces_points_bit_for_bit():
+    """The ground-passage check and the scipy path's force grid subdivide every step at once
+    (solve._subdivided): numpy's linspace, step by step, is the reference -- steps of every
+    scale, a step of no length, and steps so short that linspace's step underflows to zero."""
+    from deck_emulator.core.solve import _subdivided
+
+    rng = np.random.default_rng(7)
+    cases = [np.cumsum(rng.random(30) * 10.0 ** rng.integers(-9, 1, 30)) for _ in range(50)]
+    cases += [np.array([0.0, 0.1, 0.1, 0.2]), np.cumsum(np.full(6, 5e-324)),
+              1e-300 + np.cumsum(np.full(6, 5e-324))]
+    for ts in cases:
+        for n in (5, 9):
+            ref = np.unique(np.concatenate([np.linspace(a, b, n)
+                                            for a, b in zip(ts[:-1], ts[1:])]))
+            assert _subdivided(ts, n).tobytes() == ref.tobytes()

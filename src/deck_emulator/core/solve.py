@@ -505,8 +505,10 @@ def _subdivided(ts, n: int) -> np.ndarray:
     delta = b - a
     step = delta / (n - 1)
     i = np.arange(n, dtype=float)[:, None]
-    with np.errstate(invalid="ignore"):
-        y = np.where(step == 0, i / (n - 1) * delta, i * step) + a  # linspace's zero step
+    y = i * step + a
+    zero = step == 0
+    if zero.any():  # linspace's own way with a step that underflows to zero
+        y[:, zero] = i / (n - 1) * delta[zero] + a[zero]
     y[-1] = b
     return np.unique(y)
 
