@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 
 import numpy as np
 import pytest
@@ -199,9 +198,8 @@ def test_a_batch_past_its_wall_bound_stops_every_scene_it_has_not_finished():
     out = simulate_batch([good, good], LEGACY, max_wall_s=0.0)
     for got in out:  # the bound passed before either started
         assert isinstance(got, CoreError)
-        assert re.fullmatch(r"run stopped: the batch took more than max_wall_s = 0 s of wall "
-                            r"time \(before this scene started; a slow, starved or suspended "
-                            r"machine\)", str(got)), got
+        assert str(got) == ("run stopped: the batch took more than max_wall_s = 0 s of wall "
+                            "time (before this scene started)")
     (ran,) = simulate_batch([good], LEGACY, max_wall_s=math.inf)
     assert ran.hit_message == simulate(good, LEGACY).hit_message
 
@@ -226,8 +224,7 @@ def test_a_scene_in_progress_stops_at_its_next_segment_once_the_batch_is_past_it
     first, second = simulate_batch([good, good], LEGACY, max_wall_s=50.0)
     assert len(solved) == 1  # the first segment ran; the second did not start
     assert str(first) == ("run stopped: the batch took more than max_wall_s = 50 s of wall "
-                          f"time (at t = {solved[0]:.6g} s; a slow, starved or suspended "
-                          "machine)")
+                          f"time (at t = {solved[0]:.6g} s)")
     assert "before this scene started" in str(second)
 
 

@@ -284,7 +284,7 @@ class _CompiledRun(_Run):
 
 def _past_wall(max_wall_s: float, where: str) -> str:
     return (f"run stopped: the batch took more than max_wall_s = {max_wall_s:g} s of wall "
-            f"time ({where}; a slow, starved or suspended machine)")
+            f"time ({where})")
 
 
 def _default_mode():

@@ -313,11 +313,11 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
         groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
                           []).append(i)
     outcomes: list = [None] * len(jobs)
-    walls = [(math.inf, 0.0)] * len(jobs)  # the core's wall bound and its batch's time
+    walls = [(math.inf, None)] * len(jobs)  # the core's wall bound and its batch's time
     for members in groups.values():
         first = jobs[members[0]]
         engine = engine_for(first["engine"], **first["options"])
-        got, batch_s = [None] * len(members), 0.0
+        got, batch_s = [None] * len(members), None
         if first["engine"] == "core":  # the arrays the row reads, and no others
             engine = dataclasses.replace(engine, arrays=ROW_ARRAYS)
             started = time.perf_counter()
