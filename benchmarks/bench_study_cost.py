@@ -20,7 +20,9 @@ Prints:
   ``sensitivity --deck steel40 -N 1024`` (8,192 scenes) with the input that decides its
   contact ΔV (largest ST), and ``sweep`` of 10,000 core scenes: wall time, CPU time (the
   command and its workers), CPU per scene against the solve's, and the peak memory of the
-  process tree (the sum of its processes' resident sizes, sampled every 0.1 s).
+  process tree, sampled every 0.1 s: the sum of its processes' resident sizes (RSS: a shared
+  library's pages counted once in each process) and of their proportional sizes (PSS: each
+  shared page split among the processes that map it).
 
 Every figure is printed with the load average beside it: the times depend on the machine.
 ``--src DIR``: measure another checkout's ``src`` (the whole commands and the in-process part
@@ -124,25 +126,27 @@ def in_process(n: int, repeat: int) -> float:
     return solve
 
 
-def _tree(proc, cpu: dict) -> int:
-    """The tree's resident bytes now; ``cpu``: pid -> (is the command itself, CPU seconds so
-    far), updated (a worker's last reading stays when it has gone)."""
+def _tree(proc, cpu: dict) -> tuple[int, int]:
+    """The tree's resident and proportional bytes now (RSS, PSS); ``cpu``: pid -> (is the
+    command itself, CPU seconds so far), updated (a worker's last reading stays when it has
+    gone)."""
     import psutil
 
-    total = 0
+    rss = pss = 0
     try:
         procs = [proc, *proc.children(recursive=True)]
     except psutil.Error:
-        return 0
+        return 0, 0
     for p in procs:
         try:
             with p.oneshot():
-                total += p.memory_info().rss
+                m = p.memory_full_info()
+                rss, pss = rss + m.rss, pss + m.pss
                 t = p.cpu_times()
                 cpu[p.pid] = (p.pid == proc.pid, t.user + t.system)
         except psutil.Error:
             pass
-    return total
+    return rss, pss
 
 
 def timed(cmd: list[str], env: dict) -> dict:
@@ -156,15 +160,17 @@ def timed(cmd: list[str], env: dict) -> dict:
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True)
     ps = psutil.Process(proc.pid)
-    peak, cpu = 0, {}
+    peak, peak_pss, cpu = 0, 0, {}
     while proc.poll() is None:
-        peak = max(peak, _tree(ps, cpu))
+        rss, pss = _tree(ps, cpu)
+        peak, peak_pss = max(peak, rss), max(peak_pss, pss)
         time.sleep(0.1)
     wall = time.perf_counter() - w0
     out, err = proc.communicate()
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     total = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return {"wall": wall, "cpu": total, "peak_mb": peak / 2**20, "status": proc.returncode,
+    return {"wall": wall, "cpu": total, "peak_mb": peak / 2**20, "pss_mb": peak_pss / 2**20,
+            "status": proc.returncode,
             "client": sum(c for own, c in cpu.values() if own),
             "workers": sum(c for own, c in cpu.values() if not own),
             "err": err.strip().splitlines()[-1:] if proc.returncode else [],
@@ -199,7 +205,8 @@ def commands(env: dict, solve: float, which: str = "both") -> None:
             print(f"* {label}: {got['wall']:.1f} s wall, {got['cpu']:.1f} s CPU "
                   f"({1e3 * got['cpu'] / count:.2f} ms a scene, "
                   f"{got['cpu'] / count / solve:.2f}x the solve alone), "
-                  f"peak {got['peak_mb']:.0f} MB (the process tree), exit {got['status']} "
+                  f"peak {got['peak_mb']:.0f} MB RSS, {got['pss_mb']:.0f} MB PSS (the process "
+                  f"tree), exit {got['status']} "
                   f"{' '.join(got['err'])}; {got['load']}")
             print(f"  CPU by process (sampled every 0.1 s, up to its last sample): the command "
                   f"{got['client']:.1f} s, its workers {got['workers']:.1f} s")

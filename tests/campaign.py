@@ -15,8 +15,11 @@ corpus and prints the count of cases and of broken promises per category::
     python tests/campaign.py            # the full corpus
     python tests/campaign.py --fast     # the default suite's sample
 
-Interruptions, kills, resumes and concurrent runs are not cases here: they need processes of
-their own (tests/robustness/test_kill.py, test_interrupt_startup.py, test_store_lock.py,
+A resume of a changed study is a case of two commands in one folder: the study (``first``),
+then its files changed (``change``), then ``--resume``, refused in one line naming what changed
+(``names``) with nothing of the folder changed, or run (a grid made larger: the rest run).
+Interruptions, kills and concurrent runs are not cases here: they need processes of their own
+(tests/robustness/test_kill.py, test_interrupt_startup.py, test_store_lock.py,
 test_output_sets.py, test_signals.py).
 """
 
@@ -59,6 +62,12 @@ class Case:
     scheduler: tuple[str, bytes] | None = None
     #: environment variables set while it runs
     env: dict[str, str] = field(default_factory=dict)
+    #: a command run first in the same folder (it must end with 0 or 3), and the files written
+    #: over after it, before ``argv`` runs: a study and its inputs changed before a resume
+    first: list[str] | None = None
+    change: dict[str, bytes] = field(default_factory=dict)
+    #: what a refusal's line must say (``{dir}`` as in ``argv``)
+    names: str = ""
 
 
 @dataclass
@@ -386,10 +395,10 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
     rng = random.Random(seed)
     n = {"deck": 40, "odd": 12, "cards": 16, "toml": 30, "printouts": 16, "path": 0,
          "cut": 12, "bomb": 12, "streams": 16, "sources": 12, "programs": 12,
-         "schedulers": 6, "stopped": 3, "promises": 6} if fast \
+         "schedulers": 6, "stopped": 3, "promises": 6, "resumed": 2} if fast \
         else {"deck": 1200, "odd": 300, "cards": 600, "toml": 600, "printouts": 400, "path": 0,
               "cut": 300, "bomb": 300, "streams": 120, "sources": 120, "programs": 300,
-              "schedulers": 60, "stopped": 40, "promises": 60}
+              "schedulers": 60, "stopped": 40, "promises": 60, "resumed": 24}
     deck = _deck_bytes()
     cases: list[Case] = []
 
@@ -554,6 +563,10 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
                               ["run", "steel40", "--pages", "{dir}/o.pdf", "--quiet"],
                               outputs=("o.pdf",), env={"SOURCE_DATE_EPOCH": epoch}))
 
+    resume_rng = random.Random(seed + 9)  # its own, so that the other categories stay the same
+    for k in range(n["resumed"]):
+        cases.append(_changed_study(k, resume_rng, d40))
+
     for argv, prefix in OPTIONS:
         values = BAD_NUMBERS if not fast else BAD_NUMBERS[:4]
         for v in values:
@@ -565,6 +578,53 @@ def corpus(fast: bool = True, seed: int = 23) -> list[Case]:
             cases.append(Case("output paths", f"{argv[0]} {argv[-1]} {path!r}",
                               [*argv, path], {"file": b"x"}))
     return cases
+
+
+_STUDY_CHANGED = "the engine or its settings changed"
+
+
+def _changed_study(k: int, rng: random.Random, deck) -> Case:
+    """A study made, then resumed with something changed: its deck's contents, its engine,
+    its preset, its grid or its seed (refused, naming it), or its grid made larger (the rest
+    run)."""
+    kind = ["deck", "engine", "grid", "study deck", "preset", "larger grid", "seed"][k % 7]
+    changed = deck.with_values(WV=round(rng.uniform(80.0, 120.0), 3)).to_text().encode()
+    speed, angles = rng.choice([20, 30, 40, 50]), rng.choice(["0", "0,15", "15"])
+    engine = rng.choice(["emulator", "core"])
+    sweep = ["sweep", "--base-deck", "{dir}/b.dat", "--speeds", str(speed), "--angles", angles,
+             "--jobs", "1", "--quiet", "--out", "{dir}/o"]
+    first, argv = [*sweep, "--engine", engine], [*sweep, "--engine", engine, "--resume"]
+    names, statuses = _STUDY_CHANGED, frozenset({2})
+    if kind in ("deck", "study deck"):
+        if kind == "study deck":
+            first = ["sensitivity", "--deck", "{dir}/b.dat", "-N", "2", "--only", "--input",
+                     "WV=90:110", "--jobs", "1", "--quiet", "--out", "{dir}/o"]
+            argv = [*first, "--resume"]
+        names = "{dir}/b.dat changed since"
+    elif kind == "engine":
+        argv[-2] = {"emulator": "core", "core": "emulator"}[engine]
+    elif kind == "preset":
+        first, argv = [*sweep, "--engine", "core"], [*sweep, "--engine", "core", "--preset",
+                                                      "physical", "--resume"]
+    elif kind == "grid":
+        argv[argv.index("--speeds") + 1] = str(speed + 5)
+    elif kind == "larger grid":  # the scenes both grids hold are the same: the rest run
+        argv[argv.index("--angles") + 1] = angles + ",30"
+        names, statuses = "", frozenset({0, 3})
+    else:
+        first = ["sensitivity", "--deck", "{dir}/b.dat", "-N", "2", "--only", "--input",
+                 "WV=90:110", "--jobs", "1", "--quiet", "--out", "{dir}/o"]
+        argv = [*first, "--seed", str(rng.randint(1, 99)), "--resume"]
+    return Case("resumes of a changed study", f"{kind} #{k}", argv, {"b.dat": _deck_bytes()},
+                statuses=statuses, first=first,
+                change={"b.dat": changed} if kind in ("deck", "study deck") else {},
+                names=names)
+
+
+def _snapshot(folder: Path) -> dict[str, bytes]:
+    """Every file under ``folder`` and its bytes, but a store's lock (its holder's pid)."""
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file() and p.name != ".lock"}
 
 
 # ------------------------------------------------------------------------------ running
@@ -620,6 +680,17 @@ def run_case(case: Case, folder: Path) -> Result:
     os.environ.update(case.env)
     started = time.perf_counter()
     broken = []
+    made = None
+    if case.first is not None:  # the study to resume, then its inputs changed
+        with contextlib.redirect_stdout(io.StringIO()), \
+                contextlib.redirect_stderr(io.StringIO()) as said:
+            code = main([a.replace("{dir}", str(folder)) for a in case.first])
+        if code not in (0, 3):  # it ran (3: a scene of it stopped, as an angled deck may)
+            broken.append(f"the first run exited {code}: {said.getvalue().strip()[-200:]}")
+        for name, data in case.change.items():
+            (folder / name).write_bytes(data)
+        made = _snapshot(folder)
+        before = {p.name for p in folder.iterdir()}
     cwd = os.getcwd()
     saved = sys.stdout, sys.stderr
     try:
@@ -671,6 +742,11 @@ def run_case(case: Case, folder: Path) -> Result:
         written = {p.name for p in folder.iterdir()} - before
         if written:
             broken.append(f"a refusal wrote {sorted(written)}")
+        if made is not None and _snapshot(folder) != made:
+            broken.append("a refused resume changed the study's folder")
+        said = case.names.replace("{dir}", str(folder))
+        if said and not any(said in x for x in lines):
+            broken.append(f"the refusal does not say {case.names!r}")
     with contextlib.suppress(OSError):
         os.chmod(folder / "ro", 0o755)
     return Result(case, status, seconds, broken)

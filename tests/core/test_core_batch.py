@@ -190,6 +190,45 @@ def test_batch_answers_in_order_with_errors_in_place():
 
 
 # --------------------------------------------------------------------------------------
+# the batch's wall bound (a starved or suspended machine)
+
+
+def test_a_batch_past_its_wall_bound_stops_every_scene_it_has_not_finished():
+    good = steel40()
+    out = simulate_batch([good, good], LEGACY, max_wall_s=0.0)
+    for got in out:  # the bound passed before either started
+        assert isinstance(got, CoreError)
+        assert str(got) == ("run stopped: the batch took more than max_wall_s = 0 s of wall "
+                            "time (before this scene started)")
+    (ran,) = simulate_batch([good], LEGACY, max_wall_s=math.inf)
+    assert ran.hit_message == simulate(good, LEGACY).hit_message
+
+
+def test_a_scene_in_progress_stops_at_its_next_segment_once_the_batch_is_past_its_bound(
+        monkeypatch):
+    """The clock is the test's: it passes the bound after the scene's first segment."""
+    import deck_emulator.core.batch as batch
+
+    solved, now = [], [0.0]
+    real = batch._CompiledRun._solve
+
+    def solve(self, *args, **kwargs):
+        got = real(self, *args, **kwargs)
+        solved.append(got.t[-1])
+        now[0] = 100.0  # the machine was suspended during the first segment
+        return got
+
+    monkeypatch.setattr(batch._CompiledRun, "_solve", solve)
+    monkeypatch.setattr(batch.time, "perf_counter", lambda: now[0])
+    good = steel40()
+    first, second = simulate_batch([good, good], LEGACY, max_wall_s=50.0)
+    assert len(solved) == 1  # the first segment ran; the second did not start
+    assert str(first) == ("run stopped: the batch took more than max_wall_s = 50 s of wall "
+                          f"time (at t = {solved[0]:.6g} s)")
+    assert "before this scene started" in str(second)
+
+
+# --------------------------------------------------------------------------------------
 # what a scene lacks is never evaluated, in the batch too
 
 
@@ -372,3 +411,20 @@ def test_engine_batch_outcomes_match_the_reference_path(trace):
             assert got.t.shape == ref.t.shape or abs(got.t[-1] - ref.t[-1]) <= TIME_TOL_S
             n = min(len(got.t), len(ref.t)) - 2
             assert np.max(np.abs(got.points["P"][:n] - ref.points["P"][:n])) <= POSITION_TOL_FT
+
+
+def test_the_steps_subdivided_at_once_are_linspaces_points_bit_for_bit():
+    """The ground-passage check and the scipy path's force grid subdivide every step at once
+    (solve._subdivided): numpy's linspace, step by step, is the reference -- steps of every
+    scale, a step of no length, and steps so short that linspace's step underflows to zero."""
+    from deck_emulator.core.solve import _subdivided
+
+    rng = np.random.default_rng(7)
+    cases = [np.cumsum(rng.random(30) * 10.0 ** rng.integers(-9, 1, 30)) for _ in range(50)]
+    cases += [np.array([0.0, 0.1, 0.1, 0.2]), np.cumsum(np.full(6, 5e-324)),
+              1e-300 + np.cumsum(np.full(6, 5e-324))]
+    for ts in cases:
+        for n in (5, 9):
+            ref = np.unique(np.concatenate([np.linspace(a, b, n)
+                                            for a, b in zip(ts[:-1], ts[1:])]))
+            assert _subdivided(ts, n).tobytes() == ref.tobytes()

@@ -2,7 +2,8 @@
 images, scene and assembly files, physically odd decks, printouts of every layout compare
 reads (mutated, damaged as scans damage them, empty), job decks whose FORTRAN is mutated,
 invalid options and output paths, schedulers that are not Dask's, core runs stopped by their
-wall bound, and the smaller promises (long names, undecodable names, SOURCE_DATE_EPOCH),
+wall bound, resumes of a changed study (its deck, engine, preset, grid or seed), and the smaller
+promises (long names, undecodable names, SOURCE_DATE_EPOCH),
 each case held to the tool's promise (a documented exit status, no traceback, one line for a
 refusal, nothing written by a refusal).  A seeded sample by default; the full corpus (about
 2,900 cases) under ``-m slow_corpus``."""
@@ -28,7 +29,7 @@ def test_the_sample_covers_every_category():
         "scene and assembly files", "printouts", "invalid options", "output paths",
         "card images cut short", "scene and assembly bombs", "closed streams and bare encodings",
         "sources that are not files", "mutated programs", "hostile schedulers",
-        "stopped core runs", "smaller promises"}
+        "stopped core runs", "smaller promises", "resumes of a changed study"}
 
 
 @pytest.mark.parametrize("case", FAST, ids=lambda c: f"{c.category}: {c.name}")

@@ -186,3 +186,26 @@ def test_a_plain_function_runs_in_batches_too(stub, tmp_path):
                        chunk=4)
     rows = _check_complete(store, tasks)
     assert sorted(r["square"] for r in rows) == [i * i for i in range(9)]
+
+
+def test_a_spawned_workers_first_batch_puts_what_it_holds_out_of_the_collectors_way(
+        monkeypatch):
+    """Only in a worker an embedded cluster spawned, and once: its objects frozen after its
+    first batch (gc.freeze), so that the collector stops going through them."""
+    import gc
+
+    from deck_emulator import SPAWNED_WORKER_ENV
+    from deck_emulator.studies import distributed
+
+    monkeypatch.setattr(distributed, "_SETTLED", [])
+    monkeypatch.delenv(SPAWNED_WORKER_ENV, raising=False)
+    frozen = gc.get_freeze_count()
+    rows = distributed._call_many(lambda tasks: [{"y": t["x"]} for t in tasks], [{"x": 1}], True)
+    assert rows[0]["y"] == 1 and gc.get_freeze_count() == frozen  # not a worker: untouched
+    monkeypatch.setenv(SPAWNED_WORKER_ENV, "1")
+    try:
+        for _ in range(2):
+            distributed._call_many(lambda tasks: [{} for _ in tasks], [{"x": 1}], True)
+        assert gc.get_freeze_count() > frozen and distributed._SETTLED == [True]  # once
+    finally:
+        gc.unfreeze()

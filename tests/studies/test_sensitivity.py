@@ -242,3 +242,38 @@ def test_a_studys_rows_are_the_whole_outcomes_numbers_bit_for_bit():
         assert got == expected, task
     assert sum(r["roof_clearance_ft"] is not None for r in rows) > 0
     assert len({r["delta_v_contact_mph"] for r in rows}) > 20
+
+
+def test_a_batch_past_its_wall_bound_stops_its_scenes_and_a_resume_runs_them(
+        tmp_path, capsys, monkeypatch):
+    """A starved or suspended machine: the compiled core's batch passes its wall bound (the
+    defaults' row, here 0 s), its scenes are stored as stopped, the command exits 3 without
+    tables, and a resume runs them again -- to the end once the machine keeps up (the workers
+    are this process's threads, so the bound set here holds in them)."""
+    from collections import Counter
+
+    from distributed import LocalCluster
+
+    from deck_emulator.cli import main
+    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.vocabulary import defaults
+
+    out = tmp_path / "s"
+    bound = defaults.MAX_WALL_S
+    monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                      dashboard_address=None) as cluster:
+        argv = ["sensitivity", "-N", "2", "--quiet", "--out", str(out),
+                "--scheduler", cluster.scheduler_address]
+        assert main(argv) == 3
+        err = capsys.readouterr().err
+        assert "16 of 16 scenes stopped" in err and "max_wall_s = 0 s" in err
+        assert "--resume runs the rest" in err
+        store = SceneStore(out / defaults.SCENE_STORE / "steel40")
+        first = Counter(r["scene_id"] for r in store.rows() if r["status"] == "stopped")
+        assert len(first) == 16 and not store.ids()  # stored, none counted as done
+        assert not (out / "sensitivity.csv").exists()
+        monkeypatch.setattr(defaults, "MAX_WALL_S", bound)
+        assert main([*argv, "--resume"]) == 0
+        assert "steel40: 16 scenes, 16 run now" in capsys.readouterr().err
+        assert store.ids() == set(first) and (out / "sensitivity.csv").exists()

@@ -263,3 +263,37 @@ def test_a_core_row_made_without_the_contact_force_is_the_whole_outcomes_row():
             assert rx[k] == ry[k] or (isinstance(rx[k], float) and math.isnan(rx[k])
                                       and math.isnan(ry[k])), (s, a, k)
         assert x.pulse_t.size and not y.pulse_t.size
+
+
+def test_a_core_batch_past_its_wall_bound_gives_stopped_rows_and_a_resume_runs_them(
+        tmp_path, capsys, monkeypatch):
+    """The compiled core's batch passes its wall bound (the defaults' row, here 0 s): the
+    sweep writes its tables with the scenes' rows saying why they stopped, exits 3, and a
+    resume runs those scenes again (the workers are this process's threads, so the bound set
+    here holds in them)."""
+    from distributed import LocalCluster
+
+    from deck_emulator.cli import main
+    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.vocabulary import defaults
+
+    out = tmp_path / "s"
+    bound = defaults.MAX_WALL_S
+    monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                      dashboard_address=None) as cluster:
+        argv = ["sweep", "--speeds", "40", "--angles", "0,15", "--engine", "core", "--quiet",
+                "--out", str(out), "--scheduler", cluster.scheduler_address]
+        assert main(argv) == 3
+        assert "steel40, steel40_a15 stopped early" in capsys.readouterr().err
+        with open(out / "sweep.csv", newline="") as f:
+            errors = [r["error"] for r in csv.DictReader(f)]
+        assert len(errors) == 2 and all("max_wall_s = 0 s" in e for e in errors)
+        store = SceneStore(out / defaults.SCENE_STORE)
+        assert [r["status"] for r in store.rows()] == ["stopped"] * 2 and not store.ids()
+        monkeypatch.setattr(defaults, "MAX_WALL_S", bound)
+        code = main([*argv, "--resume"])
+        assert code == 0, capsys.readouterr().err
+        with open(out / "sweep.csv", newline="") as f:
+            assert [r["error"] for r in csv.DictReader(f)] == ["", ""]
+    capsys.readouterr()

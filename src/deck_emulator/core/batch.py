@@ -7,6 +7,11 @@ same hit rules and summary -- but its segments are integrated by the compiled DO
 adaptive step and its own located events, and the car's largest force is found in
 compiled code too.  Only the bookkeeping between segments (a handful per scene) is Python.
 
+Every batch ends: besides each scene's own bounds (``t_max_s``, ``max_evaluations``), the
+batch as a whole is bounded by ``max_wall_s`` of wall time (a starved or suspended machine):
+past it, the scene in progress stops at its next segment and the scenes not started yet do
+not start, each a ``CoreError`` saying so ("run stopped: the batch took more than ...").
+
 A segment the compiled integrator cannot do is solved by ``solve_ivp`` inside the same
 run, and the result says so (``CoreResult.integrator == "compiled+scipy"``):
 
@@ -20,12 +25,14 @@ laws branch on what the scene's parameter vector says it has).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from types import SimpleNamespace
 
 import numpy as np
 
+from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.defaults import (
     CORE_ATOL,
     CORE_RTOL,
@@ -189,8 +196,9 @@ class _CompiledRun(_Run):
     """:class:`~.solve._Run` with ``solve_ivp`` replaced by :func:`.dop853.solve` wherever
     the segment's law and every event have compiled forms."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args, wall=None, **kwargs):
         super().__init__(*args, **kwargs)
+        self.wall = wall  # the batch's (deadline on perf_counter, max_wall_s), or None
         self.compiled_segments = 0
         self.scipy_segments: list[str] = []
 
@@ -200,6 +208,8 @@ class _CompiledRun(_Run):
         return "compiled+scipy" if self.compiled_segments else "scipy"
 
     def _solve(self, fun, t0, y0, t1, events, method=None):
+        if self.wall is not None and time.perf_counter() > self.wall[0]:
+            raise CoreError(_past_wall(self.wall[1], f"at t = {t0:.6g} s"))
         method = method or self.method
         law = getattr(fun, "law", None)
         why = None
@@ -248,8 +258,9 @@ class _CompiledRun(_Run):
         self.compiled_segments += 1
         sol = CompiledSolution(ts, t_old, h, y_old, F)
         y_end = sol(ts[-1]) if len(t_old) else np.asarray(y0, dtype=float)
-        t_events = [rec_t[rec_k == i] for i in range(len(events))]
-        y_events = [rec_y[rec_k == i] for i in range(len(events))]
+        t_events, y_events = [rec_t[:0]] * len(events), [rec_y[:0]] * len(events)
+        for i in set(rec_k.tolist()):  # the events that were recorded
+            t_events[i], y_events[i] = rec_t[rec_k == i], rec_y[rec_k == i]
         return SimpleNamespace(
             t=ts, y=y_end[:, None], sol=sol, t_events=t_events, y_events=y_events,
             nfev=nfev, status=1 if status == dop853.STATUS_EVENT else 0, message="",
@@ -269,6 +280,11 @@ class _CompiledRun(_Run):
         M = self.model.mode_vector(seg.mode)
         return segment_max_force(sol.ts, sol.t_old, sol.h, sol.y_old, sol.F,
                                  self.model.law_parameters, M)
+
+
+def _past_wall(max_wall_s: float, where: str) -> str:
+    return (f"run stopped: the batch took more than max_wall_s = {max_wall_s:g} s of wall "
+            f"time ({where})")
 
 
 def _default_mode():
@@ -304,6 +320,7 @@ def simulate_batch(
     max_step_s: float = MAX_STEP_S,
     t_max_s: float = T_MAX_S,
     max_evaluations: int | None = MAX_EVALUATIONS,
+    max_wall_s: float | None = None,
     method: str = "auto",
     check: bool = True,
 ) -> list:
@@ -314,7 +331,9 @@ def simulate_batch(
 
     ``options`` is one preset for all, or a sequence of one per scene.  The keywords are
     :func:`~.solve.simulate`'s (``method="auto"``: DOP853, the contact of a stiff scene by
-    scipy's Radau).  Scenes are run grouped by :func:`component_key`."""
+    scipy's Radau), but ``max_wall_s`` bounds the whole batch (the module docstring; None:
+    the row ``MAX_WALL_S`` of :mod:`~deck_emulator.vocabulary.defaults` as the batch starts,
+    ``math.inf``: no bound).  Scenes are run grouped by :func:`component_key`."""
     scenes = list(scenes)
     if isinstance(options, ModelOptions):
         per_scene = [options] * len(scenes)
@@ -326,11 +345,17 @@ def simulate_batch(
     for i, (s, o) in enumerate(zip(scenes, per_scene)):
         groups.setdefault(component_key(s, o), []).append(i)
     out: list = [None] * len(scenes)
+    max_wall_s = defaults.MAX_WALL_S if max_wall_s is None else max_wall_s
+    wall = (time.perf_counter() + max_wall_s, max_wall_s)
+    run = functools.partial(_CompiledRun, wall=wall)
     for members in groups.values():
         for i in members:
+            if time.perf_counter() > wall[0]:
+                out[i] = CoreError(_past_wall(max_wall_s, "before this scene started"))
+                continue
             try:
                 out[i] = _simulate_with(
-                    _CompiledRun, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
+                    run, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
                     t_max_s, max_evaluations, None, check,
                 )
             except (CoreError, ValueError, ArithmeticError) as exc:

@@ -349,10 +349,7 @@ class _Run:
         for seg in self.segments:
             if seg.phase != "contact" or seg.t1 <= seg.t0:
                 continue
-            ts = np.asarray(seg.solution.ts)
-            fine = np.unique(
-                np.concatenate([np.linspace(a, b, 5) for a, b in zip(ts[:-1], ts[1:])])
-            )
+            fine = _subdivided(seg.solution.ts, 5)
             times.append(fine)
             states.append(seg.solution(fine))
         if not times:
@@ -361,8 +358,9 @@ class _Run:
         ys = np.concatenate(states, axis=1)
         first = None
         deepest = (0.0, None, None)
+        q = ys[6:10] / np.linalg.norm(ys[6:10], axis=0)
         for name in names:
-            h = _heights(m, ys, name) + depth
+            h = _heights(m, ys, q, name) + depth
             k = int(np.argmin(h))
             if -h[k] > deepest[0]:
                 deepest = (-float(h[k]), name, float(fine[k]))
@@ -458,29 +456,26 @@ class _Run:
 
     # -- summary
 
-    def max_vehicle_force(self, after_startup: bool = False):
-        """Largest force on the car over the contact segments: (lb, time s); with
-        ``after_startup``, over those after the start-up kick's window."""
-        best = (-math.inf, None)
+    def max_vehicle_force(self):
+        """Largest force on the car over the contact segments, and over those after the
+        start-up kick's window: ((lb, time s), (lb, time s)); each segment searched once."""
+        best = after = (-math.inf, None)
         for seg in self.segments:
             if seg.phase != "contact" or seg.t1 <= seg.t0:
-                continue
-            if after_startup and seg.mode is not None and seg.mode.window is not None:
                 continue
             fk, tk = self._segment_max_force(seg)
             if fk > best[0]:
                 best = (fk, float(tk))
-        return best
+            if (seg.mode is None or seg.mode.window is None) and fk > after[0]:
+                after = (fk, float(tk))
+        return best, after
 
     def _segment_max_force(self, seg):
         """(lb, s): the largest force on the car over one contact segment: on a grid of 9
         points a step, then refined by a bounded Brent search around the grid's best."""
         m = self.model
         mode = seg.mode
-        ts = np.asarray(seg.solution.ts)
-        fine = np.unique(
-            np.concatenate([np.linspace(a, b, 9) for a, b in zip(ts[:-1], ts[1:])])
-        )
+        fine = _subdivided(seg.solution.ts, 9)
         ys = seg.solution(fine)
         f = np.array(
             [sliding.vehicle_force(m, tk, ys[:, k], mode) for k, tk in enumerate(fine)]
@@ -502,10 +497,25 @@ class _Run:
         return fk, tk
 
 
-def _heights(m, ys, name):
-    """ZZ of point ``name`` for states ``ys`` (15, n)."""
+def _subdivided(ts, n: int) -> np.ndarray:
+    """The ``n`` points of ``np.linspace(a, b, n)`` on every step ``[a, b]`` of ``ts``, sorted,
+    each once: linspace's own arithmetic (its exact values), for all the steps at once."""
+    ts = np.asarray(ts, dtype=float)
+    a, b = ts[:-1], ts[1:]
+    delta = b - a
+    step = delta / (n - 1)
+    i = np.arange(n, dtype=float)[:, None]
+    y = i * step + a
+    zero = step == 0
+    if zero.any():  # linspace's own way with a step that underflows to zero
+        y[:, zero] = i / (n - 1) * delta[zero] + a[zero]
+    y[-1] = b
+    return np.unique(y)
+
+
+def _heights(m, ys, q, name):
+    """ZZ of point ``name`` for states ``ys`` (15, n) with their attitudes ``q`` normalised."""
     bx, by, bz = m.body_points[name]
-    q = ys[6:10] / np.linalg.norm(ys[6:10], axis=0)
     w, x, y, z = q
     return ys[2] + 2 * (x * z - w * y) * bx + 2 * (y * z + w * x) * by + (
         w * w - x * x - y * y + z * z
@@ -524,13 +534,12 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
     if scene.vehicle is not None and t_release is not None:
         vv_loss = float(traj.state(t_release)[IDX_VV])
         delta_v = speed_lost_mph(scene.vehicle.initial_velocity_ft_s, vv_loss)
-        f, max_t = run.max_vehicle_force()
+        (f, max_t), (f_after, _) = run.max_vehicle_force()
         if not math.isfinite(f):
             max_t = None
             notes.append("no largest deceleration: the contact lasted no time")
         elif m.gravity > 0.0:
             max_g = force_in_g(float(f), m.vehicle_mass, m.gravity)
-            f_after, _ = run.max_vehicle_force(after_startup=True)
             if math.isfinite(f_after):
                 max_g_after = float(f_after) / (m.vehicle_mass * m.gravity)
         else:
@@ -543,11 +552,14 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
     q0 = m._q0
     depth = scene.environment.ground_depth_ft
     # P, Q, R always (None where the scene lacks one), and a second luminaire U where it has one
-    for name in ("P", "Q", "R") + (("U",) if "U" in m.body_points else ()):
+    names = ("P", "Q", "R") + (("U",) if "U" in m.body_points else ())
+    at_end = (traj.points(min(end, traj.t_end), [n for n in names if n in m.body_points])
+              if traj.segments else {})
+    for name in names:
         if name not in m.body_points or not traj.segments:
             terminal[name] = None if name not in m.body_points else _xl(m, m.y0, name, q0, depth)
             continue
-        p = traj.point(name, min(end, traj.t_end))
+        p = at_end[name]
         terminal[name] = (float(p[0] - q0[0]), float(p[1] - q0[1]), float(p[2] + depth))
     passage = run.ground_passage
     reason = None

@@ -120,11 +120,13 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
             "wall_s": out.run_s, "warnings": _warnings(caught), "outcome": out}
 
 
-def stopped_at_wall(out, max_wall_s: float):
-    """:class:`Stopped` when the core run ``out`` (an Outcome) ended with an error after its
-    wall bound ``max_wall_s`` (the bound ended it: a starved or suspended machine), else
-    ``out``."""
-    if out.error is not None and out.run_s >= max_wall_s:
+def stopped_at_wall(out, max_wall_s: float, batch_s: float | None = None):
+    """:class:`Stopped` when the core run ``out`` (an Outcome) ended with an error after a
+    wall bound: its run's, ``max_wall_s``, or the batch's it ran in (``batch_s`` against
+    ``defaults.MAX_WALL_S``: the compiled core bounds a batch as a whole) -- the bound ended
+    it: a starved or suspended machine; else ``out``."""
+    if out.error is not None and (out.run_s >= max_wall_s or (
+            batch_s is not None and batch_s >= defaults.MAX_WALL_S)):
         raise Stopped(f"{out.error} (a slow, starved or suspended machine)")
     return out
 

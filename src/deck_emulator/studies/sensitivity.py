@@ -66,6 +66,7 @@ from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
 from deck_emulator.studies.distributed import (
     SceneStore,
+    Stopped,
     run_scenes,
     scene_id,
 )
@@ -271,7 +272,11 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
 def _run_scenes(prepared: list) -> list:
     """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their outcomes, in
     order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
-    emulator's one after another (the 1967 program runs one deck at a time)."""
+    emulator's one after another (the 1967 program runs one deck at a time).  A core scene
+    stopped by the wall bound (a starved or suspended machine) is
+    :class:`~deck_emulator.studies.distributed.Stopped` in its place: its scene runs again on
+    resume."""
+    from deck_emulator.studies.common import stopped_at_wall
 
     outcomes: list = [None] * len(prepared)
     groups: list[tuple[object, list[int]]] = []  # engines are compared, not hashed
@@ -284,13 +289,19 @@ def _run_scenes(prepared: list) -> list:
             groups.append((engine, [i]))
     for engine, members in groups:
         if isinstance(engine, CoreEngine):
+            started = time.perf_counter()
             got = engine.run_batch([prepared[i][3] if prepared[i][3] is not None
                                     else prepared[i][1] for i in members],
                                    names=[prepared[i][2] for i in members])
+            batch_s = time.perf_counter() - started
+            for i, res in zip(members, got):
+                try:
+                    outcomes[i] = stopped_at_wall(res, engine.max_wall_s, batch_s)
+                except Stopped as exc:
+                    outcomes[i] = exc
         else:
-            got = [engine.run(prepared[i][1], name=prepared[i][2]) for i in members]
-        for i, res in zip(members, got):
-            outcomes[i] = res
+            for i in members:
+                outcomes[i] = engine.run(prepared[i][1], name=prepared[i][2])
     return outcomes
 
 
@@ -323,8 +334,8 @@ def scene_task(task: dict) -> dict:
 
 def scene_tasks(tasks: list[dict]) -> list:
     """A worker's batch function (``run_scenes(many=True)``): each task's :func:`study_row`,
-    the core's scenes run together; a task that cannot be prepared (an unknown input) is its
-    exception, in its place."""
+    the core's scenes run together; a task that cannot be prepared (an unknown input), or
+    whose scene stopped at the wall bound, is its exception, in its place."""
     prepared: list = []
     for task in tasks:
         try:
@@ -334,7 +345,8 @@ def scene_tasks(tasks: list[dict]) -> list:
         except Exception as exc:  # noqa: BLE001 - that task's failure, stored as its row
             prepared.append(exc)
     done = iter(_run_scenes([p for p in prepared if not isinstance(p, Exception)]))
-    return [p if isinstance(p, Exception) else study_row(next(done)) for p in prepared]
+    rows = [p if isinstance(p, Exception) else next(done) for p in prepared]
+    return [r if isinstance(r, Exception) else study_row(r) for r in rows]
 
 
 # ============================================================== a function with known indices
@@ -770,6 +782,11 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
         )
         studies.append((label, engine, st))
         say(f"{label}: {len(st.tasks)} scenes, {st.ran} run now, {st.wall_s:.1f} s")
+        stopped = [r for r in st.rows if r is not None and r.get("status") == "stopped"]
+        if stopped:  # a bound of the machine, not of the model: --resume runs them again
+            raise RunFailed(f"{label}: {len(stopped)} of {len(st.tasks)} scenes stopped "
+                            f"({stopped[0]['error']}); the scenes that ended are stored, "
+                            "--resume runs the rest; no table written")
         failed = all_failed(st)
         if failed is not None:  # no index can come of it: a run that could not end, exit 3
             raise RunFailed(f"{label}: every scene failed ({failed}); no table written")

@@ -39,6 +39,7 @@ import dataclasses
 import json
 import math
 import tempfile
+import time
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
@@ -312,26 +313,27 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
         groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
                           []).append(i)
     outcomes: list = [None] * len(jobs)
-    walls = [math.inf] * len(jobs)  # the core's wall bound, by scene
+    walls = [(math.inf, None)] * len(jobs)  # the core's wall bound and its batch's time
     for members in groups.values():
         first = jobs[members[0]]
         engine = engine_for(first["engine"], **first["options"])
+        got, batch_s = [None] * len(members), None
         if first["engine"] == "core":  # the arrays the row reads, and no others
             engine = dataclasses.replace(engine, arrays=ROW_ARRAYS)
+            started = time.perf_counter()
             try:
                 got = engine.run_batch([decks[i][0] for i in members],
                                        names=[decks[i][1] for i in members])
             except Exception:  # noqa: BLE001 - the batch as a whole: each scene alone below
-                got = [None] * len(members)
-        else:
-            got = [None] * len(members)
+                pass
+            batch_s = time.perf_counter() - started
         for i, res in zip(members, got):
             outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
-            walls[i] = getattr(engine, "max_wall_s", math.inf)
+            walls[i] = (getattr(engine, "max_wall_s", math.inf), batch_s)
     rows: list = []
     for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
         try:
-            rows.append(result_row(stopped_at_wall(res, wall), job["speed"], job["angle"],
+            rows.append(result_row(stopped_at_wall(res, *wall), job["speed"], job["angle"],
                                    _report_of(job, deck)))
         except Exception as exc:  # noqa: BLE001 - Stopped: the store's, not a row
             rows.append(exc)

@@ -91,7 +91,8 @@ MAX_STEP_S = 0.005
 T_MAX_S = 10.0
 #: bound on the right-hand-side evaluations of one run (DOP853 takes about 12 a step)
 MAX_EVALUATIONS = 5_000_000
-#: bound on the wall time of one run, s
+#: bound on the wall time of one run, s, and of one batch of runs of the compiled core (its
+#: scenes past it are stopped: a starved or suspended machine; a study runs them on resume)
 MAX_WALL_S = 60.0
 #: the grid a core outcome's arrays are sampled on: in contact with the car, and in free flight, s
 SAMPLE_CONTACT_S = 0.0002
