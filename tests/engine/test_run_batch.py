@@ -14,6 +14,7 @@ import deck_emulator.core as core
 from deck_emulator.decks import path as deck_path
 from deck_emulator.engine import CoreEngine, quantities
 from deck_emulator.legacy.deck import read_deck
+from deck_emulator.vocabulary import defaults
 
 
 def _scenes():
@@ -97,8 +98,8 @@ def _reference_batch(calls):
     """A stand-in for the compiled ``simulate_batch`` with its signature, whose answers are
     the reference path's own (so the outcomes must equal ``run``'s), recording its calls."""
 
-    def simulate_batch(scenes, options, *, rtol, atol, t_max_s=None):
-        calls.append((len(scenes), options, rtol, atol, t_max_s))
+    def simulate_batch(scenes, options, *, rtol, atol, t_max_s=None, max_wall_s=None):
+        calls.append((len(scenes), options, rtol, atol, t_max_s, max_wall_s))
         bounds = {} if t_max_s is None else {"t_max_s": t_max_s}
         out = []
         for s in scenes:
@@ -120,6 +121,7 @@ def test_the_plug_in_point_hands_the_whole_batch_to_a_batched_core(monkeypatch):
     got = engine.run_batch(decks)
     assert len(calls) == 1 and calls[0][0] == 2  # one call; the refused scene never reaches it
     assert calls[0][1] == engine.model_options()
+    assert calls[0][5] == defaults.MAX_WALL_S  # the engine's wall bound: the defaults' row
     reference = CoreEngine(trace=False, batched=False)
     for a, d in zip(got, decks):
         _same(a, reference.run(d))
@@ -128,6 +130,15 @@ def test_the_plug_in_point_hands_the_whole_batch_to_a_batched_core(monkeypatch):
     CoreEngine(trace=False, batched=False).run_batch(decks)
     CoreEngine(trace=False, method="DOP853").run_batch(decks[:1])
     assert calls == []
+
+
+def test_an_engines_own_wall_bound_bounds_its_batch():
+    """CoreEngine(max_wall_s=...) bounds a run_batch through the compiled core as it bounds one
+    run: here 0 s, passed before either scene starts."""
+    pytest.importorskip("numba")
+    good = read_deck(deck_path("steel40"))
+    got = CoreEngine(trace=False, batched=True, max_wall_s=0.0).run_batch([good, good])
+    assert all(o.error and "max_wall_s = 0 s" in o.error for o in got)
 
 
 def test_a_batch_the_batched_core_refuses_runs_on_the_reference_path(monkeypatch):

@@ -312,8 +312,10 @@ class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
     ``options``: a :class:`~deck_emulator.vocabulary.scene.ModelOptions` instead of a preset;
     ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's;
-    ``t_max_s``: simulated time at most, ``max_wall_s``: wall time at most (every default:
-    :mod:`deck_emulator.vocabulary.defaults`, the same for every door);
+    ``t_max_s``: simulated time at most, ``max_wall_s``: wall time at most, of one run or of a
+    whole :meth:`run_batch` (None: the row ``MAX_WALL_S``, read as the run starts:
+    :attr:`wall_bound_s`; every default: :mod:`deck_emulator.vocabulary.defaults`, the same
+    for every door);
     ``sample_contact_s``, ``sample_free_s``: the grid the outcome's arrays are sampled on;
     ``trace``: sample them at all; ``arrays``: which of them
     (:data:`~deck_emulator.engine.quantities.ARRAYS`, default all; a study asks for what its
@@ -331,7 +333,7 @@ class CoreEngine:
     rtol: float = defaults.CORE_RTOL
     atol: float = defaults.CORE_ATOL
     t_max_s: float = defaults.T_MAX_S
-    max_wall_s: float = defaults.MAX_WALL_S
+    max_wall_s: float | None = None
     sample_contact_s: float = defaults.SAMPLE_CONTACT_S
     sample_free_s: float = defaults.SAMPLE_FREE_S
     trace: bool = True
@@ -368,7 +370,12 @@ class CoreEngine:
         return joint_ground_hit(
             simulate(self.scene(source), self.model_options(), method=self.method,
                      rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s,
-                     max_wall_s=self.max_wall_s))
+                     max_wall_s=self.wall_bound_s))
+
+    @property
+    def wall_bound_s(self) -> float:
+        """The wall-time bound a run started now gets (``max_wall_s``, else the defaults')."""
+        return defaults.MAX_WALL_S if self.max_wall_s is None else self.max_wall_s
 
     def settings(self) -> str:
         opts = self.model_options()
@@ -396,7 +403,7 @@ class CoreEngine:
         state = state_vector(post, car_position_ft, car_velocity_ft_s)
         return self._run(scene, name, lambda: free_flight(
             scene, state, t0_s, self.model_options(), method=self.method,
-            rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s, max_wall_s=self.max_wall_s))
+            rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s, max_wall_s=self.wall_bound_s))
 
     def run_batch(self, sources, *, names=None) -> list[Outcome]:
         """``[self.run(s, name=n) for s, n in zip(sources, names)]``, the scenes solved
@@ -452,7 +459,8 @@ class CoreEngine:
             started = time.perf_counter()
             try:
                 got = list(solver(scenes, self.model_options(), rtol=self.rtol,
-                                  atol=self.atol, t_max_s=self.t_max_s))
+                                  atol=self.atol, t_max_s=self.t_max_s,
+                                  max_wall_s=self.wall_bound_s))
             except errors:
                 got = None
             if got is not None and len(got) == len(scenes):

@@ -101,8 +101,7 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
     :class:`Stopped` (:func:`stopped_at_wall`): the machine's bound, not the model's, so its
     scene is run again on resume."""
     engine = CoreEngine(options=options, method=method, rtol=rtol,
-                        atol=rtol if atol is None else atol, t_max_s=t_max_s, trace=False,
-                        max_wall_s=defaults.MAX_WALL_S)
+                        atol=rtol if atol is None else atol, t_max_s=t_max_s, trace=False)
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -112,7 +111,7 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
             return {"status": "error", "error": f"{type(exc).__name__}: {exc}", "result": None,
                     "wall_s": time.perf_counter() - started, "warnings": _warnings(caught),
                     "outcome": None}
-    stopped_at_wall(out, engine.max_wall_s)
+    stopped_at_wall(out, engine.wall_bound_s)
     if out.error is not None:
         return {"status": "error", "error": out.error, "result": None, "wall_s": out.run_s,
                 "warnings": _warnings(caught), "outcome": out}

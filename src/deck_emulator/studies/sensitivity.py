@@ -296,7 +296,7 @@ def _run_scenes(prepared: list) -> list:
             batch_s = time.perf_counter() - started
             for i, res in zip(members, got):
                 try:
-                    outcomes[i] = stopped_at_wall(res, engine.max_wall_s, batch_s)
+                    outcomes[i] = stopped_at_wall(res, engine.wall_bound_s, batch_s)
                 except Stopped as exc:
                     outcomes[i] = exc
         else:

@@ -329,7 +329,7 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
             batch_s = time.perf_counter() - started
         for i, res in zip(members, got):
             outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
-            walls[i] = (getattr(engine, "max_wall_s", math.inf), batch_s)
+            walls[i] = (getattr(engine, "wall_bound_s", math.inf), batch_s)
     rows: list = []
     for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
         try:
