@@ -120,12 +120,12 @@ def run_core(scene, options, *, method="DOP853", rtol=defaults.STUDY_RTOL, atol=
 
 
 def stopped_at_wall(out, max_wall_s: float, batch_s: float | None = None):
-    """:class:`Stopped` when the core run ``out`` (an Outcome) ended with an error after a
-    wall bound: its run's, ``max_wall_s``, or the batch's it ran in (``batch_s`` against
-    ``defaults.MAX_WALL_S``: the compiled core bounds a batch as a whole) -- the bound ended
-    it: a starved or suspended machine; else ``out``."""
-    if out.error is not None and (out.run_s >= max_wall_s or (
-            batch_s is not None and batch_s >= defaults.MAX_WALL_S)):
+    """:class:`Stopped` when the core run ``out`` (an Outcome) ended with an error after its
+    engine's wall bound ``max_wall_s``, by its own time or by that of the batch it ran in
+    (``batch_s``: the compiled core bounds a batch as a whole) -- the bound ended it: a
+    starved or suspended machine; else ``out``."""
+    took = out.run_s if batch_s is None else max(out.run_s, batch_s)
+    if out.error is not None and took >= max_wall_s:
         raise Stopped(f"{out.error} (a slow, starved or suspended machine)")
     return out
 
