@@ -89,6 +89,15 @@ def test_cli_names_agree_with_the_layers_below():
     assert cli.ENGINES == ENGINES
 
 
+def test_only_the_cli_parses_arguments():
+    """No module of the package but cli.py mentions argparse, a Namespace or sys.argv: the
+    commands take typed options, and only the command line parses."""
+    found = [str(p.relative_to(ROOT)) for p in (ROOT / "src" / "deck_emulator").rglob("*.py")
+             if p.name != "cli.py" or p.parent.name != "deck_emulator"
+             if re.search(r"argparse|Namespace|sys\.argv", p.read_text())]
+    assert found == []
+
+
 #: A unit factor written out: ft in a mile, s in an hour, mph <-> ft/s (and its rounded
 #: 1.46667), m in a ft, the report's gravity. units.py is the one place for each.
 _UNIT_FACTOR = re.compile(r"\b5280\b|\b3600\b|1\.4666|0\.6818|0\.3048|88\.0? */ *60\b|32\.174")

@@ -28,7 +28,7 @@ from __future__ import annotations
 import functools
 import math
 import time
-from types import SimpleNamespace
+from collections import namedtuple
 
 import numpy as np
 
@@ -53,6 +53,10 @@ from .solve import (
 )
 
 __all__ = ["CompiledSolution", "component_key", "simulate_batch", "time_per_scene"]
+
+
+#: a compiled segment's answer, read as solve_ivp's (the fields the solve reads of it)
+_Solved = namedtuple("_Solved", "t y sol t_events y_events nfev status message")
 
 
 class CompiledSolution:
@@ -261,7 +265,7 @@ class _CompiledRun(_Run):
         t_events, y_events = [rec_t[:0]] * len(events), [rec_y[:0]] * len(events)
         for i in set(rec_k.tolist()):  # the events that were recorded
             t_events[i], y_events[i] = rec_t[rec_k == i], rec_y[rec_k == i]
-        return SimpleNamespace(
+        return _Solved(
             t=ts, y=y_end[:, None], sol=sol, t_events=t_events, y_events=y_events,
             nfev=nfev, status=1 if status == dop853.STATUS_EVENT else 0, message="",
         )

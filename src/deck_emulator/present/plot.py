@@ -21,7 +21,6 @@ import dataclasses
 import functools
 import math
 import textwrap
-import types
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -69,6 +68,13 @@ HIT_COLOUR = "crimson"
 CAR_COLOUR = "0.35"
 
 
+class _Classes:
+    """matplotlib's classes the pictures use, by name."""
+
+    def __init__(self, *classes):
+        self.__dict__.update((c.__name__, c) for c in classes)
+
+
 @functools.cache
 def mpl():
     """matplotlib, imported on first use (so that registering the command costs nothing)."""
@@ -78,14 +84,7 @@ def mpl():
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch, Polygon
 
-    return types.SimpleNamespace(
-        FigureCanvasAgg=FigureCanvasAgg,
-        Normalize=Normalize,
-        Figure=Figure,
-        Line2D=Line2D,
-        Patch=Patch,
-        Polygon=Polygon,
-    )
+    return _Classes(FigureCanvasAgg, Normalize, Figure, Line2D, Patch, Polygon)
 
 
 # ====================================================================== geometry helpers
