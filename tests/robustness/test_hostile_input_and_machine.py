@@ -1,6 +1,8 @@
-"""The second fault campaign's reproducers (issue 37), each held to the tool's promise: a
-documented exit status (0 computed, 2 bad input and nothing written, 3 a run that could not
-end), one line for a refusal, no traceback, no hang."""
+"""Hostile input and a hostile machine -- a study resumed on a changed deck, a card image cut
+short, a run past its wall bound, sources that are not files, scene files that are bombs,
+schedulers that are not Dask's, closed streams, bare locales, process limits -- each held to
+the tool's promise: a documented exit status (0 computed, 2 bad input and nothing written, 3 a
+run that could not end), one line for a refusal, no traceback, no hang."""
 
 from __future__ import annotations
 
