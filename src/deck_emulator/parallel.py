@@ -9,7 +9,6 @@ runs in one process: no slower, measured).
 from __future__ import annotations
 
 import sys
-import threading
 import time
 
 __all__ = ["progress_bar", "busy"]
@@ -62,9 +61,11 @@ class busy:
 
     def __enter__(self):
         self._bar = None
-        self._stop = threading.Event()
         if self.quiet or not _on_terminal():
             return self
+        import threading  # (here: a run without a terminal, a plain run's, has no bar)
+
+        self._stop = threading.Event()
         self._bar = progress_bar(desc=self.desc, unit="s", quiet=self.quiet,
                                  bar_format="{desc}: {elapsed}{postfix}")
         started = time.monotonic()
@@ -84,8 +85,8 @@ class busy:
         return self
 
     def __exit__(self, *exc):
-        self._stop.set()
         if self._bar is not None:
+            self._stop.set()
             self._thread.join()
             self._bar.close()
         return False
