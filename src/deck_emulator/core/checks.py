@@ -125,7 +125,7 @@ def check_outcome(result) -> list[str]:
     traj = result.trajectory
     if result.hit is not None and traj.segments:
         t = min(result.hit.time_s, traj.t_end)
-        heights = {p: float(traj.point(p, t)[2]) + depth for p in traj.point_names}
+        heights = {p: float(x[2]) + depth for p, x in traj.points(t).items()}  # one state
     car_speed = (
         ft_s_to_mph(abs(scene.vehicle.initial_velocity_ft_s)) if scene.vehicle else None
     )
@@ -148,7 +148,7 @@ def check_outcome(result) -> list[str]:
     )
     if result.hit is None and traj.segments and not getattr(result, "ground_passage", None):
         t = traj.t_end
-        low = min((float(traj.point(p, t)[2]) + depth, p) for p in traj.point_names)
+        low = min((float(x[2]) + depth, p) for p, x in traj.points(t).items())
         if low[0] < -EXACT_GROUND_TOLERANCE_FT:
             flags.append(
                 f"the core reports no hit with point {low[1]} {-low[0]:.3g} ft below the "
