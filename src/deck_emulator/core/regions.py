@@ -26,6 +26,8 @@ car -- only those the scene has; a scene's second luminaire U is checked like R.
 
 from __future__ import annotations
 
+import copy
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -103,6 +105,13 @@ class FreeFlightChecks:
         self.terminal = [i in ground_rows for i in range(n)]
         return self
 
+    def bound(self, model) -> "FreeFlightChecks":
+        """These checks for ``model`` (the rows, the matrix and the regions shared, read only;
+        the last state's values its own)."""
+        out = copy.copy(self)
+        out.model, out._cache_key, out._cache_val = model, None, None
+        return out
+
     # -- evaluation
 
     def values(self, y) -> np.ndarray:
@@ -146,15 +155,22 @@ class FreeFlightChecks:
 
 
 def build_checks(scene, options, model) -> FreeFlightChecks:
-    """The regions of ``scene`` (only for points and a car body it has)."""
-    have = set(model.body_points)
-    depth = scene.environment.ground_depth_ft
-    listing = options.listing_hit_tolerances
+    """The regions of ``scene`` (only for points and a car body it has), for ``model``: made
+    once for each layout (the post's points, the ground's depth, the tolerances, the car's
+    outline) and shared by the models of a batch, whose scenes mostly differ in other
+    numbers."""
     body = scene.vehicle.body if scene.vehicle is not None else None
+    return _layout(frozenset(model.body_points), scene.environment.ground_depth_ft,
+                   options.listing_hit_tolerances, body).bound(model)
+
+
+@functools.lru_cache(maxsize=256)
+def _layout(have: frozenset, depth: float, listing: bool, body) -> FreeFlightChecks:
+    """The checks of one layout, bound to no model (:meth:`FreeFlightChecks.bound`)."""
     vpoints = tuple(p for p in VEHICLE_POINTS if p in have) if body is not None else ()
     gpoints = tuple(p for p in GROUND_POINTS if p in have)
     points = tuple(p for p in GROUND_POINTS if p in gpoints or p in vpoints)
-    checks = FreeFlightChecks(model, points)
+    checks = FreeFlightChecks(None, points)
 
     # ground: h = ZZ + HEIGHT
     for p in gpoints:
