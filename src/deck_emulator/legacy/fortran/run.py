@@ -688,10 +688,11 @@ class Program:
             self._units = {u.name: u for u in parse_units(statements(self.lines, numbers), path)}
         return self._units
 
-    @property
+    @functools.cached_property
     def sha256(self) -> str:
-        """Of the program's cards: their text, one line each, as read."""
-        import hashlib  # (here: a plain run never asks)
+        """Of the program's cards: their text, one line each, as read (hashed once: the name
+        of every way of running's kept code reads it)."""
+        import hashlib
 
         return hashlib.sha256("".join(line + "\n" for line in self.lines).encode()).hexdigest()
 
