@@ -226,6 +226,33 @@ def test_each_kind_prints_what_gfortran_prints(tmp_path, kind, precision, build)
     assert len(run.records) >= 2
 
 
+#: SIN and COS of one angle are computed once in binary64 (kept in a local while the angle's
+#: variables stand): here the first of each is in a logical IF's statement or in the right
+#: operand of .AND., which do not run, and the same SIN is asked again after them
+KEPT_SIN_COS = HEAD + """\
+      A = -P
+      B = 0.0
+      IF (A .GT. 0.0) B = SIN(A)
+      C = SIN(A)
+      D = COS(A + Q)
+      IF (A .GT. 0.0 .AND. SIN(A + Q) .GT. 0.0) B = 1.0
+      E = SIN(A + Q)*COS(A + Q) + COS(A)
+      WRITE(6,2) B, C, D
+      WRITE(6,2) E, P, Q
+      STOP
+      END
+"""
+
+
+def test_a_sin_first_met_where_it_may_not_run_is_computed_where_it_runs(tmp_path):
+    need_gfortran()
+    lines = KEPT_SIN_COS.splitlines()
+    theirs, _err, ending = _gfortran(tmp_path, lines, "r8", [CARD])
+    run, stop = _ours(lines, "double", [CARD])
+    assert ending == "normal" and stop is None, stop
+    assert "".join(r + "\n" for r in run.records) == theirs
+
+
 def test_a_do_range_runs_at_least_once_as_on_ibm_fortran_iv():
     """IBM 7090/7094 FORTRAN IV tests the DO variable after the range, so DO 10 I = 5, 1 runs
     its range once (gfortran's Fortran 77 rule runs it no times: no oracle here; the expected

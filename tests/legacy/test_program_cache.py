@@ -1,6 +1,7 @@
 """A job deck's own program is parsed and made once: its made code is kept in the user's cache
-folder by the SHA-256 of its cards (with the front end's CRC-32, the way of running, Python's
-bytecode tag), written whole or not at all, and checked by its own SHA-256 when read back."""
+folder, named by the CRC-32 of what it was made from (its cards, the front end's CRC-32, the way
+of running, Python's bytecode tag), written whole or not at all, and read back only when its
+own CRC-32 holds and what it was made from equals, whole, what is to run."""
 
 from __future__ import annotations
 
@@ -28,7 +29,12 @@ def _respelled(old="      HI=0.0004", new="      HI=0.00040") -> list[str]:
 @pytest.fixture
 def kept(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    return lambda: sorted((tmp_path / "deck_emulator" / "fortran").glob("*.code"))
+    folder = tmp_path / "deck_emulator" / "fortran"
+
+    def entries():
+        return sorted(folder.glob("*.code"))
+    entries.folder = folder
+    return entries
 
 
 def _printed(program: Program) -> str:
@@ -83,3 +89,18 @@ def test_the_least_recently_used_entries_go_beyond_the_bound(kept, monkeypatch):
     for value in ("0.00040", "0.000400", "0.0004000"):
         _printed(Program(_respelled("      HI=0.0004", f"      HI={value}")))
     assert len(kept()) == 2
+
+
+def test_an_entry_under_the_same_name_made_from_other_cards_is_not_run(kept, monkeypatch):
+    """Two programs whose entries share a name (as two CRC-32s may): each runs its own code.
+    The first divides by zero at its start; the second is the listing respelled."""
+    monkeypatch.setattr(Program, "_cache_file", lambda self, key: kept.folder / "same.code")
+    faulty = _respelled("      HI=0.0004", "      HI=0.0004/(HI-HI)")
+    with pytest.raises(EmulatorError):
+        Program(faulty).runner(STEEL40, "double").run()
+    assert [p.name for p in kept()] == ["same.code"]
+    other = Program(_respelled())
+    assert other._units is not None  # the entry was not taken for its code: parsed
+    assert _printed(other) == (GOLDEN / "steel40.r8.txt").read_text()
+    with pytest.raises(EmulatorError):  # and the first, made again over it, still faults
+        Program(faulty).runner(STEEL40, "double").run()

@@ -8,7 +8,8 @@ statement when unlabelled), which returns the label it goes to. Arrays are lists
 block one list, by place); a DO's test ends its range's last statement. The program's
 statements stay one a line, with their cards' text beside them (:meth:`Program.python` prints
 it), so the source reads side by side with the cards. A program keeps its made code in the
-user's cache folder, by its cards' SHA-256 (:meth:`Program._cache_file`): the listing, as a job
+user's cache folder, named by the CRC-32 of its cards and the way of running, and checked
+against them whole (:meth:`Program._cache_file`): the listing, as a job
 deck's own program, is parsed and made once a machine.
 
 Arithmetic: the number type's ``+ - * /`` and unary ``-``, ``abs()``, the arithmetic's
@@ -36,12 +37,9 @@ from pathlib import Path
 
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
-from deck_emulator.legacy.printer import EVENT_FORMATS, Printer, event_for
-from deck_emulator.vocabulary.events import EventKind
+from deck_emulator.legacy.printer import Printer, event_for
 from deck_emulator.vocabulary.defaults import (PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES,
                                                user_cache_folder)
-
-from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of, parse_units
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -85,9 +83,8 @@ OPTION_LITERALS = {
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
 @functools.cache
 def _front_end_crc() -> int:
-    """CRC-32 of this front end's text (parse.py, run.py): kept code names it."""
-    here = Path(__file__).parent
-    return zlib.crc32((here / "parse.py").read_bytes() + (here / "run.py").read_bytes())
+    """CRC-32 of this front end's text (every module of it): kept code names it."""
+    return zlib.crc32(b"".join(p.read_bytes() for p in sorted(Path(__file__).parent.glob("*.py"))))
 
 
 #: The ways of running a program: (binary64, checked per assignment).
@@ -100,10 +97,10 @@ def _cache_folder() -> Path:
     return Path(user_cache_folder()) / "fortran"
 
 
-def _kept(path: Path):
-    """The code kept in ``path`` if its first line's SHA-256 is that of the rest, else None
-    (a garbled or cut file is removed and made again)."""
-    import hashlib
+def _kept(path: Path, identity: bytes):
+    """The code kept in ``path`` if its first line's CRC-32 is that of the rest and the entry
+    was made for ``identity`` (what it was made from, compared whole), else None (a garbled or
+    cut file is removed and made again)."""
     import marshal
     import os
 
@@ -111,30 +108,31 @@ def _kept(path: Path):
         data = path.read_bytes()
     except OSError:
         return None
-    head, _, payload = data.partition(b"\n")
-    if head != _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode():
+    head, _, rest = data.partition(b"\n")
+    if head != _CACHE_MAGIC + b"%08x" % zlib.crc32(rest):
         with contextlib.suppress(OSError):
             path.unlink()
         return None
+    size, _, rest = rest.partition(b"\n")
+    if not size.isdigit() or rest[:int(size)] != identity:
+        return None  # another program's entry under the same name: made again, over it
     with contextlib.suppress(OSError):
         os.utime(path)  # (recently used)
-    return marshal.loads(payload)
+    return marshal.loads(rest[int(size):])
 
 
-def _keep(path: Path, code) -> None:
-    """Keep ``code`` in ``path`` (written whole or not at all: files.write_file); the oldest
-    entries beyond PROGRAM_CACHE_ENTRIES go. A cache that cannot be written is left alone: the code
-    is made again next time."""
-    import hashlib
+def _keep(path: Path, identity: bytes, code) -> None:
+    """Keep ``code``, made from ``identity``, in ``path`` (written whole or not at all:
+    files.write_file); the oldest entries beyond PROGRAM_CACHE_ENTRIES go. A cache that cannot
+    be written is left alone: the code is made again next time."""
     import marshal
 
     from deck_emulator.files import write_file
 
-    payload = marshal.dumps(code)
+    rest = b"%d\n" % len(identity) + identity + marshal.dumps(code)
     with contextlib.suppress(OSError):
         path.parent.mkdir(parents=True, exist_ok=True)
-        write_file(path, _CACHE_MAGIC + hashlib.sha256(payload).hexdigest().encode() + b"\n"
-                   + payload)
+        write_file(path, _CACHE_MAGIC + b"%08x" % zlib.crc32(rest) + b"\n" + rest)
         entries = sorted(path.parent.glob("*.code"), key=lambda p: p.stat().st_mtime)
         for old in entries[:-PROGRAM_CACHE_ENTRIES]:
             old.unlink()
@@ -166,386 +164,6 @@ def _nothing(*_):
     """A trace not kept."""
 
 
-def _const_name(text: str) -> str:
-    return "k_" + text.replace(".", "p").replace("-", "m").replace("+", "")
-
-
-_PY_OPS = {"+": "+", "-": "-", "*": "*", "/": "/"}
-
-
-class _Gen:
-    """Python source of one unit (see the module docstring)."""
-
-    def __init__(self, unit: Unit, units: dict[str, Unit], native: bool, checking: bool,
-                 lines: list, watch: dict | None, literals: dict):
-        self.u, self.units, self.native, self.checking = unit, units, native, checking
-        self.lines = lines  # (python line, (unit, label, variable) or None)
-        self.watch = watch if unit.name == "MAIN" else None
-        self.program_watch = watch
-        self.consts: set[str] = set()
-        self.literals = literals  # (unit, statement text, literal) -> what stands for it
-        self.steps: set[str] = set()  # literals divided by 2**k (Program.steps)
-        self.text = None  # the statement being made
-        #: binary64's SIN and COS of a block (pure: the C library's, no indicators): the
-        #: call's code -> (the local that keeps its value, the variables it reads), while none
-        #: of them is assigned again (the same value as calling it again, bit for bit)
-        self.known: dict | None = None
-        self.kept = 0
-        self.end = ""  # the block's check of its values where it ends (binary64, unchecked)
-        self.label = None  # the label shown for the block being made
-        self.body: dict = {}  # id of a DO -> the key of its range's first block
-        self.names = _names(unit)  # its scalars not in COMMON
-        self.ends: dict = {}  # label -> the DOs whose range ends there, innermost first
-        for s in unit.statements:
-            if s.kind == "do":
-                self.ends.setdefault(s.args[0], []).insert(0, s)
-
-    def emit(self, text: str, where=None):
-        self.lines.append((text, where))
-
-    # names ----------------------------------------------------------------------------------
-    def ref(self, name: str) -> str:
-        """A scalar variable's code: its name, or its place in a COMMON block."""
-        at = self.u.commons.get(name)
-        return f"_C{at[0]}[{at[1]}]" if at else name
-
-    def store(self, name: str) -> tuple[str, str]:
-        """An array's storage (a list) and the index of its first element there."""
-        at = self.u.commons.get(name)
-        if at:
-            return f"_C{at[0]}", str(at[1])
-        return name, (f"b_{name}" if name in self.u.dummies else "0")
-
-    def place(self, name: str, subs) -> tuple[str, str]:
-        """(storage, index) of an array element, by columns, the index checked to lie in the
-        storage (gfortran's and the 7094's: an element of a COMMON block's or an actual
-        argument's storage past the array's bounds is that storage's)."""
-        lst, base = self.store(name)
-        parts, scale = ([] if base == "0" else [base]), []
-        for sub, bound in zip(subs, self.u.arrays[name]):
-            one = str(int(sub[1]) - 1) if sub[0] == "const" else f"{self._expr(sub)}-1"
-            parts.append(f"({one})*{'*'.join(scale)}" if scale else one)
-            scale.append(str(bound))
-        size = str(math.prod(self.u.arrays[name])) if base == "0" else f"len({lst})"
-        return lst, f"_o if 0 <= (_o := {'+'.join(parts)}) < {size} else _sub({name!r}, _o)"
-
-    def target(self, t) -> str:
-        if t[0] == "var":
-            return self.ref(t[1])
-        lst, index = self.place(t[1], t[2])
-        return f"{lst}[{index}]"
-
-    # expressions -------------------------------------------------------------------------
-    def expr(self, e, want: str | None = None) -> str:
-        code = self._expr(e)
-        if want == "R" and e[-1] == "I":
-            return f"_real({code})"
-        if want == "I" and e[-1] == "R":
-            return f"_int({code})"
-        return code
-
-    def _expr(self, e) -> str:
-        tag = e[0]
-        if tag == "const":
-            instead = self.literals.get((self.u.name, self.text, e[1]))
-            if instead is not None:  # an option of the listing's (Program.literals)
-                how, value = instead
-                if how == "step":
-                    self.consts.add(value)
-                    self.steps.add(value)
-                    return "s_" + _const_name(value)
-                if how == "int":
-                    return value
-                self.consts.add(value)
-                return _const_name(value)
-            if e[2] == "I":
-                return str(int(e[1]))  # (0010 is 10)
-            self.consts.add(e[1])
-            return _const_name(e[1])
-        if tag == "var":
-            return self.ref(e[1])
-        if tag == "elem":
-            return self.target(e)
-        if tag == "neg":
-            inner = self._expr(e[1])
-            return f"-({inner})" if e[1][0] == "bin" else f"-{inner}"
-        if tag == "pow":
-            base = self._expr(e[1])
-            if e[1][0] not in ("var", "const"):
-                base = f"({base})"
-            if e[2] == 2:
-                return f"({base}*{base})"
-            return f"_ipow({base}, {e[2]})"
-        if tag == "rel":
-            typ = "I" if e[2][-1] == e[3][-1] == "I" else "R"
-            return f"{self.expr(e[2], typ)} {e[1]} {self.expr(e[3], typ)}"
-        if tag == "log":
-            return f"({self._expr(e[2])}) {e[1]} ({self._expr(e[3])})"
-        if tag == "not":
-            return f"not ({self._expr(e[1])})"
-        if tag == "call":
-            return self.call(e)
-        _, op, left, right, typ = e
-        if typ == "I" and op == "/":
-            return f"_idiv({self._expr(left)}, {self._expr(right)})"
-        lcode, rcode = self.expr(left, typ), self.expr(right, typ)
-        if left[0] in ("bin", "neg") and _weaker(left, op, False):
-            lcode = f"({lcode})"
-        if right[0] in ("bin", "neg") and _weaker(right, op, True):
-            rcode = f"({rcode})"
-        return f"{lcode}{_PY_OPS[op]}{rcode}"
-
-    def call(self, e) -> str:
-        name, args = e[1], e[2]
-        if name in INTRINSICS:
-            call = f"{INTRINSICS[name]}({self.expr(args[0])})"
-            if self.known is None or name not in ("SIN", "COS") or not self.pure(args[0]):
-                return call
-            if call not in self.known:  # its first in the block: kept in a local
-                simple = args[0][0] == "var"
-                self.kept += 1
-                local = f"{INTRINSICS[name]}_{args[0][1] if simple else self.kept}"
-                self.known[call] = (local, set(_variables(args[0])))
-                return f"({local} := {call})"
-            return self.known[call][0]
-        if name in self.u.functions:
-            dummies, body = self.u.functions[name]
-            return f"{name}({', '.join(self.expr(a, kind_of(d)) for a, d in zip(args, dummies))})"
-        return f"_G.call_{name}({self.actuals(name, args)})"  # a FUNCTION
-
-    def pure(self, e) -> bool:
-        """Whether ``e`` reads only the unit's own scalars (no COMMON, no array, no call but
-        an intrinsic's): what a kept SIN or COS may stand on."""
-        if e[0] == "var":
-            return e[1] not in self.u.commons
-        if e[0] == "call":
-            return e[1] in INTRINSICS and self.pure(e[2][0])
-        return e[0] != "elem" and all(self.pure(x) for x in e[1:-1] if isinstance(x, tuple))
-
-    def actuals(self, name: str, args) -> str:
-        """A subprogram's arguments: a scalar's value; an array's storage and first index."""
-        sub, out = self.units[name], []
-        for a, d in zip(args, sub.dummies):
-            if d not in sub.arrays:
-                out.append(self.expr(a))
-            elif a[0] == "arr":
-                out += self.store(a[1])
-            else:
-                out += self.place(a[1], a[2])
-        return ", ".join(out)
-
-    # statements ----------------------------------------------------------------------------
-    def where(self, label, variable=None):
-        return (self.u.name, label, variable)
-
-    def unit_source(self):
-        u, names = self.u, self.names
-        reals = [n for n in names if kind_of(n) == "R"]
-        ints = [n for n in names if kind_of(n) == "I"]
-        arrays = [a for a in u.arrays if a not in u.commons]
-        self.emit(f"def make_{u.name}(_G):")
-        self.emit(f"    # {u.kind + ' ' + u.name if u.name != 'MAIN' else 'MAIN'}: its "
-                  "variables, zero at load and kept between calls")
-        for group, zero in ((reals, "_Z"), (ints, "0")):
-            for i in range(0, len(group), 8):
-                self.emit(f"    {' = '.join(group[i:i + 8])} = {zero}")
-        for a in arrays:
-            self.emit(f"    {a}, b_{a} = None, 0" if a in u.dummies else
-                      f"    {a} = [{'_Z' if kind_of(a) == 'R' else '0'}] * "
-                      f"{math.prod(u.arrays[a])}")
-        for name, (dummies, body) in u.functions.items():
-            self.emit(f"    def {name}({', '.join(dummies)}):  # statement function",
-                      self.where(None, name))
-            self.emit(f"        return {self.expr(body, kind_of(name))}", self.where(None, name))
-        blocks = _blocks(u)
-        for i, (key, label, stmts, nxt) in enumerate(blocks):
-            if stmts[-1].kind == "do":
-                self.body[id(stmts[-1])] = nxt
-        for key, label, stmts, nxt in blocks:
-            self.block(key, label, stmts, nxt)
-        table = ", ".join(f"{_key(b[0])}: {_fname(b[0])}" for b in blocks)
-        start = "" if blocks[0][0] is None else f"'START': {_fname(blocks[0][0])}, "
-        self.emit(f"    _blocks = {{{start}{table}}}")
-        self.emit("    def _vars():")
-        shown_vars = [(n, self.ref(n)) for n in names + sorted(u.commons)
-                      if n not in u.arrays] + [(a, self.store(a)[0]) for a in u.arrays]
-        self.emit(f"        return {{{', '.join(f'{n!r}: {c}' for n, c in shown_vars)}}}")
-        scalars = [d for d in u.dummies if d not in u.arrays]
-        args = ", ".join(f"a_{d}" if d in scalars else f"a_{d}, a_b_{d}" for d in u.dummies)
-        self.emit(f"    def _entry({args}):")
-        rebound = names + [f"{p}{a}" for a in arrays if a in u.dummies for p in ("", "b_")]
-        if rebound:
-            self.emit(f"        nonlocal {', '.join(rebound)}")
-        for d in u.dummies:
-            self.emit(f"        {d} = a_{d}" if d in scalars else
-                      f"        {d}, b_{d} = a_{d}, a_b_{d}")
-        limit = "_G.limits.ed_iterations" if u.name != "MAIN" else "_G.program_blocks"
-        self.emit(f"        lab, n, blocks, limit = 'START', 0, _blocks, {limit}")
-        self.emit("        while lab is not None:")
-        self.emit("            n += 1")
-        self.emit("            if n > limit:")
-        mine = changed(u, self.units)
-        shown = [n for n in names if kind_of(n) == "R" and n in mine][:3]
-        search = (self.program_watch or {}).get("search")
-        if search and search[0] == u.name and set(search[1]) <= set(names):
-            shown = list(search[1])
-        self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown)!r})")
-        self.emit("            lab = blocks[lab]()")
-        if u.kind == "FUNCTION":
-            self.emit(f"        return {self.ref(u.name)}")
-        else:
-            back = [d for d in scalars if d in mine]
-            self.emit(f"        return ({''.join(d + ', ' for d in back)})")
-        self.emit(f"    _G.units[{u.name!r}] = (_entry, _vars)")
-        self.emit("    return _entry")
-
-    def block(self, key, label, stmts, nxt):
-        self.label = label
-        self.emit(f"    def {_fname(key)}():  # "
-                  f"{'label ' + str(key) if isinstance(key, int) else key or 'entry'}")
-        names = assigned(stmts, self.units) | {do.args[1] for s in stmts if s.label is not None
-                                               for do in self.ends.get(s.label, ())}
-        local = set(self.names)
-        if names & local:
-            self.emit(f"        nonlocal {', '.join(sorted(names & local))}")
-        w = self.watch if isinstance(key, int) else None
-        if w and key in w["steps"]:
-            self.emit("        _G.step += 1")
-        if w and key == w["free_from"]:
-            self.emit("        _G.free = True")
-        if w and key == w["halving"]:
-            self.emit("        _G.halve()")
-        if w and key == w["accept"]:
-            self.emit("        _G.halvings = 0")
-        if w and key in w.get("points", ()):
-            self.emit(f"        _G.point = {w['points'][key]!r}")
-        if w and key in w.get("records", ()):
-            phase = w["records"][key]
-            rows = [n for n in TRACE_ROWS[phase].values() if n]
-            if set(rows) <= local:  # (a program without them keeps no trace)
-                self.emit(f"        _G.record({phase!r}, {', '.join(map(self.ref, rows))})",
-                          self.where(key))
-        checks = [self.ref(n) for n in sorted(names)
-                  if kind_of(n) == "R" and n not in self.u.arrays]
-        self.end = ""
-        if self.native and not self.checking and checks:
-            self.end = f"if not _fin({'+'.join(checks)}): raise _Replay"
-        self.ended = False  # (what follows a jump, unlabelled, is never reached: no checks)
-        self.known = {} if self.native else None
-        for s in stmts:
-            if self.known and s is not stmts[0]:
-                self.forget(before)
-            before = s
-            self.text = s.text
-            self.statement(s, "        ", f"  # {str(s.label) + ' ' if s.label else ''}{s.text}")
-            self.ended = self.ended or s.kind in _JUMPS
-            for do in self.ends.get(s.label, ()) if s.label is not None else ():
-                n, var, _m1, m2, m3 = do.args
-                where = self.where(label, var)
-                self.emit(f"        {self.ref(var)} = {self.ref(var)}+{self.expr(m3)}  "
-                          f"# DO {n} {var}: the next", where)
-                self.emit(f"        if {self.ref(var)} <= {self.expr(m2)}:", where)
-                if self.end:
-                    self.emit(f"            {self.end}", where)
-                self.emit(f"            return {_key(self.body[id(do)])}", where)
-        if not self.ended:
-            if self.end:
-                self.emit(f"        {self.end}", self.where(label))
-            self.emit(f"        return {_key(nxt)}", self.where(label))
-        self.known = None
-
-    def statement(self, s, ind: str, text: str):
-        """A statement's lines, indented by ``ind``, ``text`` (its card's) beside the first."""
-        label, w, kind = self.label, self.watch, s.kind
-        if kind == "assign":
-            t, e = s.args
-            var, code, value = t[1], self.target(t), self.expr(e, t[-1])
-            where = self.where(label, var)
-            check = kind_of(var) == "R" and (self.checking or self.native)
-            if t[0] == "elem" and check:  # (binary64: run again, checking every assignment)
-                fault = f"_NonFinite({var!r})" if self.checking else "_Replay"
-                self.emit(f"{ind}{code} = _v = {value}{text}", where)
-                self.emit(f"{ind}if not _fin(_v): raise {fault}", where)
-            else:
-                self.emit(f"{ind}{code} = {value}{text}", where)
-                if self.checking and check:
-                    self.emit(f"{ind}if not _fin({code}): raise _NonFinite({var!r})", where)
-            if w and (label, var) in w["clocks"] and t[0] == "var":
-                self.emit(f"{ind}_G.clock({code}, {w['clocks'][label, var]!r}, {label})",
-                          where)
-        elif kind == "continue":
-            self.emit(f"{ind}pass{text}", self.where(label))
-        elif kind == "read":
-            fmt, items = s.args
-            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt})"
-                      f"{text}", self.where(label, items[0][1] if items else None))
-        elif kind == "write":
-            fmt, items = s.args
-            values = "".join(f", {self.expr(e)}" for e in items)
-            self.emit(f"{ind}_G.write_{self.u.name}({fmt}{values}){text}", self.where(label))
-            if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
-                clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
-                self.emit(f"{ind}_G.event({fmt}, {self.ref(clock)})", self.where(label))
-        elif kind == "call":
-            name, args = s.args
-            sub = self.units[name]
-            mine = changed(sub, self.units)
-            back = [self.target(a) if a[0] in ("var", "elem") else "_"
-                    for d, a in zip(sub.dummies, args) if d in mine and d not in sub.arrays]
-            targets = "".join(v + ", " for v in back)
-            call = f"_G.call_{name}({self.actuals(name, args)})"
-            self.emit(f"{ind}{targets + '= ' if back else ''}{call}{text}",
-                      self.where(label, next((a[1] for d, a in zip(sub.dummies, args)
-                                              if d in mine and a[0] == "var"), None)))
-        elif kind == "label":
-            self.emit(f"{ind}{self.ref(s.args[1])} = {s.args[0]}{text}",
-                      self.where(label, s.args[1]))
-        elif kind == "do":
-            n, var, m1, _m2, _m3 = s.args
-            self.emit(f"{ind}{self.ref(var)} = {self.expr(m1)}{text}", self.where(label, var))
-        elif kind == "lif":
-            self.emit(f"{ind}if {self.expr(s.args[0])}:{text}", self.where(label))
-            self.statement(s.args[1], ind + "    ", "")
-        elif kind == "cgoto":
-            labels, e = s.args
-            self.emit(f"{ind}if 1 <= (_i := {self.expr(e)}) <= {len(labels)}:{text}",
-                      self.where(label))
-            if self.end:
-                self.emit(f"{ind}    {self.end}", self.where(label))
-            self.emit(f"{ind}    return {labels}[_i - 1]", self.where(label))
-        else:  # GO TO, IF, RETURN, STOP, END: the block ends (what follows, unlabelled,
-            # is never reached, and is kept as written: STOP then END)
-            if self.end and not self.ended:
-                self.emit(f"{ind}{self.end}", self.where(label))
-            self.emit(f"{ind}{self.jump(s)}{text}", self.where(label))
-
-    def forget(self, s):
-        """Drop the kept SIN and COS whose arguments statement ``s`` assigned."""
-        gone = assigned([s], self.units)
-        self.known = {k: v for k, v in self.known.items() if not v[1] & gone}
-
-    def jump(self, s) -> str:
-        if s.kind == "goto":
-            return f"return {s.args[0]}"
-        if s.kind == "agoto":
-            var, labels = s.args
-            return (f"return {self.ref(var)} if {self.ref(var)} in {labels} else "
-                    f"_lost({var!r}, {self.ref(var)})")
-        if s.kind == "if":
-            e, neg, zero, pos = s.args
-            x = self.expr(e)
-            if e[-1] == "R" and not self.native:
-                x = f"sign({x})"
-            return f"_x = {x}; return {neg} if _x < 0 else {pos} if _x > 0 else {zero}"
-        if s.kind == "stop" and self.u.name != "MAIN":
-            return "raise _Stop"
-        return "return None"
-
-
-#: Statements after which the block's next statement is not reached (but by a label).
-_JUMPS = ("goto", "agoto", "if", "return", "stop", "end")
-
-
 def _integer(x: float) -> int:
     """A REAL's INTEGER (toward zero); NaN has none (gfortran's build traps: invalid)."""
     if x != x:
@@ -559,84 +177,6 @@ def _sub(name, index):
 
 def _lost(name, value):
     raise _Bad(f"assigned GO TO {name}: {value} is no label of its list", name)
-
-
-def _weaker(e, op: str, right: bool) -> bool:
-    """Whether operand ``e`` of ``op`` needs parentheses to keep FORTRAN's order."""
-    if e[0] == "neg":  # a sign: as the first operand of + or -, as written
-        return right or op in "*/"
-    inner = e[1]
-    rank = {"+": 1, "-": 1, "*": 2, "/": 2}
-    return rank[inner] < rank[op] or (right and rank[inner] == rank[op])
-
-
-def _key(key) -> str:
-    return "None" if key is False else "'START'" if key is None else repr(key)
-
-
-def _fname(key) -> str:
-    """A block's function: L125 for label 125, L0 for the unit's start, DO10_I for the range of
-    DO 10 I where it starts without a label."""
-    return f"L{key or 0}" if not isinstance(key, str) else key.replace(" ", "", 1).replace(" ", "_")
-
-
-def _blocks(u: Unit):
-    """(key, the label shown for it, statements, the key it falls into) of each block: a block
-    starts at the unit's first statement, at each labelled statement and after each DO (its
-    range's first statement: key 'DO n i' if unlabelled)."""
-    blocks, shown = [], None
-    for s in u.statements:
-        if s.label is not None:
-            shown = s.label
-        if not blocks or s.label is not None or blocks[-1][2][-1].kind == "do":
-            do = blocks[-1][2][-1].args if blocks else None
-            key = s.label if s.label is not None or not blocks else f"DO {do[0]} {do[1]}"
-            blocks.append([key, shown, []])
-        blocks[-1][2].append(s)
-    return [(key, shown, stmts, blocks[i + 1][0] if i + 1 < len(blocks) else False)
-            for i, (key, shown, stmts) in enumerate(blocks)]
-
-
-def _variables(e, skip=()):
-    """The scalar variables an expression (or an assignment's target) reads, in order."""
-    tag = e[0]
-    if tag == "var":
-        if e[1] not in skip:
-            yield e[1]
-    elif tag in ("neg", "pow", "not"):
-        yield from _variables(e[1], skip)
-    elif tag in ("call", "elem"):
-        for a in e[2]:
-            yield from _variables(a, skip)
-    elif tag in ("bin", "rel", "log"):
-        yield from _variables(e[2], skip)
-        yield from _variables(e[3], skip)
-
-
-def _expressions(s):
-    """A statement's expressions and targets, as variables ("var") where it names one."""
-    k, a = s.kind, s.args
-    if k == "lif":
-        return (a[0], *_expressions(a[1]))
-    return {"assign": lambda: a, "read": lambda: a[1], "write": lambda: a[1],
-            "call": lambda: a[1], "if": lambda: a[:1], "cgoto": lambda: a[1:],
-            "agoto": lambda: (("var", a[0], "I"),), "label": lambda: (("var", a[1], "I"),),
-            "do": lambda: (("var", a[1], "I"), *a[2:])}.get(k, tuple)()
-
-
-def _names(u: Unit) -> list[str]:
-    """Every scalar variable of a unit, not in COMMON, in order of first appearance (dummies
-    first; a FUNCTION's name, its value)."""
-    seen = dict.fromkeys(u.dummies)
-    if u.kind == "FUNCTION":
-        seen.setdefault(u.name)
-    for dummies, body in u.functions.values():
-        seen.update(dict.fromkeys(_variables(body, set(dummies))))
-    for s in u.statements:
-        for e in _expressions(s):
-            seen.update(dict.fromkeys(_variables(e)))
-    return [n for n in seen if n not in u.functions and n not in u.arrays
-            and n not in u.commons]
 
 
 class Program:
@@ -684,14 +224,17 @@ class Program:
         if self._units is None:
             from deck_emulator.legacy.jobdeck import statements
 
+            from .parse import parse_units
+
             numbers, path = self._cards
             self._units = {u.name: u for u in parse_units(statements(self.lines, numbers), path)}
         return self._units
 
     @functools.cached_property
     def sha256(self) -> str:
-        """Of the program's cards: their text, one line each, as read (hashed once: the name
-        of every way of running's kept code reads it)."""
+        """Of the program's cards: their text, one line each, as read (what the notes and the
+        provenance name the program by; its kept code is named without it, so that a plain
+        run loads no hashlib)."""
         import hashlib
 
         return hashlib.sha256("".join(line + "\n" for line in self.lines).encode()).hexdigest()
@@ -704,7 +247,9 @@ class Program:
         main = self.units.get("MAIN") if self.watch else None
         if main is None:
             return False
-        labels, names = {s.label for s in main.statements}, set(_names(main))
+        from .make import scalars
+
+        labels, names = {s.label for s in main.statements}, set(scalars(main))
         return all(label in labels and {n for n in TRACE_ROWS[phase].values() if n} <= names
                    for label, phase in self.watch["records"].items())
 
@@ -721,24 +266,28 @@ class Program:
                 lines = self.made_lines(native, checking)
                 code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
                 if self.cache:
-                    _keep(self._cache_file(key), code)
+                    _keep(self._cache_file(key), self._identity(key), code)
             self._made[key] = code
         return self._made[key], self._lines.get(key)
 
-    def _cache_file(self, key) -> Path:
-        """Where the made code of a way of running is kept: named by the SHA-256 of the cards,
-        this front end's CRC-32, the watch, the way and Python's bytecode tag."""
-        import hashlib
+    def _identity(self, key) -> bytes:
+        """What the made code of a way of running is made from: the cards, this front end's
+        CRC-32, the watch, the way and Python's bytecode tag (a kept entry is checked against
+        it whole)."""
         import sys
 
-        name = hashlib.sha256(repr((self.sha256, _front_end_crc(), self.watch, key,
-                                    sys.implementation.cache_tag)).encode()).hexdigest()
-        return _cache_folder() / f"{name}.code"
+        return repr((self.lines, _front_end_crc(), self.watch, key,
+                     sys.implementation.cache_tag)).encode()
+
+    def _cache_file(self, key) -> Path:
+        """Where the made code of a way of running is kept: named by the CRC-32 of what it is
+        made from (:meth:`_identity`; a name two programs share is told apart by it)."""
+        return _cache_folder() / f"{zlib.crc32(self._identity(key)):08x}.code"
 
     def _cached(self, key):
-        """The kept code of a way of running (checked by its SHA-256), or None."""
+        """The kept code of a way of running (checked by its CRC-32 and identity), or None."""
         if key not in self._made:
-            code = _kept(self._cache_file(key))
+            code = _kept(self._cache_file(key), self._identity(key))
             if code is None:
                 return None
             self._made[key] = code
@@ -754,28 +303,11 @@ class Program:
         """The generated source's lines: (text, (unit, label, variable) or None)."""
         key = (native, checking)
         if key not in self._lines:
-            lines: list = [(self._header(native, checking), None)]
-            consts: set[str] = set()
-            steps: set[str] = set()
-            for unit in self.units.values():
-                gen = _Gen(unit, self.units, native, checking, lines, self.watch, self.literals)
-                gen.unit_source()
-                consts |= gen.consts
-                steps |= gen.steps
-            head = [(f"{_const_name(c)} = _K({c!r})", None) for c in sorted(consts)]
-            for block, places in common_blocks(list(self.units.values())).items():
-                runs = [[places[0], 0]]  # (a COMMON block: its places, zero)
-                for t in places:
-                    runs[-1][1] += 1 if t == runs[-1][0] else runs.append([t, 1]) or 0
-                head.append((f"_C{block} = " + " + ".join(
-                    f"[{'_Z' if t == 'R' else '0'}] * {n}" for t, n in runs), None))
-            half = "".join("/_K('2.')" for _ in range(self.step_scale_k))
-            head += [(f"s_{_const_name(c)} = {_const_name(c)}{half}  # one step / "
-                      f"2**{self.step_scale_k}", None) for c in sorted(steps)]
-            lines[1:1] = head
-            formats = {name: u.formats for name, u in self.units.items()}
-            lines.append((f"_FORMATS = {formats!r}", None))  # the units' FORMATs
-            self._lines[key] = lines
+            from .make import made_lines
+
+            self._lines[key] = made_lines(self.units, self._header(native, checking),
+                                          native=native, checking=checking, watch=self.watch,
+                                          literals=self.literals, step_scale_k=self.step_scale_k)
         return self._lines[key]
 
     def runner(self, deck, arithmetic, *, limits: Limits = Limits(), checking: bool = False,
