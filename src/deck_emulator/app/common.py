@@ -6,7 +6,6 @@ from __future__ import annotations
 import io
 import os
 import shlex
-from pathlib import Path
 
 from deck_emulator.errors import UsageError, address_space_mb, process_limits
 from deck_emulator.extras import require
@@ -46,7 +45,7 @@ def deck_file(given: str, command: str) -> str:
         raise UsageError(f"{src.name}: a {kind}; {command} reads a text deck of one $DATA "
                          f"section: `{PROG} punch {given} --to text --out deck.dat` (with "
                          "--section N for a job deck) writes one")
-    return given if Path(given).exists() else src.path
+    return given if os.path.exists(given) else src.path
 
 
 def engine_scene(source, name: str = ""):
@@ -227,8 +226,9 @@ def scheduler(options):
 
 def outputs_result(out_dir) -> dict:
     """The JSON keys of a command that writes a folder: the files it holds."""
-    return {"outputs": sorted(str(p) for p in Path(out_dir).iterdir() if p.is_file()
-                              and not p.name.startswith("."))}
+    return {"outputs": sorted(os.path.join(out_dir, n) for n in os.listdir(out_dir)
+                              if not n.startswith(".")
+                              and os.path.isfile(os.path.join(out_dir, n)))}
 
 
 TRAJECTORY_HELP = ("also write the run's trajectory: time, every named point (road and report "

@@ -9,9 +9,9 @@ its cost, about 7 ms of every run that names a shipped deck).
 
 from __future__ import annotations
 
-from pathlib import Path
+import os
 
-_HERE = Path(__file__).resolve().parent
+_HERE = os.path.dirname(os.path.realpath(__file__))
 
 #: The deck the report's appendix prints: the steel post at 40 mph, 0 degrees.
 REPORT_DECK = "steel40"
@@ -19,12 +19,12 @@ REPORT_DECK = "steel40"
 
 def names() -> list[str]:
     """The shipped decks' names (file names without ``.dat``), sorted."""
-    return sorted(p.name[:-4] for p in _HERE.iterdir() if p.name.endswith(".dat"))
+    return sorted(n[:-4] for n in os.listdir(_HERE) if n.endswith(".dat"))
 
 
-def path(name: str) -> Path:
+def path(name: str) -> str:
     """The file of the shipped deck ``name`` (``"steel40"``); KeyError if there is none."""
-    p = _HERE / f"{name}.dat"
-    if not p.is_file():
+    p = os.path.join(_HERE, f"{name}.dat")
+    if not os.path.isfile(p):
         raise KeyError(name)
     return p

@@ -15,7 +15,6 @@ import os
 import sys
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from deck_emulator import decks
 from deck_emulator.legacy.arithmetic import get_arithmetic
@@ -27,7 +26,7 @@ from deck_emulator.vocabulary.events import Event, EventKind, Surface
 from deck_emulator.vocabulary.units import force_in_g
 
 from . import errata as errata_policy
-from .sources import kinds_for, load_source
+from .sources import file_stem, kinds_for, load_source
 
 # Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
 # `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
@@ -52,7 +51,7 @@ def source_name(source) -> str:
     """'steel40' for decks/steel40.dat; a scene's own name; else 'scene'."""
     path = getattr(source, "path", None)
     if path:
-        return Path(str(path)).stem
+        return file_stem(str(path))
     return getattr(source, "name", "") or "scene"
 
 
@@ -585,15 +584,15 @@ def compile_core(wait) -> None:
 
     import deck_emulator.core.laws  # noqa: F401 -- it sets numba's cache folder for the core
 
-    marker = Path(numba.config.CACHE_DIR) / (
-        f"compiled-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}")
-    if marker.exists():
+    marker = os.path.join(numba.config.CACHE_DIR, f"compiled-numba{numba.__version__}-py"
+                          f"{sys.version_info[0]}{sys.version_info[1]}")
+    if os.path.exists(marker):
         return
     with wait():
         CoreEngine(batched=True, trace=False).run_batch([load_source(decks.path("steel40"))
                                                           .deck()])
     try:
-        marker.touch()
+        open(marker, "a").close()
     except OSError:
         pass
 

@@ -32,7 +32,6 @@ import dataclasses
 import os
 import re
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from deck_emulator import decks
 from deck_emulator.errors import UsageError
@@ -91,7 +90,7 @@ class Source:
 
     @property
     def stem(self) -> str:
-        return Path(self.path).stem
+        return file_stem(self.path)
 
     def deck(self, command: str = "this command"):
         """The one data deck (a job deck with several sections needs ``section``)."""
@@ -154,7 +153,13 @@ def _is_scene(name: str, data: bytes) -> bool:
     return any(isinstance(v, dict) for v in parsed.values())
 
 
-def _shipped(given: str) -> Path | None:
+def file_stem(path) -> str:
+    """A file's name without its last suffix ('steel40' for decks/steel40.dat), as
+    ``pathlib.PurePath.stem`` (pathlib itself costs a plain run about 3 ms of its start)."""
+    return os.path.splitext(os.path.basename(os.fspath(path)))[0]
+
+
+def _shipped(given: str) -> str | None:
     name = given[:-4] if given.endswith(".dat") else given
     if "/" in name or os.sep in name:
         return None
@@ -164,20 +169,19 @@ def _shipped(given: str) -> Path | None:
         return None
 
 
-def _resolve(given: str) -> tuple[str, Path]:
+def _resolve(given: str) -> tuple[str, str]:
     """(name shown, file) of a SOURCE: the file if it exists, else a shipped deck."""
 
     if not given:
         raise UsageError("an empty SOURCE: give a deck or scene file, or a shipped deck's name")
     if given == "-":
 
-        return STDIN_NAME, Path(given)
-    p = Path(given)
-    if p.exists():
-        return given, p
+        return STDIN_NAME, given
+    if os.path.exists(given):
+        return given, given
     shipped = _shipped(given)
     if shipped is not None:
-        return Path(given).stem, shipped
+        return file_stem(given), shipped
 
     raise DeckError(f"no such file, and no shipped deck of that name (shipped: "
                     f"{', '.join(decks.names())})", path=given)
@@ -213,12 +217,12 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
     name, path = _resolve(given)
     # read once, as a stream (a FIFO or a pipe has no second reading): told a scene or a
     # deck by its bytes, parsed, and hashed if asked
-    shown, data = read_bytes(str(path), limit=max(MAX_BYTES, MAX_SCENE_BYTES))
-    if _is_scene(str(path), data):
+    shown, data = read_bytes(path, limit=max(MAX_BYTES, MAX_SCENE_BYTES))
+    if _is_scene(path, data):
         if section is not None:
             raise UsageError(f"{name}: --section chooses a $DATA section of a job deck; "
                              "a scene file has none")
-        src = Source(given, name, str(path), "scene", scene=_read_scene(name, data))
+        src = Source(given, name, path, "scene", scene=_read_scene(name, data))
         if "scene" not in kinds:
             raise UsageError(src.refusal(command))
         return src
@@ -243,7 +247,7 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         else:
             notes.append(f"{name}: {job.source_verdict}")
     decks_ = job.decks
-    if Path(given) != path:  # a shipped deck, named by its name
+    if given != path:  # a shipped deck, named by its name
 
         decks_ = tuple(dataclasses.replace(d, path=name) for d in decks_)
     if section is not None:
@@ -255,7 +259,7 @@ def load_source(given, *, card_format: str = "auto", keypunch: str | None = None
         notes += [f"{deck.path}: warning: {w}" for w in deck.warnings]
     if "deck" not in kinds:
         raise UsageError(f"{name}: a card deck; this command takes a scene file")
-    return Source(given, name, str(path), "deck", decks=tuple(decks_),
+    return Source(given, name, path, "deck", decks=tuple(decks_),
                   card_format=job.card_format, program=job.source_verdict, notes=tuple(notes),
                   data=data, cards=job.cards, program_cards=job.program_cards, fortran=fortran)
 

@@ -38,7 +38,7 @@ ERRATA = (errata_policy.ED_DIRECTION,)
 matched_options = legacy_options  # one definition: deck_emulator.studies.diff.legacy_options
 
 
-def default_deck() -> Path:
+def default_deck() -> str:
     """The report's deck, steel40 (the studies' base scene), as shipped with the package."""
 
     return decks.path(decks.REPORT_DECK)

@@ -32,8 +32,8 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import os
 import zlib
-from pathlib import Path
 
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
@@ -84,7 +84,14 @@ _FILE = "<fortran>"  # the generated code's file name in tracebacks
 @functools.cache
 def _front_end_crc() -> int:
     """CRC-32 of this front end's text (every module of it): kept code names it."""
-    return zlib.crc32(b"".join(p.read_bytes() for p in sorted(Path(__file__).parent.glob("*.py"))))
+    here = os.path.dirname(__file__)
+    return zlib.crc32(b"".join(_read(os.path.join(here, name))
+                               for name in sorted(os.listdir(here)) if name.endswith(".py")))
+
+
+def _read(path) -> bytes:
+    with open(path, "rb") as fh:
+        return fh.read()
 
 
 #: The ways of running a program: (binary64, checked per assignment).
@@ -92,26 +99,26 @@ _MODES = ((True, False), (False, False), (False, True), (True, True))
 _CACHE_MAGIC = b"deck_emulator fortran code "
 
 
-def _cache_folder() -> Path:
-    """Where a program's made code is kept: the package's user cache folder's fortran/."""
-    return Path(user_cache_folder()) / "fortran"
+def _cache_folder() -> str:
+    """Where a program's made code is kept: the package's user cache folder's fortran/ (named
+    with os.path: pathlib would cost a plain run about 3 ms of its start)."""
+    return os.path.join(user_cache_folder(), "fortran")
 
 
-def _kept(path: Path, identity: bytes):
+def _kept(path: str, identity: bytes):
     """The code kept in ``path`` if its first line's CRC-32 is that of the rest and the entry
     was made for ``identity`` (what it was made from, compared whole), else None (a garbled or
     cut file is removed and made again)."""
     import marshal
-    import os
 
     try:
-        data = path.read_bytes()
+        data = _read(path)
     except OSError:
         return None
     head, _, rest = data.partition(b"\n")
     if head != _CACHE_MAGIC + b"%08x" % zlib.crc32(rest):
         with contextlib.suppress(OSError):
-            path.unlink()
+            os.unlink(path)
         return None
     size, _, rest = rest.partition(b"\n")
     if not size.isdigit() or rest[:int(size)] != identity:
@@ -121,7 +128,7 @@ def _kept(path: Path, identity: bytes):
     return marshal.loads(rest[int(size):])
 
 
-def _keep(path: Path, identity: bytes, code) -> None:
+def _keep(path: str, identity: bytes, code) -> None:
     """Keep ``code``, made from ``identity``, in ``path`` (written whole or not at all:
     files.write_file); the oldest entries beyond PROGRAM_CACHE_ENTRIES go. A cache that cannot
     be written is left alone: the code is made again next time."""
@@ -130,12 +137,14 @@ def _keep(path: Path, identity: bytes, code) -> None:
     from deck_emulator.files import write_file
 
     rest = b"%d\n" % len(identity) + identity + marshal.dumps(code)
+    folder = os.path.dirname(path)
     with contextlib.suppress(OSError):
-        path.parent.mkdir(parents=True, exist_ok=True)
+        os.makedirs(folder, exist_ok=True)
         write_file(path, _CACHE_MAGIC + b"%08x" % zlib.crc32(rest) + b"\n" + rest)
-        entries = sorted(path.parent.glob("*.code"), key=lambda p: p.stat().st_mtime)
+        entries = sorted((os.path.join(folder, n) for n in os.listdir(folder)
+                          if n.endswith(".code")), key=os.path.getmtime)
         for old in entries[:-PROGRAM_CACHE_ENTRIES]:
-            old.unlink()
+            os.unlink(old)
 
 
 class _NonFinite(ArithmeticError):
@@ -279,10 +288,10 @@ class Program:
         return repr((self.lines, _front_end_crc(), self.watch, key,
                      sys.implementation.cache_tag)).encode()
 
-    def _cache_file(self, key) -> Path:
+    def _cache_file(self, key) -> str:
         """Where the made code of a way of running is kept: named by the CRC-32 of what it is
         made from (:meth:`_identity`; a name two programs share is told apart by it)."""
-        return _cache_folder() / f"{zlib.crc32(self._identity(key)):08x}.code"
+        return os.path.join(_cache_folder(), f"{zlib.crc32(self._identity(key)):08x}.code")
 
     def _cached(self, key):
         """The kept code of a way of running (checked by its CRC-32 and identity), or None."""
