@@ -286,7 +286,15 @@ def with_workers(p: subprocess.Popen, jobs: int) -> subprocess.Popen:
 # ----------------------------------------------------------------------------- run --out
 
 
-def test_run_out_killed_inside_the_write_leaves_old_or_new(tmp_path):
+@pytest.fixture
+def listing_made():
+    """The listing's made code kept in the session's cache folder beforehand: a first run
+    writes it (through the same writer, so the first passage at a point of the writer would
+    be that entry's, not --out's, when these tests run first)."""
+    run_ok(["run", "decks/steel40.dat"])
+
+
+def test_run_out_killed_inside_the_write_leaves_old_or_new(tmp_path, listing_made):
     folder = tmp_path / "out"
     folder.mkdir()
     out = folder / "steel40.txt"
@@ -313,7 +321,7 @@ def test_run_out_killed_inside_the_write_leaves_old_or_new(tmp_path):
 
 
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-def test_run_out_interrupted_leaves_no_temporary(tmp_path, sig, code):
+def test_run_out_interrupted_leaves_no_temporary(tmp_path, sig, code, listing_made):
     folder = tmp_path / "out"
     folder.mkdir()
     out = folder / "steel40.txt"
