@@ -278,7 +278,11 @@ def _canonical(task: dict) -> str:
 
 def scene_id(task: dict) -> str:
     """The scene's identity: the first 24 hex digits of SHA-256 of the task as canonical JSON."""
-    return hashlib.sha256(_canonical(task).encode()).hexdigest()[:24]
+    return _id_of(_canonical(task))
+
+
+def _id_of(canonical: str) -> str:
+    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
 
 # ================================================================================ the store
@@ -562,20 +566,40 @@ def _call_many(fn: Callable, tasks: list[dict], many: bool = False) -> list[dict
         _settle()
 
 
-_SETTLED: list[bool] = []
+#: a worker's size (bytes) after its last trim, once it has settled (:func:`_settle`)
+_SETTLED: list[int] = []
 
 
 def _settle() -> None:
-    """In a worker process of an embedded cluster, once its first batch is done: what the
-    process holds for good by then (its modules, the compiled core, Dask's own state) is put
-    out of the garbage collector's way (``gc.freeze``), whose full collections went through
-    every one of those objects again and again while the scenes ran (about a tenth of a
-    core scene's time, measured); what the scenes make is collected as before."""
-    if _SETTLED or not os.environ.get(SPAWNED_WORKER_ENV):
+    """In a worker process of an embedded cluster, after each batch.  Once its first batch is
+    done: what the process holds for good by then (its modules, the compiled core, Dask's own
+    state) is put out of the garbage collector's way (``gc.freeze``), whose full collections
+    went through every one of those objects again and again while the scenes ran (about a
+    tenth of a core scene's time, measured); what the scenes make is collected as before.
+    Then and whenever the process has grown ``WORKER_TRIM_MB`` (the defaults' row) past its
+    size after the last trim, the C allocator gives back what the scenes freed (glibc's
+    ``malloc_trim``, as Dask's documentation trims a worker by hand): it keeps it otherwise."""
+    if not os.environ.get(SPAWNED_WORKER_ENV):
         return
-    _SETTLED.append(True)
-    gc.collect()
-    gc.freeze()
+    if not _SETTLED:
+        gc.collect()
+        gc.freeze()
+        _SETTLED.append(0)
+    if (_resident() or 0) - _SETTLED[0] > defaults.WORKER_TRIM_MB * 2**20:
+        with contextlib.suppress(OSError, AttributeError):  # not glibc: nothing to ask
+            import ctypes
+
+            ctypes.CDLL("libc.so.6").malloc_trim(0)
+        _SETTLED[0] = max(_SETTLED[0], _resident() or 0)  # what it still holds stays
+
+
+def _resident() -> int | None:
+    """This process's resident size now, bytes (None where the system does not say)."""
+    try:
+        with open("/proc/self/statm", "rb") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 def _only(outs):
@@ -918,8 +942,12 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
             f"{store.results} already holds {len(done_ids)} scene(s): resume, or use a new folder"
         )
     unique: dict[str, dict] = {}
+    texts: dict[str, str] = {}  # scene id -> the task as canonical JSON (stored with its row)
     for t in tasks:
-        unique.setdefault(scene_id(t), t)
+        text = _canonical(t)
+        sid = _id_of(text)
+        if sid not in unique:
+            unique[sid], texts[sid] = t, text
     _check_study(store.dir, _made_from(unique), store.ids() if resume else set(), unique)
     todo = [(sid, t) for sid, t in unique.items() if sid not in done_ids]
     bar = _Bar(len(unique), len(unique) - len(todo), desc, progress, eta=eta)
@@ -987,9 +1015,9 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
                 except Exception as exc:  # noqa: BLE001 - KilledWorker and the like
                     rows = [{"status": "failed", "error": f"{type(exc).__name__}: {exc}",
                              "run_s": None, "worker": None} for _ in group]
-                for (sid, t), row in zip(group, rows):
+                for (sid, _), row in zip(group, rows):
                     row["scene_id"] = sid
-                    row["task_json"] = _canonical(t)
+                    row["task_json"] = texts[sid]
                     row["stored_at"] = time.time()
                     pending.append(row)
                     bar.step(row["status"] != "ok")
