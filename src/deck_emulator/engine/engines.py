@@ -565,8 +565,8 @@ class CoreEngine:
         out.free = t > t_c + 1e-12
         if not points:
             return
-        allp = traj.points_of(state)
-        out.points = {k: np.asarray(allp[k]).T for k in ("P", "Q", "R", "C", "U") if k in allp}
+        kept = [k for k in ("P", "Q", "R", "C", "U") if k in traj.point_names]
+        out.points = {k: np.asarray(p).T for k, p in traj.points_of(state, kept).items()}
         out.points["CM"] = np.asarray(state[0:3]).T
         if "C" in out.points and out.hit_time_s is not None:
             c = out.to_l(traj.point("C", min(out.hit_time_s, t_end)))
