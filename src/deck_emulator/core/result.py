@@ -77,12 +77,20 @@ class Trajectory:
         else:
             if ts.size and (ts.min() < self.t_start - 1e-12 or ts.max() > self.t_end + 1e-12):
                 raise ValueError(f"t outside the run [{self.t_start}, {self.t_end}] s")
-            done = np.zeros(ts.size, dtype=bool)
-            for seg in self.segments:
-                m = (~done) & (ts <= seg.t1 + 1e-15)
-                if m.any():
-                    out[:, m] = seg.solution(np.clip(ts[m], seg.t0, seg.t1))
-                    done |= m
+            if np.all(ts[1:] >= ts[:-1]):  # in order (a grid): a segment's instants are a slice
+                lo = 0
+                for seg, hi in zip(self.segments, np.searchsorted(
+                        ts, [seg.t1 + 1e-15 for seg in self.segments], side="right")):
+                    if hi > lo:
+                        out[:, lo:hi] = seg.solution(np.clip(ts[lo:hi], seg.t0, seg.t1))
+                        lo = hi
+            else:  # each segment takes the instants up to its end not taken before it
+                done = np.zeros(ts.size, dtype=bool)
+                for seg in self.segments:
+                    m = (~done) & (ts <= seg.t1 + 1e-15)
+                    if m.any():
+                        out[:, m] = seg.solution(np.clip(ts[m], seg.t0, seg.t1))
+                        done |= m
         q = out[6:10]
         out[6:10] = q / np.linalg.norm(q, axis=0)
         return out[:, 0] if np.ndim(t) == 0 else out
