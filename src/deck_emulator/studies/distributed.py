@@ -648,6 +648,7 @@ class _Bar:
 
 @contextlib.contextmanager
 def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORKER_WAIT_S):
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -684,7 +685,11 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
         # preload says so once Dask has started in the worker; the variable, seen by the
         # package as the spawned worker imports it (deck_emulator/__init__.py), about a
         # second earlier.  It is set only while the workers are spawned.
-        with warnings.catch_warnings(), _worker_environment():
+        # Dask's statistical profiler walks a worker's stack every 10 ms for a dashboard the
+        # embedded cluster does not have (some 4 % of a worker's CPU): off in its workers
+        # (each nanny hands them the configuration it was made under)
+        with warnings.catch_warnings(), _worker_environment(), dask.config.set(
+                {"distributed.worker.profile.enabled": False}):
             warnings.simplefilter("ignore", UserWarning)  # "port 8787 in use": another HTTP
             try:
                 cluster = LocalCluster(
