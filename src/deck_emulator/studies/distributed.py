@@ -566,40 +566,22 @@ def _call_many(fn: Callable, tasks: list[dict], many: bool = False) -> list[dict
         _settle()
 
 
-#: a worker's size (bytes) after its last trim, once it has settled (:func:`_settle`)
-_SETTLED: list[int] = []
+_SETTLED: list[bool] = []
 
 
 def _settle() -> None:
-    """In a worker process of an embedded cluster, after each batch.  Once its first batch is
-    done: what the process holds for good by then (its modules, the compiled core, Dask's own
-    state) is put out of the garbage collector's way (``gc.freeze``), whose full collections
-    went through every one of those objects again and again while the scenes ran (about a
-    tenth of a core scene's time, measured); what the scenes make is collected as before.
-    Then and whenever the process has grown ``WORKER_TRIM_MB`` (the defaults' row) past its
-    size after the last trim, the C allocator gives back what the scenes freed (glibc's
-    ``malloc_trim``, as Dask's documentation trims a worker by hand): it keeps it otherwise."""
-    if not os.environ.get(SPAWNED_WORKER_ENV):
+    """In a worker process of an embedded cluster, once its first batch is done: what the
+    process holds for good by then (its modules, the compiled core, Dask's own state) is put
+    out of the garbage collector's way (``gc.freeze``), whose full collections went through
+    every one of those objects again and again while the scenes ran (about a tenth of a
+    core scene's time, measured); what the scenes make is collected as before.  (The C
+    allocator keeps some 60 MB the scenes freed; giving it back after each batch,
+    ``malloc_trim``, cost 10 % of a scene's CPU in faulting the pages in again: not done.)"""
+    if _SETTLED or not os.environ.get(SPAWNED_WORKER_ENV):
         return
-    if not _SETTLED:
-        gc.collect()
-        gc.freeze()
-        _SETTLED.append(0)
-    if (_resident() or 0) - _SETTLED[0] > defaults.WORKER_TRIM_MB * 2**20:
-        with contextlib.suppress(OSError, AttributeError):  # not glibc: nothing to ask
-            import ctypes
-
-            ctypes.CDLL("libc.so.6").malloc_trim(0)
-        _SETTLED[0] = max(_SETTLED[0], _resident() or 0)  # what it still holds stays
-
-
-def _resident() -> int | None:
-    """This process's resident size now, bytes (None where the system does not say)."""
-    try:
-        with open("/proc/self/statm", "rb") as f:
-            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-    except (OSError, ValueError, IndexError):
-        return None
+    _SETTLED.append(True)
+    gc.collect()
+    gc.freeze()
 
 
 def _only(outs):

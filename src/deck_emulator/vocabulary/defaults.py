@@ -131,11 +131,6 @@ WORKER_WAIT_RANGE_S = (1.0, 86400.0)
 #: command checks them against the open-file limit (ulimit -n) before it starts the workers
 CLUSTER_FILES = 16
 WORKER_FILES = 10
-#: how far a worker process of an embedded cluster may grow past its size after its first batch
-#: before the C allocator is asked to give its free memory back (glibc's malloc_trim), MB: the
-#: scenes' freed arrays left some 60 MB a worker held and unused (measured on 640 core scenes;
-#: a trim costs about 3 ms, so it is done when there is that much to give, not every batch)
-WORKER_TRIM_MB = 24
 
 #: the stability study's core (and the studies' one-scene core runs, studies.common.run_core):
 #: its grid holds scenes up to 1e10 lb/ft springs and 120 mph, where 1e-9 keeps the stiff rows
