@@ -480,12 +480,10 @@ def body_clearance(
     free = np.ones(n, dtype=bool) if free is None else np.asarray(free, dtype=bool)
     idx = np.nonzero(free)[0]
     ca, sa = math.cos(alpha_rad), math.sin(alpha_rad)
-    segments = _segments(points)
+    segments = _segments(points) if idx.size else []
     least = roof = touch = None  # (clearance, time, surface, where) / (time, surface, where)
-    if not idx.size or not segments:
-        segments = []
-    else:  # every (segment, part) pair at once, axes (segment, part, instant): each number
-        # is the one a pair alone would give (the same operations, element by element)
+    if segments:  # every (segment, part) pair at once, axes (segment, part, instant): each
+        # number is the one a pair alone would give (the same operations, element by element)
         boxes = car_boxes(body)  # the car's three boxes (the core's one definition), at SV
         A = np.stack([a[idx] for _, a, _ in segments])[:, None]
         B = np.stack([b[idx] for _, _, b in segments])[:, None]
