@@ -20,9 +20,10 @@ Prints:
   ``sensitivity --deck steel40 -N 1024`` (8,192 scenes) with the input that decides its
   contact ΔV (largest ST), and ``sweep`` of 10,000 core scenes: wall time, CPU time (the
   command and its workers), CPU per scene against the solve's, and the peak memory of the
-  process tree, sampled every 0.1 s: the sum of its processes' resident sizes (RSS: a shared
-  library's pages counted once in each process) and of their proportional sizes (PSS: each
-  shared page split among the processes that map it).
+  process tree: the sum of its processes' resident sizes (RSS: a shared library's pages
+  counted once in each process), sampled every 0.1 s, and of their proportional sizes (PSS:
+  each shared page split among the processes that map it), every second (reading it costs
+  the machine the command runs on: ``PSS_EVERY``).
 
 Every figure is printed with the load average beside it: the times depend on the machine.
 ``--src DIR``: measure another checkout's ``src`` (the whole commands and the in-process part
@@ -43,6 +44,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 SWEEP_GRID = ["--speeds", "10:59.5:0.5", "--angles", "0:49.5:0.5"]  # 100 x 100 core scenes
+#: the tree's PSS is read every this many samples of its RSS (0.1 s apart): reading it every
+#: sample took some 15 % of a core (4 ms a worker process), from the command it measured
+PSS_EVERY = 10
 
 
 def load() -> str:
@@ -126,27 +130,28 @@ def in_process(n: int, repeat: int) -> float:
     return solve
 
 
-def _tree(proc, cpu: dict) -> tuple[int, int]:
-    """The tree's resident and proportional bytes now (RSS, PSS); ``cpu``: pid -> (is the
-    command itself, CPU seconds so far), updated (a worker's last reading stays when it has
-    gone)."""
+def _tree(proc, cpu: dict, pss: bool) -> tuple[int, int | None]:
+    """The tree's resident bytes now (RSS) and, with ``pss``, its proportional bytes (PSS;
+    else None); ``cpu``: pid -> (is the command itself, CPU seconds so far), updated (a
+    worker's last reading stays when it has gone)."""
     import psutil
 
-    rss = pss = 0
+    rss, prop = 0, 0 if pss else None
     try:
         procs = [proc, *proc.children(recursive=True)]
     except psutil.Error:
-        return 0, 0
+        return 0, prop
     for p in procs:
         try:
             with p.oneshot():
-                m = p.memory_full_info()
-                rss, pss = rss + m.rss, pss + m.pss
+                rss += p.memory_info().rss
+                if pss:  # reads the process's smaps: ~4 ms of CPU for a 300 MB worker
+                    prop += p.memory_full_info().pss
                 t = p.cpu_times()
                 cpu[p.pid] = (p.pid == proc.pid, t.user + t.system)
         except psutil.Error:
             pass
-    return rss, pss
+    return rss, prop
 
 
 def timed(cmd: list[str], env: dict) -> dict:
@@ -160,10 +165,10 @@ def timed(cmd: list[str], env: dict) -> dict:
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True)
     ps = psutil.Process(proc.pid)
-    peak, peak_pss, cpu = 0, 0, {}
+    peak, peak_pss, cpu, k = 0, 0, {}, 0
     while proc.poll() is None:
-        rss, pss = _tree(ps, cpu)
-        peak, peak_pss = max(peak, rss), max(peak_pss, pss)
+        rss, pss = _tree(ps, cpu, pss=k % PSS_EVERY == 0)
+        peak, peak_pss, k = max(peak, rss), max(peak_pss, pss or 0), k + 1
         time.sleep(0.1)
     wall = time.perf_counter() - w0
     out, err = proc.communicate()

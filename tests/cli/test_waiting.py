@@ -34,16 +34,14 @@ def test_no_time_left_until_a_share_of_the_work_is_done(monkeypatch):
 
 def test_the_core_is_compiled_once_and_says_so(monkeypatch, tmp_path):
     pytest.importorskip("numba")
-    import numba
-
-    import deck_emulator.core.laws  # noqa: F401 -- sets the cache folder the test replaces
+    import deck_emulator.core
 
     from deck_emulator.app import common
     from deck_emulator.engine import CoreEngine
 
     runs = []
     monkeypatch.setattr(CoreEngine, "run_batch", lambda self, decks: runs.append(self.batched))
-    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(deck_emulator.core, "compiled_cache_folder", lambda: str(tmp_path))
     err = Terminal()
     monkeypatch.setattr(sys, "stderr", err)
     common.compile_core(quiet=False)

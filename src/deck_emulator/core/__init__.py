@@ -12,6 +12,9 @@ located events.  The model is assembled from the components the scene has.
 """
 
 import importlib
+import os
+
+from deck_emulator.vocabulary.defaults import user_cache_folder
 
 #: public name -> the submodule that defines it.  Imported on first use, so that
 #: the package costs no scipy until a name is used.
@@ -30,6 +33,40 @@ _WHERE = {
 #: the core's entries: each runs again once, compiled anew, after an unreadable numba cache
 #: (:func:`deck_emulator.core.laws.recompiling`)
 _ENTRIES = ("simulate", "free_flight", "simulate_batch")
+
+
+#: the modules whose compiled functions call one another (their cache is one)
+COMPILED_MODULES = ("laws.py", "dop853.py", "batch.py")
+
+
+def compiled_cache_folder() -> str:
+    """Where numba keeps the core's machine code (``numba.config.CACHE_DIR``, set by
+    :mod:`.laws`; found here without importing numba: a command's own process, whose
+    workers run the core, only asks whether it was compiled).  numba stamps a cached
+    function with its own file's content only, so a compiled function of dop853.py would
+    keep the old copy of a law changed in laws.py: the folder is named by the content of all
+    of :data:`COMPILED_MODULES`, below the user's own NUMBA_CACHE_DIR when set (numba's
+    documented setting), else the package's ``__pycache__`` where it can be written, else
+    the user's cache folder.  A changed module is a new folder: the old machine code is
+    never taken for the new."""
+    import hashlib
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    h = hashlib.sha256()
+    for name in sorted(COMPILED_MODULES):
+        with open(os.path.join(here, name), "rb") as f:
+            h.update(f.read())
+    stamp = f"deck_emulator-{h.hexdigest()[:16]}"
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if user:
+        return os.path.join(user, stamp)
+    in_tree = os.path.join(here, "__pycache__")
+    try:
+        os.makedirs(in_tree, exist_ok=True)
+        writable = os.access(in_tree, os.W_OK)
+    except OSError:
+        writable = False
+    return os.path.join(in_tree if writable else user_cache_folder(), stamp)
 
 
 def __getattr__(name: str):

@@ -22,7 +22,6 @@ A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``,
 from __future__ import annotations
 
 import functools
-import hashlib
 import math
 import os
 import shutil
@@ -31,7 +30,7 @@ import numba
 import numpy as np
 from numba import njit
 
-from deck_emulator.vocabulary.defaults import user_cache_folder
+from . import compiled_cache_folder
 
 __all__ = [
     "LETTERS",
@@ -51,42 +50,7 @@ __all__ = [
 ]
 
 
-#: the modules whose compiled functions call one another (their cache is one)
-COMPILED_MODULES = ("laws.py", "dop853.py", "batch.py")
-
-
-def _cache_dir() -> None:
-    """numba stamps a cached function with its own file's content only, so a compiled
-    function of dop853.py would keep the old copy of a law changed in laws.py.  So the cache
-    is kept in a folder named by the content of all of :data:`COMPILED_MODULES`, through
-    numba's public setting (``numba.config.CACHE_DIR``, the ``NUMBA_CACHE_DIR`` of its
-    documentation): below the user's own NUMBA_CACHE_DIR when set, else the package's
-    ``__pycache__`` where it can be written, else the user's cache folder.  A changed module
-    is a new folder: the old machine code is never taken for the new."""
-
-    here = os.path.dirname(os.path.abspath(__file__))
-    h = hashlib.sha256()
-    for name in sorted(COMPILED_MODULES):
-        with open(os.path.join(here, name), "rb") as f:
-            h.update(f.read())
-    stamp = f"deck_emulator-{h.hexdigest()[:16]}"
-    user = os.environ.get("NUMBA_CACHE_DIR")
-    if user:
-        numba.config.CACHE_DIR = os.path.join(user, stamp)
-        return
-    in_tree = os.path.join(here, "__pycache__")
-    try:
-        os.makedirs(in_tree, exist_ok=True)
-        writable = os.access(in_tree, os.W_OK)
-    except OSError:
-        writable = False
-    if writable:
-        numba.config.CACHE_DIR = os.path.join(in_tree, stamp)
-    else:
-        numba.config.CACHE_DIR = os.path.join(user_cache_folder(), stamp)
-
-
-_cache_dir()
+numba.config.CACHE_DIR = compiled_cache_folder()  # (why: its docstring)
 
 
 def _from_numba_cache(exc: BaseException) -> bool:

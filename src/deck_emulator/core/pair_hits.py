@@ -30,11 +30,8 @@ def terminal_points_xl(result: CoreResult) -> dict[str, tuple[float, float, floa
     q0 = model._q0
     depth = result.scene.environment.ground_depth_ft
     t = min(result.end_time_s, traj.t_end)
-    out = {}
-    for name in traj.point_names:
-        p = traj.point(name, t)
-        out[name] = (float(p[0] - q0[0]), float(p[1] - q0[1]), float(p[2] + depth))
-    return out
+    return {name: (float(p[0] - q0[0]), float(p[1] - q0[1]), float(p[2] + depth))
+            for name, p in traj.points(t).items()}  # one state for all the points
 
 
 def joint_ground_hit(result: CoreResult, band_ft: float = GROUND_BAND_FT) -> CoreResult:

@@ -29,8 +29,6 @@ import time
 import warnings
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, minimize_scalar
 
 from deck_emulator.vocabulary.events import (
     LOST_MESSAGES,
@@ -173,6 +171,8 @@ class _Run:
         return wrapped
 
     def _solve_once(self, fun, t0, y0, t1, events, method):
+        from scipy.integrate import solve_ivp  # here: the compiled batch needs no scipy
+
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             sol = solve_ivp(
@@ -380,6 +380,8 @@ class _Run:
                 return float(traj.point(name, s)[2]) + depth
 
             if f(ta) * f(tj) < 0.0:
+                from scipy.optimize import brentq
+
                 tj = brentq(f, ta, tj, xtol=1e-13)
         return {
             "point": name,
@@ -484,6 +486,8 @@ class _Run:
         fk, tk = f[k], fine[k]
         lo, hi = fine[max(k - 1, 0)], fine[min(k + 1, len(fine) - 1)]
         if hi > lo:
+            from scipy.optimize import minimize_scalar
+
             r = minimize_scalar(
                 lambda s, sol=seg.solution, mode=mode: -sliding.vehicle_force(
                     m, s, sol(s), mode

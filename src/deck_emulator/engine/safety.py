@@ -441,10 +441,12 @@ def _segments(points: Mapping[str, np.ndarray]):
 
 def _clip(ax, ay, dx, dy, x0, x1, y0, y1):
     """Liang-Barsky: the parameter interval [lo, hi] of A + s*(B - A), s in [0, 1], inside the
-    rectangle x0 <= x <= x1, y0 <= y <= y1 (vectorised); ok where it is not empty."""
-    lo = np.zeros_like(ax)
-    hi = np.ones_like(ax)
-    ok = np.ones(ax.shape, dtype=bool)
+    rectangle x0 <= x <= x1, y0 <= y <= y1 (vectorised, the arguments broadcast together);
+    ok where it is not empty."""
+    shape = np.broadcast_shapes(*(np.shape(v) for v in (ax, ay, dx, dy, x0, x1, y0, y1)))
+    lo = np.zeros(shape)
+    hi = np.ones(shape)
+    ok = np.ones(shape, dtype=bool)
     for p, q in ((-dx, ax - x0), (dx, x1 - ax), (-dy, ay - y0), (dy, y1 - ay)):
         zero = p == 0
         ok &= ~(zero & (q < 0))
@@ -478,43 +480,48 @@ def body_clearance(
     free = np.ones(n, dtype=bool) if free is None else np.asarray(free, dtype=bool)
     idx = np.nonzero(free)[0]
     ca, sa = math.cos(alpha_rad), math.sin(alpha_rad)
-    # the car's three boxes (the core's one definition, from the one outline), at SV
-    parts = tuple((b.part, sv[idx] + b.x0_ft, sv[idx] + b.x1_ft, b.top_ft)
-                  for b in car_boxes(body))
-    t = times[idx]
+    segments = _segments(points) if idx.size else []
     least = roof = touch = None  # (clearance, time, surface, where) / (time, surface, where)
-    for label, A, B in _segments(points):
-        A, B = A[idx], B[idx]
-        axv, ayv = A[:, 0] * ca - A[:, 1] * sa, A[:, 0] * sa + A[:, 1] * ca
-        bxv, byv = B[:, 0] * ca - B[:, 1] * sa, B[:, 0] * sa + B[:, 1] * ca
-        dx, dy, dz = bxv - axv, byv - ayv, B[:, 2] - A[:, 2]
-        for surface, x0, x1, top in parts:
-            lo, hi, ok = _clip(axv, ayv, dx, dy, x0, x1, body.left_fender_ft,
-                               body.right_fender_ft)
-            z_lo, z_hi = A[:, 2] + lo * dz, A[:, 2] + hi * dz
-            clear = np.minimum(z_lo, z_hi) - top
-            at = np.where(z_lo <= z_hi, lo, hi)
-            outside = ~ok | (clear >= 0)
-            if not outside.any():
+    if segments:  # every (segment, part) pair at once, axes (segment, part, instant): each
+        # number is the one a pair alone would give (the same operations, element by element)
+        boxes = car_boxes(body)  # the car's three boxes (the core's one definition), at SV
+        A = np.stack([a[idx] for _, a, _ in segments])[:, None]
+        B = np.stack([b[idx] for _, _, b in segments])[:, None]
+        axv, ayv = A[..., 0] * ca - A[..., 1] * sa, A[..., 0] * sa + A[..., 1] * ca
+        bxv, byv = B[..., 0] * ca - B[..., 1] * sa, B[..., 0] * sa + B[..., 1] * ca
+        dx, dy, dz = bxv - axv, byv - ayv, B[..., 2] - A[..., 2]
+        x0 = np.stack([sv[idx] + b.x0_ft for b in boxes])[None]
+        x1 = np.stack([sv[idx] + b.x1_ft for b in boxes])[None]
+        top = np.array([b.top_ft for b in boxes])[None, :, None]
+        lo, hi, ok = _clip(axv, ayv, dx, dy, x0, x1, body.left_fender_ft,
+                           body.right_fender_ft)
+        z_lo, z_hi = A[..., 2] + lo * dz, A[..., 2] + hi * dz
+        clear = np.minimum(z_lo, z_hi) - top
+        at = np.where(z_lo <= z_hi, lo, hi)
+        outside = ~ok | (clear >= 0)
+        # a pair counts from its first instant outside the part (the docstring)
+        count = ok & (np.arange(idx.size) >= np.argmax(outside, axis=-1)[..., None])
+        counted = outside.any(axis=-1) & count.any(axis=-1)
+        ks = np.argmin(np.where(count, clear, np.inf), axis=-1)
+        inside = count & (clear < 0)
+        touched, js = inside.any(axis=-1), np.argmax(inside, axis=-1)
+        t = times[idx]
+    for i, (label, _, _) in enumerate(segments):
+        for j, part in enumerate(boxes):
+            if not counted[i, j]:
                 continue
-            first = int(np.argmax(outside))
-            count = ok.copy()
-            count[:first] = False
-            if not count.any():
-                continue
-            k = int(np.argmin(np.where(count, clear, np.inf)))
-            c = float(clear[k])
-            where = label if label == "C" else f"{label} {at[k]:.2f}"
+            surface, k = part.part, ks[i, j]
+            c = float(clear[i, j, k])
+            where = label if label == "C" else f"{label} {at[i, j, k]:.2f}"
             if least is None or c < least[0]:
                 least = (c, float(t[k]), surface, where)
             if surface == "roof" and (roof is None or c < roof[0]):
                 roof = (c, float(t[k]), where)
-            inside = count & (clear < 0)
-            if inside.any():
-                j = int(np.argmax(inside))
-                if touch is None or t[j] < touch[0]:
-                    touch = (float(t[j]), surface,
-                             label if label == "C" else f"{label} {at[j]:.2f}")
+            if touched[i, j]:
+                k = js[i, j]
+                if touch is None or t[k] < touch[0]:
+                    touch = (float(t[k]), surface,
+                             label if label == "C" else f"{label} {at[i, j, k]:.2f}")
     b = least or (None,) * 4
     r = roof or (None,) * 3
     tt = touch or (None, None, None)

@@ -278,7 +278,11 @@ def _canonical(task: dict) -> str:
 
 def scene_id(task: dict) -> str:
     """The scene's identity: the first 24 hex digits of SHA-256 of the task as canonical JSON."""
-    return hashlib.sha256(_canonical(task).encode()).hexdigest()[:24]
+    return _id_of(_canonical(task))
+
+
+def _id_of(canonical: str) -> str:
+    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
 
 # ================================================================================ the store
@@ -570,7 +574,9 @@ def _settle() -> None:
     process holds for good by then (its modules, the compiled core, Dask's own state) is put
     out of the garbage collector's way (``gc.freeze``), whose full collections went through
     every one of those objects again and again while the scenes ran (about a tenth of a
-    core scene's time, measured); what the scenes make is collected as before."""
+    core scene's time, measured); what the scenes make is collected as before.  (The C
+    allocator keeps some 60 MB the scenes freed; giving it back after each batch,
+    ``malloc_trim``, cost 10 % of a scene's CPU in faulting the pages in again: not done.)"""
     if _SETTLED or not os.environ.get(SPAWNED_WORKER_ENV):
         return
     _SETTLED.append(True)
@@ -624,6 +630,7 @@ class _Bar:
 
 @contextlib.contextmanager
 def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORKER_WAIT_S):
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -660,7 +667,11 @@ def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORK
         # preload says so once Dask has started in the worker; the variable, seen by the
         # package as the spawned worker imports it (deck_emulator/__init__.py), about a
         # second earlier.  It is set only while the workers are spawned.
-        with warnings.catch_warnings(), _worker_environment():
+        # Dask's statistical profiler walks a worker's stack every 10 ms for a dashboard the
+        # embedded cluster does not have (some 4 % of a worker's CPU): off in its workers
+        # (each nanny hands them the configuration it was made under)
+        with warnings.catch_warnings(), _worker_environment(), dask.config.set(
+                {"distributed.worker.profile.enabled": False}):
             warnings.simplefilter("ignore", UserWarning)  # "port 8787 in use": another HTTP
             try:
                 cluster = LocalCluster(
@@ -918,8 +929,12 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
             f"{store.results} already holds {len(done_ids)} scene(s): resume, or use a new folder"
         )
     unique: dict[str, dict] = {}
+    texts: dict[str, str] = {}  # scene id -> the task as canonical JSON (stored with its row)
     for t in tasks:
-        unique.setdefault(scene_id(t), t)
+        text = _canonical(t)
+        sid = _id_of(text)
+        if sid not in unique:
+            unique[sid], texts[sid] = t, text
     _check_study(store.dir, _made_from(unique), store.ids() if resume else set(), unique)
     todo = [(sid, t) for sid, t in unique.items() if sid not in done_ids]
     bar = _Bar(len(unique), len(unique) - len(todo), desc, progress, eta=eta)
@@ -987,9 +1002,9 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
                 except Exception as exc:  # noqa: BLE001 - KilledWorker and the like
                     rows = [{"status": "failed", "error": f"{type(exc).__name__}: {exc}",
                              "run_s": None, "worker": None} for _ in group]
-                for (sid, t), row in zip(group, rows):
+                for (sid, _), row in zip(group, rows):
                     row["scene_id"] = sid
-                    row["task_json"] = _canonical(t)
+                    row["task_json"] = texts[sid]
                     row["stored_at"] = time.time()
                     pending.append(row)
                     bar.step(row["status"] != "ok")
