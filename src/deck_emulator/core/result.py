@@ -67,30 +67,25 @@ class Trajectory:
         """State(s) at ``t`` (scalar -> (15,), array -> (15, n)); quaternion normalised."""
         ts = np.atleast_1d(np.asarray(t, dtype=float))
         out = np.empty((15, ts.size))
-        if ts.size == 1:  # one instant (the checks, a hit's points): the same numbers, its
-            one = float(ts[0])  # segment found without a mask a segment
-            if one < self.t_start - 1e-12 or one > self.t_end + 1e-12:
+        if ts.size:
+            first, last = (ts[0], ts[0]) if ts.size == 1 else (ts.min(), ts.max())
+            if first < self.t_start - 1e-12 or last > self.t_end + 1e-12:
                 raise ValueError(f"t outside the run [{self.t_start}, {self.t_end}] s")
-            seg = next((s for s in self.segments if one <= s.t1 + 1e-15), None)
+        # each segment takes the instants up to its end not taken before it
+        if ts.size == 1:  # one instant (the checks, a hit's points): its segment, no search
+            seg = next((s for s in self.segments if ts[0] <= s.t1 + 1e-15), None)
             if seg is not None:
                 out[:, :1] = seg.solution(np.clip(ts, seg.t0, seg.t1))
-        else:
-            if ts.size and (ts.min() < self.t_start - 1e-12 or ts.max() > self.t_end + 1e-12):
-                raise ValueError(f"t outside the run [{self.t_start}, {self.t_end}] s")
-            if np.all(ts[1:] >= ts[:-1]):  # in order (a grid): a segment's instants are a slice
-                lo = 0
-                for seg, hi in zip(self.segments, np.searchsorted(
-                        ts, [seg.t1 + 1e-15 for seg in self.segments], side="right")):
-                    if hi > lo:
-                        out[:, lo:hi] = seg.solution(np.clip(ts[lo:hi], seg.t0, seg.t1))
-                        lo = hi
-            else:  # each segment takes the instants up to its end not taken before it
-                done = np.zeros(ts.size, dtype=bool)
-                for seg in self.segments:
-                    m = (~done) & (ts <= seg.t1 + 1e-15)
-                    if m.any():
-                        out[:, m] = seg.solution(np.clip(ts[m], seg.t0, seg.t1))
-                        done |= m
+        elif ts.size:  # in time order (a grid already is), a segment's instants are a slice
+            order = None if np.all(ts[1:] >= ts[:-1]) else np.argsort(ts, kind="stable")
+            ordered = ts if order is None else ts[order]
+            lo = 0
+            for seg, hi in zip(self.segments, np.searchsorted(
+                    ordered, [seg.t1 + 1e-15 for seg in self.segments], side="right")):
+                if hi > lo:
+                    at = slice(lo, hi) if order is None else order[lo:hi]
+                    out[:, at] = seg.solution(np.clip(ordered[lo:hi], seg.t0, seg.t1))
+                    lo = hi
         q = out[6:10]
         out[6:10] = q / np.linalg.norm(q, axis=0)
         return out[:, 0] if np.ndim(t) == 0 else out

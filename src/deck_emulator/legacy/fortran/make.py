@@ -180,20 +180,21 @@ class _Gen:
                 return f"{INTRINSICS[name]}({self.expr(args[0])})"
             # kept by what they compute (the source's expression): SIN and COS of one angle,
             # and the angle itself when it is an expression, are computed once
-            call, angle = (name, repr(args[0])), ("angle", repr(args[0]))
+            arg = args[0]
+            call, angle = (name, repr(arg)), ("angle", repr(arg))
             if call in self.known:
                 return self.known[call][0]
             self.kept += 1
-            k = self.kept
-            local = f"{INTRINSICS[name]}_{args[0][1] if args[0][0] == 'var' else k}"
-            if args[0][0] == "var":
-                code = self.expr(args[0])
+            k, reads, simple = self.kept, set(_variables(arg)), arg[0] == "var"
+            local = f"{INTRINSICS[name]}_{arg[1] if simple else k}"
+            if simple:
+                code = self.expr(arg)
             elif angle in self.known:
                 code = self.known[angle][0]
             else:
-                code = f"(x_{k} := {self.expr(args[0])})"
-                self.known[angle] = (f"x_{k}", set(_variables(args[0])))
-            self.known[call] = (local, set(_variables(args[0])))
+                code = f"(x_{k} := {self.expr(arg)})"
+                self.known[angle] = (f"x_{k}", reads)
+            self.known[call] = (local, reads)
             return f"({local} := {INTRINSICS[name]}({code}))"
         if name in self.u.functions:
             dummies, body = self.u.functions[name]

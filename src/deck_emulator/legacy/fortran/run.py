@@ -210,6 +210,7 @@ class Program:
         self.literals = literals or {}
         self.step_scale_k, self.errata = step_scale_k, tuple(errata)
         self._made: dict = {}
+        self._identities: dict = {}
         self._lines: dict = {}
         #: ``cache``: keep the made code in the user's cache folder (:func:`_kept`; default:
         #: a program without literals, the listing's or a job deck's own; not the listing's
@@ -282,11 +283,13 @@ class Program:
     def _identity(self, key) -> bytes:
         """What the made code of a way of running is made from: the cards, this front end's
         CRC-32, the watch, the way and Python's bytecode tag (a kept entry is checked against
-        it whole)."""
-        import sys
+        it whole; made once a way: the entry's name and its check both read it)."""
+        if key not in self._identities:
+            import sys
 
-        return repr((self.lines, _front_end_crc(), self.watch, key,
-                     sys.implementation.cache_tag)).encode()
+            self._identities[key] = repr((self.lines, _front_end_crc(), self.watch, key,
+                                          sys.implementation.cache_tag)).encode()
+        return self._identities[key]
 
     def _cache_file(self, key) -> str:
         """Where the made code of a way of running is kept: named by the CRC-32 of what it is
