@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
-"""Scenes per second on the embedded Dask cluster, with 1 and 2 workers, for both engines.
+"""Scenes per second on the embedded runner, with 1 and 2 workers, for both engines.
 
     python benchmarks/bench_distributed.py [--scenes 10000] [--emulator-scenes N] [--workers 1,2]
 
 Every scene is the steel post at 40 mph (``steel40``) with its crush spring CK changed (so no two
-scenes are the same), run through the sensitivity study's batch function (a Dask task is a
+scenes are the same), run through the sensitivity study's batch function (a worker's task is a
 batch of scenes, the core's through ``CoreEngine.run_batch``) -- the same path as
 ``deck-emulator sensitivity`` -- into a fresh store. The time is the whole of
-``run_scenes``: cluster start, scheduling, the scenes, the writing of the store.
+``run_scenes``: the workers' start, the batches, the scenes, the writing of the store.
 
 Parallel efficiency = rate with k workers / (k * rate with 1 worker).
 

@@ -194,7 +194,8 @@ def deciding_input(path: Path) -> str:
 
 def commands(env: dict, solve: float, which: str = "both") -> None:
     cli = [sys.executable, "-m", "deck_emulator"]
-    print("\nWhole commands (subprocesses, --jobs 2, cluster start and store included):")
+    print("\nWhole commands (subprocesses, --jobs 2, the workers' start and the store "
+          "included):")
     with tempfile.TemporaryDirectory() as tmp:
         for label, cmd, count in (
             ("sensitivity --deck steel40 -N 1024 (8,192 scenes)",

@@ -15,6 +15,8 @@ STUB = textwrap.dedent(
     def work(task):
         if task.get("fail"):
             raise ValueError(f"scene {task['i']} fails on purpose")
+        if task.get("kill_always"):
+            os.kill(os.getpid(), signal.SIGKILL)  # dies in this scene every time it runs it
         kill = task.get("kill_marker")
         if kill and not os.path.exists(kill):
             with open(kill, "w") as fh:
@@ -22,6 +24,10 @@ STUB = textwrap.dedent(
             os.kill(os.getpid(), signal.SIGKILL)  # this worker dies in the middle of the scene
         time.sleep(task.get("sleep", 0.0))
         return {"y": task["i"] * 0.5, "square": task["i"] ** 2}
+    def loaded(name):
+        """Whether this process has imported the module ``name``."""
+        import sys
+        return name in sys.modules
     def work_many(tasks):
         """A batch function (run_scenes(many=True)): one answer per task, an exception for
         a task that fails; a task with "spoils" makes the whole call raise."""

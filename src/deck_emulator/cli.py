@@ -261,7 +261,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
             _say(f"error: --{name}: {why}")
             return EXIT_BAD_INPUT
     if given.get("worker_wait") is not None and not given.get("scheduler"):
-        _say("error: --worker-wait: only with --scheduler (the embedded cluster's workers start "
+        _say("error: --worker-wait: only with --scheduler (the embedded runner's workers start "
              "with it)")
         return EXIT_BAD_INPUT
     if _closed(sys.stdout) and given.get("out") is None:  # (a folder --out: the files hold it)

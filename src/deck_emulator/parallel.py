@@ -2,7 +2,7 @@
 terminal) and :class:`busy` (the same for one long call that reports nothing itself).
 
 Runs of many scenes go to the one scene runner, :func:`deck_emulator.studies.distributed.run_scenes`
-(Dask); the process-pool map that was here is gone with its last user (the report comparison
+(worker processes, or a Dask cluster); the process-pool map that was here is gone with its last user (the report comparison
 runs in one process: no slower, measured).
 """
 

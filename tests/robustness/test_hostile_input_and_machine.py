@@ -527,7 +527,7 @@ def _limited(argv: list[str], cwd=None, **limits) -> subprocess.CompletedProcess
 @pytest.mark.slow
 @pytest.mark.parametrize("files, says", [
     (16, "the open-file limit (16, ulimit -n) is too low for 2 worker process(es)"),
-    (40, "give --jobs 1, or raise it (ulimit -n 1024)")])
+    (17, "give --jobs 1, or raise it (ulimit -n 1024)")])
 def test_an_open_file_limit_too_low_for_the_workers_is_said_before_they_start(tmp_path, files,
                                                                               says):
     done = _limited(["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2", "--quiet",

@@ -148,8 +148,8 @@ def test_batch_size_is_about_four_tasks_a_worker_within_bounds():
     assert batch_size(8, 2) == 1
     assert batch_size(9, 2) == 2
     assert batch_size(100, 2) == 13
-    assert batch_size(10_000, 2) == BATCH_TASK_MAX == 64
-    assert batch_size(500, 2) == 63 and batch_size(505, 2) == 64
+    assert batch_size(10_000, 2) == BATCH_TASK_MAX == 16
+    assert batch_size(120, 2) == 15 and batch_size(121, 2) == 16 and batch_size(500, 2) == 16
     assert batch_size(0, 0) == 1
 
 

@@ -35,11 +35,11 @@ class Cluster:
     """Where a many-scene command runs."""
 
     jobs: int | None = option(None, parse=positive_int, metavar="N",
-                              help="worker processes of the embedded Dask cluster (default: "
+                              help="worker processes of the embedded runner (default: "
                               f"every core, {os.cpu_count() or 1} here)")
     scheduler: str | None = option(None, metavar="ADDRESS",
                                    help="run on an existing Dask cluster (its scheduler's "
-                                   "address, tcp://host:8786) instead of an embedded one of "
+                                   "address, tcp://host:8786) instead of the embedded runner's "
                                    "--jobs workers")
     worker_wait: float | None = option(None, parse=worker_wait, metavar="SECONDS",
                                        help="with --scheduler: how long to wait for a worker, "

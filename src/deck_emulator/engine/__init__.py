@@ -17,12 +17,13 @@ _WHERE = {
     "ENGINES": "engines", "CoreEngine": "engines", "EmulatorEngine": "engines",
     "core_events": "engines", "engine_for": "engines",
     "source_name": "engines", "core_keywords": "engines", "step_literals": "engines",
-    "compile_core": "engines", "Outcome": "outcome",
+    "compile_core": "engines", "load_core": "engines", "Outcome": "outcome",
 }
 _MODULES = ("errata", "quantities", "safety", "energy", "assemblies", "leaf_spring", "attitude")
 
 __all__ = ["ENGINES", "CoreEngine", "EmulatorEngine", "Limits", "Outcome", "compile_core",
-           "core_events", "core_keywords", "engine_for", "errata", "quantities", "source_name"]
+           "core_events", "core_keywords", "engine_for", "errata", "load_core", "quantities",
+           "source_name"]
 
 
 def __getattr__(name: str):

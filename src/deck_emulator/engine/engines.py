@@ -591,12 +591,17 @@ def compile_core(wait) -> None:
     if os.path.exists(marker):
         return
     with wait():
-        CoreEngine(batched=True, trace=False).run_batch([load_source(decks.path("steel40"))
-                                                          .deck()])
+        load_core()
     try:
         open(marker, "a").close()
     except OSError:
         pass
+
+
+def load_core() -> None:
+    """The compiled core in this process: the report's steel post solved once on the
+    compiled batch (numba loads its machine code from the cache, or compiles it there)."""
+    CoreEngine(batched=True, trace=False).run_batch([load_source(decks.path("steel40")).deck()])
 
 
 def core_keywords(preset: str, shaft_contact: bool | None = None) -> dict:

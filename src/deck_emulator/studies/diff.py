@@ -198,7 +198,7 @@ def diff_decks(cases, *, jobs=None, scheduler=None, store_dir=None, resume=False
         plans.append((deck, options, tasks))
     steps = run_longest_first(diff_step, [t for _, _, tasks in plans for t in tasks], jobs=jobs,
                               desc=desc, store_dir=store_dir, quiet=quiet,
-                              scheduler=scheduler, resume=resume)
+                              scheduler=scheduler, resume=resume, core=True)
     out, at = [], 0
     for deck, options, tasks in plans:
         out.append(_diff_result(deck, options, steps[at:at + len(tasks)]))

@@ -1,15 +1,17 @@
-"""Scenes on a Dask cluster, with a store that survives interruption: :func:`run_scenes`.
+"""Scenes on worker processes, with a store that survives interruption: :func:`run_scenes`.
 
 A *task* is a dict of plain values (str, int, float, bool, None, lists and dicts of them) that
 says everything one scene needs; ``fn(task) -> dict`` runs it and returns its outcomes as a flat
-dict of plain values. :func:`run_scenes` runs every task once on a ``dask.distributed`` cluster:
+dict of plain values. :func:`run_scenes` runs every task once:
 
-* by default an embedded local cluster (``jobs`` worker *processes*, one thread each, nothing to
-  start, closed at the end);
-* or an existing cluster, given by its scheduler address (``scheduler="tcp://host:8786"``).
+* by default on the embedded runner (:mod:`deck_emulator.studies.local_pool`): ``jobs`` worker
+  processes forked from one that has loaded the compiled core, one batch at a time each,
+  nothing to start, ended at the end;
+* or on an existing ``dask.distributed`` cluster, given by its scheduler address
+  (``scheduler="tcp://host:8786"``), whose scheduling (who runs what, retries when a worker
+  dies) is Dask's.
 
-The scheduling (who runs what, retries when a worker dies) is Dask's; this module only submits,
-collects and stores.
+This module only hands out batches, collects and stores.
 
 The store
 ---------
@@ -35,8 +37,8 @@ Safety stated exactly: after ``kill -9`` of the client, at most the last ``flush
 completed scenes are lost (not stored) and will run again on resume; no scene is stored twice. The
 files are not ``fsync``-ed: a process crash loses nothing written, a power cut may.
 
-A Dask task is a *batch* of scenes (:func:`batch_size`: about four tasks per worker, at most
-:data:`BATCH_TASK_MAX` scenes each), run by ``fn`` one after another or, with ``many=True``,
+A worker is handed a *batch* of scenes (:func:`batch_size`: about four batches per worker, at
+most :data:`BATCH_TASK_MAX` scenes each), run by ``fn`` one after another or, with ``many=True``,
 by one call of ``fn`` on the whole list (how core scenes reach ``CoreEngine.run_batch``).  The
 store, the progress bar and ``--resume`` still count scenes: each scene of a batch is its own
 row.
@@ -46,9 +48,10 @@ by ``repr``), so the same task dict gives the same id in any process or run. Tas
 are run once.
 
 A scene whose ``fn`` raises is stored with ``status = "failed"`` and the error text; a scene whose
-worker died more than Dask's ``distributed.scheduler.allowed-failures`` times (the worker is
-restarted by its nanny and the task retried on another worker until then) is stored failed with
-Dask's ``KilledWorker`` message. Neither stops the other scenes. Failed scenes count as stored: a
+worker died more than :data:`~deck_emulator.vocabulary.defaults.WORKER_DEATHS_PER_BATCH` times
+(the worker is replaced and the batch run again on another until then) is stored failed saying
+so (``WorkerDied``; on a Dask cluster, after its ``allowed-failures``, Dask's ``KilledWorker``).
+Neither stops the other scenes. Failed scenes count as stored: a
 resume does not run them again (``retry_failed=True`` does).  A scene stopped by a bound of the
 machine (``fn`` raised :class:`Stopped`: a core run past its wall time) is stored with
 ``status = "stopped"`` and why; it does not count as stored, so a resume runs it again.
@@ -390,13 +393,22 @@ class SceneStore:
             return []
         return sorted(p for p in self.results.glob("*.parquet") if not p.name.startswith("."))
 
-    def rows(self) -> list[dict]:
-        """Every stored row (plain dicts), in the order the files were written."""
+    def rows(self, columns: Iterable[str] | None = None) -> list[dict]:
+        """Every stored row (plain dicts), in the order the files were written; ``columns``:
+        only these (a study that reads a few of them need not hold the rest; one a file does
+        not have, as a file of failed scenes has no outcomes, is None in its rows)."""
         _, pq = _arrow()
         out: list[dict] = []
         for f in self.files():
             with open(f, "rb") as fh:  # (pyarrow takes a path only as UTF-8)
-                out.extend(pq.read_table(fh).to_pylist())
+                if columns is None:
+                    out.extend(pq.read_table(fh).to_pylist())
+                    continue
+                stored = pq.ParquetFile(fh)
+                have = set(stored.schema_arrow.names)
+                rows = stored.read(columns=[c for c in columns if c in have]).to_pylist()
+                for row in rows:
+                    out.append({c: row.get(c) for c in columns})
         return out
 
     def table(self):
@@ -419,9 +431,12 @@ class SceneStore:
                                               t.column("status").to_pylist()) if st in keep)
         return out
 
-    def by_id(self) -> dict[str, dict]:
-        """scene id -> row (the last stored row if a scene was re-run with ``retry_failed``)."""
-        return {r["scene_id"]: r for r in self.rows()}
+    def by_id(self, columns: Iterable[str] | None = None) -> dict[str, dict]:
+        """scene id -> row (the last stored row if a scene was re-run with ``retry_failed``);
+        ``columns``: as :meth:`rows` (``scene_id`` always)."""
+        if columns is not None:
+            columns = ["scene_id", *(c for c in columns if c != "scene_id")]
+        return {r["scene_id"]: r for r in self.rows(columns)}
 
     def outcomes(self, tasks: Iterable[dict], key: str) -> list:
         """The outcome ``key`` of each task, in the tasks' order (None if absent or failed)."""
@@ -570,12 +585,12 @@ _SETTLED: list[bool] = []
 
 
 def _settle() -> None:
-    """In a worker process of an embedded cluster, once its first batch is done: what the
-    process holds for good by then (its modules, the compiled core, Dask's own state) is put
+    """In a worker process of the embedded runner, once its first batch is done: what the
+    process holds for good by then (the modules its first batch imported) is put
     out of the garbage collector's way (``gc.freeze``), whose full collections went through
     every one of those objects again and again while the scenes ran (about a tenth of a
     core scene's time, measured); what the scenes make is collected as before.  (The C
-    allocator keeps some 60 MB the scenes freed; giving it back after each batch,
+    allocator keeps what a batch freed, some 20 MB; giving it back after each batch,
     ``malloc_trim``, cost 10 % of a scene's CPU in faulting the pages in again: not done.)"""
     if _SETTLED or not os.environ.get(SPAWNED_WORKER_ENV):
         return
@@ -592,14 +607,17 @@ def _only(outs):
     return out
 
 
-#: Most scenes in one Dask task (:func:`batch_size`).
-BATCH_TASK_MAX = 64
+#: Most scenes in one batch (:func:`batch_size`): a worker holds one batch's solver records
+#: at a time, about 1.1 MB a core scene (measured: batches of 64 grew each worker's heap by
+#: some 75 MB, of 16 by some 20 MB), and the embedded runner's cost a batch is a pickle and a
+#: pipe's round trip
+BATCH_TASK_MAX = 16
 
 
 def batch_size(scenes: int, workers: int) -> int:
-    """Scenes per Dask task: about four tasks per worker, so that the scheduler's cost per
-    task (about a millisecond) is paid seldom while every worker still has work to the end,
-    and a task whose worker dies costs at most :data:`BATCH_TASK_MAX` scenes run again:
+    """Scenes per batch: about four batches per worker, so that the cost per batch (a Dask
+    scheduler's: about a millisecond) is paid seldom while every worker still has work to the
+    end, and a batch whose worker dies costs at most :data:`BATCH_TASK_MAX` scenes run again:
     ``ceil(scenes / (4 workers))`` clipped to 1 .. :data:`BATCH_TASK_MAX`."""
     return max(1, min(BATCH_TASK_MAX, math.ceil(scenes / (4 * max(1, workers)))))
 
@@ -629,86 +647,66 @@ class _Bar:
 
 
 @contextlib.contextmanager
-def _client(jobs: int | None, scheduler: str | None, worker_wait_s: float = WORKER_WAIT_S):
-    import dask
-    from distributed import Client, LocalCluster
+def _client(scheduler: str, worker_wait_s: float = WORKER_WAIT_S):
+    """A Dask client of the cluster at ``scheduler`` (its own: left running), once it has a
+    worker."""
+    from distributed import Client
 
-    if scheduler:
-        _reach(scheduler)
+    _reach(scheduler)
+    try:
+        client = Client(scheduler, timeout=defaults.SCHEDULER_CONNECT_S)
+    except (ValueError, OSError, TimeoutError) as exc:
+        why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ClusterError(f"--scheduler {scheduler}: cannot reach the scheduler: "
+                           f"{why}") from None
+    try:
         try:
-            client = Client(scheduler, timeout=defaults.SCHEDULER_CONNECT_S)
-        except (ValueError, OSError, TimeoutError) as exc:
-            why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise ClusterError(f"--scheduler {scheduler}: cannot reach the scheduler: "
-                               f"{why}") from None
-        try:
-            try:
-                client.wait_for_workers(1, timeout=worker_wait_s)
-            except (TimeoutError, OSError):
-                raise RunFailed(f"the scheduler at {scheduler} has no worker: none joined in "
-                                f"{worker_wait_s:g} s") from None
-            yield client
-        finally:
-            with contextlib.suppress(Exception):
-                client.close()
-        return
-    n = max(1, int(jobs or os.cpu_count() or 1))
+            client.wait_for_workers(1, timeout=worker_wait_s)
+        except (TimeoutError, OSError):
+            raise RunFailed(f"the scheduler at {scheduler} has no worker: none joined in "
+                            f"{worker_wait_s:g} s") from None
+        yield client
+    finally:
+        with contextlib.suppress(Exception):
+            client.close()
+
+
+@contextlib.contextmanager
+def _pool(n: int, core: bool):
+    """The embedded runner's ``n`` workers (:class:`~.local_pool.WorkerPool`), started in a
+    folder that exists, within the open-file limit; ended on the way out, however it goes."""
+    from deck_emulator.studies.local_pool import WorkerPool
+
     _files_for(n)
     try:  # the workers start in this process's folder: a deleted one failed every start
         os.getcwd()
     except FileNotFoundError:
         os.chdir(tempfile.gettempdir())  # a relative path named nothing already
-        # '' on the import path meant the deleted folder: a spawned worker would get it as
-        # None (multiprocessing's ORIGINAL_DIR) and fail importing Dask; it names nothing now
+        # '' on the import path meant the deleted folder: a worker would get it as None
         sys.path[:] = [entry for entry in sys.path if entry != ""]
-    cluster = client = None
+    pool = WorkerPool(n, core=core)
     try:
-        # workers ignore a terminal's Ctrl-C: the command handles it and closes them.  The
-        # preload says so once Dask has started in the worker; the variable, seen by the
-        # package as the spawned worker imports it (deck_emulator/__init__.py), about a
-        # second earlier.  It is set only while the workers are spawned.
-        # Dask's statistical profiler walks a worker's stack every 10 ms for a dashboard the
-        # embedded cluster does not have (some 4 % of a worker's CPU): off in its workers
-        # (each nanny hands them the configuration it was made under)
-        with warnings.catch_warnings(), _worker_environment(), dask.config.set(
-                {"distributed.worker.profile.enabled": False}):
-            warnings.simplefilter("ignore", UserWarning)  # "port 8787 in use": another HTTP
-            try:
-                cluster = LocalCluster(
-                    n_workers=n,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                    silence_logs=logging.CRITICAL,  # a closing cluster logs heartbeat errors
-                    preload=["deck_emulator.studies.worker_preload"],
-                )
-            except Exception as exc:  # noqa: BLE001 - "Nanny failed to start" and the like
-                raise LimitError(_no_workers(n, exc)) from None
-        client = Client(cluster)
-        yield client
+        pool.__enter__()
+    except Exception as exc:  # noqa: BLE001 - no process could start: the machine's limits
+        raise LimitError(_no_workers(n, exc)) from None
+    try:
+        yield pool
     finally:
-        if client is not None:
-            with contextlib.suppress(Exception):
-                client.close()
-        if cluster is not None:
-            with contextlib.suppress(Exception):
-                cluster.close()
-        else:  # a start cut short by a signal
-            _close_half_started_clusters()
+        pool.close()
 
 
 def _files_for(n: int) -> None:
     """:class:`ClusterError` when the open-file limit cannot hold ``n`` workers (they failed
-    to start one by one, each with a traceback: the rows ``CLUSTER_FILES``, ``WORKER_FILES``
+    to start one by one, each with a traceback: the rows ``POOL_FILES``, ``POOL_WORKER_FILES``
     of :mod:`deck_emulator.vocabulary.defaults`)."""
     soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
     try:
         now = len(os.listdir("/proc/self/fd"))
     except OSError:  # no /proc: the limit is checked as the workers start
         return
-    need = now + defaults.CLUSTER_FILES + defaults.WORKER_FILES * n
+    need = now + defaults.POOL_FILES + defaults.POOL_WORKER_FILES * n
     if soft != resource.RLIM_INFINITY and soft < need:
-        fit = (soft - now - defaults.CLUSTER_FILES) // defaults.WORKER_FILES
+        fit = (soft - now - defaults.POOL_FILES) // defaults.POOL_WORKER_FILES
         raise LimitError(f"the open-file limit ({soft}, ulimit -n) is too low for {n} "
                            f"worker process(es), which need about {need}: "
                            + (f"give --jobs {fit}, or " if fit >= 1 else "")
@@ -789,49 +787,6 @@ def _reach(address: str) -> None:
                            "there, not a Dask scheduler")
 
 
-#: in the environment of the worker processes an embedded cluster spawns (and only there):
-#: they ignore SIGINT from their first import of the package (deck_emulator/__init__.py)
-WORKER_ENV = SPAWNED_WORKER_ENV
-
-
-@contextlib.contextmanager
-def _worker_environment():
-    """:data:`WORKER_ENV` set for the block (the processes spawned in it inherit it), then
-    taken away again, so that no other child of the command sees it."""
-    before = os.environ.get(WORKER_ENV)
-    os.environ[WORKER_ENV] = "1"
-    try:
-        yield
-    finally:
-        if before is None:
-            os.environ.pop(WORKER_ENV, None)
-        else:
-            os.environ[WORKER_ENV] = before
-
-
-def _close_half_started_clusters() -> None:
-    """Close the clusters a start cut short by a signal left behind, and take them out of the
-    list Dask closes at the interpreter's exit.  Dask keeps every cluster it made in
-    ``SpecCluster._instances`` (a private name: Dask offers no public way) and closes them in
-    an exit hook, which fails on a cluster whose workers never left their ``init`` state
-    (``AssertionError: Status.init``) and prints a traceback after the command has said
-    'interrupted'.  The workers of such a cluster are stopped here, as far as they started."""
-    try:
-        from distributed.deploy.spec import SpecCluster
-    except ImportError:  # pragma: no cover - Dask moved it: its exit hook does the work
-        return
-    # the start's abandoned tasks ("Nanny failed to start" for a worker the signal ended as
-    # it started) are reported by asyncio as they are collected, after the command has said
-    # 'interrupted': the command is ending on a signal, and those reports are only noise
-    logging.getLogger("asyncio").setLevel(logging.CRITICAL)
-    instances = getattr(SpecCluster, "_instances", None)
-    for cluster in list(instances or ()):
-        with contextlib.suppress(BaseException):
-            cluster.close(timeout=10)
-        with contextlib.suppress(BaseException):
-            instances.discard(cluster)
-
-
 def run_scenes(
     tasks: list[dict],
     fn: Callable[[dict], dict],
@@ -849,15 +804,17 @@ def run_scenes(
     worker_wait_s: float = WORKER_WAIT_S,
     eta: bool = True,
     many: bool = False,
+    core: bool = False,
 ) -> SceneStore:
-    """Run every task not yet in the store with ``fn`` on Dask and store each result.
+    """Run every task not yet in the store with ``fn`` on worker processes and store each
+    result.
 
     ``fn`` must be importable by the workers (a module-level function); it gets the task dict
-    and returns a flat dict of plain values. ``jobs``: workers of the embedded cluster (default:
-    all cores); ignored when ``scheduler`` (an address) is given. ``resume``: run only the tasks
+    and returns a flat dict of plain values. ``jobs``: workers of the embedded runner (default:
+    all cores); ignored when ``scheduler`` (a Dask scheduler's address) is given. ``resume``: run only the tasks
     whose :func:`scene_id` is not stored yet; without it, a store that already holds results is
-    refused (:class:`StoreError`) rather than mixed with. ``chunk``: scenes per Dask task
-    (default: :func:`batch_size` of the scenes to run and the cluster's workers; a task whose
+    refused (:class:`StoreError`) rather than mixed with. ``chunk``: scenes per batch
+    (default: :func:`batch_size` of the scenes to run and the workers; a batch whose
     worker dies is run again whole); each scene is still stored, counted and resumed on its
     own. ``many``: ``fn`` takes a task's whole batch, a list of task dicts, and returns one
     dict (or exception) per task, in order (:func:`_call_many`): how a batch of core scenes
@@ -865,7 +822,8 @@ def run_scenes(
     ``max_scenes``, ``worker_wait_s``: the bounds of the module docstring.  The store folder is
     locked for the call (:class:`StoreBusy` when another process holds it). ``eta``: show
     the time left on the progress bar (not for tasks of unequal cost run costliest first).
-    Returns the :class:`SceneStore`.
+    ``core``: the tasks run the compiled core, which the embedded runner's workers then share
+    (:mod:`~deck_emulator.studies.local_pool`).  Returns the :class:`SceneStore`.
     """
     if isinstance(scheduler, Scheduler):
         scheduler, worker_wait_s = scheduler.address, scheduler.worker_wait_s
@@ -877,7 +835,7 @@ def run_scenes(
             return _run_locked(tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler,
                                resume=resume, desc=desc, progress=progress,
                                retry_failed=retry_failed, flush_s=flush_s, chunk=chunk,
-                               worker_wait_s=worker_wait_s, eta=eta, many=many)
+                               worker_wait_s=worker_wait_s, eta=eta, many=many, core=core)
     except BaseException:
         _remove_if_unused(made)  # a run that stored nothing leaves no folder behind
         raise
@@ -919,7 +877,9 @@ def _workers(client) -> int:
 
 
 def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress, retry_failed,
-                flush_s, chunk, worker_wait_s, eta=True, many=False) -> SceneStore:
+                flush_s, chunk, worker_wait_s, eta=True, many=False, core=False) -> SceneStore:
+    from deck_emulator.studies.local_pool import BatchError, WorkerDied
+
     store = SceneStore(store_dir)
     store.dir.mkdir(parents=True, exist_ok=True)
     store.clean_temporaries()
@@ -956,11 +916,8 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
         last = time.monotonic()
 
     def completed(client, ac):
-        """The futures as they complete; on an external cluster, a run whose every worker
-        has been gone for ``worker_wait_s`` ends (RunFailed) instead of waiting for ever."""
-        if not scheduler:
-            yield from ac
-            return
+        """The futures as they complete; a run whose every worker has been gone for
+        ``worker_wait_s`` ends (RunFailed) instead of waiting for ever."""
         alone_since = None
         checked = time.monotonic()
         while not ac.is_empty():
@@ -983,8 +940,33 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
                                 "task(s) left: the scenes completed are stored; --resume "
                                 "runs the rest")
 
+    def keep(group, rows):
+        for (sid, _), row in zip(group, rows):
+            row["scene_id"] = sid
+            row["task_json"] = texts[sid]
+            row["stored_at"] = time.time()
+            pending.append(row)
+            bar.step(row["status"] != "ok")
+        if len(pending) >= BATCH_MAX or time.monotonic() - last >= flush_s:
+            flush()
+
+    def failed(group, exc):
+        return [{"status": "failed", "error": str(exc) if isinstance(exc, (WorkerDied,
+                 BatchError)) else f"{type(exc).__name__}: {exc}", "run_s": None,
+                 "worker": None} for _ in group]
+
     try:
-        with _client(jobs, scheduler, worker_wait_s) as client:
+        if not scheduler:  # the embedded runner: worker processes forked from a loaded core
+            n = max(1, int(jobs or os.cpu_count() or 1))
+            size = batch_size(len(todo), n) if chunk is None else max(1, int(chunk))
+            groups = [todo[k : k + size] for k in range(0, len(todo), size)]
+            with _pool(n, core) as pool:
+                for k, answer in pool.run((k, (_call_many, (fn, [t for _, t in g], many)))
+                                          for k, g in enumerate(groups)):
+                    keep(groups[k], failed(groups[k], answer)
+                         if isinstance(answer, Exception) else answer)
+            return store
+        with _client(scheduler, worker_wait_s) as client:
             from distributed import as_completed
 
             futures = {}
@@ -1000,17 +982,9 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
                 try:
                     rows = fut.result()
                 except Exception as exc:  # noqa: BLE001 - KilledWorker and the like
-                    rows = [{"status": "failed", "error": f"{type(exc).__name__}: {exc}",
-                             "run_s": None, "worker": None} for _ in group]
-                for (sid, _), row in zip(group, rows):
-                    row["scene_id"] = sid
-                    row["task_json"] = texts[sid]
-                    row["stored_at"] = time.time()
-                    pending.append(row)
-                    bar.step(row["status"] != "ok")
+                    rows = failed(group, exc)
+                keep(group, rows)
                 fut.release()
-                if len(pending) >= BATCH_MAX or time.monotonic() - last >= flush_s:
-                    flush()
     finally:
         flush()  # Ctrl-C or any error: what has completed is stored
         bar.close()
@@ -1020,17 +994,18 @@ def _run_locked(tasks, fn, *, store_dir, jobs, scheduler, resume, desc, progress
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
                       quiet: bool = False, scheduler: str | Scheduler | None = None,
                       resume: bool = False, worker_wait_s: float = WORKER_WAIT_S,
-                      many: bool = False) -> list[dict]:
+                      many: bool = False, core: bool = False) -> list[dict]:
     """``[fn(t) for t in tasks]`` on the one scene runner
-    (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded Dask cluster of ``jobs``
-    workers, or the one at ``scheduler``), the costliest tasks (their ``cost``) submitted first
+    (:func:`deck_emulator.studies.distributed.run_scenes`: the embedded runner's ``jobs``
+    workers, or the Dask cluster at ``scheduler``), the costliest tasks (their ``cost``) submitted first
     so that no long run is left for last, every row stored in ``store_dir`` as it finishes
     (``resume``: only the tasks not stored yet run; ``None``: a temporary folder, gone at the
     end; ``worker_wait_s``: as :func:`run_scenes`); rows in the tasks' order. A row travels
     as JSON (its arrays as lists). A task that could not run (its ``fn`` raised, its worker
     died) is an error naming it: a study cannot make its tables without it.  ``many``: ``fn``
     takes a list of tasks and returns one row (or exception) per task, as :func:`run_scenes`'s
-    ``many`` (the studies' core scenes reach ``CoreEngine.run_batch`` so)."""
+    ``many`` (the studies' core scenes reach ``CoreEngine.run_batch`` so); ``core``: as
+    :func:`run_scenes`'s."""
 
     order = sorted(tasks, key=lambda t: -t["cost"])
     with temporary_store("scenes-") as tmp:
@@ -1038,7 +1013,7 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
                            store_dir=tmp if store_dir is None else store_dir, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=desc,
                            progress=False if quiet else None, worker_wait_s=worker_wait_s,
-                           eta=False, many=many)
+                           eta=False, many=many, core=core)
         stored = store.by_id()
     rows = []
     for t in tasks:

@@ -268,7 +268,7 @@ def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None
     jobs = jobs or cpu_count()
     rows = run_longest_first(_task, _tasks(deck_path, p), jobs=jobs, desc="study error",
                              quiet=quiet, store_dir=output_store(out, resume),
-                             scheduler=scheduler, resume=resume)
+                             scheduler=scheduler, resume=resume, core=True)
     summary = _summarise(rows, p)
     with OutputSet(directory=out) as files:  # the three files appear together or not at all
         files.write("error_study.csv", csv_text(rows, COLUMNS))

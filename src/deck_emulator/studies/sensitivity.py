@@ -41,8 +41,8 @@ emulator the friction inputs are dropped (and said so).
 Every input value is rounded to six significant digits before it is used, so that a sampled
 value can be punched in an ``F10.5`` field and read back exactly.
 
-All engine calls go through :func:`_run_scenes`, the one adapter to the engine layer; a Dask
-task is a batch of scenes (:func:`scene_tasks`), the core's run together by
+All engine calls go through :func:`_run_scenes`, the one adapter to the engine layer; a
+worker's task is a batch of scenes (:func:`scene_tasks`), the core's run together by
 ``CoreEngine.run_batch``.
 """
 
@@ -429,6 +429,7 @@ def run_study(
     store = run_scenes(
         tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler, resume=resume,
         desc=desc, progress=progress, chunk=chunk, many=many,
+        core=base_task.get("engine") == "core",
     )
     wall = time.perf_counter() - started
     by_id = store.by_id()  # read once; each task's id hashed once

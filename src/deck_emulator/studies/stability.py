@@ -285,7 +285,7 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
             tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
     done = run_longest_first(_task, tasks, jobs=jobs, desc="study stability", quiet=quiet,
                              store_dir=output_store(out, resume), scheduler=scheduler,
-                             resume=resume)
+                             resume=resume, core=True)
     results = {(t["index"], t["engine"]): r for t, r in zip(tasks, done)}
     rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
             for i, s in enumerate(grid)]

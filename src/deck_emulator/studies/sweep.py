@@ -349,10 +349,23 @@ def _run_one(engine, engine_name: str, deck: Deck, name: str) -> Outcome:
 
 
 def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
-    """Worker (Dask): a batch of scenes -> one row each, as JSON in one column (the store's own
+    """Worker: a batch of scenes -> one row each, as JSON in one column (the store's own
     columns, such as ``error`` and ``run_s``, never mix with the row's)."""
     return [row if isinstance(row, Exception) else {"row_json": json.dumps(row)}
             for row in _scene_rows(jobs)]
+
+
+def _decoded(stored: list[dict], part: int = 512):
+    """The rows of the stored scenes that ended (``row_json``; None for the others), decoded
+    a JSON list of ``part`` of them at a time, each text let go once decoded: the rows of a
+    list share their keys' strings (a row decoded alone held its own 86, some 40 MB of a
+    10^4-scene sweep), and no more than ``part`` texts are joined at once."""
+    for k in range(0, len(stored), part):
+        chunk = stored[k:k + part]
+        texts = [g.pop("row_json") for g in chunk if g.get("status") == "ok"]
+        ended = iter(json.loads("[" + ",".join(texts) + "]"))
+        del texts
+        yield from (next(ended) if g.get("status") == "ok" else None for g in chunk)
 
 
 def sweep(
@@ -374,10 +387,10 @@ def sweep(
     sorted by speed, then angle. ``base``: another base deck than ``post``'s; ``post`` then
     names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``).
 
-    The scenes run on Dask (:func:`deck_emulator.studies.distributed.run_scenes`: an embedded
-    cluster of ``jobs`` workers, or the one at ``scheduler``), a batch of scenes a task (the
-    core's through ``CoreEngine.run_batch``), and are stored as they finish in
-    ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
+    The scenes run on worker processes (:func:`deck_emulator.studies.distributed.run_scenes`:
+    the embedded runner's ``jobs`` workers, or the Dask cluster at ``scheduler``), a batch of
+    scenes a task (the core's through ``CoreEngine.run_batch``), and are stored as they
+    finish in ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
 
     base = str(base if base is not None else POSTS[post])
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
@@ -386,19 +399,21 @@ def sweep(
     with temporary_store("sweep-") as tmp:
         store = run_scenes(todo, _stored_scene_jobs, store_dir=store_dir or tmp, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
-                           progress=False if quiet else None, many=True)
-        stored = store.by_id()
+                           progress=False if quiet else None, many=True,
+                           core=engine == "core")
+        stored = store.by_id(("status", "error", "row_json"))
+    got = [stored.get(scene_id(job), {}) for job in todo]
+    del stored
     rows = []
-    for job in todo:
-        got = stored.get(scene_id(job), {})
-        if got.get("status") == "ok":
-            rows.append(json.loads(got["row_json"]))
-        else:  # the worker died with it (Dask's KilledWorker): a row that says so
+    for job, g, row in zip(todo, got, _decoded(got)):
+        if row is not None:
+            rows.append(row)
+        else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
             deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"],
                               job["vvb_decimals"])
             name = scene_name(job["speed"], job["angle"], job["post"])
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
-                          error=got.get("error") or "not run")
+                          error=g.get("error") or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))
     rows.sort(key=lambda r: (r["speed_mph"], r["angle_deg"]))
     return rows

@@ -126,11 +126,16 @@ SCHEDULER_CONNECT_S = 10.0
 WORKER_WAIT_S = 60.0
 #: the waits --worker-wait may be given, s (both included)
 WORKER_WAIT_RANGE_S = (1.0, 86400.0)
-#: files a command's embedded Dask cluster holds open beside those open before it starts, and
-#: more for each worker process (measured with Dask 2026.8: 24 + 9 a worker at rest); a
-#: command checks them against the open-file limit (ulimit -n) before it starts the workers
-CLUSTER_FILES = 16
-WORKER_FILES = 10
+#: files the embedded runner needs open in its command beside those open before it starts
+#: its workers, and more for each worker process (its pipe, its sentinel, the forkserver's
+#: handing over): measured, the lowest open-file limit (ulimit -n) under which a sweep ran
+#: with 8 files open before, 16 for 1 job, 18 for 2, 24 for 4; a command checks them
+#: against the limit before it starts the workers
+POOL_FILES = 6
+POOL_WORKER_FILES = 3
+#: times a batch of scenes is run again on a new worker after the one running it died (killed,
+#: out of memory) before its scenes are stored failed (as Dask's allowed-failures, 3)
+WORKER_DEATHS_PER_BATCH = 3
 
 #: the stability study's core (and the studies' one-scene core runs, studies.common.run_core):
 #: its grid holds scenes up to 1e10 lb/ft springs and 120 mph, where 1e-9 keeps the stiff rows
