@@ -19,10 +19,11 @@ Prints:
 * with ``--commands``, the whole commands as subprocesses, ``--jobs 2``:
   ``sensitivity --deck steel40 -N 1024`` (8,192 scenes) with the input that decides its
   contact ΔV (largest ST), and ``sweep`` of 10,000 core scenes: wall time, CPU time (the
-  command and its workers), CPU per scene against the solve's, and the peak memory of the
+  command and every process below it: its workers and the process they are forked from,
+  sampled every 0.1 s), CPU per scene against the solve's, and the peak memory of the
   process tree: the sum of its processes' resident sizes (RSS: a shared library's pages
   counted once in each process), sampled every 0.1 s, and of their proportional sizes (PSS:
-  each shared page split among the processes that map it), every second (reading it costs
+  each shared page split among the processes that map it), every 0.2 s (reading it costs
   the machine the command runs on: ``PSS_EVERY``).
 
 Every figure is printed with the load average beside it: the times depend on the machine.
@@ -45,8 +46,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 SWEEP_GRID = ["--speeds", "10:59.5:0.5", "--angles", "0:49.5:0.5"]  # 100 x 100 core scenes
 #: the tree's PSS is read every this many samples of its RSS (0.1 s apart): reading it every
-#: sample took some 15 % of a core (4 ms a worker process), from the command it measured
-PSS_EVERY = 10
+#: sample took some 15 % of a core (4 ms a worker process), from the command it measured; every
+#: second missed the sweep's peak, its last second (the command reading the store back)
+PSS_EVERY = 2
 
 
 def load() -> str:
@@ -155,11 +157,11 @@ def _tree(proc, cpu: dict, pss: bool) -> tuple[int, int | None]:
 
 
 def timed(cmd: list[str], env: dict) -> dict:
-    """Wall, CPU (the command and every process it waited for) and peak tree memory."""
+    """Wall, CPU (the command and every process below it, sampled: the workers are the
+    children of the command's forkserver, which it never waits for, so the kernel's count of
+    its waited-for children leaves them out) and peak tree memory."""
     import psutil
-    import resource
 
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     la0 = load()
     w0 = time.perf_counter()
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -172,9 +174,7 @@ def timed(cmd: list[str], env: dict) -> dict:
         time.sleep(0.1)
     wall = time.perf_counter() - w0
     out, err = proc.communicate()
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    total = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return {"wall": wall, "cpu": total, "peak_mb": peak / 2**20, "pss_mb": peak_pss / 2**20,
+    return {"wall": wall, "cpu": sum(c for _, c in cpu.values()), "peak_mb": peak / 2**20, "pss_mb": peak_pss / 2**20,
             "status": proc.returncode,
             "client": sum(c for own, c in cpu.values() if own),
             "workers": sum(c for own, c in cpu.values() if not own),
@@ -192,10 +192,13 @@ def deciding_input(path: Path) -> str:
     return f"{best['input']} (ST {float(best['ST']):.2f} ± {float(best['ST_conf']):.2f})"
 
 
-def commands(env: dict, solve: float, which: str = "both") -> None:
+def commands(env: dict, which: str = "both") -> list:
+    """Run the whole commands; what :func:`report` prints.  Run before anything in this
+    process loads numpy or the core: a page this process maps too is counted partly here,
+    not in the commands' PSS (the tree's came out some 60 MB lower after the in-process
+    part)."""
     cli = [sys.executable, "-m", "deck_emulator"]
-    print("\nWhole commands (subprocesses, --jobs 2, the workers' start and the store "
-          "included):")
+    out = []
     with tempfile.TemporaryDirectory() as tmp:
         for label, cmd, count in (
             ("sensitivity --deck steel40 -N 1024 (8,192 scenes)",
@@ -208,17 +211,27 @@ def commands(env: dict, solve: float, which: str = "both") -> None:
             if which != "both" and not label.startswith(which):
                 continue
             got = timed(cmd, env)
-            print(f"* {label}: {got['wall']:.1f} s wall, {got['cpu']:.1f} s CPU "
-                  f"({1e3 * got['cpu'] / count:.2f} ms a scene, "
-                  f"{got['cpu'] / count / solve:.2f}x the solve alone), "
-                  f"peak {got['peak_mb']:.0f} MB RSS, {got['pss_mb']:.0f} MB PSS (the process "
-                  f"tree), exit {got['status']} "
-                  f"{' '.join(got['err'])}; {got['load']}")
-            print(f"  CPU by process (sampled every 0.1 s, up to its last sample): the command "
-                  f"{got['client']:.1f} s, its workers {got['workers']:.1f} s")
             if "sensitivity" in label and got["status"] == 0:
-                print("  contact ΔV decided by "
-                      + deciding_input(Path(tmp) / "sensitivity" / "sensitivity.csv"))
+                got["decided"] = deciding_input(Path(tmp) / "sensitivity" / "sensitivity.csv")
+            out.append((label, count, got))
+    return out
+
+
+def report(done: list, solve: float) -> None:
+    print("\nWhole commands (subprocesses, --jobs 2, the workers' start and the store "
+          "included; run before the in-process part):")
+    for label, count, got in done:
+        print(f"* {label}: {got['wall']:.1f} s wall, {got['cpu']:.1f} s CPU "
+              f"({1e3 * got['cpu'] / count:.2f} ms a scene, "
+              f"{got['cpu'] / count / solve:.2f}x the solve alone), "
+              f"peak {got['peak_mb']:.0f} MB RSS, {got['pss_mb']:.0f} MB PSS (the process "
+              f"tree), exit {got['status']} "
+              f"{' '.join(got['err'])}; {got['load']}")
+        print(f"  CPU by process (sampled every 0.1 s, each process up to its last sample, "
+              f"as the total above): the command {got['client']:.1f} s, its workers (and "
+              f"their server) {got['workers']:.1f} s")
+        if "decided" in got:
+            print("  contact ΔV decided by " + got["decided"])
 
 
 def main() -> None:
@@ -238,9 +251,10 @@ def main() -> None:
     import deck_emulator
 
     print(f"deck_emulator from {Path(deck_emulator.__file__).parent}")
+    done = commands(env, a.commands) if a.commands else []
     solve = in_process(a.scenes, a.repeat)
-    if a.commands:
-        commands(env, solve, a.commands)
+    if done:
+        report(done, solve)
 
 
 if __name__ == "__main__":

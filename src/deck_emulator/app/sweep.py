@@ -75,9 +75,12 @@ def sweep(o: SweepOptions) -> Answer:
     label = o.post if not o.base_deck else Path(o.base_deck).stem
     label = f"{label}_deck" if o.base_deck and label in POSTS else label
     base_deck = read_deck(base)  # bad deck -> DeckError, before any work
-    for s in speeds:  # every VVB/ALPHA must punch: fail before running anything
-        for a in angles:
-            scene_deck(base_deck, s, a, o.vvb_decimals)
+    # every VVB and ALPHA must punch: fail before running anything.  A speed gives VVB and an
+    # angle ALPHA, each punched in its own field: each speed and each angle once is every one
+    for s in speeds:
+        scene_deck(base_deck, s, angles[0], o.vvb_decimals)
+    for a in angles:
+        scene_deck(base_deck, speeds[0], a, o.vvb_decimals)
     check_output_dir(o.out)
     options = (dict(errata=tuple(o.erratum)) if o.engine == "emulator" else o.core_keywords())
     store = output_store(o.out, o.resume)  # a new sweep: the scenes of the last one go

@@ -448,12 +448,11 @@ def _clip(ax, ay, dx, dy, x0, x1, y0, y1):
     hi = np.ones(shape)
     ok = np.ones(shape, dtype=bool)
     for p, q in ((-dx, ax - x0), (dx, x1 - ax), (-dy, ay - y0), (dy, y1 - ay)):
-        zero = p == 0
-        ok &= ~(zero & (q < 0))
+        ok &= ~((p == 0) & (q < 0))
         with np.errstate(divide="ignore", invalid="ignore"):
-            r = np.where(zero, 0.0, q / np.where(zero, 1.0, p))
-        lo = np.where(~zero & (p < 0), np.maximum(lo, r), lo)
-        hi = np.where(~zero & (p > 0), np.minimum(hi, r), hi)
+            r = q / p  # read only where p is not 0
+        lo = np.where(p < 0, np.maximum(lo, r), lo)
+        hi = np.where(p > 0, np.minimum(hi, r), hi)
     return lo, hi, ok & (lo <= hi)
 
 

@@ -16,6 +16,11 @@ import numbers
 
 def csv_value(v):
     """One cell as the CSV holds it."""
+    kind = type(v)  # the plain kinds first: the abstract classes' checks cost 0.1 ms a row
+    if kind is float:
+        return "" if math.isnan(v) else repr(float(f"{v:.12g}"))
+    if kind is str:
+        return v
     if v is None:
         return ""
     if isinstance(v, bool) or type(v).__name__ == "bool_":
