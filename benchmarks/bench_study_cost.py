@@ -15,7 +15,8 @@ Prints:
   load weighs on both alike), and the parts outside the solve (the
   scenes prepared; the store's write of the rows, ``SceneStore.write_batch``, which the
   runner does in the client); medians of ``--repeat`` runs after a warm-up, the solve and
-  the study timed in turn (the ratio: the median of the pairs' ratios);
+  the study timed in turn (the ratio: the median of the pairs' ratios); the solve again in
+  two processes at once (forked: a many-scene command's two workers share the machine so);
 * with ``--commands``, the whole commands as subprocesses, ``--jobs 2``:
   ``sensitivity --deck steel40 -N 1024`` (8,192 scenes) with the input that decides its
   contact ΔV (largest ST), and ``sweep`` of 10,000 core scenes: wall time, CPU time (the
@@ -62,8 +63,36 @@ def _cpu(run) -> float:
     return time.process_time() - t0
 
 
-def in_process(n: int, repeat: int) -> float:
-    """The in-process figures; returns the solve's CPU seconds per scene."""
+def side_by_side(run, procs: int, repeat: int) -> float:
+    """The CPU seconds of one ``run()`` in each of ``procs`` processes running it at once
+    (forked from this one, the compiled core already loaded): the median over ``repeat``
+    rounds of the processes' mean.  What a scene costs where ``procs`` workers share the
+    machine, as a many-scene command's do (caches and memory bandwidth shared)."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("fork")
+    rounds = []
+    for _ in range(repeat):
+        start = ctx.Barrier(procs)
+        pipes = [ctx.Pipe(duplex=False) for _ in range(procs)]
+
+        def child(send, start=start):
+            start.wait()
+            send.send(_cpu(run))
+
+        kids = [ctx.Process(target=child, args=(w,)) for _, w in pipes]
+        for k in kids:
+            k.start()
+        got = [r.recv() for r, _ in pipes]
+        for k in kids:
+            k.join()
+        rounds.append(statistics.mean(got))
+    return statistics.median(rounds)
+
+
+def in_process(n: int, repeat: int) -> tuple[float, float]:
+    """The in-process figures; returns the solve's CPU seconds per scene, alone and with two
+    processes solving side by side."""
     from deck_emulator.core import simulate_batch
     from deck_emulator.studies import sensitivity as sa
     from deck_emulator.studies.distributed import SceneStore
@@ -104,6 +133,7 @@ def in_process(n: int, repeat: int) -> float:
     finally:
         core.simulate_batch = simulate_batch
     solve = statistics.median(p[0] for p in pairs)
+    solve2 = side_by_side(lambda: simulate_batch(scenes, options, **kw), 2, repeat) / n
     study = statistics.median(p[1] for p in pairs)
     ratio = statistics.median(p[1] / p[0] for p in pairs)
     own = statistics.median(p[1] / p[2] for p in pairs)
@@ -120,6 +150,8 @@ def in_process(n: int, repeat: int) -> float:
         write_cpu, write_wall = time.process_time() - t0, time.perf_counter() - w0
     print(f"In process, {n} scenes of the sensitivity sample (steel40, legacy; {load()}):")
     print(f"  solve alone (simulate_batch)      {1e3 * solve:7.2f} ms CPU a scene")
+    print(f"    the same, two processes at once {1e3 * solve2:7.2f} ms CPU a scene (as a "
+          f"command's two workers run; {solve2 / solve:.2f}x)")
     print(f"  study (scene_tasks)               {1e3 * study:7.2f} ms CPU a scene")
     print(f"  ratio study / solve               {ratio:7.2f} (median of {repeat} pairs "
           f"timed in turn; {min(p[1] / p[0] for p in pairs):.2f}-"
@@ -129,7 +161,7 @@ def in_process(n: int, repeat: int) -> float:
     print(f"    of which preparing decks/scenes {1e3 * prepare:7.2f} ms CPU a scene")
     print(f"  store: write_batch, 64 rows a file {1e3 * write_cpu / n:6.2f} ms CPU, "
           f"{1e3 * write_wall / n:.2f} ms wall a scene (in the client)")
-    return solve
+    return solve, solve2
 
 
 def _tree(proc, cpu: dict, pss: bool) -> tuple[int, int | None]:
@@ -217,13 +249,14 @@ def commands(env: dict, which: str = "both") -> list:
     return out
 
 
-def report(done: list, solve: float) -> None:
+def report(done: list, solve: float, solve2: float) -> None:
     print("\nWhole commands (subprocesses, --jobs 2, the workers' start and the store "
           "included; run before the in-process part):")
     for label, count, got in done:
         print(f"* {label}: {got['wall']:.1f} s wall, {got['cpu']:.1f} s CPU "
               f"({1e3 * got['cpu'] / count:.2f} ms a scene, "
-              f"{got['cpu'] / count / solve:.2f}x the solve alone), "
+              f"{got['cpu'] / count / solve:.2f}x the solve alone, "
+              f"{got['cpu'] / count / solve2:.2f}x it in two processes at once), "
               f"peak {got['peak_mb']:.0f} MB RSS, {got['pss_mb']:.0f} MB PSS (the process "
               f"tree), exit {got['status']} "
               f"{' '.join(got['err'])}; {got['load']}")
@@ -252,9 +285,9 @@ def main() -> None:
 
     print(f"deck_emulator from {Path(deck_emulator.__file__).parent}")
     done = commands(env, a.commands) if a.commands else []
-    solve = in_process(a.scenes, a.repeat)
+    solve, solve2 = in_process(a.scenes, a.repeat)
     if done:
-        report(done, solve)
+        report(done, solve, solve2)
 
 
 if __name__ == "__main__":

@@ -623,62 +623,51 @@ def _plain(obj: Any) -> dict:
 
 
 @functools.cache
-def _field_plan(cls: type) -> tuple[frozenset, tuple, tuple]:
-    """A scene class's fields as a building reads them, worked out once a class (resolving
-    the annotations, typing.get_type_hints, was most of Scene.from_deck's time; reading them
-    with typing.get_origin and dataclasses.fields on every call, most of the rest): the
-    names, each field's (name, kind, type, length) with kind one of ``table``, ``tuple``,
-    ``float``, ``str``, and the names of those without a default."""
-    hints = typing.get_type_hints(cls)
-    plan = []
-    for f in fields(cls):
-        tp = hints[f.name]
-        args = typing.get_args(tp)
-        if typing.get_origin(tp) in (typing.Union, types.UnionType):
-            tp = next(a for a in args if a is not type(None))
-            args = typing.get_args(tp)
-        if is_dataclass(tp):
-            plan.append((f.name, "table", tp, 0))
-        elif typing.get_origin(tp) is tuple:
-            plan.append((f.name, "tuple", tp, len(args)))
-        elif tp in (float, str):
-            plan.append((f.name, tp.__name__, tp, 0))
-        else:  # pragma: no cover - no other field types
-            raise TypeError(f"{cls.__name__}.{f.name}: unsupported type {tp!r}")
-    required = tuple(f.name for f in fields(cls) if f.default is dataclasses.MISSING
-                     and f.default_factory is dataclasses.MISSING)
-    return frozenset(f.name for f in fields(cls)), tuple(plan), required
+def _field_types(cls: type) -> dict[str, Any]:
+    """A scene class's field types, resolved once a class (typing.get_type_hints evaluates
+    every annotation's text each time: most of the time Scene.from_deck took)."""
+
+    return typing.get_type_hints(cls)
 
 
 def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
-    known, plan, required = _field_plan(cls)
+    hints = _field_types(cls)
+    known = {f.name for f in fields(cls)}
     unknown = set(data) - known
     if unknown:
         raise SceneError(
             f"unknown key(s) in [{where or 'top level'}]: {', '.join(sorted(unknown))}"
         )
     kwargs = {}
-    for name, kind, tp, length in plan:
-        if name not in data:
+    for f in fields(cls):
+        if f.name not in data:
             continue  # its default
-        value = data[name]
-        path = f"{where}.{name}" if where else name
-        if kind == "table":
+        value = data[f.name]
+        tp = hints[f.name]
+        args = typing.get_args(tp)
+        if typing.get_origin(tp) in (typing.Union, types.UnionType):
+            tp = next(a for a in args if a is not type(None))
+            args = typing.get_args(tp)
+        path = f"{where}.{f.name}" if where else f.name
+        if is_dataclass(tp):
             if not isinstance(value, Mapping):
                 raise SceneError(f"{path} must be a table")
-            kwargs[name] = _build_dataclass(tp, value, path)
-        elif kind == "tuple":
-            if not isinstance(value, list) or len(value) != length:
-                raise SceneError(f"{path} must be a list of {length} numbers")
-            kwargs[name] = tuple(_number(x, path) for x in value)
-        elif kind == "float":
-            kwargs[name] = _number(value, path)
-        else:
+            kwargs[f.name] = _build_dataclass(tp, value, path)
+        elif typing.get_origin(tp) is tuple:
+            if not isinstance(value, list) or len(value) != len(args):
+                raise SceneError(f"{path} must be a list of {len(args)} numbers")
+            kwargs[f.name] = tuple(_number(x, path) for x in value)
+        elif tp is float:
+            kwargs[f.name] = _number(value, path)
+        elif tp is str:
             if not isinstance(value, str):
                 raise SceneError(f"{path} must be a string")
-            kwargs[name] = value
+            kwargs[f.name] = value
+        else:  # pragma: no cover - no other field types
+            raise SceneError(f"{path}: unsupported type {tp!r}")
 
-    missing = [name for name in required if name not in data]
+    missing = [f.name for f in fields(cls) if f.name not in data
+               and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
     if missing:
         lacks = ", ".join(f"{where}.{m}" if where else m for m in missing)
         raise SceneError(f"[{where or 'top level'}] lacks {lacks}")
