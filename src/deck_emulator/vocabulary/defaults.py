@@ -170,5 +170,6 @@ MAX_SENSITIVITY_N = 1 << 16
 #: processes is started under, MB, refused below it in one line before any work (measured on
 #: this project's pinned versions: numba's compiler and OpenBLAS aborted the process outright
 #: at 500 and 700 MB with an empty cache; a sweep's embedded Dask cluster failed at 400 to 700
-#: MB, some starts with the workers' tracebacks on stderr; 800 MB and more ran)
+#: MB, some starts with the workers' tracebacks on stderr; 800 MB and more ran; the package's
+#: own runner since ran a core sweep on 2 jobs at 800 MB)
 MIN_ADDRESS_SPACE_MB = 800
