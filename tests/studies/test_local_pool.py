@@ -13,7 +13,8 @@ import time
 import pytest
 
 from deck_emulator.studies.distributed import SceneStore, run_scenes, scene_id
-from deck_emulator.studies.local_pool import BatchError, WorkerPool
+from deck_emulator.errors import RunFailed
+from deck_emulator.studies.local_pool import BatchError, WorkerDied, WorkerPool
 from deck_emulator.vocabulary import defaults
 
 
@@ -37,6 +38,25 @@ def test_a_batch_whose_worker_dies_every_time_is_stored_failed_and_the_rest_run(
     assert "SIGKILL" in bad["error"]
     assert sorted(r["y"] for r in rows.values() if r["status"] == "ok") == [
         i * 0.5 for i in range(6)]
+
+
+def test_a_worker_that_exits_in_its_batch_is_replaced_and_said_how_it_ended():
+    with WorkerPool(1) as pool:
+        got = dict(pool.run([(0, (os._exit, (3,))), (1, (abs, (-4,)))]))
+    assert isinstance(got[0], WorkerDied)
+    assert f"died {defaults.WORKER_DEATHS_PER_BATCH + 1} times (last exit status 3)" in str(got[0])
+    assert got[1] == 4  # on the worker that replaced the last one
+
+
+def test_when_no_worker_can_start_again_the_run_ends_saying_so(monkeypatch):
+    with WorkerPool(1) as pool:
+        def cannot():
+            raise OSError(11, "Resource temporarily unavailable")
+
+        monkeypatch.setattr(pool, "_start", cannot)
+        with pytest.raises(RunFailed, match="no worker process could be started again .*"
+                                            "--resume runs the rest"):
+            list(pool.run([(0, (os._exit, (3,)))]))
 
 
 @pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="counts /proc/self/fd")

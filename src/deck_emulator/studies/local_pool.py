@@ -40,6 +40,7 @@ from collections.abc import Callable, Iterable, Iterator
 from multiprocessing.connection import wait
 
 from deck_emulator import SPAWNED_WORKER_ENV
+from deck_emulator.errors import RunFailed
 from deck_emulator.vocabulary import defaults
 
 __all__ = ["CORE_PRELOAD", "PRELOAD", "BatchError", "WorkerDied", "WorkerPool"]
@@ -215,7 +216,12 @@ class WorkerPool:
         worker.process.join(timeout=5)
         code = worker.process.exitcode
         self.workers.remove(worker)
-        self._start()  # (its batch, or another one's that dies next, needs it)
+        try:
+            self._start()  # (its batch, or another one's that dies next, needs it)
+        except OSError as exc:  # the machine's limits: go on with the workers left, if any
+            if not self.workers:
+                raise RunFailed(f"no worker process could be started again ({exc}): the "
+                                "scenes completed are stored; --resume runs the rest") from None
         if code is not None and code < 0:
             return f"killed by {signal.Signals(-code).name}"
         return f"exit status {code}"
