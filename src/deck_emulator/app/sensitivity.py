@@ -35,9 +35,10 @@ class SensitivityOptions(Many, Preset):
          help="Sobol indices of the outcome over the report's uncertain inputs",
          description="Sample the inputs the report takes as estimates (base friction and its "
          "travel, CK, CT, FCONST, WV; and any --input NAME=LO:HI), run every sample on one "
-         "engine on worker processes (or a Dask cluster), and write DIR/sensitivity.csv and .md (Sobol S1 and ST "
-         "with 95% confidence, for N and N/2), a bar chart of the indices and a map of what "
-         "the post hits first over the two most influential inputs. Scenes are stored as they "
+         "engine on worker processes (or a Dask cluster), and write DIR/sensitivity.csv and "
+         ".md (Sobol S1 and ST with 95% confidence, for N and N/2), a bar chart of the indices "
+         "and a map of what the post hits first over the two most influential inputs. Scenes "
+         "are stored as they "
          f"finish in DIR/{SCENE_STORE}/; --resume runs only the missing ones.")
 def sensitivity(o: SensitivityOptions) -> Answer:
     common.require("studies")

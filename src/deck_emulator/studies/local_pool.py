@@ -10,8 +10,8 @@ numba with the core's code 115; a 10^4-scene sweep's process tree peaked at 565 
 What a batch meets, said once here:
 
 * a worker that dies while it runs a batch (killed, out of memory) is replaced, and the
-  batch runs again on the new one, up to :data:`~deck_emulator.vocabulary.defaults.
-  WORKER_DEATHS_PER_BATCH` times; then it is answered by :class:`WorkerDied` (each of its
+  batch runs again on the new one, up to
+  :data:`~deck_emulator.vocabulary.defaults.WORKER_DEATHS_PER_BATCH` times; then it is answered by :class:`WorkerDied` (each of its
   scenes stored failed, with why), and the other batches go on;
 * a batch whose callable cannot be sent or loaded in the worker (a function the worker
   cannot import) is answered by :class:`BatchError` saying so;
