@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path as deck_path
@@ -123,6 +125,51 @@ def test_the_registry_reads_the_spin_the_terminal_points_and_the_move_across_the
     # R started 10 ft out over the highway (YL = -10) and ends at YL = -3.5: 6.5 ft away
     assert quantities.value("luminaire_yl_shift_ft", o) == pytest.approx(6.5, abs=1e-12)
     assert quantities.value("second_luminaire_yl_shift_ft", o) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(steps=st.lists(st.floats(-170.0, 170.0), min_size=1, max_size=12),
+       fall=st.floats(0.0, 150.0), tilt_about=st.floats(0.0, 360.0))
+def test_the_tracked_spin_is_the_sum_of_the_turns_however_far_it_goes(steps, fall,
+                                                                       tilt_about):
+    """A post turned about its own axis by each step in turn (each under a half turn), its
+    axis swung meanwhile towards a fall of ``fall`` degrees about a horizontal axis at
+    ``tilt_about``: the tracked spin at each sample is the sum of the turns so far (closed
+    form), past a half turn and past a whole one, where one attitude alone reads it within
+    (-180, 180]."""
+    total = np.concatenate([[0.0], np.cumsum(steps)])
+    falls = np.linspace(0.0, fall, total.size)
+    c, s = math.cos(math.radians(tilt_about)), math.sin(math.radians(tilt_about))
+    pts = {"P": [], "Q": [], "R": []}
+    for spin, f in zip(total, falls):
+        # the fall about the horizontal axis (c, s, 0): rz(a) rx(f) rz(-a)
+        turn = rz(tilt_about) @ rx(f) @ rz(-tilt_about) @ rz(spin)
+        for k, p in (("P", P0), ("Q", Q0), ("R", R0)):
+            pts[k].append(turn @ p + np.array([c, s, 0.0]) * spin / 100.0)
+    got = attitude.spin_track_deg(pts["P"], pts["Q"], pts["R"])
+    assert got == pytest.approx(total, abs=1e-6)
+    one = attitude.spin_deg(pts["P"][-1], pts["Q"][-1], pts["R"][-1], P0, Q0, R0)
+    assert -180.0 < one <= 180.0 + 1e-9
+    assert (one - total[-1]) % 360.0 == pytest.approx(0.0, abs=1e-6) or \
+        (one - total[-1]) % 360.0 == pytest.approx(360.0, abs=1e-6)
+
+
+def test_the_registry_tracks_the_spin_past_a_half_turn():
+    """The post turns clockwise steadily to -300 deg, sampled every 30 deg: the registry's
+    spin is -300 (the attitude alone reads +60), and the track says what it rests on."""
+    scene = _scene()
+    spins = np.arange(0.0, -301.0, -30.0)
+    pts = {k: [_road(rz(a) @ p, scene) for a in spins]
+           for k, p in (("P", P0), ("Q", Q0), ("R", R0))}
+    t = np.linspace(0.0, 1.0, spins.size)
+    o = _outcome(t, pts, hit_t=1.0, lost=t[4])
+    assert quantities.value("arm_spin_deg", o) == pytest.approx(-300.0, abs=1e-9)
+    assert quantities.value("arm_spin_release_deg", o) == pytest.approx(-120.0, abs=1e-9)
+    track = attitude.arm_spin_track(o)
+    assert track["largest_step_deg"] == pytest.approx(30.0, abs=1e-9)
+    assert track["largest_swing_deg"] == pytest.approx(0.0, abs=1e-6)
+    assert attitude.spin_deg(*(np.asarray(pts[k][-1]) for k in "PQR"),
+                             *(np.asarray(pts[k][0]) for k in "PQR")) == pytest.approx(60.0)
 
 
 def test_the_largest_distance_between_two_paths():

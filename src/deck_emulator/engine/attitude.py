@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-__all__ = ["spin_deg", "arm_spin_deg", "end_index", "point_at_end_l", "start_l",
-           "largest_distance_ft"]
+__all__ = ["spin_deg", "spin_track_deg", "arm_spin_deg", "arm_spin_track", "end_index",
+           "point_at_end_l", "start_l", "largest_distance_ft"]
 
 
 def _rot_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -35,8 +35,10 @@ def _rot_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def spin_deg(P, Q, R, P0, Q0, R0) -> float:
-    """The rotation (deg, right hand about the post's axis Q->P at the start) that takes the
-    post from (P0, Q0, R0) to (P, Q, R), once the fall of its axis is taken out: the final
+    """The rotation (deg, in (-180, 180], right hand about the post's axis Q->P at the start)
+    that takes the post from (P0, Q0, R0) to (P, Q, R), once the fall of its axis is taken
+    out; read from one attitude alone, it cannot tell a turn of +160 deg from one of -200
+    deg (a run's turn is tracked by :func:`spin_track_deg`): the final
     attitude is written as a spin about the initial axis followed by the smallest rotation
     (the swing) taking the initial axis Q0->P0 to the final axis Q->P; the spin is read from
     the arm P->R.  For a post standing upright at the start the axis is +ZL: a negative spin
@@ -79,28 +81,74 @@ def point_at_end_l(o, name: str):
     return None if np.isnan(p).any() else tuple(float(x) for x in o.to_l(p))
 
 
-def _points_at(o, i: int):
-    return [np.asarray(o.points[k][i], dtype=float) for k in ("P", "Q", "R")]
+def spin_track_deg(P, Q, R) -> np.ndarray:
+    """The spin of :func:`spin_deg` at every sample of a path (``P``, ``Q``, ``R``: arrays of
+    shape (n, 3), the first row the start), tracked continuously: each sample's spin is the
+    one of the values :func:`spin_deg` gives modulo 360 deg nearest the previous sample's, so
+    a post that turns on past a half turn reads -200 deg, not +160 deg.  The path must be
+    sampled finely enough that the spin moves less than half a turn from one sample to the
+    next (:func:`arm_spin_track` reports the largest step)."""
+    P, Q, R = (np.asarray(x, dtype=float) for x in (P, Q, R))
+    a0 = (P[0] - Q[0]) / np.linalg.norm(P[0] - Q[0])
+    a1 = (P - Q) / np.linalg.norm(P - Q, axis=1)[:, None]
+    v0 = R[0] - P[0]
+    v0 = v0 - (v0 @ a0) * a0
+    w = R - P
+    # the swing's inverse (Rodrigues, by -angle about a0 x a1) applied to each arm P->R
+    k = np.cross(a0, a1)
+    s = np.linalg.norm(k, axis=1)
+    c = a1 @ a0
+    turned = s >= 1e-12
+    k[turned] /= s[turned, None]
+    k[~turned] = 0.0
+    ang = np.arctan2(s, c)
+    kw = np.einsum("ij,ij->i", k, w)
+    w = (w * np.cos(ang)[:, None] - np.cross(k, w) * np.sin(ang)[:, None]
+         + k * (kw * (1.0 - np.cos(ang)))[:, None])
+    w = w - np.outer(w @ a0, a0)
+    wrapped = np.degrees(np.arctan2(np.cross(v0, w) @ a0, w @ v0))
+    return np.unwrap(wrapped, period=360.0)
+
+
+def _index(o, at: str) -> int | None:
+    if at == "end":
+        return end_index(o)
+    if at == "release":
+        return None if o.vehicle_contact_lost_s is None else o.at(o.vehicle_contact_lost_s)
+    raise ValueError(f"at: 'end' or 'release', not {at!r}")
+
+
+def arm_spin_track(o, at: str = "end") -> dict | None:
+    """The arm's spin about the post's axis tracked over the run's samples from t = 0 to
+    ``at`` (``"end"``: the sample at the hit, or the last; ``"release"``: the sample at the
+    loss of contact with the car): ``t`` (s) and ``spin_deg`` (:func:`spin_track_deg`), with
+    what the tracking rests on: ``largest_step_deg`` (the largest change between two
+    samples: the tracking holds while it is well under 180 deg) and ``largest_swing_deg``
+    (the largest angle the post's axis has turned from its start: the decomposition is
+    singular at 180 deg).  None without the points or the instant."""
+    if not o.t.size or any(k not in o.points for k in "PQR"):
+        return None
+    i = _index(o, at)
+    if i is None:
+        return None
+    P, Q, R = (np.asarray(o.points[k][: i + 1], dtype=float) for k in ("P", "Q", "R"))
+    if np.isnan(P).any() or np.isnan(Q).any() or np.isnan(R).any():
+        return None
+    spin = spin_track_deg(P, Q, R)
+    a = (P - Q) / np.linalg.norm(P - Q, axis=1)[:, None]
+    swing = np.degrees(np.arccos(np.clip(a @ a[0], -1.0, 1.0)))
+    return {"t": np.asarray(o.t[: i + 1], dtype=float), "spin_deg": spin,
+            "largest_step_deg": float(np.abs(np.diff(spin)).max()) if spin.size > 1 else 0.0,
+            "largest_swing_deg": float(swing.max())}
 
 
 def arm_spin_deg(o, at: str = "end") -> float | None:
-    """:func:`spin_deg` of the outcome's P, Q, R from t = 0 to ``at``: ``"end"`` (the
-    sample at the hit, or the last) or ``"release"`` (the sample at the loss of contact with
-    the car); None without the points or the instant."""
-    if not o.t.size or any(k not in o.points for k in "PQR"):
-        return None
-    if at == "end":
-        i = end_index(o)
-    elif at == "release":
-        if o.vehicle_contact_lost_s is None:
-            return None
-        i = o.at(o.vehicle_contact_lost_s)
-    else:
-        raise ValueError(f"at: 'end' or 'release', not {at!r}")
-    now, start = _points_at(o, i), _points_at(o, 0)
-    if any(np.isnan(p).any() for p in now + start):
-        return None
-    return spin_deg(*now, *start)
+    """The arm's spin about the post's axis from t = 0 to ``at`` (``"end"`` or
+    ``"release"``), tracked continuously over the run's samples (:func:`arm_spin_track`):
+    the turn the arm made, not only its attitude at ``at`` (which :func:`spin_deg` reads,
+    within a half turn either way).  None without the points or the instant."""
+    track = arm_spin_track(o, at)
+    return None if track is None else float(track["spin_deg"][-1])
 
 
 def largest_distance_ft(a, b, name: str) -> float | None:

@@ -295,11 +295,14 @@ _REGISTRY = (
     Quantity("arm_spin_deg", "arm's spin about the post's axis, at the end", "deg", 1,
              "the post's rotation about its own axis Q->P from t = 0 to the hit (right hand; "
              "for the upright post the rotation about ZL, negative = clockwise seen from "
-             "above): the final attitude as a spin about the initial axis followed by the "
-             "smallest swing of the axis, read from P, Q, R (engine.attitude.spin_deg)",
+             "above), tracked continuously over the run's samples, so a turn past a half turn "
+             "keeps its sense (-200, not +160): at each sample the attitude as a spin about "
+             "the initial axis followed by the smallest swing of the axis, read from P, Q, R "
+             "(engine.attitude.arm_spin_track)",
              lambda o: _attitude().arm_spin_deg(o, "end"), reads=_POINTS),
     Quantity("arm_spin_release_deg", "arm's spin about the post's axis, car lets go", "deg", 1,
-             "the same rotation from t = 0 to the loss of contact with the car",
+             "the same rotation, tracked the same way, from t = 0 to the loss of contact with "
+             "the car",
              lambda o: _attitude().arm_spin_deg(o, "release"), needs="contact",
              reads=_POINTS),
     *(Quantity(f"terminal_{p.lower()}_{ax.lower()}_ft", f"{ax} of {what} at the end", "ft", 2,
