@@ -307,7 +307,8 @@ def shown_note(number: int, cases: dict) -> str:
 def shown_words(number: int, got: list) -> str:
     """:func:`shown_note`'s words for ``got`` ((part, case, value) of each part): each part
     judged on the value the page displays (the quantity's digits), so a part shown as 0.0°
-    is said to show no rotation, whatever the sign of the unrounded value."""
+    is said to show no rotation, whatever the sign of the unrounded value. The spin is the
+    registry's, tracked over the run: its sign is the sense the arm turned, however far."""
     name, sign, words = SHOWN[number]
     q = quantities.QUANTITIES[name]
 
@@ -315,8 +316,6 @@ def shown_words(number: int, got: list) -> str:
         return q.show(0.0 if v is not None and float(q.show(v)) == 0.0 else v)
 
     shown = [(fig, c, v, None if v is None else float(show(v))) for fig, c, v in got]
-    half = [f"{fig}'s {show(v)}° is {360 - abs(v):.1f}° the other way" for fig, _, v, _ in
-            shown if v is not None and abs(v) > 150.0]
     cells = ", ".join(f"{fig} (`{c}`) {show(v)}°" for fig, c, v, _ in shown)
     zero = [fig for fig, _, _, d in shown if d == 0.0]
     other = [fig for fig, _, _, d in shown if d is None or d * sign < 0]
@@ -330,9 +329,8 @@ def shown_words(number: int, got: list) -> str:
                        f"the page's {q.digits} decimal{'s' if q.digits != 1 else ''})")
     if other:
         verdict.append(f"{parts(other)} do{'' if len(other) > 1 else 'es'} not show {words}")
-    return (f"What our parts show of it (`{name}`, the {q.label}; core): {cells}"
-            + (" (near a half turn the end attitude alone cannot tell the sense of the turn: "
-               + "; ".join(half) + ")" if half else "") + ". "
+    return (f"What our parts show of it (`{name}`, the {q.label}, tracked over the run's "
+            f"samples from t = 0; core): {cells}. "
             + ("; ".join(verdict) + ": the regenerated figure does not show there what the "
                "report says its figure shows"
                + (" (at α = 0° the twin post is symmetric about the car's path and has no "

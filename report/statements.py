@@ -50,7 +50,7 @@ STATEMENTS: tuple[Statement, ...] = (
         "not judged (two arms).",
         "single-arm runs turning clockwise by the time the car lets go: {counts}. The report "
         "prints no attitude at the end of the contact, so its own numbers cannot carry this "
-        "check.",
+        "check.{report_note}",
         dict(posts=ALL, speeds=SPEEDS, judged=SINGLE, sign=-1)),
     Statement(
         "5.4-2", "5.4 (2)", "1693",
@@ -145,11 +145,12 @@ STATEMENTS: tuple[Statement, ...] = (
         "before striking the ground.",
         ("launch_ke_ftlb",), "energy",
         "each post and α at 20, 30 and 40 mph: `launch_ke_ftlb` (the post's kinetic energy, "
-        "translation and rotation, when the car lets go). The first half holds when the "
+        "translation and rotation, when the car lets go). The first part holds when the "
         "energy rises with the speed in every series. The second ('causes it to encounter the "
         "vehicle') is read as far as runs can read a cause: on the core with the shaft test "
         "(which ends on the car as the report's 20 mph runs do), does the energy separate the "
-        "runs that strike the car from those that clear it, post by post?",
+        "runs that strike the car from those that clear it, post by post? The statement "
+        "holds on a source only where both parts hold there.",
         "{first}. {second} The report prints no energy.",
         dict(posts=ALL, speeds=SPEEDS, along="speed")),
     Statement(
@@ -188,14 +189,14 @@ STATEMENTS: tuple[Statement, ...] = (
         "negative rotation (according to the right hand rule) about the ZL axis.",
         ("arm_spin_deg",), "sign",
         "the 12 single-arm columns (and the single-arm posts at 30 mph): `arm_spin_deg` (the "
-        "post's spin about its own axis from t = 0 to the hit, read from P, Q, R), and the "
-        "same definition (`engine.attitude.spin_deg`) applied to the report's own terminal "
-        "P, Q, R with our t = 0 points. For a post lying on the ground 'about ZL' needs a "
-        "reading: the spin about the post's own axis is the rotation about ZL while the post "
-        "stands; the report gives none.",
-        "negative spins at the end: {counts}. While the car holds the post the arm turns "
-        "clockwise (5.4 (1), line 1692, above); read at the hit, from the terminal points, "
-        "the spin has either sign, in the report's own numbers too.",
+        "post's spin about its own axis from t = 0 to the hit, read from P, Q, R and tracked "
+        "continuously over the run's samples, so a turn past a half turn keeps its sense), "
+        "and the spin of one attitude (`engine.attitude.spin_deg`, within a half turn either "
+        "way) applied to the report's own terminal P, Q, R with our t = 0 points. For a post "
+        "lying on the ground 'about ZL' needs a reading: the spin about the post's own axis "
+        "is the rotation about ZL while the post stands; the report gives none.",
+        "negative spins at the end, tracked: {counts}: every single-arm run turns clockwise."
+        "{report_note}",
         dict(posts=SINGLE, speeds=SPEEDS, sign=-1)),
     Statement(
         "6.4-2", "6.4", "1740",
@@ -217,10 +218,10 @@ STATEMENTS: tuple[Statement, ...] = (
         "Figure 29.",
         ("arm_spin_deg",), "sign",
         "the twin post at α = 15° and 30° (at α = 0° the twin post is symmetric about the car's "
-        "path and has no reason to turn), 20, 30 and 40 mph: `arm_spin_deg`, and the same "
-        "definition on the report's own terminal P, Q, R. The twin post runs on the core only "
-        "(the listing has no point U).",
-        "positive spins: {counts}.",
+        "path and has no reason to turn), 20, 30 and 40 mph: `arm_spin_deg` (tracked over the "
+        "run), and the spin of one attitude (`engine.attitude.spin_deg`) on the report's own "
+        "terminal P, Q, R. The twin post runs on the core only (the listing has no point U).",
+        "positive spins, tracked: {counts}.{report_note}",
         dict(posts=("twin",), speeds=SPEEDS, angles=(15, 30), sign=+1)),
     Statement(
         "6.4-4", "6.4", "1742-1744",

@@ -254,24 +254,79 @@ def _flags() -> dict[str, list]:
     return {k: [] for k in SOURCES}
 
 
+#: The registry's spins tracked over a run (quantity -> the instant it is read at,
+#: :func:`deck_emulator.engine.attitude.arm_spin_track`): the report's tables print the end
+#: attitude only, which fixes a spin modulo 360 deg, so the report's own numbers cannot carry
+#: their sign.
+TRACKED_SPINS = {"arm_spin_deg": "end", "arm_spin_release_deg": "release"}
+
+
+def on_branch(wrapped: float | None, near: float | None) -> float | None:
+    """The value of an angle known modulo 360 deg (``wrapped``) nearest ``near``."""
+    if wrapped is None or near is None:
+        return None
+    return wrapped + 360.0 * round((near - wrapped) / 360.0)
+
+
 def _sign(st, cases):
     """Every run's value of the one quantity has the sign ``runs["sign"]`` (the report's own
-    numbers read the same way where it has a reading)."""
+    numbers read the same way where it has a reading). A tracked spin (:data:`TRACKED_SPINS`)
+    is judged on the engines' tracks; the report's end attitude is shown, and on the branch
+    of the core's tracked spin of the same column, but not judged: its sense is not in it."""
     name, sign = st.quantity[0], st.runs["sign"]
     judged = st.runs.get("judged", st.runs["posts"])
-    table = ["| run | report's points | emulator | core |", "|---|---|---|---|"]
+    tracked = name in TRACKED_SPINS
+    head = ("report's points: end attitude (on the core's branch)" if tracked
+            else "report's points")
+    table = [f"| run | {head} | emulator | core |", "|---|---|---|---|"]
     flags = _flags()
+    branch = []  # the report's spin on the core's branch, judged runs
+    worst, steps, swings = None, [], []  # the tracks' least favourable value, what they rest on
+    nd = quantities.QUANTITIES[name].digits
     for c in _cases(cases, st.runs):
         vals = {"report": _report_value(c, name),
                 **{e: _q(c, e, name) for e in ENGINES}}
-        nd = quantities.QUANTITIES[name].digits
-        table.append(f"| {_tag(c.name, c.post)} | " + " | ".join(_f(vals[k], nd) for k in SOURCES)
-                     + " |")
+        cells = [_f(vals[k], nd) for k in SOURCES]
+        if tracked and vals["report"] is not None:
+            b = on_branch(vals["report"], vals["core"])
+            cells[0] += f" ({_f(b, nd)})"
+            if c.post in judged and b is not None:
+                branch.append(b * sign > 0)
+        table.append(f"| {_tag(c.name, c.post)} | " + " | ".join(cells) + " |")
         if c.post in judged:
             for k, v in vals.items():
-                if k != "report" or c.in_tables:
+                if k != "report" or (c.in_tables and not tracked):
                     flags[k].append(None if v is None else v * sign > 0)
-    return table, {k: tally(f) for k, f in flags.items()}, {"counts": counted(flags)}
+            if tracked:
+                for e in ENGINES:
+                    o = _out(c, e)
+                    tr = None if o is None else attitude.arm_spin_track(o, TRACKED_SPINS[name])
+                    if tr is None:
+                        continue
+                    least = float((tr["spin_deg"] * sign).min()) * sign  # least favourable
+                    worst = least if worst is None or least * sign < worst * sign else worst
+                    steps.append(tr["largest_step_deg"])
+                    swings.append(tr["largest_swing_deg"])
+    on = {k: tally(f) for k, f in flags.items()}
+    figures = {"counts": counted(flags), "report_note": ""}
+    if tracked:
+        if branch:
+            figures["report_note"] = (
+                " The report's tables print the end attitude only, which fixes the spin modulo "
+                "360°: its own numbers cannot say which way the arm turned, and are not "
+                "judged. Read on the branch of the core's tracked spin of the same column "
+                f"(in brackets), {sum(branch)} of {len(branch)} have the sign; the branch is "
+                "the core's, not the report's.")
+        if steps:
+            worst = 0.0 if round(worst, 2) == 0 else worst  # no '-0.00'
+            figures["report_note"] += (
+                " The tracked spin, at every sample of every run judged, stays "
+                f"{'at or below' if sign < 0 else 'at or above'} {worst:+.2f}° (the arm "
+                "never turns the other way by more than that); the largest step between two "
+                f"samples is {max(steps):.2f}° and the "
+                f"post's axis swings at most {max(swings):.1f}° from its start (the tracking "
+                "holds while a step is well under a half turn and the swing under 180°).")
+    return table, on, figures
 
 
 def _end_cells(c, flags, judge) -> list[str]:
@@ -431,18 +486,32 @@ def _cannot(st, cases):
     return [], {s: CANNOT for s in SOURCES}, {}
 
 
+def _both(*parts: str) -> str:
+    """A statement of several parts holds on a source only where every part does; it fails
+    where any part fails; else it cannot be checked there."""
+    if FAILS in parts:
+        return FAILS
+    if all(p == HOLDS for p in parts):
+        return HOLDS
+    return CANNOT
+
+
 def _energy(st, cases):
+    """Two parts: the energy rises with the speed (every engine's runs), and it goes with
+    striking the car (the core with the shaft test only: the emulator and the core without it
+    test only points against the car, and their 20 mph runs pass through its outline, so they
+    cannot read the second part). The statement holds on a source where both parts do."""
     table = ["| post, α | engine | 20 mph | 30 mph | 40 mph |", "|---|---|---|---|---|"]
-    flags = _flags()
+    flags = {e: [] for e in ENGINES + (SHAFT,)}
     for label, post, series in _series(cases, st.runs):
-        for e in ENGINES:
+        for e in ENGINES + (SHAFT,):
             vals = [_q(c, e, "launch_ke_ftlb") for c in series]
             if all(x is None for x in vals):
                 continue
             flags[e].append(increasing(vals))
             table.append(f"| {_tag(label, post)} | {e} | "
                          + " | ".join(_show("launch_ke_ftlb", x) for x in vals) + " |")
-    first = tally(flags["emulator"] + flags["core"])
+    first = {e: tally(f) for e, f in flags.items()}
     parts, separated = [], []
     for post in st.runs["posts"]:
         got = {True: [], False: []}
@@ -456,20 +525,33 @@ def _energy(st, cases):
             parts.append(f"{post}: the runs that strike the car {min(got[True]):.0f}-"
                          f"{max(got[True]):.0f} ft·lb, those that clear it "
                          f"{min(got[False]):.0f}-{max(got[False]):.0f}")
-    second = tally(separated)
+    second = {"emulator": CANNOT, "core": CANNOT, SHAFT: tally(separated)}
     table += ["", "| post | the core with the shaft test: launch energy of the runs that strike "
               "the car / clear it |", "|---|---|"] + [
         f"| {p.split(':')[0]} | {p.split(': ', 1)[1]} |" for p in parts]
-    on = {"report": CANNOT, **{e: tally(flags[e]) for e in ENGINES}, SHAFT: second}
+    table += ["", "| source | first part: the energy rises with the speed | second part: it goes "
+              "with striking the car | the statement |", "|---|---|---|---|"]
+    on = {"report": CANNOT}
+    for e in ENGINES + (SHAFT,):
+        on[e] = _both(first[e], second[e])
+        table.append(f"| {e} | {first[e]} | {second[e]} | {on[e]} |")
+    rises = [e for e in first if first[e] == HOLDS]
     return table, on, {
-        "first": "the energy the car imparts (ft·lb) rises with the speed in every series of "
-                 "both engines" if first == HOLDS else
-                 "the energy the car imparts does not rise with the speed in every series",
-        "second": ("The second half, as far as runs read it: "
-                   + ("the launch energy separates the ends in every post" if second == HOLDS
+        "first": ("the first part holds on every source that runs: the energy the car imparts "
+                  "(ft·lb) rises with the speed in every series of the emulator, the core and "
+                  "the core with the shaft test") if len(rises) == len(first) else (
+                 "the first part: the energy rises with the speed in every series on "
+                 + (", ".join(rises) or "no source") + " only"),
+        "second": ("The second part, as far as runs read it (the core with the shaft test): "
+                   + ("the launch energy separates the ends in every post" if
+                      second[SHAFT] == HOLDS
                       else "the launch energy does not separate the ends in every post")
                    + " (" + "; ".join(parts) + "): less energy goes with striking the car; a "
-                   "run cannot show more than that it goes with it.")}
+                   "run cannot show more than that it goes with it. The emulator and the core "
+                   "without the shaft test cannot read it: they test only the points P, R, C "
+                   "against the car, and their 20 mph runs pass through the car's outline "
+                   "(6.2, line 1728, above), so on them the statement, which holds only where "
+                   "both its parts do, cannot be checked.")}
 
 
 def _by_point(st, cases):

@@ -207,6 +207,22 @@ def test_the_rules_that_turn_numbers_into_verdicts():
                    "hold on the core"
 
 
+def test_a_statement_of_two_parts_holds_only_where_both_do():
+    assert rv._both(rv.HOLDS, rv.HOLDS) == rv.HOLDS
+    assert rv._both(rv.HOLDS, rv.CANNOT) == rv.CANNOT  # V8 on the point tests' runs
+    assert rv._both(rv.HOLDS, rv.FAILS) == rv.FAILS
+    assert rv._both(rv.CANNOT, rv.FAILS) == rv.FAILS
+
+
+def test_an_end_attitude_is_read_on_the_branch_of_a_tracked_spin():
+    """The report's steel40 end attitude, +56.7 deg, on the branch of a track at -302.9:
+    56.7 - 360 = -303.3; near -10 it stays 56.7 - 0."""
+    assert rv.on_branch(56.7, -302.9) == pytest.approx(-303.3)
+    assert rv.on_branch(56.7, 10.0) == pytest.approx(56.7)
+    assert rv.on_branch(-163.3, -186.6) == pytest.approx(-163.3)
+    assert rv.on_branch(None, 1.0) is None and rv.on_branch(1.0, None) is None
+
+
 def test_a_figure_is_judged_on_the_rotation_the_page_displays():
     # 29a's spin 0.04 deg and -0.04 deg both display as 0.0: zero, neither sign
     for tiny in (0.04, -0.04):
@@ -217,10 +233,15 @@ def test_a_figure_is_judged_on_the_rotation_the_page_displays():
     # 0.06 displays as 0.1, a positive rotation: every part shows it
     words = rf.shown_words(29, [("29a", "twin40", 0.06), ("29b", "twin40_a30", 45.0)])
     assert words.endswith("Each shows a positive rotation about ZL.")
-    # Figure 24 says negative: a positive part is named as not showing it, a half turn noted
-    words = rf.shown_words(24, [("24a", "steel40", 152.6), ("24b", "steel40_a30", -171.2)])
+    # Figure 24 says negative: a positive part is named as not showing it; a tracked turn
+    # past a half turn (-207.4) is negative, however far it went
+    words = rf.shown_words(24, [("24a", "aluminium40", 152.6),
+                                ("24b", "aluminium40_a30", -171.2)])
     assert "Part 24a does not show a negative rotation about ZL" in words
-    assert "24a's 152.6° is 207.4° the other way" in words and "no rotation" not in words
+    assert "no rotation" not in words and "24b" not in words.split(". ", 1)[1]
+    words = rf.shown_words(24, [("24a", "aluminium40", -207.4),
+                                ("24b", "aluminium40_a30", -171.2)])
+    assert words.endswith("Each shows a negative rotation about ZL.")
 
 
 # ------------------------------------------------------------- the runs, once for the module
