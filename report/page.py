@@ -53,6 +53,18 @@ DECEL_SHORT = {"max_decel_g": "printed, after start-up", "max_decel_every_step_g
 FIT_DV_MPH = 0.05
 FIT_DECEL_G = 0.05
 
+#: The mark of a column whose post was fitted to the report's tables, and the words beside
+#: each such column's table (the provenance table says it in full).
+FITTED_MARK = "†"
+FITTED_WORDS = ("fitted inputs: |PQ| and the arm's rise were read off Tables 11 and 12, the "
+                "base weight and arm shape carried over; every number of ours below rests on "
+                "them")
+
+#: The point tests (the listing's and the legacy preset's) are named the cause of a miss of a
+#: 20 mph 'hits car' column only where the same column run with the shaft test takes away at
+#: least this share of the core's miss ('in part' where it takes away less).
+SHAFT_SHARE = 0.5
+
 ROWS = [("delta_v_crush_mph", "ΔV (crush pulse), mph", 2),
         ("delta_v_first_spring_mph", "ΔV (first spring), mph", 2),
         ("delta_v_contact_mph", "ΔV (whole contact), mph", 2),
@@ -169,9 +181,9 @@ def geometry_cause(geo, col, key, miss) -> str:
     """Whether the base weight (0-120 lb, the one input of the inferred geometry the variants
     move; core, the post's α = 0 column of the same speed) explains a miss of ``key``: it
     does only where some base weight moves the α = 0 value by the miss (the value the column
-    needs: the shipped one less the miss) and, for the end and the coordinates, the car's
-    largest deceleration there still fits the report's; else the miss is unexplained, with
-    what was tried."""
+    needs: the shipped one less the miss) and, for every cell but the deceleration itself (a
+    ΔV reading, the end, the coordinates), the car's largest deceleration there still fits
+    the report's; else the miss is unexplained, with what was tried."""
     post, mph, _, _ = CASES_ALL[col]
     if (post, GEOMETRY_VARIANTS[0], mph) not in (geo or {}):
         return say("cause.no_variants")
@@ -188,7 +200,7 @@ def geometry_cause(geo, col, key, miss) -> str:
         w_near = min(vals, key=lambda w: abs(vals[w] - needed))
         return say("cause.none_reaches", weights=ws, needed=f"{needed:.{nd}f}", unit=unit,
                    mph=mph, nearest=f"{vals[w_near]:.{nd}f}", w_near=w_near)
-    if key in ("max_decel_g",) + DELTA_V_CANDIDATES:
+    if key == "max_decel_g":
         return say("cause.base_fits_reading", weights=", ".join(f"{w:.0f}" for w in ws),
                    mph=mph)
     rep_decel = REPORT_ALL[f"{post}{mph}"]["max_decel_g"]
@@ -205,10 +217,35 @@ def geometry_cause(geo, col, key, miss) -> str:
         f"{w:.0f} lb, where the max decel. is {d:.2f} g" for w, d in fits))
 
 
-def cause(col, key, rep, ours, geo=None):
+def shaft_cell_cause(col, key, rep, core, shaft, other) -> str:
+    """A 20 mph 'hits car' column's cell: whether the point tests are its miss's cause, by
+    the same column run with the shaft test (``shaft``: its row, whose ``cells`` are the
+    column's values keyed like the tables'): named only where that run takes away at least
+    :data:`SHAFT_SHARE` of the core's miss (``core``: the core's value without the test), in
+    part where less, not at all where none; ``other``: the cause of what it leaves."""
+    with_ = None if shaft is None else (shaft.get("cells") or {}).get(key)
+    if with_ is None or core is None:
+        return say("cause.no_shaft_run", other=other,
+                   why=f" ({shaft['error']})" if shaft and shaft.get("error") else "")
+    nd = 1 if key == "time_ms" else 2
+    # each miss as the page shows it: a difference below the last digit shown (the same
+    # pulse solved twice) is no change
+    m_with, m_without = round(with_ - rep, nd), round(core - rep, nd)
+    figures = dict(m_with=m_with, m_without=m_without, share=SHAFT_SHARE, other=other,
+                   with_=f(m_with, nd, True), without=f(m_without, nd, True))
+    if abs(m_with) <= SHAFT_SHARE * abs(m_without):
+        return say("cause.points_only", **figures)
+    if abs(m_with) < abs(m_without):
+        return say("cause.points_only_part", **figures)
+    return say("cause.not_points", **figures)
+
+
+def cause(col, key, rep, ours, geo=None, shaft=None, core=None):
     """The named cause of a miss beyond the report's last digit: every one is a computation
-    on this page (the sensitivity to the inferred geometry, the core's post at the report's
-    time, the readings table); 'unexplained' where none explains it."""
+    on this page (the sensitivity to the inferred geometry, the same column with the shaft
+    test, the core's post at the report's time, the readings table); 'unexplained' where
+    none explains it. ``shaft``: the column's row with the shaft test, ``core``: the core's
+    value of the cell (the 20 mph 'hits car' columns)."""
     post, mph, alpha, _ = CASES_ALL[col]
     kind = cell_kind(col, key)
     if kind is not None:
@@ -222,7 +259,13 @@ def cause(col, key, rep, ours, geo=None):
         if post != "steel":
             causes.append(geometry_cause(geo, col, key, ours - rep))
     elif hits_car_at_20(col):
-        causes = [say("cause.points_only")]
+        other = (say("cause.steel") if post == "steel"
+                 else geometry_cause(geo, col, key, ours - rep))
+        core_miss = None if core is None else core - rep
+        if core_miss is not None and abs(core_miss) <= half + 1e-12:
+            causes = [other]  # the core has no miss here: the shaft test has none to take away
+        else:
+            causes = [shaft_cell_cause(col, key, rep, core, shaft, other)]
     elif post == "steel":
         causes = [say("cause.steel")]
     else:
@@ -230,15 +273,51 @@ def cause(col, key, rep, ours, geo=None):
     return "; ".join(causes)
 
 
+def cell_cause(col, key, r, geo) -> str:
+    """The cause column of one cell (``r``: the column's runs): the core's miss first, the
+    emulator's where the core has none."""
+    rv = report_value(col, key)
+    em, co = r["emulator"], r["core"]
+    ev = None if em is None else em.get(key)
+    cv = co.get(key)
+    sh = r.get("shaft")
+    return (cause(col, key, rv, cv, geo, sh, cv)
+            or cause(col, key, rv, ev, geo, sh, cv))
+
+
+def fitted_cause_counts(runs, geo) -> dict:
+    """Over the aluminium and twin columns' cells that test the model and miss the report's
+    last digit (core, else the emulator: :func:`cell_cause`): how many name the base weight as
+    their cause, and how many none at all ('variants.moves')."""
+    n = base = none = 0
+    for col in CASES_ALL:
+        if CASES_ALL[col][0] == "steel":
+            continue
+        for key, _, _ in ROWS:
+            if (key[1] == "U" and CASES_ALL[col][0] != "twin") or cell_kind(col, key):
+                continue
+            why = cell_cause(col, key, runs[col], geo)
+            if not why:
+                continue
+            n += 1
+            if "the base weight (fitted inputs)" in why:
+                base += 1
+            elif "unexplained" in why and not any(
+                    w in why for w in ("points only", "arithmetic", "the listing's step")):
+                none += 1
+    return {"n_miss": n, "n_base": base, "n_unexplained": none}
+
+
 def columns_section(lines, runs, geo):
     lines.append("## Tables 11 and 12, all 18 columns\n")
-    lines.append(say("columns.intro"))
+    lines.append(say("columns.intro", share=f"{SHAFT_SHARE:.0%}"))
     for col in CASES_ALL:
         post, mph, alpha, table = CASES_ALL[col]
         r = runs[col]
         rep = REPORT_ALL[col]
         em, co = r["emulator"], r["core"]
-        lines.append(f"### `{col}` — {post}, {mph} mph, α = {alpha}° (Table {table})\n")
+        lines.append(f"### `{col}` — {post}, {mph} mph, α = {alpha}° (Table {table})"
+                     + (f"; {FITTED_WORDS}" if post != "steel" else "") + "\n")
         if r["listing_refusal"]:
             lines.append(f"Emulator: refused — {r['listing_refusal']}.\n")
         elif em and em.get("error"):
@@ -252,7 +331,7 @@ def columns_section(lines, runs, geo):
             ev = None if em is None else em.get(key)
             cv = co.get(key)
             de, dc = _miss(ev, rv), _miss(cv, rv)
-            why = cause(col, key, rv, cv, geo) or cause(col, key, rv, ev, geo)
+            why = cell_cause(col, key, r, geo)
             misses = dict(em_miss=None if de is None else abs(de),
                           core_miss=None if dc is None else abs(dc),
                           half=0.2 if key == "time_ms" else 0.005)
@@ -297,29 +376,45 @@ def best_reading(col, e, names):
     return min(got, key=lambda x: abs(x[1])) if got else (None, None)
 
 
-def shaft_cause(col, run) -> str:
+def shaft_cause(col, run) -> tuple[str, bool]:
     """The 20 mph columns: the listing (and the core's legacy preset) test only points
-    against the car; the same column with the shaft test, the distance of its end from the
-    report's coordinates against the run without it, and the post at the report's time. A
-    cause only where the report ends on the car; where it ends on the ground the shaft test
-    is one more thing tried."""
+    against the car; the same column with the shaft test, its end's time and the distance of
+    its end coordinates from the report's, each against the run without it, and the post at
+    the report's time. Where the report ends on the car, the point tests are named the
+    column's cause only where the shaft test takes away at least :data:`SHAFT_SHARE` of both
+    the end's time miss and its largest coordinate miss ('in part' where it lessens both
+    less; 'not the point tests' where it lessens either not at all); where the report ends
+    on the ground the shaft test is one more thing tried. Returns (the words, whether the
+    shaft test accounts for the end in full)."""
     rt = report_time_ms_all(col)
     sh, off = run.get("shaft"), run.get("shaft_off")
     d = at_report_time_miss(run) if hits_car_at_20(col) else None
     at_time = say("shaft.at_time", d=f(d)) if d is not None else ""
     if sh is None or sh["time_ms"] is None or sh["surface"] is None:
-        return say("shaft.none", at_time=at_time)
+        return say("shaft.none", at_time=at_time,
+                   why=f" ({sh['error']})" if sh and sh.get("error") else ""), False
     ends = say("shaft.ends", surface=sh["surface"], point=sh["point"],
                dt=f(sh["time_ms"] - rt, 1, True))
     dist = ""
+    a = b = None
     if off is not None and sh["max_coordinate_diff_ft"] is not None \
             and off["max_coordinate_diff_ft"] is not None:
         a, b = sh["max_coordinate_diff_ft"], off["max_coordinate_diff_ft"]
         dist = say("shaft.dist", a=a, b=b,
                    farther=" (farther)" if round(a, 2) > round(b, 2) else "")
     if not hits_car_at_20(col):
-        return say("shaft.tried", ends=ends, dist=dist)
-    return say("shaft.cause", ends=ends, dist=dist, at_time=at_time)
+        return say("shaft.tried", ends=ends, dist=dist), False
+    if a is None or off["time_ms"] is None:
+        return say("shaft.none", at_time=at_time,
+                   why=f" (without it: {off['error']})" if off.get("error") else ""), False
+    figures = dict(ends=ends, dist=dist, at_time=at_time, a=a, b=b, share=SHAFT_SHARE,
+                   t_with=sh["time_ms"] - rt, t_without=off["time_ms"] - rt)
+    if a <= SHAFT_SHARE * b and abs(figures["t_with"]) <= SHAFT_SHARE * abs(
+            figures["t_without"]):
+        return say("shaft.cause", **figures), True
+    if a < b and abs(figures["t_with"]) < abs(figures["t_without"]):
+        return say("shaft.cause_part", **figures), False
+    return say("shaft.not_cause", **figures), False
 
 
 def main_cause(col, runs, geo) -> str:
@@ -328,17 +423,20 @@ def main_cause(col, runs, geo) -> str:
     post, mph, alpha, _ = CASES_ALL[col]
     co = runs[col]["core"]
     parts = []
+    explained = False
     if mph == 20:
-        parts.append(shaft_cause(col, runs[col]))
+        words, explained = shaft_cause(col, runs[col])
+        parts.append(words)
     rt = report_time_ms_all(col)
     miss = None if co["time_ms"] is None or rt is None else co["time_ms"] - rt
-    if post == "steel" and not hits_car_at_20(col):
+    if post == "steel" and not explained:
         parts.append(say("main.end_steel"))
-    elif post != "steel" and miss is not None and not hits_car_at_20(col):
+    elif post != "steel" and miss is not None and not explained:
         parts.append("end: " + geometry_cause(geo, col, "time_ms", miss))
     name, d = best_reading(col, co, DELTA_V_CANDIDATES)
     if d is not None and abs(d) <= FIT_DV_MPH:
-        parts.append(say("main.dv_fits", reading=DV_SHORT[name], miss=d, fit=FIT_DV_MPH,
+        parts.append(say("main.dv_fits", reading=DV_SHORT[name],
+                         miss=0.0 if round(d, 2) == 0 else d, fit=FIT_DV_MPH,
                          carried=say("main.dv_carried") if post != "steel" else ""))
     else:
         parts.append(say("main.dv_none", fit=FIT_DV_MPH, reading=DV_SHORT.get(name, "-"),
@@ -380,8 +478,10 @@ def summary_section(lines, runs, geo):
             return " / ".join(f(_miss(e.get(n), rep["delta_v_crush_mph"]), 2, True)
                               for n in DELTA_V_CANDIDATES)
 
+        mark = "" if CASES_ALL[col][0] == "steel" else f" {FITTED_MARK}"
         lines.append(
-            f"| {col} | {_short_end(rep['comment'].lower())} / {_short_end(hit_word(co['hit']))} | "
+            f"| {col}{mark} | {_short_end(rep['comment'].lower())} / "
+            f"{_short_end(hit_word(co['hit']))} | "
             + cellpair(lambda e: _miss(e["time_ms"], rt), 1)
             + f" | {f(largest_coordinate_miss(col, co))}"
             + (f" ({f(largest_coordinate_miss(col, em))})" if em else "") + " | "
@@ -498,7 +598,8 @@ def geometry_sensitivity_section(lines, runs: dict, cols_runs: dict):
                     f"{f(r['XQL'])}, {f(r['ZQL'])} ({rep['XQL']}, {rep['ZQL']}) | "
                     f"{dvs} ({rep['delta_v_crush_mph']:.2f}) | "
                     f"{f(r['max_decel_g'])} ({rep['max_decel_g']:.2f}) |")
-    lines.append(say("variants.moves", **variants_move(runs, cols_runs)))
+    lines.append(say("variants.moves", **variants_move(runs, cols_runs),
+                     **fitted_cause_counts(cols_runs, runs)))
     lines.append(say("variants.fit_intro"))
     lines.append("| post | mph | reading | base that fits the report's value, lb | max decel. at that base, g (report) |")
     lines.append("|---|---|---|---|---|")
@@ -520,7 +621,8 @@ def geometry_sensitivity_section(lines, runs: dict, cols_runs: dict):
     lines.append("")
     for (post, mph), rows in joint.items():
         _, d, k, w = min(rows)
-        lines.append(say("variants.joint", post=post, mph=mph, reading=DV_SHORT[k], w=w, miss=d,
+        lines.append(say("variants.joint", post=post, mph=mph, reading=DV_SHORT[k], w=w,
+                         miss=0.0 if round(d, 2) == 0 else d,
                          others="; the others " + ", ".join(
                              f"{DV_SHORT[k2]} {d2:+.2f} g" for _, d2, k2, _ in rows if k2 != k)
                          if len(rows) > 1 else ""))
@@ -997,10 +1099,20 @@ def crash_section(lines, fig_path, crash: dict, found: dict):
                      set_in=12 * x_set))
     ours_ms = 1000 * base["vehicle_contact_lost_s"]
     soft_ms = crash["unloading at 12,000 lb/ft only (no stiff branch)"]["loss"]["time_ms"]
-    longest = max(CRASH_VARIANTS, key=lambda k: crash[k]["loss"]["time_ms"])
+    # every run of the section: the assumptions' variants and the grid of impact heights
+    every = [(k, crash[k]["loss"]) for k in CRASH_VARIANTS] + [
+        (f"S {r['impact_height_ft']:.1f} ft, unloading {r['unloading']}", r["loss"])
+        for r in found["grid"]["rows"] if r["loss"] is not None]
+    longest, lo_long = max(every, key=lambda kv: kv[1]["time_ms"])
+    long_enough = [(k, lo) for k, lo in every if lo["time_ms"] >= 71.8]
+    reach = (say("crash.reach_long", cases="; ".join(k for k, _ in long_enough),
+                 spins=", ".join(f"{lo['thetadot_rad_s']:.2f}" for _, lo in long_enough))
+             if long_enough else say("crash.reach_short"))
     lines.append(say("crash.early", ours_ms=ours_ms, early=71.8 - ours_ms, soft_ms=soft_ms,
-                     gained=soft_ms - ours_ms, longest_ms=crash[longest]["loss"]["time_ms"],
-                     longest=longest, thetadot=loss["thetadot_rad_s"]))
+                     gained=soft_ms - ours_ms, longest_ms=lo_long["time_ms"],
+                     longest=longest, longest_spin=lo_long["thetadot_rad_s"],
+                     n_runs=len(every), reach=reach, thetadot=loss["thetadot_rad_s"],
+                     both=sum(lo["thetadot_rad_s"] >= 12.50 for _, lo in long_enough)))
 
     # sensitivity
     lines.append("### How much each assumption moves Table 10\n")

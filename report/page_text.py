@@ -75,8 +75,19 @@ TEXT: dict[str, Text] = {
         "; at the {w:.0f} lb that fits the deceleration the α = 0 miss is {miss} {unit}"),
     "cause.reading": Text("which reading is the report's: 'ΔV and the maximum deceleration'"),
     "cause.points_only": Text(
-        "points only: the listing tests no shaft against the car (the summary and "
-        "docs/shaft_contact.md: the column with the shaft test)"),
+        "points only: with the shaft test (docs/shaft_contact.md) the core misses by {with_} "
+        "against {without} without it",
+        lambda m_with, m_without, share, **_: abs(m_with) <= share * abs(m_without)),
+    "cause.points_only_part": Text(
+        "points only, in part: with the shaft test (docs/shaft_contact.md) the core misses by "
+        "{with_} against {without} without it; the rest: {other}",
+        lambda m_with, m_without, share, **_:
+            share * abs(m_without) < abs(m_with) < abs(m_without)),
+    "cause.not_points": Text(
+        "not the point tests: with the shaft test (docs/shaft_contact.md) the core misses by "
+        "{with_} against {without} without it; {other}",
+        lambda m_with, m_without, **_: abs(m_with) >= abs(m_without)),
+    "cause.no_shaft_run": Text("the shaft test's run has no value here{why}; {other}"),
     "cause.steel": Text("unexplained (the report's own deck)"),
     "cause.arithmetic": Text(
         "arithmetic (the listing's difference scheme, step 0.0004 s: the emulator matches, "
@@ -88,7 +99,8 @@ TEXT: dict[str, Text] = {
         lambda em_miss, core_miss, half: core_miss <= half < em_miss),
 
     # ------------------------------------------------- the summary's cause of a column
-    "shaft.none": Text("points only: the listing tests no shaft against the car{at_time}"),
+    "shaft.none": Text("the shaft test's run did not end{why}: the point tests are not "
+                       "judged{at_time}"),
     "shaft.at_time": Text("; at the report's time ours is within {d} ft"),
     "shaft.ends": Text(
         "with the shaft test (docs/shaft_contact.md) the core ends on the {surface} ({point}) "
@@ -96,7 +108,18 @@ TEXT: dict[str, Text] = {
     "shaft.dist": Text(", its end coordinates {a:.2f} ft from the report's against {b:.2f} "
                        "without{farther}"),
     "shaft.tried": Text("tried: {ends}{dist}, where the report ends on the ground"),
-    "shaft.cause": Text("points only: {ends}{dist}{at_time}"),
+    "shaft.cause": Text(
+        "points only: {ends}{dist}{at_time}",
+        lambda a, b, t_with, t_without, share, **_:
+            a <= share * b and abs(t_with) <= share * abs(t_without)),
+    "shaft.cause_part": Text(
+        "points only, in part: {ends}{dist}{at_time}",
+        lambda a, b, t_with, t_without, share, **_:
+            a < b and abs(t_with) < abs(t_without)
+            and not (a <= share * b and abs(t_with) <= share * abs(t_without))),
+    "shaft.not_cause": Text(
+        "not the point tests: {ends}{dist}{at_time}",
+        lambda a, b, t_with, t_without, **_: a >= b or abs(t_with) >= abs(t_without)),
     "main.end_steel": Text("end: unexplained (the report's own deck)"),
     "main.dv_fits": Text(
         "ΔV: the {reading} reading fits ({miss:+.2f}){carried}",
@@ -111,7 +134,9 @@ TEXT: dict[str, Text] = {
         "Largest coordinate Δ: over the cells that test the model (not those equal to an "
         "input, a symmetry or the end condition). ΔV Δ: the three readings (crush pulse / "
         "first spring / whole contact). Each cause names the computation that backs it; "
-        "'unexplained' where none does.\n"),
+        "'unexplained' where none does. † marks the aluminium and twin columns: fitted "
+        "inputs (|PQ| and the arm's rise read off these tables; 'Provenance'), beside every "
+        "number of theirs.\n"),
     "summary.predictions": Text(
         "Genuine predictions among the 18 columns: **{n_pred}** (the provenance table below "
         "says why each is not one); the crash test of Chapter V is {crash}.\n"),
@@ -179,7 +204,11 @@ TEXT: dict[str, Text] = {
         "deceleration by {decel_lo:.2f}-{decel_hi:.2f} g, more than any of their misses "
         "(at most {dv_miss:.2f} mph by the nearest reading, {decel_miss:.2f} g): the base sits "
         "at Q, 1.0 ft below the impact point S, so it adds to the mass the car has to push. "
-        "The aluminium and twin misses are of the size of what Figure 21 would have fixed.\n",
+        "Whether it explains a miss is decided cell by cell (Tables 11 and 12 below, the "
+        "cause column, by the rule given there): of the {n_miss} cells of the aluminium and "
+        "twin columns (fitted inputs) that miss the report's last digit, {n_base} are put "
+        "down to a base weight in 0-120 lb, {n_unexplained} remain unexplained, and the others "
+        "go to the other causes named there.\n",
         lambda dv_lo, decel_lo, dv_miss, decel_miss, **_:
             dv_lo > dv_miss and decel_lo > decel_miss),
     "variants.fit_intro": Text(
@@ -248,13 +277,16 @@ TEXT: dict[str, Text] = {
         "the listing (`core/pair_hits.py`). The causes named, each backed by a computation "
         "on this page: **the base weight** (aluminium, twin, fitted inputs: only where a base "
         "weight in 0-120 lb gives the value the miss needs in the post's α = 0 column of the "
-        "same speed and, for the end and the base point, the car's largest deceleration there "
-        "still fits the report's; section 'How much the inferred geometry moves the answer'; "
-        "else the miss is **unexplained**, with the base weight that was tried), **points "
-        "only** (20 mph 'hits car' columns: the listing and the core's legacy preset test the "
-        "points P, R, C, U against the car, not the shaft; the core's post at the report's "
-        "time is below each such column, and the column with the shaft test in the summary "
-        "and in docs/shaft_contact.md), **arithmetic** (the listing's own step and scheme: "
+        "same speed and, for every cell but the deceleration itself, the car's largest "
+        "deceleration there still fits the report's; section 'How much the inferred geometry "
+        "moves the answer'; else the miss is **unexplained**, with the base weight that was "
+        "tried), **points only** (20 mph 'hits car' columns: the listing and the core's "
+        "legacy preset test the points P, R, C, U against the car, not the shaft; named only "
+        "where the same column run with the shaft test (docs/shaft_contact.md) takes away at "
+        "least {share} of the core's miss of that cell, 'in part' where it takes away less, "
+        "and 'not the point tests' where it takes away nothing, each with both misses; the "
+        "core's post at the report's time is below each such column), **arithmetic** (the "
+        "listing's own step and scheme: "
         "the emulator matches, the core does not); a miss none of these explains is "
         "**unexplained**. Cells that equal an input, a symmetry or the end condition are "
         "marked **not a test** and are left out of the summary's largest coordinate miss.\n"),
@@ -311,12 +343,19 @@ TEXT: dict[str, Text] = {
         "until displacements reached values such that the spring started to unload'. How "
         "much of the early loss the stiff unloading accounts for, by the variants below: "
         "unloading at 12,000 lb/ft alone (the softest stiffness section 5.2 gives) keeps the "
-        "contact to {soft_ms:.1f} ms, {gained:.1f} of the {early:.1f} ms; the longest contact "
-        "of all the variants below is {longest_ms:.1f} ms ({longest}), so the rest is "
-        "unexplained (the impact heights of 'Table 10's model column' below were tried too, "
-        "and what fits that column is a spring other than section 5.2's). Our θ̇, "
-        "{thetadot:.2f} rad/s, is between the model's 12.50 and the test's 8.75.\n",
-        lambda longest_ms, thetadot, **_: longest_ms < 71.8 and 8.75 < thetadot < 12.50),
+        "contact to {soft_ms:.1f} ms, {gained:.1f} of the {early:.1f} ms. The longest contact "
+        "of all the runs below ({n_runs}: the assumptions' variants and the impact heights of "
+        "'Table 10's model column') is {longest_ms:.1f} ms ({longest}), at θ̇ = "
+        "{longest_spin:.2f} rad/s; {reach} Our θ̇, {thetadot:.2f} rad/s, is between the "
+        "model's 12.50 and the test's 8.75.\n",
+        lambda both, thetadot, **_: both == 0 and 8.75 < thetadot < 12.50),
+    "crash.reach_long": Text(
+        "the runs that keep the contact to the model's 71.8 ms or longer ({cases}) turn at "
+        "{spins} rad/s, not the model's 12.50: with section 5.2's spring no run gives both, "
+        "so the rest is unexplained (what fits that column is a spring other than section "
+        "5.2's, below)."),
+    "crash.reach_short": Text(
+        "no run keeps the contact to the model's 71.8 ms, so the rest is unexplained."),
     "crash.variants": Text(
         "\nThe impact height moves θ̇ over {lo:.2f}-{hi:.2f} rad/s for S at 1.0-2.5 ft; the "
         "normal force and the base's height hardly matter before 70 ms. The spring's "

@@ -57,7 +57,8 @@ def run_tasks(tasks: list[dict]) -> list[dict]:
 
 
 def _row(column: str, shaft: bool, out) -> dict:
-    """:func:`run_task`'s row of one column's outcome."""
+    """:func:`run_task`'s row of one column's outcome (``cells``: :func:`columns_row`'s
+    values of it)."""
     hit = out.hit
     t = quantities.value("hit_time_s", out)
     ours = columns_row(out)
@@ -77,6 +78,9 @@ def _row(column: str, shaft: bool, out) -> dict:
         "segment_note": notes[0] if notes else None,
         "edge": [s.value for s in hit.edge] if hit is not None else [],
         "max_coordinate_diff_ft": max(diffs) if diffs else None,
+        #: the column's values keyed like the report's (docs/report_full.md sets each cell
+        #: with the shaft test beside the cell without it)
+        "cells": ours,
     }
 
 
