@@ -252,8 +252,17 @@ def test_the_text_names_each_finding(tmp_path, capsys):
     (tmp_path / "b.txt").write_text("\n".join(lines))
     assert main(["compare", str(STEEL40), str(tmp_path / "b.txt")]) == 1
     out = capsys.readouterr().out.splitlines()
-    assert out[0].startswith(f"record {k + 1} ") and "PHIFAD" in out[0] and "5.55555" in out[0]
-    assert out[1].startswith(f"missing: record {j + 1} of A") and "ZZQA" in out[1]
+    # first the verdict and its counts: one record fewer in B, so one fewer aligned
+    records = sum(len(VALUE.findall(line)) for line in LINES) + sum(
+        "THE POST HAS" in line for line in LINES)
+    assert out[0] == (f"differ: {records:,} records in A, {records - 1:,} in B; "
+                      f"{records - 1:,} aligned; {records - 1:,} compared: {records - 2:,} "
+                      "equal, 1 differing; 0 unreadable; 1 missing")
+    # the value named by the label printed on the paper (FORMAT 61: PHIFA), not its
+    # variable (PHIFAD)
+    assert out[1].startswith(f"record {k + 1} ") and "PHIFA:" in out[1] and "5.55555" in out[1]
+    assert "PHIFAD" not in "\n".join(out)
+    assert out[2].startswith(f"missing: record {j + 1} of A") and "ZZQA" in out[2]
     assert "1 difference(s), 1 record(s) in one printout only" in out[-1]
 
 
