@@ -253,11 +253,13 @@ def test_the_text_names_each_finding(tmp_path, capsys):
     assert main(["compare", str(STEEL40), str(tmp_path / "b.txt")]) == 1
     out = capsys.readouterr().out.splitlines()
     # first the verdict and its counts: one record fewer in B, so one fewer aligned
-    records = sum(len(VALUE.findall(line)) for line in LINES) + sum(
-        "THE POST HAS" in line for line in LINES)
+    values = sum(len(VALUE.findall(line)) for line in LINES)
+    messages = sum("THE POST HAS" in line for line in LINES)
+    records = values + messages
     assert out[0] == (f"differ: {records:,} records in A, {records - 1:,} in B; "
-                      f"{records - 1:,} aligned; {records - 1:,} compared: {records - 2:,} "
-                      "equal, 1 differing; 0 unreadable; 1 missing")
+                      f"{records - 1:,} aligned; {records - 1:,} compared ({values - 1:,} "
+                      f"values, {messages} messages): {records - 2:,} equal, 1 differing; "
+                      "0 unreadable; 1 missing")
     # the value named by the label printed on the paper (FORMAT 61: PHIFA), not its
     # variable (PHIFAD)
     assert out[1].startswith(f"record {k + 1} ") and "PHIFA:" in out[1] and "5.55555" in out[1]

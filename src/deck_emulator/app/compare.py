@@ -100,7 +100,8 @@ def _counts_line(o: CompareOptions, found) -> str:
     damage = (f"; {c['read_through_damage']:,} read through a scan's damage"
               if c["read_through_damage"] else "")
     return (f"{found.verdict}: {c['records_a']:,} records in A, {c['records_b']:,} in B; "
-            f"{c['aligned']:,} aligned; {c['compared']:,} compared: {c['equal']:,} equal, "
+            f"{c['aligned']:,} aligned; {c['compared']:,} compared ({c['values_compared']:,} "
+            f"values, {c['messages_compared']:,} messages): {c['equal']:,} equal, "
             f"{c['differing']:,} differing; {c['unreadable']:,} unreadable; "
             f"{c['missing']:,} missing{damage}")
 

@@ -115,13 +115,16 @@ class Missing:
 
 @dataclass
 class Comparison:
-    """What comparing two printouts found: the counts, and each kind of finding in printed
-    order (``damaged`` holds the records read through damage and the unreadable ones)."""
+    """What comparing two printouts found: the counts (``compared``: the pairs of readable
+    records lined up, values and messages; ``unreadable``: the records of either printout that
+    could not be read), and each kind of finding in printed order (``damaged`` holds the
+    records read through damage and the unreadable ones)."""
 
     records_a: int = 0
     records_b: int = 0
     aligned: int = 0
     compared: int = 0
+    messages_compared: int = 0
     equal: int = 0
     unreadable: int = 0
     differences: list[Difference] = field(default_factory=list)
@@ -158,7 +161,9 @@ class Comparison:
 
     def counts(self) -> dict[str, int]:
         return {"records_a": self.records_a, "records_b": self.records_b,
-                "aligned": self.aligned, "compared": self.compared, "equal": self.equal,
+                "aligned": self.aligned, "compared": self.compared,
+                "values_compared": self.compared - self.messages_compared,
+                "messages_compared": self.messages_compared, "equal": self.equal,
                 "differing": self.differing, "unreadable": self.unreadable,
                 "missing": len(self.missing), "read_through_damage": self.read_through_damage}
 
@@ -263,6 +268,7 @@ def compare_records(a: list[Record], b: list[Record], tolerance: float = 0.0) ->
             partner[("B", j)] = _other("A", x)
             continue
         found.compared += 1
+        found.messages_compared += x.is_message and y.is_message
         difference = _difference(x, y, tolerance)
         if difference is None:
             found.equal += 1

@@ -151,9 +151,12 @@ _RECORD = re.compile(
     rf"|(?P<message>{_words(_MESSAGE_START)}.*?)\s*(?={_START}|$))")
 _STARTS_LINE = re.compile(rf"\s*{_START}")
 _F_FIELD = re.compile(r"-?(?:[0-9]+\.([0-9]*)|\.([0-9]+))")  # what Fw.d prints
-#: a lone field on a line of its own: a point or a star, or three characters at least, and
-#: no letter a scan's confusions do not explain
-_LONE_FIELD = re.compile(r"(?=.*[.*]|...)[^A-Za-z]*")
+#: a lone field on a line of its own (damaged or not): a digit, a point or a star in it
+_LONE_FIELD = re.compile(r".*[0-9.*].*")
+#: a lone field no label claimed, read as a record that cannot be read: a number with a
+#: point (read through a scan's confusions), or the stars of an overflowed field
+_STRAY_FIELD = re.compile(r"-?(?:[0-9]+\.[0-9]*|\.[0-9]+)|\*{1,%d}"
+                          % max(f.width for f in VALUE_FIELDS))
 _LOOKS_LIKE = [" ".join(_BEFORE.split()), " ".join(_MESSAGE_START.split())]
 
 
@@ -248,7 +251,7 @@ def _find(lines: list[str]) -> list[_Found]:
     found: list[_Found] = []
     taken: set[int] = set()  # lines that hold a record or a record's value
     for k, line in enumerate(lines):
-        if k in taken:
+        if k in taken or not line.strip():
             continue
         for m in _RECORD.finditer(line):
             taken.add(k)
@@ -285,8 +288,7 @@ def _lone_field(line: str) -> bool:
     not a page mark (``1``) nor the start of a record."""
     token = line.strip()
     return (len(token.split()) == 1 and line.rstrip() != "1"
-            and not _STARTS_LINE.match(line)
-            and _LONE_FIELD.fullmatch(token.translate(_REPAIR)) is not None)
+            and not _STARTS_LINE.match(line) and _LONE_FIELD.fullmatch(token) is not None)
 
 
 def _looks_like_a_record(line: str) -> bool:
@@ -297,7 +299,7 @@ def _looks_like_a_record(line: str) -> bool:
     text = " ".join(line.split()).upper()
     if not text or re.search(r"\dH", text):
         return False  # blank, or a FORMAT statement of a compile listing
-    if _lone_field(line) and re.search(r"[0-9]", text.translate(_REPAIR)):
+    if _lone_field(line) and _STRAY_FIELD.fullmatch(text.translate(_REPAIR)):
         return True
     return any(SequenceMatcher(None, text[:len(start)], start).ratio() >= 0.75
                for start in _LOOKS_LIKE)
