@@ -295,3 +295,26 @@ def test_what_is_not_a_printout_is_refused(capsys):
     assert main(["compare", str(ROOT / "decks" / "steel40.dat"), str(STEEL40)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "steel40.dat" in err[0] and "not a printout" in err[0]
+
+
+def test_a_pdf_without_the_pdf_extra_is_refused_in_one_line_naming_it(tmp_path, capsys,
+                                                                    monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pypdf", None)  # as an install without the [pdf] extra
+    pdf = tmp_path / "pages.pdf"
+    pdf.write_bytes(b"%PDF-1.4\n%\xe2\xe3\xcf\xd3\n")
+    assert main(["compare", str(STEEL40), str(pdf)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert captured.out == "" and len(err) == 1 and "deck_emulator[pdf]" in err[0]
+
+
+def test_a_pdf_whose_text_cannot_be_read_is_refused_in_one_line(tmp_path, capsys):
+    pytest.importorskip("pypdf")
+    pdf = tmp_path / "cut.pdf"
+    pdf.write_bytes(b"%PDF-1.4\n1 0 obj << /Type /Catalog >>\n")  # cut short: no xref, no EOF
+    assert main(["compare", str(STEEL40), str(pdf)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert captured.out == "" and len(err) == 1 and "cut.pdf" in err[0] and "PDF" in err[0]

@@ -112,6 +112,8 @@ def _verdict_line(o: CompareOptions, found, hidden: int) -> str:
     c = found.counts()
     if found.verdict == "agree":
         said = f"agree ({tol}): all {c['compared']:,} records of each compared and equal"
+        if c["read_through_damage"]:
+            said += f", {c['read_through_damage']:,} of them as read through a scan's damage"
     elif found.verdict == "differ":
         said = (f"differ ({tol}): {c['differing']:,} difference(s), {c['missing']:,} "
                 f"record(s) in one printout only")

@@ -44,6 +44,7 @@ import os
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
+from functools import lru_cache
 
 from deck_emulator.legacy.printer import MESSAGE_TEXTS, VALUE_FIELDS, VALUE_TEXT
 
@@ -160,6 +161,14 @@ _STRAY_FIELD = re.compile(r"-?(?:[0-9]+\.[0-9]*|\.[0-9]+)|\*{1,%d}"
 _LOOKS_LIKE = [" ".join(_BEFORE.split()), " ".join(_MESSAGE_START.split())]
 
 
+@lru_cache(maxsize=256)
+def _read_words(seen: str, printed: str) -> str | None:
+    """Why the words ``seen`` are read as ``printed`` (None: they are the same words)."""
+    seen, printed = " ".join(seen.split()), " ".join(printed.split())
+    return None if seen == printed else f"words {seen!r} read as {printed!r}"
+
+
+@lru_cache(maxsize=1024)
 def _label(seen: str) -> tuple[str | None, str | None]:
     """(the label ``seen`` stands for or None, why: None when read as printed)."""
     if seen in LABELS:
@@ -264,9 +273,9 @@ def _find(lines: list[str]) -> list[_Found]:
                 found.append(_Found(k + 1, MESSAGE, seen, line, why, text is None, text))
                 continue
             for part, printed in ((m.group("before"), _BEFORE), (m.group("after"), _AFTER)):
-                if " ".join(part.split()) != " ".join(printed.split()):
-                    why.append(f"words {' '.join(part.split())!r} read as "
-                               f"{' '.join(printed.split())!r}")
+                why_words = _read_words(part, printed)
+                if why_words:
+                    why.append(why_words)
             name, why_label = _label(m.group("label"))
             if why_label:
                 why.append(why_label)
@@ -301,7 +310,8 @@ def _looks_like_a_record(line: str) -> bool:
         return False  # blank, or a FORMAT statement of a compile listing
     if _lone_field(line) and _STRAY_FIELD.fullmatch(text.translate(_REPAIR)):
         return True
-    return any(SequenceMatcher(None, text[:len(start)], start).ratio() >= 0.75
+    return any(len(text) >= 0.75 * len(start)
+               and SequenceMatcher(None, text[:len(start)], start).ratio() >= 0.75
                for start in _LOOKS_LIKE)
 
 
@@ -328,6 +338,7 @@ def read_records(printout) -> list[Record]:
     for block in blocks:
         pages = set.intersection(*(_PAGES_OF[found[k].name] for k in block))
         page = next(iter(pages)) if len(pages) == 1 else None
+        values = []
         for k in block:
             f = found[k]
             shape = _FIELD.get((page, f.name)) if page is not None else None
@@ -338,14 +349,15 @@ def read_records(printout) -> list[Record]:
             reading, value, read_as, why = read_value(f.printed, decimals, width)
             if why:
                 f.why.append(why)
-            if reading in (NUMBER, OVERFLOW) and f.why:
-                reading = DAMAGED if reading == NUMBER else reading
-            read[k] = Record(f.line, f.name, f.printed, reading, value, read_as, None,
-                             f.text, tuple(f.why))
-        time = next((read[k].value for k in reversed(block)
-                     if read[k].name in _PAGE_ENDS), None)
-        for k in block:
-            read[k] = _with_time(read[k], time)
+            if reading == NUMBER and f.why:  # its words or label read through damage
+                reading = DAMAGED
+            values.append((reading, value, read_as))
+        time = next((value for k, (_, value, _) in zip(reversed(block), reversed(values))
+                     if found[k].name in _PAGE_ENDS), None)
+        for k, (reading, value, read_as) in zip(block, values):
+            f = found[k]
+            read[k] = Record(f.line, f.name, f.printed, reading, value, read_as, time, f.text,
+                             tuple(f.why))
 
     records: list[Record] = []
     last_time = None
@@ -362,7 +374,3 @@ def read_records(printout) -> list[Record]:
                                   last_time, f.text, tuple(f.why)))
     return records
 
-
-def _with_time(record: Record, time: float | None) -> Record:
-    return Record(record.line, record.name, record.printed, record.reading, record.value,
-                  record.read_as, time, record.text, record.why)
