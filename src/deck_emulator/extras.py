@@ -20,6 +20,7 @@ EXTRA_OF_MODULE = {
     "dask": "studies",
     "distributed": "studies",
     "SALib": "studies",
+    "pypdf": "pdf",
 }
 
 #: what each extra is for, in the words of the message
@@ -28,6 +29,7 @@ PURPOSE = {
     "plot": "pictures and the printout's pages",
     "frames": "trajectories as tables",
     "studies": "the many-scene studies",
+    "pdf": "reading a PDF's text",
 }
 
 

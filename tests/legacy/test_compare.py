@@ -252,8 +252,19 @@ def test_the_text_names_each_finding(tmp_path, capsys):
     (tmp_path / "b.txt").write_text("\n".join(lines))
     assert main(["compare", str(STEEL40), str(tmp_path / "b.txt")]) == 1
     out = capsys.readouterr().out.splitlines()
-    assert out[0].startswith(f"record {k + 1} ") and "PHIFAD" in out[0] and "5.55555" in out[0]
-    assert out[1].startswith(f"missing: record {j + 1} of A") and "ZZQA" in out[1]
+    # first the verdict and its counts: one record fewer in B, so one fewer aligned
+    values = sum(len(VALUE.findall(line)) for line in LINES)
+    messages = sum("THE POST HAS" in line for line in LINES)
+    records = values + messages
+    assert out[0] == (f"differ: {records:,} records in A, {records - 1:,} in B; "
+                      f"{records - 1:,} aligned; {records - 1:,} compared ({values - 1:,} "
+                      f"values, {messages} messages): {records - 2:,} equal, 1 differing; "
+                      "0 unreadable; 1 missing")
+    # the value named by the label printed on the paper (FORMAT 61: PHIFA), not its
+    # variable (PHIFAD)
+    assert out[1].startswith(f"record {k + 1} ") and "PHIFA:" in out[1] and "5.55555" in out[1]
+    assert "PHIFAD" not in "\n".join(out)
+    assert out[2].startswith(f"missing: record {j + 1} of A") and "ZZQA" in out[2]
     assert "1 difference(s), 1 record(s) in one printout only" in out[-1]
 
 
@@ -284,3 +295,26 @@ def test_what_is_not_a_printout_is_refused(capsys):
     assert main(["compare", str(ROOT / "decks" / "steel40.dat"), str(STEEL40)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "steel40.dat" in err[0] and "not a printout" in err[0]
+
+
+def test_a_pdf_without_the_pdf_extra_is_refused_in_one_line_naming_it(tmp_path, capsys,
+                                                                    monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pypdf", None)  # as an install without the [pdf] extra
+    pdf = tmp_path / "pages.pdf"
+    pdf.write_bytes(b"%PDF-1.4\n%\xe2\xe3\xcf\xd3\n")
+    assert main(["compare", str(STEEL40), str(pdf)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert captured.out == "" and len(err) == 1 and "deck_emulator[pdf]" in err[0]
+
+
+def test_a_pdf_whose_text_cannot_be_read_is_refused_in_one_line(tmp_path, capsys):
+    pytest.importorskip("pypdf")
+    pdf = tmp_path / "cut.pdf"
+    pdf.write_bytes(b"%PDF-1.4\n1 0 obj << /Type /Catalog >>\n")  # cut short: no xref, no EOF
+    assert main(["compare", str(STEEL40), str(pdf)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert captured.out == "" and len(err) == 1 and "cut.pdf" in err[0] and "PDF" in err[0]

@@ -26,13 +26,14 @@ from dataclasses import dataclass, field
 PROG = "deck-emulator"
 
 #: exit statuses, one meaning each (README, "Commands")
-EXIT = {"ok": 0, "differ": 1, "bad input": 2, "stopped": 3}
+EXIT = {"ok": 0, "differ": 1, "bad input": 2, "stopped": 3, "unreadable": 4}
 
 
 @dataclass(eq=False)
 class Answer:
-    """What a command answers.  ``status``: ``ok``, ``stopped`` (a run could not end: exit 3)
-    or ``differ`` (compare: the printouts differ, exit 1).  ``text``: the answer as a person
+    """What a command answers.  ``status``: ``ok``, ``stopped`` (a run could not end: exit 3),
+    ``differ`` (compare: the printouts differ, exit 1) or ``unreadable`` (compare: nothing
+    differs, but some record could not be read, so not every value was compared: exit 4).  ``text``: the answer as a person
     reads it (bytes for card images), ``None`` where the command writes only files;
     ``json``: print :meth:`document` instead; ``out``: the file the printed answer goes to
     (None: stdout).  ``command``, ``source``, ``settings``, ``notes`` and ``result`` make the

@@ -1,4 +1,21 @@
-"""``deck-emulator compare``: compare two printouts of the program, record by record."""
+"""``deck-emulator compare``: compare two printouts of the program, record by record.
+
+A printout is read as people hold it: text (carriage control in column 1, the page as printed,
+typed, scanned; ``pdftotext`` of the pages, plain or ``-layout``), or the PDF of ``run --pages``
+itself.  A PDF's text is taken with pypdf (the ``[pdf]`` extra), a well-kept pure-Python
+reader, rather than by decoding this tool's own PDF writer's streams: a PDF people hold has
+often passed through other hands (printed again to PDF, re-saved, annotated), and a general
+reader takes its text as any PDF tool would, where a reader of our own writer's internals
+would take only what that writer makes (and break when matplotlib changes).  Without the
+extra, a PDF is refused in one line naming it (exit 2), as every command refuses a missing
+extra.
+
+The verdict and its exit status: 0 ``agree``, every record of both printouts lined up,
+compared and equal; 1 ``differ``, a value differs or a record is in one printout only; 4
+``unreadable``, no difference among what could be read, but some value (or label) of a
+printout could not be read, so not every value was compared and no agreement is claimed
+(:mod:`deck_emulator.legacy.compare`); 2 input that is not a printout.
+"""
 
 from __future__ import annotations
 
@@ -12,11 +29,13 @@ from .options import Answering, Common, nonnegative_float, option, options_class
 class CompareOptions(Common, Answering):
     a: str = option(positional=True, metavar="A",
                     help="a printout: text with carriage control in column 1, the page as "
-                    "printed (run --render), or text taken from the PDF of run --pages")
+                    "printed (run --render), text taken from the PDF of run --pages "
+                    "(pdftotext, plain or -layout), or that PDF itself (needs the [pdf] "
+                    "extra)")
     b: str = option(positional=True, metavar="B", help="the printout to compare it with")
     tolerance: float = option(0.0, parse=nonnegative_float, metavar="X",
                               help="values agree when they differ by at most X (default 0: "
-                              "exactly)")
+                              "exactly as printed)")
     max: int | None = option(None, parse=positive_int, metavar="N",
                              help="show at most N findings of each kind (all are counted)")
 
@@ -26,7 +45,37 @@ _EXPECTED = "a printout of the program was expected ('THE VALUE OF name IS value
             "'THE POST HAS ...' messages)"
 
 
-def _printout_records(path: str):
+def _pdf_text(path: str, data: bytes, said: list[str]) -> str:
+    """The text of a PDF's pages, one after the other (pypdf: the ``[pdf]`` extra)."""
+    import io
+    import logging
+    import zlib
+
+    import pypdf  # ModuleNotFoundError: the command line names the extra (exit 2)
+    from pypdf.errors import PyPdfError
+
+    from deck_emulator.parallel import progress_bar
+
+    log = logging.getLogger("pypdf")  # its warnings on a damaged file: the refusal says why
+    level = log.level
+    log.setLevel(logging.ERROR)
+    try:
+        reader = pypdf.PdfReader(io.BytesIO(data))
+        pages = []
+        with progress_bar(len(reader.pages), desc=f"reading {path}", unit="page") as bar:
+            for page in reader.pages:
+                pages.append(page.extract_text())
+                bar.update()
+    except (PyPdfError, ValueError, KeyError, IndexError, zlib.error) as exc:
+        raise UsageError(f"{path}: a PDF whose text cannot be read "
+                         f"({type(exc).__name__}: {exc}): {_EXPECTED}") from exc
+    finally:
+        log.setLevel(level)
+    said.append(f"{path}: the text of {len(pages)} PDF page(s), taken with pypdf")
+    return "\n".join(pages)
+
+
+def _printout_records(path: str, said: list[str]):
     """The records of the printout in ``path``; an empty file or one with no record of the
     program is refused in one line."""
     from deck_emulator.legacy.deck import read_bytes
@@ -35,56 +84,92 @@ def _printout_records(path: str):
     shown, data = read_bytes(path, limit=1 << 26)  # DeckError naming the file
     if not data.strip():
         raise UsageError(f"{path}: an empty file: {_EXPECTED}")
-    records = read_records(data.decode("ascii", errors="replace"))
+    is_pdf = data.startswith(b"%PDF")
+    text = _pdf_text(path, data, said) if is_pdf else data.decode("ascii", errors="replace")
+    records = read_records(text)
     if not records:
-        what = ("a PDF; compare reads a printout's text (the text taken from the PDF)"
-                if data.startswith(b"%PDF") else "not a printout of the program: no record of it")
+        what = "a PDF with no record of the program in its text" if is_pdf else \
+            "not a printout of the program: no record of it"
         raise UsageError(f"{path}: {what}: {_EXPECTED}")
     return records
 
 
-def _compare_text(o: CompareOptions, found) -> str:
+def _counts_line(o: CompareOptions, found) -> str:
+    """The first line: the verdict and what it rests on."""
+    c = found.counts()
+    damage = (f"; {c['read_through_damage']:,} read through a scan's damage"
+              if c["read_through_damage"] else "")
+    return (f"{found.verdict}: {c['records_a']:,} records in A, {c['records_b']:,} in B; "
+            f"{c['aligned']:,} aligned; {c['compared']:,} compared ({c['values_compared']:,} "
+            f"values, {c['messages_compared']:,} messages): {c['equal']:,} equal, "
+            f"{c['differing']:,} differing; {c['unreadable']:,} unreadable; "
+            f"{c['missing']:,} missing{damage}")
+
+
+def _verdict_line(o: CompareOptions, found, hidden: int) -> str:
+    """The last line: the verdict, and the counts it is computed from."""
     tol = "exactly as printed" if o.tolerance == 0 else f"within {o.tolerance:g}"
-    lines, hidden = [], 0
+    c = found.counts()
+    if found.verdict == "agree":
+        said = f"agree ({tol}): all {c['compared']:,} records of each compared and equal"
+        if c["read_through_damage"]:
+            said += f", {c['read_through_damage']:,} of them as read through a scan's damage"
+    elif found.verdict == "differ":
+        said = (f"differ ({tol}): {c['differing']:,} difference(s), {c['missing']:,} "
+                f"record(s) in one printout only")
+    else:
+        said = (f"cannot be said to agree ({tol}): {c['unreadable']:,} record(s) unreadable, "
+                f"{c['compared']:,} of {max(c['records_a'], c['records_b']):,} compared, no "
+                "difference among them")
+    more = f"; {hidden} finding(s) not shown (--max)" if hidden else ""
+    return f"A {o.a} and B {o.b} {said}{more}."
+
+
+def _compare_text(o: CompareOptions, found) -> str:
+    lines, hidden = [_counts_line(o, found)], 0
     for kind in (found.differences, found.damaged, found.missing):
         shown = kind if o.max is None else kind[:o.max]
         lines += [finding.line() for finding in shown]
         hidden += len(kind) - len(shown)
-    verdict = ("agree" if found.agree else "differ")
-    counts = ("" if found.agree else f": {len(found.differences)} difference(s), "
-              f"{len(found.missing)} record(s) in one printout only")
-    damaged = f"; {len(found.damaged)} value(s) damaged" if found.damaged else ""
-    more = f"; {hidden} finding(s) not shown (--max)" if hidden else ""
-    lines.append(f"A {o.a} and B {o.b} {verdict} ({tol}){counts}{damaged}{more}.")
+    lines.append(_verdict_line(o, found, hidden))
     return "\n".join(lines) + "\n"
 
 
 @command("compare", CompareOptions,
          help="compare two printouts of the program, record by record",
          description="Read two printouts of the program (this tool's, the compiled listing's, "
-         "the page as printed, text taken from a PDF of the pages, or one typed or scanned "
-         "from another source), line their records up by content (each value by its variable "
-         "and its block's TIME, each message by its words), and print each value that "
-         "differs, each value damaged as a scan damages it (O for 0, l for 1 ...: read as the "
-         "number and named), and each record in one printout only. Exit status 0 when no "
-         "value differs (exactly as printed, or within --tolerance) and no record is missing, "
-         "1 otherwise, 2 for input that is not a printout.")
+         "the page as printed, text taken from a PDF of the pages by pdftotext, plain or "
+         "-layout, the PDF itself with the [pdf] extra, or one typed or scanned from another "
+         "source), line their records up by content (each value by its printed label and its "
+         "block's TIME, each message by its words), and print the counts (records aligned, "
+         "compared, equal, differing, unreadable, missing) first, then each value that "
+         "differs, each record damaged as a scan damages it (O for 0, F5A for FSA ...: read "
+         "as what it stands for, shown with its line) or unreadable (shown with its line as it "
+         "stands), and each record in one printout only. Exit status 0 when every record of "
+         "both was compared and equal (exactly as printed, or within --tolerance), 1 when a "
+         "value differs or a record is missing, 4 when nothing differs but some record could "
+         "not be read (not all compared: no agreement claimed), 2 for input that is not a "
+         "printout.")
 def compare(o: CompareOptions) -> Answer:
     from deck_emulator.legacy.compare import compare_records
 
-    records = [_printout_records(path) for path in (o.a, o.b)]
+    said: list[str] = []
+    records = [_printout_records(path, said) for path in (o.a, o.b)]
     found = compare_records(*records, tolerance=o.tolerance)
 
     def listed(kind):
         return [vars(finding) for finding in (kind if o.max is None else kind[:o.max])]
 
-    return Answer("compare", f"{o.a} {o.b}", status="ok" if found.agree else "differ",
+    return Answer("compare", f"{o.a} {o.b}",
+                  status={"agree": "ok"}.get(found.verdict, found.verdict),
                   settings={"tolerance": o.tolerance},
-                  result={"agree": found.agree,
+                  result={"verdict": found.verdict,
+                          "agree": found.agree,
+                          "counts": found.counts(),
                           "differences": listed(found.differences),
                           "differences_total": len(found.differences),
                           "damaged": listed(found.damaged),
                           "damaged_total": len(found.damaged),
                           "missing": listed(found.missing),
                           "missing_total": len(found.missing)},
-                  text=_compare_text(o, found), json=o.json, out=o.out)
+                  text=_compare_text(o, found), json=o.json, out=o.out, said=said)

@@ -1,21 +1,31 @@
-"""Two printouts of the 1967 program, lined up by their records (issues 26, 33).
+"""Two printouts of the 1967 program, lined up by their records (issues 26, 33, 45).
 
 Each printout is read into its records (:func:`~deck_emulator.legacy.records.read_records`:
 labelled values and messages, whatever the page layout), and the two sequences are lined up
-by their content as a diff lines up lines: a value by its variable and its block's TIME, a
-message by its words.  A stretch where the two do not line up so (a block whose TIME differs
-or was lost) is lined up again by the variables' names alone.  So one record lost or added, or
-a page mark, costs one finding, not every record after it.
+by their content as a diff lines up lines: a value by its printed label and its block's TIME,
+a message by its words.  A stretch where the two do not line up so (a block whose TIME differs
+or was lost) is lined up again by the labels alone, and there a record whose label cannot be
+read lines up with the other's record at its place.  So one record lost or added, or a page
+mark, costs one finding, not every record after it.
 
-Three kinds of finding, counted apart:
+Every record of both printouts ends in exactly one of these, counted apart:
 
-* a **difference**: two values lined up that differ by more than ``tolerance`` (0: exactly as
-  printed), or where one field overflowed (``*``) and the other did not; two messages lined
-  up whose words differ;
-* a **damaged** value: read only through a scan's confusions, or not at all (unreadable);
-  reported with what was printed and what it was read as, and compared as read (an unreadable
-  value is compared with nothing);
-* a **missing** record: one printout's record that lines up with none of the other's.
+* **compared**: two readable records lined up -- **equal**, or **differing**: two values that
+  differ by more than ``tolerance`` (0: exactly as printed, the sign of a zero included), or
+  where one field overflowed (``*``) and the other did not; two messages whose words differ;
+* **unreadable**: a record of either printout whose value, label or words cannot be read
+  (:mod:`~deck_emulator.legacy.records`): nothing is compared with it, and the record lined up
+  with it in the other printout is not compared either;
+* **missing**: a readable record of one printout that lines up with none of the other's.
+
+A record read through a scan's damage (``F5A`` for ``FSA``, ``O`` for ``0``) is compared as
+read, and named (``damaged``) with its line as it stands.
+
+The verdict is computed from these counts and from nothing else (:attr:`Comparison.verdict`):
+``agree`` only when every record of both printouts was lined up, compared and equal; ``differ``
+when a value differs or a record is missing; otherwise ``unreadable``: no difference was found
+among what could be read, but not every value could be compared, so no agreement is claimed.
+Findings name each value by the label printed on the paper (``THFA``, ``ZXCMA``).
 """
 
 from __future__ import annotations
@@ -24,10 +34,14 @@ import math
 from dataclasses import dataclass, field
 from difflib import SequenceMatcher
 
-from deck_emulator.legacy.records import DAMAGED, MESSAGE, OVERFLOW, UNREADABLE, Record, \
-    read_records
+from deck_emulator.legacy.records import MESSAGE, OVERFLOW, UNKNOWN, Record, read_records
+from deck_emulator.legacy.records import UNREADABLE as UNREADABLE_READING
 
-__all__ = ["Comparison", "Damage", "Difference", "Missing", "compare", "compare_records"]
+__all__ = ["AGREE", "DIFFER", "UNREADABLE", "Comparison", "Damage", "Difference", "Missing",
+           "compare", "compare_records"]
+
+#: The three verdicts.
+AGREE, DIFFER, UNREADABLE = "agree", "differ", "unreadable"
 
 
 def _when(time_s: float | None) -> str:
@@ -37,7 +51,7 @@ def _when(time_s: float | None) -> str:
 @dataclass(frozen=True)
 class Difference:
     """Two records lined up that disagree: each printout's record (its line, 1-based), the
-    block's TIME, the variable (or ``message``), the two as read, and the size (``None`` where
+    block's TIME, the label (or ``message``), the two as read, and the size (``None`` where
     no number measures it)."""
 
     record_a: int
@@ -57,9 +71,12 @@ class Difference:
 
 @dataclass(frozen=True)
 class Damage:
-    """A value of one printout (``printout``: ``"A"`` or ``"B"``) read through a scan's
+    """A record of one printout (``printout``: ``"A"`` or ``"B"``) read through a scan's
     confusions (``reading`` ``damaged``: ``read_as`` what it was read as) or not readable
-    (``unreadable``: ``read_as`` None)."""
+    (``unreadable``: ``read_as`` None; ``what`` ``?`` where its label cannot be read).
+    ``text``: its line(s) as they stand; ``why``: what was read through what, or why it
+    cannot be read; ``other``: the other printout's record lined up with it (its line and
+    what it prints), or None."""
 
     printout: str
     record: int
@@ -68,17 +85,21 @@ class Damage:
     printed: str
     reading: str
     read_as: str | None
+    text: str = ""
+    why: tuple[str, ...] = ()
+    other: str | None = None
 
     def line(self) -> str:
-        read = (f"read as {self.read_as}" if self.read_as is not None
-                else "unreadable: compared with nothing")
-        return (f"damaged: record {self.record} of {self.printout}{_when(self.time_s)}: "
-                f"{self.what}: printed {self.printed!r}, {read}")
+        kind = "unreadable" if self.reading == UNREADABLE_READING else "damaged"
+        other = "" if self.other is None else f"; {self.other}"
+        return (f"{kind}: line {self.record} of {self.printout}{_when(self.time_s)}: "
+                f"{self.what}: {self.text.strip()!r}: {'; '.join(self.why)}{other}")
 
 
 @dataclass(frozen=True)
 class Missing:
-    """A record of one printout (``printout``) that lines up with none of the other's."""
+    """A readable record of one printout (``printout``) that lines up with none of the
+    other's."""
 
     printout: str
     record: int
@@ -92,85 +113,175 @@ class Missing:
                 f"{self.what} {self.printed} is not in {other}")
 
 
-@dataclass(frozen=True)
+@dataclass
 class Comparison:
-    """What comparing two printouts found, each kind in printed order."""
+    """What comparing two printouts found: the counts (``compared``: the pairs of readable
+    records lined up, values and messages; ``unreadable``: the records of either printout that
+    could not be read), and each kind of finding in printed order (``damaged`` holds the
+    records read through damage and the unreadable ones)."""
 
+    records_a: int = 0
+    records_b: int = 0
+    aligned: int = 0
+    compared: int = 0
+    messages_compared: int = 0
+    equal: int = 0
+    unreadable: int = 0
     differences: list[Difference] = field(default_factory=list)
     damaged: list[Damage] = field(default_factory=list)
     missing: list[Missing] = field(default_factory=list)
 
     @property
+    def differing(self) -> int:
+        return len(self.differences)
+
+    @property
+    def read_through_damage(self) -> int:
+        return sum(d.reading != UNREADABLE_READING for d in self.damaged)
+
+    @property
+    def all_compared(self) -> bool:
+        """Every record of both printouts lined up and compared (none unreadable, none
+        missing, and there were records)."""
+        return (self.compared == self.aligned == self.records_a == self.records_b > 0
+                and not self.unreadable and not self.missing)
+
+    @property
+    def verdict(self) -> str:
+        """``agree``, ``differ`` or ``unreadable`` (see the module docstring)."""
+        if self.differences or self.missing:
+            return DIFFER
+        if self.all_compared and self.equal == self.compared:
+            return AGREE
+        return UNREADABLE
+
+    @property
     def agree(self) -> bool:
-        """No value differs and no record is missing (damage alone does not count)."""
-        return not self.differences and not self.missing
+        return self.verdict == AGREE
+
+    def counts(self) -> dict[str, int]:
+        return {"records_a": self.records_a, "records_b": self.records_b,
+                "aligned": self.aligned, "compared": self.compared,
+                "values_compared": self.compared - self.messages_compared,
+                "messages_compared": self.messages_compared, "equal": self.equal,
+                "differing": self.differing, "unreadable": self.unreadable,
+                "missing": len(self.missing), "read_through_damage": self.read_through_damage}
 
 
 def _key(r: Record) -> tuple:
-    return (MESSAGE, r.printed) if r.is_message else (r.name, r.time_s)
+    if r.name == UNKNOWN:
+        return (UNKNOWN, id(r))  # lines up with nothing by content
+    return (MESSAGE, r.read_as) if r.is_message else (r.name, r.time_s)
 
 
 def _pairs(a: list[Record], b: list[Record]) -> list[tuple[int | None, int | None]]:
     """The two sequences lined up: (index in a, index in b), None on the side that lacks it."""
     out: list[tuple[int | None, int | None]] = []
 
+    def by_place(i1, i2, j1, j2):
+        """A stretch whose labels differ: a record whose label cannot be read lines up with
+        the other's record at its place; the rest line up with nothing."""
+        for i, j in zip(range(i1, i2), range(j1, j2)):
+            if UNKNOWN in (a[i].name, b[j].name):
+                out.append((i, j))
+            else:
+                out.extend(((i, None), (None, j)))
+        n = min(i2 - i1, j2 - j1)
+        out.extend((i, None) for i in range(i1 + n, i2))
+        out.extend((None, j) for j in range(j1 + n, j2))
+
     def matched(keys_a, keys_b, offset_a, offset_b, again):
         sm = SequenceMatcher(None, keys_a, keys_b, autojunk=False)
         for tag, i1, i2, j1, j2 in sm.get_opcodes():
+            i1, i2, j1, j2 = i1 + offset_a, i2 + offset_a, j1 + offset_b, j2 + offset_b
             if tag == "equal":
-                out.extend(zip(range(offset_a + i1, offset_a + i2),
-                               range(offset_b + j1, offset_b + j2)))
-            elif tag == "replace" and again:  # lined up again by the names alone
-                matched([r.name for r in a[offset_a + i1:offset_a + i2]],
-                        [r.name for r in b[offset_b + j1:offset_b + j2]],
-                        offset_a + i1, offset_b + j1, False)
+                out.extend(zip(range(i1, i2), range(j1, j2)))
+            elif tag == "replace" and again:  # lined up again by the labels alone
+                matched([_name(r) for r in a[i1:i2]], [_name(r) for r in b[j1:j2]],
+                        i1, j1, False)
+            elif tag == "replace":
+                by_place(i1, i2, j1, j2)
             else:
-                out.extend((i, None) for i in range(offset_a + i1, offset_a + i2))
-                out.extend((None, j) for j in range(offset_b + j1, offset_b + j2))
+                out.extend((i, None) for i in range(i1, i2))
+                out.extend((None, j) for j in range(j1, j2))
 
     matched([_key(r) for r in a], [_key(r) for r in b], 0, 0, True)
     return out
+
+
+def _name(r: Record) -> tuple:
+    return (UNKNOWN, id(r)) if r.name == UNKNOWN else (r.name,)
 
 
 def _shown(r: Record) -> str:
     return r.read_as if r.read_as is not None else repr(r.printed)
 
 
+def _same_printed(x: Record, y: Record) -> bool:
+    """Two values read as the same printed number: equal, and of the same sign (a printed
+    ``-0.00000`` is not ``0.00000``)."""
+    return x.value == y.value and math.copysign(1, x.value) == math.copysign(1, y.value)
+
+
 def _difference(x: Record, y: Record, tolerance: float) -> Difference | None:
     time = x.time_s if x.time_s is not None else y.time_s
     if x.is_message or y.is_message:
-        if x.printed == y.printed:
+        if x.is_message and y.is_message and x.read_as == y.read_as:
             return None
-        return Difference(x.line, y.line, time, MESSAGE, repr(x.printed), repr(y.printed), None)
-    if UNREADABLE in (x.reading, y.reading):
-        return None  # reported as damage: nothing to compare with
+        return Difference(x.line, y.line, time, MESSAGE, repr(_shown(x)), repr(_shown(y)),
+                          None)
+    if x.name != y.name:  # cannot happen: records line up by their labels
+        raise AssertionError(f"records {x.line} and {y.line} lined up with labels "
+                             f"{x.name} and {y.name}")
     if OVERFLOW in (x.reading, y.reading):
         if x.reading == y.reading:
             return None
         return Difference(x.line, y.line, time, x.name, _shown(x), _shown(y), None)
     size = abs(x.value - y.value)
-    if size <= tolerance:
+    if (size <= tolerance) if tolerance > 0 else _same_printed(x, y):
         return None
     return Difference(x.line, y.line, time, x.name, _shown(x), _shown(y), size)
+
+
+def _other(side: str, r: Record) -> str:
+    """The other printout's record lined up with an unreadable one, as a finding shows it."""
+    what = "" if r.name == UNKNOWN else f"{r.name} "
+    return f"lined up with {side} line {r.line}: {what}{_shown(r)}"
 
 
 def compare_records(a: list[Record], b: list[Record], tolerance: float = 0.0) -> Comparison:
     """The findings between two printouts' records (see the module docstring)."""
     if not (tolerance >= 0.0 and math.isfinite(tolerance)):
         raise ValueError(f"tolerance must be finite and >= 0, got {tolerance}")
-    found = Comparison()
-    for side, records in (("A", a), ("B", b)):
-        found.damaged.extend(Damage(side, r.line, r.time_s, r.name, r.printed, r.reading,
-                                    r.read_as if r.reading == DAMAGED else None)
-                             for r in records if r.reading in (DAMAGED, UNREADABLE))
+    found = Comparison(records_a=len(a), records_b=len(b))
+    partner: dict[tuple[str, int], str] = {}
     for i, j in _pairs(a, b):
         if i is None or j is None:
             side, r = ("A", a[i]) if j is None else ("B", b[j])
-            found.missing.append(Missing(side, r.line, r.time_s, r.name, r.printed))
+            if r.readable:
+                found.missing.append(Missing(side, r.line, r.time_s, r.name, r.printed))
             continue
-        difference = _difference(a[i], b[j], tolerance)
-        if difference is not None:
+        found.aligned += 1
+        x, y = a[i], b[j]
+        if not (x.readable and y.readable):
+            partner[("A", i)] = _other("B", y)
+            partner[("B", j)] = _other("A", x)
+            continue
+        found.compared += 1
+        found.messages_compared += x.is_message and y.is_message
+        difference = _difference(x, y, tolerance)
+        if difference is None:
+            found.equal += 1
+        else:
             found.differences.append(difference)
+    for side, records in (("A", a), ("B", b)):
+        for k, r in enumerate(records):
+            if r.why or not r.readable:
+                found.unreadable += not r.readable
+                found.damaged.append(Damage(
+                    side, r.line, r.time_s, r.name, r.printed, r.reading,
+                    r.read_as if r.readable else None, r.text, r.why,
+                    partner.get((side, k)) if not r.readable else None))
     return found
 
 
