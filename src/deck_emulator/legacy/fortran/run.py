@@ -38,8 +38,7 @@ import zlib
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
 from deck_emulator.legacy.printer import Printer, event_for
-from deck_emulator.vocabulary.defaults import (PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES,
-                                               user_cache_folder)
+from deck_emulator.vocabulary.defaults import PROGRAM_CACHE_ENTRIES, user_cache_folder
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -177,7 +176,23 @@ def _integer(x: float) -> int:
     """A REAL's INTEGER (toward zero); NaN has none (gfortran's build traps: invalid)."""
     if x != x:
         raise FloatingPointError("invalid: NaN made INTEGER")
+    if not -2147483649.0 < x < 2147483648.0:  # (gfortran's build traps: invalid)
+        raise FloatingPointError(f"invalid: {x:.6g} is too large for an INTEGER (32 bits)")
     return int(x)
+
+
+def _power(x, n: int):
+    """``x**n`` for an INTEGER constant ``n`` > 2, multiplied as gfortran's build does (libgcc's
+    ``__powidf2``, ``__powisf2``: squares, from the low bit up; checked against it by
+    tests/legacy/test_front_end_bounds.py): about 2 log2(n) products, never n."""
+    y = x if n & 1 else None
+    n >>= 1
+    while n:
+        x = x * x
+        if n & 1:
+            y = x if y is None else y * x
+        n >>= 1
+    return y
 
 
 def _sub(name, index):
@@ -356,7 +371,12 @@ class Runner:
             self.record = _nothing
         self.label = "START"
         self.units: dict = {}
-        self.program_blocks = PROGRAM_BLOCKS
+        self._left = [limits.statements]  # the statement budget left (the made code's _S)
+
+    @property
+    def statements_run(self) -> int:
+        """The statements the run has executed (each block's when it starts)."""
+        return self.limits.statements - self._left[0]
 
     # what the generated code calls -----------------------------------------------------------
     def read(self, fmt: int):
@@ -387,6 +407,10 @@ class Runner:
                 col += w
             else:
                 self.card += 1
+                if self.card >= len(self.deck.cards):
+                    raise EmulatorError(f"READ (FORMAT {fmt}'s /) past the last of the deck's "
+                                        f"{len(self.deck.cards)} data cards", label=self.label,
+                                        step=self.step, guard="read")
                 card, col = self.deck.cards[self.card], 0
         self.card += 1
         return values
@@ -422,13 +446,22 @@ class Runner:
                                 f"{self.limits.ed_iterations} iterations ({shown})",
                                 label=f"{unit} {label}", step=self.step, time=self.time(),
                                 guard="ed_iterations")
-        if unit == "MAIN":
-            raise EmulatorError(f"the main program ran {self.program_blocks} labelled blocks "
-                                f"without STOP ({shown})", label=label, step=self.step,
-                                time=self.time(), guard="runaway")
         raise EmulatorError(f"{unit} did not return in {self.limits.ed_iterations} iterations "
                             f"({shown})", label=f"{unit} {label}", step=self.step,
                             time=self.time(), guard="runaway")
+
+    def spent(self, unit: str, key):
+        """The statement budget (``Limits.statements``) is spent: a stop naming the statement
+        the block ``key`` of ``unit`` starts with."""
+        from .make import _blocks
+
+        first = next((stmts[0] for k, _, stmts, _ in _blocks(self.program.units[unit])
+                      if k == key or (key == "START" and k is None)), None)
+        what = (f"card {first.card}: {first.text}" if first is not None else "")
+        raise EmulatorError(f"the program ran its budget of {self.limits.statements} "
+                            f"statements (Limits.statements) without STOP, at {what}",
+                            label=key if unit == "MAIN" else f"{unit} {key}", step=self.step,
+                            time=self.time(), guard="statements")
 
     def time(self) -> float | None:
         """Simulated time (the listing's: Q in contact, T in free flight), if it has them."""
@@ -447,7 +480,7 @@ class Runner:
         namespace = dict(
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
             _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign,
-            _ipow=ar.ipow,
+            _ipow=_power, _S=self._left,
             _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: _integer(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
