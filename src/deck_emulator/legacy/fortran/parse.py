@@ -760,7 +760,8 @@ class _Reader:
                              if e[0] == "call"), default=0)
             if level > defaults.PROGRAM_CALL_DEPTH:
                 self.whole(f"statement functions referring to each other {level} deep: beyond "
-                           f"PROGRAM_CALL_DEPTH ({defaults.PROGRAM_CALL_DEPTH})")
+                           f"PROGRAM_CALL_DEPTH ({defaults.PROGRAM_CALL_DEPTH})",
+                           kind="statement function")
             self.unit.functions[name] = (dummies, body)
             self.unit.levels[name] = level
             return "statement function"
