@@ -40,6 +40,7 @@ def made_lines(units: dict[str, Unit], header: str, *, native: bool, checking: b
     lines[1:1] = head
     formats = {name: u.formats for name, u in units.items()}
     lines.append((f"_FORMATS = {formats!r}", None))  # the units' FORMATs
+    lines.append((f"_WATCHED = {bool(watch)}", None))  # (run.watched)
     return lines
 
 
@@ -430,7 +431,8 @@ class _Gen:
             self.emit(f"{ind}pass{text}", self.where(label))
         elif kind == "read":
             fmt, items = s.args
-            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt})"
+            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt}, "
+                      f"{self.u.name!r})"
                       f"{text}", self.where(label, items[0][1] if items else None))
         elif kind == "write":
             fmt, items = s.args

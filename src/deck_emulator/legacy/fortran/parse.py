@@ -455,8 +455,8 @@ def _format_text(cards, fail) -> str:
             bad(f"{digits}{nxt}: an edit descriptor outside the dialect "
                 f"({', '.join(EDIT_DESCRIPTORS)})", i)
         if ch == "F":
-            m = re.match(r"F([0-9]{1,3})\.([0-9]{1,3})(?![0-9])",
-                         "".join(c for c, _, _ in chars[i:i + 12] if c != " "))
+            ahead = "".join(c for c, _, _ in chars[i:] if c != " ")[:12]  # (over cards)
+            m = re.match(r"F([0-9]{1,3})\.([0-9]{1,3})(?![0-9])", ahead)
             if m is None:
                 bad("F without w.d (w of 1 to 999)", i)
             if int(m.group(1)) == 0:
@@ -477,6 +477,16 @@ def _format_text(cards, fail) -> str:
             i += 1
             continue
         bad(f"{ch!r}: an edit descriptor outside the dialect ({', '.join(EDIT_DESCRIPTORS)})", i)
+    # an nX that ends a record writes nothing (gfortran's build: no blanks at the record's end)
+    k = 0
+    while k < len(out):
+        if out[k] in ("/", ")") and k >= 1 and re.fullmatch("[0-9]+X", out[k - 1]):
+            del out[k - 1]
+            if k >= 2 and out[k - 2] == ",":
+                del out[k - 2]
+            k = 0
+            continue
+        k += 1
     text = "".join(out)
     if depth != 0 or not (text.startswith("(") and text.endswith(")")):
         bad("unbalanced parentheses", len(chars) - 1)

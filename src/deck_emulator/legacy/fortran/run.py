@@ -203,6 +203,21 @@ def _lost(name, value):
     raise _Bad(f"assigned GO TO {name}: {value} is no label of its list", name)
 
 
+def watched(watch: dict | None, units: dict) -> dict | None:
+    """``watch`` (:data:`LISTING_WATCH`) where the program is the listing's (its MAIN holds every
+    label the watch names, and the clocks' variables), else None: the listing's guards, trace
+    and events apply to the listing and its variants alone, through this one table."""
+    main = units.get("MAIN")
+    if not watch or main is None:
+        return None
+    labels = {s.label for s in main.statements}
+    named = {*watch["steps"], watch["free_from"], watch["halving"], watch["accept"],
+             *(label for label, _ in watch["clocks"]), *watch["records"], *watch["points"]}
+    from .make import scalars
+
+    return watch if named <= labels and set(watch["time"]) <= set(scalars(main)) else None
+
+
 class Program:
     """A FORTRAN program of the dialect, from its source lines (cards): parsed once, its Python
     source made once per way of running (binary64 checked per block or per assignment, or an
@@ -269,7 +284,7 @@ class Program:
         """Whether a run records the trace (a trajectory): its MAIN has the listing's labels
         where the trace is recorded (``watch["records"]``), each with the variables its row
         reads."""
-        main = self.units.get("MAIN") if self.watch else None
+        main = self.units.get("MAIN") if watched(self.watch, self.units) else None
         if main is None:
             return False
         from .make import scalars
@@ -333,7 +348,8 @@ class Program:
             from .make import made_lines
 
             self._lines[key] = made_lines(self.units, self._header(native, checking),
-                                          native=native, checking=checking, watch=self.watch,
+                                          native=native, checking=checking,
+                                          watch=watched(self.watch, self.units),
                                           literals=self.literals, step_scale_k=self.step_scale_k)
         return self._lines[key]
 
@@ -371,6 +387,7 @@ class Runner:
             self.record = _nothing
         self.label = "START"
         self.units: dict = {}
+        self.watch = None  # the listing's guards, where the program is the listing (run())
         self._left = [limits.statements]  # the statement budget left (the made code's _S)
 
     @property
@@ -379,8 +396,9 @@ class Runner:
         return self.limits.statements - self._left[0]
 
     # what the generated code calls -----------------------------------------------------------
-    def read(self, fmt: int):
-        """READ(5,fmt): the next data card's fields, by FORMAT fmt, through the arithmetic."""
+    def read(self, fmt: int, unit: str):
+        """READ(5,fmt) in ``unit``: the next data card's fields, by the unit's FORMAT fmt,
+        through the arithmetic."""
         import re
 
         from deck_emulator.legacy.deck import read_field
@@ -390,7 +408,7 @@ class Runner:
                                 "cards", label=self.label, step=self.step, guard="read")
         values = []
         col = 0
-        text = self._format_of(fmt)
+        text = self.formats[unit][fmt]
         card = self.deck.cards[self.card]
         for m in re.finditer(r"(\d+)H|(\d+)X|F(\d+)\.(\d+)|/", text[1:-1]):
             if m.group(1):  # (a Hollerith text would be overwritten by the card: skipped)
@@ -415,9 +433,6 @@ class Runner:
         self.card += 1
         return values
 
-    def _format_of(self, fmt: int) -> str:
-        return next(formats[fmt] for formats in self.formats.values() if fmt in formats)
-
     def record(self, phase: str, *values):
         self.run_.trace.append(trace_row(phase, values, self.ar.to_float))
 
@@ -430,7 +445,7 @@ class Runner:
             v = self.units["MAIN"][1]()
             f = self.ar.to_float
             raise halving_error(self.limits.halvings, f(v["H"]), f(v.get("DIFF", 0.0)),
-                                f(v.get("DIFFT", 0.0)), self.program.watch["halving"],
+                                f(v.get("DIFFT", 0.0)), self.watch["halving"],
                                 self.step, self.time())
 
     def clock(self, value, phase: str, label: int):
@@ -440,7 +455,7 @@ class Runner:
 
     def runaway(self, unit: str, label, values: dict, shown: tuple):
         shown = ", ".join(f"{n} = {self.ar.to_float(values[n]):.6g}" for n in shown)
-        search = (self.program.watch or {}).get("search")
+        search = (self.watch or {}).get("search")
         if search and unit == search[0]:  # as the listing's emulator names it
             raise EmulatorError(f"{unit}'s root search did not converge in "
                                 f"{self.limits.ed_iterations} iterations ({shown})",
@@ -465,10 +480,10 @@ class Runner:
 
     def time(self) -> float | None:
         """Simulated time (the listing's: Q in contact, T in free flight), if it has them."""
-        if "MAIN" not in self.units or not self.program.watch:
+        if "MAIN" not in self.units or not self.watch:
             return None
         v = self.units["MAIN"][1]()
-        name = self.program.watch["time"][1 if self.free else 0]
+        name = self.watch["time"][1 if self.free else 0]
         return self.ar.to_float(v[name]) if name in v else None
 
     # running ------------------------------------------------------------------------------------
@@ -490,6 +505,7 @@ class Runner:
             with ar.trapping():
                 exec(code, namespace)
                 self.formats = namespace["_FORMATS"]
+                self.watch = self.program.watch if namespace["_WATCHED"] else None
                 for name, formats in self.formats.items():
                     printer = self._printer(formats)
                     printer.records = self.run_.records
