@@ -12,7 +12,7 @@ from deck_emulator.legacy.printer import EVENT_FORMATS
 from deck_emulator.legacy.stops import TRACE_ROWS
 from deck_emulator.vocabulary.events import EventKind
 
-from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of
+from .parse import INTRINSICS, Unit, _nodes, assigned, changed, common_blocks, kind_of
 
 
 def made_lines(units: dict[str, Unit], header: str, *, native: bool, checking: bool,
@@ -64,6 +64,7 @@ class _Gen:
         self.literals = literals  # (unit, statement text, literal) -> what stands for it
         self.steps: set[str] = set()  # literals divided by 2**k (Program.steps)
         self.text = None  # the statement being made
+        self.dummies: tuple = ()  # the statement function's being made: they are its own
         #: binary64's SIN and COS of a block (pure: the C library's, no indicators): the
         #: call's code -> (the local that keeps its value, the variables it reads), while none
         #: of them is assigned again (the same value as calling it again, bit for bit)
@@ -84,7 +85,7 @@ class _Gen:
     # names ----------------------------------------------------------------------------------
     def ref(self, name: str) -> str:
         """A scalar variable's code: its name, or its place in a COMMON block."""
-        at = self.u.commons.get(name)
+        at = None if name in self.dummies else self.u.commons.get(name)
         return f"_C{at[0]}[{at[1]}]" if at else name
 
     def store(self, name: str) -> tuple[str, str]:
@@ -152,15 +153,19 @@ class _Gen:
             base = self._expr(e[1])
             if e[1][0] not in ("var", "const"):
                 base = f"({base})"
-            if e[2] == 0:  # (gfortran's: 1 of the base's type, the base not evaluated)
-                return "1" if e[-1] == "I" else self._expr(("const", "1.", "R"))
+            # (a FUNCTION in the base is called once, as gfortran: F(X)**2, F(X)**0)
+            once = any(x[0] == "call" and (x[1] not in INTRINSICS or x[1] in self.u.functions)
+                       for x in _nodes(e[1]))
+            if e[2] == 0:  # (gfortran's: 1 of the base's type)
+                one = "1" if e[-1] == "I" else self._expr(("const", "1.", "R"))
+                return f"({base}, {one})[1]" if once else one
             if e[2] == 1:
                 return base
+            square = f"(_p := {base})*_p" if once else f"{base}*{base}"
             if e[-1] == "I":
-                return _wrap(f"pow({base}, {e[2]}, 4294967296)" if e[2] > 2 else
-                             f"{base}*{base}")
+                return _wrap(f"pow({base}, {e[2]}, 4294967296)" if e[2] > 2 else square)
             if e[2] == 2:
-                return f"({base}*{base})"
+                return f"({square})"
             return f"_ipow({base}, {e[2]})"
         if tag == "rel":
             typ = "I" if e[2][-1] == e[3][-1] == "I" else "R"
@@ -210,7 +215,8 @@ class _Gen:
 
     def call(self, e) -> str:
         name, args = e[1], e[2]
-        if name in INTRINSICS:
+        if name in INTRINSICS and name not in self.u.functions:  # (a statement function
+            # named SIN, COS or ABS is the unit's own)
             if self.known is None or name not in ("SIN", "COS") or not self.pure(args[0]):
                 return f"{INTRINSICS[name]}({self.expr(args[0])})"
             # kept by what they compute (the source's expression): SIN and COS of one angle,
@@ -252,10 +258,10 @@ class _Gen:
         while todo:
             e = todo.pop()
             if e[0] == "var":
-                if e[1] in self.u.commons:
+                if e[1] in self.u.commons and e[1] not in self.dummies:
                     return False
             elif e[0] == "call":
-                if e[1] not in INTRINSICS:
+                if e[1] not in INTRINSICS or e[1] in self.u.functions:
                     return False
                 todo.append(e[2][0])
             elif e[0] == "elem":
@@ -299,8 +305,9 @@ class _Gen:
             self.emit(f"    def {name}({', '.join(dummies)}):  # statement function",
                       self.where(None, name))
             self.known = {} if self.native else None  # (its SIN and COS: as in a block's)
+            self.dummies = dummies
             self.emit(f"        return {self.expr(body, kind_of(name))}", self.where(None, name))
-            self.known = None
+            self.known, self.dummies = None, ()
         blocks = _blocks(u)
         for i, (key, label, stmts, nxt) in enumerate(blocks):
             if stmts[-1].kind == "do":
@@ -398,6 +405,8 @@ class _Gen:
                 where = self.where(label, var)
                 self.emit(f"        {self.ref(var)} = {self.ref(var)}+{self.expr(m3)}  "
                           f"# DO {n} {var}: the next", where)
+                if self.known:  # (a SIN or COS of the DO variable is computed again after)
+                    self.known = {k: v for k, v in self.known.items() if var not in v[1]}
                 self.emit(f"        if {self.ref(var)} <= {self.expr(m2)}:", where)
                 if self.end:
                     self.emit(f"            {self.end}", where)
@@ -445,8 +454,15 @@ class _Gen:
             name, args = s.args
             sub = self.units[name]
             mine = changed(sub, self.units)
-            back = [self.target(a) if a[0] in ("var", "elem") else "_"
-                    for d, a in zip(sub.dummies, args) if d in mine and d not in sub.arrays]
+            back = []
+            for d, a in zip(sub.dummies, args):
+                if d in mine and d not in sub.arrays:
+                    if a[0] == "elem":  # (its place where the call starts, as gfortran's)
+                        lst, index = self.place(a[1], a[2])
+                        self.emit(f"{ind}_e{len(back)} = {index}", self.where(label))
+                        back.append(f"{lst}[_e{len(back)}]")
+                    else:
+                        back.append(self.target(a) if a[0] == "var" else "_")
             targets = "".join(v + ", " for v in back)
             call = f"_G.call_{name}({self.actuals(name, args)})"
             self.emit(f"{ind}{targets + '= ' if back else ''}{call}{text}",

@@ -480,10 +480,11 @@ def _format_text(cards, fail) -> str:
     # an nX that ends a record writes nothing (gfortran's build: no blanks at the record's end)
     k = 0
     while k < len(out):
-        if out[k] in ("/", ")") and k >= 1 and re.fullmatch("[0-9]+X", out[k - 1]):
-            del out[k - 1]
-            if k >= 2 and out[k - 2] == ",":
-                del out[k - 2]
+        j = k - 1
+        while j >= 0 and out[j] == ",":
+            j -= 1
+        if out[k] in ("/", ")") and j >= 0 and re.fullmatch("[0-9]+X", out[j]):
+            del out[j:k]  # (the nX and the commas after it)
             k = 0
             continue
         k += 1
