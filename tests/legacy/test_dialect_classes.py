@@ -176,3 +176,90 @@ def test_the_listings_watch_applies_to_the_listing_alone():
     other = Program(CLASSES["watched labels of the listing in another program"].splitlines(),
                     cache=False)
     assert watched(LISTING_WATCH, other.units) is None and not other.keeps_trace
+
+
+# ------------------------------------------------------------ a refusal is a promise
+
+#: one statement of each kind of the dialect's table (STATEMENTS), in a program that uses it
+KIND_SAMPLES = {
+    "assignment": "      X = P + 1",
+    "statement function": None,  # (FUN below: before the first executable statement)
+    "DIMENSION": None,  # (DECLARED below)
+    "COMMON": None,
+    "CONTINUE": "    7 CONTINUE",
+    "GO TO n": "      GO TO 8\n    8 CONTINUE",
+    "GO TO (n1, ...), i": "      K = 1\n      GO TO (9), K\n    9 CONTINUE",
+    "ASSIGN n TO i": "      ASSIGN 11 TO M",
+    "GO TO i, (n1, ...)": "      GO TO M, (11)\n   11 CONTINUE",
+    "IF (e) n1, n2, n3": "      IF (P) 12, 12, 12\n   12 CONTINUE",
+    "IF (l) s": "      IF (P .GT. 0.0 .AND. .NOT. Q .LT. 0.0) X = 2.0",
+    "DO n i = m1, m2, m3": "      DO 13 I = 1, 3, 2\n   13 A(I) = F(P)",
+    "CALL s(a, ...)": "      CALL S(X, A)",
+    "SUBROUTINE s(a, ...)": None,
+    "FUNCTION f(a, ...)": "      X = G(X)",
+    "RETURN": None,
+    "STOP": None,
+    "END": None,
+    "READ (5, n) list": None,  # (HEAD)
+    "WRITE (6, n) list": "      WRITE(6,2) X, A(1), B",
+    "FORMAT (...)": "    3 FORMAT(1H ,F6.2,2X,/,1X,2F6.1)\n      WRITE(6,3) X, X, X",
+}
+PROMISE = """\
+      DIMENSION A(3)
+      COMMON B
+      F(Z) = ABS(Z) + SIN(Z) + COS(Z)
+""" + HEAD + "\n".join(v for v in KIND_SAMPLES.values() if v) + """
+      STOP
+      END
+      SUBROUTINE S(Y, V)
+      DIMENSION V(3)
+      COMMON C
+      Y = V(1) + C
+      RETURN
+      END
+      FUNCTION G(Y)
+      G = Y*2.0
+      END
+"""
+
+
+def test_every_kind_of_the_table_is_taken_and_runs_as_gfortran_runs_it(tmp_path):
+    from deck_emulator.legacy.fortran import EDIT_DESCRIPTORS, INTRINSICS, STATEMENTS
+
+    assert set(KIND_SAMPLES) == set(STATEMENTS)  # (a row added needs its sample here)
+    assert all(f"{name}(" in PROMISE for name in INTRINSICS)
+    assert {"Fw.d", "nX", "nHtext", "/"} == set(EDIT_DESCRIPTORS)
+    need_gfortran()
+    lines = PROMISE.splitlines()
+    theirs, _err, ending = _gfortran(tmp_path, lines, "r8", [CARD])
+    run, stop = _ours(lines, "double", [CARD])
+    assert ending == "normal" and stop is None, stop
+    assert "".join(r + "\n" for r in run.records) == theirs and len(run.records) >= 3
+
+
+@pytest.mark.parametrize("kind", ["DOUBLE PRECISION", "EQUIVALENCE", "REAL FUNCTION",
+                                  "INTEGER FUNCTION", "INTEGER", "REAL", "LOGICAL", "COMPLEX",
+                                  "EXTERNAL", "DATA", "PAUSE", "PRINT", "PUNCH", "REWIND",
+                                  "BACKSPACE", "ENDFILE", "BLOCK DATA", "ENTRY"])
+def test_every_kind_outside_the_table_is_refused_naming_it(kind):
+    """The kinds of FORTRAN IV the table leaves out (parse._OTHER_KINDS), each refused in one
+    line naming the card, its columns and the kind."""
+    from deck_emulator.legacy.fortran import DialectError
+    from deck_emulator.legacy.fortran.parse import _OTHER_KINDS
+
+    assert kind.replace(" ", "") in _OTHER_KINDS
+    with pytest.raises(DialectError) as info:
+        Program([f"      {kind} X", "      END"], cache=False)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(f"card 1, column"), message
+    assert f": {kind} statement: " in message, message
+
+
+@pytest.mark.parametrize("card", ["      X = SQRT(P)", "    3 FORMAT(1X,E12.4)",
+                                  "    3 FORMAT(1X,I5)", "    3 FORMAT(1X,2(F6.2))"])
+def test_an_intrinsic_or_descriptor_outside_the_table_is_refused(card):
+    from deck_emulator.legacy.fortran import DialectError
+
+    with pytest.raises(DialectError) as info:
+        Program(HEAD.splitlines() + [card, "      END"], cache=False)
+    assert "\n" not in str(info.value) and str(info.value).startswith("card 4, column")
