@@ -44,8 +44,9 @@ STATEMENTS = {
     "RETURN": "from a subprogram",
     "STOP": "ends the run",
     "END": "ends a unit (a RETURN in a subprogram, a STOP in the main program)",
-    "READ (5, n) list": "unit 5: the next $DATA card, FORMAT n of Fw.d fields",
-    "WRITE (6, n) list": "unit 6: the line printer, FORMAT n",
+    "READ (5, n) list": "unit 5: the next $DATA card, FORMAT n of Fw.d fields (of the unit's "
+                        "own FORMATs), one REAL variable or array element a field",
+    "WRITE (6, n) list": "unit 6: the line printer, FORMAT n, one REAL expression an F field",
     "FORMAT (...)": "the edit descriptors below",
 }
 #: Edit descriptors a FORMAT may hold.
