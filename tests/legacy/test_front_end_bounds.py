@@ -295,3 +295,27 @@ def test_a_job_deck_of_a_runaway_ends_with_exit_3_in_one_line(tmp_path, capsys):
     assert code == 3, err
     errors = [line for line in err.splitlines() if "error" in line]
     assert len(errors) == 1 and "statements (Limits.statements) without STOP" in errors[0]
+
+
+# ------------------------------------------------------------------ any card at all
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+_CARD_TEXT = st.lists(st.sampled_from(list("XYPQKIN0123456789.+-*/(),= EF\r\t\u0661\udcff")
+                                      + ["**", ".LT.", ".AND.", ".NOT.", "SIN(", "1H"]),
+                      max_size=80).map("".join)
+
+
+@settings(max_examples=150, deadline=None)
+@given(statement=_CARD_TEXT, fmt=_CARD_TEXT)
+def test_any_statement_is_taken_or_refused_in_one_line(statement, fmt):
+    """Whatever a card holds, the front end parses and makes it (Python that compiles), or
+    refuses it with a DialectError of one line: never another exception, never Python's
+    recursion."""
+    lines = HEAD.splitlines() + _cards("X = " + statement) + _cards(
+        "FORMAT(" + fmt, lead="    9 ") + ["      END"]
+    try:
+        compile(Program(lines, cache=False).python(), "<made>", "exec")
+    except DialectError as exc:
+        assert "\n" not in str(exc) and str(exc).startswith("card ")
