@@ -134,7 +134,7 @@ def test_the_generated_source_keeps_the_statements_one_a_line_with_their_labels(
     executable = [f"{s.label + ' ' if s.label else ''}{s.text}" for s in cards(listing_lines())
                   if not s.text.startswith(("FORMAT", "SUBROUTINE")) and "DF(D)=" not in s.text]
     assert statements == executable
-    assert "    def L125():" in source and "    def L41():" in source
+    assert "    def _block():  # label 125" in source and "    def _block():  # label 41" in source
 
 
 # ------------------------------------------------------------------------------ refusals

@@ -212,11 +212,19 @@ def parse_job(data: bytes, path: str | None = None, card_format: str = "auto",
     unended = (images.format == "text" and not data.endswith((b"\n", b"\r"))
                and state == "data" and not _is_control(texts[-1]))
     decks = []
+    verdict = compare_source(source) if source else None
+    own = bool(verdict) and verdict.startswith(_DIFFERS)
     for index, (number, cards) in enumerate(sections, start=1):
         where = f"{path + ': ' if path else ''}$DATA section {index} (card {number} of the file)"
         end = "" if (unended and index == len(sections)) or not cards else "\n"
-        decks.append(parse_deck("\n".join(cards) + end, path=where))
-    verdict = compare_source(source) if source else None
+        try:
+            decks.append(parse_deck("\n".join(cards) + end, path=where))
+        except DeckError:
+            if not own:
+                raise
+            # the deck's own FORTRAN reads its cards by its own FORMATs (checked as it reads
+            # them), not as the listing's deck
+            decks.append(Deck(where, {}, {}, tuple(c[:CARD_COLUMNS] for c in cards)))
     program = tuple(texts[:sections[0][0] - 1]) if source else ()
     return Job(path, images.format, tuple(decks), verdict, tuple(controls), cards=len(texts),
                program_cards=program)

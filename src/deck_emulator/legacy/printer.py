@@ -206,7 +206,7 @@ def f_field(digits: str, negative: bool, w: int) -> str:
     columns; the leading zero of a number below 1 is dropped when it does not fit, and a
     number that still does not fit prints as w asterisks (gfortran and fortranformat alike)."""
     text = ("-" if negative else "") + digits
-    if len(text) > w and digits.startswith("0."):
+    if len(text) > w and digits.startswith("0.") and digits != "0.":
         text = ("-" if negative else "") + digits[1:]
     if len(text) > w:
         return "*" * w
@@ -267,7 +267,7 @@ class Printer:
     def _field(self, value, w: int, d: int) -> str:
         if self._binary:
             x = float(value)
-            text = f"{x:.{d}f}"
+            text = f"{x:.{d}f}" + ("." if d == 0 else "")  # (Fw.0: "2.", as gfortran)
             negative = text[0] == "-"
             return f_field(text[1:] if negative else text, negative, w)
         exact = self._exact(value)

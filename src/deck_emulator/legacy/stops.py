@@ -86,6 +86,8 @@ class Limits:
     ed_iterations: int = defaults.ED_ITERATIONS  # per call of ED
     halvings: int = defaults.HALVINGS  # consecutive halvings at label 108, no step accepted
     time_s: float = defaults.EMULATOR_T_MAX_S  # simulated time (the report needs about 1 s)
+    #: statements a run executes, across its units, loops and calls (the front end's budget)
+    statements: int = defaults.PROGRAM_STATEMENTS
 
 
 @dataclass

@@ -63,11 +63,27 @@ MAX_TOML_DIGITS = 100
 ED_ITERATIONS = 100_000
 HALVINGS = 40
 EMULATOR_T_MAX_S = 5.0
-#: labelled blocks the main program of a job deck's own FORTRAN runs before it is stopped as a
-#: runaway (the front end, legacy/fortran: a loop that the listing's guards do not see; the
-#: listing runs 44,000 to 46,000 on the shipped decks, and a post flying the 5 s of
-#: EMULATOR_T_MAX_S about 300,000)
-PROGRAM_BLOCKS = 1_000_000
+#: statements a run of a FORTRAN program (legacy/fortran: a job deck's own, the listing) may
+#: execute, counted across its units, loops and calls (a block's statements when it starts),
+#: before it stops as a runaway (exit 3, naming the statement): legacy.stops.Limits.statements,
+#: which a caller may set. Measured in binary64: the listing on the shipped decks runs 311,083
+#: (steel20) to 317,630 (steel40), 202,000 to 204,000 where ED's guard stops the a15 and a30
+#: decks, 390,668 at most with the erratum ed-direction; a post flying the 5 s of
+#: EMULATOR_T_MAX_S (steel40 punched with HEIGHT = 5000) 1,911,496: 2.6 times that fits
+PROGRAM_STATEMENTS = 5_000_000
+#: what a program of the front end's dialect may hold, refused beyond in one line naming the
+#: card, its columns and the statement kind (none of them is reached by the listing):
+#: continuation cards of one statement (IBM FORTRAN IV's 19: 20 cards of 66 columns);
+#: parentheses, argument lists and .NOT. nested in one expression (the made Python's own
+#: parser stops at 200 parentheses); the made code's frames one inside the next, 2 a
+#: subprogram's call and 1 a statement function's reference (Python's own stack stops at
+#: 1,000); the elements of one unit's arrays (the 7094's 32,768 words of core); the digits of
+#: a constant or label
+PROGRAM_CONTINUATIONS = 19
+PROGRAM_NESTING = 40
+PROGRAM_CALL_DEPTH = 200
+PROGRAM_ARRAY_ELEMENTS = 32_768
+PROGRAM_CONSTANT_DIGITS = 40
 
 # ------------------------------------------------------------------- the core
 

@@ -12,7 +12,7 @@ from deck_emulator.legacy.printer import EVENT_FORMATS
 from deck_emulator.legacy.stops import TRACE_ROWS
 from deck_emulator.vocabulary.events import EventKind
 
-from .parse import INTRINSICS, Unit, assigned, changed, common_blocks, kind_of
+from .parse import INTRINSICS, Unit, _nodes, assigned, changed, common_blocks, kind_of
 
 
 def made_lines(units: dict[str, Unit], header: str, *, native: bool, checking: bool,
@@ -40,6 +40,7 @@ def made_lines(units: dict[str, Unit], header: str, *, native: bool, checking: b
     lines[1:1] = head
     formats = {name: u.formats for name, u in units.items()}
     lines.append((f"_FORMATS = {formats!r}", None))  # the units' FORMATs
+    lines.append((f"_WATCHED = {bool(watch)}", None))  # (run.watched)
     return lines
 
 
@@ -63,6 +64,7 @@ class _Gen:
         self.literals = literals  # (unit, statement text, literal) -> what stands for it
         self.steps: set[str] = set()  # literals divided by 2**k (Program.steps)
         self.text = None  # the statement being made
+        self.dummies: tuple = ()  # the statement function's being made: they are its own
         #: binary64's SIN and COS of a block (pure: the C library's, no indicators): the
         #: call's code -> (the local that keeps its value, the variables it reads), while none
         #: of them is assigned again (the same value as calling it again, bit for bit)
@@ -83,7 +85,7 @@ class _Gen:
     # names ----------------------------------------------------------------------------------
     def ref(self, name: str) -> str:
         """A scalar variable's code: its name, or its place in a COMMON block."""
-        at = self.u.commons.get(name)
+        at = None if name in self.dummies else self.u.commons.get(name)
         return f"_C{at[0]}[{at[1]}]" if at else name
 
     def store(self, name: str) -> tuple[str, str]:
@@ -145,13 +147,25 @@ class _Gen:
             return self.target(e)
         if tag == "neg":
             inner = self._expr(e[1])
-            return f"-({inner})" if e[1][0] == "bin" else f"-{inner}"
+            code = f"-({inner})" if e[1][0] == "bin" else f"-{inner}"
+            return _wrap(code) if e[-1] == "I" else code
         if tag == "pow":
             base = self._expr(e[1])
             if e[1][0] not in ("var", "const"):
                 base = f"({base})"
+            # (a FUNCTION in the base is called once, as gfortran: F(X)**2, F(X)**0)
+            once = any(x[0] == "call" and (x[1] not in INTRINSICS or x[1] in self.u.functions)
+                       for x in _nodes(e[1]))
+            if e[2] == 0:  # (gfortran's: 1 of the base's type)
+                one = "1" if e[-1] == "I" else self._expr(("const", "1.", "R"))
+                return f"({base}, {one})[1]" if once else one
+            if e[2] == 1:
+                return base
+            square = f"(_p := {base})*_p" if once else f"{base}*{base}"
+            if e[-1] == "I":
+                return _wrap(f"pow({base}, {e[2]}, 4294967296)" if e[2] > 2 else square)
             if e[2] == 2:
-                return f"({base}*{base})"
+                return f"({square})"
             return f"_ipow({base}, {e[2]})"
         if tag == "rel":
             typ = "I" if e[2][-1] == e[3][-1] == "I" else "R"
@@ -163,19 +177,46 @@ class _Gen:
             return f"not ({self._expr(e[1])})"
         if tag == "call":
             return self.call(e)
-        _, op, left, right, typ = e
-        if typ == "I" and op == "/":
-            return f"_idiv({self._expr(left)}, {self._expr(right)})"
-        lcode, rcode = self.expr(left, typ), self.expr(right, typ)
-        if left[0] in ("bin", "neg") and _weaker(left, op, False):
-            lcode = f"({lcode})"
-        if right[0] in ("bin", "neg") and _weaker(right, op, True):
-            rcode = f"({rcode})"
-        return f"{lcode}{_PY_OPS[op]}{rcode}"
+        if e[-1] == "I" and _ring(e):  # INTEGER + - *: 32 bits, wrapped (module docstring)
+            return _wrap(self.arith(e))
+        return self.arith(e)
+
+    def arith(self, e) -> str:
+        """A binary operation's code, a chain of them on its left (``A+B-C+...``, as long
+        as 20 cards make it) made in a loop, FORTRAN's order kept by Python's."""
+        if e[-1] == "I" and e[1] == "/":
+            return f"_idiv({self._expr(e[2])}, {self._expr(e[3])})"
+        spine = [e]
+        while True:
+            left = spine[-1][2]
+            if not (left[0] == "bin" and left[-1] == e[-1] and not _weaker(left, spine[-1][1],
+                                                                             False)
+                    and not (left[-1] == "I" and left[1] == "/")):
+                break
+            spine.append(left)
+        code = None
+        for node in reversed(spine):
+            _, op, left, right, typ = node
+            lcode = code if code is not None else self._operand(left, typ)
+            if code is None and left[0] in ("bin", "neg") and _weaker(left, op, False):
+                lcode = f"({lcode})"
+            rcode = self._operand(right, typ)
+            if right[0] in ("bin", "neg") and _weaker(right, op, True):
+                rcode = f"({rcode})"
+            code = f"{lcode}{_PY_OPS[op]}{rcode}"
+        return code
+
+    def _operand(self, e, typ: str) -> str:
+        """An operand's code in an operation of type ``typ``: an INTEGER + - * chain inside
+        another is wrapped once, where the outer one ends."""
+        if typ == "I" and e[-1] == "I" and _ring(e):
+            return self.arith(e)
+        return self.expr(e, typ)
 
     def call(self, e) -> str:
         name, args = e[1], e[2]
-        if name in INTRINSICS:
+        if name in INTRINSICS and name not in self.u.functions:  # (a statement function
+            # named SIN, COS or ABS is the unit's own)
             if self.known is None or name not in ("SIN", "COS") or not self.pure(args[0]):
                 return f"{INTRINSICS[name]}({self.expr(args[0])})"
             # kept by what they compute (the source's expression): SIN and COS of one angle,
@@ -213,11 +254,21 @@ class _Gen:
     def pure(self, e) -> bool:
         """Whether ``e`` reads only the unit's own scalars (no COMMON, no array, no call but
         an intrinsic's): what a kept SIN or COS may stand on."""
-        if e[0] == "var":
-            return e[1] not in self.u.commons
-        if e[0] == "call":
-            return e[1] in INTRINSICS and self.pure(e[2][0])
-        return e[0] != "elem" and all(self.pure(x) for x in e[1:-1] if isinstance(x, tuple))
+        todo = [e]
+        while todo:
+            e = todo.pop()
+            if e[0] == "var":
+                if e[1] in self.u.commons and e[1] not in self.dummies:
+                    return False
+            elif e[0] == "call":
+                if e[1] not in INTRINSICS or e[1] in self.u.functions:
+                    return False
+                todo.append(e[2][0])
+            elif e[0] == "elem":
+                return False
+            else:
+                todo += [x for x in e[1:-1] if isinstance(x, tuple)]
+        return True
 
     def actuals(self, name: str, args) -> str:
         """A subprogram's arguments: a scalar's value; an array's storage and first index."""
@@ -254,17 +305,22 @@ class _Gen:
             self.emit(f"    def {name}({', '.join(dummies)}):  # statement function",
                       self.where(None, name))
             self.known = {} if self.native else None  # (its SIN and COS: as in a block's)
+            self.dummies = dummies
             self.emit(f"        return {self.expr(body, kind_of(name))}", self.where(None, name))
-            self.known = None
+            self.known, self.dummies = None, ()
         blocks = _blocks(u)
         for i, (key, label, stmts, nxt) in enumerate(blocks):
             if stmts[-1].kind == "do":
                 self.body[id(stmts[-1])] = nxt
+        # each block's function under one name (the unit's names stay its own, and Python
+        # compiles a unit of many labels in linear time), with its statements: what it spends
+        # of the run's budget when it starts
+        self.emit("    _blocks = {}")
         for key, label, stmts, nxt in blocks:
             self.block(key, label, stmts, nxt)
-        table = ", ".join(f"{_key(b[0])}: {_fname(b[0])}" for b in blocks)
-        start = "" if blocks[0][0] is None else f"'START': {_fname(blocks[0][0])}, "
-        self.emit(f"    _blocks = {{{start}{table}}}")
+            self.emit(f"    _blocks[{_key(key)}] = (_block, {len(stmts)})")
+        if blocks[0][0] is not None:
+            self.emit(f"    _blocks['START'] = _blocks[{_key(blocks[0][0])}]")
         self.emit("    def _vars():")
         shown_vars = [(n, self.ref(n)) for n in names + sorted(u.commons)
                       if n not in u.arrays] + [(a, self.store(a)[0]) for a in u.arrays]
@@ -278,18 +334,24 @@ class _Gen:
         for d in u.dummies:
             self.emit(f"        {d} = a_{d}" if d in scalars else
                       f"        {d}, b_{d} = a_{d}, a_b_{d}")
-        limit = "_G.limits.ed_iterations" if u.name != "MAIN" else "_G.program_blocks"
-        self.emit(f"        lab, n, blocks, limit = 'START', 0, _blocks, {limit}")
+        self.emit("        lab, n, blocks, limit, left = 'START', 0, _blocks, "
+                  "_G.limits.ed_iterations, _S")
         self.emit("        while lab is not None:")
-        self.emit("            n += 1")
-        self.emit("            if n > limit:")
+        self.emit("            block, k = blocks[lab]")
+        self.emit("            left[0] -= k")
+        self.emit("            if left[0] < 0:")
+        self.emit(f"                _G.spent({u.name!r}, lab)")
         mine = changed(u, self.units)
-        shown = [n for n in names if kind_of(n) == "R" and n in mine][:3]
-        search = (self.program_watch or {}).get("search")
-        if search and search[0] == u.name and set(search[1]) <= set(names):
-            shown = list(search[1])
-        self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), {tuple(shown)!r})")
-        self.emit("            lab = blocks[lab]()")
+        if u.name != "MAIN":  # (a subprogram's call: Limits.ed_iterations blocks at most)
+            self.emit("            n += 1")
+            self.emit("            if n > limit:")
+            shown = [n for n in names if kind_of(n) == "R" and n in mine][:3]
+            search = (self.program_watch or {}).get("search")
+            if search and search[0] == u.name and set(search[1]) <= set(names):
+                shown = list(search[1])
+            self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), "
+                      f"{tuple(shown)!r})")
+        self.emit("            lab = block()")
         if u.kind == "FUNCTION":
             self.emit(f"        return {self.ref(u.name)}")
         else:
@@ -300,7 +362,7 @@ class _Gen:
 
     def block(self, key, label, stmts, nxt):
         self.label = label
-        self.emit(f"    def {_fname(key)}():  # "
+        self.emit("    def _block():  # "
                   f"{'label ' + str(key) if isinstance(key, int) else key or 'entry'}")
         names = assigned(stmts, self.units) | {do.args[1] for s in stmts if s.label is not None
                                                for do in self.ends.get(s.label, ())}
@@ -343,6 +405,8 @@ class _Gen:
                 where = self.where(label, var)
                 self.emit(f"        {self.ref(var)} = {self.ref(var)}+{self.expr(m3)}  "
                           f"# DO {n} {var}: the next", where)
+                if self.known:  # (a SIN or COS of the DO variable is computed again after)
+                    self.known = {k: v for k, v in self.known.items() if var not in v[1]}
                 self.emit(f"        if {self.ref(var)} <= {self.expr(m2)}:", where)
                 if self.end:
                     self.emit(f"            {self.end}", where)
@@ -376,7 +440,8 @@ class _Gen:
             self.emit(f"{ind}pass{text}", self.where(label))
         elif kind == "read":
             fmt, items = s.args
-            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt})"
+            self.emit(f"{ind}{''.join(self.target(t) + ', ' for t in items)}= _G.read({fmt}, "
+                      f"{self.u.name!r})"
                       f"{text}", self.where(label, items[0][1] if items else None))
         elif kind == "write":
             fmt, items = s.args
@@ -389,8 +454,15 @@ class _Gen:
             name, args = s.args
             sub = self.units[name]
             mine = changed(sub, self.units)
-            back = [self.target(a) if a[0] in ("var", "elem") else "_"
-                    for d, a in zip(sub.dummies, args) if d in mine and d not in sub.arrays]
+            back = []
+            for d, a in zip(sub.dummies, args):
+                if d in mine and d not in sub.arrays:
+                    if a[0] == "elem":  # (its place where the call starts, as gfortran's)
+                        lst, index = self.place(a[1], a[2])
+                        self.emit(f"{ind}_e{len(back)} = {index}", self.where(label))
+                        back.append(f"{lst}[_e{len(back)}]")
+                    else:
+                        back.append(self.target(a) if a[0] == "var" else "_")
             targets = "".join(v + ", " for v in back)
             call = f"_G.call_{name}({self.actuals(name, args)})"
             self.emit(f"{ind}{targets + '= ' if back else ''}{call}{text}",
@@ -454,14 +526,19 @@ def _weaker(e, op: str, right: bool) -> bool:
     return rank[inner] < rank[op] or (right and rank[inner] == rank[op])
 
 
+def _wrap(code: str) -> str:
+    """INTEGER ``code``'s value in 32 bits, two's complement (gfortran's on x86-64: the
+    oracle's build, no -ftrapv), as arithmetic in the made line (no call)."""
+    return f"(({code})+2147483648&4294967295)-2147483648"
+
+
+def _ring(e) -> bool:
+    """Whether ``e`` is an INTEGER ``+``, ``-`` or ``*`` (wrapped to 32 bits where it ends)."""
+    return e[0] == "bin" and e[1] != "/"
+
+
 def _key(key) -> str:
     return "None" if key is False else "'START'" if key is None else repr(key)
-
-
-def _fname(key) -> str:
-    """A block's function: L125 for label 125, L0 for the unit's start, DO10_I for the range of
-    DO 10 I where it starts without a label."""
-    return f"L{key or 0}" if not isinstance(key, str) else key.replace(" ", "", 1).replace(" ", "_")
 
 
 def _blocks(u: Unit):
@@ -482,19 +559,21 @@ def _blocks(u: Unit):
 
 
 def _variables(e, skip=()):
-    """The scalar variables an expression (or an assignment's target) reads, in order."""
-    tag = e[0]
-    if tag == "var":
-        if e[1] not in skip:
-            yield e[1]
-    elif tag in ("neg", "pow", "not"):
-        yield from _variables(e[1], skip)
-    elif tag in ("call", "elem"):
-        for a in e[2]:
-            yield from _variables(a, skip)
-    elif tag in ("bin", "rel", "log"):
-        yield from _variables(e[2], skip)
-        yield from _variables(e[3], skip)
+    """The scalar variables an expression (or an assignment's target) reads, in order (an
+    explicit stack: a chain of 20 cards' operations is deeper than Python's recursion)."""
+    todo = [e]
+    while todo:
+        e = todo.pop()
+        tag = e[0]
+        if tag == "var":
+            if e[1] not in skip:
+                yield e[1]
+        elif tag in ("neg", "pow", "not"):
+            todo.append(e[1])
+        elif tag in ("call", "elem"):
+            todo.extend(reversed(e[2]))
+        elif tag in ("bin", "rel", "log"):
+            todo += (e[3], e[2])
 
 
 def _expressions(s):

@@ -14,6 +14,8 @@ import math
 import re
 from dataclasses import dataclass, field
 
+from deck_emulator.vocabulary import defaults
+
 #: The dialect, one row a statement kind: what the front end takes (anything else is refused).
 STATEMENTS = {
     "assignment": "V = e or A(s, ...) = e: REAL or INTEGER by the implicit rule (I-N), mixed "
@@ -42,8 +44,9 @@ STATEMENTS = {
     "RETURN": "from a subprogram",
     "STOP": "ends the run",
     "END": "ends a unit (a RETURN in a subprogram, a STOP in the main program)",
-    "READ (5, n) list": "unit 5: the next $DATA card, FORMAT n of Fw.d fields",
-    "WRITE (6, n) list": "unit 6: the line printer, FORMAT n",
+    "READ (5, n) list": "unit 5: the next $DATA card, FORMAT n of Fw.d fields (of the unit's "
+                        "own FORMATs), one REAL variable or array element a field",
+    "WRITE (6, n) list": "unit 6: the line printer, FORMAT n, one REAL expression an F field",
     "FORMAT (...)": "the edit descriptors below",
 }
 #: Edit descriptors a FORMAT may hold.
@@ -123,6 +126,9 @@ class Unit:
     commons: dict[str, tuple[str, int]] = field(default_factory=dict)
     common_lists: list = field(default_factory=list)  # (block, [names], card) as declared
     externals: list = field(default_factory=list)  # (FUNCTION name, arguments, card, column)
+    #: statement function -> the made code's frames a reference to it stands on (1 + those of
+    #: the statement functions it refers to)
+    levels: dict[str, int] = field(default_factory=dict)
 
 
 # ----------------------------------------------------------------------------- expressions
@@ -156,7 +162,7 @@ class _Parser:
         """Read the text's tokens from ``at`` on (a keyword's end: FORTRAN has no blanks
         between a keyword and a name)."""
         self.tokens: list[tuple[str, str, int]] = []  # (kind, text, position)
-        self.i = 0
+        self.i = self.nest = 0
         while at < len(self.text):
             m = _syntax()[0].match(self.text, at)
             if m is None:  # refused when the parse reaches it
@@ -205,7 +211,10 @@ class _Parser:
         at = self.pos
         if self.peek()[1] == ".NOT.":
             self.take()
-            return ("not", self.typed(self.negation(), "L", at), "L")
+            self.deeper(at)
+            e = ("not", self.typed(self.negation(), "L", at), "L")
+            self.nest -= 1
+            return e
         e = self.arith()
         if self.peek()[1] in RELATIONS:
             _, op = self.take()
@@ -252,18 +261,30 @@ class _Parser:
                 self.fail("an exponent other than an INTEGER constant is outside the dialect",
                           at)
             self.take()
+            if int(tok) > 2147483647:
+                self.fail(f"the exponent {tok} is beyond 32 bits", at)
             return ("pow", base, int(tok), base[-1])
         return base
 
     def listed(self, item) -> tuple:
         """``(item, item, ...)``"""
+        self.deeper(self.pos)
         self.take("(")
         out = [item()]
         while self.peek()[1] == ",":
             self.take()
             out.append(item())
         self.take(")")
+        self.nest -= 1
         return tuple(out)
+
+    def deeper(self, at: int):
+        """One more level of parentheses, arguments or .NOT.: refused beyond
+        PROGRAM_NESTING."""
+        self.nest += 1
+        if self.nest > defaults.PROGRAM_NESTING:
+            self.fail(f"parentheses, argument lists and .NOT. nested more than "
+                      f"{defaults.PROGRAM_NESTING} deep (PROGRAM_NESTING)", at)
 
     def arguments(self, arrays: bool) -> tuple:
         """``(a, ...)``: expressions, and whole arrays where ``arrays``."""
@@ -280,12 +301,19 @@ class _Parser:
         at = self.pos
         kind, tok = self.take()
         if kind == "real":
+            if math.isinf(float(tok)):
+                self.fail(f"the REAL constant {tok} overflows (gfortran refuses it too)", at)
             return ("const", tok, "R")
         if kind == "int":
+            if int(tok) > 2147483647:
+                self.fail(f"the INTEGER constant {tok} is beyond 32 bits (2147483647; gfortran "
+                          "refuses it too)", at)
             return ("const", tok, "I")
         if tok == "(":
+            self.deeper(at)
             e = self.expr()
             self.take(")")
+            self.nest -= 1
             return e
         if kind != "name":
             self.fail(f"{tok!r} where a value was expected", at)
@@ -348,6 +376,17 @@ class _Parser:
             self.fail(f"unexpected text {self.text[self.pos:]!r} after the statement", self.pos)
 
 
+def _nodes(e):
+    """Every node of an expression (an explicit stack: no recursion)."""
+    todo = [e]
+    while todo:
+        e = todo.pop()
+        yield e
+        todo += [x for x in e[1:] if isinstance(x, tuple) and x and isinstance(x[0], str)]
+        if e[0] in ("call", "elem"):
+            todo += e[2]
+
+
 def _binary(op, left, right):
     return ("bin", op, left, right, "I" if left[-1] == right[-1] == "I" else "R")
 
@@ -391,12 +430,14 @@ def _format_text(cards, fail) -> str:
         if ch == " ":
             i += 1
             continue
-        if ch.isdigit():
+        if ch in _DIGITS:
             j, digits = i, ""
-            while j < len(chars) and (chars[j][0].isdigit() or chars[j][0] == " "):
+            while j < len(chars) and chars[j][0] in _DIGITS + " ":
                 digits += chars[j][0].strip()
                 j += 1
             nxt = chars[j][0] if j < len(chars) else ""
+            if len(digits) > 3 or (int(digits) == 0 and nxt in "HXF"):
+                bad(f"{digits}{nxt}: a count or width of 1 to 999 is the dialect's", i)
             if nxt == "H":
                 n = int(digits)
                 text = "".join(c for c, _, _ in chars[j + 1:j + 1 + n])
@@ -415,10 +456,12 @@ def _format_text(cards, fail) -> str:
             bad(f"{digits}{nxt}: an edit descriptor outside the dialect "
                 f"({', '.join(EDIT_DESCRIPTORS)})", i)
         if ch == "F":
-            m = re.match(r"F(\d+)\.(\d+)", "".join(c for c, _, _ in chars[i:i + 12]
-                                                   if c != " "))
+            ahead = "".join(c for c, _, _ in chars[i:] if c != " ")[:12]  # (over cards)
+            m = re.match(r"F([0-9]{1,3})\.([0-9]{1,3})(?![0-9])", ahead)
             if m is None:
-                bad("F without w.d", i)
+                bad("F without w.d (w of 1 to 999)", i)
+            if int(m.group(1)) == 0:
+                bad(f"{m.group()}: a field of width 0 is outside the dialect", i)
             seen, j = 0, i
             while seen < len(m.group()):
                 if chars[j][0] != " ":
@@ -435,6 +478,17 @@ def _format_text(cards, fail) -> str:
             i += 1
             continue
         bad(f"{ch!r}: an edit descriptor outside the dialect ({', '.join(EDIT_DESCRIPTORS)})", i)
+    # an nX that ends a record writes nothing (gfortran's build: no blanks at the record's end)
+    k = 0
+    while k < len(out):
+        j = k - 1
+        while j >= 0 and out[j] == ",":
+            j -= 1
+        if out[k] in ("/", ")") and j >= 0 and re.fullmatch("[0-9]+X", out[j]):
+            del out[j:k]  # (the nX and the commas after it)
+            k = 0
+            continue
+        k += 1
     text = "".join(out)
     if depth != 0 or not (text.startswith("(") and text.endswith(")")):
         bad("unbalanced parentheses", len(chars) - 1)
@@ -442,7 +496,11 @@ def _format_text(cards, fail) -> str:
 
 
 _NAME = re.compile(r"[A-Z][A-Z0-9]*")
-_LABEL = re.compile(r"\d{1,5}")
+_DIGITS = "0123456789"
+#: What a card may not hold (refused where it is punched): anything but printable ASCII (the
+#: 1967 card code and more), such as a carriage return, a tab, a digit or a byte not ASCII
+_OUTSIDE_CARD_CODE = re.compile(r"[^\x20-\x7e]")
+_LABEL = re.compile(r"[0-9]{1,5}")
 _N = r"([A-Z][A-Z0-9]*)"
 #: How each statement kind (of STATEMENTS) is recognised on its blank-free text, and the method
 #: of _Reader that reads it: tried in order, the first whose pattern matches reads it.
@@ -469,7 +527,7 @@ _SYNTAX = (  # (compiled when first read: _syntax(); the listing's made code rea
 @functools.cache
 def _syntax():
     """(the token pattern, the kinds' table) compiled."""
-    return re.compile(_TOKEN, re.X), tuple((kind, re.compile(pattern), method)
+    return re.compile(_TOKEN, re.X | re.A), tuple((kind, re.compile(pattern, re.A), method)
                                            for kind, pattern, method in _SYNTAX)
 _DECLARATIONS = ("dimension", "common", "statement function")
 
@@ -566,7 +624,7 @@ class _Reader:
         e = p.expr()
         p.take(")")
         rest = self.text[p.pos:]
-        if re.fullmatch(r"\d+,\d+,\d+", rest):
+        if re.fullmatch(r"[0-9]+,[0-9]+,[0-9]+", rest):
             p.typed(e, "R", at)
             return self.stmt("if", e, *map(int, rest.split(",")))
         p.typed(e, "L", at)
@@ -678,6 +736,11 @@ class _Reader:
                 if len(bounds) > 3:
                     p.fail("more than 3 bounds", at)
                 u.arrays[name] = bounds
+                held = sum(math.prod(b for b in bs if isinstance(b, int))
+                           for a, bs in u.arrays.items() if a not in u.dummies)
+                if held > defaults.PROGRAM_ARRAY_ELEMENTS:
+                    p.fail(f"the unit's arrays hold {held} elements, more than "
+                           f"{defaults.PROGRAM_ARRAY_ELEMENTS} (PROGRAM_ARRAY_ELEMENTS)", at)
             elif common is None:
                 p.fail(f"DIMENSION {name} without bounds", at)
             if common is not None:
@@ -705,7 +768,14 @@ class _Reader:
             p.pos = m.start(3)
             body = p.number()
             p.end()
+            level = 1 + max((self.unit.levels.get(e[1], 0) for e in _nodes(body)
+                             if e[0] == "call"), default=0)
+            if level > defaults.PROGRAM_CALL_DEPTH:
+                self.whole(f"statement functions referring to each other {level} deep: beyond "
+                           f"PROGRAM_CALL_DEPTH ({defaults.PROGRAM_CALL_DEPTH})",
+                           kind="statement function")
             self.unit.functions[name] = (dummies, body)
+            self.unit.levels[name] = level
             return "statement function"
         target = p.target()
         p.take("=")
@@ -721,6 +791,7 @@ def parse_units(statements, path: str | None = None) -> list[Unit]:
     unit: Unit | None = None
     executable_seen = False
     for st in statements:
+        _card_check(st, path)
         text = st.text.upper()
         label = None
         if st.label:
@@ -753,6 +824,31 @@ def parse_units(statements, path: str | None = None) -> list[Unit]:
                            path=path)
     _check(units, path)
     return units
+
+
+def _card_check(st, path) -> None:
+    """Refuses a statement of more than PROGRAM_CONTINUATIONS continuation cards, a character
+    outside the card code (where it is punched) and a constant of more digits than
+    PROGRAM_CONSTANT_DIGITS."""
+    if len(st.cards) > 1 + defaults.PROGRAM_CONTINUATIONS:
+        raise DialectError(f"more than {defaults.PROGRAM_CONTINUATIONS} continuation cards "
+                           "(IBM FORTRAN IV's limit: PROGRAM_CONTINUATIONS)",
+                           card=st.cards[1 + defaults.PROGRAM_CONTINUATIONS][0], columns=(6, 6),
+                           kind=_kind_name(st.text.upper()), path=path)
+    for number, line in st.cards or ((st.line, " " * 6 + st.text),):
+        bad = _OUTSIDE_CARD_CODE.search(line, 0, 72)
+        if bad:
+            raise DialectError(f"the character {bad.group()!r} is outside the card code "
+                               "(printable ASCII)", card=number,
+                               columns=(bad.start() + 1, bad.start() + 1),
+                               kind=_kind_name(st.text.upper()), path=path)
+    if not st.text.upper().startswith("FORMAT("):
+        run = re.search(rf"[0-9]{{{defaults.PROGRAM_CONSTANT_DIGITS + 1},}}", st.text)
+        if run:
+            raise DialectError(f"a constant or label of more than "
+                               f"{defaults.PROGRAM_CONSTANT_DIGITS} digits "
+                               "(PROGRAM_CONSTANT_DIGITS)", card=st.line, columns=(7, 72),
+                               kind=_kind_name(st.text.upper()), path=path)
 
 
 def _kind_name(text: str) -> str:
@@ -914,6 +1010,26 @@ def _no_recursion(units, by_name, path) -> None:
             if name not in seen:
                 seen.add(name)
                 todo += _calls(by_name[name])
+    # the made code's frames, one inside the next: a subprogram's call stands on 2 (its entry
+    # and its block), a statement function's reference on its level
+    depth: dict[str, int] = {}
+    for u in units:
+        todo = [u.name]
+        while todo:
+            name = todo[-1]
+            callees = [c for c in _calls(by_name[name]) if c not in depth]
+            if callees:
+                todo += callees
+                continue
+            todo.pop()
+            unit = by_name[name]
+            depth[name] = 2 + max(unit.levels.values(), default=0) + max(
+                (depth[c] for c in _calls(unit)), default=0)
+            if depth[name] > defaults.PROGRAM_CALL_DEPTH:
+                raise DialectError(f"subprograms calling each other {depth[name]} frames deep "
+                                   f"(2 a call, 1 a statement function): beyond "
+                                   f"PROGRAM_CALL_DEPTH ({defaults.PROGRAM_CALL_DEPTH})",
+                                   card=unit.card, columns=(7, 72), kind=unit.kind, path=path)
 
 
 def _arguments(units, name, args, kind, where) -> None:

@@ -3,8 +3,9 @@ statement, every value through an arithmetic of :mod:`deck_emulator.legacy.arith
 
 Each unit becomes a function that makes it (its variables, static as on IBSYS and gfortran's
 ``-fno-automatic -finit-local-zero``: zero at load, kept between calls) holding one function a
-labelled block (``L125``: from label 125 to the next label; ``DO10_I``: a DO range's first
-statement when unlabelled), which returns the label it goes to. Arrays are lists (a COMMON
+labelled block (from a label to the next label; a DO range's first statement when
+unlabelled), which returns the label it goes to: all under one name, ``_block``, kept in a
+table with the statements each holds (the run's statement budget, ``Limits.statements``). Arrays are lists (a COMMON
 block one list, by place); a DO's test ends its range's last statement. The program's
 statements stay one a line, with their cards' text beside them (:meth:`Program.python` prints
 it), so the source reads side by side with the cards. A program keeps its made code in the
@@ -14,15 +15,17 @@ deck's own program, is parsed and made once a machine.
 
 Arithmetic: the number type's ``+ - * /`` and unary ``-``, ``abs()``, the arithmetic's
 ``decimal`` for every REAL constant and card field, its ``sin``, ``cos`` and ``sign``; ``X**2``
-is ``X*X`` (as gfortran and the 7094's FORTRAN expand it); INTEGERs are Python ints, converted
-where they meet a REAL.  Output goes through :class:`deck_emulator.legacy.printer.Printer` with
+is ``X*X`` (as gfortran and the 7094's FORTRAN expand it), ``X**n`` squares as gfortran's build
+(:func:`_power`); INTEGERs are Python ints wrapped to 32 bits where a chain of ``+ - *`` ends
+(make._wrap), converted where they meet a REAL.  Output goes through :class:`deck_emulator.legacy.printer.Printer` with
 the program's own FORMATs.
 
 Stops (:class:`deck_emulator.legacy.stops.EmulatorError`):
 an arithmetic fault or a non-finite value names the unit, the label, the variable and the
 step; so does a subscript outside its array's storage and an assigned GO TO to a label not
-in its list; a subprogram call that runs more than ``Limits.ed_iterations`` blocks; and, where the
-program keeps the listing's labels, the listing's own guards (:data:`LISTING_WATCH`).  Binary64
+in its list; a subprogram call that runs more than ``Limits.ed_iterations`` blocks; a run that
+spends ``Limits.statements``; and, where the program is the listing's (:func:`watched`), the
+listing's own guards (:data:`LISTING_WATCH`).  Binary64
 runs check each block's values when it ends and, when one is not finite, run again from the
 start checking every assignment, so the message names the statement (as the emulator does).
 """
@@ -38,8 +41,7 @@ import zlib
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
 from deck_emulator.legacy.printer import Printer, event_for
-from deck_emulator.vocabulary.defaults import (PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES,
-                                               user_cache_folder)
+from deck_emulator.vocabulary.defaults import PROGRAM_CACHE_ENTRIES, user_cache_folder
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -177,7 +179,23 @@ def _integer(x: float) -> int:
     """A REAL's INTEGER (toward zero); NaN has none (gfortran's build traps: invalid)."""
     if x != x:
         raise FloatingPointError("invalid: NaN made INTEGER")
+    if not -2147483649.0 < x < 2147483648.0:  # (gfortran's build traps: invalid)
+        raise FloatingPointError(f"invalid: {x:.6g} is too large for an INTEGER (32 bits)")
     return int(x)
+
+
+def _power(x, n: int):
+    """``x**n`` for an INTEGER constant ``n`` > 2, multiplied as gfortran's build does (libgcc's
+    ``__powidf2``, ``__powisf2``: squares, from the low bit up; checked against it by
+    tests/legacy/test_front_end_bounds.py): about 2 log2(n) products, never n."""
+    y = x if n & 1 else None
+    n >>= 1
+    while n:
+        x = x * x
+        if n & 1:
+            y = x if y is None else y * x
+        n >>= 1
+    return y
 
 
 def _sub(name, index):
@@ -186,6 +204,21 @@ def _sub(name, index):
 
 def _lost(name, value):
     raise _Bad(f"assigned GO TO {name}: {value} is no label of its list", name)
+
+
+def watched(watch: dict | None, units: dict) -> dict | None:
+    """``watch`` (:data:`LISTING_WATCH`) where the program is the listing's (its MAIN holds every
+    label the watch names, and the clocks' variables), else None: the listing's guards, trace
+    and events apply to the listing and its variants alone, through this one table."""
+    main = units.get("MAIN")
+    if not watch or main is None:
+        return None
+    labels = {s.label for s in main.statements}
+    named = {*watch["steps"], watch["free_from"], watch["halving"], watch["accept"],
+             *(label for label, _ in watch["clocks"]), *watch["records"], *watch["points"]}
+    from .make import scalars
+
+    return watch if named <= labels and set(watch["time"]) <= set(scalars(main)) else None
 
 
 class Program:
@@ -254,7 +287,7 @@ class Program:
         """Whether a run records the trace (a trajectory): its MAIN has the listing's labels
         where the trace is recorded (``watch["records"]``), each with the variables its row
         reads."""
-        main = self.units.get("MAIN") if self.watch else None
+        main = self.units.get("MAIN") if watched(self.watch, self.units) else None
         if main is None:
             return False
         from .make import scalars
@@ -318,7 +351,8 @@ class Program:
             from .make import made_lines
 
             self._lines[key] = made_lines(self.units, self._header(native, checking),
-                                          native=native, checking=checking, watch=self.watch,
+                                          native=native, checking=checking,
+                                          watch=watched(self.watch, self.units),
                                           literals=self.literals, step_scale_k=self.step_scale_k)
         return self._lines[key]
 
@@ -356,11 +390,18 @@ class Runner:
             self.record = _nothing
         self.label = "START"
         self.units: dict = {}
-        self.program_blocks = PROGRAM_BLOCKS
+        self.watch = None  # the listing's guards, where the program is the listing (run())
+        self._left = [limits.statements]  # the statement budget left (the made code's _S)
+
+    @property
+    def statements_run(self) -> int:
+        """The statements the run has executed (each block's when it starts)."""
+        return self.limits.statements - self._left[0]
 
     # what the generated code calls -----------------------------------------------------------
-    def read(self, fmt: int):
-        """READ(5,fmt): the next data card's fields, by FORMAT fmt, through the arithmetic."""
+    def read(self, fmt: int, unit: str):
+        """READ(5,fmt) in ``unit``: the next data card's fields, by the unit's FORMAT fmt,
+        through the arithmetic."""
         import re
 
         from deck_emulator.legacy.deck import read_field
@@ -370,7 +411,7 @@ class Runner:
                                 "cards", label=self.label, step=self.step, guard="read")
         values = []
         col = 0
-        text = self._format_of(fmt)
+        text = self.formats[unit][fmt]
         card = self.deck.cards[self.card]
         for m in re.finditer(r"(\d+)H|(\d+)X|F(\d+)\.(\d+)|/", text[1:-1]):
             if m.group(1):  # (a Hollerith text would be overwritten by the card: skipped)
@@ -387,12 +428,13 @@ class Runner:
                 col += w
             else:
                 self.card += 1
+                if self.card >= len(self.deck.cards):
+                    raise EmulatorError(f"READ (FORMAT {fmt}'s /) past the last of the deck's "
+                                        f"{len(self.deck.cards)} data cards", label=self.label,
+                                        step=self.step, guard="read")
                 card, col = self.deck.cards[self.card], 0
         self.card += 1
         return values
-
-    def _format_of(self, fmt: int) -> str:
-        return next(formats[fmt] for formats in self.formats.values() if fmt in formats)
 
     def record(self, phase: str, *values):
         self.run_.trace.append(trace_row(phase, values, self.ar.to_float))
@@ -406,7 +448,7 @@ class Runner:
             v = self.units["MAIN"][1]()
             f = self.ar.to_float
             raise halving_error(self.limits.halvings, f(v["H"]), f(v.get("DIFF", 0.0)),
-                                f(v.get("DIFFT", 0.0)), self.program.watch["halving"],
+                                f(v.get("DIFFT", 0.0)), self.watch["halving"],
                                 self.step, self.time())
 
     def clock(self, value, phase: str, label: int):
@@ -416,26 +458,35 @@ class Runner:
 
     def runaway(self, unit: str, label, values: dict, shown: tuple):
         shown = ", ".join(f"{n} = {self.ar.to_float(values[n]):.6g}" for n in shown)
-        search = (self.program.watch or {}).get("search")
+        search = (self.watch or {}).get("search")
         if search and unit == search[0]:  # as the listing's emulator names it
             raise EmulatorError(f"{unit}'s root search did not converge in "
                                 f"{self.limits.ed_iterations} iterations ({shown})",
                                 label=f"{unit} {label}", step=self.step, time=self.time(),
                                 guard="ed_iterations")
-        if unit == "MAIN":
-            raise EmulatorError(f"the main program ran {self.program_blocks} labelled blocks "
-                                f"without STOP ({shown})", label=label, step=self.step,
-                                time=self.time(), guard="runaway")
         raise EmulatorError(f"{unit} did not return in {self.limits.ed_iterations} iterations "
                             f"({shown})", label=f"{unit} {label}", step=self.step,
                             time=self.time(), guard="runaway")
 
+    def spent(self, unit: str, key):
+        """The statement budget (``Limits.statements``) is spent: a stop naming the statement
+        the block ``key`` of ``unit`` starts with."""
+        from .make import _blocks
+
+        first = next((stmts[0] for k, _, stmts, _ in _blocks(self.program.units[unit])
+                      if k == key or (key == "START" and k is None)), None)
+        what = (f"card {first.card}: {first.text}" if first is not None else "")
+        raise EmulatorError(f"the program ran its budget of {self.limits.statements} "
+                            f"statements (Limits.statements) without STOP, at {what}",
+                            label=key if unit == "MAIN" else f"{unit} {key}", step=self.step,
+                            time=self.time(), guard="statements")
+
     def time(self) -> float | None:
         """Simulated time (the listing's: Q in contact, T in free flight), if it has them."""
-        if "MAIN" not in self.units or not self.program.watch:
+        if "MAIN" not in self.units or not self.watch:
             return None
         v = self.units["MAIN"][1]()
-        name = self.program.watch["time"][1 if self.free else 0]
+        name = self.watch["time"][1 if self.free else 0]
         return self.ar.to_float(v[name]) if name in v else None
 
     # running ------------------------------------------------------------------------------------
@@ -447,7 +498,7 @@ class Runner:
         namespace = dict(
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
             _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign,
-            _ipow=ar.ipow,
+            _ipow=_power, _S=self._left,
             _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: _integer(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
@@ -457,6 +508,7 @@ class Runner:
             with ar.trapping():
                 exec(code, namespace)
                 self.formats = namespace["_FORMATS"]
+                self.watch = self.program.watch if namespace["_WATCHED"] else None
                 for name, formats in self.formats.items():
                     printer = self._printer(formats)
                     printer.records = self.run_.records

@@ -1,0 +1,60 @@
+"""The IBM 7094's printout against the binary64 oracle's: equal within single precision.
+
+The 7094 keeps a 27-bit fraction and truncates (each operation off by less than 2**-26 of its
+result); binary64 keeps 53 bits.  A generated program keeps every REAL within
+``REAL_BOUND`` (generate.py), so a value printed after n operations is off by at most about
+n * 2**-26 of the largest magnitude it passed through.  The tolerance, per printed number
+``a`` (the 7094's) against ``b`` (the oracle's), printed with ``d`` decimals:
+
+    |a - b| <= 2**-20 * (max(|a|, |b|) + REAL_BOUND) + 10**-d
+
+-- 2**-20 is 64 of the 7094's units (room for some 60 truncations in a chain, or the same
+cancellation against a value as large as REAL_BOUND), and 10**-d is one unit of the last
+printed place (a value near a rounding boundary prints one unit apart).  Everything but the
+numbers (Hollerith texts, blanks, the record count) must be equal, and a field of asterisks
+(too wide a value) must be asterisks in both.
+
+A printout beyond the tolerance is not by itself a defect: a program that branches on a
+comparison of nearly equal REALs takes the other branch in 27 bits.  The campaign counts
+such programs apart (``ibm7094 beyond tolerance``) and its shrinker reduces them to the
+statement that decides.
+"""
+
+from __future__ import annotations
+
+import re
+
+from .generate import REAL_BOUND
+
+RELATIVE = 2.0 ** -20
+_NUMBER = re.compile(r"-?\d*\.\d*|\*+")
+
+
+def tolerance(a: float, b: float, decimals: int) -> float:
+    return RELATIVE * (max(abs(a), abs(b)) + REAL_BOUND) + 10.0 ** -decimals
+
+
+def compare_within(ours: str, theirs: str) -> tuple[str, str]:
+    """('within', '') or ('beyond', the first difference) for the 7094's printout ``ours``
+    against the oracle's ``theirs``."""
+    a_lines, b_lines = ours.splitlines(), theirs.splitlines()
+    if len(a_lines) != len(b_lines):
+        return "beyond", f"{len(a_lines)} records on the 7094, {len(b_lines)} from gfortran"
+    for n, (a, b) in enumerate(zip(a_lines, b_lines), start=1):
+        if a == b:
+            continue
+        a_parts, b_parts = _NUMBER.split(a), _NUMBER.split(b)
+        a_nums, b_nums = _NUMBER.findall(a), _NUMBER.findall(b)
+        if a_parts != b_parts or len(a_nums) != len(b_nums):
+            return "beyond", f"record {n}: 7094 {a!r}, gfortran {b!r}"
+        for x, y in zip(a_nums, b_nums):
+            if x == y:
+                continue
+            if x.startswith("*") or y.startswith("*") or x in ("-", ".", "-.") or y in ("-", ".", "-."):
+                return "beyond", f"record {n}: 7094 {x!r}, gfortran {y!r}"
+            d = len(y.split(".")[1]) if "." in y else 0
+            fx, fy = float(x if x not in ("", "-") else 0), float(y)
+            if abs(fx - fy) > tolerance(fx, fy, d):
+                return "beyond", (f"record {n}: 7094 {x}, gfortran {y} (|difference| "
+                                  f"{abs(fx - fy):.3g} > {tolerance(fx, fy, d):.3g})")
+    return "within", ""
