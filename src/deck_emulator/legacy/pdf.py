@@ -94,8 +94,8 @@ _NAME = re.compile(r"[A-Za-z][A-Za-z0-9]*")
 class Face:
     """A TrueType face subset to the characters of one document.
 
-    ``path``: the font file (a path or an importlib.resources file); ``characters``: every character the document draws (one
-    subset a document).  A character the face has no glyph for is drawn as the face's
+    ``path``: the font file (a path or an importlib.resources file); ``characters``: every
+    character the document draws (one subset a document).  A character the face has no glyph for is drawn as the face's
     ``.notdef`` glyph (an empty box) and extracts as nothing."""
 
     def __init__(self, path, characters: Iterable[str]):
@@ -140,8 +140,12 @@ class Face:
         return b"<" + "".join([codes.get(c, "0000") for c in text]).encode("ascii") + b">"
 
     def to_unicode(self) -> bytes:
-        """The ToUnicode CMap: each glyph number back to its character."""
-        pairs = sorted((g, c) for c, g in self.gid.items() if g)
+        """The ToUnicode CMap: each glyph number back to its character (the first, where
+        the face draws several characters with one glyph)."""
+        back: dict[int, str] = {}
+        for char, gid in sorted(self.gid.items()):
+            back.setdefault(gid, char)
+        pairs = sorted(back.items())
         lines = [b"/CIDInit /ProcSet findresource begin", b"12 dict begin", b"begincmap",
                  b"/CIDSystemInfo << /Registry (Adobe) /Ordering (UCS) /Supplement 0 >> def",
                  b"/CMapName /Adobe-Identity-UCS def", b"/CMapType 2 def",
