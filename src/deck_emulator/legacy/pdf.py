@@ -95,8 +95,9 @@ class Face:
     """A TrueType face subset to the characters of one document.
 
     ``path``: the font file (a path or an importlib.resources file); ``characters``: every
-    character the document draws (one subset a document).  A character the face has no glyph for is drawn as the face's
-    ``.notdef`` glyph (an empty box) and extracts as nothing."""
+    character the document draws (one subset a document).  A character the face has no
+    glyph for is drawn as the face's ``.notdef`` glyph (an empty box) and extracts as
+    nothing."""
 
     def __init__(self, path, characters: Iterable[str]):
         from fontTools import subset
