@@ -1,9 +1,10 @@
 """What each optional part of the install brings, one row a package: the module a command
 imports -> the extra of ``pyproject.toml`` that installs it (a test holds the two equal).
 
-The base install is the 1967 path (numpy, fortranformat, tqdm, tomli-w).  A command that
-needs more and finds it missing says, in one line, which extra to install
-(:func:`missing_extra`; the command line exits with status 2)."""
+The base install is the 1967 path (numpy, fortranformat, tqdm, tomli-w, and fonttools for
+the printed pages' face).  A command that needs more and finds it missing says, in one
+line, which extra to install (:func:`missing_extra`; the command line exits with status
+2)."""
 
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ EXTRA_OF_MODULE = {
 #: what each extra is for, in the words of the message
 PURPOSE = {
     "core": "the modern core",
-    "plot": "pictures and the printout's pages",
+    "plot": "pictures",
     "frames": "trajectories as tables",
     "studies": "the many-scene studies",
     "pdf": "reading a PDF's text",

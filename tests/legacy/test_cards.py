@@ -431,17 +431,16 @@ def check_first_page(pdf: Path, records: list[str]) -> None:
 
 
 def test_the_printers_face_advances_a_tenth_of_an_inch():
-    """The advance pages.py writes down, read from the font file matplotlib ships."""
-    from pathlib import Path as P
-
-    import matplotlib
-    from matplotlib.ft2font import FT2Font
+    """The advance pages.py writes down, read from the font file the package ships."""
+    from fontTools.ttLib import TTFont
 
     from deck_emulator.legacy import pages
 
-    font = FT2Font(str(P(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSansMono.ttf"))
-    advances = {font.load_char(ord(c)).horiAdvance for c in "0123456789.-+ ABCXYZ*"}
-    assert advances == {1233} and font.units_per_EM == 2048
+    with pages.face_file().open("rb") as file:
+        font = TTFont(file)
+        cmap, hmtx = font.getBestCmap(), font["hmtx"]
+        advances = {hmtx[cmap[ord(c)]][0] for c in "0123456789.-+ ABCXYZ*"}
+        assert advances == {1233} and font["head"].unitsPerEm == 2048
     assert pages.FONT_SIZE_PT * pages._ADVANCE_EM == pytest.approx(7.2)
 
 

@@ -36,20 +36,13 @@ def ours(folder: Path) -> list[str]:
 
 @pytest.fixture
 def full_disk_in_the_pdf_backend(monkeypatch):
-    """The PDF backend's compressor fails as it does on a full disk (zlib.error)."""
-    import matplotlib.backends.backend_pdf as backend
+    """The PDF writer's compressor fails as it does on a full disk (zlib.error)."""
+    import deck_emulator.legacy.pdf as backend
 
-    class Broken:
-        def __init__(self, *a, **k):
-            pass
+    def broken(*a, **k):
+        raise zlib.error("Error -3 while compressing data")
 
-        def compress(self, data):
-            raise zlib.error("Error -3 while compressing data")
-
-        def flush(self, *a):
-            raise zlib.error("Error -3 while compressing data")
-
-    monkeypatch.setattr(backend, "zlib", types.SimpleNamespace(compressobj=Broken,
+    monkeypatch.setattr(backend, "zlib", types.SimpleNamespace(compress=broken,
                                                                error=zlib.error))
 
 

@@ -67,7 +67,6 @@ def run(o: RunOptions) -> Answer:
     if o.pages:
         from deck_emulator.files import check_distinct
 
-        common.require("plot")  # the pages are drawn with matplotlib
         if not o.pages.lower().endswith(".pdf"):
             raise UsageError(f"--pages {o.pages}: the pages are a PDF; name a .pdf file")
         check_distinct(o.out, o.pages)  # --out X --pages X: refused before any work

@@ -19,13 +19,18 @@ The 7094's printer (an IBM 1403 on the 1401 or the 7094's own channel; facts fro
 
 Each printed line's baseline sits 1/6 inch below the previous one; line ``n`` of a form
 (1-based) has its baseline ``BASELINE_DROP`` above the bottom of its 1/6-inch band.  The face
-is DejaVu Sans Mono, embedded in the PDF (the subset of it the pages use), at the size whose
-advance is exactly 1/10 inch.  It comes with matplotlib (its ``mpl-data/fonts/ttf``, licence
-``LICENSE_DEJAVU`` there: Bitstream Vera's, a free licence that allows embedding and
-redistribution, with DejaVu's changes in the public domain); PDF's standard Courier, used
-before, is not embedded, so every viewer drew the pages in a face of its own choosing.
-``striped`` paper has green bars three lines (half an inch) deep, starting with a bar on
-lines 1-3.
+is DejaVu Sans Mono, embedded in the PDF (the subset of it the pages use, made once a
+document with fontTools), at the size whose advance is exactly 1/10 inch.  The package ships
+the font file (``fonts/DejaVuSansMono.ttf``, as matplotlib ships it, version 2.35) with its
+licence beside it (``fonts/LICENSE_DEJAVU``: Bitstream Vera's, a free licence that allows
+embedding and redistribution, with DejaVu's changes in the public domain); PDF's standard
+Courier, used before, is not embedded, so every viewer drew the pages in a face of its own
+choosing.  ``striped`` paper has green bars three lines (half an inch) deep, starting with a
+bar on lines 1-3.
+
+The PDF is written directly (legacy/pdf.py): one text object a form, one string a printed
+line, so its text extracts line by line in the order printed; no plotting library is
+needed (:func:`form_figure` draws the same form as a matplotlib figure, for pictures).
 
 The same records give the same bytes: the PDF carries no creation date (or the one
 ``SOURCE_DATE_EPOCH`` gives, as reproducible builds set it) and names its producer by
@@ -41,7 +46,8 @@ from deck_emulator.files import OutputError, OutputSet
 from deck_emulator.parallel import progress_bar
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
-           "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "form_figure", "write_pdf"]
+           "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "printed_lines", "paper_bars",
+           "tractor_holes", "face_file", "form_figure", "write_pdf"]
 
 LINES_PER_FORM = 66
 LINES_PER_INCH = 6
@@ -91,41 +97,72 @@ def column_x_in(position: int) -> float:
     return LEFT_MARGIN_IN + (position - 1) / CHARS_PER_INCH
 
 
+#: the paper's colours: the bars of 'striped' (green-bar) paper, the tractor holes' outline
+BAR_RGB = (0xD8 / 255, 0xEC / 255, 0xD8 / 255)  # #d8ecd8
+HOLE_RGB = (0xB0 / 255, 0xB0 / 255, 0xB0 / 255)  # #b0b0b0
+HOLE_LINE_PT = 0.6
+HOLE_RADIUS_IN = 0.08
+#: The holes' height as drawn since they were first drawn (a matplotlib Circle of radius
+#: 0.08/14.875 of the figure's width, in figure fractions, so 0.08 * 11/14.875 inch tall):
+#: ellipses, kept so the pages look as before.
+HOLE_HEIGHT_RADIUS_IN = HOLE_RADIUS_IN * PAGE_HEIGHT_IN / PAGE_WIDTH_IN
+
+
+def paper_bars(paper: str) -> list[tuple[float, float, float, float]]:
+    """The green bars of ``paper`` as (left, bottom, width, height) in inches from the
+    form's lower left: three lines (half an inch) deep, a bar on lines 1-3, 7-9, ...,
+    0.2 inch wider than the print line on each side; none on plain paper."""
+    if paper != "striped":
+        return []
+    bars = []
+    for first in range(1, LINES_PER_FORM + 1, 6):
+        top = PAGE_HEIGHT_IN - (first - 1) / LINES_PER_INCH
+        bars.append((LEFT_MARGIN_IN - 0.2, top - 0.5, PRINT_POSITIONS / CHARS_PER_INCH + 0.4,
+                     0.5))
+    return bars
+
+
+def tractor_holes() -> list[tuple[float, float]]:
+    """Centres of the tractor holes, in inches: every half inch, a quarter inch from each
+    edge, on either kind of paper."""
+    return [(x, (k + 0.5) / 2) for k in range(22) for x in (0.25, PAGE_WIDTH_IN - 0.25)]
+
+
 def _paper(fig, paper: str) -> None:
     from matplotlib.patches import Circle, Rectangle
 
     w, h = PAGE_WIDTH_IN, PAGE_HEIGHT_IN
-    if paper == "striped":
-        for first in range(1, LINES_PER_FORM + 1, 6):
-            top = h - (first - 1) / LINES_PER_INCH
-            fig.add_artist(Rectangle(((LEFT_MARGIN_IN - 0.2) / w, (top - 0.5) / h),
-                                     (PRINT_POSITIONS / CHARS_PER_INCH + 0.4) / w, 0.5 / h,
-                                     transform=fig.transFigure, color="#d8ecd8", lw=0))
-    for k in range(22):  # tractor holes, every half inch, a quarter inch from each edge
-        y = (k + 0.5) / 2
-        for x in (0.25, w - 0.25):
-            fig.add_artist(Circle((x / w, y / h), 0.08 / w, transform=fig.transFigure,
-                                  fill=False, color="#b0b0b0", lw=0.6))
+    for x, y, width, height in paper_bars(paper):
+        fig.add_artist(Rectangle((x / w, y / h), width / w, height / h,
+                                 transform=fig.transFigure, color=BAR_RGB, lw=0))
+    for x, y in tractor_holes():
+        fig.add_artist(Circle((x / w, y / h), HOLE_RADIUS_IN / w, transform=fig.transFigure,
+                              fill=False, color=HOLE_RGB, lw=HOLE_LINE_PT))
 
 
-# TrueType embedded as such (type 42): the glyphs are the font's own outlines
-_RC = {"pdf.fonttype": 42, "font.family": "monospace", "font.monospace": [_FONT]}
-
-
-def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
-    """One form as a matplotlib Figure, 14 7/8 by 11 inches."""
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
-    _paper(fig, paper)
+def printed_lines(form: list[tuple[int, str]]) -> list[tuple[int, int, str]]:
+    """What a form shows, in the order printed: (line, first print position, text) for each
+    record that prints anything, the text from its first to its last non-blank character
+    (a blank record, or the blank margins of one, prints nothing)."""
+    out = []
     for line, text in form:
         stripped = text.lstrip(" ")
         if not stripped.strip():
             continue
-        first = len(text) - len(stripped) + 1
+        out.append((line, len(text) - len(stripped) + 1, stripped.rstrip(" ")))
+    return out
+
+
+def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
+    """One form as a matplotlib Figure, 14 7/8 by 11 inches (the same form :func:`write_pdf`
+    writes directly, for a picture or a viewer of one's own; needs matplotlib)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
+    _paper(fig, paper)
+    for line, first, text in printed_lines(form):
         fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
-                 stripped.rstrip(" "), family="monospace", size=FONT_SIZE_PT,
-                 ha="left", va="baseline")
+                 text, family=_FONT, size=FONT_SIZE_PT, ha="left", va="baseline")
     return fig
 
 
@@ -138,12 +175,12 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain",
     ``outputs``: an open :class:`~deck_emulator.files.OutputSet` to stage the PDF in, so that
     it is committed with the set's other files (the printout itself: both or neither);
     without it the PDF is committed alone.  ``metadata``: the PDF's document information
-    (Title, Subject, Keywords, Creator ...), strings.  ``progress``: the words of the page
-    count shown while the forms are drawn (about a tenth of a second each: 120 forms for
-    steel40) on the package's progress display; None shows none.  Either way a kill leaves the old file or the new
-    one whole, and a PDF that cannot be made (a full disk: ``zlib.error`` or ``OSError`` from
-    the PDF backend) is an :class:`~deck_emulator.files.OutputError` naming ``path``, with
-    nothing left behind."""
+    (Title, Subject, Keywords, Creator ...), strings (None: left out).  ``progress``: the
+    words of the page count shown while the forms are written, on the package's progress
+    display; None shows none.  Either way a kill leaves the old file or the new one whole,
+    and a PDF that cannot be made (a full disk: ``zlib.error`` or ``OSError`` from the
+    writer) is an :class:`~deck_emulator.files.OutputError` naming ``path``, with nothing
+    left behind."""
 
     if paper not in ("plain", "striped"):
         raise ValueError(f"paper must be plain or striped, not {paper!r}")
@@ -166,19 +203,74 @@ def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain",
                           getattr(exc, "errno", None)) from None
 
 
+def face_file():
+    """The printer's face shipped with the package: DejaVu Sans Mono (``fonts/``, with its
+    licence, ``LICENSE_DEJAVU``), a path-like resource."""
+    from importlib.resources import files
+
+    return files("deck_emulator.legacy") / "fonts" / "DejaVuSansMono.ttf"
+
+
+def _paper_shapes(paper: str) -> list:
+    from deck_emulator.legacy.pdf import Ellipse, Rect
+
+    pt = 72
+    shapes: list = [Rect(x * pt, y * pt, w * pt, h * pt, BAR_RGB)
+                    for x, y, w, h in paper_bars(paper)]
+    shapes += [Ellipse(x * pt, y * pt, HOLE_RADIUS_IN * pt, HOLE_HEIGHT_RADIUS_IN * pt,
+                       HOLE_RGB, HOLE_LINE_PT) for x, y in tractor_holes()]
+    return shapes
+
+
+def _info(metadata: dict[str, str]) -> dict[str, bytes]:
+    """The document information: the caller's, the producer, and a creation date only as
+    ``SOURCE_DATE_EPOCH`` gives it (ISO 32000 7.9.4: D:YYYYMMDDHHmmSSZ)."""
+    import time
+
+    from deck_emulator.legacy.pdf import pdf_text_string
+
+    info = {}
+    for key, value in metadata.items():
+        if value is None:
+            continue
+        if not isinstance(value, str):
+            raise TypeError(f"PDF metadata {key}: a string, not {type(value).__name__}")
+        info[key] = pdf_text_string(value)
+    if "Producer" not in metadata:  # the writer, by the installed version (pyproject.toml's)
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            producer = f"deck_emulator {version('deck_emulator')}"
+        except PackageNotFoundError:
+            producer = "deck_emulator (not installed)"
+        info["Producer"] = pdf_text_string(producer)
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch and "CreationDate" not in metadata:
+        stamp = time.strftime("D:%Y%m%d%H%M%SZ", time.gmtime(int(epoch)))
+        info["CreationDate"] = pdf_text_string(stamp)
+    return info
+
+
 def _render_pdf(records: list[str], path, paper: str, metadata: dict[str, str],
                 progress: str | None) -> int:
-    from matplotlib import rc_context
-    from matplotlib.backends.backend_pdf import PdfPages
+    from deck_emulator.legacy.pdf import (Face, TextLine, page_content, shapes_content,
+                                          write_document)
 
-    info = dict(metadata)
-    if not os.environ.get("SOURCE_DATE_EPOCH"):
-        info["CreationDate"] = None  # none at all (matplotlib reads SOURCE_DATE_EPOCH itself)
-    forms = layout(records)
-    with (rc_context(_RC), PdfPages(path, metadata=info) as pdf,
+    forms = [printed_lines(form) for form in layout(records)]
+    face = Face(face_file(), (c for form in forms for *_, text in form for c in text))
+    pt = 72
+
+    def pages():  # the paper (the same on every form) once, as the pages' background
+        for form in forms:
+            yield page_content([TextLine(column_x_in(first) * pt, baseline_in(line) * pt, text)
+                                for line, first, text in form], face, FONT_SIZE_PT,
+                               background=True)
+
+    info = _info(metadata)
+    with (open(path, "wb") as stream,
           progress_bar(len(forms), desc=progress or "", unit="page",
                        quiet=progress is None) as bar):
-        for form in forms:
-            pdf.savefig(form_figure(form, paper))
-            bar.update()
+        write_document(stream, pages(), len(forms), face, PAGE_WIDTH_IN * pt,
+                       PAGE_HEIGHT_IN * pt, info, background=shapes_content(_paper_shapes(paper)),
+                       on_page=bar.update)
     return len(forms)
