@@ -252,6 +252,8 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
     row["compartment_verdict"] = comp.get("verdict") or ""
     row["compartment_part"] = comp.get("part") or ""
     row["compartment_surface"] = comp.get("surface") or ""
+    row["compartment_in_compartment"] = {True: "yes", False: "no"}.get(
+        comp.get("in_compartment"), "")
     row["compartment_depth_ft"] = comp.get("depth_ft")
     row["compartment_deepest_surface"] = comp.get("deepest_surface") or ""
     row["compartment_time_s"] = comp.get("time_s")
@@ -490,9 +492,12 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         "- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md), "
         f"limits for breakaway supports: OIV {limits['oiv_m_s']}; ORA {limits['ora_g']}; "
         f"occupant compartment {limits['occupant_compartment']}. The verdicts are "
-        "`deck_emulator.engine.ratings`': beside a compartment that fails, OIV and ORA are "
-        "not rated; a model that tests only the points P, R and C (the emulator, the core's "
-        "legacy preset without --shaft-contact) gives the compartment no pass verdict.",
+        "`deck_emulator.engine.ratings`': the occupant compartment is the roof, windshield "
+        "and side glass, not the hood or the trunk; a strike on it is not judged (a rigid car "
+        "computes no deformation) and gets no pass; OIV and ORA come from the contact pulse "
+        "and are rated whatever the compartment's verdict; a model that tests only the "
+        "points P, R and C (the emulator, the core's legacy preset without --shaft-contact) "
+        "gives the compartment no pass verdict.",
         "- Clearance: the least vertical clearance (ft) between the post (the line Q–P–R, and "
         "P–U for a second arm) and the "
         "car's outline while the post is over the car in free flight; over the roof = over the "
@@ -532,12 +537,14 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
             [
                 r["compartment_verdict"]
                 + (
-                    f": {r['compartment_part']} enters over the {r['compartment_surface']} at "
-                    f"{_ms(r['compartment_time_s'], 0)} ms; {_num(r['compartment_depth_ft'])} ft "
-                    "deep at the most"
-                    + (f", over the {r['compartment_deepest_surface']}"
+                    f": {r['compartment_part']} strikes the {r['compartment_surface']} at "
+                    f"{_ms(r['compartment_time_s'], 0)} ms"
+                    + ("" if r["compartment_in_compartment"] == "yes" else
+                       " (outside the occupant compartment)")
+                    + (f"; its path {_num(r['compartment_depth_ft'])} ft inside the car at the "
+                       f"most, over the {r['compartment_deepest_surface']}"
                        if r["compartment_deepest_surface"] else "")
-                    if r["compartment_verdict"] == "fails"
+                    if r["compartment_part"]
                     else ""
                 )
                 for r in rs
