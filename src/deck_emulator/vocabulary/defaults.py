@@ -94,6 +94,14 @@ MAX_EVALUATIONS = 5_000_000
 #: bound on the wall time of one run, s, and of one batch of runs of the compiled core (its
 #: scenes past it are stopped: a starved or suspended machine; a study runs them on resume)
 MAX_WALL_S = 60.0
+#: how closely the compiled batch (core/batch.py) answers as the scipy path (solve_ivp, the
+#: reference) at the default tolerances: event and hit times within this, s; positions within
+#: this, ft; speeds lost within this, mph, and decelerations within this, g (tests/core and
+#: tests/engine hold it, on the shipped decks and assemblies)
+BATCH_AGREE_TIME_S = 1e-6
+BATCH_AGREE_POSITION_FT = 1e-4
+BATCH_AGREE_DELTA_V_MPH = 1e-6
+BATCH_AGREE_DECEL_G = 1e-6
 #: the grid a core outcome's arrays are sampled on: in contact with the car, and in free flight, s
 SAMPLE_CONTACT_S = 0.0002
 SAMPLE_FREE_S = 0.001
