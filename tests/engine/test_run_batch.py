@@ -168,7 +168,21 @@ def test_a_batch_the_batched_core_refuses_runs_on_the_reference_path(monkeypatch
     got = CoreEngine(trace=False).run_batch(decks)
     reference = CoreEngine(trace=False, batched=False)
     for a, d in zip(got, decks):
-        _same(a, reference.run(d))
+        ref = reference.run(d)
+        # the fall-back is named, first among the outcome's notes, with why
+        assert a.notes[0] == ("the compiled batch could not take this batch of 2 scenes "
+                              "(CoreError: this batch is beyond me): this scene ran on the "
+                              "scipy path (solve_ivp), one scene at a time")
+        assert a.notes[1:] == ref.notes
+        _same(a, ref)
+
+
+def test_a_batch_answered_for_too_few_scenes_is_named_and_run_again(monkeypatch):
+    monkeypatch.setattr(core, "simulate_batch", lambda scenes, options, **kw: [],
+                        raising=False)
+    got = CoreEngine(trace=False).run_batch(_scenes()[:1])
+    assert "it answered for 0 of 1 scenes" in got[0].notes[0]
+    assert got[0].error is None and got[0].raw.integrator == "scipy"
 
 
 def test_batched_true_without_a_batched_core_says_so(monkeypatch):

@@ -303,10 +303,14 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
-    at a time).  A scene that cannot run is a row saying why, not a crash; a core run past
-    its wall bound is :class:`~deck_emulator.studies.distributed.Stopped` instead (the
-    machine's bound: its scene runs again on resume)."""
+    at a time).  A scene the engine cannot run is a row saying why (the outcome's error); a
+    core run past its wall bound is :class:`~deck_emulator.studies.distributed.Stopped`
+    instead (the machine's bound: its scene runs again on resume).  Anything else raised
+    here is a defect, not a scene's outcome: it ends the batch, and the runner
+    (studies.distributed) runs each of its scenes again alone and stores the one that
+    fails as a failed scene with the exception's line."""
     from deck_emulator.studies.common import stopped_at_wall
+    from deck_emulator.studies.distributed import Stopped
 
     bases: dict = {}
     decks = [_scene_of(job, bases) for job in jobs]
@@ -323,31 +327,20 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
         if first["engine"] == "core":  # the arrays the row reads, and no others
             engine = dataclasses.replace(engine, arrays=ROW_ARRAYS)
             started = time.perf_counter()
-            try:
-                got = engine.run_batch([decks[i][0] for i in members],
-                                       names=[decks[i][1] for i in members])
-            except Exception:  # noqa: BLE001 - the batch as a whole: each scene alone below
-                pass
+            got = engine.run_batch([decks[i][0] for i in members],
+                                   names=[decks[i][1] for i in members])
             batch_s = time.perf_counter() - started
         for i, res in zip(members, got):
-            outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
+            outcomes[i] = res if res is not None else engine.run(decks[i][0], name=decks[i][1])
             walls[i] = (getattr(engine, "wall_bound_s", math.inf), batch_s)
     rows: list = []
     for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
         try:
             rows.append(result_row(stopped_at_wall(res, *wall), job["speed"], job["angle"],
                                    _report_of(job, deck)))
-        except Exception as exc:  # noqa: BLE001 - Stopped: the store's, not a row
+        except Stopped as exc:  # the store's status for it (run again on resume), not a row
             rows.append(exc)
     return rows
-
-
-def _run_one(engine, engine_name: str, deck: Deck, name: str) -> Outcome:
-    try:
-        return engine.run(deck, name=name)
-    except Exception as exc:  # noqa: BLE001 - a scene that cannot run is a row, not a crash
-        return Outcome(engine_name, name, Scene.from_deck(deck, name=name, checked=False),
-                       error=f"{type(exc).__name__}: {exc}")
 
 
 def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
