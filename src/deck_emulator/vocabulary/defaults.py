@@ -171,6 +171,13 @@ ERROR_LONG_RUN_S = 10.0
 MAX_SWEEP_GRID = 10_000
 #: the largest base sample size N of a sensitivity study (a power of two)
 MAX_SENSITIVITY_N = 1 << 16
+#: a sensitivity study's outcome whose most common value holds in at least this fraction of
+#: the scenes gets no indices: constant, or nearly ("constant in 509 of 512 scenes"), so that
+#: the few scenes that differ would decide every index (studies.sensitivity.analyse)
+SENSITIVITY_CONSTANT_FRACTION = 0.99
+#: an index whose 95 % interval, clipped to [0, 1], spans more than this much of [0, 1] is
+#: printed as "not resolved at this N", not as a number (studies.sensitivity)
+SENSITIVITY_UNRESOLVED_SPAN = 0.5
 
 # ------------------------------------------------------------------- the machine's limits
 
