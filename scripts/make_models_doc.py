@@ -112,9 +112,9 @@ def page(tables: list[tuple[str, list[tuple[str, list[str], dict]]]]) -> str:
         "(`ratings.occupant_compartment`, docs/safety.md), with the first place the post "
         "strikes the car: the occupant compartment is the roof, windshield and side glass, "
         "not the hood or the trunk; `passes` is a model that tested the whole post and found "
-        "none of it on the compartment before the run ended, `not judged` a strike on the "
-        "compartment (a rigid car computes no deformation), a path that goes on through the "
-        "car, or a model that cannot see the shaft.",
+        "none of it on the car before the run ended, `not judged` a strike on the "
+        "compartment (a rigid car computes no deformation), a strike beside it after which "
+        "the post is not followed, or a model that cannot see the shaft.",
         "",
         "## Which to use",
         "",

@@ -115,14 +115,15 @@ def test_a_post_above_the_car_passes_when_the_whole_post_was_tested(scene):
 
 def test_a_run_that_ends_on_the_hood_is_a_strike_outside_the_compartment(scene):
     """The shaft comes down on the hood and the run ends there, at depth 0 (the model's own
-    test stops it at the surface): the hood is not the occupant compartment, so the whole
-    post, tested against the car, reached no part of the compartment before the run ended."""
+    test stops it at the surface): the hood is not the occupant compartment, so this is no
+    failure of it; nor a pass, since the post, left lying on the car beside the compartment,
+    is not followed."""
     strike = Event(EventKind.HIT, 0.3, Surface.HOOD, "Q-P", fraction=0.5)
     rated = ratings(run(scene, ABOVE[:3] + [HOOD_FT], hit=strike, contact_test="segments"))
     r = rated["occupant_compartment"]
     assert (r["part"], r["surface"], r["in_compartment"], r["time_s"]) == (
         "the shaft Q-P", "hood", False, 0.3)
-    assert r["verdict"] == "passes"
+    assert r["verdict"] == "not judged" and "no pass" in r["reason"]
     assert r["depth_ft"] == 0.0  # the model ends the run at the strike
     assert r["roof_clearance_before_ft"] is None  # the post lies over the hood only
     assert "the shaft Q-P strikes the hood at 300.0 ms" in r["reason"]
@@ -194,6 +195,7 @@ def test_no_strike_outside_the_compartment_fails_it_or_withholds_the_pulse(
     if r["part"] is not None:  # a touch at round-off depth may be no strike at all
         assert r["in_compartment"] is False and r["surface"] == part
         assert "outside the occupant compartment" in r["reason"]
+        assert r["verdict"] == "not judged"  # the post is not followed past its strike
     else:  # the line exactly on the surface (a depth lost in the height's round-off too)
         assert top - depth == top and not ends_on_it
     assert_pulse_rated(rated)

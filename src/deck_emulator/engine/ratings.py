@@ -15,13 +15,15 @@ sweep's rows) takes its verdicts from :func:`ratings`:
   - A strike on the compartment is judged by MASH by the deformation and any penetration it
     causes (:data:`~.safety.COMPARTMENT_LIMITS`); the car is a rigid outline here, which
     computes neither: the verdict is ``not judged``, never a pass, and the reason says so.
-  - A strike outside it (hood, trunk) does not touch the compartment. A run that ends there
-    (the model's own test) is judged up to its end like a run that ends on the ground; a path
-    that goes on through the car (a model that tests only the points) is not followed past
-    the strike: ``not judged`` from there on.
+  - A strike outside it (hood, trunk) is no failure of the compartment, and no pass either:
+    the model does not follow the post past its first strike on the car (a run that ends
+    there leaves the post lying on the car beside the compartment; a path that goes on
+    through the car, as a model that tests only the points runs, is not one a rigid car
+    allows): ``not judged``, with the margin the post kept over the compartment until then.
   - It ``passes`` only when the model that ran tested the whole post against the car
-    (``Outcome.contact_test == "segments"``) and no part reached the compartment before the
-    run ended; a model that tests only the points gives no pass: ``not judged``, and why.
+    (``Outcome.contact_test == "segments"``) and no part of it met the car before the run
+    ended (on the ground); a model that tests only the points gives no pass: ``not judged``,
+    and why.
 
 * **OIV and ORA** come from the contact pulse, which no later strike changes: each is read
   against every cited limit, whatever the compartment's verdict.
@@ -145,10 +147,11 @@ def compartment(o) -> dict | None:
                     "compartment (roof, windshield, side glass)")
             outside = f"{what}, outside the occupant compartment; {kept}"
             if how == "hit" and not points_only:
-                answer.update(verdict=_verdict("passes"), reason=(
+                answer.update(verdict=_verdict("not judged"), reason=(
                     f"{outside}; the whole post (its points, the shaft Q-P, the arms) was "
-                    "tested against the car and the run ends with that strike (what the post "
-                    "does after its first strike is not computed)"))
+                    f"tested against the car, and the run ends with that strike: what the post "
+                    f"does after it, lying on the {struck.face} beside the compartment (sliding "
+                    "or turning onto the windshield or the roof), is not computed, so no pass"))
             elif how == "hit":
                 answer.update(verdict=_verdict("not judged"), reason=(
                     f"{outside}; the run ends with that strike, but the model that ran tests "

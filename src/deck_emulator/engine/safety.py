@@ -206,12 +206,12 @@ VERDICTS: Mapping[str, str] = {
     "acceptable": "over the preferred limit (where there is one), within the maximum",
     "exceeds": "over the maximum",
     "passes": "the whole post (its points, the shaft Q-P, the arms) was tested against the "
-              "car and no part of it reached the occupant compartment (roof, windshield, "
-              "side glass) before the run ended",
+              "car and no part of it met the car before the run ended: the occupant "
+              "compartment (roof, windshield, side glass) was never reached",
     "not judged": "the model that ran cannot support a verdict on the occupant compartment "
                   "(the reason says why: a strike on it, whose deformation a rigid car does "
-                  "not compute; a path that goes on through the car; a model that tests "
-                  "only the points P, R and C)",
+                  "not compute; a strike beside it, on the hood or the trunk, after which the "
+                  "post is not followed; a model that tests only the points P, R and C)",
 }
 
 
