@@ -69,9 +69,12 @@ def row(model: str, data: dict) -> str:
     ratings = data.get("ratings") or {}
     comp = ratings.get("occupant_compartment", {})
     verdict = comp.get("verdict", "—")
-    if verdict == "fails":
-        verdict += (f": {comp['part']} over the {comp['surface']}, {comp['depth_ft']:.2f} ft in"
-                    if comp.get("depth_ft") else f": {comp['part']} hits the {comp['surface']}")
+    if comp.get("part"):  # the first strike on the car, as what it is
+        verdict += (f": {comp['part']} strikes the {comp['surface']}"
+                    + (" (the compartment)" if comp.get("in_compartment") else
+                       " (outside the compartment)")
+                    + (f", its path {comp['depth_ft']:.2f} ft into the car"
+                       if comp.get("depth_ft") else ""))
     return (f"| {model} | {end} | {_num(q.get('delta_v_crush_mph'))} | "
             f"{_num(q.get('delta_v_contact_mph'))} | {_num(risk.get('oiv_m_s'))} | "
             f"{_num(risk.get('ora_g'))} | {verdict} |")
@@ -108,9 +111,12 @@ def page(tables: list[tuple[str, list[tuple[str, list[str], dict]]]]) -> str:
         "defines nowhere; which reading fits which post: docs/report_full.md, 'ΔV and the "
         "maximum deceleration'); ΔV contact: `delta_v_contact_mph`, by the loss of contact. OIV in m/s, "
         "ORA in g (docs/safety.md). Compartment: the occupant-compartment verdict "
-        "(`ratings.occupant_compartment`): `fails` names the part of the post that enters the "
-        "car, `not judged` is a model that cannot see it, `passes` a model that tested the "
-        "whole post and found none of it in the car.",
+        "(`ratings.occupant_compartment`, docs/safety.md), with the first place the post "
+        "strikes the car: the occupant compartment is the roof, windshield and side glass, "
+        "not the hood or the trunk; `passes` is a model that tested the whole post and found "
+        "none of it on the car before the run ended, `not judged` a strike on the "
+        "compartment (a rigid car computes no deformation), a strike beside it after which "
+        "the post is not followed, or a model that cannot see the shaft.",
         "",
         "## Which to use",
         "",
@@ -125,7 +131,7 @@ def page(tables: list[tuple[str, list[tuple[str, list[str], dict]]]]) -> str:
         "car in all nine of Table 11's columns, as the report does in eight "
         "(docs/shaft_contact.md). The physical "
         "preset tests the whole post too and answers what the model gives without the "
-        "listing's quirks; where the two disagree, take the failure.",
+        "listing's quirks; where the two disagree, take the more cautious answer.",
         "",
     ]
     for title, rows in tables:

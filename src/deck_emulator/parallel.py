@@ -76,8 +76,9 @@ class busy:
                 if self.status is not None:
                     try:
                         self._bar.set_postfix_str(self.status(), refresh=False)
-                    except Exception:  # a status is a courtesy: never stop the work for it
-                        pass
+                    except Exception as exc:  # noqa: BLE001 - a courtesy: said in its place
+                        self._bar.set_postfix_str(f"no status ({type(exc).__name__}: {exc})"[:80],
+                                                  refresh=False)
                 self._bar.refresh()
 
         self._thread = threading.Thread(target=tick, daemon=True)

@@ -126,23 +126,24 @@ def test_every_printed_limit_carries_its_citation(capsys):
     assert "15 g" not in out and "20.49" not in out
 
 
-def test_summary_steel20_fails_on_the_occupant_compartment(capsys):
-    """At 20 mph the shaft comes down on the hood (the report's Table 11 has the post hit
-    the car; docs/safety.md): the emulator, which tests only P, R and C, runs it through
-    the car, and the answer fails the compartment with no pass beside it."""
+def test_summary_steel20_names_the_hood_strike_outside_the_occupant_compartment(capsys):
+    """At 20 mph the shaft comes down on the hood (docs/safety.md): the hood is not the
+    occupant compartment, so the answer names the strike as what it is, rates OIV and ORA
+    (the contact pulse), and, the emulator running on through the hood, judges nothing after
+    it."""
     code, out, _ = _run(capsys, "summary", "steel20", "--json")
     assert code == 0
     rated = json.loads(out)["ratings"]
     comp = rated["occupant_compartment"]
-    assert comp["verdict"] == "fails"
+    assert comp["verdict"] == "not judged"
     assert comp["part"] == "the shaft Q-P" and comp["surface"] == "hood"
+    assert comp["in_compartment"] is False
     assert comp["depth_ft"] > 0 and comp["time_s"] < json.loads(out)["quantities"]["hit_time_s"]
-    words = {w for name, r in rated.items() if name != "occupant_compartment"
-             for w in r["verdicts"].values()}
-    assert not words & {"preferred", "acceptable", "passes"}
+    assert rated["oiv_m_s"]["verdicts"] == {"nchrp350_oiv": "preferred", "mash_oiv": "acceptable"}
     _, table, _ = _run(capsys, "summary", "steel20")
     ratings = table.split("ratings (docs/safety.md)\n")[1].split("\n\n")[0]
-    assert "preferred" not in ratings and "acceptable" not in ratings
+    assert "strikes the hood" in ratings and "outside the occupant compartment" in ratings
+    assert "fails" not in ratings
 
 
 @pytest.mark.parametrize("argv, verdict", [

@@ -104,3 +104,39 @@ def test_every_key_of_a_crash_test_is_checked(old, new, key):
 def test_the_messages_are_one_line_naming_the_key():
     msg = _refused(_with(STEEL, "length_ft = 36.708", "length_ft = -3"), "shaft.length_ft")
     assert re.fullmatch(r"shaft\.length_ft = -3 must be > 0", msg)
+
+
+STEEL_WALL_IN = 0.25
+
+
+def test_a_wall_beside_a_total_weight_is_refused_with_the_weight_it_gives():
+    """total_weight_lb = 290 with [shaft] wall_in = 0.25: each decides the shaft's wall, and
+    the wall wins in silence no more. The weight the wall gives, by the thin-wall formula (a
+    tapered tube weighs rho * pi * t * L * (mean OD - t)) plus the base, arm and luminaire
+    of the shipped steel post."""
+    import math
+    import tomllib
+
+    text = _with(STEEL, "total_weight_lb = 485.07", "total_weight_lb = 290")
+    text = _with(text, "length_ft = 36.708", f"length_ft = 36.708\nwall_in = {STEEL_WALL_IN}")
+    msg = _refused(text, "total_weight_lb = 290 and shaft.wall_in = 0.25")
+    data = tomllib.loads(STEEL)
+    sh = data["shaft"]
+    t = STEEL_WALL_IN / 12
+    mean_od = (sh["base_od_in"] + sh["top_od_in"]) / 2 / 12
+    tube = sh["density_lb_ft3"] * math.pi * t * sh["length_ft"] * (mean_od - t)
+    parts = data.get("base", {}).get("weight_lb", 0.0) + sum(
+        a["weight_lb"] + a["luminaire_weight_lb"] for a in data.get("arm", []))
+    assert f"makes the post {tube + parts:.2f} lb" in msg
+    assert msg.endswith("give one of them")
+
+
+def test_a_control_point_a_straight_arm_does_not_read_is_refused():
+    text = _with(STEEL, 'shape = "bezier"', 'shape = "straight"')
+    _refused(text, 'control is not read by shape = "straight"')
+    # without shape (straight, the default) too
+    _refused(_with(STEEL, 'shape = "bezier"\n', ""), "control is not read")
+
+
+def test_a_run_table_nothing_reads_is_refused():
+    _refused(STEEL + "\n[run]\nspeed_mph = 20\n", "[run] is not read")

@@ -24,12 +24,14 @@ from deck_emulator.core.batch import time_per_scene
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.legacy.deck import read_deck
+from deck_emulator.vocabulary import defaults
 
-#: the tolerances the batch holds against the scipy path at the default settings
-TIME_TOL_S = 1e-6
-POSITION_TOL_FT = 1e-4
-DELTA_V_TOL_MPH = 1e-6
-DECEL_TOL_G = 1e-6
+#: the tolerances the batch holds against the scipy path at the default settings (the
+#: defaults' rows: what the core states)
+TIME_TOL_S = defaults.BATCH_AGREE_TIME_S
+POSITION_TOL_FT = defaults.BATCH_AGREE_POSITION_FT
+DELTA_V_TOL_MPH = defaults.BATCH_AGREE_DELTA_V_MPH
+DECEL_TOL_G = defaults.BATCH_AGREE_DECEL_G
 
 
 def assert_same(ref, got, label=""):

@@ -94,38 +94,56 @@ def test_a_run_that_fails_in_the_solver_is_kept_as_run_keeps_it(monkeypatch):
                                                      for d in decks]
 
 
-def _reference_batch(calls):
-    """A stand-in for the compiled ``simulate_batch`` with its signature, whose answers are
-    the reference path's own (so the outcomes must equal ``run``'s), recording its calls."""
+def _agrees(got, ref):
+    """The compiled batch's outcome ``got`` answers as the reference path's ``ref`` within
+    the core's stated agreement (vocabulary.defaults, BATCH_AGREE_*): the same events and hit
+    in the same order, their times, the terminal points and the speeds lost and decelerations
+    within it."""
+    assert got.error == ref.error
+    if ref.error is not None:
+        return
+    assert got.raw.integrator == "compiled" and ref.raw.integrator == "scipy"
+    assert got.hit_message == ref.hit_message
+    assert [(e.kind, e.point, e.surface) for e in got.events] == [
+        (e.kind, e.point, e.surface) for e in ref.events]
+    assert all(abs(a.time_s - b.time_s) <= defaults.BATCH_AGREE_TIME_S
+               for a, b in zip(got.events, ref.events))
+    for name, tol in (("delta_v_contact_mph", defaults.BATCH_AGREE_DELTA_V_MPH),
+                      ("delta_v_crush_mph", defaults.BATCH_AGREE_DELTA_V_MPH),
+                      ("max_decel_g", defaults.BATCH_AGREE_DECEL_G)):
+        a, b = quantities.value(name, got), quantities.value(name, ref)
+        assert (a is None) == (b is None) and (a is None or abs(a - b) <= tol), name
+    assert got.terminal.keys() == ref.terminal.keys()
+    for k, p in ref.terminal.items():
+        assert max(abs(x - y) for x, y in zip(p, got.terminal[k])) <= (
+            defaults.BATCH_AGREE_POSITION_FT), k
 
-    def simulate_batch(scenes, options, *, rtol, atol, t_max_s=None, max_wall_s=None):
-        calls.append((len(scenes), options, rtol, atol, t_max_s, max_wall_s))
-        bounds = {} if t_max_s is None else {"t_max_s": t_max_s}
-        out = []
-        for s in scenes:
-            try:
-                out.append(core.simulate(s, options, rtol=rtol, atol=atol, **bounds))
-            except core.CoreError as exc:
-                out.append(exc)
-        return out
 
-    return simulate_batch
-
-
-def test_the_plug_in_point_hands_the_whole_batch_to_a_batched_core(monkeypatch):
+def test_the_plug_in_point_hands_the_whole_batch_to_the_compiled_core(monkeypatch):
+    """The engine hands the scenes the core accepts to the real compiled batch in one call
+    (recorded on the way, its answers untouched) with the engine's options and wall bound,
+    and what comes back agrees with the reference path (scipy) within the core's stated
+    agreement; batched=False, or a method of solve_ivp's own, never calls it."""
+    pytest.importorskip("numba")
     calls = []
-    monkeypatch.setattr(core, "simulate_batch", _reference_batch(calls), raising=False)
+    compiled = core.simulate_batch
+
+    def recording(scenes, options, **kw):
+        calls.append((len(scenes), options, kw))
+        return compiled(scenes, options, **kw)
+
+    monkeypatch.setattr(core, "simulate_batch", recording)
     good = read_deck(deck_path("steel40"))
     decks = [good, good.with_values(W=0.0), read_deck(deck_path("steel20_a15"))]
     engine = CoreEngine(trace=False)  # batched=None: the batched core, since it is there
     got = engine.run_batch(decks)
     assert len(calls) == 1 and calls[0][0] == 2  # one call; the refused scene never reaches it
     assert calls[0][1] == engine.model_options()
-    assert calls[0][5] == defaults.MAX_WALL_S  # the engine's wall bound: the defaults' row
+    assert calls[0][2]["max_wall_s"] == defaults.MAX_WALL_S  # the defaults' row
+    assert got[1].error is not None and "post mass must be positive" in got[1].error
     reference = CoreEngine(trace=False, batched=False)
     for a, d in zip(got, decks):
-        _same(a, reference.run(d))
-    # batched=False, or a method of solve_ivp's own, keeps the reference path
+        _agrees(a, reference.run(d))
     calls.clear()
     CoreEngine(trace=False, batched=False).run_batch(decks)
     CoreEngine(trace=False, method="DOP853").run_batch(decks[:1])
@@ -150,7 +168,21 @@ def test_a_batch_the_batched_core_refuses_runs_on_the_reference_path(monkeypatch
     got = CoreEngine(trace=False).run_batch(decks)
     reference = CoreEngine(trace=False, batched=False)
     for a, d in zip(got, decks):
-        _same(a, reference.run(d))
+        ref = reference.run(d)
+        # the fall-back is named, first among the outcome's notes, with why
+        assert a.notes[0] == ("the compiled batch could not take this batch of 2 scenes "
+                              "(CoreError: this batch is beyond me): this scene ran on the "
+                              "scipy path (solve_ivp), one scene at a time")
+        assert a.notes[1:] == ref.notes
+        _same(a, ref)
+
+
+def test_a_batch_answered_for_too_few_scenes_is_named_and_run_again(monkeypatch):
+    monkeypatch.setattr(core, "simulate_batch", lambda scenes, options, **kw: [],
+                        raising=False)
+    got = CoreEngine(trace=False).run_batch(_scenes()[:1])
+    assert "it answered for 0 of 1 scenes" in got[0].notes[0]
+    assert got[0].error is None and got[0].raw.integrator == "scipy"
 
 
 def test_batched_true_without_a_batched_core_says_so(monkeypatch):

@@ -277,3 +277,102 @@ def test_a_batch_past_its_wall_bound_stops_its_scenes_and_a_resume_runs_them(
         assert main([*argv, "--resume"]) == 0
         assert "steel40: 16 scenes, 16 run now" in capsys.readouterr().err
         assert store.ids() == set(first) and (out / "sensitivity.csv").exists()
+
+
+# ------------------------------------------------- what the model cannot see, and what is noise
+
+import numpy as np  # noqa: E402 - the tests above import it where they use it
+
+
+def _problem(names=("a", "b", "c")):
+    return {"num_vars": len(names), "names": list(names), "bounds": [[0.0, 1.0]] * len(names)}
+
+
+def test_an_outcome_nearly_constant_gets_no_indices_and_says_in_how_many_scenes():
+    """An indicator that is 1 in 3 of 512 scenes (N = 64, D = 6: the issue's steel20 run) is
+    constant in 509 of them: at or past the defaults' fraction (0.99), so no indices; with
+    more scenes differing (fewer than 99 % alike) it gets them."""
+    from deck_emulator.studies.sensitivity import analyse
+    from deck_emulator.vocabulary import defaults
+
+    problem = _problem(tuple("abcdef"))
+    y = np.zeros(512)
+    y[[5, 100, 300]] = 1.0
+    rows = analyse(problem, {"hits_car": y}, [64])
+    assert {r["note"] for r in rows} == {"constant (0) in 509 of 512 scenes: no indices"}
+    assert all(r["S1"] is None and r["ST"] is None for r in rows)
+    assert 509 / 512 >= defaults.SENSITIVITY_CONSTANT_FRACTION > 498 / 512
+    y[:: 512 // 14][:14] = 1.0  # 14 + 3 scenes differ (or fewer where they meet): < 99 % alike
+    assert (y == 0).sum() < defaults.SENSITIVITY_CONSTANT_FRACTION * 512
+    assert all(r["note"] == "" and r["ST"] is not None
+               for r in analyse(problem, {"hits_car": y}, [64]))
+
+
+@pytest.mark.parametrize("index, half, expected", [
+    (0.5, 0.25, False),  # [0.25, 0.75]: exactly half of [0, 1] -- not more: resolved
+    (0.5, 0.25 + 2 ** -20, True),  # a hair more than half
+    (1.0, 0.9, True),  # the issue's ST 1.0 +- 0.9: [0.1, 1] after clipping
+    (0.0, 0.5, False),  # [0, 0.5] after clipping: half
+    (0.9, 0.05, False),
+    (float("nan"), 0.1, True), (0.3, float("nan"), True), (None, None, True),
+])
+def test_an_index_is_unresolved_when_its_interval_covers_most_of_zero_to_one(index, half,
+                                                                             expected):
+    from deck_emulator.studies.sensitivity import unresolved
+    from deck_emulator.vocabulary import defaults
+
+    assert defaults.SENSITIVITY_UNRESOLVED_SPAN == 0.5  # the cases above are built on it
+    assert unresolved(index, half) is expected
+
+
+def test_unresolved_indices_are_printed_as_such_not_as_numbers():
+    from deck_emulator.studies.sensitivity import NOT_RESOLVED, indices_markdown
+
+    base = {"deck": "d", "engine": "core", "output": "oiv_m_s", "N": 8, "scenes": 64,
+            "missing": 0, "mean": 1.0, "sd": 0.1, "note": ""}
+    rows = [{**base, "input": "a", "S1": 1.0, "S1_conf": 0.9, "ST": 1.0, "ST_conf": 0.9,
+             "unresolved": "S1 ST"},
+            {**base, "input": "b", "S1": 0.9, "S1_conf": 0.9, "ST": 0.42, "ST_conf": 0.05,
+             "unresolved": "S1"}]
+    page = indices_markdown(rows)
+    line = next(x for x in page.splitlines() if x.startswith("| occupant impact velocity"))
+    cells = [c.strip() for c in line.strip("|").split("|")][1:]
+    assert cells == [NOT_RESOLVED, f"S1 {NOT_RESOLVED} / **0.42**±0.05"]
+    assert "±0.90" not in line and "0.90±" not in line  # the unresolved numbers are not shown
+
+
+def test_a_model_that_tests_only_points_is_blind_to_the_hits_and_says_so():
+    from deck_emulator.studies import sensitivity as sa
+
+    for engine, kw in (("emulator", {}), ("core", {"preset": "legacy"}),
+                       ("core", {"preset": "legacy", "shaft_contact": False}),
+                       ("core", {"preset": "physical", "shaft_contact": False})):
+        assert set(sa.blind_outcomes(engine, kw)) == set(sa.CAR_TEST_OUTCOMES), (engine, kw)
+    for kw in ({"preset": "legacy", "shaft_contact": True}, {"preset": "physical"}):
+        assert sa.blind_outcomes("core", kw) == {}
+    blind = sa.blind_outcomes("emulator", {})
+    y = np.arange(64, dtype=float)  # a varying outcome: only blindness withholds it
+    rows = sa.analyse(_problem(), {"hits_car": y, "oiv_m_s": y}, [8], blind=blind)
+    hits = [r for r in rows if r["output"] == "hits_car"]
+    assert all(r["S1"] is None and r["mean"] is None and r["note"].startswith("blind")
+               for r in hits)
+    assert all(r["S1"] is not None for r in rows if r["output"] == "oiv_m_s")
+    first = sa.blind_line(blind)
+    assert first.startswith("BLIND to P(first hit on the car)")
+
+
+def test_the_study_tests_the_shaft_by_default(monkeypatch, tmp_path):
+    """The command hands the study the core with shaft contact on unless told otherwise."""
+    from deck_emulator.app import sensitivity as app
+    from deck_emulator.studies import sensitivity as sa
+
+    seen = {}
+    monkeypatch.setattr(sa, "run_command", lambda **kw: seen.update(kw) or [])
+    monkeypatch.setattr(app.common, "compile_core", lambda quiet: None)
+    for argv, expected in (([], True), (["--no-shaft-contact"], False),
+                           (["--shaft-contact"], True)):
+        from deck_emulator.cli import main
+
+        seen.clear()
+        main(["sensitivity", "--out", str(tmp_path / "s"), "--quiet", *argv])
+        assert seen["engine_keywords"]["shaft_contact"] is expected, argv

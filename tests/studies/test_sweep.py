@@ -297,3 +297,27 @@ def test_a_core_batch_past_its_wall_bound_gives_stopped_rows_and_a_resume_runs_t
         with open(out / "sweep.csv", newline="") as f:
             assert [r["error"] for r in csv.DictReader(f)] == ["", ""]
     capsys.readouterr()
+
+
+def test_a_defect_in_building_a_row_is_a_failed_scene_with_its_reason(monkeypatch):
+    """A row that cannot be built (a defect of the program, here a stand-in raising) is not
+    swallowed in the sweep: the batch raises, the runner runs each scene again alone, and the
+    scene whose row fails is stored failed with the exception's line; the other is whole."""
+    from deck_emulator.studies import distributed
+
+    base = str(ROOT / "decks" / "steel40.dat")
+    jobs = [dict(base=base, speed=float(s), angle=0.0, engine="emulator", options={},
+                 post="steel", vvb_decimals=2) for s in (40, 20)]
+    made = sweep.result_row
+
+    def breaks_at_20(res, speed, angle, report=None):
+        if speed == 20:
+            raise TypeError("a defect in the row")
+        return made(res, speed, angle, report)
+
+    monkeypatch.setattr(sweep, "result_row", breaks_at_20)
+    with pytest.raises(TypeError, match="a defect in the row"):
+        sweep._stored_scene_jobs(jobs)
+    rows = distributed._call_many(sweep._stored_scene_jobs, jobs, many=True)
+    assert [r["status"] for r in rows] == ["ok", "failed"]
+    assert rows[1]["error"] == "TypeError: a defect in the row"

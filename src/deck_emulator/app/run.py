@@ -80,7 +80,7 @@ def run(o: RunOptions) -> Answer:
                                                "errata": list(o.erratum)},
                     notes=list(src.notes), json=o.json, out=None if o.pages else o.out,
                     said=list(src.notes))
-    printed_by_run, text, sections = [], "", []
+    printed_by_run, text, sections, stop = [], "", [], None
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
         done = common.with_progress(o.quiet, engine, deck, execute=True)
         run_ = done.run
@@ -93,6 +93,13 @@ def run(o: RunOptions) -> Answer:
         answer.said.append(f"{deck.path}: {settings}")
         sections.append({"deck": str(deck.path), "settings": settings,
                          "records": list(run_.records), "stopped": out and out.error})
+        if done.stopped:  # where, when and why, for the banner and the closing page
+            from deck_emulator.legacy.pages import stop_facts
+
+            which = (f"{len(sections)} of {len(src.decks)} ($DATA sections after it not run)"
+                     if len(src.decks) > 1 else "")
+            stop = stop_facts(done.error if done.error is not None else done.defect,
+                              list(run_.records), section=which, hint=out.hint)
         written = common.write_trajectory(o.trajectory, out) if out is not None else None
         if written:
             answer.said.append(written)
@@ -106,6 +113,12 @@ def run(o: RunOptions) -> Answer:
         from deck_emulator.engine import provenance
 
         facts = provenance.facts(src, [s["settings"] for s in sections], listing=o.listing)
+        if stop is not None:  # said on the banner and in the metadata, before the note
+            note = facts.pop("note")
+            facts["stopped"] = (("section " + stop["section"] + ": " if "section" in stop
+                                 else "") + f"at {stop['where'].split(';')[0]}, "
+                                f"{stop['when']}: {stop['why']}")
+            facts["note"] = note
     answer.result = {"provenance": facts, "sections": sections}
     answer.text = text
     if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
@@ -128,8 +141,14 @@ def run(o: RunOptions) -> Answer:
                     pages += provenance.separator_records(k, len(src.decks), section["deck"],
                                                           section["settings"])
                 pages += printed
+            metadata = provenance.pdf_metadata(facts)
+            if stop is not None:  # the closing page after the printout, which stays as printed
+                from deck_emulator.legacy.pages import closing_records
+
+                pages += closing_records(stop)
+                metadata["Title"] += " (the run stopped: see its last page)"
             write_pdf(pages, o.pages, paper=o.paper, outputs=outputs,
-                      metadata=provenance.pdf_metadata(facts),
+                      metadata=metadata,
                       progress=None if o.quiet else f"{PROG}: writing the pages")
         answer.said.append(f"wrote the line printer's pages to {o.pages}")
         if o.out or not o.json:

@@ -37,7 +37,10 @@ class SensitivityOptions(Many, Preset):
          "travel, CK, CT, FCONST, WV; and any --input NAME=LO:HI), run every sample on one "
          "engine on worker processes (or a Dask cluster), and write DIR/sensitivity.csv and "
          ".md (Sobol S1 and ST with 95% confidence, for N and N/2), a bar chart of the indices "
-         "and a map of what the post hits first over the two most influential inputs. Scenes "
+         "and a map of what the post hits first over the two most influential inputs. The "
+         "core tests the shaft and the arms against the car unless --no-shaft-contact is "
+         "given (the outcomes include what the post hits); a model that tests only P, R and C "
+         "is named blind to them, and they get no indices. Scenes "
          "are stored as they "
          f"finish in DIR/{SCENE_STORE}/; --resume runs only the missing ones.")
 def sensitivity(o: SensitivityOptions) -> Answer:
@@ -47,10 +50,14 @@ def sensitivity(o: SensitivityOptions) -> Answer:
     for deck in o.deck:  # shipped names stay names (the outputs are named by them)
         common.deck_file(deck, "sensitivity --deck")
     answer = Answer("sensitivity", list(o.deck) or ["steel40"], json=o.json)
+    keywords = o.core_keywords()
+    if o.engine == "core" and o.shaft_contact is None:
+        # its outcomes include what the post hits: the study's default model tests the shaft
+        keywords["shaft_contact"] = True
     if o.engine == "core":
         common.compile_core(o.quiet)
     try:
-        run_command(out=o.out, decks=o.deck, engine=o.engine, engine_keywords=o.core_keywords(),
+        run_command(out=o.out, decks=o.deck, engine=o.engine, engine_keywords=keywords,
                     inputs_text=o.input, only=o.only, n=o.n, quick=o.quick, seed=o.seed,
                     jobs=o.jobs, scheduler=common.scheduler(o), resume=o.resume,
                     quiet=o.quiet, command_line=o.command_line,

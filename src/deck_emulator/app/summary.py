@@ -42,7 +42,7 @@ def summary(o: SummaryOptions) -> Answer:
     if not settings["assumptions"]:
         settings.pop("assumptions")
     answer = common.outcome_answer("summary", out, str(deck.path), settings, o)
-    answer.notes += list(out.flags)
+    answer.notes += list(out.notes) + list(out.flags)
     answer.text = common.rendered(answer)
     answer.said = list(src.notes) + ([written] if written else [])
     return answer

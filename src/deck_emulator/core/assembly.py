@@ -299,16 +299,19 @@ def principal_axes(I: np.ndarray):
     return float(vals[k1]), float(vals[k2]), float(vals[k3]), np.column_stack([e1, e2, e3]), delta
 
 
+def _parts_weight_lb(a: Assembly) -> float:
+    """What the assembly weighs besides its shaft, lb: the base, the arms, the luminaires."""
+    return a.base.weight_lb + sum(arm.weight_lb + arm.luminaire_weight_lb for arm in a.arms)
+
+
 def _solve_wall(a: Assembly) -> float:
     if a.shaft.wall_in is not None:
+        if a.total_weight_lb is not None:  # two answers to one question: never one in silence
+            raise AssemblyError(_wall_and_weight(a))
         return a.shaft.wall_in
     if a.total_weight_lb is None:
         raise AssemblyError(f"{a.name}: give the shaft's wall_in or the total weight")
-    target = (
-        a.total_weight_lb
-        - a.base.weight_lb
-        - sum(arm.weight_lb + arm.luminaire_weight_lb for arm in a.arms)
-    ) / a.gravity_ft_s2
+    target = (a.total_weight_lb - _parts_weight_lb(a)) / a.gravity_ft_s2
     if target <= 0:
         raise AssemblyError(f"{a.name}: the parts weigh more than the total")
     lo, hi = 0.0, min(a.shaft.base_od_in, a.shaft.top_od_in) / 2.0
@@ -475,11 +478,23 @@ def _checked_table(data: Any, where: str) -> dict[str, Any]:
     return {k: _checked(v, rules[k], prefix + k) for k, v in data.items()}
 
 
+def _wall_and_weight(a: Assembly) -> str:
+    """The one line that refuses a description giving both the shaft's wall and the total
+    weight (each decides the other), with the weight the wall gives."""
+    m = tube_properties(a.shaft, a.shaft.wall_in, a.gravity_ft_s2)[0]
+    weight = m * a.gravity_ft_s2 + _parts_weight_lb(a)
+    return (f"{a.name}: total_weight_lb = {a.total_weight_lb:g} and shaft.wall_in = "
+            f"{a.shaft.wall_in:g} both decide the shaft's wall (that wall makes the post "
+            f"{weight:.2f} lb): give one of them")
+
+
 def _check_geometry(a: Assembly) -> None:
     """Relations between keys that no single key's domain holds."""
     L = a.shaft.length_ft
     if a.shaft.wall_in is not None and a.shaft.wall_in > min(a.shaft.base_od_in, a.shaft.top_od_in) / 2:
         raise AssemblyError(f"shaft.wall_in = {a.shaft.wall_in:g} is thicker than the tube's radius")
+    if a.shaft.wall_in is not None and a.total_weight_lb is not None:
+        raise AssemblyError(_wall_and_weight(a))
     for k, arm in enumerate(a.arms, 1):
         if arm.attach_below_top_ft > L:
             raise AssemblyError(f"arm {k}: attach_below_top_ft = {arm.attach_below_top_ft:g} is "
@@ -546,7 +561,8 @@ def crash_test_description(table: Any) -> dict[str, Any]:
 
 
 def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
-    """(assembly, the file's other tables: ``[run]``, ``[source]``) of a description, or
+    """(assembly, the file's other table: ``[source]``, where the numbers come from) of a
+    description, or
     (``None``, ``{"name": ..., "crash_test": checked table}``) of a crash-test description.
     A text with neither ``[shaft]`` nor ``[crash_test]`` is refused."""
 
@@ -566,16 +582,24 @@ def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
         if not isinstance(data.get("name", ""), str):
             raise AssemblyError("name must be a string")
         return None, {**data, "crash_test": crash_test_description(data["crash_test"])}
+    if "run" in data:  # a table nothing reads: refused, not ignored
+        raise AssemblyError("[run] is not read from a description: give the run's settings "
+                            "(speed, angle, preset) on the command line")
     arm_list = data.get("arm", [])
     if not isinstance(arm_list, list):
         raise AssemblyError("arm must be an array of tables ([[arm]])")
+    for k, x in enumerate(arm_list, 1):  # a key its shape does not read: refused, not ignored
+        if isinstance(x, dict) and "control" in x and x.get("shape", "straight") == "straight":
+            raise AssemblyError(f"arm {k}: control is not read by shape = \"straight\" (its "
+                                "control point is on the chord): drop it, or give shape = "
+                                "\"bezier\"")
     arms = tuple(_take(Arm, x, "arm") for x in arm_list)
     top = {k: v for k, v in data.items() if k not in ("shaft", "arm", "base", "run", "source")}
     asm = Assembly(**_checked_table(top, "top level"), arms=arms,
                    shaft=_take(Shaft, data["shaft"], "shaft"),
                    base=_take(BaseMass, data.get("base", {}), "base"))
     _check_geometry(asm)
-    extra = {k: data[k] for k in ("run", "source") if k in data}
+    extra = {k: data[k] for k in ("source",) if k in data}
     return asm, extra
 
 

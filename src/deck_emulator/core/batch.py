@@ -202,7 +202,7 @@ class _CompiledRun(_Run):
 
     def __init__(self, *args, wall=None, **kwargs):
         super().__init__(*args, **kwargs)
-        self.wall = wall  # the batch's (deadline on perf_counter, max_wall_s), or None
+        self.wall = wall  # the batch's (deadline on laws.working_clock, max_wall_s), or None
         self.compiled_segments = 0
         self.scipy_segments: list[str] = []
 
@@ -212,7 +212,7 @@ class _CompiledRun(_Run):
         return "compiled+scipy" if self.compiled_segments else "scipy"
 
     def _solve(self, fun, t0, y0, t1, events, method=None):
-        if self.wall is not None and time.perf_counter() > self.wall[0]:
+        if self.wall is not None and laws.working_clock() > self.wall[0]:
             raise CoreError(_past_wall(self.wall[1], f"at t = {t0:.6g} s"))
         method = method or self.method
         law = getattr(fun, "law", None)
@@ -350,11 +350,12 @@ def simulate_batch(
         groups.setdefault(component_key(s, o), []).append(i)
     out: list = [None] * len(scenes)
     max_wall_s = defaults.MAX_WALL_S if max_wall_s is None else max_wall_s
-    wall = (time.perf_counter() + max_wall_s, max_wall_s)
+    # the bound's clock leaves out numba compiling or loading the core (laws.working_clock)
+    wall = (laws.working_clock() + max_wall_s, max_wall_s)
     run = functools.partial(_CompiledRun, wall=wall)
     for members in groups.values():
         for i in members:
-            if time.perf_counter() > wall[0]:
+            if laws.working_clock() > wall[0]:
                 out[i] = CoreError(_past_wall(max_wall_s, "before this scene started"))
                 continue
             try:

@@ -25,14 +25,17 @@ import functools
 import math
 import os
 import shutil
+import time
 
 import numba
 import numpy as np
 from numba import njit
+from numba.core import event as numba_event
 
 from . import compiled_cache_folder
 
 __all__ = [
+    "working_clock",
     "LETTERS",
     "N_M",
     "N_P",
@@ -81,6 +84,42 @@ def recompiling(fn):
             return fn(*args, **kwargs)
 
     return entry
+
+
+class _CompilerTime(numba_event.Listener):
+    """The seconds numba has held (or waited for) its compiler lock in this process: compiling
+    the core's machine code, or loading it from its cache. Registered once, below, on numba's
+    documented event ``numba:compiler_lock`` (numba.core.event, its Event API); nested and
+    overlapping holds count once."""
+
+    def __init__(self) -> None:
+        self.total_s = 0.0
+        self.depth = 0
+        self.since = 0.0
+
+    def on_start(self, event) -> None:
+        if self.depth == 0:
+            self.since = time.perf_counter()
+        self.depth += 1
+
+    def on_end(self, event) -> None:
+        self.depth = max(self.depth - 1, 0)
+        if self.depth == 0:
+            self.total_s += time.perf_counter() - self.since
+
+
+_COMPILING = _CompilerTime()
+numba_event.register("numba:compiler_lock", _COMPILING)
+
+
+def working_clock() -> float:
+    """A clock for the core's wall bounds (``max_wall_s``), s: ``time.perf_counter()`` less the
+    time numba has spent compiling or loading the core's machine code in this process, so that
+    a cold cache never counts against a run's bound (the first run on a new machine compiles
+    for a minute). Only differences of its readings mean anything."""
+    now = time.perf_counter()
+    busy = _COMPILING.total_s + (now - _COMPILING.since if _COMPILING.depth else 0.0)
+    return now - busy
 
 
 def _jit(fn):

@@ -21,15 +21,20 @@ _NONE = {"launch_ke_ftlb": math.nan, "free_drift": math.nan}
 
 
 def energies(outcome) -> dict:
-    """``{"launch_ke_ftlb", "free_drift"}`` of an outcome (NaN where its run has none)."""
+    """``{"launch_ke_ftlb", "free_drift"}`` of an outcome (NaN where its run has none: no run,
+    no free flight, a run that never left the car, a free flight that starts with no energy).
+    A trace without a field the energy reads, or a solution that cannot be read where its
+    run says it has one, is a defect, not a missing value: it raises, with the run named."""
     if outcome.raw is None:
         return dict(_NONE)
     try:
         if outcome.engine == "emulator":
             return _emulator(outcome.raw, outcome.scene)
         return _core(outcome.raw)
-    except (KeyError, ZeroDivisionError, ValueError):  # a partial trace, a run cut short
-        return dict(_NONE)
+    except (KeyError, ValueError) as exc:
+        raise ValueError(f"the post's energy in the {outcome.engine}'s run of "
+                         f"{outcome.name!r} cannot be computed: {type(exc).__name__}: "
+                         f"{exc}") from exc
 
 
 def _emulator(run, scene) -> dict:

@@ -243,7 +243,10 @@ def _printed_quantities(out: Outcome, run, deck) -> None:
 
     try:
         printed = extract(run.records, deck)
-    except (ExtractError, ZeroDivisionError):
+    except (ExtractError, ZeroDivisionError) as exc:  # said in the outcome's notes
+        out.notes += (f"the printout's own numbers could not be read ({type(exc).__name__}: "
+                      f"{exc}): the speed lost by the end of the crush pulse, the largest "
+                      "printed deceleration and the terminal points are not given",)
         return []
     out.crush_end_s = printed.crush_pulse_end_s
     out.max_decel_g = printed.max_decel_g
@@ -426,7 +429,7 @@ class CoreEngine:
         solved = self._simulate_many([s for s in scenes if not isinstance(s, Exception)])
         done = iter(solved)
         return [self._outcome(source, name or source_name(source),
-                              *((scene, 0.0) if isinstance(scene, Exception) else next(done)))
+                              *((scene, 0.0, "") if isinstance(scene, Exception) else next(done)))
                 for source, name, scene in zip(sources, names, scenes)]
 
     def _batch_solver(self):
@@ -442,30 +445,37 @@ class CoreEngine:
             raise ValueError("batched=True: this deck_emulator.core has no simulate_batch")
         return solver
 
-    def _simulate_many(self, scenes: list) -> list[tuple[object, float]]:
+    def _simulate_many(self, scenes: list) -> list[tuple[object, float, str]]:
         """THE plug-in point of :meth:`run_batch`: checked scenes -> one ``(CoreResult or
-        the exception that ended it, seconds)`` per scene, in order.  The compiled core
+        the exception that ended it, seconds, note)`` per scene, in order.  The compiled core
         (:meth:`_batch_solver`) takes the whole list at once; a batch it cannot take as a
-        whole (it raised) runs again one scene at a time on the scipy path, so one bad scene
-        costs the others nothing."""
+        whole (it raised, or answered for another number of scenes) runs again one scene at
+        a time on the scipy path, so one bad scene costs the others nothing, and each of
+        its outcomes says so in its notes (``note``: that fall-back and why; '' otherwise)."""
         from deck_emulator.core.pair_hits import joint_ground_hit
 
         if not scenes:
             return []
         errors = _run_errors()
         solver = self._batch_solver()
+        note = ""
         if solver is not None:
             started = time.perf_counter()
             try:
                 got = list(solver(scenes, self.model_options(), rtol=self.rtol,
                                   atol=self.atol, t_max_s=self.t_max_s,
                                   max_wall_s=self.wall_bound_s))
-            except errors:
-                got = None
+            except errors as exc:  # said in every outcome of the batch (note)
+                got, why = None, f"{type(exc).__name__}: {exc}"
+            else:
+                why = f"it answered for {len(got)} of {len(scenes)} scenes"
             if got is not None and len(got) == len(scenes):
                 each = (time.perf_counter() - started) / len(scenes)
-                return [(r if isinstance(r, Exception) else joint_ground_hit(r), each)
+                return [(r if isinstance(r, Exception) else joint_ground_hit(r), each, "")
                         for r in got]
+            note = (f"the compiled batch could not take this batch of {len(scenes)} scenes "
+                    f"({why}): this scene ran on the scipy path (solve_ivp), one scene at a "
+                    "time")
         out = []
         for scene in scenes:
             started = time.perf_counter()
@@ -473,7 +483,7 @@ class CoreEngine:
                 r = self.simulate(scene)
             except errors as exc:
                 r = exc
-            out.append((r, time.perf_counter() - started))
+            out.append((r, time.perf_counter() - started, note))
         return out
 
     def _run(self, source, name: str, solve) -> Outcome:
@@ -485,10 +495,11 @@ class CoreEngine:
             r = exc
         return self._outcome(source, name, r, time.perf_counter() - started)
 
-    def _outcome(self, source, name: str, r, run_s: float) -> Outcome:
+    def _outcome(self, source, name: str, r, run_s: float, note: str = "") -> Outcome:
         """THE one place a core result (or the exception that ended its run) becomes an
         :class:`Outcome` of ``source`` (a deck or a scene), for :meth:`run`,
-        :meth:`run_free_flight` and :meth:`run_batch` alike."""
+        :meth:`run_free_flight` and :meth:`run_batch` alike; ``note``: how it was run, when
+        not as asked (the compiled batch's fall-back), first among its notes."""
         from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
@@ -504,13 +515,14 @@ class CoreEngine:
                       contact_test="segments" if self.model_options().shaft_contact
                       else "points")
         out.run_s = run_s
+        out.notes = (note,) if note else ()
         if isinstance(r, Exception):
             out.error = f"{type(r).__name__}: {r}"
             return out.made()
         out.hit_message = r.hit_message
         out.raw = r
         out.method = r.method
-        out.notes = tuple(getattr(r, "notes", ()) or ())
+        out.notes += tuple(getattr(r, "notes", ()) or ())
         out.evaluations, out.end_s = r.nfev, r.end_time_s
         out.engine_events = tuple((e.name, e.time_s) for e in r.events)
         out.events = core_events(r)

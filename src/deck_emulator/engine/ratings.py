@@ -3,18 +3,30 @@ ridedown acceleration against each cited limit (:data:`~.safety.CRITERIA`), in t
 :data:`~.safety.VERDICTS`.
 
 Every answer that rates occupant risk (``summary``, ``core``, ``assembly ... core``, a
-sweep's rows) takes its verdicts from :func:`ratings`, so none can say "preferred" beside a
-post that went into the car:
+sweep's rows) takes its verdicts from :func:`ratings`:
 
-* **the occupant compartment** fails when any part of the post (its points, the shaft Q-P,
-  the arms) enters the car's body before the run ends: the run ends with the post striking
-  the car (the model's own test), or the post's line, checked over the computed path
-  (:func:`~.safety.body_clearance`), is inside the car's outline (what the listing, which
-  tests only P, R and C, runs through). It passes only when the model that ran tested the
-  whole post against the car (``Outcome.contact_test == "segments"``) and no part entered;
-  a model that tests only the points gives no pass verdict: ``not judged``, and why.
-* **OIV and ORA** are read against every cited limit; beside a compartment that fails, a
-  value within its limits is ``not rated`` (the test fails whatever it is).
+* **the occupant compartment** is the roof box of the car's outline: its windshield, roof and
+  side glass (:func:`~deck_emulator.vocabulary.scene.car_boxes`, ``occupant_compartment``);
+  the hood and the trunk are not part of it. The first place the post meets the car (the
+  run's strike, or the post's line checked over the computed path, what a model that tests
+  only P, R and C runs through: :func:`~.safety.body_clearance`) is reported as what it is,
+  "the shaft Q-P strikes the hood at 765.5 ms".
+
+  - A strike on the compartment is judged by MASH by the deformation and any penetration it
+    causes (:data:`~.safety.COMPARTMENT_LIMITS`); the car is a rigid outline here, which
+    computes neither: the verdict is ``not judged``, never a pass, and the reason says so.
+  - A strike outside it (hood, trunk) is no failure of the compartment, and no pass either:
+    the model does not follow the post past its first strike on the car (a run that ends
+    there leaves the post lying on the car beside the compartment; a path that goes on
+    through the car, as a model that tests only the points runs, is not one a rigid car
+    allows): ``not judged``, with the margin the post kept over the compartment until then.
+  - It ``passes`` only when the model that ran tested the whole post against the car
+    (``Outcome.contact_test == "segments"``) and no part of it met the car before the run
+    ended (on the ground); a model that tests only the points gives no pass: ``not judged``,
+    and why.
+
+* **OIV and ORA** come from the contact pulse, which no later strike changes: each is read
+  against every cited limit, whatever the compartment's verdict.
 
 A run that did not end is rated nothing (:func:`ratings` is None; the registry's
 ``unavailable`` says why).
@@ -25,7 +37,8 @@ from __future__ import annotations
 from deck_emulator.vocabulary.events import POINT_NAMES
 
 from . import quantities
-from .safety import VERDICTS, criteria_of, rate
+from .safety import (COMPARTMENT_LIMITS, NOT_RECHECKED, STANDARDS, VERDICTS,
+                     clearance_until, criteria_of, rate, strike_on_car)
 
 __all__ = ["ratings", "compartment", "RATED", "part_name"]
 
@@ -52,62 +65,111 @@ def _verdict(word: str) -> str:
     return word
 
 
+def _mash_compartment_limits() -> str:
+    rows = "; ".join(c.rule for c in COMPARTMENT_LIMITS.values())
+    return (f"{STANDARDS['mash'].name} judges a strike on the occupant compartment by the "
+            f"deformation and any penetration it causes (Section 5.2.2 and Appendix E: "
+            f"{rows}, {NOT_RECHECKED})")
+
+
+_RIGID = ("the car is a rigid outline in this model, which computes neither the deformation "
+          "nor a penetration")
+
+
 def compartment(o) -> dict | None:
     """The occupant compartment's verdict for outcome ``o`` (None for a run that did not
-    end): ``verdict``; for a failure ``part`` (the part of the post that enters first),
-    ``surface``, ``where`` (the place on the post: ``Q-P 0.73`` is 73 % of the way from Q
-    to P), ``time_s`` (when it enters), ``depth_ft`` (how far inside the car's outline the
-    computed path goes at most: 0 where the run ends at the strike), ``deepest_surface``,
-    ``deepest_where``, ``deepest_time_s`` (where and when that is); ``clearance_ft`` (the least clearance over the car, negative
-    inside), ``contact_test`` and ``reason`` in words; ``criteria`` the limits it answers."""
+    end): ``verdict``; for the first place the post meets the car (its strike): ``part`` (the
+    part of the post), ``surface`` (what of the car it meets: hood, trunk; windshield, roof,
+    side glass of the compartment), ``car_part`` (hood, roof, trunk: the outline's box),
+    ``in_compartment`` (True, False; None where it is not known), ``where`` (the place on the
+    post: ``Q-P 0.73`` is 73 % of the way from Q to P), ``time_s``, ``how`` (``"hit"``: the
+    run ends with it; ``"line"``: the post's line, checked over the computed path, is inside
+    the outline there), ``depth_ft`` (how far inside the car's outline the computed path goes
+    at the most: 0 where it never goes in), ``deepest_surface``, ``deepest_where``,
+    ``deepest_time_s`` (where and when that is); ``roof_clearance_before_ft`` (the least
+    clearance over the compartment up to the strike); ``clearance_ft`` (the least clearance
+    over the car, negative inside), ``contact_test`` and ``reason`` in words; ``criteria``
+    the limits it answers."""
     if not o.ended:
         return None
     c = quantities.clearance(o)
-    found = []  # (time, part label, surface, where, how it was found)
+    found = []  # (time, part label, where, how, engine's surface, fraction)
     hit = o.hit
     if hit.surface is not None and hit.surface.on_car:
-        found.append((hit.time_s, hit.point or "?", hit.surface.value, hit.point or "?",
-                      "hit"))
+        found.append((hit.time_s, hit.point or "?", hit.point or "?", "hit",
+                      hit.surface.value, hit.fraction))
     if c is not None and c.touch_time_s is not None:
-        label = c.touch_where.split()[0]
-        found.append((c.touch_time_s, label, c.touch_surface, c.touch_where, "line"))
+        label, *frac = c.touch_where.split()
+        found.append((c.touch_time_s, label, c.touch_where, "line", None,
+                      float(frac[0]) if frac else None))
     least = None if c is None else c.body_ft
-    answer = {"verdict": None, "part": None, "surface": None, "where": None, "time_s": None,
+    answer = {"verdict": None, "part": None, "surface": None, "car_part": None,
+              "in_compartment": None, "where": None, "time_s": None, "how": None,
               "depth_ft": None, "deepest_surface": None, "deepest_where": None,
-              "deepest_time_s": None,
+              "deepest_time_s": None, "roof_clearance_before_ft": None,
               "clearance_ft": least, "contact_test": o.contact_test, "reason": "",
               "criteria": list(criteria_of("occupant_compartment"))}
-    rigid = ("the car is a rigid outline in this model: a post that reaches it is judged a "
-             "failure, and how far it would go in is not computed")
+    points_only = o.contact_test != "segments"
     if found:
-        t, label, surface, where, how = min(found)
+        t, label, where, how, surface, fraction = min(found, key=lambda f: f[0])
+        if how == "line":  # the box the line is inside decides; its nearest face says which
+            surface = c.touch_surface if c.touch_surface != "roof" else None
+        struck = strike_on_car(o, t, label, fraction=fraction, surface=surface)
         deep = least is not None and least < -_AT_SURFACE_FT
-        answer.update(verdict=_verdict("fails"), part=part_name(label), surface=surface,
-                      where=where, time_s=t, depth_ft=-least if deep else 0.0,
+        before = clearance_until(o, t)
+        roof_before = None if before is None else before.roof_ft
+        answer.update(part=part_name(label), surface=struck.face, car_part=struck.car_part,
+                      in_compartment=struck.occupant_compartment, where=where, time_s=t,
+                      how=how, depth_ft=-least if deep else 0.0,
                       deepest_surface=c.body_surface if deep else None,
                       deepest_where=c.body_where if deep else None,
-                      deepest_time_s=c.body_time_s if deep else None)
-        if how == "hit":
-            answer["reason"] = (f"the run ends with {part_name(label)} striking the {surface} "
-                                f"at {_ms(t)}; {rigid}")
+                      deepest_time_s=c.body_time_s if deep else None,
+                      roof_clearance_before_ft=roof_before)
+        what = f"{part_name(label)} strikes the {struck.face} at {_ms(t)}"
+        if label != where:
+            what += f" ({where})"
+        through = ("; the model that ran tests only the points P, R and C against the car, so "
+                   f"its path goes on through the car ({-least:.3f} ft inside at the most, "
+                   f"{c.body_where} over the {c.body_surface} at {_ms(c.body_time_s)}), a path "
+                   "a rigid car does not allow" if how == "line" and deep else "")
+        if struck.occupant_compartment is None:
+            answer.update(verdict=_verdict("not judged"), reason=(
+                f"{what}: the run does not say where on the car, so whether it is the "
+                "occupant compartment is not known"))
+        elif struck.occupant_compartment:
+            answer.update(verdict=_verdict("not judged"), reason=(
+                f"{what}: the occupant compartment{through}. {_mash_compartment_limits()}; "
+                f"{_RIGID}: no verdict, and no pass"))
         else:
-            answer["reason"] = (
-                f"{part_name(label)} enters the car's outline over the {surface} at {_ms(t)} "
-                f"({where}); the model that ran tests "
-                + ("only the points P, R and C against the car, so its run goes on through "
-                   f"the car, {-least:.3f} ft inside at the most ({c.body_where} over the "
-                   f"{c.body_surface} at {_ms(c.body_time_s)})"
-                   if o.contact_test == "points" and deep else "the whole post")
-                + f"; {rigid}")
+            kept = ("the post never passes over the occupant compartment before it"
+                    if roof_before is None else
+                    f"until then the post stays {roof_before:.3f} ft clear of the occupant "
+                    "compartment (roof, windshield, side glass)")
+            outside = f"{what}, outside the occupant compartment; {kept}"
+            if how == "hit" and not points_only:
+                answer.update(verdict=_verdict("not judged"), reason=(
+                    f"{outside}; the whole post (its points, the shaft Q-P, the arms) was "
+                    f"tested against the car, and the run ends with that strike: what the post "
+                    f"does after it, lying on the {struck.face} beside the compartment (sliding "
+                    "or turning onto the windshield or the roof), is not computed, so no pass"))
+            elif how == "hit":
+                answer.update(verdict=_verdict("not judged"), reason=(
+                    f"{outside}; the run ends with that strike, but the model that ran tests "
+                    "only the points P, R and C against the car, not the shaft and the arms, "
+                    "so it gives no pass verdict; the core with --shaft-contact (or --preset "
+                    "physical) tests the whole post"))
+            else:
+                answer.update(verdict=_verdict("not judged"), reason=(
+                    f"{outside}{through or ''}: what the post does after {_ms(t)} is not "
+                    "computed, so the compartment is not judged past it"))
         return answer
     clear = ("the post never passes over the car" if least is None else
              f"the post's line stays {least:.3f} ft clear of the car at the least (over the "
              f"{c.body_surface} at {_ms(c.body_time_s)}, {c.body_where})")
-    if o.contact_test == "segments":
+    if not points_only:
         answer.update(verdict=_verdict("passes"), reason=(
             f"the whole post (its points, the shaft Q-P, the arms) was tested against the car "
-            f"and none of it entered the car's body before the run ended ({o.verdict()}); "
-            f"{clear}"))
+            f"and none of it met the car before the run ended ({o.verdict()}); {clear}"))
     else:
         answer.update(verdict=_verdict("not judged"), reason=(
             "the model that ran tests only the points P, R and C against the car (the "
@@ -121,21 +183,21 @@ def compartment(o) -> dict | None:
 def ratings(o) -> dict | None:
     """Every verdict of outcome ``o`` (None for a run that did not end):
     ``occupant_compartment`` (:func:`compartment`), then for each of :data:`RATED`
-    ``{quantity, value, verdicts: {criterion key: word}, reason}``."""
+    ``{quantity, value, verdicts: {criterion key: word}, reason}``: each read against its
+    limits whatever the compartment's verdict (the contact pulse, which no later strike
+    changes); ``reason`` says why a value has no verdict."""
     comp = compartment(o)
     if comp is None:
         return None
     out = {"occupant_compartment": comp}
-    fails = comp["verdict"] == "fails"
     for name in RATED:
         value = quantities.value(name, o)
-        verdicts, withheld = {}, False
+        verdicts = {}
         for key, criterion in criteria_of(name).items():
             word = rate(value, criterion)
-            if fails and word in ("preferred", "acceptable"):
-                word, withheld = "not rated", True
             if word:
                 verdicts[key] = _verdict(word)
         out[name] = {"quantity": name, "value": value, "verdicts": verdicts,
-                     "reason": ("the occupant compartment fails" if withheld else "")}
+                     "reason": "" if verdicts else
+                     quantities.unavailable(o, [name]).get(name, "no value")}
     return out

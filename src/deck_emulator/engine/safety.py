@@ -55,6 +55,10 @@ __all__ = [
     "CRITERIA",
     "STANDARDS",
     "UNCONFIRMED",
+    "COMPARTMENT_LIMITS",
+    "NOT_RECHECKED",
+    "Strike",
+    "strike_on_car",
     "VERDICTS",
     "rate",
     "criteria_of",
@@ -132,8 +136,10 @@ CRITERIA: Mapping[str, Criterion] = {
         "occupant compartment", "occupant_compartment", "ft", None, None,
         "AASHTO MASH (2016) as TRB's NCHRP Project 22-59 statement describes it: MASH does "
         "'not allow for any part of the device ... to enter the vehicle compartment. If "
-        "there is any penetration, the device fails that test'",
-        standard="mash", rule="no part of the device enters the compartment"),
+        "there is any penetration, the device fails that test. Some deformation of the "
+        "vehicle occupant compartment is allowed, but varies by area of the vehicle'",
+        standard="mash", rule="no part of the device enters the compartment; some "
+                              "deformation allowed, by area of the vehicle"),
     "nchrp350_oiv": Criterion(
         "OIV", "oiv_m_s", "m/s", 3.0, 5.0,
         "NCHRP Report 350 (1993), Table 5.1, criterion H (support structures)"),
@@ -173,18 +179,39 @@ UNCONFIRMED: Mapping[str, Criterion] = {
     ),
 }
 
+#: MASH's limits on the occupant compartment's deformation, as they were cited to this program
+#: (MASH 2016, Section 5.2.2 and Appendix E): searched for and not found in a source here, so
+#: printed only with the words :data:`NOT_RECHECKED` and never read against a number (a rigid
+#: car computes no deformation: :func:`~deck_emulator.engine.ratings.compartment`).
+COMPARTMENT_LIMITS: Mapping[str, Criterion] = {
+    "mash_roof_deformation": Criterion(
+        "roof deformation", "compartment_deformation_in", "in", None, 4.0,
+        "AASHTO MASH (2016), Section 5.2.2 and Appendix E, as cited to this program: not "
+        "re-checked in MASH (docs/safety.md)", standard="mash",
+        rule="roof deformation at most 4 in"),
+    "mash_windshield_deformation": Criterion(
+        "windshield deformation", "compartment_deformation_in", "in", None, 3.0,
+        "AASHTO MASH (2016), Section 5.2.2 and Appendix E, as cited to this program: not "
+        "re-checked in MASH (docs/safety.md)", standard="mash",
+        rule="windshield deformation at most 3 in, and no tear or hole in the windshield"),
+}
+#: How a limit of :data:`COMPARTMENT_LIMITS` is qualified wherever it is printed.
+NOT_RECHECKED = "as cited to this program, not re-checked in MASH"
+
 #: Every verdict word an answer prints, and what it says (one table: the ratings, the
-#: tables and docs/safety.md take their words from here).
+#: tables and docs/safety.md take their words from here). A rigid car computes no
+#: deformation, so no answer fails the occupant compartment: a strike on it is not judged.
 VERDICTS: Mapping[str, str] = {
     "preferred": "within the preferred limit",
     "acceptable": "over the preferred limit (where there is one), within the maximum",
     "exceeds": "over the maximum",
-    "fails": "a part of the post enters the car's body: the test fails",
     "passes": "the whole post (its points, the shaft Q-P, the arms) was tested against the "
-              "car and no part of it entered the car's body before the run ended",
-    "not judged": "the model that ran cannot support a verdict (the reason says why)",
-    "not rated": "within its limits, but not rated beside a failure of the occupant "
-                 "compartment: the test fails whatever this value is",
+              "car and no part of it met the car before the run ended: the occupant "
+              "compartment (roof, windshield, side glass) was never reached",
+    "not judged": "the model that ran cannot support a verdict on the occupant compartment "
+                  "(the reason says why: a strike on it, whose deformation a rigid car does "
+                  "not compute; a strike beside it, on the hood or the trunk, after which the "
+                  "post is not followed; a model that tests only the points P, R and C)",
 }
 
 
@@ -559,3 +586,109 @@ def clearance_of(out) -> Clearance | None:
         pts.pop("C")
     return body_clearance(out.t, pts, out.sv, car_body(out.scene),
                           approach_angle_rad(out.scene), free=out.free)
+
+
+def clearance_until(out, until_s: float) -> Clearance | None:
+    """The post's least clearance above the car over its free flight up to ``until_s``
+    (inclusive): the margin it kept before a strike the model cannot follow past."""
+    if not out.t.size or not out.free.any():
+        return None
+    free = out.free & (out.t <= until_s)
+    if not free.any():
+        return None
+    pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C", "U")}
+    if "C" in pts and np.isnan(pts["C"][free]).any():
+        pts.pop("C")
+    return body_clearance(out.t, pts, out.sv, car_body(out.scene),
+                          approach_angle_rad(out.scene), free=free)
+
+
+# ------------------------------------------------------------------ where the post meets the car
+
+
+@dataclass(frozen=True)
+class Strike:
+    """Where a place on the post meets the car: ``car_part`` the box of the car's outline
+    (hood, roof, trunk: :func:`~deck_emulator.vocabulary.scene.car_boxes`), ``face`` what it
+    meets in the verdicts' words (for the occupant compartment its windshield, roof or side
+    glass: :data:`~deck_emulator.vocabulary.scene.COMPARTMENT_FACES`; else the part's name),
+    ``occupant_compartment`` whether that box is the occupant compartment (None: where on the
+    car is not known, the engine gave neither the place nor a surface that says)."""
+
+    car_part: str
+    face: str
+    occupant_compartment: bool | None
+
+
+#: A hit's surface -> the box it is a face of, where the surface says (the flanks, SIDE, are
+#: a face of every box: the place decides). The surfaces are the engines' (vocabulary.events).
+_SURFACE_PART = {"hood": "hood", "front": "hood", "windshield": "roof", "top": "roof",
+                 "trunk": "trunk"}
+
+
+def _place(out, time_s: float, label: str, fraction: float | None) -> np.ndarray | None:
+    """A place on the post at ``time_s`` (XX, YY, ZZ): a point by its letter, a place on a
+    segment ``A-B`` at ``fraction`` of the way from A (``where`` 'Q-P 0.73'); None where the
+    engine did not give it."""
+    ends = label.split("-")
+    try:  # the engine's own names: a KeyError is a label it has no point for
+        if len(ends) == 2:
+            a = np.asarray(out.position(ends[0], time_s), float).reshape(3)
+            b = np.asarray(out.position(ends[1], time_s), float).reshape(3)
+            return a + (0.5 if fraction is None else float(fraction)) * (b - a)
+        return np.asarray(out.position(label, time_s), float).reshape(3)
+    except KeyError:  # a label the engine has no point for ('?', 'R&U')
+        return None
+
+
+def _box_faces(out, time_s: float, label: str, fraction: float | None, boxes) -> dict | None:
+    """How far inside each face of each box the place is at ``time_s`` (ft, negative:
+    outside that face): ``{part: {front, rear, left, right, top}}``; None without a place."""
+    p = _place(out, time_s, label, fraction)
+    if p is None or not np.all(np.isfinite(p)):
+        return None
+    alpha = approach_angle_rad(out.scene)
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    sv = float(np.interp(time_s, out.t, out.sv)) if out.t.size else 0.0
+    xv, yv, z = p[0] * ca - p[1] * sa - sv, p[0] * sa + p[1] * ca, p[2]
+    return {b.part: {"front": xv - b.x0_ft, "rear": b.x1_ft - xv, "left": yv - b.left_ft,
+                     "right": b.right_ft - yv, "top": b.top_ft - z} for b in boxes.values()}
+
+
+def strike_on_car(out, time_s: float, label: str, *, fraction: float | None = None,
+                  surface: str | None = None) -> Strike:
+    """What of the car the place ``label`` (at ``fraction`` along a segment) of the post meets
+    at ``time_s``: the box whose faces it is least outside of (it is on or just inside one at
+    a strike), and the face it came through: of the faces it was outside of at the sample
+    before, the one it crossed last (Liang-Barsky's entering face, the path taken as straight
+    between the two samples); the nearest face where there is no sample before. ``surface``:
+    the engine's word for the hit (vocabulary.events.Surface value) where it gave one; a
+    surface that names its box (hood, windshield, top, trunk) decides the box and the face."""
+    from deck_emulator.vocabulary.scene import COMPARTMENT_FACES, car_boxes
+
+    boxes = {b.part: b for b in car_boxes(car_body(out.scene))}
+    named = _SURFACE_PART.get(surface or "")
+    faces = _box_faces(out, time_s, label, fraction, boxes)
+    if named is None and faces is None:  # no place, no surface that says: not known
+        return Strike("car", surface or "car", None)
+    if named is None:
+        named = min(faces, key=lambda k: max(0.0, -min(faces[k].values())))
+    box = boxes[named]
+    if not box.occupant_compartment:
+        return Strike(named, named, False)
+    if surface in ("windshield", "top"):
+        return Strike(named, "windshield" if surface == "windshield" else "roof", True)
+    if faces is None:
+        return Strike(named, "occupant compartment", True)
+    now = faces[named]
+    earlier = out.t[(out.t < time_s) & out.free] if out.free.size == out.t.size else []
+    before = (_box_faces(out, float(earlier[-1]), label, fraction, boxes)
+              if len(earlier) else None)
+    crossed = {}
+    if before is not None:
+        for face, d0 in before[named].items():
+            d1 = now[face]
+            if d0 < 0 and d1 > d0:  # outside that face before, moving in across it
+                crossed[face] = d0 / (d0 - d1)  # where on the way it crossed that face
+    face = max(crossed, key=crossed.get) if crossed else min(now, key=now.get)
+    return Strike(named, COMPARTMENT_FACES[face], True)

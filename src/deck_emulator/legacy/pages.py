@@ -47,7 +47,7 @@ from deck_emulator.parallel import progress_bar
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
            "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "printed_lines", "paper_bars",
-           "tractor_holes", "face_file", "form_figure", "write_pdf"]
+           "tractor_holes", "face_file", "form_figure", "write_pdf", "stop_facts", "closing_records"]
 
 LINES_PER_FORM = 66
 LINES_PER_INCH = 6
@@ -85,6 +85,46 @@ def layout(records: list[str]) -> list[list[tuple[int, str]]]:
             line -= LINES_PER_FORM
         forms[-1].append((line, text))
     return forms
+
+
+def stop_facts(error, records: list[str], *, section: str = "", hint: str = "") -> dict[str, str]:
+    """Where, when and why a run stopped, in words for its pages (the banner's line and the
+    closing page): ``error`` the guard that stopped it (legacy.stops.EmulatorError: its
+    ``reason``, ``label``, ``variable``, ``step``, ``time``), ``records`` what it printed
+    before (the closing page says after which record), ``section`` which $DATA section of a
+    job deck it was ('' for a plain deck), ``hint`` what would let it go on."""
+    reason = getattr(error, "reason", None) or str(error)
+    label = getattr(error, "label", None)
+    variable = getattr(error, "variable", None)
+    where = (f"label {label}" + (f", assigning {variable}" if variable else "")
+             if label is not None else "not said by the program")
+    where += (f"; its printout ends with record {len(records)}"
+              + (f", {records[-1][1:].strip()[:60]!r}" if records and records[-1][1:].strip()
+                 else "") if records else "; it printed no record")
+    step, t = getattr(error, "step", None), getattr(error, "time", None)
+    when = ((f"step {step}" if step is not None else "")
+            + (f", t = {t:.6f} s" if t is not None else "")).strip(", ") or "not said"
+    out = {"stopped": "yes: the program did not reach its end; the pages before this one are "
+                      "all it printed"}
+    if section:
+        out["section"] = section
+    out.update(where=where, when=when, why=reason + (f" -- {hint}" if hint else ""))
+    return out
+
+
+def closing_records(facts: dict[str, str], width: int = 131) -> list[str]:
+    """The closing page of a run that stopped, as printer records on a form of its own: what
+    :func:`stop_facts` says, after the printout, which stays exactly as printed."""
+    import textwrap
+
+    rule = "=" * width
+    records = ["1" + rule, " ", " DECK_EMULATOR  --  THE RUN STOPPED", " ", " " + rule, "0"]
+    label = max(len(k) for k in facts) + 2
+    for key, text in facts.items():
+        lines = textwrap.wrap(text, width - label - 1) or [""]
+        records.append(" " + f"{key.upper():<{label}}" + lines[0])
+        records += [" " + " " * label + more for more in lines[1:]]
+    return records + ["0", " " + rule]
 
 
 def baseline_in(line: int) -> float:

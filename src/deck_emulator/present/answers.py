@@ -111,12 +111,15 @@ def _setting(v) -> str:
 
 def compartment_words(comp: dict) -> str:
     """The occupant compartment's verdict (:func:`~deck_emulator.engine.ratings.compartment`)
-    in a line: for a failure, which part enters the car, over what, when and how deep."""
-    if comp["verdict"] != "fails":
+    in a line: the verdict, and the first place the post meets the car, as what it is (the
+    hood and the trunk are not the compartment)."""
+    if comp["part"] is None:
         return comp["verdict"]
-    return (f"fails: {comp['part']} enters the car over the {comp['surface']} at "
-            f"{1000 * comp['time_s']:.1f} ms, {comp['depth_ft']:.3f} ft deep at the most"
-            + (f" (over the {comp['deepest_surface']})" if comp["deepest_surface"] else ""))
+    where = ("on the occupant compartment" if comp["in_compartment"] else
+             "outside the occupant compartment" if comp["in_compartment"] is False else
+             "where on the car is not known")
+    return (f"{comp['verdict']}: {comp['part']} strikes the {comp['surface']} at "
+            f"{1000 * comp['time_s']:.1f} ms ({where})")
 
 
 def _rating_lines(ratings: dict) -> list[str]:

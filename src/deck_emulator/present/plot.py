@@ -201,7 +201,7 @@ def _compartment_lines(res: Outcome, width: int = 60) -> list[str]:
     if comp is None:
         return []
     words = f"Occupant compartment {compartment_words(comp)}"
-    if comp["verdict"] == "not judged":
+    if comp["verdict"] == "not judged" and comp["contact_test"] != "segments":
         words += " (this model tests only P, R and C against the car)"
     return textwrap.wrap(words, width, subsequent_indent="  ")
 
@@ -813,7 +813,7 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
     fig.text(0.1 / width, 1 - 0.1 / height, title, ha="left", va="top", fontsize=8)
     clock = fig.text(1 - 0.2 / width, 1 - 0.1 / height, "", ha="right", va="top", fontsize=9)
     compartment = (ratings(res) or {}).get("occupant_compartment") or {}
-    enters = compartment.get("time_s") if compartment.get("verdict") == "fails" else None
+    enters = compartment.get("time_s")  # the post's first strike on the car, if any
     entry = None if enters is None else res.at(enters)
     frames = sorted({res.at(t) for t in np.arange(0, res.end_time_s + 1e-9, frame_s)}
                     | {last} | ({entry} if entry is not None else set()))
@@ -848,7 +848,8 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
             ax.plot(p[:, comp[0]], p[:, comp[1]], "--", color=HIT_COLOUR, lw=1.5, zorder=4)
             car.set(ec=HIT_COLOUR, lw=2.5)
         if entry is not None and i >= entry:
-            words += f"\n{compartment['part']} inside the car since {1000 * enters:.0f} ms"
+            words += (f"\n{compartment['part']} struck the {compartment['surface']} at "
+                      f"{1000 * enters:.0f} ms")
         if i == last:
             words += "\n" + (res.hit.sentence() if res.hit else _legend_title(res).split("\n")[1])
             if hp is not None:

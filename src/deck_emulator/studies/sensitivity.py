@@ -100,6 +100,10 @@ __all__ = [
     "check_options",
     "all_failed",
     "MAX_N",
+    "CAR_TEST_OUTCOMES",
+    "blind_outcomes",
+    "tests_whole_post",
+    "unresolved",
 ]
 
 # =================================================================================== inputs
@@ -152,6 +156,40 @@ OUTCOMES: dict[str, tuple[str, str]] = {
     "roof_clearance_ft": ("least clearance above the roof", "ft"),
 }
 ROOF_SURFACES = ("WINDSHIELD", "TOP")
+
+#: The outcomes that depend on what the model tests against the car (the first hit, its time,
+#: the margin over the roof up to it): a model that tests only the points P, R and C does not
+#: see the shaft or the arms strike the car, so it is blind to them (:func:`blind_outcomes`).
+CAR_TEST_OUTCOMES = ("hits_car", "hits_roof", "hit_time_ms", "roof_clearance_ft")
+
+
+def tests_whole_post(engine: str, keywords: dict) -> bool:
+    """The model a study runs tests the shaft and the arms against the car, not only the
+    points P, R and C: the core with shaft contact (given, or its preset's: physical)."""
+    if engine != "core":
+        return False
+    given = keywords.get("shaft_contact")
+    return bool(given) if given is not None else keywords.get("preset") == "physical"
+
+
+def blind_outcomes(engine: str, keywords: dict) -> dict[str, str]:
+    """Outcome -> why the model is blind to it (empty for a model that tests the whole
+    post): the outcomes of :data:`CAR_TEST_OUTCOMES`, which no index is given for."""
+    if tests_whole_post(engine, keywords):
+        return {}
+    why = ("blind: this model tests only the points P, R and C against the car, not the "
+           "shaft and the arms (the core with --shaft-contact does)")
+    return {k: why for k in CAR_TEST_OUTCOMES}
+
+
+def unresolved(index: float | None, half_width: float | None) -> bool:
+    """The index's 95 % interval, clipped to [0, 1], spans more than
+    ``defaults.SENSITIVITY_UNRESOLVED_SPAN`` of it (or is not a number): not resolved at this N."""
+    if index is None or half_width is None or not (math.isfinite(index)
+                                                   and math.isfinite(half_width)):
+        return True
+    lo, hi = max(index - abs(half_width), 0.0), min(index + abs(half_width), 1.0)
+    return max(hi - lo, 0.0) > defaults.SENSITIVITY_UNRESOLVED_SPAN
 
 
 def _round6(x: float) -> float:
@@ -416,11 +454,13 @@ def run_study(
     convergence: bool = True,
     chunk: int | None = None,
     many: bool = False,
+    blind: dict[str, str] | None = None,
 ) -> Study:
     """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
     for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample).
     ``chunk``, ``many``: as :func:`run_scenes` (``many``: ``fn`` takes a batch of tasks, as
-    :func:`scene_tasks`)."""
+    :func:`scene_tasks`); ``blind``: the outputs the model cannot see, and why
+    (:func:`blind_outcomes`)."""
     X = sample(problem, n, seed=seed)
     tasks = tasks_for(problem, X, base_task, digits=digits)
     store = SceneStore(store_dir)
@@ -445,7 +485,7 @@ def run_study(
     sizes = [n // 2, n] if convergence and n >= 4 else [n]
     study = Study(problem, n, Xused, tasks, store, list(outputs), rows=rows, Y=Y, wall_s=wall)
     study.ran = len(store.ids()) - before
-    study.indices = analyse(problem, Y, sizes, seed=seed)
+    study.indices = analyse(problem, Y, sizes, seed=seed, blind=blind)
     return study
 
 
@@ -475,13 +515,19 @@ def bootstrap_seed(seed: int) -> int:
     return int(np.random.SeedSequence(seed).generate_state(1)[0]) | 1
 
 
-def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float = 0.95) -> list:
+def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float = 0.95,
+            blind: dict[str, str] | None = None) -> list:
     """Sobol S1 and ST (with ``conf_level`` bootstrap half-widths) for every output in ``Y`` and
     every base-sample size in ``sizes`` (using the first ``size * (D + 2)`` scenes). An output
-    with a missing value (NaN) or no variance gets no indices; its row says why."""
+    the model is blind to (``blind``: output -> why, :func:`blind_outcomes`), with a missing
+    value (NaN), or constant or nearly so (its most common value in at least
+    ``defaults.SENSITIVITY_CONSTANT_FRACTION`` of the scenes) gets no indices; its row says
+    why. An index whose interval covers most of [0, 1] (:func:`unresolved`) is named in the
+    row's ``unresolved`` ("S1", "ST", "S1 ST"), printed as not resolved at this N."""
     from SALib.analyze import sobol
 
     D = problem["num_vars"]
+    blind = blind or {}
     out = []
     for key, y in Y.items():
         for m in sizes:
@@ -491,30 +537,44 @@ def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float =
                     "mean": float(np.nanmean(ym)) if len(ym) > missing else None,
                     "sd": float(np.nanstd(ym)) if len(ym) > missing else None}
             note = ""
-            if missing:
+            if key in blind:  # no number of it either: the model cannot see it
+                note = f"{blind[key]}: no indices"
+                base.update(mean=None, sd=None)
+            elif missing:
                 note = f"{missing} of {len(ym)} scenes without a value: no indices"
-            elif np.ptp(ym) == 0:
-                note = f"constant ({ym[0]:g}) over the sample: no indices"
+            else:
+                values, counts = np.unique(ym, return_counts=True)
+                top = int(counts.max())
+                if top == len(ym):
+                    note = f"constant ({ym[0]:g}) over the sample: no indices"
+                elif top >= defaults.SENSITIVITY_CONSTANT_FRACTION * len(ym):
+                    note = (f"constant ({values[int(np.argmax(counts))]:g}) in {top} of "
+                            f"{len(ym)} scenes: no indices")
             if note:
                 for name in problem["names"]:
                     out.append({**base, "input": name, "S1": None, "S1_conf": None,
-                                "ST": None, "ST_conf": None, "note": note})
+                                "ST": None, "ST_conf": None, "note": note, "unresolved": ""})
                 continue
             with np.errstate(all="ignore"):
                 si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=conf_level,
                                    num_resamples=200, seed=bootstrap_seed(seed))
             for i, name in enumerate(problem["names"]):
-                out.append({**base, "input": name,
-                            "S1": float(si["S1"][i]), "S1_conf": float(si["S1_conf"][i]),
-                            "ST": float(si["ST"][i]), "ST_conf": float(si["ST_conf"][i]),
-                            "note": ""})
+                row = {**base, "input": name,
+                       "S1": float(si["S1"][i]), "S1_conf": float(si["S1_conf"][i]),
+                       "ST": float(si["ST"][i]), "ST_conf": float(si["ST_conf"][i]),
+                       "note": ""}
+                row["unresolved"] = " ".join(k for k in ("S1", "ST")
+                                             if unresolved(row[k], row[f"{k}_conf"]))
+                out.append(row)
     return out
 
 
 # ================================================================================= writing
 
 INDEX_COLUMNS = ("deck", "engine", "output", "input", "N", "scenes", "missing", "mean", "sd",
-                 "S1", "S1_conf", "ST", "ST_conf", "note")
+                 "S1", "S1_conf", "ST", "ST_conf", "note", "unresolved")
+#: what a cell says of an index whose interval covers most of [0, 1] (:func:`unresolved`)
+NOT_RESOLVED = "not resolved at this N"
 
 
 def _fmt(v, nd=3):
@@ -548,19 +608,28 @@ def indices_markdown(rows: list, *, header: str = "") -> str:
             orow = [r for r in rs if r["output"] == out]
             for name in names:
                 r = next(x for x in orow if x["input"] == name)
+                gone = set((r.get("unresolved") or "").split())
                 if r["S1"] is None:
                     cells.append("—")
+                elif gone == {"S1", "ST"}:
+                    cells.append(NOT_RESOLVED)
                 else:
-                    cells.append(f"{r['S1']:.2f}±{r['S1_conf']:.2f} / "
-                                 f"**{r['ST']:.2f}**±{r['ST_conf']:.2f}")
+                    s1 = ("S1 " + NOT_RESOLVED if "S1" in gone
+                          else f"{r['S1']:.2f}±{r['S1_conf']:.2f}")
+                    st = ("ST " + NOT_RESOLVED if "ST" in gone
+                          else f"**{r['ST']:.2f}**±{r['ST_conf']:.2f}")
+                    cells.append(f"{s1} / {st}")
             label, unit = OUTCOMES.get(out, (out, ""))
             m = orow[0]
             stat = f" ({_fmt(m['mean'], 3)} ± {_fmt(m['sd'], 3)} {unit})" if m["mean"] is not None else ""
             note = f" — {orow[0]['note']}" if orow[0]["note"] else ""
             lines.append(f"| {label}{stat}{note} | " + " | ".join(cells) + " |")
         lines.append("")
+    span = defaults.SENSITIVITY_UNRESOLVED_SPAN
     lines.append("Cells: S1 ± 95 % half-width / **ST** ± 95 % half-width (SALib bootstrap, 200 "
-                 "resamples). — : no indices (see the note in the outcome's cell).")
+                 "resamples). — : no indices (see the note in the outcome's cell). "
+                 f"{NOT_RESOLVED[0].upper() + NOT_RESOLVED[1:]}: the index's 95 % interval, "
+                 f"clipped to [0, 1], spans more than {span:g} of it.")
     return "\n".join(lines) + "\n"
 
 
@@ -570,7 +639,8 @@ def _top_inputs(rows: list, n: int) -> list[str]:
     for outs in (("hits_car", "hits_roof"), ("roof_clearance_ft",), tuple(OUTCOMES)):
         score: dict = {}
         for r in rows:
-            if r["N"] == n and r["output"] in outs and r["ST"] is not None:
+            if (r["N"] == n and r["output"] in outs and r["ST"] is not None
+                    and "ST" not in (r.get("unresolved") or "")):
                 score[r["input"]] = score.get(r["input"], 0.0) + max(r["ST"], 0.0)
         if score and max(score.values()) > 0:
             return sorted(score, key=score.get, reverse=True)[:2]
@@ -601,7 +671,10 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
         ends = []
         for shift, key in ((-0.2, "S1"), (0.2, "ST")):
             v, e = np.array([r[key] for r in rs]), np.array([r[f"{key}_conf"] for r in rs])
-            ax.bar(x + shift, v, 0.4, yerr=e, capsize=2, label=key)
+            bars = ax.bar(x + shift, v, 0.4, yerr=e, capsize=2, label=key)
+            for bar, r in zip(bars, rs):  # not resolved at this N: hatched, pale
+                if key in (r.get("unresolved") or "").split():
+                    bar.set(alpha=0.3, hatch="//")
             ends += [np.nanmin(v - e), np.nanmax(v + e)]
         ax.axhline(0, color="k", lw=0.5)
         ax.set_ylim(min(-0.1, ends[0], ends[2]) - 0.05, max(1.05, ends[1], ends[3]) + 0.05)
@@ -611,7 +684,7 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
         ax.axis("off")
     if drawn:
         axes.flat[0].legend(fontsize=7)
-    fig.suptitle(title + f" (N = {n}; bars: 95 % confidence)"
+    fig.suptitle(title + f" (N = {n}; bars: 95 % confidence; hatched: {NOT_RESOLVED})"
                  + "".join(f"\n{w}" for w in none), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -745,6 +818,16 @@ def choose_inputs(engine: str, extra: list, *, defaults: bool = True):
     return list(chosen.values()), notes
 
 
+def blind_line(blind: dict[str, str]) -> str:
+    """The study's first line where its model is blind to some outcomes ('' where not)."""
+    if not blind:
+        return ""
+    names = ", ".join(OUTCOMES[k][0] for k in blind)
+    return (f"BLIND to {names}: no indices for them, since this model tests only the points "
+            "P, R and C against the car, not the shaft and the arms; the core with "
+            "--shaft-contact (the study's default) tests the whole post")
+
+
 def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | None = None,
                 inputs_text=(), only: bool = False, n: int | None = None, quick: bool = False,
                 seed: int = 0, jobs=None, scheduler=None, resume: bool = False,
@@ -766,8 +849,12 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
     deck_names = list(decks) or ["steel40"]
     problem = problem_for(inputs)
     keywords = dict(engine_keywords or {})
+    blind = blind_outcomes(engine, keywords)
     out = Path(out)
     studies = []
+    first = blind_line(blind)
+    if first:  # the study's first line: what it cannot see
+        say(first)
     for note in notes:
         say(note)
     started = time.perf_counter()
@@ -779,7 +866,7 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
             base_task={"deck": deck, "engine": engine, **keywords},
             outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=seed,
             jobs=jobs, scheduler=scheduler, resume=resume, desc=label,
-            progress=False if quiet else None,
+            progress=False if quiet else None, blind=blind,
         )
         studies.append((label, engine, st))
         say(f"{label}: {len(st.tasks)} scenes, {st.ran} run now, {st.wall_s:.1f} s")
@@ -795,7 +882,7 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
     cmd = command_line
     rng = "; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs)
     header = "\n".join([
-        "# Sobol sensitivity indices",
+        "# Sobol sensitivity indices" + (f" — {first}" if first else ""),
         "",
         f"Command: `{cmd}`" if cmd else "",
         "",

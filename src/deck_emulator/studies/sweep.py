@@ -252,6 +252,8 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
     row["compartment_verdict"] = comp.get("verdict") or ""
     row["compartment_part"] = comp.get("part") or ""
     row["compartment_surface"] = comp.get("surface") or ""
+    row["compartment_in_compartment"] = {True: "yes", False: "no"}.get(
+        comp.get("in_compartment"), "")
     row["compartment_depth_ft"] = comp.get("depth_ft")
     row["compartment_deepest_surface"] = comp.get("deepest_surface") or ""
     row["compartment_time_s"] = comp.get("time_s")
@@ -301,10 +303,14 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
-    at a time).  A scene that cannot run is a row saying why, not a crash; a core run past
-    its wall bound is :class:`~deck_emulator.studies.distributed.Stopped` instead (the
-    machine's bound: its scene runs again on resume)."""
+    at a time).  A scene the engine cannot run is a row saying why (the outcome's error); a
+    core run past its wall bound is :class:`~deck_emulator.studies.distributed.Stopped`
+    instead (the machine's bound: its scene runs again on resume).  Anything else raised
+    here is a defect, not a scene's outcome: it ends the batch, and the runner
+    (studies.distributed) runs each of its scenes again alone and stores the one that
+    fails as a failed scene with the exception's line."""
     from deck_emulator.studies.common import stopped_at_wall
+    from deck_emulator.studies.distributed import Stopped
 
     bases: dict = {}
     decks = [_scene_of(job, bases) for job in jobs]
@@ -321,31 +327,20 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
         if first["engine"] == "core":  # the arrays the row reads, and no others
             engine = dataclasses.replace(engine, arrays=ROW_ARRAYS)
             started = time.perf_counter()
-            try:
-                got = engine.run_batch([decks[i][0] for i in members],
-                                       names=[decks[i][1] for i in members])
-            except Exception:  # noqa: BLE001 - the batch as a whole: each scene alone below
-                pass
+            got = engine.run_batch([decks[i][0] for i in members],
+                                   names=[decks[i][1] for i in members])
             batch_s = time.perf_counter() - started
         for i, res in zip(members, got):
-            outcomes[i] = res if res is not None else _run_one(engine, first["engine"], *decks[i])
+            outcomes[i] = res if res is not None else engine.run(decks[i][0], name=decks[i][1])
             walls[i] = (getattr(engine, "wall_bound_s", math.inf), batch_s)
     rows: list = []
     for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
         try:
             rows.append(result_row(stopped_at_wall(res, *wall), job["speed"], job["angle"],
                                    _report_of(job, deck)))
-        except Exception as exc:  # noqa: BLE001 - Stopped: the store's, not a row
+        except Stopped as exc:  # the store's status for it (run again on resume), not a row
             rows.append(exc)
     return rows
-
-
-def _run_one(engine, engine_name: str, deck: Deck, name: str) -> Outcome:
-    try:
-        return engine.run(deck, name=name)
-    except Exception as exc:  # noqa: BLE001 - a scene that cannot run is a row, not a crash
-        return Outcome(engine_name, name, Scene.from_deck(deck, name=name, checked=False),
-                       error=f"{type(exc).__name__}: {exc}")
 
 
 def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
@@ -490,9 +485,12 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         "- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md), "
         f"limits for breakaway supports: OIV {limits['oiv_m_s']}; ORA {limits['ora_g']}; "
         f"occupant compartment {limits['occupant_compartment']}. The verdicts are "
-        "`deck_emulator.engine.ratings`': beside a compartment that fails, OIV and ORA are "
-        "not rated; a model that tests only the points P, R and C (the emulator, the core's "
-        "legacy preset without --shaft-contact) gives the compartment no pass verdict.",
+        "`deck_emulator.engine.ratings`': the occupant compartment is the roof, windshield "
+        "and side glass, not the hood or the trunk; a strike on it is not judged (a rigid car "
+        "computes no deformation) and gets no pass; OIV and ORA come from the contact pulse "
+        "and are rated whatever the compartment's verdict; a model that tests only the "
+        "points P, R and C (the emulator, the core's legacy preset without --shaft-contact) "
+        "gives the compartment no pass verdict.",
         "- Clearance: the least vertical clearance (ft) between the post (the line Q–P–R, and "
         "P–U for a second arm) and the "
         "car's outline while the post is over the car in free flight; over the roof = over the "
@@ -532,12 +530,14 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
             [
                 r["compartment_verdict"]
                 + (
-                    f": {r['compartment_part']} enters over the {r['compartment_surface']} at "
-                    f"{_ms(r['compartment_time_s'], 0)} ms; {_num(r['compartment_depth_ft'])} ft "
-                    "deep at the most"
-                    + (f", over the {r['compartment_deepest_surface']}"
+                    f": {r['compartment_part']} strikes the {r['compartment_surface']} at "
+                    f"{_ms(r['compartment_time_s'], 0)} ms"
+                    + ("" if r["compartment_in_compartment"] == "yes" else
+                       " (outside the occupant compartment)")
+                    + (f"; its path {_num(r['compartment_depth_ft'])} ft inside the car at the "
+                       f"most, over the {r['compartment_deepest_surface']}"
                        if r["compartment_deepest_surface"] else "")
-                    if r["compartment_verdict"] == "fails"
+                    if r["compartment_part"]
                     else ""
                 )
                 for r in rs

@@ -110,6 +110,14 @@ MAX_EVALUATIONS = 5_000_000
 #: bound on the wall time of one run, s, and of one batch of runs of the compiled core (its
 #: scenes past it are stopped: a starved or suspended machine; a study runs them on resume)
 MAX_WALL_S = 60.0
+#: how closely the compiled batch (core/batch.py) answers as the scipy path (solve_ivp, the
+#: reference) at the default tolerances: event and hit times within this, s; positions within
+#: this, ft; speeds lost within this, mph, and decelerations within this, g (tests/core and
+#: tests/engine hold it, on the shipped decks and assemblies)
+BATCH_AGREE_TIME_S = 1e-6
+BATCH_AGREE_POSITION_FT = 1e-4
+BATCH_AGREE_DELTA_V_MPH = 1e-6
+BATCH_AGREE_DECEL_G = 1e-6
 #: the grid a core outcome's arrays are sampled on: in contact with the car, and in free flight, s
 SAMPLE_CONTACT_S = 0.0002
 SAMPLE_FREE_S = 0.001
@@ -179,6 +187,13 @@ ERROR_LONG_RUN_S = 10.0
 MAX_SWEEP_GRID = 10_000
 #: the largest base sample size N of a sensitivity study (a power of two)
 MAX_SENSITIVITY_N = 1 << 16
+#: a sensitivity study's outcome whose most common value holds in at least this fraction of
+#: the scenes gets no indices: constant, or nearly ("constant in 509 of 512 scenes"), so that
+#: the few scenes that differ would decide every index (studies.sensitivity.analyse)
+SENSITIVITY_CONSTANT_FRACTION = 0.99
+#: an index whose 95 % interval, clipped to [0, 1], spans more than this much of [0, 1] is
+#: printed as "not resolved at this N", not as a number (studies.sensitivity)
+SENSITIVITY_UNRESOLVED_SPAN = 0.5
 
 # ------------------------------------------------------------------- the machine's limits
 

@@ -283,7 +283,11 @@ class CarBox:
     ``x0_ft <= XV - SV <= x1_ft``, ``left_ft <= YV <= right_ft``, ``ZZ <= top_ft`` (down to
     the ground: no bottom face).  ``part`` is the clearances' name (hood, roof, trunk);
     ``surfaces`` names the faces (front ``XV - SV = x0``, rear ``= x1``, top), each as the
-    surface the post hits when it enters the box through it; the flanks are SIDE."""
+    surface the post hits when it enters the box through it; the flanks are SIDE.
+    ``occupant_compartment``: the box is the car's occupant compartment (the roof box: its
+    front face the windshield, its top and rear faces the roof, its flanks the side glass),
+    the part of the car whose intrusion or deformation the crash-test criteria judge; the
+    hood and the trunk are not (:data:`COMPARTMENT_FACES`)."""
 
     part: str
     x0_ft: float
@@ -294,20 +298,29 @@ class CarBox:
     front_surface: str
     rear_surface: str
     top_surface: str
+    occupant_compartment: bool = False
+
+
+#: The occupant compartment's faces by the face of its box a post enters through, in the
+#: words the verdicts use (the listing calls the roof box's front face the windshield and its
+#: top, and its rear face, the top; its flanks are the side glass of a real car).
+COMPARTMENT_FACES = {"front": "windshield", "top": "roof", "rear": "roof",
+                     "left": "side glass", "right": "side glass"}
 
 
 def car_boxes(body) -> tuple[CarBox, CarBox, CarBox]:
     """The car of a :class:`~deck_emulator.vocabulary.scene.VehicleBody` as three boxes, from its
     one outline (:meth:`~deck_emulator.vocabulary.scene.VehicleBody.outline_xv`): the hood
     (bumper to the windshield's foot SV, up to HHV), the passenger compartment (SV to
-    XENTOP, up to HTV) and the trunk (XENTOP to the tail, up to HTRV)."""
+    XENTOP, up to HTV: the one box that is the occupant compartment) and the trunk (XENTOP to
+    the tail, up to HTRV)."""
     o = body.outline_xv(0.0)
     yl, yr = body.left_fender_ft, body.right_fender_ft
     return (
         CarBox("hood", o["XBUMP"], o["SV"], yl, yr, body.hood_height_ft,
                "FRONT", "WINDSHIELD", "HOOD"),
         CarBox("roof", o["SV"], o["XENTOP"], yl, yr, body.top_height_ft,
-               "WINDSHIELD", "TOP", "TOP"),
+               "WINDSHIELD", "TOP", "TOP", occupant_compartment=True),
         CarBox("trunk", o["XENTOP"], o["XTAIL"], yl, yr, body.trunk_height_ft,
                "TOP", "TRUNK", "TRUNK"),
     )
