@@ -127,9 +127,11 @@ def _punched(where: str, text: str) -> list[str]:
     return lines
 
 
-#: The benign programs whose shapes a hostile card's program may have: the label left out (a
-#: blank or unreadable label's columns), the name an INTEGER's
-_TWINS = {"label": ("     ",), "name": ("K",)}
+#: The benign programs whose shapes a hostile card's program may have besides PROGRAM's: the
+#: label left out (a blank label's columns), or the card a comment (C, c, * or $ in column
+#: 1: jobdeck.is_comment); the name A, one variable with the one read.  (A name the parser
+#: takes is a REAL's: an INTEGER's is refused, TWICE's dummy being REAL.)
+_TWINS = {"label": ("     ", "C"), "name": ("A",)}
 
 
 @_SETTINGS
@@ -142,6 +144,9 @@ def test_a_cards_text_enters_the_made_code_only_as_a_literal(text, where):
         twins = {BENIGN} | {shape(_made(Program(_punched(where, t), cache=False)))
                             for t in _TWINS.get(where, ())}
         assert shape(source) in twins
+    if where == "name" and source is not None:  # (the name taken is ASCII letters and digits)
+        names = {n.id for n in ast.walk(ast.parse(source)) if isinstance(n, ast.Name)}
+        assert all(n.isascii() and n.replace("_", "").isalnum() for n in names)
 
 
 @_SETTINGS
