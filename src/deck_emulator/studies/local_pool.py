@@ -112,7 +112,10 @@ def _start_server() -> None:
     interpreter then installs no handler of its own); a started program's signal mask does
     not (Python's process start clears it), so the command ignores SIGINT for the moment of
     the server's fork and exec, the main thread holding it blocked meanwhile: a Ctrl-C then is
-    kept pending and taken by the command's own handler as soon as it is restored."""
+    kept pending and taken by the command's own handler as soon as it is restored -- unless
+    another thread of the command (a progress bar's monitor) takes it in those milliseconds,
+    where it is ignored: the one moment a Ctrl-C can be lost, against the tenths of a second
+    in which it printed the server's traceback."""
     import tempfile
     from multiprocessing import forkserver
 
