@@ -19,6 +19,7 @@ closed still ends with its status; a stream whose encoding cannot spell a charac
 from __future__ import annotations
 
 import argparse
+import atexit
 import codecs
 import os
 import re
@@ -32,7 +33,8 @@ import deck_emulator
 from deck_emulator import signals
 from deck_emulator.app import EXIT, NAMES, PROG, command_named
 from deck_emulator.app.options import PATH_OPTIONS
-from deck_emulator.errors import RunFailed, UsageError, out_of_memory, process_limits
+from deck_emulator.errors import (RunFailed, UsageError, address_space_mb, out_of_memory,
+                                   process_limits)
 
 EXIT_BAD_INPUT, EXIT_RUN_FAILED = EXIT["bad input"], EXIT["stopped"]  # the answers' table
 
@@ -237,6 +239,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             setattr(sys, name, stream)
 
 
+def _at_last_exit() -> None:
+    """At the process's exit, after multiprocessing's own exit handler (registered when it is
+    first imported, after this, so run before it): the command's own temporary folder removed
+    (files.own_temp_folder)."""
+    files = sys.modules.get("deck_emulator.files")
+    if files is not None:
+        files.remove_own_temp_folder()
+
+
+atexit.register(_at_last_exit)  # (when the command line is imported: before multiprocessing)
+
+
 def _main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(argv[0] if argv and argv[0] in {n.split()[0] for n in NAMES}
@@ -269,6 +283,10 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         _say("error: standard output is closed, and the answer goes there: "
              + ("give --out FILE, or open it" if "out" in given else "open it"))
         return EXIT_BAD_INPUT
+    if given.get("pages") and address_space_mb() is not None and not _linear_algebra_starts():
+        _say(f"error: {cmd.name}: --pages: numpy's linear algebra library could not take its "
+             f"memory: {out_of_memory()}")
+        return EXIT_BAD_INPUT
     given = {k: tuple(v) if isinstance(v, list) else v for k, v in given.items()}
     options = cmd.options(**given, command_line=shlex.join([PROG, *argv]) if argv else "")
     try:
@@ -277,7 +295,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
             answer = cmd.run(options)
         return _write(answer)
     except (DeckError, UsageError, OSError) as exc:  # (a library that cannot load: OSError)
-        _say(f"error: {(isinstance(exc, OSError) and out_of_memory(exc)) or exc}")
+        _say(f"error: {(_could_not_load(exc) and out_of_memory(exc)) or exc}")
         return EXIT_RUN_FAILED if isinstance(exc, RunFailed) else EXIT_BAD_INPUT
     except ImportError as exc:  # an optional part of the install is missing: which to add
         from deck_emulator.extras import missing_extra
@@ -290,6 +308,51 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     except MemoryError:  # an address-space limit (ulimit -v) the work or a library hit
         _say(f"error: {cmd.name}: {out_of_memory()}")
         return EXIT_BAD_INPUT
+
+
+def _linear_algebra_starts() -> bool:
+    """Whether numpy and its BLAS can start under this process's address-space limit, asked
+    before any output is begun: OpenBLAS that cannot take its buffers ends the process with
+    exit(1), past every handler (a ``.part`` file left, its own message).  Tried first in a
+    forked child; when it starts there, it is started here too (its buffers taken now, so
+    that what runs out later is Python's memory: a MemoryError, said in one line)."""
+    def start():
+        import numpy
+
+        a = numpy.ones((4, 4))
+        return a @ a
+
+    pid = os.fork()
+    if pid == 0:  # (the child: only this, then out, with no cleanup of the parent's)
+        code = 1
+        try:
+            quiet = os.open(os.devnull, os.O_WRONLY)  # (OpenBLAS's own message: not said)
+            os.dup2(quiet, 1)
+            os.dup2(quiet, 2)
+            start()
+            code = 0
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        return False
+    try:
+        start()
+    except (ImportError, MemoryError):
+        return False
+    return True
+
+
+def _could_not_load(exc: BaseException) -> bool:
+    """Whether an OSError is memory that could not be had or a library that could not load
+    (ENOMEM; no errno: the dynamic loader's "failed to map segment"), which a memory limit
+    may explain; not an input or output error (a full disk, a closed pipe, a missing file)."""
+    import errno
+
+    from deck_emulator.files import OutputError
+
+    return (isinstance(exc, OSError) and not isinstance(exc, OutputError)
+            and exc.errno in (None, errno.ENOMEM))
 
 
 def _write(answer) -> int:
@@ -305,11 +368,18 @@ def _write(answer) -> int:
         elif _closed(sys.stdout):
             _say(f"standard output is closed: the text for it was not written (the files in "
                  f"{answer.out or 'the --out folder'} were)")
-        elif isinstance(printed, bytes):
-            sys.stdout.buffer.write(printed)
-            sys.stdout.flush()
         else:
-            sys.stdout.write(printed)
+            try:
+                if isinstance(printed, bytes):
+                    sys.stdout.buffer.write(printed)
+                else:
+                    sys.stdout.write(printed)
+                sys.stdout.flush()
+            except OSError as exc:  # (a full disk, a closed pipe: said as what it is)
+                from deck_emulator.files import OutputError
+
+                raise OutputError("standard output", exc.strerror or str(exc),
+                                  exc.errno) from None
     if answer.error:
         _say(f"error: {answer.error}")
     return answer.exit_status

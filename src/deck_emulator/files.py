@@ -210,6 +210,56 @@ def _remove_stale(folder: Path) -> None:
                 p.unlink()
 
 
+_OWN_TEMP: list[str] = []  # this process's own temporary folder, once made
+_SOCKET_PATH = 108  # the longest path of a Unix socket, bytes, with its NUL (Linux's sun_path)
+
+
+def own_temp_folder() -> str:
+    """A folder of this command's own for the temporary files of the libraries it runs
+    (multiprocessing's ``pymp-*`` with the forkserver's socket): ``<temp>/deck_emulator-<uid>/
+    <pid>``, removed when the command exits (:func:`remove_own_temp_folder`, called by the
+    command line after every other exit handler) and, after a SIGKILL, by the next command
+    that makes one (the folders of processes that no longer run).  When ``deck_emulator-<uid>``
+    is not a real folder of the user's that no one else may write, the system's temporary
+    folder itself (as before)."""
+    if _OWN_TEMP:
+        return _OWN_TEMP[0]
+    base = os.path.join(tempfile.gettempdir(), f"deck_emulator-{os.getuid()}")
+    try:
+        with contextlib.suppress(FileExistsError):
+            os.mkdir(base, 0o700)
+        st = os.lstat(base)
+        if (not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid()
+                or st.st_mode & 0o022):
+            return tempfile.gettempdir()
+        for name in os.listdir(base):  # (left by a command killed with SIGKILL)
+            if name.isdigit() and not _alive(int(name)):
+                with contextlib.suppress(OSError):
+                    shutil.rmtree(os.path.join(base, name))
+        mine = os.path.join(base, str(os.getpid()))
+        if len(os.fsencode(mine)) + len("/pymp-12345678/listener-12345678") >= _SOCKET_PATH:
+            return tempfile.gettempdir()  # (a socket's path in it would be too long)
+        with contextlib.suppress(FileExistsError):
+            os.mkdir(mine, 0o700)
+    except OSError:
+        return tempfile.gettempdir()
+    _OWN_TEMP.append(mine)
+    return mine
+
+
+def remove_own_temp_folder() -> None:
+    """Remove this process's own temporary folder (:func:`own_temp_folder`), if made."""
+    while _OWN_TEMP:
+        mine = _OWN_TEMP.pop()
+        with contextlib.suppress(OSError):
+            for name in os.listdir(mine):
+                if not name.startswith("pymp-"):  # (multiprocessing's: its own exit removes it)
+                    shutil.rmtree(os.path.join(mine, name), ignore_errors=True)
+        with contextlib.suppress(OSError):  # (left, with a pymp-* still in it, to the next)
+            os.rmdir(mine)
+            os.rmdir(os.path.dirname(mine))  # (the user's folder too, when no other holds it)
+
+
 def _temp_prefix(name: str) -> str:
     """The hidden name of a temporary beside ``name``: the name cut to leave room for the
     pid, mkstemp's 8 characters and the suffix within a file name's 255 bytes (a legal name

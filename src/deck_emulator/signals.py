@@ -30,10 +30,11 @@ command that returns while a signal is pending ends with that signal's status al
 
 from __future__ import annotations
 
+import contextlib
 import signal
 import sys
 
-__all__ = ["Terminated", "install_signal_handlers", "exit_status", "run",
+__all__ = ["Terminated", "held", "install_signal_handlers", "exit_status", "run",
            "EXIT_SIGINT", "EXIT_SIGTERM", "REDELIVER_S"]
 
 EXIT_SIGINT = 128 + signal.SIGINT  # 130
@@ -116,6 +117,39 @@ def _unraisable(hook):
 
     unraisable.deck_emulator = True
     return unraisable
+
+
+@contextlib.contextmanager
+def held():
+    """``with signals.held():`` a SIGINT, SIGTERM or SIGHUP that comes meanwhile is noted and
+    raised only as the block ends, not inside it: for a library's compiled code (Cython's)
+    that catches an exception raised in it and prints its traceback itself, past
+    ``sys.unraisablehook`` (scipy while SALib builds a Sobol' sample).  Nothing changes in a
+    thread other than the main one, or when the handlers are not this module's."""
+    noted: list[int] = []
+
+    def note(signum, frame):
+        if signum not in noted:
+            noted.append(signum)
+
+    swapped = {}
+    try:
+        for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None),
+                    signal.SIGALRM):
+            if sig is not None and signal.getsignal(sig) in (_raise, _redeliver):
+                swapped[sig] = signal.signal(sig, note)
+    except ValueError:  # not the main thread
+        pass
+    try:
+        yield
+    finally:
+        for sig, handler in swapped.items():
+            signal.signal(sig, handler)
+        for sig in noted:
+            if sig == signal.SIGALRM:
+                _redeliver(sig, None)  # (a signal pending from before: raised again)
+            else:
+                _raise(sig, None)
 
 
 def install_signal_handlers() -> None:

@@ -22,15 +22,16 @@ ROOT = Path(__file__).resolve().parents[2]
 #: parsers and what they import (the answers and the quantity registry: dataclasses,
 #: inspect), json (for --json only), typing; shutil (argparse's way to the terminal's width,
 #: and the writer's, which a run whose program's made code is already kept never needs), the
-#: IBM 7094's arithmetic and fractions.  Then the FORTRAN front end's parser and code maker
-#: and hashlib: the listing's made code is kept in the user's cache folder, named by a CRC-32
-#: and checked against the cards whole, and a later run only loads it.  pathlib (with the
-#: urllib.parse and ipaddress it imports, about 3 ms): the run's path names files by os.path.
+#: IBM 7094's arithmetic and fractions.  Then the FORTRAN front end's parser and code maker:
+#: the listing's made code is kept in the user's cache folder, named by the SHA-256 of what
+#: made it (hashlib, which a plain run now loads for it) and checked against the cards whole,
+#: and a later run only loads it.  pathlib (with the urllib.parse and ipaddress it imports,
+#: about 3 ms): the run's path names files by os.path.
 NOT_IMPORTED = ("scipy", "matplotlib", "pandas", "dask", "distributed", "fortranformat",
                 "importlib.metadata", "importlib.resources", "traceback",
                 "deck_emulator.present", "deck_emulator.engine.quantities",
                 "deck_emulator.studies", "json", "typing", "shutil",
-                "deck_emulator.legacy.arithmetic.ibm7094", "fractions", "hashlib",
+                "deck_emulator.legacy.arithmetic.ibm7094", "fractions",
                 "deck_emulator.legacy.fortran.parse", "deck_emulator.legacy.fortran.make",
                 "pathlib")
 

@@ -104,6 +104,44 @@ def _end_with(parent) -> None:
     os._exit(1)
 
 
+def _start_server() -> None:
+    """Start the forkserver (once a process) with SIGINT ignored from its first instruction:
+    a Ctrl-C at a terminal reaches the whole process group, and one that came while the
+    server's interpreter started, before its preload ignores SIGINT, printed its
+    ``KeyboardInterrupt`` traceback.  An ignored signal stays ignored across exec (the
+    interpreter then installs no handler of its own); a started program's signal mask does
+    not (Python's process start clears it), so the command ignores SIGINT for the moment of
+    the server's fork and exec, the main thread holding it blocked meanwhile: a Ctrl-C then is
+    kept pending and taken by the command's own handler as soon as it is restored -- unless
+    another thread of the command (a progress bar's monitor) takes it in those milliseconds,
+    where it is ignored: the one moment a Ctrl-C can be lost, against the tenths of a second
+    in which it printed the server's traceback."""
+    import tempfile
+    from multiprocessing import forkserver
+
+    from deck_emulator.files import own_temp_folder
+
+    # multiprocessing's temporary folder (pymp-*, made once a process, the server's socket
+    # in it) in the command's own, which a SIGKILL does not leave behind for ever
+    # (files.own_temp_folder); tempfile's default is the system's again after it
+    default, tempfile.tempdir = tempfile.tempdir, own_temp_folder()
+    try:
+        if threading.current_thread() is not threading.main_thread():
+            forkserver.ensure_running()
+            return
+        blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                forkserver.ensure_running()
+            finally:
+                signal.signal(signal.SIGINT, handler)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+    finally:
+        tempfile.tempdir = default
+
+
 class _Worker:
     def __init__(self, process, conn):
         self.process, self.conn = process, conn
@@ -136,6 +174,7 @@ class WorkerPool:
 
     def _start(self) -> _Worker:
         """A new worker (OSError, or the server's own error, when none can start)."""
+        _start_server()
         mine, theirs = self.context.Pipe()
         context = (dict(os.environ), list(sys.path), os.getcwd())
         process = self.context.Process(target=_serve, args=(theirs, context), daemon=True,

@@ -209,11 +209,14 @@ def sample(problem: dict, n: int, *, seed: int = 0) -> np.ndarray:
     """Saltelli's scheme on a scrambled Sobol' sequence, no second-order terms:
     ``n * (D + 2)`` rows. The first ``m * (D + 2)`` rows are the sample of size ``m`` for any
     power of two ``m <= n`` (same seed): convergence is read off one run."""
-    from SALib.sample import sobol as sobol_sample
+    from deck_emulator import signals
 
     if n < 2 or n & (n - 1):
         raise ValueError(f"N must be a power of two >= 2, got {n}")
-    return sobol_sample.sample(problem, n, calc_second_order=False, seed=seed)
+    with signals.held():  # (a Ctrl-C inside scipy's compiled code: its traceback, not ours)
+        from SALib.sample import sobol as sobol_sample
+
+        return sobol_sample.sample(problem, n, calc_second_order=False, seed=seed)
 
 
 def tasks_for(problem: dict, X: np.ndarray, base_task: dict, *, digits: bool = True) -> list[dict]:

@@ -23,6 +23,9 @@ LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1
 #: the job decks' made programs kept in the user's cache folder at most (legacy/fortran: the
 #: least recently used go)
 PROGRAM_CACHE_ENTRIES = 64
+#: the largest kept made program read back, bytes (the listing's is about 130 kB): a larger
+#: file in an entry's place is not read, and the code is made again
+PROGRAM_CACHE_MAX_BYTES = 16 << 20
 
 
 

@@ -15,11 +15,12 @@ from deck_emulator.vocabulary.events import EventKind
 from .parse import INTRINSICS, Unit, _nodes, assigned, changed, common_blocks, kind_of
 
 
-def made_lines(units: dict[str, Unit], header: str, *, native: bool, checking: bool,
+def made_lines(units: dict[str, Unit], made_from: tuple, *, native: bool, checking: bool,
                watch: dict | None, literals: dict, step_scale_k: int) -> list:
     """The made source's lines of a program's ``units``: (text, (unit, label, variable) or
-    None), ``header`` first (see :meth:`.run.Program.made_lines`)."""
-    lines: list = [(header, None)]
+    None), the header first: what it was made from (``made_from``: texts and numbers, the
+    program's name among them, see :meth:`.run.Program.made_lines`) as one literal."""
+    lines: list = [(_HEADER, None), (f"_MADE_FROM = {_literal(made_from)}", None)]
     consts: set[str] = set()
     steps: set[str] = set()
     for unit in units.values():
@@ -37,15 +38,44 @@ def made_lines(units: dict[str, Unit], header: str, *, native: bool, checking: b
     half = "".join("/_K('2.')" for _ in range(step_scale_k))
     head += [(f"s_{_const_name(c)} = {_const_name(c)}{half}  # one step / "
               f"2**{step_scale_k}", None) for c in sorted(steps)]
-    lines[1:1] = head
+    lines[2:2] = head
     formats = {name: u.formats for name, u in units.items()}
     lines.append((f"_FORMATS = {formats!r}", None))  # the units' FORMATs
     lines.append((f"_WATCHED = {bool(watch)}", None))  # (run.watched)
     return lines
 
 
+#: The made code's first line. Text from outside (the program's name or path, its cards,
+#: its names, Hollerith texts and FORMATs, an option's constant) enters the made code only as
+#: a literal made by repr (:func:`_literal`), as a name of ASCII letters and digits, or in a
+#: comment as printable ASCII (:func:`_comment`): none can end a line or a literal.
+_HEADER = ("# the Python of deck_emulator.legacy.fortran: _MADE_FROM is (the program, its "
+           "cards' SHA-256, the front end's SHA-256, the way of running)")
+
+
+def _literal(value) -> str:
+    """``value`` (texts, numbers, tuples of them) as a Python literal (repr: its texts'
+    line ends, quotes and backslashes escaped)."""
+    if not isinstance(value, (str, int, tuple)) or isinstance(value, bool) or (
+            isinstance(value, tuple) and not all(isinstance(v, (str, int)) for v in value)):
+        raise TypeError(f"not a literal of texts and numbers: {type(value).__name__}")
+    return repr(value)
+
+
+def _comment(text: str) -> str:
+    """A card's text as shown in a comment beside its statement: as punched when it is
+    printable ASCII (which cannot end the comment), else its ascii() literal."""
+    text = str(text)
+    return text if all(" " <= ch <= "~" for ch in text) else ascii(text)
+
+
 def _const_name(text: str) -> str:
-    return "k_" + text.replace(".", "p").replace("-", "m").replace("+", "")
+    """The made code's name of a REAL constant's text: k_0p0004 for 0.0004 (m for -, + left
+    out); a text of other characters than ASCII digits, letters, . + and - (an option's
+    constant, a digit of another script) by its UTF-8 bytes in hex: k_x3..."""
+    if text.isascii() and all(ch.isalnum() or ch in ".+-" for ch in text):
+        return "k_" + text.replace(".", "p").replace("-", "m").replace("+", "")
+    return "k_x" + text.encode("utf-8", "surrogatepass").hex()
 
 
 _PY_OPS = {"+": "+", "-": "-", "*": "*", "/": "/"}
@@ -134,7 +164,7 @@ class _Gen:
                     self.steps.add(value)
                     return "s_" + _const_name(value)
                 if how == "int":
-                    return value
+                    return str(int(value))
                 self.consts.add(value)
                 return _const_name(value)
             if e[2] == "I":
@@ -292,8 +322,8 @@ class _Gen:
         ints = [n for n in names if kind_of(n) == "I"]
         arrays = [a for a in u.arrays if a not in u.commons]
         self.emit(f"def make_{u.name}(_G):")
-        self.emit(f"    # {u.kind + ' ' + u.name if u.name != 'MAIN' else 'MAIN'}: its "
-                  "variables, zero at load and kept between calls")
+        self.emit(f"    # {_comment(u.kind + ' ' + u.name if u.name != 'MAIN' else 'MAIN')}: "
+                  "its variables, zero at load and kept between calls")
         for group, zero in ((reals, "_Z"), (ints, "0")):
             for i in range(0, len(group), 8):
                 self.emit(f"    {' = '.join(group[i:i + 8])} = {zero}")
@@ -363,7 +393,7 @@ class _Gen:
     def block(self, key, label, stmts, nxt):
         self.label = label
         self.emit("    def _block():  # "
-                  f"{'label ' + str(key) if isinstance(key, int) else key or 'entry'}")
+                  f"{_comment('label ' + str(key) if isinstance(key, int) else key or 'entry')}")
         names = assigned(stmts, self.units) | {do.args[1] for s in stmts if s.label is not None
                                                for do in self.ends.get(s.label, ())}
         local = set(self.names)
@@ -398,13 +428,14 @@ class _Gen:
                 self.forget(before)
             before = s
             self.text = s.text
-            self.statement(s, "        ", f"  # {str(s.label) + ' ' if s.label else ''}{s.text}")
+            self.statement(s, "        ",
+                           f"  # {_comment((str(s.label) + ' ' if s.label else '') + s.text)}")
             self.ended = self.ended or s.kind in _JUMPS
             for do in self.ends.get(s.label, ()) if s.label is not None else ():
                 n, var, _m1, m2, m3 = do.args
                 where = self.where(label, var)
                 self.emit(f"        {self.ref(var)} = {self.ref(var)}+{self.expr(m3)}  "
-                          f"# DO {n} {var}: the next", where)
+                          f"# {_comment(f'DO {n} {var}')}: the next", where)
                 if self.known:  # (a SIN or COS of the DO variable is computed again after)
                     self.known = {k: v for k, v in self.known.items() if var not in v[1]}
                 self.emit(f"        if {self.ref(var)} <= {self.expr(m2)}:", where)

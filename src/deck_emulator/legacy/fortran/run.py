@@ -9,9 +9,9 @@ table with the statements each holds (the run's statement budget, ``Limits.state
 block one list, by place); a DO's test ends its range's last statement. The program's
 statements stay one a line, with their cards' text beside them (:meth:`Program.python` prints
 it), so the source reads side by side with the cards. A program keeps its made code in the
-user's cache folder, named by the CRC-32 of its cards and the way of running, and checked
-against them whole (:meth:`Program._cache_file`): the listing, as a job
-deck's own program, is parsed and made once a machine.
+user's cache folder, named by the SHA-256 of its cards and the way of running, and checked
+against them whole (:mod:`.cache`): the listing, as a job deck's own program, is parsed and
+made once a machine.
 
 Arithmetic: the number type's ``+ - * /`` and unary ``-``, ``abs()``, the arithmetic's
 ``decimal`` for every REAL constant and card field, its ``sin``, ``cos`` and ``sign``; ``X**2``
@@ -32,16 +32,15 @@ start checking every assignment, so the message names the statement (as the emul
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import math
 import os
-import zlib
 
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
 from deck_emulator.legacy.printer import Printer, event_for
-from deck_emulator.vocabulary.defaults import PROGRAM_CACHE_ENTRIES, user_cache_folder
+
+from . import cache
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -83,70 +82,24 @@ OPTION_LITERALS = {
 }
 
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
+
+
 @functools.cache
-def _front_end_crc() -> int:
-    """CRC-32 of this front end's text (every module of it): kept code names it."""
+def _front_end_sha256() -> str:
+    """SHA-256 of this front end's text (every module of it): kept code names it."""
+    import hashlib
+
     here = os.path.dirname(__file__)
-    return zlib.crc32(b"".join(_read(os.path.join(here, name))
-                               for name in sorted(os.listdir(here)) if name.endswith(".py")))
-
-
-def _read(path) -> bytes:
-    with open(path, "rb") as fh:
-        return fh.read()
+    digest = hashlib.sha256()
+    for name in sorted(os.listdir(here)):
+        if name.endswith(".py"):
+            with open(os.path.join(here, name), "rb") as fh:
+                digest.update(fh.read())
+    return digest.hexdigest()
 
 
 #: The ways of running a program: (binary64, checked per assignment).
 _MODES = ((True, False), (False, False), (False, True), (True, True))
-_CACHE_MAGIC = b"deck_emulator fortran code "
-
-
-def _cache_folder() -> str:
-    """Where a program's made code is kept: the package's user cache folder's fortran/ (named
-    with os.path: pathlib would cost a plain run about 3 ms of its start)."""
-    return os.path.join(user_cache_folder(), "fortran")
-
-
-def _kept(path: str, identity: bytes):
-    """The code kept in ``path`` if its first line's CRC-32 is that of the rest and the entry
-    was made for ``identity`` (what it was made from, compared whole), else None (a garbled or
-    cut file is removed and made again)."""
-    import marshal
-
-    try:
-        data = _read(path)
-    except OSError:
-        return None
-    head, _, rest = data.partition(b"\n")
-    if head != _CACHE_MAGIC + b"%08x" % zlib.crc32(rest):
-        with contextlib.suppress(OSError):
-            os.unlink(path)
-        return None
-    size, _, rest = rest.partition(b"\n")
-    if not size.isdigit() or rest[:int(size)] != identity:
-        return None  # another program's entry under the same name: made again, over it
-    with contextlib.suppress(OSError):
-        os.utime(path)  # (recently used)
-    return marshal.loads(rest[int(size):])
-
-
-def _keep(path: str, identity: bytes, code) -> None:
-    """Keep ``code``, made from ``identity``, in ``path`` (written whole or not at all:
-    files.write_file); the oldest entries beyond PROGRAM_CACHE_ENTRIES go. A cache that cannot
-    be written is left alone: the code is made again next time."""
-    import marshal
-
-    from deck_emulator.files import write_file
-
-    rest = b"%d\n" % len(identity) + identity + marshal.dumps(code)
-    folder = os.path.dirname(path)
-    with contextlib.suppress(OSError):
-        os.makedirs(folder, exist_ok=True)
-        write_file(path, _CACHE_MAGIC + b"%08x" % zlib.crc32(rest) + b"\n" + rest)
-        entries = sorted((os.path.join(folder, n) for n in os.listdir(folder)
-                          if n.endswith(".code")), key=os.path.getmtime)
-        for old in entries[:-PROGRAM_CACHE_ENTRIES]:
-            os.unlink(old)
 
 
 class _NonFinite(ArithmeticError):
@@ -258,10 +211,6 @@ class Program:
             self._cards_text = list(self._cards_text())
         return self._cards_text
 
-    def _cards_crc(self) -> int:
-        """CRC-32 of the cards' text, one line each."""
-        return zlib.crc32("".join(line + "\n" for line in self.lines).encode())
-
     @property
     def units(self) -> dict:
         if self._units is None:
@@ -275,12 +224,13 @@ class Program:
 
     @functools.cached_property
     def sha256(self) -> str:
-        """Of the program's cards: their text, one line each, as read (what the notes and the
-        provenance name the program by; its kept code is named without it, so that a plain
-        run loads no hashlib)."""
+        """Of the program's cards: their text, one line each, as read (what the notes, the
+        provenance and the made code's header name the program by; a lone surrogate, as
+        UTF-8 would write it)."""
         import hashlib
 
-        return hashlib.sha256("".join(line + "\n" for line in self.lines).encode()).hexdigest()
+        text = "".join(line + "\n" for line in self.lines)
+        return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
 
     @property
     def keeps_trace(self) -> bool:
@@ -309,40 +259,35 @@ class Program:
                 lines = self.made_lines(native, checking)
                 code = compile("\n".join(t for t, _ in lines) + "\n", _FILE, "exec")
                 if self.cache:
-                    _keep(self._cache_file(key), self._identity(key), code)
+                    cache.keep(self._identity(key), code)
             self._made[key] = code
         return self._made[key], self._lines.get(key)
 
     def _identity(self, key) -> bytes:
         """What the made code of a way of running is made from: the cards, this front end's
-        CRC-32, the watch, the way and Python's bytecode tag (a kept entry is checked against
-        it whole; made once a way: the entry's name and its check both read it)."""
+        SHA-256, the watch, the way and Python's bytecode tag (a kept entry is named by its
+        SHA-256 and checked against it whole: legacy/fortran/cache.py; made once a way)."""
         if key not in self._identities:
             import sys
 
-            self._identities[key] = repr((self.lines, _front_end_crc(), self.watch, key,
+            self._identities[key] = repr((self.lines, _front_end_sha256(), self.watch, key,
                                           sys.implementation.cache_tag)).encode()
         return self._identities[key]
 
-    def _cache_file(self, key) -> str:
-        """Where the made code of a way of running is kept: named by the CRC-32 of what it is
-        made from (:meth:`_identity`; a name two programs share is told apart by it)."""
-        return os.path.join(_cache_folder(), f"{zlib.crc32(self._identity(key)):08x}.code")
-
     def _cached(self, key):
-        """The kept code of a way of running (checked by its CRC-32 and identity), or None."""
+        """The kept code of a way of running (checked: legacy/fortran/cache.py), or None."""
         if key not in self._made:
-            code = _kept(self._cache_file(key), self._identity(key))
+            code = cache.kept(self._identity(key))
             if code is None:
                 return None
             self._made[key] = code
         return self._made[key]
 
-    def _header(self, native: bool, checking: bool) -> str:
+    def _made_from(self, native: bool, checking: bool) -> tuple:
+        """What the made code's header names (as one literal: make.made_lines)."""
         how = ("binary64, checked per block" if native and not checking else
                "checked per assignment" if checking else "an arithmetic that traps")
-        return (f"# {self.name} (its cards' CRC-32 {self._cards_crc()}): the Python of "
-                f"deck_emulator.legacy.fortran (its CRC-32 {_front_end_crc()}), {how}")
+        return (str(self.name), self.sha256, _front_end_sha256(), how)
 
     def made_lines(self, native: bool, checking: bool) -> list:
         """The generated source's lines: (text, (unit, label, variable) or None)."""
@@ -350,7 +295,7 @@ class Program:
         if key not in self._lines:
             from .make import made_lines
 
-            self._lines[key] = made_lines(self.units, self._header(native, checking),
+            self._lines[key] = made_lines(self.units, self._made_from(native, checking),
                                           native=native, checking=checking,
                                           watch=watched(self.watch, self.units),
                                           literals=self.literals, step_scale_k=self.step_scale_k)
