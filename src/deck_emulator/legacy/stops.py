@@ -86,6 +86,7 @@ class Limits:
     ed_iterations: int = defaults.ED_ITERATIONS  # per call of ED
     halvings: int = defaults.HALVINGS  # consecutive halvings at label 108, no step accepted
     time_s: float = defaults.EMULATOR_T_MAX_S  # simulated time (the report needs about 1 s)
+    statements: int = defaults.PROGRAM_STATEMENTS
 
 
 @dataclass

@@ -38,8 +38,7 @@ import zlib
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, halving_error, time_error, trace_row)
 from deck_emulator.legacy.printer import Printer, event_for
-from deck_emulator.vocabulary.defaults import (PROGRAM_BLOCKS, PROGRAM_CACHE_ENTRIES,
-                                               user_cache_folder)
+from deck_emulator.vocabulary.defaults import PROGRAM_CACHE_ENTRIES, user_cache_folder
 
 #: The listing's runaway guards, by its labels in MAIN: a step starts at 125 (contact) or 57
 #: (free flight), which starts at 42; 108 halves the step (``Limits.halvings`` in a row at most) and 41 accepts one; time (Q in contact, T in
@@ -356,7 +355,7 @@ class Runner:
             self.record = _nothing
         self.label = "START"
         self.units: dict = {}
-        self.program_blocks = PROGRAM_BLOCKS
+        self.program_blocks = limits.statements
 
     # what the generated code calls -----------------------------------------------------------
     def read(self, fmt: int):
