@@ -20,6 +20,7 @@ EXTRA_OF_MODULE = {
     "dask": "studies",
     "distributed": "studies",
     "SALib": "studies",
+    "threadpoolctl": "studies",
 }
 
 #: what each extra is for, in the words of the message
