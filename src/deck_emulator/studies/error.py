@@ -548,9 +548,11 @@ def _plot(rows, summary, path: Path, title: str = "") -> None:
         err = [r["err_traj_ft"] for r in ok]
         spread = np.array([wall - [r["wall_min_s"] for r in ok],
                            [r["wall_max_s"] for r in ok] - wall])
-        ax.errorbar(wall, err, xerr=spread, ls=ls, lw=1.4, elinewidth=0.8, capsize=2,
-                    label=series + (" (points labelled by rtol = atol)"
-                                    if series == "core DOP853" else ""), **style)
+        ax.errorbar(wall, err, xerr=spread, fmt="none", ecolor=style["color"], elinewidth=0.8,
+                    capsize=2)
+        ax.plot(wall, err, ls=ls, lw=1.4, label=series + (" (points labelled by rtol = atol)"
+                                                          if series == "core DOP853" else ""),
+                **style)
         work = [r["steps"] if r["engine"] == "emulator" else r["nfev"] for r in ok]
         wx.loglog(work, err, ls=ls, lw=1.4, label=series, **style)
         for r, w in zip(ok, work):
