@@ -482,7 +482,7 @@ _STYLE = {
     "core DOP853": dict(color="#1f77b4", marker="^"),
     "core RK45": dict(color="#2ca02c", marker="v"),
     "core Radau": dict(color="#17becf", marker="P"),
-    COMPILED: dict(color="#000000", marker="x", markersize=8),
+    COMPILED: dict(color="#000000", marker="X", markersize=8),
 }
 
 
