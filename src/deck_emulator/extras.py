@@ -22,6 +22,7 @@ EXTRA_OF_MODULE = {
     "distributed": "studies",
     "SALib": "studies",
     "pypdf": "pdf",
+    "threadpoolctl": "studies",
 }
 
 #: what each extra is for, in the words of the message

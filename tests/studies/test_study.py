@@ -12,7 +12,7 @@ import pytest
 from matplotlib.colors import to_rgba
 
 from deck_emulator.studies.error import COLUMNS as ERROR_COLUMNS
-from deck_emulator.studies.stability import COLUMNS as STABILITY_COLUMNS
+from deck_emulator.studies.stability import COLUMNS as STABILITY_COLUMNS, STIFF_SPRING
 from pictures import (
     Mapper,
     axes_box,
@@ -219,7 +219,8 @@ def test_work_precision_picture_shows_the_csv(error_run):
         (line,) = [ln for ln in ax.lines if ln.get_label().startswith(series)]
         xy = np.array([[_num(r["wall_s"]), _num(r["err_traj_ft"])] for r in hits(series)])
         np.testing.assert_allclose(line.get_xydata(), xy, rtol=1e-11)  # the CSV: 12 digits
-        checked += _check_markers(img, mapper, ax, line, xy, renderer)
+        hollow = line.get_markerfacecolor() == "none"  # a series without the step bound
+        checked += _check_markers(img, mapper, ax, line, xy, renderer, hollow=hollow)
     assert checked > 0
     emulator = [s for s in every
                 if any(r["engine"] == "emulator" and r["precision"] == "double"
@@ -249,7 +250,7 @@ def test_stability_study_files(stability_dir):
     scenes = {r["scene"] for r in rows}
     assert {"base", "speed-5", "speed-120", "angle-90", "tha-0.0", "abc-equal",
             "friction-large", "thb-1.5"} <= scenes
-    assert any(s.startswith("stiff-") for s in scenes)
+    assert any(s.startswith("spring-") for s in scenes)
     known = {"agrees", "same hit, off", "other hit", "no hit", "crash", "n/a", "hit (core failed)"}
     for r in rows:
         assert r["emulator_class"] in known or r["emulator_class"].startswith("guard: "), r
@@ -257,7 +258,7 @@ def test_stability_study_files(stability_dir):
     base = next(r for r in rows if r["scene"] == "base")
     assert base["emulator_class"] == "agrees"
     # a stiff spring at a large step: the emulator's launch energy is far off
-    stiff = [r for r in rows if r["group"] == "stiff"]
+    stiff = [r for r in rows if r["group"] == STIFF_SPRING]
     worst = max(stiff, key=lambda r: _num(r["h_omega"]))
     assert _num(worst["launch_ke_rel_diff"]) > 0.1
     # friction is not a deck input: core only
@@ -296,7 +297,7 @@ def test_stability_map_shows_the_csv(stability_run):
     fig, img, mapper, renderer = _picture(stability_run, "stability_map.png")
     ax, bx = fig.axes[:2]
     _, rows = _rows(stability_run[0] / "stability_study.csv")
-    stiff = [r for r in rows if r["group"] == "stiff"]
+    stiff = [r for r in rows if r["group"] == STIFF_SPRING]
     assert len(stiff) >= 4
     key = _legend_colours(ax)
     covers = _covers(mapper, ax, renderer)
@@ -341,7 +342,7 @@ def test_extreme_scenes_picture_shows_the_csv(stability_run):
     fig, img, mapper, renderer = _picture(stability_run, "extreme_scenes.png")
     ax = fig.axes[0]
     _, rows = _rows(stability_run[0] / "stability_study.csv")
-    ext = [r for r in rows if r["group"] != "stiff"]
+    ext = [r for r in rows if r["group"] != STIFF_SPRING]
     assert len(ext) >= 5
     key = _legend_colours(ax)
     covers = _covers(mapper, ax, renderer)

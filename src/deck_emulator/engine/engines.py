@@ -314,7 +314,9 @@ class CoreEngine:
     """The modern core. ``preset``: ``legacy`` (the listing's quirks) or ``physical``;
     ``options``: a :class:`~deck_emulator.vocabulary.scene.ModelOptions` instead of a preset;
     ``method`` (``auto``: DOP853, Radau for a stiff contact), ``rtol``, ``atol``: solve_ivp's;
-    ``t_max_s``: simulated time at most, ``max_wall_s``: wall time at most, of one run or of a
+    ``t_max_s``: simulated time at most, ``max_step_s``: the solver's largest step (the core's
+    bound, so that no event function changes sign twice in one step; ``math.inf``: none),
+    ``max_wall_s``: wall time at most, of one run or of a
     whole :meth:`run_batch` (None: the row ``MAX_WALL_S``, read as the run starts:
     :attr:`wall_bound_s`; every default: :mod:`deck_emulator.vocabulary.defaults`, the same
     for every door);
@@ -336,6 +338,7 @@ class CoreEngine:
     atol: float = defaults.CORE_ATOL
     t_max_s: float = defaults.T_MAX_S
     max_wall_s: float | None = None
+    max_step_s: float = defaults.MAX_STEP_S
     sample_contact_s: float = defaults.SAMPLE_CONTACT_S
     sample_free_s: float = defaults.SAMPLE_FREE_S
     trace: bool = True
@@ -372,7 +375,7 @@ class CoreEngine:
         return joint_ground_hit(
             simulate(self.scene(source), self.model_options(), method=self.method,
                      rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s,
-                     max_wall_s=self.wall_bound_s))
+                     max_step_s=self.max_step_s, max_wall_s=self.wall_bound_s))
 
     @property
     def wall_bound_s(self) -> float:
@@ -405,7 +408,8 @@ class CoreEngine:
         state = state_vector(post, car_position_ft, car_velocity_ft_s)
         return self._run(scene, name, lambda: free_flight(
             scene, state, t0_s, self.model_options(), method=self.method,
-            rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s, max_wall_s=self.wall_bound_s))
+            rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s, max_step_s=self.max_step_s,
+            max_wall_s=self.wall_bound_s))
 
     def run_batch(self, sources, *, names=None) -> list[Outcome]:
         """``[self.run(s, name=n) for s, n in zip(sources, names)]``, the scenes solved
@@ -464,7 +468,7 @@ class CoreEngine:
             try:
                 got = list(solver(scenes, self.model_options(), rtol=self.rtol,
                                   atol=self.atol, t_max_s=self.t_max_s,
-                                  max_wall_s=self.wall_bound_s))
+                                  max_step_s=self.max_step_s, max_wall_s=self.wall_bound_s))
             except errors as exc:  # said in every outcome of the batch (note)
                 got, why = None, f"{type(exc).__name__}: {exc}"
             else:

@@ -303,8 +303,12 @@ def format_diff(d: dict) -> str:
         lines.append(f"note: the emulator ({', '.join(d['row_errata']) or 'no errata'}) cannot run "
                      f"this deck from k = {d['stopped_from_k']} on (the rows say why); the orders "
                      "below use the rows that ran")
-    for key, label in (("hit_time_diff_s", "hit time"), ("terminal_points_diff_ft", "terminal points"),
+    from deck_emulator.studies.orders import QUANTISED, order_fit
+
+    ran = [r for r in d["convergence"] if not r.get("stopped")]
+    lines.append(f"order (hit time): none: {QUANTISED}")
+    for key, label in (("terminal_points_diff_ft", "terminal points"),
                        ("max_trajectory_diff_ft", "trajectory")):
-        ords = d["observed_order"][key]
-        lines.append(f"observed order ({label}): " + (", ".join(f"{o:.2f}" for o in ords) or "n/a"))
+        fit = order_fit([r["h_s"] for r in ran], [r[key] for r in ran])
+        lines.append(f"observed order ({label}): {fit.text()}")
     return "\n".join(lines) + "\n"

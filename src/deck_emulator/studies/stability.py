@@ -1,4 +1,7 @@
-"""Stability study: the emulator and the core on stiff and extreme scenes derived from steel40.
+"""Stability study: the emulator and the core on stiff springs and extreme scenes derived from
+steel40, and the stability of both stated from the scheme and the model (:func:`scheme_growth`:
+the 1967 scheme's one-step matrix on a spring; :func:`contact_spectrum`: the eigenvalues of the
+core's contact Jacobian).
 
 Every scene is run by the emulator (double precision, erratum ``ed-direction``, the guards of
 :data:`LIMITS`) and by the core (``legacy`` preset with the start-up kick and the 20-step
@@ -66,6 +69,10 @@ CORE_RTOL = defaults.STUDY_RTOL
 CORE_T_MAX_S = defaults.STUDY_T_MAX_S
 AGREE_HIT_S = defaults.STABILITY_AGREE_HIT_S
 AGREE_KE = defaults.STABILITY_AGREE_KE
+#: the group of the scenes whose crush springs are made stiffer: "stiff spring", not "stiff" --
+#: their contact's fast mode is the answer itself, resolved by any method that gets it right
+#: (the page's "Stability from the scheme and the model")
+STIFF_SPRING = "stiff spring"
 
 COLUMNS = [
     "scene", "group", "description", "CK_lb_ft", "k", "H_s", "h_omega", "speed_mph", "alpha_deg",
@@ -100,7 +107,7 @@ def scenes(base: dict, quick: bool) -> list[dict]:
         for k in ks:
             h = H0 / 2**k
             out.append(_scene(
-                f"stiff-{ck:.2g}-k{k}", "stiff", f"CK = CT = {ck:.3g} lb/ft, H = {h:.3g} s",
+                f"spring-{ck:.2g}-k{k}", STIFF_SPRING, f"CK = CT = {ck:.3g} lb/ft, H = {h:.3g} s",
                 {"CK": ck, "CT": ck}, k=k, ed=tight_ed_tolerance(k), CK_lb_ft=ck, H_s=h,
                 h_omega=h * math.sqrt(ck / base["W"])))
     out.append(_scene("base", "extreme", "steel40 as it is (40 mph, alpha 0, delta 0.1463)"))
@@ -297,7 +304,8 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
         wall = time.perf_counter() - started
         cmd = command or (f"deck-emulator study stability --out {out_dir}"
                           + (" --quick" if quick else "") + f" --jobs {jobs}")
-        files.write("README.md", _report(rows, summary, shown, cmd, jobs, wall, quick))
+        files.write("README.md", _report(rows, summary, shown, cmd, jobs, wall, quick,
+                                         deck_path))
     summary["wall_s"] = wall
     return summary
 
@@ -309,7 +317,7 @@ CLEAN = ("agrees", "same hit, off", "other hit")
 
 
 def _stiff(rows):
-    return [r for r in rows if r["group"] == "stiff"]
+    return [r for r in rows if r["group"] == STIFF_SPRING]
 
 
 def _finite(x) -> bool:
@@ -491,7 +499,7 @@ def _time_of(error: str) -> str:
 
 def _plot_extremes(rows, path: Path) -> None:
     plt = agg_backend()
-    ext = [r for r in rows if r["group"] != "stiff"]
+    ext = [r for r in rows if r["group"] != STIFF_SPRING]
     n = len(ext)
     height = 0.36 * n + 1.9
     fig, ax = plt.subplots(figsize=(13, height))
@@ -527,10 +535,10 @@ def _plot_extremes(rows, path: Path) -> None:
 # --------------------------------------------------------------------------- the report
 
 
-def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
+def _report(rows, summary, deck_path, cmd, jobs, wall, quick, deck_file=None) -> str:
     m = machine()
     lines = [
-        "# Stability study: stiff and extreme scenes",
+        "# Stability study: stiff springs and extreme scenes",
         "",
         f"Command: `{cmd}`",
         "",
@@ -540,7 +548,7 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
         "precision with the erratum `ed-direction` and the guards "
         f"`Limits(ed_iterations={LIMITS.ed_iterations}, halvings={LIMITS.halvings}, "
         f"time_s={LIMITS.time_s:g})`; the extreme scenes as printed (k = 0, ED's tolerance "
-        ".0001), the stiff grid with its step literals divided by 2**k and ED's tolerance "
+        ".0001), the stiff-spring grid with its step literals divided by 2**k and ED's tolerance "
         "tightened with the step (1e-6 rad / 4**k: with the printed one the scheme stops "
         "converging as H shrinks, see the error study, which would hide the stiffness). The core "
         "runs the `legacy` preset with the emulator's start-up step (`StartupKick(step_s=H)`, the "
@@ -563,6 +571,7 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick) -> str:
         "",
     ]
     lines += [f"* {s}" for s in failure_modes(rows, summary)]
+    lines += [""] + stability_section(rows, deck_file or deck_path)
     lines += ["", "## What else happens", ""]
     lines += [f"* {s}" for s in other_findings(rows)]
     lines += ["", "## Outcomes", "",
@@ -612,9 +621,9 @@ def failure_modes(rows, summary) -> list[str]:
     if s and s["first_ke10"]:
         r = by[s["first_ke10"]]
         out.append(
-            "**Energy gain in a stiff contact.** The explicit scheme (Euler velocities, trapezoid "
+            "**Energy gain on a stiff spring.** The explicit scheme (Euler velocities, trapezoid "
             "displacements; per step an amplification \u221a(1 + (h\u03c9)\u00b2/2) on an undamped "
-            "spring) launches the post with more kinetic energy than the core: about "
+            "spring: see *Stability from the scheme and the model*) launches the post with more kinetic energy than the core: about "
             f"{s['ke_per_h_omega']:.2f} h\u03c9 (relative; slope {s['slope']:.2f} in log-log below "
             f"h\u03c9 = 1), more than {100 * AGREE_KE:.0f} % from h\u03c9 = "
             f"{s['first_ke10_h_omega']:.2g} on (`{r['scene']}`: "
@@ -622,7 +631,7 @@ def failure_modes(rows, summary) -> list[str]:
     if s and s["first_differs"]:
         r = by[s["first_differs"]]
         out.append(
-            "**A clean end with a wrong answer.** On the stiff grid the emulator "
+            "**A clean end with a wrong answer.** On the stiff-spring grid the emulator "
             + ("never trips a guard" if not s["failed"] else f"trips {', '.join(s['failed'])} only "
                "in places")
             + f"; it ends with another hit than the core's from h\u03c9 = "
@@ -639,11 +648,13 @@ def failure_modes(rows, summary) -> list[str]:
         out.append(
             f"**No divergence, even at h\u03c9 = {s['max_h_omega']:.3g}** (`{top['scene']}`: "
             f"{_cell_text(top, 'emulator')}, launch energy "
-            f"{100 * top.get('launch_ke_rel_diff', math.nan):+.0f} %). The contact lasts about "
-            "\u03c0/\u03c9, only a step or two once h\u03c9 > 1, and label 108 halves the step "
-            "whenever the post runs 0.01 ft ahead of the car, so the scheme's growth (eigenvalues "
-            "real and one above 1 past h\u03c9 = 4 on a spring) acts for too few steps to "
-            "overflow: the classical limit h\u03c9 \u2248 2 shows as a wrong launch energy"
+            f"{100 * top.get('launch_ke_rel_diff', math.nan):+.0f} %). The stiffest springs' "
+            "contact lasts under a millisecond (its length in *Stability from the scheme and "
+            "the model*), a few steps of H, and label 108 halves the step "
+            "whenever the post runs 0.01 ft ahead of the car, so the scheme's growth (a factor "
+            "\u221a(1 + (h\u03c9)\u00b2/2) per step at every h, real eigenvalues past h\u03c9 = 4: "
+            "the scheme has no stability interval, see below) acts for too few steps to "
+            "overflow: it shows as a wrong launch energy"
             + (f" ({100 * min(hi):+.0f} to {100 * max(hi):+.0f} % beyond h\u03c9 = 1)" if hi else "")
             + f", not as a blow-up. Figure: {MAP}.")
     for r in rows:
@@ -704,7 +715,7 @@ def failure_modes(rows, summary) -> list[str]:
             f"({r['description']}): `{r['core_warnings']}` -- "
             + ("DOP853 rejected the steps whose error estimate was not finite and every one of "
                "these runs still ended with a hit." if ended else "see the CSV.")
-            + f" Figure: {MAP if r['group'] == 'stiff' else EXT}.")
+            + f" Figure: {MAP if r['group'] == STIFF_SPRING else EXT}.")
     fric = [r for r in rows if r["group"] == "base friction"]
     base = by.get("base")
     for r in fric:
@@ -731,7 +742,7 @@ def failure_modes(rows, summary) -> list[str]:
             "label 123 sets THA, PHIA and PSIA at the first step, so a post cannot start "
             f"tilted; the core turns the post by THB ({_cell_text(r, 'core')}). Figure: {EXT}.")
     for r in rows:
-        if r["group"] in ("stiff", "theta near 90 deg") or r["emulator_class"] != "other hit":
+        if r["group"] in (STIFF_SPRING, "theta near 90 deg") or r["emulator_class"] != "other hit":
             continue
         out.append(
             f"**Different answer** (`{r['scene']}`, {r['description']}): emulator "
@@ -756,7 +767,7 @@ def other_findings(rows) -> list[str]:
     out = []
     groups = {}
     for r in rows:
-        if r["group"] != "stiff":
+        if r["group"] != STIFF_SPRING:
             groups.setdefault(r["group"], []).append(r)
     for group, rs in groups.items():
         ok = [r for r in rs if r["emulator_class"] == "agrees"]
@@ -765,7 +776,7 @@ def other_findings(rows) -> list[str]:
                        + " end as the core does (same hit within "
                        f"{AGREE_HIT_S:g} s, launch energy within {100 * AGREE_KE:.0f} %).")
     for r in rows:
-        if r["group"] not in ("stiff", "theta near 90 deg") and r["emulator_class"] == "same hit, off":
+        if r["group"] not in (STIFF_SPRING, "theta near 90 deg") and r["emulator_class"] == "same hit, off":
             out.append(
                 f"`{r['scene']}` ({r['description']}): the same hit, "
                 f"{abs(r['hit_time_diff_s']):.3f} s {'later' if r['hit_time_diff_s'] > 0 else 'earlier'} "
@@ -783,3 +794,164 @@ def other_findings(rows) -> list[str]:
             "0.0545) make the next THA nonzero before anything divides by sin \u03b8; "
             f"{_cell_text(tha0, 'emulator')}.")
     return out
+
+
+# --------------------------------------------------------------------------- the scheme and the model
+
+
+def one_step_matrix(h_omega: float, omega: float = 1.0) -> np.ndarray:
+    """The 1967 scheme on an undamped spring x'' = -omega**2 x, one step h: the velocity by
+    explicit Euler (v1 = v0 - h omega**2 x0), the displacement by the trapezoid of the two
+    velocities (x1 = x0 + h (v0 + v1) / 2): ``(x1, v1) = M (x0, v0)``."""
+    h = h_omega / omega
+    return np.array([[1.0 - h_omega**2 / 2.0, h], [-h * omega**2, 1.0]])
+
+
+def scheme_growth(h_omega: float) -> dict:
+    """The one-step matrix's eigenvalues, their largest modulus, its determinant (the area, and
+    for h omega < 4 the squared modulus of both eigenvalues: the spring's energy grows by it each
+    step on average), and the growth of that energy over a half period pi/omega (the contact of
+    an undamped spring from touch to release)."""
+    m = one_step_matrix(h_omega)
+    lam = np.linalg.eigvals(m)
+    top = float(np.max(np.abs(lam)))
+    steps = math.pi / h_omega
+    return {"h_omega": h_omega, "eigenvalues": lam, "modulus": top, "det": float(np.linalg.det(m)),
+            "energy_per_step": top**2, "energy_half_period": top ** (2 * steps)}
+
+
+#: a car of almost no mass: the scene whose fast mode the core's stiffness estimate is made for
+TINY_CAR_SLUG = 1e-6
+#: the h omega of the scheme's table (the grid's stiff-spring scenes reach about 10)
+SCHEME_H_OMEGA = (0.01, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0)
+
+
+def contact_spectrum(scene, options) -> dict:
+    """The contact Jacobian's eigenvalues (:func:`deck_emulator.engine.spectrum.contact_spectrum`)
+    summed up: ``fast`` the largest modulus, ``slow`` the largest of the others outside the fast
+    pair (the motion the spring does not drive), ``contact_s`` the contact's length when under
+    a millisecond."""
+    from deck_emulator.engine.spectrum import contact_spectrum as spectrum
+
+    got = spectrum(scene, options, rtol=CORE_RTOL)
+    mod = got["moduli"]
+    fast = float(mod[0])
+    slow = float(next((x for x in mod if x < 0.5 * fast), 0.0))
+    return {"fast": fast, "slow": slow, "contact_s": got["contact_s"]}
+
+
+def stability_section(rows, deck_path) -> list[str]:
+    """The page's section on stability from the scheme and the model: the one-step matrix's
+    eigenvalues, the contact Jacobian's for each spring of the grid, the core's own stiffness
+    estimate beside them."""
+    from deck_emulator.engine.spectrum import stiff_ratio, stiffness_estimate
+
+    STIFF_RATIO = stiff_ratio()
+    base = read_deck(deck_path)
+    w = base.values["W"]
+    out = [
+        "## Stability from the scheme and the model",
+        "",
+        "**The 1967 scheme has no stability interval.** On an undamped spring x'' = -\u03c9\u00b2x "
+        "its step (velocity by explicit Euler, displacement by the trapezoid of the two "
+        "velocities) is (x, v) -> M (x, v) with M = [[1 - (h\u03c9)\u00b2/2, h], [-h\u03c9\u00b2, 1]] "
+        "(`one_step_matrix`), whose determinant is 1 + (h\u03c9)\u00b2/2 > 1 at every h > 0. "
+        "For h\u03c9 < 4 its eigenvalues are a complex pair of modulus \u221a(1 + (h\u03c9)\u00b2/2): "
+        "the spring's energy grows by 1 + (h\u03c9)\u00b2/2 each step, however small the step; "
+        "past h\u03c9 = 4 they are real and one grows faster still. h\u03c9 = 2 is the limit of "
+        "leapfrog (St\u00f6rmer-Verlet), whose matrix has determinant 1; it is not this "
+        "scheme's. Computed (`scheme_growth`, numpy's eigenvalues):",
+        "",
+        md_table(["h\u03c9", "eigenvalues of M", "largest |\u03bb|", "det M",
+                  "1 + (h\u03c9)\u00b2/2", "energy growth per step", "over a half period \u03c0/\u03c9"],
+                 [[f"{g['h_omega']:g}", ", ".join(f"{z.real:.4g}{z.imag:+.4g}i"
+                                                   for z in g["eigenvalues"]),
+                   f"{g['modulus']:.6g}", f"{g['det']:.6g}", f"{1 + g['h_omega']**2 / 2:.6g}",
+                   f"{g['energy_per_step']:.6g}", f"{g['energy_half_period']:.4g}"]
+                  for g in map(scheme_growth, SCHEME_H_OMEGA)]),
+        "",
+        "What it means for the runs: the scheme's error on a spring is a steady energy gain, "
+        "about \u03c0h\u03c9/2 over a half period \u03c0/\u03c9 of the spring for small h\u03c9 "
+        "(the last column, less 1), not a threshold past which it diverges.",
+        "",
+        "**The model's contact eigenvalues.** The core's contact right-hand side, linearised on a "
+        "state of the contact (`contact_spectrum`: its Jacobian by central differences, the "
+        "spring at S), for each spring of the grid; \u03c9 = \u221a(CK/W) is the grid's "
+        "h\u03c9 axis; *slow* the largest eigenvalue outside the spring's pair; the contact "
+        "in periods of the fast mode; the core's own estimate `stiffness()` and its threshold "
+        f"{STIFF_RATIO:g} above which `method=\"auto\"` would integrate the contact with Radau:",
+        "",
+    ]
+    table, ratios, periods_seen = [], [], []
+    for ck in sorted({r["CK_lb_ft"] for r in _stiff(rows)}):
+        scene = Scene.from_deck(base.with_values(CK=ck, CT=ck))
+        spec = contact_spectrum(scene, matched_options(H0))
+        omega = math.sqrt(ck / w)
+        estimate, est_fast, _ = stiffness_estimate(scene, matched_options(H0))
+        ratios.append((spec["fast"] / omega, estimate, est_fast / omega))
+        periods = (spec["contact_s"] * spec["fast"] / (2 * math.pi)
+                   if spec["contact_s"] is not None else math.nan)
+        if math.isfinite(periods):
+            periods_seen.append(periods)
+        table.append([f"{ck:.3g}", f"{omega:.4g}", f"{spec['fast']:.4g}",
+                      f"{spec['fast'] / omega:.3f}", f"{spec['slow']:.3g}",
+                      f"{spec['fast'] / spec['slow']:.3g}" if spec["slow"] else "–",
+                      fmt(spec["contact_s"], ".3g"), fmt(periods, ".2g"), f"{estimate:.3f}"])
+    out += [md_table(["CK = CT (lb/ft)", "\u03c9 (rad/s)", "fast |\u03bb| (1/s)", "fast / \u03c9",
+                      "slow |\u03bb| (1/s)", "spread fast / slow", "contact (s, to 1 ms)",
+                      "contact in fast periods", "core's stiffness()"], table), ""]
+    if ratios:
+        lo, hi = min(r for r, _, _ in ratios), max(r for r, _, _ in ratios)
+        est = sorted({round(e, 3) for _, e, _ in ratios})
+        reduced = sorted({round(f, 3) for _, _, f in ratios})
+        fast_periods = (f"{min(periods_seen):.2g} to {max(periods_seen):.2g}" if periods_seen
+                        else "a few")
+        out += [
+            f"The fast eigenvalue is {lo:.3f}"
+            + (f" to {hi:.3f}" if hi - lo > 5e-4 else "")
+            + " \u03c9 at every spring: the grid's h\u03c9 understates the scheme's h|\u03bb| "
+            "by that factor (the core's own estimate of the fast mode, the spring on the post's "
+            "translation and its turning about the mass centre with the car in series, "
+            "\u221a(K (1/m + r\u00b2/I + 1/WV)), gives " + ", ".join(f"{f:.3f}" for f in reduced)
+            + " \u03c9). The spread grows as \u221aCK, but the contact of the stiffest "
+            f"springs lasts only {fast_periods} periods of that fast mode: the fast mode is the contact "
+            "force itself, which any method must resolve to get the answer, so an explicit "
+            "method's step is set by accuracy there, not by a stability bound. These scenes are "
+            "stiff springs, not a stiff problem in the numerical analyst's sense, and an "
+            "implicit method buys nothing on them. The core's own estimate `stiffness()` is "
+            + ", ".join(f"{e:.3f}" for e in est)
+            + " for every spring: it is the ratio of two spring frequencies that both grow as "
+            "\u221aCK, so it depends on the masses alone and never reaches its threshold "
+            f"{STIFF_RATIO:g} on a stiffer spring: `method=\"auto\"` never switches to Radau "
+            "on any scene of this grid, rightly, since none of them is stiff. It does where a "
+            "mass makes a fast mode that the answer does not need resolved (a car of "
+            f"{TINY_CAR_SLUG:g} slug on steel40's springs: `stiffness()` = "
+            f"{stiffness_estimate(Scene.from_deck(base.with_values(WV=TINY_CAR_SLUG)), matched_options(H0))[0]:.3g}).",
+            "",
+        ]
+        out += _explicit_against_implicit(base, max(r["CK_lb_ft"] for r in _stiff(rows)))
+    return out
+
+
+def _explicit_against_implicit(base, ck: float) -> list[str]:
+    """DOP853 against Radau on the stiffest spring of the grid, the whole run at the study's
+    tolerance: what each costs and how far apart their answers are."""
+    scene = Scene.from_deck(base.with_values(CK=ck, CT=ck))
+    runs = {}
+    for method in ("DOP853", "Radau"):
+        out = run_core(scene, matched_options(H0), method=method, rtol=CORE_RTOL,
+                       t_max_s=CORE_T_MAX_S)
+        if out["result"] is None:
+            return [f"On CK = CT = {ck:.3g} lb/ft, {method} at rtol {CORE_RTOL:g} failed: "
+                    f"{out['error']}", ""]
+        runs[method] = (out["result"], out["wall_s"])
+    (d, td), (r, tr) = runs["DOP853"], runs["Radau"]
+    same = d.hit_message is not None and d.hit_message == r.hit_message
+    return [
+        f"On the stiffest spring, CK = CT = {ck:.3g} lb/ft, the whole run at rtol {CORE_RTOL:g}: "
+        f"DOP853 {d.evaluations} right-hand-side evaluations ({td:.2g} s), Radau "
+        f"{r.evaluations} plus its Jacobians and LU factorisations ({tr:.2g} s); "
+        + (f"the same hit, {abs(d.hit_time_s - r.hit_time_s):.2g} s apart."
+           if same else f"different ends: DOP853 {d.hit_message}, Radau {r.hit_message}."),
+        "",
+    ]

@@ -72,7 +72,9 @@ EMULATOR_T_MAX_S = 5.0
 #: which a caller may set. Measured in binary64: the listing on the shipped decks runs 311,083
 #: (steel20) to 317,630 (steel40), 202,000 to 204,000 where ED's guard stops the a15 and a30
 #: decks, 390,668 at most with the erratum ed-direction; a post flying the 5 s of
-#: EMULATOR_T_MAX_S (steel40 punched with HEIGHT = 5000) 1,911,496: 2.6 times that fits
+#: EMULATOR_T_MAX_S (steel40 punched with HEIGHT = 5000) 1,911,496: 2.6 times that fits;
+#: a run that takes more steps on purpose (the error study's H/2**k) passes its own budget,
+#: scaled with its steps
 PROGRAM_STATEMENTS = 5_000_000
 #: what a program of the front end's dialect may hold, refused beyond in one line naming the
 #: card, its columns and the statement kind (none of them is reached by the listing):
@@ -181,8 +183,15 @@ STABILITY_AGREE_HIT_S = 0.01
 STABILITY_AGREE_KE = 0.10
 #: the error study's grid: the points in time the trajectories are compared on
 ERROR_GRID_POINTS = 2001
-#: the error study times a run once when it lasts longer than this, s (three times otherwise)
-ERROR_LONG_RUN_S = 10.0
+#: the error study's timing: every run (emulator, scipy core, compiled core) once untimed (its
+#: answer, and the process warmed up), then this many times, each the wall time of the whole
+#: engine call; a point's time is their median, shown with their least and largest
+ERROR_TIMED_REPS = 5
+#: the BLAS threads every run of the error study runs with (threadpoolctl, in each run): Radau's
+#: LU factorisations round differently with 1 and 2 OpenBLAS threads (measured on steel40:
+#: rtol 1e-10 gives 1.26e-9 ft with 1 thread, 1.45e-10 ft with 2), and the default count is the
+#: machine's cores; 1 is the same on every machine
+STUDY_BLAS_THREADS = 1
 
 # ------------------------------------------------------------------- the studies' bounds
 
