@@ -7,7 +7,8 @@ Outcomes (:data:`OUTCOMES`):
 * ``oracle-rejected`` -- the checked build refused it or stopped it (a compile error, a runtime
   check of ``-fcheck=all``, an INTEGER overflow of ``-ftrapv``, a REAL read before it was set
   (``-finit-real=snan`` with the trap on invalid operations), a DO that would run no times
-  (a guard put before each DO in this build only), a trap, a hang);
+  (a guard put before each DO in this build only), a trap, a hang), or its printout changed
+  when built again with INTEGERs starting at another value (one read before it was set);
 * ``agree`` -- the front end ended normally and printed the oracle build's bytes;
 * ``differ`` -- it printed something else, stopped (exit 3) where the oracle ended, or did not
   end within the time limit;
@@ -32,6 +33,9 @@ OUTCOMES = ("agree", "differ", "refused", "traceback", "oracle-rejected")
 #: and REALs that start as signalling NaNs (a read before a write traps) and INTEGERs at the
 #: largest value (a read before a write overflows or leaves the bounds)
 CHECK_FLAGS = ["-fcheck=all", "-ftrapv", "-finit-real=snan", "-finit-integer=2147483647"]
+#: ... built again with INTEGERs starting at another value: a printout that changes reads an
+#: INTEGER before it is set
+CHECK_AGAIN = ["-fcheck=all", "-ftrapv", "-finit-real=snan", "-finit-integer=-7"]
 #: the status a zero-trip guard stops the checked build with
 ZERO_TRIP_STATUS = 77
 RUN_TIMEOUT_S = 5.0
@@ -131,6 +135,10 @@ def checked(tmp: Path, lines: list[str], data: list[str]) -> str:
         at = f" at line {where.group(1)}: {guarded(lines)[int(where.group(1)) - 1].strip()}" \
             if where else ""
         return f"run: {first.strip()} {more}{at}"
+    again, error = _build(tmp, guarded(lines), "checked-again", CHECK_AGAIN)
+    out2, _err, status2 = _run(again, data) if again is not None else ("", "", -1)
+    if status2 != 0 or out2 != out:
+        return "an INTEGER read before it is set (the printout depends on its start value)"
     return ""
 
 
@@ -205,23 +213,33 @@ def first_difference(ours: str, theirs: str) -> str:
 
 
 def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
-          ibm7094: bool = True, env_path: str | None = None, road: str = "job") -> Verdict:
-    """The verdict on one program (see the module docstring)."""
-    why = checked(tmp, lines, data)
-    if why:
-        return Verdict("oracle-rejected", why)
+          ibm7094: bool = True, env_path: str | None = None, road: str = "job",
+          fail_first: str | None = None) -> Verdict | None:
+    """The verdict on one program (see the module docstring).  ``fail_first`` (the
+    shrinker's): the outcome sought -- the front end runs first, and a program whose outcome
+    is another gives None without the checked build's cost."""
+    if fail_first is None:
+        why = checked(tmp, lines, data)
+        if why:
+            return Verdict("oracle-rejected", why)
     theirs, why = oracle_run(tmp, lines, data)
-    if why:  # (the checked build ended: the oracle build must too)
-        return Verdict("oracle-rejected", f"oracle build: {why}")
+    if why:
+        return None if fail_first else Verdict("oracle-rejected", f"oracle build: {why}")
     ending, ours, why = front_end(tmp, job, env_path=env_path, road=road)
     v = Verdict("agree", oracle_text=theirs, ours_text=ours)
     if ending == "normal":
         if ours != theirs:
             v.outcome, v.why = "differ", first_difference(ours, theirs)
     elif ending in ("stopped", "hang"):
-        v.outcome, v.why = "differ", f"the front end {'stopped' if ending == 'stopped' else 'did not end'}: {why}"
+        v.outcome, v.why = "differ", (f"the front end {'stopped' if ending == 'stopped' else 'did not end'}: {why}")
     else:
         v.outcome, v.why = ending, why
+    if fail_first is not None:
+        if v.outcome != fail_first:
+            return None
+        why = checked(tmp, lines, data)
+        if why:
+            return Verdict("oracle-rejected", why)
     if ibm7094 and v.outcome in ("agree", "differ"):
         from .tolerance import compare_within
 
