@@ -134,7 +134,7 @@ def checked(tmp: Path, lines: list[str], data: list[str]) -> str:
                      if line.startswith(("Fortran runtime error", "Error termination"))), "")
         at = f" at line {where.group(1)}: {guarded(lines)[int(where.group(1)) - 1].strip()}" \
             if where else ""
-        return f"run: {first.strip()} {more}{at}"
+        return f"run: {first.strip()} {more}{at}".replace(f"{tmp}{os.sep}", "")
     again, error = _build(tmp, guarded(lines), "checked-again", CHECK_AGAIN)
     out2, _err, status2 = _run(again, data) if again is not None else ("", "", -1)
     if status2 != 0 or out2 != out:
@@ -162,8 +162,9 @@ ROADS = ("job", "program")
 
 def front_end(tmp: Path, job: list[str], precision: str = "double",
               timeout_s: float = FRONT_TIMEOUT_S, env_path: str | None = None,
-              road: str = "job"):
+              road: str = "job", in_process: bool = False):
     """The front end on the job deck, as a user runs it: (outcome, text printed, one line).
+    ``in_process``: in this process (the tests': no timeout, no interpreter started).
 
     outcome: 'normal' (exit 0), 'stopped' (exit 3), 'refused' (exit 2, one line),
     'traceback' (anything else), 'hang' (no end within ``timeout_s``)."""
@@ -172,6 +173,8 @@ def front_end(tmp: Path, job: list[str], precision: str = "double",
     out = tmp / f"out-{precision}.txt"
     if out.exists():
         out.unlink()
+    if in_process:
+        return _in_process(path, out, precision, road)
     env = dict(os.environ)
     if env_path is not None:
         env["PYTHONPATH"] = env_path
@@ -202,6 +205,39 @@ def front_end(tmp: Path, job: list[str], precision: str = "double",
     return "traceback", text, f"status {proc.returncode}: {last}"
 
 
+def _in_process(path: Path, out: Path, precision: str, road: str):
+    import contextlib
+    import io
+    import traceback
+
+    err = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(err):
+            if road == "job":
+                from deck_emulator.cli import main
+
+                status = main(["run", str(path), "--out", str(out), "--quiet", "--precision",
+                               precision])
+            else:
+                from .front import main
+
+                status = main([str(path), precision, str(out)])
+    except Exception:  # (a defect of the front end: the outcome 'traceback', its last line)
+        return "traceback", out.read_text() if out.exists() else "", \
+            traceback.format_exc().strip().splitlines()[-1]
+    text = out.read_text() if out.exists() else ""
+    lines = [line for line in err.getvalue().strip().splitlines()
+             if "the job deck's own FORTRAN runs" not in line]
+    last = lines[-1] if lines else ""
+    if status == 0:
+        return "normal", text, ""
+    if status == 3:
+        return "stopped", text, last
+    if status == 2 and len(lines) == 1:
+        return "refused", text, last
+    return "traceback", text, f"status {status}: {last}"
+
+
 def first_difference(ours: str, theirs: str) -> str:
     a, b = ours.splitlines(), theirs.splitlines()
     for i, (x, y) in enumerate(zip(a, b), start=1):
@@ -214,7 +250,7 @@ def first_difference(ours: str, theirs: str) -> str:
 
 def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
           ibm7094: bool = True, env_path: str | None = None, road: str = "job",
-          fail_first: str | None = None) -> Verdict | None:
+          fail_first: str | None = None, in_process: bool = False) -> Verdict | None:
     """The verdict on one program (see the module docstring).  ``fail_first`` (the
     shrinker's): the outcome sought -- the front end runs first, and a program whose outcome
     is another gives None without the checked build's cost."""
@@ -225,7 +261,8 @@ def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
     theirs, why = oracle_run(tmp, lines, data)
     if why:
         return None if fail_first else Verdict("oracle-rejected", f"oracle build: {why}")
-    ending, ours, why = front_end(tmp, job, env_path=env_path, road=road)
+    ending, ours, why = front_end(tmp, job, env_path=env_path, road=road,
+                                  in_process=in_process)
     v = Verdict("agree", oracle_text=theirs, ours_text=ours)
     if ending == "normal":
         if ours != theirs:
@@ -243,7 +280,8 @@ def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
     if ibm7094 and v.outcome in ("agree", "differ"):
         from .tolerance import compare_within
 
-        ending7, ours7, why7 = front_end(tmp, job, "ibm7094", env_path=env_path, road=road)
+        ending7, ours7, why7 = front_end(tmp, job, "ibm7094", env_path=env_path, road=road,
+                                         in_process=in_process)
         if ending7 == "normal":
             v.precisions["ibm7094"] = compare_within(ours7, theirs)
         else:
