@@ -268,7 +268,8 @@ def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
         if ours != theirs:
             v.outcome, v.why = "differ", first_difference(ours, theirs)
     elif ending in ("stopped", "hang"):
-        v.outcome, v.why = "differ", (f"the front end {'stopped' if ending == 'stopped' else 'did not end'}: {why}")
+        how = "stopped" if ending == "stopped" else "did not end"
+        v.outcome, v.why = "differ", f"the front end {how}: {why}"
     else:
         v.outcome, v.why = ending, why
     if fail_first is not None:

@@ -51,7 +51,7 @@ def compare_within(ours: str, theirs: str) -> tuple[str, str]:
             x, y = x.strip(), y.strip()
             if x == y:
                 continue
-            if x.startswith("*") or y.startswith("*") or x in ("-", ".", "-.") or y in ("-", ".", "-."):
+            if "*" in x + y or {x, y} & {"-", ".", "-."}:
                 return "beyond", f"record {n}: 7094 {x!r}, gfortran {y!r}"
             d = len(y.split(".")[1]) if "." in y else 0
             fx, fy = float(x if x not in ("", "-") else 0), float(y)
