@@ -88,6 +88,9 @@ FEATURES = {
     "element_and_index": True,  # CALL S(I, A(I)) where S assigns both
     "listing_labels": True,  # labels of the listing's own (97, 99, 106, 108, ...)
     "blank_noise": True,  # blanks inside keywords and names; comment cards; columns 73-80
+    # off by default (each seed keeps the program it made before this row): INTEGER
+    # FUNCTIONs and statement functions, and ABS of an INTEGER, inside INTEGER expressions
+    "int_calls": False,
 }
 _LISTING_LABELS = (41, 42, 57, 59, 82, 97, 99, 100, 106, 108, 110, 112, 125, 134, 237, 239,
                    242, 248, 300, 355, 400, 500)
@@ -371,6 +374,10 @@ class Unit:
 
     def _i(self, depth):
         r = self.g.rng
+        if self.g.f["int_calls"] and depth > 0 and r.random() < 0.2:
+            call = self._icall(depth)
+            if call:
+                return call
         if depth <= 0 or r.random() < 0.3:
             return self._ileaf()
         x = r.random()
@@ -390,6 +397,26 @@ class Unit:
             n = r.choice((0, 1, 2, 3) if self.g.f["zero_power"] else (1, 2, 3))
             return f"{self._paren(a, '**')}**{n}", (ab ** n if n else 1)
         return self._ileaf()
+
+    def _icall(self, depth):
+        """An INTEGER statement function's, FUNCTION's or ABS's value (FEATURES int_calls)."""
+        r = self.g.rng
+        sfuns = [x for x in self.sfuns if x[0] not in INTRINSICS and _t(x[0]) == "I"]
+        fns = [s for s in self.g.subs if s.kind == "FUNCTION" and _t(s.name) == "I"
+               and self.can_call(s)]
+        x = r.random()
+        if x < 0.35 and sfuns:
+            name, dummies, b = r.choice(sfuns)
+            args = [self.rexpr(depth - 1)[0] if _t(d) == "R" else self.iexpr(depth - 1)[0]
+                    for d in dummies]
+            return f"{name}({', '.join(args)})", b
+        if x < 0.7 and fns:
+            s = r.choice(fns)
+            return self.call_args(s, depth - 1, in_expr=True), s.bound
+        if "ABS" not in [n for n, _, _ in self.sfuns]:
+            a, ab = self._i(depth - 1)
+            return f"ABS({a})", ab
+        return None
 
     def lexpr(self, depth):
         r = self.g.rng
