@@ -480,6 +480,14 @@ class Unit:
             else:
                 e = self.rexpr(depth)[0] if t == "R" else self.iexpr(depth)[0]
                 args.append(e)
+        # a bare variable or element (passed by reference) to a dummy the callee does not
+        # assign may still change under it: through COMMON, or as another argument the
+        # callee assigns -- an expression then (gfortran passes a copy)
+        for k, (a, (d, dims)) in enumerate(zip(args, s.dummies)):
+            m = re.fullmatch(r"([A-Z][A-Z0-9]*)(\(.*\))?", a)
+            if (dims is None and d not in s.assigned and m and s.kind == "SUBROUTINE"
+                    and (m.group(1) in self.common_names or m.group(1) in used)):
+                args[k] = f"{a}*{'1.0' if _t(d) == 'R' else '1'}"
         return f"{s.name}({', '.join(args)})" if args or in_expr else s.name
 
     def can_call(self, s: Sub) -> bool:
