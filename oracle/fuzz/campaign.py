@@ -69,7 +69,8 @@ def run_campaign(seed: int, count: int, *, jobs: int = 1, features: dict | None 
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         for r in pool.map(one, tasks, chunksize=1):
             results.append(r)
-            if out is not None and r.outcome not in ("agree", "oracle-rejected"):
+            if out is not None and (r.outcome not in ("agree", "oracle-rejected")
+                                    or r.ibm7094[:1] not in ((), ("within",))):
                 write_reproducer(out, r)
             if bar is not None:
                 bar.update()
@@ -82,9 +83,10 @@ def run_campaign(seed: int, count: int, *, jobs: int = 1, features: dict | None 
 
 def write_reproducer(out: Path, r: Result) -> None:
     out.mkdir(parents=True, exist_ok=True)
-    stem = f"{r.outcome}-{r.seed}"
+    stem = f"{r.outcome if r.outcome != 'agree' else 'ibm7094'}-{r.seed}"
     (out / f"{stem}.job").write_text("".join(c + "\n" for c in r.job))
-    note = [f"outcome: {r.outcome}", f"why: {r.why}", f"class: {r.klass}", f"seed: {r.seed}"]
+    note = [f"outcome: {r.outcome}", f"why: {r.why}", f"class: {r.klass}", f"seed: {r.seed}",
+            f"ibm7094: {' '.join(r.ibm7094) if r.ibm7094 else 'not run'}"]
     if r.minimal:
         (out / f"{stem}.min.job").write_text("".join(c + "\n" for c in r.minimal))
         note.append(f"minimal: {stem}.min.job ({r.minimal_why})")

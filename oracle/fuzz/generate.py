@@ -88,6 +88,9 @@ FEATURES = {
     "element_and_index": True,  # CALL S(I, A(I)) where S assigns both
     "listing_labels": True,  # labels of the listing's own (97, 99, 106, 108, ...)
     "blank_noise": True,  # blanks inside keywords and names; comment cards; columns 73-80
+    # off by default (each seed keeps the program it made before this row): INTEGER
+    # FUNCTIONs and statement functions, and ABS of an INTEGER, inside INTEGER expressions
+    "int_calls": False,
 }
 _LISTING_LABELS = (41, 42, 57, 59, 82, 97, 99, 100, 106, 108, 110, 112, 125, 134, 237, 239,
                    242, 248, 300, 355, 400, 500)
@@ -102,7 +105,8 @@ def _check_tables():
     if missing:
         raise RuntimeError(f"the fuzzer draws no {sorted(missing)}: teach oracle/fuzz/generate.py")
     if set(EDIT_DESCRIPTORS) - {"Fw.d", "nX", "nHtext", "/"}:
-        raise RuntimeError(f"the fuzzer draws no {sorted(set(EDIT_DESCRIPTORS) - {'Fw.d', 'nX', 'nHtext', '/'})}")
+        extra = sorted(set(EDIT_DESCRIPTORS) - {"Fw.d", "nX", "nHtext", "/"})
+        raise RuntimeError(f"the fuzzer draws no {extra}")
     if set(INTRINSICS) - {"SIN", "COS", "ABS"}:
         raise RuntimeError(f"the fuzzer calls no {sorted(set(INTRINSICS) - {'SIN', 'COS', 'ABS'})}")
 
@@ -151,6 +155,7 @@ class Gen:
         self.blocks: list[Block] = []
         self.data_cards: list[str] = []
         self.reader_cards: list[str] = []  # the reader subroutine's cards
+        self.shared_label: int | None = None  # its FORMAT's label, MAIN's READ's too
         self.units: list[list[Card]] = []  # MAIN first
         self.unit_names: list[str] = []
 
@@ -181,12 +186,9 @@ class Gen:
             text = f"{v:.0f}."  # 5.
         elif style < 0.2 and v < 1:
             text = f"{v:.3f}".lstrip("0") or ".5"  # .25
-        elif style < 0.3:
-            m = v * 10
-            text = f"{m:.4g}E-1".replace("E-1", "E-1") if "e" not in f"{m:.4g}" else f"{v}"
-            if "." not in text.split("E")[0]:
-                text = text.replace("E", ".0E", 1)
-            v = float(text)
+        elif style < 0.3 and "e" not in f"{v * 10:.4g}":  # 24.5E-1
+            mantissa = f"{v * 10:.4g}"
+            text = (mantissa if "." in mantissa else mantissa + ".0") + "E-1"
         else:
             text = repr(float(v))
         return text, abs(float(text))
@@ -215,6 +217,8 @@ class Unit:
         self.do_vars: list[tuple[str, int, int]] = []  # open DOs: var, lo, hi
         self.steps = 0  # statements drawn (a bound on the size)
         self.calls_left = 3
+        self.blocks: list = []  # (Block, the unit's names of its places)
+        self.label_name: int | None = None  # n of a variable L<n> (FEATURES label_names)
 
     # labels ----------------------------------------------------------------------------------
     def label(self) -> int:
@@ -283,8 +287,9 @@ class Unit:
             b, bb = self._r(depth - 1, allow_calls)
             if op == "*" and ab * bb > REAL_BOUND:
                 b, bb = self.g.real_const(0.01, 2.0)
-            return (f"{a} {op} {self._paren(b, op)}" if op != "*" else
-                    f"{self._paren(a, '*')}*{self._paren(b, '*')}"), (ab * bb if op == "*" else ab + bb)
+            if op == "*":
+                return f"{self._paren(a, '*')}*{self._paren(b, '*')}", ab * bb
+            return f"{a} {op} {self._paren(b, op)}", ab + bb
         if x < 0.50:
             a, ab = self._r(depth - 1, allow_calls)
             if r.random() < 0.5:
@@ -297,7 +302,7 @@ class Unit:
             a, ab = self._r(depth - 1, allow_calls)
             if not f["const_fold"] and _constant_only(a):
                 a, ab = self._rvar_or(ab)
-            n = r.choice((0, 1, 2, 2, 3, 3, 4, 5, 6) if f["zero_power"] else (1, 2, 2, 3, 3, 4, 5, 6))
+            n = r.choice((0,) * f["zero_power"] + (1, 2, 2, 3, 3, 4, 5, 6))
             if n and ab ** n > REAL_BOUND:
                 a, ab = f"SIN({a})" if f["const_fold"] or not _constant_only(a) else "SIN(1.0)", 1.0
                 if not f["const_fold"] and _constant_only(a):
@@ -369,6 +374,10 @@ class Unit:
 
     def _i(self, depth):
         r = self.g.rng
+        if self.g.f["int_calls"] and depth > 0 and r.random() < 0.2:
+            call = self._icall(depth)
+            if call:
+                return call
         if depth <= 0 or r.random() < 0.3:
             return self._ileaf()
         x = r.random()
@@ -376,8 +385,9 @@ class Unit:
             op = r.choice("+-*")
             a, ab = self._i(depth - 1)
             b, bb = self._i(depth - 1)
-            return (f"{a} {op} {self._paren(b, op)}" if op != "*" else
-                    f"{self._paren(a, '*')}*{self._paren(b, '*')}"), (ab * bb if op == "*" else ab + bb)
+            if op == "*":
+                return f"{self._paren(a, '*')}*{self._paren(b, '*')}", ab * bb
+            return f"{a} {op} {self._paren(b, op)}", ab + bb
         if x < 0.65:
             a, ab = self._i(depth - 1)
             c = r.choice((2, 3, 4, 5, 7, -3))
@@ -387,6 +397,26 @@ class Unit:
             n = r.choice((0, 1, 2, 3) if self.g.f["zero_power"] else (1, 2, 3))
             return f"{self._paren(a, '**')}**{n}", (ab ** n if n else 1)
         return self._ileaf()
+
+    def _icall(self, depth):
+        """An INTEGER statement function's, FUNCTION's or ABS's value (FEATURES int_calls)."""
+        r = self.g.rng
+        sfuns = [x for x in self.sfuns if x[0] not in INTRINSICS and _t(x[0]) == "I"]
+        fns = [s for s in self.g.subs if s.kind == "FUNCTION" and _t(s.name) == "I"
+               and self.can_call(s)]
+        x = r.random()
+        if x < 0.35 and sfuns:
+            name, dummies, b = r.choice(sfuns)
+            args = [self.rexpr(depth - 1)[0] if _t(d) == "R" else self.iexpr(depth - 1)[0]
+                    for d in dummies]
+            return f"{name}({', '.join(args)})", b
+        if x < 0.7 and fns:
+            s = r.choice(fns)
+            return self.call_args(s, depth - 1, in_expr=True), s.bound
+        if "ABS" not in [n for n, _, _ in self.sfuns]:
+            a, ab = self._i(depth - 1)
+            return f"ABS({a})", ab
+        return None
 
     def lexpr(self, depth):
         r = self.g.rng
@@ -450,6 +480,14 @@ class Unit:
             else:
                 e = self.rexpr(depth)[0] if t == "R" else self.iexpr(depth)[0]
                 args.append(e)
+        # a bare variable or element (passed by reference) to a dummy the callee does not
+        # assign may still change under it: through COMMON, or as another argument the
+        # callee assigns -- an expression then (gfortran passes a copy)
+        for k, (a, (d, dims)) in enumerate(zip(args, s.dummies)):
+            m = re.fullmatch(r"([A-Z][A-Z0-9]*)(\(.*\))?", a)
+            if (dims is None and d not in s.assigned and m and s.kind == "SUBROUTINE"
+                    and (m.group(1) in self.common_names or m.group(1) in used)):
+                args[k] = f"{a}*{'1.0' if _t(d) == 'R' else '1'}"
         return f"{s.name}({', '.join(args)})" if args or in_expr else s.name
 
     def can_call(self, s: Sub) -> bool:
@@ -692,7 +730,9 @@ class Unit:
             self.protected.add(n)
             m2 = n
         term = self.label()
-        text = f"DO {term} {var} = {m1}, {m2}" + (f", {step}" if step != 1 or r.random() < 0.2 else "")
+        text = f"DO {term} {var} = {m1}, {m2}"
+        if step != 1 or r.random() < 0.2:
+            text += f", {step}"
         self.emit(text)
         was = var in self.protected
         self.protected.add(var)
@@ -820,12 +860,10 @@ def generate(seed: int, features: dict | None = None) -> FuzzProgram:
     if f["sub_reads"] and "SUBROUTINE" in kinds and r.random() < 0.4:
         reader = names[1 + kinds.index("SUBROUTINE")]
     made: dict[str, list[Card]] = {}
-    main_formats: list[int] = []
     for k in range(n_subs, 0, -1):
         made[names[k]] = _subprogram(g, names[k], kinds[k - 1], reader == names[k])
     made["MAIN"] = _main(g, reader)
     units = [(n, _render(g, made[n])) for n in names]
-    del main_formats
     return FuzzProgram(seed, units, g.data_cards, f)
 
 
@@ -847,9 +885,9 @@ def _declare(g: Gen, u: Unit, main: bool):
             else:
                 (u.reals if t == "R" else u.ints).append(n)
         u.emit(f"COMMON {'/' + b.name + '/ ' if b.name else ''}{', '.join(names)}")
-        if b.name and r.random() < 0.2:
-            pass
-        u.__dict__.setdefault("blocks", []).append((b, names))
+        if b.name:
+            r.random()  # (a draw kept so that each seed makes the program it made before)
+        u.blocks.append((b, names))
     for _ in range(r.randint(0, 2)):
         t = r.choice("RRI")
         n = g.name(t)
@@ -871,7 +909,7 @@ def _locals(g: Gen, u: Unit):
             g.used_names.add(n)
             u.ints.append(n)
             u.labels.add(int(n[1:]))  # (its label is drawn later, by name)
-            u.__dict__["label_name"] = int(n[1:])
+            u.label_name = int(n[1:])
 
 
 def _init(u: Unit, names, arrays):
@@ -921,8 +959,10 @@ def _sfuns(g: Gen, u: Unit):
             else:
                 dummies.append(g.name(r.choice("RRI")))
         saved = (u.reals, u.ints)
-        u.reals = [d for d in dummies if _t(d) == "R"] + [v for v in saved[0] if v not in dummies][:2]
-        u.ints = [d for d in dummies if _t(d) == "I"] + [v for v in saved[1] if v not in dummies][:1]
+        u.reals = ([d for d in dummies if _t(d) == "R"]
+                   + [v for v in saved[0] if v not in dummies][:2])
+        u.ints = ([d for d in dummies if _t(d) == "I"]
+                  + [v for v in saved[1] if v not in dummies][:1])
         arrays, u.arrays = u.arrays, {}
         if _t(name) == "R":
             body, b = u.rexpr(2, allow_calls=True)
@@ -944,7 +984,9 @@ def _subprogram(g: Gen, name: str, kind: str, reads: bool) -> list[Card]:
         dims = r.choice(_SHAPES) if r.random() < 0.25 else None
         dummies.append((d, dims))
     sub = Sub(name, kind, dummies, reads=reads)
-    head = f"{kind} {name}" + (f"({', '.join(d for d, _ in dummies)})" if dummies or kind == "FUNCTION" else "")
+    head = f"{kind} {name}"
+    if dummies or kind == "FUNCTION":
+        head += f"({', '.join(d for d, _ in dummies)})"
     u.emit(head)
     decl = [f"{d}({', '.join(map(str, dims))})" for d, dims in dummies if dims]
     for d, dims in dummies:
@@ -980,7 +1022,7 @@ def _subprogram(g: Gen, name: str, kind: str, reads: bool) -> list[Card]:
     u.emit("END")
     if kind == "SUBROUTINE":
         sub.assigned = {d for d, _ in dummies if d not in u.readonly}
-    sub.commons = {b.name for b, _ in getattr(u, "blocks", [])}
+    sub.commons = {b.name for b, _ in u.blocks}
     g.subs.append(sub)
     _label_named(u)
     return u.cards
@@ -988,7 +1030,7 @@ def _subprogram(g: Gen, name: str, kind: str, reads: bool) -> list[Card]:
 
 def _label_named(u: Unit):
     """A variable named L<n> gets a statement labelled n in its unit (FEATURES label_names)."""
-    n = u.__dict__.get("label_name")
+    n = u.label_name
     if n is not None:
         end = next(i for i, c in enumerate(u.cards) if c.text in ("END", "RETURN", "STOP")
                    and c.label is None)
@@ -1023,7 +1065,7 @@ def _read(g: Gen, u: Unit, targets, share_label=False):
             label = None
         else:
             u.labels.add(label)
-            g.__dict__["shared_label"] = label
+            g.shared_label = label
     if label is None:
         label = u.label()
     items, cards, card, k = [], [], "", 0
@@ -1062,13 +1104,11 @@ def _main(g: Gen, reader: str | None) -> list[Card]:
     while len(u.reals) < 2:
         u.reals.append(g.name("R"))
     _sfuns(g, u)
-    shared = g.__dict__.get("shared_label")
+    shared = g.shared_label
     if shared is not None and shared not in u.labels:  # MAIN's own FORMAT with that label
         u.labels.add(shared)
         targets = r.sample(u.reals, min(len(u.reals), r.randint(1, 2)))
-        cards_before = len(g.data_cards)
         _read_label(g, u, targets, shared)
-        del cards_before
     reads = r.sample(u.reals, min(len(u.reals), r.randint(1, 3)))
     others = [v for v in u.reals + u.ints if v not in reads]
     _init(u, others, list(u.arrays))
@@ -1145,7 +1185,8 @@ def _render(g: Gen, cards: list[Card]) -> list[str]:
     out = []
     for c in cards:
         if g.f["blank_noise"] and r.random() < 0.05:
-            out.append("C" + "".join(r.choice(HOLLERITH_CHARS) for _ in range(r.randint(0, 40))).rstrip())
+            words = "".join(r.choice(HOLLERITH_CHARS) for _ in range(r.randint(0, 40)))
+            out.append(("C" + words).rstrip())
         text = _noisy(g, c.text)
         # a cut may not fall inside a Hollerith text or its count (the short card's blanks
         # up to column 72 would be text)

@@ -7,7 +7,8 @@ Outcomes (:data:`OUTCOMES`):
 * ``oracle-rejected`` -- the checked build refused it or stopped it (a compile error, a runtime
   check of ``-fcheck=all``, an INTEGER overflow of ``-ftrapv``, a REAL read before it was set
   (``-finit-real=snan`` with the trap on invalid operations), a DO that would run no times
-  (a guard put before each DO in this build only), a trap, a hang);
+  (a guard put before each DO in this build only), a trap, a hang), or its printout changed
+  when built again with INTEGERs starting at another value (one read before it was set);
 * ``agree`` -- the front end ended normally and printed the oracle build's bytes;
 * ``differ`` -- it printed something else, stopped (exit 3) where the oracle ended, or did not
   end within the time limit;
@@ -32,6 +33,9 @@ OUTCOMES = ("agree", "differ", "refused", "traceback", "oracle-rejected")
 #: and REALs that start as signalling NaNs (a read before a write traps) and INTEGERs at the
 #: largest value (a read before a write overflows or leaves the bounds)
 CHECK_FLAGS = ["-fcheck=all", "-ftrapv", "-finit-real=snan", "-finit-integer=2147483647"]
+#: ... built again with INTEGERs starting at another value: a printout that changes reads an
+#: INTEGER before it is set
+CHECK_AGAIN = ["-fcheck=all", "-ftrapv", "-finit-real=snan", "-finit-integer=-7"]
 #: the status a zero-trip guard stops the checked build with
 ZERO_TRIP_STATUS = 77
 RUN_TIMEOUT_S = 5.0
@@ -130,7 +134,11 @@ def checked(tmp: Path, lines: list[str], data: list[str]) -> str:
                      if line.startswith(("Fortran runtime error", "Error termination"))), "")
         at = f" at line {where.group(1)}: {guarded(lines)[int(where.group(1)) - 1].strip()}" \
             if where else ""
-        return f"run: {first.strip()} {more}{at}"
+        return f"run: {first.strip()} {more}{at}".replace(f"{tmp}{os.sep}", "")
+    again, error = _build(tmp, guarded(lines), "checked-again", CHECK_AGAIN)
+    out2, _err, status2 = _run(again, data) if again is not None else ("", "", -1)
+    if status2 != 0 or out2 != out:
+        return "an INTEGER read before it is set (the printout depends on its start value)"
     return ""
 
 
@@ -154,8 +162,9 @@ ROADS = ("job", "program")
 
 def front_end(tmp: Path, job: list[str], precision: str = "double",
               timeout_s: float = FRONT_TIMEOUT_S, env_path: str | None = None,
-              road: str = "job"):
+              road: str = "job", in_process: bool = False):
     """The front end on the job deck, as a user runs it: (outcome, text printed, one line).
+    ``in_process``: in this process (the tests': no timeout, no interpreter started).
 
     outcome: 'normal' (exit 0), 'stopped' (exit 3), 'refused' (exit 2, one line),
     'traceback' (anything else), 'hang' (no end within ``timeout_s``)."""
@@ -164,6 +173,8 @@ def front_end(tmp: Path, job: list[str], precision: str = "double",
     out = tmp / f"out-{precision}.txt"
     if out.exists():
         out.unlink()
+    if in_process:
+        return _in_process(path, out, precision, road)
     env = dict(os.environ)
     if env_path is not None:
         env["PYTHONPATH"] = env_path
@@ -194,6 +205,39 @@ def front_end(tmp: Path, job: list[str], precision: str = "double",
     return "traceback", text, f"status {proc.returncode}: {last}"
 
 
+def _in_process(path: Path, out: Path, precision: str, road: str):
+    import contextlib
+    import io
+    import traceback
+
+    err = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(err):
+            if road == "job":
+                from deck_emulator.cli import main
+
+                status = main(["run", str(path), "--out", str(out), "--quiet", "--precision",
+                               precision])
+            else:
+                from .front import main
+
+                status = main([str(path), precision, str(out)])
+    except Exception:  # (a defect of the front end: the outcome 'traceback', its last line)
+        return "traceback", out.read_text() if out.exists() else "", \
+            traceback.format_exc().strip().splitlines()[-1]
+    text = out.read_text() if out.exists() else ""
+    lines = [line for line in err.getvalue().strip().splitlines()
+             if "the job deck's own FORTRAN runs" not in line]
+    last = lines[-1] if lines else ""
+    if status == 0:
+        return "normal", text, ""
+    if status == 3:
+        return "stopped", text, last
+    if status == 2 and len(lines) == 1:
+        return "refused", text, last
+    return "traceback", text, f"status {status}: {last}"
+
+
 def first_difference(ours: str, theirs: str) -> str:
     a, b = ours.splitlines(), theirs.splitlines()
     for i, (x, y) in enumerate(zip(a, b), start=1):
@@ -205,27 +249,40 @@ def first_difference(ours: str, theirs: str) -> str:
 
 
 def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
-          ibm7094: bool = True, env_path: str | None = None, road: str = "job") -> Verdict:
-    """The verdict on one program (see the module docstring)."""
-    why = checked(tmp, lines, data)
-    if why:
-        return Verdict("oracle-rejected", why)
+          ibm7094: bool = True, env_path: str | None = None, road: str = "job",
+          fail_first: str | None = None, in_process: bool = False) -> Verdict | None:
+    """The verdict on one program (see the module docstring).  ``fail_first`` (the
+    shrinker's): the outcome sought -- the front end runs first, and a program whose outcome
+    is another gives None without the checked build's cost."""
+    if fail_first is None:
+        why = checked(tmp, lines, data)
+        if why:
+            return Verdict("oracle-rejected", why)
     theirs, why = oracle_run(tmp, lines, data)
-    if why:  # (the checked build ended: the oracle build must too)
-        return Verdict("oracle-rejected", f"oracle build: {why}")
-    ending, ours, why = front_end(tmp, job, env_path=env_path, road=road)
+    if why:
+        return None if fail_first else Verdict("oracle-rejected", f"oracle build: {why}")
+    ending, ours, why = front_end(tmp, job, env_path=env_path, road=road,
+                                  in_process=in_process)
     v = Verdict("agree", oracle_text=theirs, ours_text=ours)
     if ending == "normal":
         if ours != theirs:
             v.outcome, v.why = "differ", first_difference(ours, theirs)
     elif ending in ("stopped", "hang"):
-        v.outcome, v.why = "differ", f"the front end {'stopped' if ending == 'stopped' else 'did not end'}: {why}"
+        how = "stopped" if ending == "stopped" else "did not end"
+        v.outcome, v.why = "differ", f"the front end {how}: {why}"
     else:
         v.outcome, v.why = ending, why
+    if fail_first is not None:
+        if v.outcome != fail_first:
+            return None
+        why = checked(tmp, lines, data)
+        if why:
+            return Verdict("oracle-rejected", why)
     if ibm7094 and v.outcome in ("agree", "differ"):
         from .tolerance import compare_within
 
-        ending7, ours7, why7 = front_end(tmp, job, "ibm7094", env_path=env_path, road=road)
+        ending7, ours7, why7 = front_end(tmp, job, "ibm7094", env_path=env_path, road=road,
+                                         in_process=in_process)
         if ending7 == "normal":
             v.precisions["ibm7094"] = compare_within(ours7, theirs)
         else:

@@ -27,7 +27,7 @@ import re
 from .generate import REAL_BOUND
 
 RELATIVE = 2.0 ** -20
-_NUMBER = re.compile(r"-?\d*\.\d*|\*+")
+_NUMBER = re.compile(r" *(?:-?\d*\.\d*|\*+)")  # (with the blanks before: a sign takes one)
 
 
 def tolerance(a: float, b: float, decimals: int) -> float:
@@ -48,9 +48,10 @@ def compare_within(ours: str, theirs: str) -> tuple[str, str]:
         if a_parts != b_parts or len(a_nums) != len(b_nums):
             return "beyond", f"record {n}: 7094 {a!r}, gfortran {b!r}"
         for x, y in zip(a_nums, b_nums):
+            x, y = x.strip(), y.strip()
             if x == y:
                 continue
-            if x.startswith("*") or y.startswith("*") or x in ("-", ".", "-.") or y in ("-", ".", "-."):
+            if "*" in x + y or {x, y} & {"-", ".", "-."}:
                 return "beyond", f"record {n}: 7094 {x!r}, gfortran {y!r}"
             d = len(y.split(".")[1]) if "." in y else 0
             fx, fy = float(x if x not in ("", "-") else 0), float(y)

@@ -1,0 +1,279 @@
+"""The differential fuzzer of the FORTRAN front end (the checkout's oracle/fuzz, docs/fuzzing.md):
+its programs are well defined (gfortran's checked build runs each to its end), cover the
+dialect's tables, and the front end prints on each what gfortran's oracle build prints; the
+IBM 7094's arithmetic ends on each and agrees with binary64 within single precision.
+
+A few dozen programs run by default; thousands with ``pytest -m slow_corpus``."""
+
+from __future__ import annotations
+
+import re
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from deck_emulator.legacy.jobdeck import statements
+
+from test_goldens import need_gfortran
+
+#: the default suite's programs: seeds 0..DEFAULT-1 of campaign seed SEED
+SEED, DEFAULT = 46, 24
+#: the slow corpus's: campaign seed SLOW_SEED (other than SEED's)
+SLOW_SEED, SLOW = 4600, 2000
+
+
+@pytest.fixture(autouse=True)
+def _made_code_kept_in_a_temporary_folder(tmp_path, monkeypatch):
+    """(a program's made code is kept in the user's cache folder: here, a temporary one)"""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+
+
+def _fuzz():
+    from oracle import fuzz
+    from oracle.fuzz import campaign, classes, judge, shrink, tolerance
+
+    return fuzz, campaign, judge, shrink, tolerance, classes
+
+
+def _program(index: int, seed: int = SEED):
+    fuzz, campaign, *_ = _fuzz()
+    return fuzz.generate(campaign.program_seed(seed, index))
+
+
+# ------------------------------------------------------------------------- the generator
+
+
+def test_the_same_seed_makes_the_same_program_and_others_differ():
+    fuzz, campaign, *_ = _fuzz()
+    a, b = fuzz.generate(7), fuzz.generate(7)
+    assert a.job() == b.job() and a.data == b.data
+    jobs = {"\n".join(fuzz.generate(s).job()) for s in range(30)}
+    assert len(jobs) == 30
+
+
+#: a statement kind of the dialect's table -> how a program's statement (blanks removed)
+#: shows it, independently of the front end's parser
+_KIND_PATTERNS = {
+    "assignment": r"^[A-Z][A-Z0-9]*(\([^=]*\))?=(?!.*,\d)",
+    "statement function": None,  # (checked below: before the first executable statement)
+    "DIMENSION": r"^DIMENSION[A-Z]",
+    "COMMON": r"^COMMON",
+    "CONTINUE": r"^CONTINUE$",
+    "GO TO n": r"^GOTO\d+$",
+    "GO TO (n1, ...), i": r"^GOTO\([\d,]+\),?[A-Z]",
+    "ASSIGN n TO i": r"^ASSIGN\d+TO[A-Z]",
+    "GO TO i, (n1, ...)": r"^GOTO[A-Z][A-Z0-9]*,\(",
+    "IF (e) n1, n2, n3": r"^IF\(.*\)\d+,\d+,\d+$",
+    "IF (l) s": r"^IF\(.*\.(LT|LE|EQ|NE|GT|GE)\..*\)[A-Z]",
+    "DO n i = m1, m2, m3": r"^DO\d+[A-Z][A-Z0-9]*=",
+    "CALL s(a, ...)": r"^CALL[A-Z]",
+    "SUBROUTINE s(a, ...)": r"^SUBROUTINE[A-Z]",
+    "FUNCTION f(a, ...)": r"^FUNCTION[A-Z]",
+    "RETURN": r"^RETURN$",
+    "STOP": r"^STOP$",
+    "END": r"^END$",
+    "READ (5, n) list": r"^READ\(5,\d+\)",
+    "WRITE (6, n) list": r"^WRITE\(6,\d+\)",
+    "FORMAT (...)": r"^FORMAT\(",
+}
+_DESCRIPTOR_PATTERNS = {"Fw.d": r"[(,/]\d*F\d+\.\d+", "nX": r"[(,/]\d+X", "nHtext": r"[(,/]\d+H",
+                        "/": r"/"}
+
+
+def _no_texts(fmt: str) -> str:
+    """A FORMAT's text with each nH text's characters taken out (the nH kept)."""
+    out, i = "", 0
+    while i < len(fmt):
+        m = re.match(r"(\d+)H", fmt[i:])
+        if m and fmt[i - 1] in "(,/":
+            out += m.group(0)
+            i += m.end() + int(m.group(1))
+            continue
+        out += fmt[i]
+        i += 1
+    return out
+
+
+def test_sixty_programs_draw_every_row_of_the_dialects_tables():
+    """Every statement kind of STATEMENTS, edit descriptor of EDIT_DESCRIPTORS and intrinsic
+    of INTRINSICS appears in the first sixty programs (read from the cards, not by the front
+    end's parser)."""
+    from deck_emulator.legacy.fortran import EDIT_DESCRIPTORS, INTRINSICS, STATEMENTS
+
+    assert set(_KIND_PATTERNS) == set(STATEMENTS)  # (a new row: teach the generator and this)
+    assert set(_DESCRIPTOR_PATTERNS) == set(EDIT_DESCRIPTORS)
+    seen: set[str] = set()
+    for k in range(60):
+        texts = [s.text for s in statements(_program(k).source)]
+        for kind, pattern in _KIND_PATTERNS.items():
+            if pattern and any(re.search(pattern, t) for t in texts):
+                seen.add(kind)
+        seen |= {d for t in texts if t.startswith("FORMAT(")
+                 for d, p in _DESCRIPTOR_PATTERNS.items() if re.search(p, _no_texts(t))}
+        seen |= {n for t in texts for n in INTRINSICS if re.search(rf"\b{n}\(", t)}
+        # a statement function: an assignment to NAME(...) before the unit's first executable
+        # statement, NAME no array of the unit's DIMENSION or COMMON
+        declared = ""
+        for t in texts:
+            if t.startswith(("DIMENSION", "COMMON", "SUBROUTINE", "FUNCTION")):
+                declared += t
+                continue
+            m = re.match(r"^([A-Z][A-Z0-9]*)\([A-Z0-9,]*\)=", t)
+            if m and not re.search(rf"[,/ NM]{m.group(1)}\(", declared):
+                seen.add("statement function")
+            if not m:
+                declared = ""
+    missing = (set(STATEMENTS) | set(EDIT_DESCRIPTORS) | set(INTRINSICS)) - seen
+    assert not missing, f"no program of sixty holds {sorted(missing)}"
+
+
+# --------------------------------------------------------------------- the checked build
+
+
+def _checked(lines: list[str], data: list[str] = ()) -> str:
+    judge = _fuzz()[2]
+    with tempfile.TemporaryDirectory() as tmp:
+        return judge.checked(Path(tmp), lines, list(data))
+
+
+_HEAD = ["      X = 1.5", "    1 FORMAT(1X,F10.3)"]
+
+
+@pytest.mark.parametrize("body, why", [
+    (["      N = 0", "      DO 10 I = 1, N", "   10 X = X + 1.0", "      WRITE(6,1) X"],
+     "a DO that would run no times"),
+    (["      Y = Z + X", "      WRITE(6,1) Y"], "Floating-point exception"),
+    (["      K = 2147483000", "      K = K + K", "      Y = K", "      WRITE(6,1) Y"],
+     "Program received signal SIGABRT"),
+    (["      DIMENSION A(3)", "      K = 4", "      A(K) = X", "      WRITE(6,1) A(1)"],
+     "above upper bound of 3"),
+    (["      IF (K .GT. 5) X = 2.0", "      WRITE(6,1) X"], "an INTEGER read before it is set"),
+])
+def test_the_checked_build_rejects_a_program_without_one_meaning(body, why):
+    """Each construct the generator must never make: a zero-trip DO (IBM runs it once,
+    gfortran not at all), a REAL read before it is set, an INTEGER overflow, a subscript out of
+    bounds, an INTEGER read before it is set that decides what is printed."""
+    need_gfortran()
+    lines = ([b for b in body if "DIMENSION" in b] + _HEAD
+             + [b for b in body if "DIMENSION" not in b] + ["      STOP", "      END"])
+    assert why in _checked(lines)
+
+
+def test_the_checked_build_accepts_a_well_defined_program():
+    need_gfortran()
+    lines = _HEAD + ["      DO 10 I = 1, 3", "   10 X = X*2.0", "      WRITE(6,1) X",
+                     "      STOP", "      END"]
+    assert _checked(lines) == ""
+
+
+def test_the_zero_trip_guard_keeps_a_do_s_label_for_the_transfers_to_it():
+    _fuzz_, _c, judge, *_ = _fuzz()
+    lines = ["      N = 2", "   20 DO 10 I = 1, N", "   10 CONTINUE", "      STOP", "      END"]
+    out = judge.guarded(lines)
+    assert out[1] == "   20 IF((N).LT.(1))STOP 77" and out[2] == "      DO 10 I = 1, N"
+
+
+@pytest.mark.parametrize("index", range(DEFAULT))
+def test_a_generated_program_runs_to_its_end_in_the_checked_build(index):
+    need_gfortran()
+    p = _program(index)
+    assert _checked(p.source, p.data) == "", "\n".join(p.job())
+
+
+# ----------------------------------------------------------------------------- the verdict
+
+
+def _judged(p, tmp: Path):
+    judge = _fuzz()[2]
+    return judge.judge(tmp, p.source, p.data, p.job(), in_process=True)
+
+
+@pytest.mark.parametrize("index", range(DEFAULT))
+def test_the_front_end_prints_what_gfortran_prints_on_a_generated_program(tmp_path, index):
+    """The job deck through ``deck-emulator run`` (binary64) against gfortran's oracle build of
+    its FORTRAN on its data cards: the same bytes; and the 7094's arithmetic ends and agrees
+    within single precision (tolerance.py).  A failure shows the program's job deck:
+    ``python -m oracle.fuzz.shrink`` on it gives a minimal one."""
+    need_gfortran()
+    p = _program(index)
+    v = _judged(p, tmp_path)
+    job = "\n".join(p.job())
+    assert v.outcome == "agree", f"{v.outcome}: {v.why}\n{job}"
+    assert v.precisions["ibm7094"] == ("within", ""), f"ibm7094: {v.precisions}\n{job}"
+
+
+# --------------------------------------------------------------------- tolerance, shrinker
+
+
+def test_the_7094_tolerance_is_single_precision_plus_one_printed_unit():
+    tol = _fuzz()[4]
+    same = " X=    12.3457  -0.50"
+    assert tol.compare_within(same, same) == ("within", "")
+    # 2**-20 * (12.35 + 1000) = 0.000965, plus 1e-4 (4 decimals): 0.0011 allowed
+    assert tol.compare_within(" X=    12.3467  -0.50", same)[0] == "within"
+    assert tol.compare_within(" X=    12.3477  -0.50", same)[0] == "beyond"
+    assert tol.compare_within(" Y=    12.3457  -0.50", same)[0] == "beyond"  # a text
+    assert tol.compare_within(" X=   ********  -0.50", same)[0] == "beyond"
+    assert tol.compare_within(same + "\n", same + "\n X\n")[0] == "beyond"  # a record
+    assert tol.compare_within(" X=    -0.0000", " X=     0.0000") == ("within", "")
+
+
+def test_ddmin_finds_a_one_minimal_sublist():
+    shrink = _fuzz()[3]
+    calls = []
+
+    def needs_3_and_7(xs):
+        calls.append(1)
+        return 3 in xs and 7 in xs
+
+    assert shrink.ddmin(list(range(20)), needs_3_and_7) == [3, 7]
+    assert len(shrink.ddmin(list(range(20)), lambda xs: len(xs) > 4, max_tests=1000)) == 5
+
+
+def test_the_shrinker_gives_a_one_minimal_well_defined_program(monkeypatch):
+    """A front end that prints the last digit of its last record wrong whenever the program
+    holds a ``**2``: the shrinker's program still holds it, drops what the failure does not
+    need (STOP, an unread WRITE), and is 1-minimal -- without any one more statement, gfortran's
+    checked build rejects it (a REAL printed or used before it is set) or it no longer
+    fails."""
+    need_gfortran()
+    shrink = _fuzz()[3]
+    judge = _fuzz()[2]
+    real_front = judge.front_end
+
+    def wrong_on_squares(tmp, job, precision="double", **kw):
+        ending, text, why = real_front(tmp, job, precision, in_process=True,
+                                       **{k: v for k, v in kw.items() if k != "in_process"})
+        if any("**2" in line for line in job) and text:
+            text = text[:-2] + ("1" if text[-2] != "1" else "2") + "\n"
+        return ending, text, why
+
+    monkeypatch.setattr(judge, "front_end", wrong_on_squares)
+    source = ["      X = 1.5", "      Y = 2.0", "      Z = X + Y", "      W = Y**2",
+              "    1 FORMAT(1X,F10.3)", "      WRITE(6,1) Z", "      WRITE(6,1) W", "      STOP",
+              "      END"]
+    src, data, v = shrink.shrink(source, [], "differ", "printed: last digits of a value",
+                                 road="program")
+    assert v is not None and v.outcome == "differ" and data == []
+    assert "      W = Y**2" in src and "      STOP" not in src and len(src) < len(source)
+    for k in range(len(src)):
+        fewer = src[:k] + src[k + 1:]
+        with tempfile.TemporaryDirectory() as tmp:
+            w = judge.judge(Path(tmp), fewer, [], _fuzz()[0].job_deck([("MAIN", fewer)], []),
+                            ibm7094=False, road="program")
+        assert w.outcome != "differ", f"{src[k]!r} could go too"
+
+
+# --------------------------------------------------------------------------- the large runs
+
+
+@pytest.mark.slow_corpus
+def test_thousands_of_generated_programs_print_what_gfortran_prints():
+    need_gfortran()
+    _f, campaign, *_ = _fuzz()
+    results = campaign.run_campaign(SLOW_SEED, SLOW, jobs=2, progress=False)
+    bad = [r for r in results if r.outcome != "agree"]
+    ibm = [r for r in results if r.outcome == "agree" and r.ibm7094[:1] != ("within",)]
+    summary = "\n".join(campaign.report(results))
+    assert not bad and not ibm, summary
