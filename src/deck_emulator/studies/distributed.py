@@ -869,10 +869,13 @@ def _remove_if_unused(folders: list[Path]) -> None:
 
 
 def _workers(client) -> int:
-    """How many workers the client's scheduler has now (a failed question counts as none)."""
+    """How many workers the client's scheduler has now. A question the scheduler cannot answer
+    because it is gone (Dask's CommClosedError and time-outs are OSErrors) counts as none: the
+    caller then waits for workers and ends in an error that says so; any other failure is
+    raised."""
     try:
         return len(client.nthreads())
-    except Exception:  # noqa: BLE001 - a scheduler gone too: no worker
+    except OSError:
         return 0
 
 
