@@ -99,8 +99,9 @@ def pdftotext_plain(lines: list[str]) -> str:
         if line == "1":
             new_page = True
             continue
-        for m in re.finditer(r"(THE POST HAS [A-Z ]*[A-Z])|(THE \S+ \S+ \S+ \S+)[ ]*(\S*)",
-                             line):
+        # (a field left blank is no value: the next record's THE is not taken for one)
+        for m in re.finditer(r"(THE POST HAS [A-Z ]*[A-Z])"
+                             r"|(THE \S+ \S+ \S+ \S+)(?:[ ]+(?!THE )(\S+))?", line):
             first = m.group(1) or m.group(2)
             out += [("\f" if new_page else "") + first, ""]
             new_page = False

@@ -294,7 +294,7 @@ def test_a_job_deck_of_a_runaway_ends_with_exit_3_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 3, err
     errors = [line for line in err.splitlines() if "error" in line]
-    assert len(errors) == 1 and "statements (Limits.statements) without STOP" in errors[0]
+    assert len(errors) == 1 and "statements (Limits.budget) without STOP" in errors[0]
 
 
 # ------------------------------------------------------------------ any card at all

@@ -86,8 +86,14 @@ class Limits:
     ed_iterations: int = defaults.ED_ITERATIONS  # per call of ED
     halvings: int = defaults.HALVINGS  # consecutive halvings at label 108, no step accepted
     time_s: float = defaults.EMULATOR_T_MAX_S  # simulated time (the report needs about 1 s)
-    #: statements a run executes, across its units, loops and calls (the front end's budget)
+    #: statements a run executes, across its units, loops and calls (the front end's budget),
+    #: at the listing's step: a program whose step is halved k times takes 2**k times as many
+    #: steps and gets 2**k times this (:meth:`budget`)
     statements: int = defaults.PROGRAM_STATEMENTS
+
+    def budget(self, step_scale_k: int = 0) -> int:
+        """The statements a run at the listing's step / 2**``step_scale_k`` may execute."""
+        return self.statements * 2 ** step_scale_k
 
 
 @dataclass

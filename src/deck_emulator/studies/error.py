@@ -30,7 +30,6 @@ makes the error-against-tolerance curve non-monotone.
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import math
 import time
 from pathlib import Path
@@ -100,10 +99,9 @@ def core_series(method: str, bounded: bool, compiled: bool) -> str:
 
 
 def emulator_limits(k: int) -> Limits:
-    """The emulator's bounds for a run at H0/2**k: the defaults', with the whole-run statement
-    budget scaled with the steps the run takes (2**k times the listing's)."""
-    base = Limits()
-    return dataclasses.replace(base, statements=base.statements * 2**k)
+    """The emulator's bounds for a run at H0/2**k: the defaults' (the front end scales the
+    whole-run statement budget with the run's step itself: ``Limits.budget``)."""
+    return Limits()
 
 
 @contextlib.contextmanager
@@ -320,7 +318,7 @@ def _task_emulator(spec):
            "precision": precision, "k": k, "h_s": H0 / 2**k, "ed_tolerance": tol,
            "status": first["status"], "guard": first["guard"], "error": first["error"],
            "hit": message, "hit_time_s": hit_time, "reference": f"k = {k}",
-           "steps": run.accepted_steps()[0].size, "statements": limits.statements,
+           "steps": run.accepted_steps()[0].size, "statements": limits.budget(k),
            **_times(walls)}
     if first["status"] == "hit":
         row.update(_emulator_errors(run, hit_time, reference(deck_path, k)))

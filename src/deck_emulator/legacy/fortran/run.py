@@ -336,12 +336,15 @@ class Runner:
         self.label = "START"
         self.units: dict = {}
         self.watch = None  # the listing's guards, where the program is the listing (run())
-        self._left = [limits.statements]  # the statement budget left (the made code's _S)
+        #: the statement budget (Limits.budget: scaled with the program's step) and what is left
+        #: of it (the made code's _S)
+        self.budget = limits.budget(program.step_scale_k)
+        self._left = [self.budget]
 
     @property
     def statements_run(self) -> int:
         """The statements the run has executed (each block's when it starts)."""
-        return self.limits.statements - self._left[0]
+        return self.budget - self._left[0]
 
     # what the generated code calls -----------------------------------------------------------
     def read(self, fmt: int, unit: str):
@@ -421,8 +424,8 @@ class Runner:
         first = next((stmts[0] for k, _, stmts, _ in _blocks(self.program.units[unit])
                       if k == key or (key == "START" and k is None)), None)
         what = (f"card {first.card}: {first.text}" if first is not None else "")
-        raise EmulatorError(f"the program ran its budget of {self.limits.statements} "
-                            f"statements (Limits.statements) without STOP, at {what}",
+        raise EmulatorError(f"the program ran its budget of {self.budget} statements "
+                            f"(Limits.budget) without STOP, at {what}",
                             label=key if unit == "MAIN" else f"{unit} {key}", step=self.step,
                             time=self.time(), guard="statements")
 
