@@ -5,6 +5,8 @@ the REAL*8 build, binary32 against the default-REAL build, the goldens' flags)."
 from __future__ import annotations
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from deck_emulator.legacy.fortran import Program
 from deck_emulator.legacy.fortran.run import LISTING_WATCH, watched
@@ -263,3 +265,97 @@ def test_an_intrinsic_or_descriptor_outside_the_table_is_refused(card):
     with pytest.raises(DialectError) as info:
         Program(HEAD.splitlines() + [card, "      END"], cache=False)
     assert "\n" not in str(info.value) and str(info.value).startswith("card 4, column")
+
+
+# ------------------------------------------------- Hollerith texts name no other kind
+
+#: what a FORMAT's Hollerith text may hold: the card code (printable ASCII), blanks among it
+_HOLLERITH = st.text(alphabet=st.characters(min_codepoint=0x20, max_codepoint=0x7E),
+                     min_size=1, max_size=40)
+#: texts that look like other statements' parts (found by the differential campaign: `=`)
+_LOOKALIKES = ["A=B ", "X(1)=2.0", "DO 10 I=1,", "DO10I=1,3", "GO TO (1,2), I", "IF (X) 1,2,3",
+               "CALL S(A, B)", "'A'", '"', "A,B)(", "3HABC", "E10.3", "DATA X/1./", "C=",
+               "REAL X", "READ(5,1) X"]
+
+
+def _ours_uncached(lines, cards):
+    from deck_emulator.legacy.stops import EmulatorError
+
+    from test_dialect_kinds import _Cards
+
+    try:
+        return Program(lines, cache=False).runner(_Cards(cards), "double").run(), None
+    except EmulatorError as exc:
+        return exc.run, exc
+
+
+def test_a_refused_format_with_an_equals_sign_in_its_hollerith_text_is_named_a_format(
+        tmp_path, capsys):
+    """The campaign's reproducer, as a user runs it: the refusal names the FORMAT statement, not
+    an assignment (the `=` is inside the Hollerith text `4HA=B `)."""
+    from deck_emulator.cli import main
+
+    job = tmp_path / "fuzz.job"
+    job.write_text("$JOB           FUZZ\n$EXECUTE       IBJOB\n$IBJOB\n$IBFTC MAIN\n"
+                   "      X = 1.5\n    1 FORMAT(1X,4HA=B ,E10.3)\n      WRITE(6,1) X\n"
+                   "      STOP\n      END\n$ENTRY         MAIN\n$DATA\n$IBSYS\n")
+    assert main(["run", str(job), "--out", str(tmp_path / "out.txt")]) == 2
+    err = capsys.readouterr().err
+    assert "card 6, column 24: FORMAT statement: 'E': an edit descriptor outside" in err, err
+    assert len(err.splitlines()) == 1
+
+
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(text=st.one_of(st.sampled_from(_LOOKALIKES), _HOLLERITH))
+def test_a_refused_format_is_named_a_format_whatever_its_hollerith_text_holds(text):
+    """A FORMAT outside the dialect (an E field) is refused naming the FORMAT statement, at the
+    E's card and column, whatever its Hollerith text holds before it."""
+    from deck_emulator.legacy.fortran import DialectError
+
+    card = f"    3 FORMAT(1X,{len(text)}H{text},E10.3)"
+    with pytest.raises(DialectError) as info:
+        Program(HEAD.splitlines() + [card, "      WRITE(6,3) P", "      STOP", "      END"],
+                cache=False)
+    column = card.index(",E10.3") + 2
+    assert str(info.value).startswith(f"card 4, column {column}: FORMAT statement: 'E': "), (
+        str(info.value))
+
+
+@pytest.mark.parametrize("card, kind", [
+    ("      DATA1 = P +", "assignment"), ("      DO10I = P +", "assignment"),
+    ("      REALX = P +", "assignment"), ("      IF (P .GT. 0.0) X = P +", "IF"),
+    ("      DO 10 I = 1, 3 +", "DO")])
+def test_a_refusal_names_the_kind_the_statement_is_read_as(card, kind):
+    """`DATA1 = ...` and `DO10I = ...` are assignments (FORTRAN reads them so), not DATA or DO."""
+    from deck_emulator.legacy.fortran import DialectError
+
+    with pytest.raises(DialectError) as info:
+        Program(HEAD.splitlines() + [card, "   10 CONTINUE", "      END"], cache=False)
+    assert f": {kind} statement: " in str(info.value), str(info.value)
+
+
+@settings(max_examples=6, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(texts=st.lists(_HOLLERITH, min_size=4, max_size=4))
+def test_formats_with_any_hollerith_text_print_what_gfortran_prints(texts):
+    """FORMATs of the dialect whose Hollerith texts hold anything of the card code (`=`, `(`,
+    `,`, quotes, a DO's shape ...), also split over a continuation card, run and print what
+    gfortran's REAL*8 build prints."""
+    import tempfile
+    from pathlib import Path
+
+    need_gfortran()
+    texts = _LOOKALIKES + texts
+    lines = HEAD.splitlines()
+    for k, text in enumerate(texts, start=3):
+        lines += [f"{k:5d} FORMAT(1X,{len(text)}H{text},F10.3)", f"      WRITE(6,{k}) P"]
+    # a Hollerith text over a continuation card after a short card (its blanks to column 72)
+    lines += ["   99 FORMAT(1X,56HA=B", "     1C=D,F10.3)", "      WRITE(6,99) Q",
+              "      STOP", "      END"]
+    with tempfile.TemporaryDirectory() as tmp:
+        theirs, _err, ending = _gfortran(Path(tmp), lines, "r8", [CARD])
+    run, stop = _ours_uncached(lines, [CARD])
+    assert ending == "normal" and stop is None, stop
+    assert "".join(r + "\n" for r in run.records) == theirs
+    assert len(run.records) == len(texts) + 1

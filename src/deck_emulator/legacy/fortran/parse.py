@@ -852,14 +852,23 @@ def _card_check(st, path) -> None:
 
 
 def _kind_name(text: str) -> str:
-    """The statement kind a refused statement starts with, as a refusal names it."""
-    for word in _OTHER_KINDS:
-        if text.startswith(word):
-            return {"DOUBLEPRECISION": "DOUBLE PRECISION", "BLOCKDATA": "BLOCK DATA",
-                    "REALFUNCTION": "REAL FUNCTION",
-                    "INTEGERFUNCTION": "INTEGER FUNCTION"}.get(word, word)
-    if "=" in text and not text.startswith(("IF(", "DO")):
-        return "assignment"
+    """The statement kind a refused statement starts with, as a refusal names it: the kind
+    :meth:`_Reader.read` takes it for, when one of :data:`_SYNTAX`'s patterns matches (so that a
+    ``=``, ``(`` or ``,`` inside a FORMAT's Hollerith text, or a name such as ``DATA1`` or
+    ``DO10I``, names no other kind), else the word it starts with."""
+    for kind, pattern, _method in _syntax()[1]:
+        if pattern.fullmatch(text):
+            if kind == "assignment":
+                return "assignment"
+            break  # a keyword's kind: named by its word below
+    else:
+        for word in _OTHER_KINDS:
+            if text.startswith(word):
+                return {"DOUBLEPRECISION": "DOUBLE PRECISION", "BLOCKDATA": "BLOCK DATA",
+                        "REALFUNCTION": "REAL FUNCTION",
+                        "INTEGERFUNCTION": "INTEGER FUNCTION"}.get(word, word)
+        if "=" in text and not text.startswith(("IF(", "DO")):
+            return "assignment"
     for word in ("READ", "WRITE", "IF", "GOTO", "CALL", "FORMAT", "SUBROUTINE", "FUNCTION",
                  "DIMENSION", "COMMON", "ASSIGN", "DO", "CONTINUE", "RETURN", "STOP", "END"):
         if text.startswith(word):
