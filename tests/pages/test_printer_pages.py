@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 DPI = 60
@@ -172,6 +172,9 @@ def test_each_page_extracts_as_its_records_printed(tmp_path, records, paper):
     pypdf = pytest.importorskip("pypdf")
     from deck_emulator.legacy.pages import write_pdf
 
+    # a record overprinted ('+') is a second string on its line's baseline, which a reader
+    # joins with the line it prints over: its order is not a reader's to give
+    assume(not any(record.startswith("+") for record in records))
     pdf = tmp_path / "p.pdf"
     expected = _expected(records)
     assert write_pdf(records, pdf, paper) == len(expected)

@@ -713,7 +713,8 @@ def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
             f"work {_short(c['vs_nfev'])}.")
     lines += [
         "",
-        "With the largest-step bound (`max_step_s = 0.005` s, so that no event function changes "
+        f"With the largest-step bound (`max_step_s = {defaults.MAX_STEP_S}` s, so that no "
+        "event function changes "
         "sign twice inside one step) the core takes about as many steps at every tolerance, "
         "and the slope against work is steep and meaningless: the bound, not the method's "
         "order, decides the cost. Without the bound (dashed) the work follows the tolerance, "
