@@ -40,8 +40,9 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from whole_process import environment, measure
 
 ROOT = Path(__file__).resolve().parent.parent
 DECK = str(ROOT / "decks" / "steel40.dat")
@@ -74,25 +75,6 @@ def job_deck(folder: str, env: dict[str, str]) -> str:
     return str(path)
 
 
-def environment(cache: str) -> dict[str, str]:
-    env = dict(os.environ)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env["PYTHONPYCACHEPREFIX"] = cache
-    env["XDG_CACHE_HOME"] = cache  # (the job deck's made code is kept there, as the bytecode)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
-    return env
-
-
-def measure(argv: list[str], env: dict[str, str]) -> tuple[float, float]:
-    """(wall s, CPU s: user + system) of one whole process."""
-    started = time.perf_counter()
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall_s = time.perf_counter() - started
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    if proc.returncode:
-        raise SystemExit(f"bench_emulator_start: {' '.join(argv)} exited {proc.returncode}")
-    return wall_s, usage.ru_utime + usage.ru_stime
 
 
 def main(argv=None) -> int:

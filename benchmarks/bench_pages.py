@@ -29,11 +29,11 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from whole_process import environment, measure
 
 ROOT = Path(__file__).resolve().parent.parent
 DECK = str(ROOT / "decks" / "steel40.dat")
@@ -52,26 +52,6 @@ def commands(folder: str) -> dict[str, list[str]]:
     }
 
 
-def environment(cache: str) -> dict[str, str]:
-    env = dict(os.environ)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env.pop("SOURCE_DATE_EPOCH", None)
-    env["PYTHONPYCACHEPREFIX"] = cache
-    env["XDG_CACHE_HOME"] = cache
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
-    return env
-
-
-def measure(argv: list[str], env: dict[str, str]) -> tuple[float, float]:
-    """(wall s, CPU s: user + system) of one whole process."""
-    started = time.perf_counter()
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall_s = time.perf_counter() - started
-    code = os.waitstatus_to_exitcode(status)
-    if code:
-        raise SystemExit(f"bench_pages: {' '.join(argv)} exited {code}")
-    return wall_s, usage.ru_utime + usage.ru_stime
 
 
 def main(argv=None) -> int:
