@@ -115,19 +115,35 @@ def _open_folder(create: bool) -> int | None:
     return fd
 
 
-def _read_entry(dir_fd: int, name: str) -> bytes | None:
-    """An entry's bytes: a regular file of the user's, of at most PROGRAM_CACHE_MAX_BYTES,
-    opened without following a link or waiting for a writer; else None."""
+@contextlib.contextmanager
+def _open_own(dir_fd: int, name: str):
+    """An entry opened for reading without following a link or waiting for a writer: (its
+    descriptor, its status) where it is a regular file of the user's, else None."""
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_NOFOLLOW | os.O_CLOEXEC,
                      dir_fd=dir_fd)
     except OSError:
-        return None
+        yield None
+        return
     try:
         st = os.fstat(fd)
-        if (not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid()
-                or st.st_size > PROGRAM_CACHE_MAX_BYTES):
+        yield (fd, st) if stat.S_ISREG(st.st_mode) and st.st_uid == os.getuid() else None
+    finally:
+        os.close(fd)
+
+
+def _read_entry(dir_fd: int, name: str) -> bytes | None:
+    """An entry's bytes: a regular file of the user's (:func:`_open_own`), of at most
+    PROGRAM_CACHE_MAX_BYTES; else None."""
+    with _open_own(dir_fd, name) as opened:
+        if opened is None or opened[1].st_size > PROGRAM_CACHE_MAX_BYTES:
             return None
+        return _read_bounded(opened[0])
+
+
+def _read_bounded(fd: int) -> bytes | None:
+    """What ``fd`` holds, or None past PROGRAM_CACHE_MAX_BYTES or on a read error."""
+    try:
         chunks, size = [], 0
         while size <= PROGRAM_CACHE_MAX_BYTES:
             chunk = os.read(fd, 1 << 20)
@@ -138,8 +154,6 @@ def _read_entry(dir_fd: int, name: str) -> bytes | None:
         return None
     except OSError:
         return None
-    finally:
-        os.close(fd)
 
 
 def _unpack(data: bytes, identity: bytes):
@@ -232,23 +246,14 @@ def _ours(dir_fd: int, name: str) -> os.stat_result | None:
     if len(stem) not in (8, 64) or stem.strip("0123456789abcdef"):
         return None
     magic = MAGIC if len(stem) == 64 else _BEFORE
-    try:
-        st = os.stat(name, dir_fd=dir_fd, follow_symlinks=False)
-    except OSError:
-        return None
-    if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid():
-        return None
-    try:
-        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_NOFOLLOW | os.O_CLOEXEC,
-                     dir_fd=dir_fd)
-    except OSError:
-        return None
-    try:
-        return st if os.read(fd, len(magic)) == magic else None
-    except OSError:
-        return None
-    finally:
-        os.close(fd)
+    with _open_own(dir_fd, name) as opened:
+        if opened is None:
+            return None
+        fd, st = opened
+        try:
+            return st if os.read(fd, len(magic)) == magic else None
+        except OSError:
+            return None
 
 
 def _prune(dir_fd: int) -> None:
