@@ -232,6 +232,13 @@ class Outcome:
                 "angular_velocity_body_rad_s": traj.angular_velocity_body(t),
                 "car_position_ft": sv, "car_velocity_ft_s": vv}
 
+    def solver_steps(self) -> int:
+        """The core's integration steps: its solution's step ends, over its segments."""
+        if self.engine != "core" or self.raw is None:
+            raise ValueError("the integration steps are the core's solution's")
+        return sum(len(s.solution.ts) - 1 for s in self.raw.trajectory.segments
+                   if getattr(s.solution, "ts", None) is not None)
+
     def accepted_steps(self) -> tuple[np.ndarray, np.ndarray]:
         """The emulator's accepted steps: their times (n,) and the mass centre at each (3, n)
         (the arrays' first sample, t = 0, is the deck's start, not a step)."""

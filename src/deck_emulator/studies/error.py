@@ -192,12 +192,6 @@ def reference(deck_path, k: int):
     return _REFS[key]
 
 
-def _steps(out) -> int:
-    """A core run's steps: its solution's step ends, over its segments."""
-    return sum(len(s.solution.ts) - 1 for s in out.raw.trajectory.segments
-               if getattr(s.solution, "ts", None) is not None)
-
-
 def _core_errors(res, ref) -> dict:
     t_end = min(res.span[1], ref.span[1])
     grid = np.linspace(0.0, t_end, GRID_POINTS)
@@ -296,7 +290,7 @@ def _task_check(spec):
         return {**row, **_core_error_row(exc)}
     row.update(_core_errors(res, ref), status="hit" if res.hit_time_s is not None else "no hit",
                error="", hit=res.hit_message or "", hit_time_s=res.hit_time_s,
-               nfev=res.evaluations, steps=_steps(res), wall_s=time.perf_counter() - started,
+               nfev=res.evaluations, steps=res.solver_steps(), wall_s=time.perf_counter() - started,
                reps=1)
     return row
 
@@ -347,7 +341,7 @@ def _task_core(spec):
     errs = _core_errors(res, ref)
     row.update(errs, status="hit" if res.hit_time_s is not None else "no hit", error="",
                hit=res.hit_message or "", hit_time_s=res.hit_time_s, nfev=res.evaluations,
-               steps=_steps(res), **_times(walls))
+               steps=res.solver_steps(), **_times(walls))
     row.update(err_traj_ref0_ft=errs["err_traj_ft"], err_hit_time_ref0_s=errs["err_hit_time_s"],
                err_R_ref0_ft=errs["err_R_ft"])
     row.update(_release_errors(res, ref, scene))
