@@ -155,16 +155,48 @@ def _add_option(p: argparse.ArgumentParser, f) -> None:
 
 class _Parser(argparse.ArgumentParser):
     """argparse's parser, but a usage error is one line (and exit status 2), and a negative
-    number in exponent form (``--tha-start -1e-5``) is a value, not an option."""
+    number in exponent form (``--tha-start -1e-5``) is a value, not an option: argparse takes
+    ``-1`` and ``-.5`` after an option as its value but reads ``-1e-5`` as an option, so such a
+    number is joined to the option before it (``--tha-start=-1e-5``, argparse's own spelling of
+    a value that starts with a dash) when that option takes a value."""
 
     def __init__(self, *args, **kwargs):
+        self.value_options: dict[str, bool] = {}  # an option string -> it takes one value
         kwargs.setdefault("formatter_class", _help_formatter)
         super().__init__(*args, **kwargs)
-        # argparse's own pattern knows -1 and -.5 but not -1e-5
-        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+    def add_argument(self, *args, **kwargs):
+        action = super().add_argument(*args, **kwargs)
+        for flag in action.option_strings:
+            self.value_options[flag] = action.nargs is None
+        return action
+
+    def parse_known_args(self, args=None, namespace=None):
+        args = list(sys.argv[1:] if args is None else args)
+        joined: list[str] = []
+        for text in args:
+            before = joined[-1] if joined else ""
+            if (_EXPONENT_NEGATIVE.fullmatch(text) and "=" not in before
+                    and "--" not in joined and self._takes_a_value(before)):
+                joined[-1] = f"{before}={text}"
+            else:
+                joined.append(text)
+        return super().parse_known_args(joined, namespace)
+
+    def _takes_a_value(self, flag: str) -> bool:
+        """``flag`` is one of this parser's options that takes a value, or an abbreviation of
+        exactly one such long option (argparse takes unique abbreviations)."""
+        if flag in self.value_options:
+            return self.value_options[flag]
+        named = [f for f in self.value_options if f.startswith("--") and f.startswith(flag)]
+        return flag.startswith("--") and len(named) == 1 and self.value_options[named[0]]
 
     def error(self, message: str):
         self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+
+
+#: a negative number in exponent form, which argparse would read as an option
+_EXPONENT_NEGATIVE = re.compile(r"-(\d+\.?\d*|\.\d+)[eE][-+]?\d+")
 
 
 def _help_formatter(prog: str) -> argparse.HelpFormatter:
@@ -201,7 +233,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version, nargs=0,
                         help="print the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    groups: dict[str, argparse._SubParsersAction] = {}
+    groups: dict[str, argparse.Action] = {}  # a first word -> its subcommands' action
     for name in NAMES:
         first, *rest = name.split()
         if command is not None and first != command:
