@@ -155,8 +155,8 @@ def _add_option(p: argparse.ArgumentParser, f) -> None:
 
 class _Parser(argparse.ArgumentParser):
     """argparse's parser, but a usage error is one line (and exit status 2), and a negative
-    number in exponent form (``--tha-start -1e-5``) is a value, not an option: argparse takes
-    ``-1`` and ``-.5`` after an option as its value but reads ``-1e-5`` as an option, so such a
+    number (``--tha-start -1e-5``) is a value, not an option: argparse takes ``-1`` and ``-.5``
+    after an option as its value but reads ``-1e-5`` and ``-1.`` as options, so a negative
     number is joined to the option before it (``--tha-start=-1e-5``, argparse's own spelling of
     a value that starts with a dash) when that option takes a value."""
 
@@ -172,31 +172,29 @@ class _Parser(argparse.ArgumentParser):
         return action
 
     def parse_known_args(self, args=None, namespace=None):
-        args = list(sys.argv[1:] if args is None else args)
         joined: list[str] = []
-        for text in args:
-            before = joined[-1] if joined else ""
-            if (_EXPONENT_NEGATIVE.fullmatch(text) and "=" not in before
-                    and "--" not in joined and self._takes_a_value(before)):
-                joined[-1] = f"{before}={text}"
+        for text in sys.argv[1:] if args is None else args:
+            if (joined and _NEGATIVE_NUMBER.fullmatch(text) and "--" not in joined
+                    and self._takes_a_value(joined[-1])):
+                joined[-1] += "=" + text
             else:
                 joined.append(text)
         return super().parse_known_args(joined, namespace)
 
     def _takes_a_value(self, flag: str) -> bool:
-        """``flag`` is one of this parser's options that takes a value, or an abbreviation of
-        exactly one such long option (argparse takes unique abbreviations)."""
+        """``flag`` is an option of this parser that takes a value, or a long option's
+        abbreviation that names one such option only (argparse takes unique abbreviations)."""
         if flag in self.value_options:
             return self.value_options[flag]
-        named = [f for f in self.value_options if f.startswith("--") and f.startswith(flag)]
-        return flag.startswith("--") and len(named) == 1 and self.value_options[named[0]]
+        named = [f for f in self.value_options if flag.startswith("--") and f.startswith(flag)]
+        return len(named) == 1 and self.value_options[named[0]]
 
     def error(self, message: str):
         self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")
 
 
-#: a negative number in exponent form, which argparse would read as an option
-_EXPONENT_NEGATIVE = re.compile(r"-(\d+\.?\d*|\.\d+)[eE][-+]?\d+")
+#: a negative number (argparse reads -1e-5 and -1. as options; -1 and -.5 as values)
+_NEGATIVE_NUMBER = re.compile(r"-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 
 
 def _help_formatter(prog: str) -> argparse.HelpFormatter:
