@@ -77,19 +77,14 @@ EVENT_FORMATS = _event_formats()
 def _hit_messages() -> dict[str, str]:
     """Each surface's hit message: the listing's, the ground's point left open (``{point}``);
     FRONT and SIDE, which the listing cannot say, in the words of its car messages."""
-    out: dict[str, str] = {}
+    out, car = {}, ""
     for label, (kind, surface, point) in EVENT_FORMATS.items():
         if kind is EventKind.HIT:
             m = _HIT.fullmatch(MESSAGES[label])
-            text = m["head"] + m["surface"] + (" WITH POINT {point}" if point else m["tail"])
-            if out.setdefault(surface.name, text) != text:  # the listing's four ground messages
-                raise ValueError(f"FORMAT {label}: {text!r} against {out[surface.name]!r}")
-            if surface.on_car:
-                car = m["head"] + "{surface}" + m["tail"]
-    for surface in Surface:
-        if surface.on_car and surface.name not in out:
-            out[surface.name] = car.format(surface=surface.name)
-    return out
+            out[surface.name] = m.string[:m.start("point")] + "{point}" if point else m.string
+            car = car or ("" if point else m.expand(r"\g<head>{surface}\g<tail>"))
+    return out | {s.name: car.format(surface=s.name) for s in Surface
+                  if s.on_car and s.name not in out}
 
 
 #: The listing's messages of lost contact, by the event's kind.
@@ -124,6 +119,11 @@ POINT_NAMES = {
     "P-R": "arm P-R",
     "P-U": "second arm P-U",
 }
+
+#: The post's points an outcome traces (its ``points``, beside the mass centre CM): the
+#: listing's P, Q, R and C, and the twin's U; the one row the engines and the pictures pick
+#: their points from.
+TRACED_POINTS = ("P", "Q", "R", "C", "U")
 
 
 @dataclass(frozen=True)

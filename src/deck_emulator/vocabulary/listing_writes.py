@@ -1,20 +1,13 @@
 """What the listing writes to the line printer, read from the listing itself.
 
 The package's copy of ``legacy/luminaire.f`` is the one source of the printout's words: each
-``WRITE(6,n) list`` statement, the ``FORMAT`` it names and the variables it prints are read
-from it here, once, when this module is first imported (about a millisecond: only FORMAT and
-WRITE statements are read).  The printer lays its records out from :data:`FORMATS`, the
-printout readers find its labels and messages in :data:`WRITES` and :data:`MESSAGES`, and
-both paths word their events from :data:`MESSAGES` (:mod:`deck_emulator.vocabulary.events`).
-
-The reader takes the fixed form the listing is punched in: columns 1-5 a label, a character
-other than blank or 0 in column 6 a continuation, columns 7-72 the statement, blanks ignored
-outside Hollerith texts and kept in them.  The FORTRAN front end
-(:mod:`deck_emulator.legacy.fortran.parse`) reads the same FORMATs with its own, checked
-reader; a test holds the two equal.
-
-This module imports nothing from the package: the vocabulary stands below both paths, and
-the listing is read here as a data file of the package.
+``WRITE(6,n) list``, the ``FORMAT`` it names and the variables it prints are read from it here,
+once, at import (FORMAT and WRITE statements only, in the fixed form the listing is punched
+in).  The printer lays its records out from :data:`FORMATS`, the printout readers find its
+labels and messages here, and both paths word their events from :data:`MESSAGES`
+(:mod:`deck_emulator.vocabulary.events`).  The FORTRAN front end reads the same FORMATs with
+its own, checked reader; a test holds the two equal.  Nothing of the package is imported: the
+listing is read as a data file.
 """
 
 from __future__ import annotations
@@ -56,33 +49,8 @@ class Write:
     variables: tuple[str, ...]
     card: int
 
-    @property
-    def texts(self) -> tuple[str, ...]:
-        """The FORMAT's Hollerith texts, in order."""
-        return tuple(text for kind, text in _items(self.format) if kind == "H")
 
-
-_ITEM = re.compile(r"(\d+)H|(\d+)X|F(\d+\.\d+)|/|,")
 _COUNT = re.compile(r"([0-9][0-9 ]*)H")  # a Hollerith count (blanks in it ignored)
-
-
-def _items(fmt: str) -> list[tuple[str, str]]:
-    """A FORMAT text as (kind, text) items: ``H`` a Hollerith text, ``F`` an Fw.d, ``X``,
-    ``/``: enough to tell the texts from the fields (the printer lays them out)."""
-    out, i = [], 1
-    while i < len(fmt) - 1:
-        m = _ITEM.match(fmt, i)
-        if m is None:
-            raise ValueError(f"{LISTING_FILE}: FORMAT item not read at {fmt[i:]!r} in {fmt}")
-        if m.group(1):
-            n = int(m.group(1))
-            out.append(("H", fmt[m.end():m.end() + n]))
-            i = m.end() + n
-            continue
-        if m.group() != ",":
-            out.append(("X" if m.group(2) else "F" if m.group(3) else "/", m.group()))
-        i = m.end()
-    return out
 
 
 def _format_text(body: str) -> str:
@@ -134,6 +102,7 @@ WRITES: dict[int, Write] = {w.label: w for w in _writes(listing_lines())}
 #: The FORMATs the listing writes with, by label, in the listing's order.
 FORMATS: dict[int, str] = {label: w.format for label, w in WRITES.items()}
 
-#: The FORMATs that print a message and no value, by label: the message, as the listing spells it.
-MESSAGES: dict[int, str] = {label: w.texts[-1] for label, w in WRITES.items()
-                            if not w.variables and w.texts and w.texts[-1].strip()}
+#: The FORMATs that print a message and no value, by label: the message (their one Hollerith
+#: text after the carriage control, blanks and ``nX``), as the listing spells it.
+MESSAGES: dict[int, str] = {label: re.fullmatch(r"\([/,0-9X]*[0-9]+H(.*)\)", w.format)[1]
+                            for label, w in WRITES.items() if not w.variables}
