@@ -35,7 +35,11 @@ def is_comment(line: str) -> bool:
 
 def is_continuation(line: str) -> bool:
     """A statement card continuing the one before (column 6 neither blank nor zero)."""
-    return not is_comment(line) and len(line) > 5 and line[5] not in (" ", "0")
+    return not is_comment(line) and _continues(line)
+
+
+def _continues(card: str) -> bool:
+    return len(card) > 5 and card[5] not in (" ", "0")
 
 
 @dataclass(frozen=True)
@@ -50,48 +54,49 @@ class Write:
     card: int
 
 
-_COUNT = re.compile(r"([0-9][0-9 ]*)H")  # a Hollerith count (blanks in it ignored)
+#: a Hollerith count after the delimiter before it (blanks in it ignored)
+_HOLLERITH = re.compile(r"([(,/])( *)([0-9][0-9 ]*)H")
 
 
 def _format_text(body: str) -> str:
     """A FORMAT statement's ``(...)`` from its columns 7-72 (continuations joined): blanks
-    dropped, except the ``n`` characters after each ``nH``."""
-    body = body[re.match(r" *" + " *".join("FORMAT"), body).end():]
-    out, i = [], 0
-    while i < len(body):
-        m = _COUNT.match(body, i) if out and out[-1] in "(,/" else None
-        if m:
-            n = int(m.group(1).replace(" ", ""))
-            out.append(f"{n}H{body[m.end():m.end() + n]}")
-            i = m.end() + n
-            continue
-        if body[i] != " ":
-            out.append(body[i])
-        i += 1
-    return "".join(out)
+    dropped, except in the ``n`` characters after each ``nH``."""
+    out, i = [], body.index("(")
+    while (m := _HOLLERITH.search(body, i)) is not None:
+        n = int(m[3].replace(" ", ""))
+        out += [body[i:m.end(1)].replace(" ", ""), f"{n}H", body[m.end():m.end() + n]]
+        i = m.end() + n
+    return "".join(out) + body[i:].replace(" ", "")
 
 
-def _writes(lines: list[str]) -> tuple[Write, ...]:
+def _writes(lines: list[str]) -> list[Write]:
     """The listing's WRITE statements with their FORMATs, in the order of the listing."""
-    statements: list[list] = []  # [label, columns 7-72 joined, first line]
+    read: list[list] = []  # [label, columns 7-72 joined, first line] of a FORMAT or a WRITE
+    current = None  # the one being read: its continuation cards are joined to it
     for number, raw in enumerate(lines, start=1):
-        if is_comment(raw):
-            continue
-        card = raw[:72].ljust(72)
-        if is_continuation(raw) and statements:
-            statements[-1][1] += card[6:]
-        else:
-            statements.append([card[:5].strip(), card[6:], number])
+        if current is not None:
+            if is_comment(raw):
+                continue
+            if _continues(raw):
+                current[1] += raw[:72].ljust(72)[6:]
+                continue
+            current = None
+        # (the keywords as the listing punches them, whole: a test holds this reader equal
+        # to the front end's)
+        if ("FORMAT" in raw or "WRITE" in raw) and not is_comment(raw) and not _continues(raw):
+            card = raw[:72].ljust(72)
+            if card[6:].replace(" ", "").startswith(("FORMAT(", "WRITE(")):
+                current = [card[:5].strip(), card[6:], number]
+                read.append(current)
     formats, writes = {}, []
-    for label, body, number in statements:
+    for label, body, number in read:
         compact = body.replace(" ", "")
-        if compact.startswith("FORMAT(") and label:
+        if compact.startswith("FORMAT("):
             formats[int(label)] = _format_text(body)
-        elif compact.startswith("WRITE("):
+        else:
             m = re.fullmatch(r"WRITE\(6,(\d+)\)([A-Z0-9,]*)", compact)
-            writes.append((int(m.group(1)), tuple(filter(None, m.group(2).split(","))), number))
-    writes = [Write(label, formats[label], names, number) for label, names, number in writes]
-    return tuple(writes)
+            writes.append((int(m[1]), tuple(filter(None, m[2].split(","))), number))
+    return [Write(label, formats[label], names, number) for label, names, number in writes]
 
 
 #: Every WRITE of the listing to the line printer, by its FORMAT's label, in the listing's
