@@ -61,7 +61,7 @@ def test_a_negative_number_is_the_value_of_the_option_before_it_in_any_spelling(
     """Any negative number (exponent form or not) after an option that takes a value is that
     value, also after an abbreviation of the option or written with '='; after an option that
     takes none it is left to argparse, which refuses it."""
-    from hypothesis import given, strategies as st
+    from hypothesis import HealthCheck, given, settings, strategies as st
 
     from deck_emulator.cli import build_parser
 
@@ -69,6 +69,7 @@ def test_a_negative_number_is_the_value_of_the_option_before_it_in_any_spelling(
     number = st.from_regex(r"-([1-9][0-9]{0,3}(\.[0-9]{0,3})?|\.[0-9]{1,3}[1-9])"
                            r"([eE][-+]?[0-9]{1,2})?", fullmatch=True)
 
+    @settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])  # (a loaded machine)
     @given(text=number, spelling=st.sampled_from(["--tha-start", "--tha-st", "--tha-start="]))
     def check(text, spelling):
         argv = ["summary", "steel40", *([spelling + text] if spelling.endswith("=")
