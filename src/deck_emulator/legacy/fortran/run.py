@@ -460,7 +460,7 @@ class Runner:
                 for name, formats in self.formats.items():
                     printer = self._printer(formats)
                     printer.records = self.run_.records
-                    setattr(self, f"write_{name}", printer.write)
+                    setattr(self, f"write_{name}", self._writer(name, printer))
                 mains = {name: namespace[f"make_{name}"](self) for name in self.formats}
                 for name in self.formats:
                     if name != "MAIN":
@@ -496,6 +496,18 @@ class Runner:
                 return self._replay()  # (a value went non-finite before: where, replayed)
             self._fail(error)
         return self.run_
+
+    def _writer(self, unit: str, printer):
+        """``WRITE(6,fmt) list`` of ``unit``, on its card: the printer's records, and which
+        statement printed them with the values of its list (:attr:`Run.writes`)."""
+        records, writes, to_float = self.run_.records, self.run_.writes, self.ar.to_float
+
+        def write(card: int, fmt: int, *values) -> None:
+            first = len(records)
+            printer.write(fmt, *values)
+            writes.append((first, unit, card, fmt, tuple(map(to_float, values))))
+
+        return write
 
     def _all_finite(self) -> bool:
         return all(self.ar.isfinite(x) for _, get in self.units.values()
