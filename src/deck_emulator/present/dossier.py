@@ -418,10 +418,24 @@ def pictures(outcome) -> tuple[list[tuple[str, str]], str | None]:
             buf = io.StringIO()
             fig.savefig(buf, format="svg", metadata={"Date": None})
         svg = buf.getvalue()
-        svg = svg[svg.index("<svg"):]
+        svg = _own_ids(svg[svg.index("<svg"):], f"fig{k}-")
         svg = svg.replace("<svg ", f'<svg role="img" aria-label="{_e(caption)}" ', 1)
         made.append((caption, svg))
     return made, None
+
+
+def _own_ids(svg: str, prefix: str) -> str:
+    """An SVG's ids (and the references to them) prefixed: several inline SVGs in one page
+    whose ids would otherwise repeat (matplotlib names each figure's parts alike)."""
+    import re
+
+    ids = set(re.findall(r'\bid="([^"]+)"', svg))
+    if not ids:
+        return svg
+    names = "|".join(re.escape(i) for i in sorted(ids, key=len, reverse=True))
+    svg = re.sub(rf'\bid="({names})"', lambda m: f'id="{prefix}{m.group(1)}"', svg)
+    return re.sub(rf'(["(])#({names})([")])', lambda m: f"{m.group(1)}#{prefix}{m.group(2)}"
+                  f"{m.group(3)}", svg)
 
 
 def _pictures_html(made: list[tuple[str, str]], note: str | None) -> str:
@@ -549,29 +563,61 @@ def compare_page(*, a: str, b: str, counts_line: str, verdict_line: str, found,
 
 
 def diff_page(*, name: str, text: str, data: dict, settings: dict,
-              made_pictures=((), None)) -> str:
-    """The page of ``diff SOURCE --html``: the diff's table as the command prints it (the
-    emulator and the core side by side, their differences, the convergence), its settings,
-    and its rows as tables."""
+              stopped: str | None = None) -> str:
+    """The page of ``diff SOURCE --html``: the emulator and the core side by side (the diff's
+    own ``emulator`` and ``core`` answers, and core minus emulator where both are numbers),
+    the convergence rows, the table as the command prints it, and its settings."""
     parts = [f'<header class="top"><h1>The emulator and the core on {_e(name)}</h1>',
-             _nav([("table", "Side by side"), ("rows", "Rows"), ("settings", "Settings")]),
-             '</header><main id="main">',
-             '<section id="table" aria-labelledby="t-h"><h2 id="t-h">Side by side, as '
-             f'<code>diff</code> prints it</h2><pre class="listing">{_e(text)}</pre></section>']
-    parts.append('<section id="rows" aria-labelledby="rw-h"><h2 id="rw-h">Rows</h2>')
+             _nav([("side", "Side by side"), ("rows", "Convergence"), ("table", "As printed"),
+                   ("settings", "Settings")])]
+    if stopped:
+        parts.append('<div class="stop" role="alert"><strong>A run stopped.</strong> '
+                     f"{_e(stopped)}</div>")
+    parts.append('</header><main id="main">')
+    emu, core = data.get("emulator") or {}, data.get("core") or {}
+    rows = []
+    for key in dict.fromkeys([*emu, *core]):
+        x, y = emu.get(key), core.get(key)
+        if isinstance(x, dict) or isinstance(y, dict):  # the points at the hit, by axis
+            for point in dict.fromkeys([*(x or {}), *(y or {})]):
+                px, py = (x or {}).get(point), (y or {}).get(point)
+                for axis, label in enumerate(("XL", "YL", "ZL")):
+                    vx = px[axis] if px else None
+                    vy = py[axis] if py else None
+                    rows.append((f"{key} {point} {label}", vx, vy))
+        else:
+            rows.append((key, x, y))
+    body = []
+    for key, x, y in rows:
+        numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (x, y))
+        delta = _cell(y - x) if numbers else ("same" if x == y else "differ")
+        cls = "" if numbers or x == y else ' class="differ"'
+        body.append(f'<tr{cls}><th scope="row"><code>{_e(key)}</code></th>'
+                    f'<td class="num">{_e(_cell(x))}</td><td class="num">{_e(_cell(y))}</td>'
+                    f'<td class="num">{_e(delta)}</td></tr>')
+    parts.append('<section id="side" aria-labelledby="sd-h"><h2 id="sd-h">The emulator and '
+                 'the core, side by side</h2><table class="aligned"><thead><tr><th scope="col">'
+                 'what</th><th scope="col">emulator</th><th scope="col">core</th>'
+                 '<th scope="col">core &minus; emulator</th></tr></thead><tbody>'
+                 f"{''.join(body)}</tbody></table></section>")
+    parts.append('<section id="rows" aria-labelledby="rw-h"><h2 id="rw-h">Convergence as the '
+                 "step is halved</h2>")
     for key, value in data.items():
         if isinstance(value, list) and value and all(isinstance(r, dict) for r in value):
             cols = list(dict.fromkeys(c for r in value for c in r))
             head = "".join(f'<th scope="col">{_e(c)}</th>' for c in cols)
-            body = "".join("<tr>" + "".join(f"<td>{_e(_cell(r.get(c)))}</td>" for c in cols)
-                           + "</tr>" for r in value)
-            parts.append(f"<h3>{_e(key)}</h3><div class=\"paper\"><table><thead><tr>{head}"
-                         f"</tr></thead><tbody>{body}</tbody></table></div>")
-    parts.append("</section>")
+            body_ = "".join("<tr>" + "".join(f"<td>{_e(_cell(r.get(c)))}</td>" for c in cols)
+                            + "</tr>" for r in value)
+            parts.append(f'<div class="paper"><table><caption>{_e(key)}</caption><thead><tr>'
+                         f"{head}</tr></thead><tbody>{body_}</tbody></table></div>")
+    rest = {k: v for k, v in data.items() if k not in ("emulator", "core")
+            and not (isinstance(v, list) and v and all(isinstance(r, dict) for r in v))}
+    parts.append(f"{_facts({k: _cell(v) for k, v in rest.items()})}</section>")
+    parts.append('<section id="table" aria-labelledby="t-h"><h2 id="t-h">The table, as '
+                 f'<code>diff</code> prints it</h2><pre class="listing">{_e(text)}</pre>'
+                 "</section>")
     parts.append(f'<section id="settings" aria-labelledby="s-h"><h2 id="s-h">Settings</h2>'
-                 f"{_facts({k: _cell(v) for k, v in settings.items()})}</section>")
-    parts.append('<section class="pictures" aria-labelledby="dp-h"><h2 id="dp-h">Pictures'
-                 f"</h2>{_pictures_html(*made_pictures)}</section></main>")
+                 f"{_facts({k: _cell(v) for k, v in settings.items()})}</section></main>")
     return _page(f"diff {name}", "".join(parts), script=False)
 
 
