@@ -91,9 +91,14 @@ def run(o: RunOptions) -> Answer:
                     said=list(src.notes))
     printed_by_run, text, sections, stop = [], "", [], None
     programs, outcomes, writes = [], [], []  # what --html shows
+
+    def keep(program) -> None:  # the program's run keeps which WRITE printed which record
+        program.keep_writes = True
+        programs.append(program)
+
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
         done = common.with_progress(o.quiet, engine, deck, execute=True,
-                                    seen=programs if o.html else None)
+                                    watch=keep if o.html else None)
         run_ = done.run
         # the Outcome only where it is used (a trajectory, a stopped run's reasons, the
         # dossier's summary): a plain run prints the program's records and loads no numpy

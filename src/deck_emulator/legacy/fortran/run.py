@@ -340,6 +340,9 @@ class Runner:
         #: of it (the made code's _S)
         self.budget = limits.budget(program.step_scale_k)
         self._left = [self.budget]
+        #: keep which WRITE printed which records (Run.writes: what a dossier links); set
+        #: before run(), off by default (a study's thousands of runs keep none)
+        self.keep_writes = False
 
     @property
     def statements_run(self) -> int:
@@ -501,6 +504,8 @@ class Runner:
         """``WRITE(6,fmt) list`` of ``unit``, on its card: the printer's records, and which
         statement printed them with the values of its list (:attr:`Run.writes`)."""
         records, writes, to_float = self.run_.records, self.run_.writes, self.ar.to_float
+        if not self.keep_writes:
+            return lambda card, fmt, *values: printer.write(fmt, *values)
 
         def write(card: int, fmt: int, *values) -> None:
             first = len(records)
@@ -520,6 +525,7 @@ class Runner:
             indicators.underflows = self._underflows_at_start
         again = Runner(self.program, self.deck, self.ar, limits=self.limits, checking=True,
                        trace=self.keep_trace)
+        again.keep_writes = self.keep_writes
         try:
             return again.run()
         finally:  # (what a progress display or a defect's message reads)
