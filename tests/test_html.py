@@ -301,3 +301,36 @@ def test_diff_html_sets_the_emulator_beside_the_core(tmp_path, capsys):
     last_time = next(float(x.split()[-1]) for x in reversed(GOLDEN) if "OF TIME IS" in x)
     assert float(side["hit_time_s"][0]) == pytest.approx(last_time, abs=1e-9)
     assert float(side["hit_time_s"][1]) > 0  # the core's, beside it
+
+
+# ------------------------------------------------------------- the forms, for any records
+
+
+def test_any_records_stand_on_the_forms_as_written_each_in_its_writes_link():
+    """For any records (any carriage control, any printable text, HTML's own characters
+    among it) and any WRITEs printing them, the forms read back give the records, in order,
+    character for character, each in the link of the WRITE that printed it."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from deck_emulator.present.dossier import PrintedSection, Program, printout
+
+    text = st.text(st.characters(min_codepoint=32, max_codepoint=126), max_size=20)
+    record = st.tuples(st.sampled_from(["", "1", "0", "+", " ", "-", "<", "&"]), text).map(
+        lambda t: (t[0] + t[1]) if t[0] else "")
+
+    @settings(max_examples=200, deadline=None)
+    @given(st.lists(st.tuples(st.integers(1, 999), st.lists(record, min_size=1, max_size=4)),
+                    min_size=1, max_size=12))
+    def check(writes):
+        records, rows = [], []
+        for card, printed in writes:
+            rows.append((len(records), "MAIN", card, 6, ()))
+            records += printed
+        section = PrintedSection("d", "s", tuple(records), tuple(rows))
+        page = Page(printout(section, Program("p", ()), 1))
+        assert [t for t, _ in page.records] == records
+        owners = [f"#c{card}" for card, printed in writes for _ in printed]
+        assert [href for _, href in page.records] == owners
+
+    check()

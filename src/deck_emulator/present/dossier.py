@@ -345,7 +345,7 @@ def _outcome(result: dict | None, note: str | None) -> str:
         for name, v in values.items():
             q = QUANTITIES[name]
             status = ("computed" if v is not None else
-                      f"no value: {missing.get(name, 'not reached by this run')}")
+                      f"no value: {missing[name]}" if name in missing else "no value")
             out.append(f'<tr><th scope="row">{_e(q.label)}</th><td><code>{_e(name)}</code></td>'
                        f'<td class="num">{_e(q.show(v))}</td><td>{_e(q.unit)}</td>'
                        f"<td>{_e(status)}</td></tr>")
