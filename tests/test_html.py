@@ -334,3 +334,16 @@ def test_any_records_stand_on_the_forms_as_written_each_in_its_writes_link():
         assert [href for _, href in page.records] == owners
 
     check()
+
+
+def test_html_refuses_a_name_that_is_no_page_or_another_output_before_any_work(tmp_path,
+                                                                                capsys):
+    """--html names an .html file, not the printout's own file: refused in one line, exit
+    2, nothing written."""
+    out = tmp_path / "s.html"
+    assert main(["run", "steel40", "--html", str(tmp_path / "s.txt")]) == 2
+    assert "name a .html file" in capsys.readouterr().err
+    assert main(["run", "steel40", "--quiet", "--out", str(out), "--html", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert len([line for line in err.splitlines() if "error" in line]) == 1
+    assert not out.exists() and list(tmp_path.iterdir()) == []

@@ -399,7 +399,7 @@ def pictures(outcome) -> tuple[list[tuple[str, str]], str | None]:
     saying so."""
     if importlib.util.find_spec("matplotlib") is None:
         return [], "No pictures: matplotlib is not installed (pip install 'deck_emulator[plot]')."
-    if outcome is None or not getattr(outcome, "t", ()).size:
+    if outcome is None or len(getattr(outcome, "t", ())) == 0:
         return [], "No pictures: the run recorded no trajectory to draw."
     import matplotlib
 
