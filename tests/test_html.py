@@ -226,6 +226,10 @@ def test_a_stopped_run_says_so_first_and_holds_the_records_printed_until_then(tm
     page = Page(text)
     assert page.order.index("alert") < page.order.index("provenance")
     assert "The run stopped" in text and "0.05" in text
+    # the stop links to the last WRITE's records, which are the printout's last
+    alert = text[text.index('role="alert"'):]
+    last = re.search(r'href="#(p1-\d+)"', alert[:alert.index("</div>")]).group(1)
+    assert last in page.ids and int(last.split("-")[1]) <= len(page.records)
     records = [t for t, _ in page.records]
     assert 0 < len(records) < len(GOLDEN) and records == GOLDEN[:len(records)]
     assert _check_links(page, LISTING) == len(records)

@@ -318,7 +318,7 @@ def _write_info(program: Program) -> dict:
 # --------------------------------------------------------------------------- the outcome
 
 
-def _outcome(result: dict | None, note: str | None) -> str:
+def _outcome(result: dict | None, note: str | None, stop: dict | None = None) -> str:
     """The events, quantities (with their status) and ratings (with their evidence) of the
     summary's answer (:func:`~deck_emulator.present.answers.outcome_result`)."""
     from deck_emulator.engine.quantities import QUANTITIES
@@ -330,13 +330,13 @@ def _outcome(result: dict | None, note: str | None) -> str:
         return f'<p class="note">{_e(note or "No outcome.")}</p>'
     parts = [f'<p class="note">{_e(note)}</p>' if note else "", '<section aria-labelledby="events-h"><h3 id="events-h">Events, in time order</h3>']
     events = sorted(result["events"], key=lambda e: (e["time_s"] is None, e["time_s"] or 0))
-    if events:
-        parts.append("<ol>" + "".join(
-            f"<li>{_e(ev['sentence'])}"
-            + (f" <span class=\"note\">(FORMAT {_e(ev['label'])})</span>" if ev.get("label")
-               else "") + "</li>" for ev in events) + "</ol>")
-    else:
-        parts.append("<p>No event.</p>")
+    items = [f"<li>{_e(ev['sentence'])}"
+             + (f" <span class=\"note\">(FORMAT {_e(ev['label'])})</span>" if ev.get("label")
+                else "") + "</li>" for ev in events]
+    if stop is not None:  # the last thing that happened: the stop, with its reason
+        items.append(f"<li><strong>the run stopped</strong>, {_e(stop['when'])}, at "
+                     f"{_e(stop['where'])}: {_e(stop['why'])}</li>")
+    parts.append(f"<ol>{''.join(items)}</ol>" if items else "<p>No event.</p>")
     parts.append("</section>")
     missing = result.get("unavailable") or {}
 
@@ -465,12 +465,15 @@ def run_page(*, name: str, facts: dict, program: Program, sections: list[Printed
         parts.append('<div class="stop" role="alert"><strong>The run stopped.</strong> '
                      + (f"Section {_e(where)}: " if where else "")
                      + f"at {_e(stop['where'])}, {_e(stop['when'])}: {_e(stop['why'])}. "
-                     "The records printed until then are below, as printed.</div>")
+                     "The records printed until then are below, as printed"
+                     + (f' (<a href="#p{len(sections)}-{sections[-1].writes[-1][0] + 1}">the '
+                        "last WRITE's records</a>)" if sections and sections[-1].writes else "")
+                     + ".</div>")
     parts.append("</header>\n<main id=\"main\">")
     parts.append('<section id="provenance" aria-labelledby="prov-h"><h2 id="prov-h">'
                  f"Provenance</h2>{_facts(facts)}</section>")
     parts.append('<section id="outcome" aria-labelledby="out-h"><h2 id="out-h">Events, '
-                 f"quantities and ratings</h2>{_outcome(result, outcome_note)}</section>")
+                 f"quantities and ratings</h2>{_outcome(result, outcome_note, stop)}</section>")
     parts.append('<section id="pictures" class="pictures" aria-labelledby="pic-h">'
                  f'<h2 id="pic-h">Pictures</h2>{_pictures_html(*made_pictures)}</section>')
     parts.append('<section aria-labelledby="pl-h"><h2 id="pl-h">The printout beside the '
