@@ -11,6 +11,7 @@ checked to be a page of many colours and edges (non-blank) instead."""
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 
@@ -31,7 +32,7 @@ def _chromium() -> str:
     return found
 
 
-def _open(page, tmp_path, *, screenshot=None) -> tuple[str, list[str]]:
+def _open(page, tmp_path, *, screenshot=None, fragment="") -> tuple[str, list[str]]:
     """(the DOM after the page's script ran, the browser's console lines) of ``page``."""
     profile = tmp_path / f"profile-{page.stem}"
     args = [_chromium(), "--headless", "--disable-gpu", "--no-sandbox", "--hide-scrollbars",
@@ -39,8 +40,8 @@ def _open(page, tmp_path, *, screenshot=None) -> tuple[str, list[str]]:
             f"--user-data-dir={profile}", "--host-resolver-rules=MAP * ~NOTFOUND",
             "--virtual-time-budget=3000", "--window-size=1600,1200"]
     args += [f"--screenshot={screenshot}"] if screenshot else ["--dump-dom"]
-    done = subprocess.run(args + [page.resolve().as_uri()], capture_output=True, text=True,
-                          timeout=180, check=True)
+    done = subprocess.run(args + [page.resolve().as_uri() + fragment], capture_output=True,
+                          text=True, timeout=180, check=True)
     console = [line for line in done.stderr.splitlines() if ":CONSOLE" in line]
     return done.stdout, console
 
@@ -123,3 +124,25 @@ def test_each_page_opens_in_chromium_with_no_console_message_and_no_request(tmp_
         png = tmp_path / f"{name}.png"
         _open(path, tmp_path, screenshot=png)
         _rendered(png)
+
+
+def test_a_records_link_opened_shows_its_write_format_and_values(tmp_path):
+    """run.html#p1-21 (the records of the 11th WRITE, the first of two values on a line):
+    the page's script fills the detail box with the WRITE of luminaire.f's card that printed
+    them, its FORMAT over its two cards, and the two values of its list (which round to
+    what gfortran printed)."""
+    _chromium()
+    page = tmp_path / "run.html"
+    assert main(["run", "steel40", "--quiet", "--html", str(page), "--out",
+                 str(tmp_path / "r.txt")]) == 0
+    dom, console = _open(page, tmp_path, fragment="#p1-21")
+    assert console == []
+    box = dom[dom.index('id="detail"'):]
+    box = box[:box.index("</div>")]
+    write = next(n for n, line in enumerate(LISTING, 1) if line.strip() == "WRITE(6,200)YYPA,XRA")
+    assert f'href="#c{write}"' in box and "WRITE(6,200)YYPA,XRA" in box
+    assert "THE VALUE OF YYPA IS ,F15.5,30X,20HTHE VALUE OF XRA IS ,F15.5)" in box
+    # the values, rounded as F15.5 rounds them, are what gfortran printed on that line
+    values = re.search(r"YYPA = (\S+), XRA = (\S+)<", box).groups()
+    printed = next(line for line in GOLDEN if "OF YYPA IS" in line).split()
+    assert [f"{float(v):.5f}" for v in values] == [printed[5], printed[-1]]

@@ -45,19 +45,22 @@ def program_listing(program, title: str):
         return found
 
     isn_of: dict[int, int] = {}
-    formats: dict[tuple[str | None, int], int] = {}
+    formats: dict[tuple[str | None, int], tuple[int, str]] = {}
     for isn, st in enumerate(statements(lines, numbers), start=1):
         isn_of[st.line] = isn
         if st.label and st.text.upper().startswith("FORMAT("):
-            formats[(unit_of(st.line), int(st.label))] = st.line
+            # as punched: the first card's columns 1-72, each continuation's 7-72
+            text = (st.cards[0][1][:72] + "".join(card[6:72] for _, card in st.cards[1:]))
+            formats[(unit_of(st.line), int(st.label))] = (st.line, text.rstrip())
     writes = {}
     for name, unit in program.units.items():
         for st in unit.statements:
             if st.kind != "write":
                 continue
             fmt = st.args[0]
+            card, text = formats.get((name, fmt), (None, ""))
             writes[(name, st.card)] = WriteStatement(
-                st.card, name, st.text, fmt, formats.get((name, fmt)), _list_names(st.text))
+                st.card, name, st.text, fmt, card, _list_names(st.text), text.strip())
     cards = tuple(ListedCard(n, text, isn_of.get(n), unit_of(n))
                   for n, text in zip(numbers, lines))
     return Program(title, cards, writes)

@@ -78,6 +78,7 @@ class WriteStatement:
     fmt: int
     format_card: int | None
     names: tuple[str, ...] = ()
+    format_text: str = ""  # the FORMAT statement as punched, its continuation cards joined
 
 
 @dataclass(frozen=True)
@@ -189,13 +190,15 @@ function show(a){
   if(href){var l=document.createElement('a');l.href=href;l.textContent=text;p.appendChild(l);}
   else{p.appendChild(document.createTextNode(text));}box.appendChild(p);}
  line('WRITE',(w.t||'')+' (card '+card.slice(1)+', '+(w.u||'')+')','#'+card);
- if(w.f){var fc=document.getElementById('c'+w.f);line('FORMAT '+w.m,(fc?fc.dataset.text:'')+' (card '+w.f+')','#c'+w.f);}
+ if(w.f){var fc=document.getElementById('c'+w.f);line('FORMAT '+w.m,(w.ft||(fc?fc.dataset.text:''))+' (card '+w.f+')','#c'+w.f);}
  line('Values',a.title||'(none: the FORMAT prints text only)');
 }
 document.querySelectorAll('a.w').forEach(function(a){
  a.addEventListener('focus',function(){show(a);});
  a.addEventListener('click',function(ev){if(box){ev.preventDefault();show(a);}});
 });
+var start=location.hash&&document.getElementById(location.hash.slice(1));
+if(start&&start.classList.contains('w')){show(start);}
 var q=document.getElementById('q'),n=document.getElementById('qn'),hits=[],at=-1;
 if(q){document.querySelectorAll('.search').forEach(function(s){s.hidden=false;});
  q.addEventListener('input',function(){
@@ -311,7 +314,8 @@ def listing(program: Program) -> str:
 
 
 def _write_info(program: Program) -> dict:
-    return {str(card): {"u": u, "t": w.text, "f": w.format_card, "m": w.fmt}
+    return {str(card): {"u": u, "t": w.text, "f": w.format_card, "m": w.fmt,
+                        "ft": w.format_text}
             for (u, card), w in program.writes.items()}
 
 
