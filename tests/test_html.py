@@ -323,7 +323,7 @@ def test_any_records_stand_on_the_forms_as_written_each_in_its_writes_link():
     record = st.tuples(st.sampled_from(["", "1", "0", "+", " ", "-", "<", "&"]), text).map(
         lambda t: (t[0] + t[1]) if t[0] else "")
 
-    @settings(max_examples=200, deadline=None)
+    @settings(max_examples=100, deadline=None)
     @given(st.lists(st.tuples(st.integers(1, 999), st.lists(record, min_size=1, max_size=4)),
                     min_size=1, max_size=12))
     def check(writes):

@@ -332,7 +332,8 @@ def _outcome(result: dict | None, note: str | None, stop: dict | None = None) ->
 
     if result is None:
         return f'<p class="note">{_e(note or "No outcome.")}</p>'
-    parts = [f'<p class="note">{_e(note)}</p>' if note else "", '<section aria-labelledby="events-h"><h3 id="events-h">Events, in time order</h3>']
+    parts = [f'<p class="note">{_e(note)}</p>' if note else "",
+             '<section aria-labelledby="events-h"><h3 id="events-h">Events, in time order</h3>']
     events = sorted(result["events"], key=lambda e: (e["time_s"] is None, e["time_s"] or 0))
     items = [f"<li>{_e(ev['sentence'])}"
              + (f" <span class=\"note\">(FORMAT {_e(ev['label'])})</span>" if ev.get("label")
@@ -383,7 +384,8 @@ def _outcome(result: dict | None, note: str | None, stop: dict | None = None) ->
                 c = crit.get(key, {})
                 good = verdict in ("preferred", "acceptable")
                 body.append(
-                    f'<tr><th scope="row">{_e(q.label)}</th><td class="num">{_e(q.show(r["value"]))}'
+                    f'<tr><th scope="row">{_e(q.label)}</th>'
+                    f'<td class="num">{_e(q.show(r["value"]))}'
                     f" {_e(q.unit)}</td><td>{_e(STANDARDS[CRITERIA[key].standard].name)}</td>"
                     f"<td>{_e(c.get('limit', ''))}</td><td class=\"verdict-"
                     f"{'ok' if good else 'bad'}\">{_e(verdict)}</td>"
@@ -489,7 +491,8 @@ def run_page(*, name: str, facts: dict, program: Program, sections: list[Printed
                  '<div class="beside"><div>')
     for k, s in enumerate(sections, start=1):
         parts.append(f'<section id="printout-{k}" aria-labelledby="pr{k}-h">'
-                     f'<h3 id="pr{k}-h">Printout{f" {k} of {len(sections)}" if len(sections) > 1 else ""}: '
+                     f'<h3 id="pr{k}-h">Printout'
+                     f'{f" {k} of {len(sections)}" if len(sections) > 1 else ""}: '
                      f"{_e(s.deck)}</h3><p class=\"note\">{_e(s.settings)}; "
                      f"{len(s.records):,} records</p>"
                      f'<div class="paper">{_ruler()}{printout(s, program, k)}</div></section>')
