@@ -351,3 +351,25 @@ def test_html_refuses_a_name_that_is_no_page_or_another_output_before_any_work(t
     err = capsys.readouterr().err
     assert len([line for line in err.splitlines() if "error" in line]) == 1
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_a_job_deck_of_two_sections_gives_two_printouts_beside_one_listing(tmp_path):
+    """A job deck holding steel40's $DATA section twice: two printouts, each gfortran's
+    whole, each record linked to the one listing's WRITE; the page says whose outcome it
+    shows."""
+    job = tmp_path / "steel40.job"
+    assert main(["punch", "steel40", "--job", "--to", "text", "--out", str(job)]) == 0
+    cards = job.read_text().split("\n")
+    data = cards.index("$DATA")
+    cards[data + 9:data + 9] = cards[data:data + 9]
+    two = tmp_path / "two.job"
+    two.write_text("\n".join(cards))
+    html = tmp_path / "two.html"
+    assert main(["run", str(two), "--quiet", "--html", str(html), "--out",
+                 str(tmp_path / "two.txt")]) == 0
+    text = html.read_text()
+    page = Page(text)
+    assert [t for t, _ in page.records] == GOLDEN + GOLDEN
+    assert _check_links(page, LISTING) == 2 * len(GOLDEN)
+    assert {"printout-1", "printout-2"} <= page.ids and "printout-3" not in page.ids
+    assert "last $DATA section run" in text

@@ -141,18 +141,21 @@ def run(o: RunOptions) -> Answer:
             facts["note"] = note
     answer.result = {"provenance": facts, "sections": sections}
     answer.text = text
-    if o.html:
+    page = _dossier(src, facts, sections, stop, programs, outcomes, writes) if o.html else None
+    if page is not None and not o.pages:
         from .dossier import write_page
 
-        write_page(o.html, _dossier(src, facts, sections, stop, programs, outcomes, writes))
+        write_page(o.html, page)
         answer.said.append(f"wrote the dossier to {o.html}")
     if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
         from deck_emulator.files import OutputSet
         from deck_emulator.legacy.pages import write_pdf
 
-        with OutputSet() as outputs:
+        with OutputSet() as outputs:  # (and the dossier, if asked for: all or none)
             if o.out:
                 outputs.write(o.out, answer.printed())
+            if page is not None:
+                outputs.write(o.html, page)
             # the banner page (the job separator) first, the compile listing if asked for
             # (the deck's own cards, or the shipped transcription), then the output as
             # printed, each of several runs after a separator page of its own
@@ -176,6 +179,8 @@ def run(o: RunOptions) -> Answer:
                       metadata=metadata,
                       progress=None if o.quiet else f"{PROG}: writing the pages")
         answer.said.append(f"wrote the line printer's pages to {o.pages}")
+        if page is not None:
+            answer.said.append(f"wrote the dossier to {o.html}")
         if o.out or not o.json:
             answer.text, answer.json = None, False  # written, or not for the terminal
     return answer
