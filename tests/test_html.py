@@ -373,3 +373,17 @@ def test_a_job_deck_of_two_sections_gives_two_printouts_beside_one_listing(tmp_p
     assert _check_links(page, LISTING) == 2 * len(GOLDEN)
     assert {"printout-1", "printout-2"} <= page.ids and "printout-3" not in page.ids
     assert "last $DATA section run" in text
+
+
+def test_a_run_with_an_erratum_links_to_the_listing_as_run(tmp_path):
+    """run steel40_a15 --erratum ed-direction --html: gfortran's printout of the patched
+    listing, record for record, each linked to its WRITE; the listing on the page is the
+    program as run (the patched statements DH=D-H in it)."""
+    html = tmp_path / "e.html"
+    assert main(["run", "steel40_a15", "--erratum", "ed-direction", "--quiet", "--html",
+                 str(html), "--out", str(tmp_path / "e.txt")]) == 0
+    golden = (ROOT / "golden" / "steel40_a15.ed-direction.r8.txt").read_text()
+    page = Page(html.read_text())
+    assert [t for t, _ in page.records] == golden.split("\n")[:-1]
+    assert _check_links(page, LISTING) == len(page.records)
+    assert "DH=D-H" in "".join(page.cards.values())
