@@ -35,6 +35,8 @@ import io
 import json
 from dataclasses import dataclass, field
 
+from deck_emulator.vocabulary import defaults
+
 __all__ = ["CSP", "ListedCard", "WriteStatement", "PrintedSection", "Program", "run_page",
            "compare_page", "diff_page", "pictures"]
 
@@ -44,7 +46,7 @@ CSP = ("default-src 'none'; style-src 'unsafe-inline'; script-src 'unsafe-inline
        "img-src data:")
 
 #: Print positions of the line printer (after the carriage control in column 1).
-POSITIONS = 132
+POSITIONS = defaults.PRINT_POSITIONS
 
 
 def _e(text) -> str:
@@ -136,11 +138,11 @@ pre.form,pre.listing,.ruler{font-family:ui-monospace,"DejaVu Sans Mono",Menlo,Co
 font-size:12px;line-height:var(--line);margin:0}
 pre.form{background-color:var(--paper);background-image:repeating-linear-gradient(to bottom,
 transparent 0,transparent calc(3*var(--line)),var(--bar) calc(3*var(--line)),var(--bar) calc(6*var(--line)));
-width:calc(134ch + 3rem);padding:var(--line) 1.5rem;border-left:1rem dotted #c9c9c0;
+width:calc(@FORM@ch + 3rem);padding:var(--line) 1.5rem;border-left:1rem dotted #c9c9c0;
 border-right:1rem dotted #c9c9c0;margin:0 0 1rem;box-shadow:0 1px 3px #0003}
-.ruler{width:calc(134ch + 3rem);padding:0 2.5rem;color:var(--muted);white-space:pre}
-.r{display:inline-block;width:133ch;vertical-align:top;white-space:pre}
-.r.o{margin-left:-133ch}
+.ruler{width:calc(@FORM@ch + 3rem);padding:0 2.5rem;color:var(--muted);white-space:pre}
+.r{display:inline-block;width:@LINE@ch;vertical-align:top;white-space:pre}
+.r.o{margin-left:-@LINE@ch}
 .r i{font-style:normal;color:#9a9a90;display:inline-block;width:1ch}
 a.w{color:inherit;text-decoration:none}
 a.w:hover .r,a.w:focus .r,a.w.on .r{background:var(--hi)}
@@ -169,6 +171,9 @@ tr.unreadable td{background:#ffd0a8}tr.missing td{background:#e9e0ff}
  .pictures figure{page-break-inside:avoid}
 }
 """
+
+# a record's line: the control column and the print positions; a form: a little margin more
+_STYLE = _STYLE.replace("@LINE@", str(POSITIONS + 1)).replace("@FORM@", str(POSITIONS + 2))
 
 # The script adds the detail box of the focused record (its WRITE, FORMAT and values, read
 # from the link's title and the listing), the listing's scroll to the WRITE and the search;
