@@ -90,8 +90,11 @@ def _force_at(s, ts, t_old, h, y_old, F, P, M, tmp):
 
 @_jit
 def _fminbound_neg_force(x1, x2, xatol, maxfun, ts, t_old, h, y_old, F, P, M, tmp):
-    """scipy's ``minimize_scalar(method="bounded")`` (Brent's bounded search,
-    ``scipy.optimize._optimize._minimize_scalar_bounded``) of ``-force``, transcribed."""
+    """Brent's bounded search of ``-force`` over ``[x1, x2]``, as scipy's public
+    ``scipy.optimize.minimize_scalar(method="bounded", options={"xatol": xatol,
+    "maxiter": maxfun})`` (the same method as ``scipy.optimize.fminbound``) does it, step
+    for step (the scipy path calls that; R. P. Brent, "Algorithms for Minimization without
+    Derivatives", 1973, ch. 5), transcribed so that compiled code can call it."""
     a, b = x1, x2
     fulc = a + _GOLDEN * (b - a)
     nfc, xf = fulc, fulc

@@ -9,9 +9,11 @@ did not move by one bit when its arithmetic moved here), and its functions can b
 both from Python and from other compiled functions -- JAX would need the whole model
 rewritten as array programs and cannot hold the contact modes' branching cheaply.
 
-``cache=True`` keeps the machine code next to this file (``__pycache__``) or, where that
-is read-only, in numba's user cache; where no cache can be written at all the functions
-are compiled in each process instead (:func:`_jit`), never an error.
+``cache=True`` keeps the machine code where numba's configuration says: the command line
+points numba's documented NUMBA_CACHE_DIR at the core's own folder before numba is
+imported (:func:`~deck_emulator.core.configure_numba_cache`); a host application's numba
+is left as it configured it.  Where no cache can be written at all the functions are
+compiled in each process instead (:func:`_jit`), never an error.
 
 A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``, filled by
 :meth:`~.model.Model.law_parameters`), the contact mode into a mode vector ``M`` (``M_*``,
@@ -25,6 +27,7 @@ import functools
 import math
 import os
 import shutil
+import sys
 import time
 
 import numba
@@ -53,49 +56,56 @@ __all__ = [
 ]
 
 
-numba.config.CACHE_DIR = compiled_cache_folder()  # (why: its docstring)
-
-
-def _from_numba_cache(exc: BaseException) -> bool:
-    """``exc`` was raised while numba read a cached function (its traceback passes through
-    numba's cache loading): a cache file truncated or garbled (an interrupted write, a full
-    disk, a copy cut short), which numba unpickles without checking."""
-    tb = exc.__traceback__
-    while tb is not None:
-        if tb.tb_frame.f_code.co_filename.endswith(os.path.join("numba", "core", "caching.py")):
-            return True
-        tb = tb.tb_next
-    return False
-
-
 def recompiling(fn):
-    """``fn`` (an entry of the core), run again once when numba's cache of the core turned out
-    unreadable: the core's cache folder is removed first, so numba compiles anew and caches
-    again, instead of the run ending in an ``UnpicklingError`` at every start."""
+    """``fn`` (an entry of the core), run again once when numba failed while it held its
+    compiler lock (loading the core's machine code from its cache, or compiling it): a cache
+    file truncated or garbled (an interrupted write, a full disk, a copy cut short), which
+    numba unpickles without checking.  The core's own cache folder is removed first, so
+    numba compiles anew and caches again, instead of the run ending in an
+    ``UnpicklingError`` at every start; an error that comes back is raised.  Only where numba
+    keeps the core's code in that folder (the command line's processes:
+    :func:`~deck_emulator.core.configure_numba_cache`): a host application's numba cache is
+    its own, and its error is left to it.  An error of the run itself (not raised inside
+    numba's compiler lock) is never retried."""
 
     @functools.wraps(fn)
     def entry(*args, **kwargs):
+        _COMPILING.failed = None
         try:
             return fn(*args, **kwargs)
         except Exception as exc:  # MemoryError too: a garbled pickle can ask for any size
-            if not _from_numba_cache(exc):
+            folder = compiled_cache_folder()
+            if (not _raised_by(exc, _COMPILING.failed)
+                    or os.environ.get("NUMBA_CACHE_DIR") != folder):
                 raise
-            shutil.rmtree(numba.config.CACHE_DIR, ignore_errors=True)
+            shutil.rmtree(folder, ignore_errors=True)
             return fn(*args, **kwargs)
 
     return entry
 
 
+def _raised_by(exc: BaseException, cause: BaseException | None) -> bool:
+    """``exc`` is ``cause`` or was raised while handling it (its chain of causes)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if exc is cause:
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
 class _CompilerTime(numba_event.Listener):
     """The seconds numba has held (or waited for) its compiler lock in this process: compiling
-    the core's machine code, or loading it from its cache. Registered once, below, on numba's
-    documented event ``numba:compiler_lock`` (numba.core.event, its Event API); nested and
-    overlapping holds count once."""
+    the core's machine code, or loading it from its cache, and the exception that last ended a
+    hold (unwinding through it). Registered once, below, on numba's documented event ``numba:compiler_lock``
+    (numba.core.event, its Event API); nested and overlapping holds count once."""
 
     def __init__(self) -> None:
         self.total_s = 0.0
         self.depth = 0
         self.since = 0.0
+        self.failed: BaseException | None = None  # the last exception a hold ended by
 
     def on_start(self, event) -> None:
         if self.depth == 0:
@@ -103,6 +113,8 @@ class _CompilerTime(numba_event.Listener):
         self.depth += 1
 
     def on_end(self, event) -> None:
+        if self.depth == 1 and sys.exc_info()[1] is not None:  # released as it unwinds
+            self.failed = sys.exc_info()[1]
         self.depth = max(self.depth - 1, 0)
         if self.depth == 0:
             self.total_s += time.perf_counter() - self.since
