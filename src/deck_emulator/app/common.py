@@ -122,11 +122,14 @@ def need_address_space(what: str) -> None:
 def with_progress(quiet: bool, engine, source, *, execute: bool = False):
     """``engine.run(source)`` with the progress display (stderr, a terminal only);
     ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome).
-    The core is compiled first where this install has not yet (:func:`compile_core`)."""
+    The core is compiled first where this install has not yet and the run is on the scipy
+    path (:func:`compile_core`); one scene on the batch's path runs its functions uncompiled
+    (:meth:`~deck_emulator.engine.CoreEngine.run`)."""
     from deck_emulator.parallel import busy
 
     if engine.name != "emulator":
-        compile_core(quiet)
+        if engine.batched is False or engine.method != "auto":  # the scipy path: compiled
+            compile_core(quiet)  # (a single scene on the batch's path compiles nothing)
         with busy(f"{PROG}: {engine.name} running", quiet=quiet):
             return engine.run(source)
     programs = []

@@ -330,6 +330,7 @@ def simulate_batch(
     max_wall_s: float | None = None,
     method: str = "auto",
     check: bool = True,
+    compile: bool = True,
 ) -> list:
     """Run every scene of ``scenes`` through the compiled core; one item per scene, in
     their order: a :class:`~.result.CoreResult` (``integrator`` says which integrator
@@ -340,7 +341,15 @@ def simulate_batch(
     :func:`~.solve.simulate`'s (``method="auto"``: DOP853, the contact of a stiff scene by
     scipy's Radau), but ``max_wall_s`` bounds the whole batch (the module docstring; None:
     the row ``MAX_WALL_S`` of :mod:`~deck_emulator.vocabulary.defaults` as the batch starts,
-    ``math.inf``: no bound).  Scenes are run grouped by :func:`component_key`."""
+    ``math.inf``: no bound).  Scenes are run grouped by :func:`component_key`.
+
+    ``compile``: have numba compile the core's functions (or load them from its cache)
+    first; False: run them as this process has them -- plain Python where nothing compiled
+    them yet, the same operations in the same order, so the same numbers (a single scene:
+    no numba to load, no compiling on a first use, where the compiled path's start costs
+    far more than the scene's solve)."""
+    if compile:
+        laws.compile_functions()
     scenes = list(scenes)
     if isinstance(options, ModelOptions):
         per_scene = [options] * len(scenes)

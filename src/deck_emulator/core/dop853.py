@@ -123,7 +123,10 @@ def _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g):
 
 @_jit
 def _norm(x):
-    return math.sqrt(np.sum(x * x)) / math.sqrt(x.size)
+    s = 0.0  # summed in order, as numba's np.sum does (numpy's own sums pairwise)
+    for i in range(x.size):
+        s += x[i] * x[i]
+    return math.sqrt(s) / math.sqrt(x.size)
 
 
 @_jit

@@ -30,10 +30,7 @@ import shutil
 import sys
 import time
 
-import numba
 import numpy as np
-from numba import njit
-from numba.core import event as numba_event
 
 from . import compiled_cache_folder
 
@@ -70,12 +67,13 @@ def recompiling(fn):
 
     @functools.wraps(fn)
     def entry(*args, **kwargs):
-        _COMPILING.failed = None
+        if _COMPILING is not None:
+            _COMPILING.failed = None
         try:
             return fn(*args, **kwargs)
         except Exception as exc:  # MemoryError too: a garbled pickle can ask for any size
             folder = compiled_cache_folder()
-            if (not _raised_by(exc, _COMPILING.failed)
+            if (_COMPILING is None or not _raised_by(exc, _COMPILING.failed)
                     or os.environ.get("NUMBA_CACHE_DIR") != folder):
                 raise
             shutil.rmtree(folder, ignore_errors=True)
@@ -95,11 +93,12 @@ def _raised_by(exc: BaseException, cause: BaseException | None) -> bool:
     return False
 
 
-class _CompilerTime(numba_event.Listener):
+class _CompilerTime:
     """The seconds numba has held (or waited for) its compiler lock in this process: compiling
-    the core's machine code, or loading it from its cache, and the exception that last ended a
-    hold (unwinding through it). Registered once, below, on numba's documented event ``numba:compiler_lock``
-    (numba.core.event, its Event API); nested and overlapping holds count once."""
+    the core's machine code, or loading it from its cache, and the exception that last ended
+    a hold (unwinding through it).  Registered by :func:`compile_functions` on numba's
+    documented event ``numba:compiler_lock`` (numba.core.event, its Event API), as one of
+    that API's listeners; nested and overlapping holds count once."""
 
     def __init__(self) -> None:
         self.total_s = 0.0
@@ -120,8 +119,9 @@ class _CompilerTime(numba_event.Listener):
             self.total_s += time.perf_counter() - self.since
 
 
-_COMPILING = _CompilerTime()
-numba_event.register("numba:compiler_lock", _COMPILING)
+#: numba's compiler-lock time in this process, once the core's functions are compiled
+#: (:func:`compile_functions`); None while they run as plain Python
+_COMPILING: _CompilerTime | None = None
 
 
 def working_clock() -> float:
@@ -130,16 +130,60 @@ def working_clock() -> float:
     a cold cache never counts against a run's bound (the first run on a new machine compiles
     for a minute). Only differences of its readings mean anything."""
     now = time.perf_counter()
+    if _COMPILING is None:
+        return now
     busy = _COMPILING.total_s + (now - _COMPILING.since if _COMPILING.depth else 0.0)
     return now - busy
 
 
+#: the core's functions numba compiles (every ``@_jit`` one, of this module, :mod:`.dop853`
+#: and :mod:`.batch`), with their module, as written: plain Python until
+#: :func:`compile_functions`
+_FUNCTIONS: list = []
+
+
 def _jit(fn):
-    """``njit(cache=True)``, or plain ``njit`` where numba finds no place to cache."""
-    try:
-        return njit(cache=True)(fn)
-    except RuntimeError:  # "cannot cache function ...: no locator available"
-        return njit(fn)
+    """One of the core's compiled functions: kept plain Python as written (a single scene runs
+    it so, importing no numba) until :func:`compile_functions` puts numba's compiled
+    dispatcher in its place."""
+    _FUNCTIONS.append((sys.modules[fn.__module__], fn))
+    return fn
+
+
+def compiled() -> bool:
+    """The core's functions are numba's compiled ones in this process."""
+    return _COMPILING is not None
+
+
+def compile_functions() -> None:
+    """Each of the core's functions (``@_jit``) replaced in its module by numba's
+    ``njit(cache=True)`` of it, or plain ``njit`` where numba finds no place to cache; once
+    a process (the batch and the scipy path call this; a single scene on the batch's path
+    need not).  The compiled code does the same operations in the same order as the plain
+    Python (numba without fast-math; IEEE semantics), so a scene's numbers are the same
+    either way (tests/core/test_interpreted.py holds them equal, bit for bit).  numba
+    compiles each function at its first call with new argument types, or loads it from its
+    cache."""
+    global _COMPILING
+    if _COMPILING is not None:
+        return
+    from numba import njit
+    from numba.core import event as numba_event
+
+    from . import batch, dop853  # noqa: F401 - every compiled function defined first
+
+    class Listener(_CompilerTime, numba_event.Listener):
+        pass
+
+    listener = Listener()
+    numba_event.register("numba:compiler_lock", listener)
+    for module, fn in _FUNCTIONS:
+        try:
+            dispatcher = njit(cache=True)(fn)
+        except RuntimeError:  # "cannot cache function ...: no locator available"
+            dispatcher = njit(fn)
+        setattr(module, fn.__name__, dispatcher)
+    _COMPILING = listener
 
 
 #: the post's points in the parameter vector, in this order

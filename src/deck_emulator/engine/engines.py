@@ -328,7 +328,9 @@ class CoreEngine:
     ``batched``: how :meth:`run_batch` solves its scenes -- True: the compiled batched core
     (``deck_emulator.core.simulate_batch``), False: one :meth:`simulate` after another (the
     scipy path, the reference), None: the batched core when the package has it and ``method``
-    is ``auto`` (it is its own method), else the scipy path."""
+    is ``auto`` (it is its own method), else the scipy path; :meth:`run` takes the same path
+    for its one scene (the batch's functions uncompiled where this process has not compiled
+    them: the same numbers, no numba to load)."""
 
     preset: str = "legacy"
     options: object = None
@@ -369,13 +371,22 @@ class CoreEngine:
         """The core's own :class:`~deck_emulator.core.CoreResult` (raises CoreError); a post
         with two luminaires ends "R&U" when both reach the ground band together
         (:func:`~deck_emulator.core.pair_hits.joint_ground_hit`)."""
-        from deck_emulator.core import simulate
+        from deck_emulator.core import simulate, simulate_batch
         from deck_emulator.core.pair_hits import joint_ground_hit
 
-        return joint_ground_hit(
-            simulate(self.scene(source), self.model_options(), method=self.method,
-                     rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s,
-                     max_step_s=self.max_step_s, max_wall_s=self.wall_bound_s))
+        keywords = dict(method=self.method, rtol=self.rtol, atol=self.atol,
+                        t_max_s=self.t_max_s, max_step_s=self.max_step_s,
+                        max_wall_s=self.wall_bound_s)
+        if self.batched is False or self.method != "auto":
+            return joint_ground_hit(simulate(self.scene(source), self.model_options(),
+                                             **keywords))
+        # the batch's path, the same numbers as in a batch; its functions as this process
+        # has them (plain Python where nothing compiled them: no numba to load or compile)
+        [result] = simulate_batch([self.scene(source)], self.model_options(), compile=False,
+                                  **keywords)
+        if isinstance(result, Exception):
+            raise result
+        return joint_ground_hit(result)
 
     @property
     def wall_bound_s(self) -> float:
