@@ -146,8 +146,20 @@ def _jit(fn):
     """One of the core's compiled functions: kept plain Python as written (a single scene runs
     it so, importing no numba) until :func:`compile_functions` puts numba's compiled
     dispatcher in its place."""
+    if _COMPILING is not None:  # a module imported after compile_functions
+        return _njit(fn)
     _FUNCTIONS.append((sys.modules[fn.__module__], fn))
     return fn
+
+
+def _njit(fn):
+    """``njit(cache=True)`` of ``fn``, or plain ``njit`` where numba finds no place to cache."""
+    from numba import njit
+
+    try:
+        return njit(cache=True)(fn)
+    except RuntimeError:  # "cannot cache function ...: no locator available"
+        return njit(fn)
 
 
 def compiled() -> bool:
@@ -157,8 +169,8 @@ def compiled() -> bool:
 
 def compile_functions() -> None:
     """Each of the core's functions (``@_jit``) replaced in its module by numba's
-    ``njit(cache=True)`` of it, or plain ``njit`` where numba finds no place to cache; once
-    a process (the batch and the scipy path call this; a single scene on the batch's path
+    ``njit(cache=True)`` of it, or plain ``njit`` where numba finds no place to cache (those
+    of a module imported later, as they are defined); once a process (the batch and the scipy path call this; a single scene on the batch's path
     need not).  The compiled code does the same operations in the same order as the plain
     Python (numba without fast-math; IEEE semantics), so a scene's numbers are the same
     either way (tests/core/test_interpreted.py holds them equal, bit for bit).  numba
@@ -167,10 +179,7 @@ def compile_functions() -> None:
     global _COMPILING
     if _COMPILING is not None:
         return
-    from numba import njit
     from numba.core import event as numba_event
-
-    from . import batch, dop853  # noqa: F401 - every compiled function defined first
 
     class Listener(_CompilerTime, numba_event.Listener):
         pass
@@ -178,12 +187,8 @@ def compile_functions() -> None:
     listener = Listener()
     numba_event.register("numba:compiler_lock", listener)
     for module, fn in _FUNCTIONS:
-        try:
-            dispatcher = njit(cache=True)(fn)
-        except RuntimeError:  # "cannot cache function ...: no locator available"
-            dispatcher = njit(fn)
-        setattr(module, fn.__name__, dispatcher)
-    _COMPILING = listener
+        setattr(module, fn.__name__, _njit(fn))
+    _COMPILING = listener  # from here on, a function defined is compiled at once (_jit)
 
 
 #: the post's points in the parameter vector, in this order
