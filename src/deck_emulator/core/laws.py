@@ -142,14 +142,19 @@ def working_clock() -> float:
 _FUNCTIONS: list = []
 
 
-def _jit(fn):
+def _jit(fn=None, *, plain=None):
     """One of the core's compiled functions: kept plain Python as written (a single scene runs
     it so, importing no numba) until :func:`compile_functions` puts numba's compiled
-    dispatcher in its place."""
+    dispatcher in its place.  ``plain``: what runs instead while uncompiled -- the same
+    operations on each element in the same order over whole rows of numpy arrays, where the
+    loops written for numba are slow as Python (``@_jit(plain=twin)``; the plain and the
+    compiled functions are held to the same numbers by tests/core/test_interpreted.py)."""
+    if fn is None:
+        return functools.partial(_jit, plain=plain)
     if _COMPILING is not None:  # a module imported after compile_functions
         return _njit(fn)
     _FUNCTIONS.append((sys.modules[fn.__module__], fn))
-    return fn
+    return fn if plain is None else plain
 
 
 def _njit(fn):
