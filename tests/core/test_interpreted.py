@@ -78,3 +78,15 @@ def test_the_report_s_decks_give_the_same_numbers_plain_and_compiled():
 def test_a_scene_gives_the_same_numbers_alone_and_in_a_batch(cases):
     got = _run([list(c) for c in cases])
     assert got["plain"] == got["compiled"]
+
+
+def test_one_scene_loads_neither_numba_nor_scipy():
+    """A single run (the engine's ``run``, what ``core``, ``summary``, ``assembly`` and the API
+    call) starts no compiler: no numba, no scipy imported, the batch's path taken."""
+    out = subprocess.run([sys.executable, "-c", (
+        "import sys\n"
+        "from deck_emulator.engine import CoreEngine\n"
+        "o = CoreEngine().run('steel40')\n"
+        "print(o.error, o.hit_message is not None, 'numba' in sys.modules, "
+        "'scipy' in sys.modules)\n")], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["None", "True", "False", "False"]

@@ -93,10 +93,10 @@ def emulator(options, *, trace: bool = True, fortran=None):
                           arithmetic_options=arithmetic, trace=trace, fortran=fortran)
 
 
-#: what numba's first compilation of the core costs, said while it runs: measured on two
-#: cores with an empty cache, 28 s for the compiled batch (every study's path) and 19 s for
-#: one ``core`` run; the cache holds it after that (a second run: 1 s)
-COMPILING = f"{PROG}: compiling the core once, about 25 s"
+#: what numba's first compilation of the core's batch costs, said while it runs: measured with
+#: an empty cache (benchmarks/bench_core_start.py, NUMBA_CACHE_DIR empty; 2 busy cores) about
+#: 75 s of CPU; the cache holds it after that.  A single scene compiles nothing.
+COMPILING = f"{PROG}: compiling the core once, about 75 s of CPU"
 
 
 def compile_core(quiet: bool) -> None:
