@@ -259,6 +259,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """The command line; SIGINT and SIGTERM end it with 130 and 143 after every temporary
     file is removed and every worker stopped (:mod:`deck_emulator.signals`)."""
 
+    from deck_emulator.core import configure_numba_cache
+
+    configure_numba_cache()  # this process is the package's own: numba's cache is the core's
     if "OPENBLAS_NUM_THREADS" not in os.environ and " MB " in " ".join(process_limits()):
         os.environ["OPENBLAS_NUM_THREADS"] = "1"  # its threads' buffers spun under ulimit -v
     replaced = _streams()

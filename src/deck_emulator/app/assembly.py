@@ -113,7 +113,6 @@ def assembly(o: AssemblyOptions) -> Answer:
         return done
     from deck_emulator.engine import CoreEngine
 
-    common.compile_core(quiet=False)  # assembly has no --quiet: the one wait is said
     out = CoreEngine(**o.core_keywords()).run(scene_, name=a.name)
     settings = {**o.core_keywords(), "method": out.method,
                 "car": f"{o.speed_mph:g} mph at {o.alpha_deg:g} deg ({template}'s car"

@@ -93,10 +93,10 @@ def emulator(options, *, trace: bool = True, fortran=None):
                           arithmetic_options=arithmetic, trace=trace, fortran=fortran)
 
 
-#: what numba's first compilation of the core costs, said while it runs: measured on two
-#: cores with an empty cache, 28 s for the compiled batch (every study's path) and 19 s for
-#: one ``core`` run; the cache holds it after that (a second run: 1 s)
-COMPILING = f"{PROG}: compiling the core once, about 25 s"
+#: what numba's first compilation of the core's batch costs, said while it runs: measured with
+#: an empty cache (benchmarks/bench_core_start.py, NUMBA_CACHE_DIR empty; 2 busy cores) about
+#: 75 s of CPU; the cache holds it after that.  A single scene compiles nothing.
+COMPILING = f"{PROG}: compiling the core once, about 75 s of CPU"
 
 
 def compile_core(quiet: bool) -> None:
@@ -123,11 +123,14 @@ def with_progress(quiet: bool, engine, source, *, execute: bool = False, watch=N
     """``engine.run(source)`` with the progress display (stderr, a terminal only);
     ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome);
     ``watch``: called with the emulator's program before it runs (``run --html`` keeps it).
-    The core is compiled first where this install has not yet (:func:`compile_core`)."""
+    The core is compiled first where this install has not yet and the run is on the scipy
+    path (:func:`compile_core`); one scene on the batch's path runs its functions uncompiled
+    (:meth:`~deck_emulator.engine.CoreEngine.run`)."""
     from deck_emulator.parallel import busy
 
     if engine.name != "emulator":
-        compile_core(quiet)
+        if engine.batched is False or engine.method != "auto":  # the scipy path: compiled
+            compile_core(quiet)  # (a single scene on the batch's path compiles nothing)
         with busy(f"{PROG}: {engine.name} running", quiet=quiet):
             return engine.run(source)
     programs = []

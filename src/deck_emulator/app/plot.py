@@ -59,8 +59,6 @@ def plot(o: PlotOptions) -> Answer:
     emulator = o.engine != "core" or o.pulse
     src = common.load(o, name, kinds=("deck",) if emulator else ("deck", "scene"))
     options = {"emulator": {"errata": tuple(o.erratum)}, "core": o.core_keywords()}
-    if o.engine == "core" or o.pulse:
-        common.compile_core(o.quiet)
     with busy("deck-emulator: plot", quiet=o.quiet):
         drawn = draw(src.scene_or_deck(name), src.name, engine=o.engine, options=options,
                      out=o.out, view=o.view, pulse=o.pulse, animate=o.animate, every_ms=o.every)

@@ -13,6 +13,7 @@ located events.  The model is assembled from the components the scene has.
 
 import importlib
 import os
+import sys
 
 from deck_emulator.vocabulary.defaults import user_cache_folder
 
@@ -40,15 +41,16 @@ COMPILED_MODULES = ("laws.py", "dop853.py", "batch.py")
 
 
 def compiled_cache_folder() -> str:
-    """Where numba keeps the core's machine code (``numba.config.CACHE_DIR``, set by
-    :mod:`.laws`; found here without importing numba: a command's own process, whose
-    workers run the core, only asks whether it was compiled).  numba stamps a cached
-    function with its own file's content only, so a compiled function of dop853.py would
-    keep the old copy of a law changed in laws.py: the folder is named by the content of all
-    of :data:`COMPILED_MODULES`, below the user's own NUMBA_CACHE_DIR when set (numba's
-    documented setting), else the package's ``__pycache__`` where it can be written, else
-    the user's cache folder.  A changed module is a new folder: the old machine code is
-    never taken for the new."""
+    """Where the command line's processes have numba keep the core's machine code (numba's
+    documented setting NUMBA_CACHE_DIR, set by :func:`configure_numba_cache`; found here
+    without importing numba: a command's own process, whose workers run the core, only asks
+    whether it was compiled).  numba stamps a cached function with its own file's content
+    only, so a compiled function of dop853.py would keep the old copy of a law changed in
+    laws.py: the folder is named by the content of all of :data:`COMPILED_MODULES`, below
+    the user's own NUMBA_CACHE_DIR when set, else the package's ``__pycache__`` where it
+    can be written, else the user's cache folder.  A changed module is a new folder: the old
+    machine code is never taken for the new.  Where NUMBA_CACHE_DIR already names this
+    folder (a worker started by the command, which inherits its environment), it is that."""
     import hashlib
 
     here = os.path.dirname(os.path.abspath(__file__))
@@ -59,7 +61,8 @@ def compiled_cache_folder() -> str:
     stamp = f"deck_emulator-{h.hexdigest()[:16]}"
     user = os.environ.get("NUMBA_CACHE_DIR")
     if user:
-        return os.path.join(user, stamp)
+        return user if os.path.basename(os.path.normpath(user)) == stamp else \
+            os.path.join(user, stamp)
     in_tree = os.path.join(here, "__pycache__")
     try:
         os.makedirs(in_tree, exist_ok=True)
@@ -67,6 +70,23 @@ def compiled_cache_folder() -> str:
     except OSError:
         writable = False
     return os.path.join(in_tree if writable else user_cache_folder(), stamp)
+
+
+def configure_numba_cache() -> bool:
+    """Have numba keep the core's machine code in :func:`compiled_cache_folder`, through
+    numba's documented environment variable NUMBA_CACHE_DIR, read when numba is imported
+    (its workers inherit it).  Called where a process of this package's own starts (the
+    command line), and only before numba is imported there: a host application that imports
+    the core keeps its numba configured as it was (its own NUMBA_CACHE_DIR, or numba's
+    default: ``__pycache__`` beside the sources where writable, else numba's user-wide
+    folder).  True when the setting was made (or was already this one)."""
+    folder = compiled_cache_folder()
+    if os.environ.get("NUMBA_CACHE_DIR") == folder:
+        return True
+    if "numba" in sys.modules:
+        return False
+    os.environ["NUMBA_CACHE_DIR"] = folder
+    return True
 
 
 def __getattr__(name: str):

@@ -90,8 +90,11 @@ def _force_at(s, ts, t_old, h, y_old, F, P, M, tmp):
 
 @_jit
 def _fminbound_neg_force(x1, x2, xatol, maxfun, ts, t_old, h, y_old, F, P, M, tmp):
-    """scipy's ``minimize_scalar(method="bounded")`` (Brent's bounded search,
-    ``scipy.optimize._optimize._minimize_scalar_bounded``) of ``-force``, transcribed."""
+    """Brent's bounded search of ``-force`` over ``[x1, x2]``, as scipy's public
+    ``scipy.optimize.minimize_scalar(method="bounded", options={"xatol": xatol,
+    "maxiter": maxfun})`` (the same method as ``scipy.optimize.fminbound``) does it, step
+    for step (the scipy path calls that; R. P. Brent, "Algorithms for Minimization without
+    Derivatives", 1973, ch. 5), transcribed so that compiled code can call it."""
     a, b = x1, x2
     fulc = a + _GOLDEN * (b - a)
     nfc, xf = fulc, fulc
@@ -327,6 +330,7 @@ def simulate_batch(
     max_wall_s: float | None = None,
     method: str = "auto",
     check: bool = True,
+    compile: bool = True,
 ) -> list:
     """Run every scene of ``scenes`` through the compiled core; one item per scene, in
     their order: a :class:`~.result.CoreResult` (``integrator`` says which integrator
@@ -337,7 +341,15 @@ def simulate_batch(
     :func:`~.solve.simulate`'s (``method="auto"``: DOP853, the contact of a stiff scene by
     scipy's Radau), but ``max_wall_s`` bounds the whole batch (the module docstring; None:
     the row ``MAX_WALL_S`` of :mod:`~deck_emulator.vocabulary.defaults` as the batch starts,
-    ``math.inf``: no bound).  Scenes are run grouped by :func:`component_key`."""
+    ``math.inf``: no bound).  Scenes are run grouped by :func:`component_key`.
+
+    ``compile``: have numba compile the core's functions (or load them from its cache)
+    first; False: run them as this process has them -- plain Python where nothing compiled
+    them yet, the same operations in the same order, so the same numbers (a single scene:
+    no numba to load, no compiling on a first use, where the compiled path's start costs
+    far more than the scene's solve)."""
+    if compile:
+        laws.compile_functions()
     scenes = list(scenes)
     if isinstance(options, ModelOptions):
         per_scene = [options] * len(scenes)

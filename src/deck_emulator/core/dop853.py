@@ -123,10 +123,30 @@ def _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g):
 
 @_jit
 def _norm(x):
-    return math.sqrt(np.sum(x * x)) / math.sqrt(x.size)
+    s = 0.0  # summed in order, as numba's np.sum does (numpy's own sums pairwise)
+    for i in range(x.size):
+        s += x[i] * x[i]
+    return math.sqrt(s) / math.sqrt(x.size)
 
 
-@_jit
+def _rk_step_rows(phase, t, y, f, h, P, M, K, acc, ytmp, y_new):
+    """:func:`_rk_step` over whole rows (its plain-Python form): each element's sum in the
+    same order, ``0.0 + K[0] a_0 + K[1] a_1 + ...``."""
+    K[0, :] = f
+    for s in range(1, N_STAGES):
+        dy = np.zeros(y.size)
+        for j in range(s):
+            dy += K[j] * _A[s, j]
+        ytmp[:] = y + dy * h
+        _rhs(phase, t + _C[s] * h, ytmp, P, M, acc, K[s])
+    d = np.zeros(y.size)
+    for j in range(N_STAGES):
+        d += K[j] * _B[j]
+    y_new[:] = y + h * d
+    _rhs(phase, t + h, y_new, P, M, acc, K[N_STAGES])
+
+
+@_jit(plain=_rk_step_rows)
 def _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new):
     """One step of the 8th-order formula (scipy's ``rk_step``): stages into ``K``."""
     n = y.size
@@ -166,7 +186,27 @@ def _error_norm(K, h, scale):
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
-@_jit
+def _dense_rows(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, F):
+    """:func:`_dense` over whole rows (its plain-Python form), each element as it does."""
+    n = y.size
+    for s in range(N_STAGES + 1, N_EXT):
+        dy = np.zeros(n)
+        for j in range(s):
+            dy += K[j] * _A[s, j]
+        ytmp[:] = y_old + dy * h
+        _rhs(phase, t_old + _C[s] * h, ytmp, P, M, acc, K[s])
+    dlt = y - y_old
+    F[0] = dlt
+    F[1] = h * K[0] - dlt
+    F[2] = 2 * dlt - h * (f + K[0])
+    for r in range(N_F - 3):
+        d = np.zeros(n)
+        for j in range(N_EXT):
+            d += _D[r, j] * K[j]
+        F[3 + r] = h * d
+
+
+@_jit(plain=_dense_rows)
 def _dense(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, F):
     """The step's interpolant (scipy's ``DOP853._dense_output_impl``) into ``F`` (7, n)."""
     n = y.size
@@ -189,7 +229,20 @@ def _dense(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, F):
             F[3 + r, i] = h * d
 
 
-@_jit
+def _interp_rows(t_old, h, y_old, F, t, out):
+    """:func:`_interp` over the whole row (its plain-Python form), each element as it does."""
+    x = (t - t_old) / h
+    v = np.zeros(y_old.size)
+    for r in range(N_F - 1, -1, -1):
+        v += F[r]
+        if (N_F - 1 - r) % 2 == 0:
+            v *= x
+        else:
+            v *= 1 - x
+    out[:] = v + y_old
+
+
+@_jit(plain=_interp_rows)
 def _interp(t_old, h, y_old, F, t, out):
     x = (t - t_old) / h
     n = y_old.size

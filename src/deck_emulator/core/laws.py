@@ -9,9 +9,11 @@ did not move by one bit when its arithmetic moved here), and its functions can b
 both from Python and from other compiled functions -- JAX would need the whole model
 rewritten as array programs and cannot hold the contact modes' branching cheaply.
 
-``cache=True`` keeps the machine code next to this file (``__pycache__``) or, where that
-is read-only, in numba's user cache; where no cache can be written at all the functions
-are compiled in each process instead (:func:`_jit`), never an error.
+``cache=True`` keeps the machine code where numba's configuration says: the command line
+points numba's documented NUMBA_CACHE_DIR at the core's own folder before numba is
+imported (:func:`~deck_emulator.core.configure_numba_cache`); a host application's numba
+is left as it configured it.  Where no cache can be written at all the functions are
+compiled in each process instead (:func:`_jit`), never an error.
 
 A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``, filled by
 :meth:`~.model.Model.law_parameters`), the contact mode into a mode vector ``M`` (``M_*``,
@@ -25,12 +27,10 @@ import functools
 import math
 import os
 import shutil
+import sys
 import time
 
-import numba
 import numpy as np
-from numba import njit
-from numba.core import event as numba_event
 
 from . import compiled_cache_folder
 
@@ -53,49 +53,58 @@ __all__ = [
 ]
 
 
-numba.config.CACHE_DIR = compiled_cache_folder()  # (why: its docstring)
-
-
-def _from_numba_cache(exc: BaseException) -> bool:
-    """``exc`` was raised while numba read a cached function (its traceback passes through
-    numba's cache loading): a cache file truncated or garbled (an interrupted write, a full
-    disk, a copy cut short), which numba unpickles without checking."""
-    tb = exc.__traceback__
-    while tb is not None:
-        if tb.tb_frame.f_code.co_filename.endswith(os.path.join("numba", "core", "caching.py")):
-            return True
-        tb = tb.tb_next
-    return False
-
-
 def recompiling(fn):
-    """``fn`` (an entry of the core), run again once when numba's cache of the core turned out
-    unreadable: the core's cache folder is removed first, so numba compiles anew and caches
-    again, instead of the run ending in an ``UnpicklingError`` at every start."""
+    """``fn`` (an entry of the core), run again once when numba failed while it held its
+    compiler lock (loading the core's machine code from its cache, or compiling it): a cache
+    file truncated or garbled (an interrupted write, a full disk, a copy cut short), which
+    numba unpickles without checking.  The core's own cache folder is removed first, so
+    numba compiles anew and caches again, instead of the run ending in an
+    ``UnpicklingError`` at every start; an error that comes back is raised.  Only where numba
+    keeps the core's code in that folder (the command line's processes:
+    :func:`~deck_emulator.core.configure_numba_cache`): a host application's numba cache is
+    its own, and its error is left to it.  An error of the run itself (not raised inside
+    numba's compiler lock) is never retried."""
 
     @functools.wraps(fn)
     def entry(*args, **kwargs):
+        if _COMPILING is not None:
+            _COMPILING.failed = None
         try:
             return fn(*args, **kwargs)
         except Exception as exc:  # MemoryError too: a garbled pickle can ask for any size
-            if not _from_numba_cache(exc):
+            folder = compiled_cache_folder()
+            if (_COMPILING is None or not _raised_by(exc, _COMPILING.failed)
+                    or os.environ.get("NUMBA_CACHE_DIR") != folder):
                 raise
-            shutil.rmtree(numba.config.CACHE_DIR, ignore_errors=True)
+            shutil.rmtree(folder, ignore_errors=True)
             return fn(*args, **kwargs)
 
     return entry
 
 
-class _CompilerTime(numba_event.Listener):
+def _raised_by(exc: BaseException, cause: BaseException | None) -> bool:
+    """``exc`` is ``cause`` or was raised while handling it (its chain of causes)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if exc is cause:
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
+class _CompilerTime:
     """The seconds numba has held (or waited for) its compiler lock in this process: compiling
-    the core's machine code, or loading it from its cache. Registered once, below, on numba's
-    documented event ``numba:compiler_lock`` (numba.core.event, its Event API); nested and
-    overlapping holds count once."""
+    the core's machine code, or loading it from its cache, and the exception that last ended
+    a hold (unwinding through it).  Registered by :func:`compile_functions` on numba's
+    documented event ``numba:compiler_lock`` (numba.core.event, its Event API), as one of
+    that API's listeners; nested and overlapping holds count once."""
 
     def __init__(self) -> None:
         self.total_s = 0.0
         self.depth = 0
         self.since = 0.0
+        self.failed: BaseException | None = None  # the last exception a hold ended by
 
     def on_start(self, event) -> None:
         if self.depth == 0:
@@ -103,13 +112,16 @@ class _CompilerTime(numba_event.Listener):
         self.depth += 1
 
     def on_end(self, event) -> None:
+        if self.depth == 1 and sys.exc_info()[1] is not None:  # released as it unwinds
+            self.failed = sys.exc_info()[1]
         self.depth = max(self.depth - 1, 0)
         if self.depth == 0:
             self.total_s += time.perf_counter() - self.since
 
 
-_COMPILING = _CompilerTime()
-numba_event.register("numba:compiler_lock", _COMPILING)
+#: numba's compiler-lock time in this process, once the core's functions are compiled
+#: (:func:`compile_functions`); None while they run as plain Python
+_COMPILING: _CompilerTime | None = None
 
 
 def working_clock() -> float:
@@ -118,16 +130,70 @@ def working_clock() -> float:
     a cold cache never counts against a run's bound (the first run on a new machine compiles
     for a minute). Only differences of its readings mean anything."""
     now = time.perf_counter()
+    if _COMPILING is None:
+        return now
     busy = _COMPILING.total_s + (now - _COMPILING.since if _COMPILING.depth else 0.0)
     return now - busy
 
 
-def _jit(fn):
-    """``njit(cache=True)``, or plain ``njit`` where numba finds no place to cache."""
+#: the core's functions numba compiles (every ``@_jit`` one, of this module, :mod:`.dop853`
+#: and :mod:`.batch`), with their module, as written: plain Python until
+#: :func:`compile_functions`
+_FUNCTIONS: list = []
+
+
+def _jit(fn=None, *, plain=None):
+    """One of the core's compiled functions: kept plain Python as written (a single scene runs
+    it so, importing no numba) until :func:`compile_functions` puts numba's compiled
+    dispatcher in its place.  ``plain``: what runs instead while uncompiled -- the same
+    operations on each element in the same order over whole rows of numpy arrays, where the
+    loops written for numba are slow as Python (``@_jit(plain=twin)``; the plain and the
+    compiled functions are held to the same numbers by tests/core/test_interpreted.py)."""
+    if fn is None:
+        return functools.partial(_jit, plain=plain)
+    if _COMPILING is not None:  # a module imported after compile_functions
+        return _njit(fn)
+    _FUNCTIONS.append((sys.modules[fn.__module__], fn))
+    return fn if plain is None else plain
+
+
+def _njit(fn):
+    """``njit(cache=True)`` of ``fn``, or plain ``njit`` where numba finds no place to cache."""
+    from numba import njit
+
     try:
         return njit(cache=True)(fn)
     except RuntimeError:  # "cannot cache function ...: no locator available"
         return njit(fn)
+
+
+def compiled() -> bool:
+    """The core's functions are numba's compiled ones in this process."""
+    return _COMPILING is not None
+
+
+def compile_functions() -> None:
+    """Each of the core's functions (``@_jit``) replaced in its module by numba's
+    ``njit(cache=True)`` of it, or plain ``njit`` where numba finds no place to cache (those
+    of a module imported later, as they are defined); once a process (the batch and the scipy path call this; a single scene on the batch's path
+    need not).  The compiled code does the same operations in the same order as the plain
+    Python (numba without fast-math; IEEE semantics), so a scene's numbers are the same
+    either way (tests/core/test_interpreted.py holds them equal, bit for bit).  numba
+    compiles each function at its first call with new argument types, or loads it from its
+    cache."""
+    global _COMPILING
+    if _COMPILING is not None:
+        return
+    from numba.core import event as numba_event
+
+    class Listener(_CompilerTime, numba_event.Listener):
+        pass
+
+    listener = Listener()
+    numba_event.register("numba:compiler_lock", listener)
+    for module, fn in _FUNCTIONS:
+        setattr(module, fn.__name__, _njit(fn))
+    _COMPILING = listener  # from here on, a function defined is compiled at once (_jit)
 
 
 #: the post's points in the parameter vector, in this order

@@ -39,7 +39,7 @@ from deck_emulator.vocabulary.events import (
 from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
 from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
-from . import sliding
+from . import laws, sliding
 from .checks import check_outcome, ground_tolerance_ft
 from .kinematics import IDX_VV, N_STATE, ContactMode
 from .laws import working_clock
@@ -676,6 +676,7 @@ def simulate(
     (wall time): a run that reaches the last two ends in one ``CoreError`` line.
     ``check``: every outcome goes through :func:`~.checks.check_outcome` first; a failed
     check raises ``CoreError`` naming it."""
+    laws.compile_functions()  # the laws scipy calls: numba's compiled ones
     return _simulate_with(_Run, scene, options, method, rtol, atol, max_step_s, t_max_s,
                           max_evaluations, max_wall_s, check)
 
@@ -728,6 +729,7 @@ def free_flight(
     if state.shape != (N_STATE,):
         raise ValueError(f"state must have {N_STATE} numbers, got shape {state.shape}")
     t_max = t0_s + T_MAX_S if t_max_s is None else t_max_s
+    laws.compile_functions()  # the laws scipy calls: numba's compiled ones
     run = _Run(model, method, rtol, atol, max_step_s, t_max, max_evaluations, max_wall_s)
     run.free_flight(t0_s, state)
     return _checked(_result(run, scene, options, started), check)

@@ -328,7 +328,9 @@ class CoreEngine:
     ``batched``: how :meth:`run_batch` solves its scenes -- True: the compiled batched core
     (``deck_emulator.core.simulate_batch``), False: one :meth:`simulate` after another (the
     scipy path, the reference), None: the batched core when the package has it and ``method``
-    is ``auto`` (it is its own method), else the scipy path."""
+    is ``auto`` (it is its own method), else the scipy path; :meth:`run` takes the same path
+    for its one scene (the batch's functions uncompiled where this process has not compiled
+    them: the same numbers, no numba to load)."""
 
     preset: str = "legacy"
     options: object = None
@@ -369,13 +371,30 @@ class CoreEngine:
         """The core's own :class:`~deck_emulator.core.CoreResult` (raises CoreError); a post
         with two luminaires ends "R&U" when both reach the ground band together
         (:func:`~deck_emulator.core.pair_hits.joint_ground_hit`)."""
+        from deck_emulator.core import simulate_batch
+        from deck_emulator.core.pair_hits import joint_ground_hit
+
+        if self.batched is False or self.method != "auto":
+            return self.simulate_scipy(source)
+        # the batch's path, the same numbers as in a batch; its functions as this process
+        # has them (plain Python where nothing compiled them: no numba to load or compile)
+        [result] = simulate_batch([self.scene(source)], self.model_options(), compile=False,
+                                  **self._keywords())
+        if isinstance(result, Exception):
+            raise result
+        return joint_ground_hit(result)
+
+    def simulate_scipy(self, source):
+        """:meth:`simulate` on the scipy path (``deck_emulator.core.simulate``)."""
         from deck_emulator.core import simulate
         from deck_emulator.core.pair_hits import joint_ground_hit
 
-        return joint_ground_hit(
-            simulate(self.scene(source), self.model_options(), method=self.method,
-                     rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s,
-                     max_step_s=self.max_step_s, max_wall_s=self.wall_bound_s))
+        return joint_ground_hit(simulate(self.scene(source), self.model_options(),
+                                         **self._keywords()))
+
+    def _keywords(self) -> dict:
+        return dict(method=self.method, rtol=self.rtol, atol=self.atol, t_max_s=self.t_max_s,
+                    max_step_s=self.max_step_s, max_wall_s=self.wall_bound_s)
 
     @property
     def wall_bound_s(self) -> float:
@@ -484,7 +503,7 @@ class CoreEngine:
         for scene in scenes:
             started = time.perf_counter()
             try:
-                r = self.simulate(scene)
+                r = self.simulate_scipy(scene)
             except errors as exc:
                 r = exc
             out.append((r, time.perf_counter() - started, note))
