@@ -345,7 +345,7 @@ class CoreEngine:
     scipy path, the reference), None: the batched core when the package has it and ``method``
     is ``auto`` (it is its own method), else the scipy path."""
 
-    preset: str = "legacy"
+    preset: str = defaults.CORE_PRESET
     options: object = None
     shaft_contact: bool | None = None
     method: str = "auto"

@@ -110,7 +110,7 @@ def _report_of(job: dict, deck: Deck):
     return _report_for(name, deck) if name in decks.names() else None
 
 
-def vvb_for(speed_mph: float, decimals: int = 2) -> float:
+def vvb_for(speed_mph: float, decimals: int = defaults.VVB_DECIMALS) -> float:
     """-(mph * 88/60) ft/s cut (towards zero) to ``decimals`` decimals (module docstring)."""
     exact = Decimal(repr(float(speed_mph))) * FT_PER_MILE / S_PER_HOUR
     q = exact.quantize(Decimal(1).scaleb(-decimals), rounding=ROUND_DOWN)
@@ -138,7 +138,8 @@ def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
     return "steel40", dict(speed_ft_s=abs(vvb_for(speed_mph)), alpha_rad=alpha_for(alpha_deg))
 
 
-def scene_deck(base: Deck, speed_mph: float, angle_deg: float, vvb_decimals: int = 2) -> Deck:
+def scene_deck(base: Deck, speed_mph: float, angle_deg: float,
+               vvb_decimals: int = defaults.VVB_DECIMALS) -> Deck:
     return base.with_values(VVB=vvb_for(speed_mph, vvb_decimals), ALPHA=alpha_for(angle_deg))
 
 
