@@ -461,8 +461,8 @@ SCHEDULER_COMMANDS = {
 
 @pytest.mark.parametrize("command", sorted(SCHEDULER_COMMANDS))
 @pytest.mark.parametrize("mode, says", [
-    ("silent", "something took the connection and said nothing a Dask scheduler says in 1 s"),
-    ("drip", "something took the connection and said nothing a Dask scheduler says in 1 s"),
+    ("silent", "something took the connection and said nothing a Dask scheduler says in 2 s"),
+    ("drip", "something took the connection and said nothing a Dask scheduler says in 2 s"),
     ("http", "something answered there, not in Dask's protocol (not a Dask scheduler)"),
     ("refused", "nothing listens there ("),
     ("tls", "tls:// needs Dask's TLS settings"),

@@ -727,22 +727,21 @@ def _cannot_load(what: str, exc: BaseException, also: str = "") -> str:
 
 def _reach(address: str) -> None:
     """:class:`ClusterError` in one line unless a Dask scheduler answers at ``address`` by a
-    scheme this install serves, within ``SCHEDULER_CONNECT_S`` for the connection and again
-    for the handshake (Dask's own connection timeout leaves the handshake unbounded: a port
-    that accepts and says nothing held a sweep for ever, one that answers HTTP a traceback).
-    An in-process address (``inproc://``) is this process's own cluster: not asked."""
+    scheme this install serves: Dask's public ``distributed.comm.connect`` (its connection
+    bounded by ``SCHEDULER_CONNECT_S``), the whole handshake by twice that (Dask leaves the
+    handshake unbounded: a port that accepts and says nothing held a sweep for ever, one that
+    answers HTTP a traceback), then the scheduler's "identity".  An in-process address
+    (``inproc://``) is this process's own cluster: not asked."""
     import asyncio
     import concurrent.futures
 
-    from distributed.comm import parse_address
-    from distributed.comm.registry import get_backend
+    from distributed.comm import connect, parse_address
     from distributed.security import Security
 
     where, bound = f"--scheduler {address}", defaults.SCHEDULER_CONNECT_S
     try:
-        scheme, loc = parse_address(address)
-        connector = get_backend(scheme).get_connector()  # ucx:// without its library: none
-    except (ValueError, TypeError, ImportError) as exc:
+        scheme, _ = parse_address(address)
+    except (ValueError, TypeError) as exc:
         raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
                            "tcp://HOST:PORT") from None
     if scheme == "inproc":
@@ -751,36 +750,36 @@ def _reach(address: str) -> None:
     if scheme in ("tls", "wss") and args.get("ssl_context") is None:
         raise ClusterError(f"{where}: {scheme}:// needs Dask's TLS settings (distributed.comm."
                            "tls.ca-file, .client.cert, .client.key) and none are set")
-    said = {"connect": f"no connection in {bound:g} s", "answer": "something took the "
-            f"connection and said nothing a Dask scheduler says in {bound:g} s"}
-    stage = ["connect"]
 
-    async def identity():  # Dask's handshake, then the scheduler's "identity"
-        comm = await asyncio.wait_for(connector.connect(loc, deserialize=True, **args), bound)
-        stage[0] = "answer"
-
-        async def answer():
-            await comm.write(comm.handshake_info())
-            await comm.read()
+    async def identity():  # Dask's connection and handshake, then the scheduler's "identity"
+        comm = await connect(address, timeout=bound, deserialize=True, **args)
+        try:
             await comm.write({"op": "identity", "reply": True})
             return await comm.read()
-        try:
-            return await asyncio.wait_for(answer(), bound)
         finally:
             comm.abort()
 
+    async def bounded():
+        return await asyncio.wait_for(identity(), 2 * bound)
+
     with concurrent.futures.ThreadPoolExecutor(1) as pool:  # its own event loop, in any caller
         try:
-            who = pool.submit(asyncio.run, identity()).result()
-        except asyncio.TimeoutError:
-            raise ClusterError(f"{where}: {said[stage[0]]}") from None
-        except Exception as exc:  # noqa: BLE001 - refused, reset, or bytes that are not Dask's
-            if stage[0] == "answer":
-                raise ClusterError(f"{where}: something answered there, not in Dask's protocol "
-                                   "(not a Dask scheduler)") from None
+            who = pool.submit(asyncio.run, bounded()).result()
+        except asyncio.TimeoutError:  # connected (else connect says so), then nothing
+            raise ClusterError(f"{where}: something took the connection and said nothing a "
+                               f"Dask scheduler says in {2 * bound:g} s") from None
+        except (TypeError, ImportError) as exc:  # ucx:// without its library: no connector
+            raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
+                               "tcp://HOST:PORT") from None
+        except (OSError, ValueError) as exc:  # refused, reset, no connection in the bound
             cause = exc.__cause__ or exc
             why = str(cause).splitlines()[0][:120] if str(cause) else type(cause).__name__
+            if isinstance(cause, (asyncio.TimeoutError, TimeoutError)):
+                raise ClusterError(f"{where}: no connection in {bound:g} s") from None
             raise ClusterError(f"{where}: {'not an address' if isinstance(cause, ValueError) else 'nothing listens there'} ({why})") from None
+        except Exception:  # noqa: BLE001 - bytes that are not Dask's, whatever they raise
+            raise ClusterError(f"{where}: something answered there, not in Dask's protocol "
+                               "(not a Dask scheduler)") from None
     kind = who.get("type") if isinstance(who, dict) else None
     if kind != "Scheduler":
         raise ClusterError(f"{where}: {'a Dask ' + kind if kind else 'something'} answered "
