@@ -30,8 +30,8 @@ def energies(outcome) -> dict:
 
     def energy(s, potential=True):
         v, w = s.velocity_body_ft_s, s.rates_body_rad_s
-        ke = 0.5 * mass * (v[0] ** 2 + v[1] ** 2 + v[2] ** 2) + 0.5 * (
-            inertia[0] * w[0] ** 2 + inertia[1] * w[1] ** 2 + inertia[2] * w[2] ** 2)
+        ke = 0.5 * mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + 0.5 * (
+            inertia[0] * w[0] * w[0] + inertia[1] * w[1] * w[1] + inertia[2] * w[2] * w[2])
         return ke + (mass * g * (s.mass_centre_zz_ft + depth) if potential else 0.0)
 
     launch = traj.post_state("launch")

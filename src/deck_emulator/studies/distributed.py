@@ -104,7 +104,6 @@ import functools
 import gc
 import hashlib
 import json
-import logging
 import math
 import os
 import resource
@@ -114,7 +113,6 @@ import tempfile
 import time
 import traceback
 import uuid
-import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
 

@@ -35,10 +35,10 @@ Rules (stated once, here)
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
-import tempfile
 import time
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
@@ -373,7 +373,7 @@ def sweep(
     post: str = "steel",
     base=None,
     jobs: int | None = None,
-    vvb_decimals: int = 2,
+    vvb_decimals: int = defaults.VVB_DECIMALS,
     quiet: bool = False,
     store_dir=None,
     scheduler: str | None = None,
@@ -392,8 +392,10 @@ def sweep(
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
-    with temporary_store("sweep-") as tmp:
-        store = run_scenes(todo, _stored_scene_jobs, store_dir=store_dir or tmp, jobs=jobs,
+    # the caller's store (the command's --out) where it gives one; a temporary one only if not
+    with (contextlib.nullcontext(store_dir) if store_dir is not None
+          else temporary_store("sweep-")) as where:
+        store = run_scenes(todo, _stored_scene_jobs, store_dir=where, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True,
                            core=engine == "core")
