@@ -30,7 +30,7 @@ from .sources import file_stem, kinds_for, load_source
 
 # Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
 # `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
-# (typing.TYPE_CHECKING's value at run time, without importing typing: ~2 ms of the start)
+# (typing.TYPE_CHECKING's value at run time, without importing typing at the start)
 TYPE_CHECKING = False
 if TYPE_CHECKING:
     from .outcome import Outcome
@@ -615,7 +615,7 @@ def compile_core(wait) -> None:
     in numba's cache of the core (:func:`deck_emulator.core.compiled_cache_folder`) says it
     was done; where none can be written numba compiles in each process, as it must.  Once
     done, this process imports no numba: a study's workers run the core, not the command
-    (numba alone was 56 MB of a study's command and 0.3 s of its start)."""
+    (what numba costs a command: docs/scale.md)."""
     from importlib.metadata import version
 
     from deck_emulator.core import compiled_cache_folder

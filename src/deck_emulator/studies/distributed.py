@@ -586,10 +586,9 @@ def _settle() -> None:
     """In a worker process of the embedded runner, once its first batch is done: what the
     process holds for good by then (the modules its first batch imported) is put
     out of the garbage collector's way (``gc.freeze``), whose full collections went through
-    every one of those objects again and again while the scenes ran (about a tenth of a
-    core scene's time, measured); what the scenes make is collected as before.  (The C
-    allocator keeps what a batch freed, some 20 MB; giving it back after each batch,
-    ``malloc_trim``, cost 10 % of a scene's CPU in faulting the pages in again: not done.)"""
+    every one of those objects again and again while the scenes ran; what the scenes make is
+    collected as before (the costs, and why the allocator's memory is not given back after
+    each batch: docs/scale.md)."""
     if _SETTLED or not os.environ.get(SPAWNED_WORKER_ENV):
         return
     _SETTLED.append(True)
@@ -606,9 +605,8 @@ def _only(outs):
 
 
 #: Most scenes in one batch (:func:`batch_size`): a worker holds one batch's solver records
-#: at a time, about 1.1 MB a core scene (measured: batches of 64 grew each worker's heap by
-#: some 75 MB, of 16 by some 20 MB), and the embedded runner's cost a batch is a pickle and a
-#: pipe's round trip
+#: at a time (their size a scene: docs/scale.md, "Batches"), and the embedded runner's cost a
+#: batch is a pickle and a pipe's round trip
 BATCH_TASK_MAX = 16
 
 

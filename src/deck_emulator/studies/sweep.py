@@ -354,8 +354,8 @@ def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
 def _decoded(stored: list[dict], part: int = 512):
     """The rows of the stored scenes that ended (``row_json``; None for the others), decoded
     a JSON list of ``part`` of them at a time, each text let go once decoded: the rows of a
-    list share their keys' strings (a row decoded alone held its own 86, some 40 MB of a
-    10^4-scene sweep), and no more than ``part`` texts are joined at once."""
+    list share their keys' strings (a row decoded alone holds its own: docs/scale.md), and no
+    more than ``part`` texts are joined at once."""
     for k in range(0, len(stored), part):
         chunk = stored[k:k + part]
         texts = [g.pop("row_json") for g in chunk if g.get("status") == "ok"]
