@@ -579,6 +579,8 @@ class CoreEngine:
         points on it and C at the hit."""
         import numpy as np
 
+        from .trajectory import SAMPLED_POINTS
+
         traj = r.trajectory
         t_end = float(traj.t_end)
         lost = next((e.time_s for e in fields["events"] if e.kind is EventKind.LOST_VEHICLE),
@@ -593,7 +595,7 @@ class CoreEngine:
         out = dict(t=t, sv=state[13].copy(), vv=state[14].copy(), free=t > t_c + 1e-12)
         if not points:
             return out
-        kept = [k for k in ("P", "Q", "R", "C", "U") if k in traj.point_names]
+        kept = [k for k in SAMPLED_POINTS if k in traj.point_names]
         pts = {k: np.ascontiguousarray(np.asarray(p).T)
                for k, p in traj.points_of(state, kept).items()}
         pts["CM"] = np.ascontiguousarray(state[0:3].T)

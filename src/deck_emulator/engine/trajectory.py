@@ -19,7 +19,11 @@ from typing import Protocol
 
 import numpy as np
 
-__all__ = ["Trajectory", "PostState", "Sampled", "Dense", "readonly", "INSTANTS"]
+__all__ = ["Trajectory", "PostState", "Sampled", "Dense", "readonly", "INSTANTS",
+           "SAMPLED_POINTS"]
+
+#: the post's named points an outcome samples (beside its mass centre ``CM``), in this order
+SAMPLED_POINTS = ("P", "Q", "R", "C", "U")
 
 #: the instants a run gives the post's motion at, for the energy (:mod:`.energy`):
 #: ``launch`` -- the car lets go (the last contact step); ``free_start``, ``free_end`` --
