@@ -52,32 +52,25 @@ class PostState:
 
 
 class Trajectory(Protocol):
-    """What every engine's run answers (road axes XX, YY, ZZ; ft, s)."""
+    """What every engine's run answers (road axes XX, YY, ZZ; ft, s): its points' names and
+    span; ``position`` of a point (``CM``: the mass centre) at ``t``, (3,) or (3, n);
+    ``point_near``, the point as the run gives it at ``t`` (None outside it, or no such
+    point); ``car_velocity``, VV along XV (None outside the run); ``motion`` and
+    ``solver_steps``, a dense solution's only (else ValueError); ``post_state``, the post's
+    motion at one of :data:`INSTANTS` (None: none); ``leaf_spring_unloading``, (time,
+    compression ft) where the car's leaf spring begins to unload (None: none)."""
 
     point_names: tuple[str, ...]
     span: tuple[float, float]
     integrator: str | None
 
-    def position(self, name: str, t) -> np.ndarray:
-        """Point ``name`` (``CM``: the mass centre) at ``t``: (3,) or (3, n)."""
-
-    def point_near(self, name: str, t: float) -> np.ndarray | None:
-        """Point ``name`` at ``t`` as the run gives it (None outside it, or no such point)."""
-
-    def car_velocity(self, t: float) -> float | None:
-        """The car's velocity VV along XV at ``t`` (None outside the run)."""
-
-    def motion(self, t: float) -> dict:
-        """The post's and the car's whole motion at ``t`` (a dense solution only)."""
-
-    def solver_steps(self) -> int:
-        """The integrator's steps (a dense solution only)."""
-
-    def post_state(self, instant: str) -> PostState | None:
-        """The post's motion at one of :data:`INSTANTS` (None where the run has none)."""
-
-    def leaf_spring_unloading(self) -> tuple[float, float] | None:
-        """(time, compression ft) where the car's leaf spring begins to unload (None: none)."""
+    def position(self, name: str, t) -> np.ndarray: ...
+    def point_near(self, name: str, t: float) -> np.ndarray | None: ...
+    def car_velocity(self, t: float) -> float | None: ...
+    def motion(self, t: float) -> dict: ...
+    def solver_steps(self) -> int: ...
+    def post_state(self, instant: str) -> PostState | None: ...
+    def leaf_spring_unloading(self) -> tuple[float, float] | None: ...
 
 
 class Sampled:

@@ -402,14 +402,12 @@ def sweep(
         stored = store.by_id(("status", "error", "row_json"))
     got = [stored.get(scene_id(job), {}) for job in todo]
     del stored
-    rows = []
+    rows, bases = [], {}
     for job, g, row in zip(todo, got, _decoded(got)):
         if row is not None:
             rows.append(row)
         else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
-            deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"],
-                              job["vvb_decimals"])
-            name = scene_name(job["speed"], job["angle"], job["post"])
+            deck, name = _scene_of(job, bases)  # the base deck read once, not once a row
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
                           error=g.get("error") or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))
