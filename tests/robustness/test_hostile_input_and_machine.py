@@ -526,8 +526,8 @@ def _limited(argv: list[str], cwd=None, **limits) -> subprocess.CompletedProcess
 
 @pytest.mark.slow
 @pytest.mark.parametrize("files, says", [
-    (16, "the open-file limit (16, ulimit -n) is too low for 2 worker process(es)"),
-    (17, "give --jobs 1, or raise it (ulimit -n 1024)")])
+    (15, "the open-file limit (15, ulimit -n) is too low for 2 worker process(es)"),
+    (16, "give --jobs 1, or raise it (ulimit -n 1024)")])
 def test_an_open_file_limit_too_low_for_the_workers_is_said_before_they_start(tmp_path, files,
                                                                               says):
     done = _limited(["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2", "--quiet",
