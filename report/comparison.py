@@ -68,8 +68,8 @@ def _run(job):
     deck_name, precision, errata = job
     deck = read_deck(ROOT / "decks" / f"{deck_name}.dat")
     t0 = time.perf_counter()
-    out = EmulatorEngine(precision=precision, errata=errata, trace=True).run(deck)
-    run, error = out.raw, None
+    engine = EmulatorEngine(precision=precision, errata=errata, trace=True)
+    run, error = engine.execute(deck).run, None  # the program's run itself
     if run.error is not None:
         exc = run.error
         error = dict(message=str(exc), label=str(exc.label), step=exc.step, time=exc.time,

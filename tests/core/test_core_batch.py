@@ -399,7 +399,7 @@ def test_engine_batch_outcomes_match_the_reference_path(trace):
         assert got.error == ref.error
         if ref.error is not None:
             continue
-        assert got.raw.integrator == "compiled" and ref.raw.integrator == "scipy"
+        assert got.trajectory.integrator == "compiled" and ref.trajectory.integrator == "scipy"
         assert got.hit_message == ref.hit_message
         assert [(e.kind, e.point, e.surface) for e in got.events] == [
             (e.kind, e.point, e.surface) for e in ref.events]

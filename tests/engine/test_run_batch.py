@@ -102,7 +102,7 @@ def _agrees(got, ref):
     assert got.error == ref.error
     if ref.error is not None:
         return
-    assert got.raw.integrator == "compiled" and ref.raw.integrator == "scipy"
+    assert got.trajectory.integrator == "compiled" and ref.trajectory.integrator == "scipy"
     assert got.hit_message == ref.hit_message
     assert [(e.kind, e.point, e.surface) for e in got.events] == [
         (e.kind, e.point, e.surface) for e in ref.events]
@@ -182,7 +182,7 @@ def test_a_batch_answered_for_too_few_scenes_is_named_and_run_again(monkeypatch)
                         raising=False)
     got = CoreEngine(trace=False).run_batch(_scenes()[:1])
     assert "it answered for 0 of 1 scenes" in got[0].notes[0]
-    assert got[0].error is None and got[0].raw.integrator == "scipy"
+    assert got[0].error is None and got[0].trajectory.integrator == "scipy"
 
 
 def test_batched_true_without_a_batched_core_says_so(monkeypatch):

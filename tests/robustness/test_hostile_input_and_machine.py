@@ -461,8 +461,8 @@ SCHEDULER_COMMANDS = {
 
 @pytest.mark.parametrize("command", sorted(SCHEDULER_COMMANDS))
 @pytest.mark.parametrize("mode, says", [
-    ("silent", "something took the connection and said nothing a Dask scheduler says in 1 s"),
-    ("drip", "something took the connection and said nothing a Dask scheduler says in 1 s"),
+    ("silent", "something took the connection and said nothing a Dask scheduler says in 2 s"),
+    ("drip", "something took the connection and said nothing a Dask scheduler says in 2 s"),
     ("http", "something answered there, not in Dask's protocol (not a Dask scheduler)"),
     ("refused", "nothing listens there ("),
     ("tls", "tls:// needs Dask's TLS settings"),
@@ -526,8 +526,8 @@ def _limited(argv: list[str], cwd=None, **limits) -> subprocess.CompletedProcess
 
 @pytest.mark.slow
 @pytest.mark.parametrize("files, says", [
-    (16, "the open-file limit (16, ulimit -n) is too low for 2 worker process(es)"),
-    (17, "give --jobs 1, or raise it (ulimit -n 1024)")])
+    (15, "the open-file limit (15, ulimit -n) is too low for 2 worker process(es)"),
+    (16, "give --jobs 1, or raise it (ulimit -n 1024)")])
 def test_an_open_file_limit_too_low_for_the_workers_is_said_before_they_start(tmp_path, files,
                                                                               says):
     done = _limited(["sweep", "--speeds", "20,30", "--angles", "0", "--jobs", "2", "--quiet",

@@ -48,15 +48,16 @@ def deck_file(given: str, command: str) -> str:
     return given if os.path.exists(given) else src.path
 
 
-def engine_scene(source, name: str = ""):
-    """The scene the core would solve for ``source`` (a scene or a deck); a deck or scene the
-    core cannot solve (a zero mass, no impact point S ...) is bad input: one line, exit 2."""
+def engine_scene(source, name: str = "", *, scene_name: str | None = None):
+    """The scene the core would solve for ``source`` (a scene or a deck; a deck's scene named
+    ``scene_name``, else ``name``); a deck or scene the core cannot solve (a zero mass, no
+    impact point S ...) is bad input: one line naming ``name`` (else the deck's file), exit 2."""
     from deck_emulator.vocabulary.scene import Scene, SceneError
 
     try:
         if isinstance(source, Scene):
             return source.checked()
-        return Scene.from_deck(source, name=name)
+        return Scene.from_deck(source, name=name if scene_name is None else scene_name)
     except SceneError as exc:
         where = name or getattr(source, "path", None) or "the deck"
         raise UsageError(f"{where}: the core cannot solve it: {exc}") from None
@@ -119,10 +120,12 @@ def need_address_space(what: str) -> None:
                          f"under the limits of {', '.join(process_limits())}: raise them")
 
 
-def with_progress(quiet: bool, engine, source, *, execute: bool = False, watch=None):
+def with_progress(quiet: bool, engine, source, *, execute: bool = False, watch=None,
+                  scene=None):
     """``engine.run(source)`` with the progress display (stderr, a terminal only);
     ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome);
-    ``watch``: called with the emulator's program before it runs (``run --html`` keeps it).
+    ``watch``: called with the emulator's program before it runs (``run --html`` keeps it);
+    ``scene``: the core's scene of ``source``, already built (:func:`engine_scene`).
     The core is compiled first where this install has not yet and the run is on the scipy
     path (:func:`compile_core`); one scene on the batch's path runs its functions uncompiled
     (:meth:`~deck_emulator.engine.CoreEngine.run`)."""
@@ -132,7 +135,7 @@ def with_progress(quiet: bool, engine, source, *, execute: bool = False, watch=N
         if engine.batched is False or engine.method != "auto":  # the scipy path: compiled
             compile_core(quiet)  # (a single scene on the batch's path compiles nothing)
         with busy(f"{PROG}: {engine.name} running", quiet=quiet):
-            return engine.run(source)
+            return engine.run(source, scene=scene)
     programs = []
 
     def status() -> str:
@@ -257,10 +260,12 @@ def outcome_answer(name: str, out, source: str, settings: dict, o) -> Answer:
     return answer
 
 
-def rendered(answer: Answer) -> str:
+def rendered(answer: Answer) -> str | None:
+    """The answer's text, made from its document; None for a JSON answer, which prints the
+    document itself (:meth:`Answer.printed`): the document is made once either way."""
     from deck_emulator.present.answers import render_outcome
 
-    return render_outcome(answer.document())
+    return None if answer.json else render_outcome(answer.document())
 
 
 def study_answer(name: str, o, run) -> Answer:

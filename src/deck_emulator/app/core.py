@@ -40,14 +40,15 @@ def core(o: CoreOptions) -> Answer:
     common.require("core")
     src = common.load(o, "core")
     source = src.scene_or_deck("core")
-    common.engine_scene(source)  # a deck the core cannot solve: exit 2 before any work
+    # the scene the core solves, built once; a deck the core cannot solve: exit 2 before any work
+    scene = common.engine_scene(source, scene_name=src.stem)
     common.check_out(o.out)
     common.check_trajectory(o.trajectory)
     engine = CoreEngine(**o.core_keywords(), method=o.method, rtol=o.rtol, atol=o.atol,
                         t_max_s=o.max_time, max_wall_s=o.max_wall)
     set_aside = (overridden_fields(source, engine.model_options()) if src.kind == "scene"
                  else [])  # a scene file's field the preset overrides: said, never silent
-    out = common.with_progress(o.quiet, engine, source)
+    out = common.with_progress(o.quiet, engine, source, scene=scene)
     written = common.write_trajectory(o.trajectory, out)
     used = out.method or o.method
     settings = {**o.core_keywords(),

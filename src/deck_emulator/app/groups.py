@@ -13,7 +13,7 @@ from .options import PRESETS, Common, option, options_class, positive_int, worke
 
 @options_class
 class Preset:
-    preset: str = option("legacy", choices=PRESETS,
+    preset: str = option(defaults.CORE_PRESET, choices=PRESETS,
                          help="core model options: legacy (the listing's quirks, the default) "
                          "or physical (none)")
     shaft_contact: bool | None = option(None, negatable=True,

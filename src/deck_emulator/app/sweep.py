@@ -33,9 +33,9 @@ class SweepOptions(Many, Errata, Preset):
                          f"{defaults.MAX_APPROACH_ANGLE_DEG:g}: 0,15,30 or 0:45:5")
     engine: str = option("emulator", choices=ENGINES,
                          help="which engine runs the scenes (default emulator)")
-    vvb_decimals: int = option(2, parse=whole_number, metavar="N",
-                               help="decimals VVB is cut to (default 2, as the report's deck: "
-                               "-58.66)")
+    vvb_decimals: int = option(defaults.VVB_DECIMALS, parse=whole_number, metavar="N",
+                               help="decimals VVB is cut to (default %(default)s, as the "
+                               "report's deck: -58.66)")
     out: str = option(metavar="DIR", required=True,
                       help="directory for sweep.csv and sweep.md (and the scene store, "
                       f"DIR/{SCENE_STORE}, kept for --resume)")

@@ -30,7 +30,7 @@ from .sources import file_stem, kinds_for, load_source
 
 # Outcome (and with it numpy) is imported where an outcome is made, not here: the plain
 # `deck-emulator run` prints the program's records (EmulatorEngine.execute) and needs neither.
-# (typing.TYPE_CHECKING's value at run time, without importing typing: ~2 ms of the start)
+# (typing.TYPE_CHECKING's value at run time, without importing typing at the start)
 TYPE_CHECKING = False
 if TYPE_CHECKING:
     from .outcome import Outcome
@@ -154,47 +154,53 @@ class EmulatorEngine:
         return self.outcome_of(self.execute(deck, watch=watch), deck, name=name or stem)
 
     def outcome_of(self, done: "Execution", deck, *, name: str = "") -> Outcome:
-        """The :class:`Outcome` of an :meth:`execute` of ``deck``."""
-        out = self._build(done.run, deck, name=name)
-        out.run_s = done.run_s
-        if done.error is not None:
-            out.error, out.guard = str(done.error), done.error.guard
-            out.hint = errata_policy.hint(done.error.guard, done.run.errata)
-        elif done.defect is not None:
-            out.error, out.guard = done.defect, "crash"
-        return out.made()
+        """The :class:`Outcome` of an :meth:`execute` of ``deck``, made once."""
+        import dataclasses
 
-    def outcome(self, run, deck, *, name: str = "") -> Outcome:
-        """An emulator ``Run`` of ``deck`` as an :class:`Outcome`."""
-        return self._build(run, deck, name=name).made()
-
-    def _build(self, run, deck, *, name: str = "") -> Outcome:
         from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
 
+        run, name = done.run, name or source_name(deck)
         d = dict(deck.values)
-        out = Outcome("emulator", name or source_name(deck),
-                      Scene.from_deck(deck, name=name or source_name(deck), checked=False),
-                      errata=tuple(run.errata), arithmetic=self.precision,
-                      settings=f"arithmetic {run.arithmetic}; errata: "
-                      f"{errata_policy.describe(run.errata)}", raw=run,
-                      records=tuple(run.records))
-        out.events = list(run.events)
-        if out.hit is not None:
-
-            out.hit_message = event_message(out.hit)
+        events = tuple(run.events)
+        hit = next((e for e in events if e.kind is EventKind.HIT), None)
+        fields = dict(
+            engine="emulator", name=name,
+            scene=Scene.from_deck(deck, name=name, checked=False),
+            errata=tuple(run.errata), arithmetic=self.precision,
+            settings=f"arithmetic {run.arithmetic}; errata: "
+            f"{errata_policy.describe(run.errata)}",
+            records=tuple(run.records), events=events, run_s=done.run_s,
+            hit_message=event_message(hit) if hit is not None else None)
+        if done.error is not None:
+            fields.update(error=str(done.error), guard=done.error.guard,
+                          hint=errata_policy.hint(done.error.guard, run.errata))
+        elif done.defect is not None:
+            fields.update(error=done.defect, guard="crash")
         if self.trace and run.trace:
-            _emulator_arrays(out, run.trace, d)
-        printed_notes = _printed_quantities(out, run, deck)
-        if run.error is None:
-            out.flags = _listing_flags(out)
-        out.flags += [n for n in printed_notes if "overflow" in n]  # a field printed as ****
-        return out
+            fields.update(_emulator_arrays(run.trace, d))
+        printed_notes = _printed_quantities(fields, run, deck)
+        out = Outcome(**fields)
+        flags = _listing_flags(out) if run.error is None else []
+        flags += [n for n in printed_notes if "overflow" in n]  # a field printed as ****
+        return dataclasses.replace(out, flags=tuple(flags)) if flags else out
 
 
-def _emulator_arrays(out: Outcome, rows, d) -> None:
+def _post_state(row):
+    from .trajectory import PostState
+
+    return PostState((row["V1"], row["V2"], row["V3"]), (row["W1"], row["W2"], row["W3"]),
+                     row["ZZCM"])
+
+
+def _emulator_arrays(rows, d) -> dict:
+    """The outcome's fields read from the program's trace: its accepted steps as arrays (and
+    the :class:`~.trajectory.Sampled` trajectory over them), the deceleration over each contact
+    step, the end of the contact."""
     import numpy as np  # here, not at the top: a run without a trace (deck-emulator run) needs none
+
+    from .trajectory import Sampled
 
     init = _initial_points(d)
     n = len(rows) + 1
@@ -221,36 +227,45 @@ def _emulator_arrays(out: Outcome, rows, d) -> None:
     # the contact-to-free handover is recorded twice (label 42 and the first free step):
     # keep times strictly increasing
     keep = np.concatenate([[True], np.diff(t) > 0])
-    out.t, out.sv, out.vv, out.free = t[keep], sv[keep], vv[keep], free[keep]
-    out.points = {k: v[keep] for k, v in pts.items()}
-    contact = ~out.free
-    tc, vc = out.t[contact], out.vv[contact]
+    t, sv, vv, free = t[keep], sv[keep], vv[keep], free[keep]
+    points = {k: v[keep] for k, v in pts.items()}
+    in_contact = [r for r in rows if r["phase"] == "contact"]
+    in_free = [r for r in rows if r["phase"] != "contact"]
+    states = {}
+    if in_contact and in_free:
+        states["launch"] = _post_state(in_contact[-1])
+    if len(in_free) >= 2:
+        states["free_start"], states["free_end"] = _post_state(in_free[0]), _post_state(in_free[-1])
+    out = dict(t=t, sv=sv, vv=vv, free=free, points=points,
+               trajectory=Sampled(t, points, vv, states))
+    tc, vc = t[~free], vv[~free]
     if tc.size >= 2:  # the deceleration over each accepted contact step; |VV| falling = +
-        out.pulse_t = tc[1:]
+        out["pulse_t"] = tc[1:]
         with np.errstate(divide="ignore", invalid="ignore"):
-            out.pulse_g = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
-        out.contact_end_s = float(tc[-1])
-    fs = [r["FS"] for r in rows if r["phase"] == "contact" and "FS" in r]
+            out["pulse_g"] = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
+        out["contact_end_s"] = float(tc[-1])
+    fs = [r["FS"] for r in in_contact if "FS" in r]
     if fs and d["WV"] * d["G"] != 0:
-        out.max_decel_every_step_g = force_in_g(max(fs), d["WV"], d["G"])
+        out["max_decel_every_step_g"] = force_in_g(max(fs), d["WV"], d["G"])
+    return out
 
 
-def _printed_quantities(out: Outcome, run, deck) -> None:
-    """What the report read off the printout: ΔV at the end of the crush pulse, the largest
-    printed deceleration, the terminal points (``extract`` reads the records, as the
-    report's authors read the paper)."""
+def _printed_quantities(fields: dict, run, deck) -> list[str]:
+    """What the report read off the printout, into ``fields``: the end of the crush pulse,
+    the largest printed deceleration, the terminal points (``extract`` reads the records, as
+    the report's authors read the paper); its notes."""
     from deck_emulator.legacy.extract import ExtractError, extract
 
     try:
         printed = extract(run.records, deck)
     except (ExtractError, ZeroDivisionError) as exc:  # said in the outcome's notes
-        out.notes += (f"the printout's own numbers could not be read ({type(exc).__name__}: "
-                      f"{exc}): the speed lost by the end of the crush pulse, the largest "
-                      "printed deceleration and the terminal points are not given",)
+        fields["notes"] = (f"the printout's own numbers could not be read "
+                           f"({type(exc).__name__}: {exc}): the speed lost by the end of the "
+                           "crush pulse, the largest printed deceleration and the terminal "
+                           "points are not given",)
         return []
-    out.crush_end_s = printed.crush_pulse_end_s
-    out.max_decel_g = printed.max_decel_g
-    out.terminal = {k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()}
+    fields.update(crush_end_s=printed.crush_pulse_end_s, max_decel_g=printed.max_decel_g,
+                  terminal={k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()})
     return list(printed.notes)
 
 
@@ -332,7 +347,7 @@ class CoreEngine:
     for its one scene (the batch's functions uncompiled where this process has not compiled
     them: the same numbers, no numba to load)."""
 
-    preset: str = "legacy"
+    preset: str = defaults.CORE_PRESET
     options: object = None
     shaft_contact: bool | None = None
     method: str = "auto"
@@ -526,6 +541,7 @@ class CoreEngine:
         from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
+        from .trajectory import Dense
 
         if isinstance(source, Scene):
             scene = source
@@ -533,79 +549,83 @@ class CoreEngine:
             scene = r.scene
         else:  # the deck as it is (the core refused it, or its run stopped)
             scene = Scene.from_deck(source, name=source_name(source), checked=False)
-        out = Outcome("core", name or source_name(source), scene, settings=self.settings(),
-                      arithmetic="IEEE double",
+        fields = dict(engine="core", name=name or source_name(source), scene=scene,
+                      settings=self.settings(), arithmetic="IEEE double", run_s=run_s,
                       contact_test="segments" if self.model_options().shaft_contact
-                      else "points")
-        out.run_s = run_s
-        out.notes = (note,) if note else ()
+                      else "points", notes=(note,) if note else ())
         if isinstance(r, Exception):
-            out.error = f"{type(r).__name__}: {r}"
-            return out.made()
-        out.hit_message = r.hit_message
-        out.raw = r
-        out.method = r.method
-        out.notes += tuple(getattr(r, "notes", ()) or ())
-        out.evaluations, out.end_s = r.nfev, r.end_time_s
-        out.engine_events = tuple((e.name, e.time_s) for e in r.events)
-        out.events = core_events(r)
-        out.contact_end_s = r.contact_end_s
-        out.max_decel_g = (r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None
-                           else r.max_decel_g)
-        out.max_decel_every_step_g = r.max_decel_g
-        out.terminal = {k: v for k, v in r.terminal_points_ft.items() if v is not None}
-        out.crush_end_s = next((e.time_s for e in out.events if e.kind is EventKind.FORCE_CAP),
-                               None)
+            return Outcome(error=f"{type(r).__name__}: {r}", **fields)
+        events = core_events(r)
+        fields.update(
+            hit_message=r.hit_message, trajectory=Dense(r), method=r.method,
+            notes=fields["notes"] + tuple(getattr(r, "notes", ()) or ()),
+            evaluations=r.nfev, end_s=r.end_time_s,
+            engine_events=tuple((e.name, e.time_s) for e in r.events), events=events,
+            contact_end_s=r.contact_end_s,
+            max_decel_g=(r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None
+                         else r.max_decel_g),
+            max_decel_every_step_g=r.max_decel_g,
+            terminal={k: v for k, v in r.terminal_points_ft.items() if v is not None},
+            crush_end_s=next((e.time_s for e in events if e.kind is EventKind.FORCE_CAP), None))
         if self.trace:
-            self._arrays(out, r)
-        return out.made()
+            fields.update(self._arrays(r, fields))
+        return Outcome(**fields)
 
-    def _arrays(self, out: Outcome, r) -> None:
-        """The outcome's sampled arrays that :attr:`arrays` asks for, and no others."""
+    def _arrays(self, r, fields: dict) -> dict:
+        """The outcome's sampled arrays that :attr:`arrays` asks for, and no others (with the
+        post's points, C at the hit among the ``terminal`` points)."""
         import numpy as np
 
         asked = set(self.arrays)
         if not asked <= set(defaults.OUTCOME_ARRAYS):
             raise ValueError(f"arrays {sorted(asked)}: not among {defaults.OUTCOME_ARRAYS}")
+        out = {}
         if asked & {"car", "points"}:
-            self._sampled(out, r, points="points" in asked)
+            out.update(self._sampled(r, fields, points="points" in asked))
         if "pulse" in asked:
             t_f, force = r.trajectory.contact_force(self.sample_contact_s / 2)
             car, g = r.scene.vehicle, r.scene.environment.gravity_ft_s2
-            out.pulse_t = t_f
+            out["pulse_t"] = t_f
             if car is None:
-                out.pulse_g = np.zeros(0)
+                out["pulse_g"] = np.zeros(0)
             else:  # force on the car along +XV; the car moves towards -XV when VVB < 0
                 sign = 1.0 if car.initial_velocity_ft_s < 0 else -1.0
-                out.pulse_g = force_in_g(force, car.mass_slug, g) * sign
+                out["pulse_g"] = force_in_g(force, car.mass_slug, g) * sign
+        return out
 
-    def _sampled(self, out: Outcome, r, *, points: bool) -> None:
+    def _sampled(self, r, fields: dict, *, points: bool) -> dict:
         """``t``, ``sv``, ``vv``, ``free`` on the sampling grid; with ``points`` the post's
         points on it and C at the hit."""
         import numpy as np
 
+        from .trajectory import SAMPLED_POINTS
+
         traj = r.trajectory
         t_end = float(traj.t_end)
-        lost = out.vehicle_contact_lost_s
+        lost = next((e.time_s for e in fields["events"] if e.kind is EventKind.LOST_VEHICLE),
+                    None)
         t_c = lost if lost is not None else t_end
         edges = [s.t0 for s in traj.segments] + [s.t1 for s in traj.segments]
         t0 = float(traj.t_start)  # 0, or where a free flight was started
         grid = np.concatenate([np.arange(t0, t_c, self.sample_contact_s),
                                np.arange(t_c, t_end, self.sample_free_s), edges, [t_c, t_end]])
         t = np.unique(np.clip(grid, t0, t_end))
-        out.t = t
         state = traj.state(t)  # evaluated once for the points, the mass centre and the car
-        veh = state[13:15]
-        out.sv, out.vv = np.asarray(veh[0]), np.asarray(veh[1])
-        out.free = t > t_c + 1e-12
+        out = dict(t=t, sv=state[13].copy(), vv=state[14].copy(), free=t > t_c + 1e-12)
         if not points:
-            return
-        kept = [k for k in ("P", "Q", "R", "C", "U") if k in traj.point_names]
-        out.points = {k: np.asarray(p).T for k, p in traj.points_of(state, kept).items()}
-        out.points["CM"] = np.asarray(state[0:3]).T
-        if "C" in out.points and out.hit_time_s is not None:
-            c = out.to_l(traj.point("C", min(out.hit_time_s, t_end)))
-            out.terminal["C"] = tuple(float(x) for x in c)
+            return out
+        kept = [k for k in SAMPLED_POINTS if k in traj.point_names]
+        pts = {k: np.ascontiguousarray(np.asarray(p).T)
+               for k, p in traj.points_of(state, kept).items()}
+        pts["CM"] = np.ascontiguousarray(state[0:3].T)
+        out["points"] = pts
+        hit_s = r.hit_time_s
+        if "C" in pts and hit_s is not None:
+            scene = fields["scene"]
+            base, ground = scene.post.base, scene.environment.ground_depth_ft
+            c = traj.point("C", min(hit_s, t_end)) - np.array([base.xx_ft, base.yy_ft, -ground])
+            out["terminal"] = {**fields["terminal"], "C": tuple(float(x) for x in c)}
+        return out
 
 
 def compile_core(wait) -> None:
@@ -616,7 +636,7 @@ def compile_core(wait) -> None:
     in numba's cache of the core (:func:`deck_emulator.core.compiled_cache_folder`) says it
     was done; where none can be written numba compiles in each process, as it must.  Once
     done, this process imports no numba: a study's workers run the core, not the command
-    (numba alone was 56 MB of a study's command and 0.3 s of its start)."""
+    (what numba costs a command: docs/scale.md)."""
     from importlib.metadata import version
 
     from deck_emulator.core import compiled_cache_folder

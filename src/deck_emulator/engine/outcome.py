@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 
@@ -12,11 +13,18 @@ from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.events import Event, EventKind
 from deck_emulator.vocabulary.units import ft_s_to_mph
 
+from .trajectory import Sampled, Trajectory, readonly
 
-@dataclass
+_EMPTY = readonly(np.zeros(0))
+_EMPTY_BOOL = readonly(np.zeros(0, dtype=bool))
+_NO_MAP = MappingProxyType({})
+
+
+@dataclass(frozen=True)
 class Outcome:
-    """One run of either engine, as arrays over time (road axes XX, YY, ZZ; ft, s); made once
-    by its engine (:meth:`made`), then no field can be assigned.
+    """One run of either engine, as arrays over time (road axes XX, YY, ZZ; ft, s): a value,
+    made once by its engine; no field can be assigned, no array written, no sequence or
+    mapping changed.
 
     * ``engine``: ``"emulator"`` or ``"core"``; ``settings``: what was run, in words (the
       arithmetic and its assumptions, the errata; or the preset, method and tolerances);
@@ -63,7 +71,8 @@ class Outcome:
       reads the solution itself (the core's dense one) at any instant.
     * ``run_s``: seconds the engine's solver ran (the program's loop; the core's solution),
       without building this outcome.
-    * ``raw``: the engine's own result (the emulator's ``Run``, the core's ``CoreResult``).
+    * ``trajectory``: the run as every reader reads it, whichever engine made it
+      (:mod:`.trajectory`: the emulator's accepted steps, the core's dense solution).
     """
 
     engine: str
@@ -72,22 +81,22 @@ class Outcome:
     settings: str = ""
     arithmetic: str = ""
     errata: tuple[str, ...] = ()
-    t: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    points: dict = field(default_factory=dict)
-    sv: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    vv: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    free: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
-    pulse_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    pulse_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    events: list[Event] = field(default_factory=list)
+    t: np.ndarray = field(default_factory=lambda: _EMPTY)
+    points: Mapping[str, np.ndarray] = field(default_factory=lambda: _NO_MAP)
+    sv: np.ndarray = field(default_factory=lambda: _EMPTY)
+    vv: np.ndarray = field(default_factory=lambda: _EMPTY)
+    free: np.ndarray = field(default_factory=lambda: _EMPTY_BOOL)
+    pulse_t: np.ndarray = field(default_factory=lambda: _EMPTY)
+    pulse_g: np.ndarray = field(default_factory=lambda: _EMPTY)
+    events: tuple[Event, ...] = ()
     hit_message: str | None = None
     crush_end_s: float | None = None
     contact_end_s: float | None = None
     max_decel_g: float | None = None
     max_decel_every_step_g: float | None = None
-    terminal: dict = field(default_factory=dict)
+    terminal: Mapping[str, tuple[float, float, float]] = field(default_factory=lambda: _NO_MAP)
     error: str | None = None
-    flags: list[str] = field(default_factory=list)
+    flags: tuple[str, ...] = ()
     guard: str | None = None
     hint: str = ""
     run_s: float = 0.0
@@ -98,22 +107,30 @@ class Outcome:
     evaluations: int | None = None
     engine_events: tuple[tuple[str, float], ...] = ()
     end_s: float | None = None
-    raw: object = field(default=None, repr=False)
-    #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance)
-    cache: dict = field(default_factory=dict, repr=False, compare=False)
-    _made: bool = field(default=False, init=False, repr=False, compare=False)
+    trajectory: Trajectory | None = field(default=None, repr=False, compare=False)
+    #: what :mod:`.quantities` has computed from this outcome once (the pulse, the clearance):
+    #: a memo of a value, which cannot go stale (:meth:`memo`)
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
-    def __setattr__(self, name: str, value) -> None:
-        if self.__dict__.get("_made"):
-            raise dataclasses.FrozenInstanceError(
-                f"an Outcome is made once, by its engine: cannot assign {name!r}")
-        object.__setattr__(self, name, value)
+    def __post_init__(self) -> None:
+        put = object.__setattr__
+        for name in ("t", "sv", "vv", "pulse_t", "pulse_g"):
+            put(self, name, readonly(getattr(self, name), float))
+        put(self, "free", readonly(self.free, bool))
+        put(self, "points", MappingProxyType(
+            {k: readonly(v, float) for k, v in self.points.items()}))
+        put(self, "terminal", MappingProxyType(
+            {k: tuple(p) for k, p in self.terminal.items()}))
+        for name in ("errata", "events", "flags", "notes", "records", "engine_events"):
+            put(self, name, tuple(getattr(self, name)))
+        if self.trajectory is None:  # an outcome made of its samples is read through them
+            put(self, "trajectory", Sampled(self.t, self.points, self.vv))
 
-    def made(self) -> "Outcome":
-        """The engine has filled it in: from here on no field can be assigned (what the
-        registry computes from it is kept in ``cache``)."""
-        object.__setattr__(self, "_made", True)
-        return self
+    def memo(self, key: str, compute):
+        """``compute(self)``, once per outcome."""
+        if key not in self._memo:
+            self._memo[key] = compute(self)
+        return self._memo[key]
 
     # -- events ---------------------------------------------------------------------------
 
@@ -185,59 +202,32 @@ class Outcome:
     @property
     def point_names(self) -> tuple[str, ...]:
         """The post's named points the run follows."""
-        if self.engine == "core" and self.raw is not None:
-            return tuple(self.raw.trajectory.point_names)
-        return tuple(k for k in self.points if k != "CM")
+        return self.trajectory.point_names
 
     @property
     def span(self) -> tuple[float, float]:
-        """Where the run's solution starts and ends (s): the core's dense solution, the
-        emulator's steps."""
-        if self.engine == "core" and self.raw is not None:
-            traj = self.raw.trajectory
-            return float(traj.t_start), float(traj.t_end)
-        return (float(self.t[0]), float(self.t[-1])) if self.t.size else (0.0, 0.0)
+        """Where the run's solution starts and ends (s)."""
+        return self.trajectory.span
 
     def position(self, name: str, t) -> np.ndarray:
         """The post's point ``name`` (``CM``: the mass centre) at ``t`` (a time, or an array of
-        them) in the road axes XX, YY, ZZ: (3,) or (3, n).  The core's dense solution; the
-        emulator's accepted steps, linearly between them."""
-        if self.engine == "core" and self.raw is not None:
-            traj = self.raw.trajectory
-            return traj.mass_centre(t) if name == "CM" else traj.point(name, t)
-        xyz = np.asarray(self.points[name], dtype=float)
-        return np.array([np.interp(t, self.t, xyz[:, i]) for i in range(3)])
+        them) in the road axes XX, YY, ZZ: (3,) or (3, n) (:attr:`trajectory`)."""
+        return self.trajectory.position(name, t)
 
     def car_velocity(self, t: float) -> float | None:
-        """The car's velocity VV along XV at ``t``: the core's dense solution; the emulator's
-        accepted steps, linearly between two (its step VVA = VVB + (H/WV)*FSB is linear in
-        time; its events and printed instants fall on steps); None outside the run."""
-        if self.engine == "core" and self.raw is not None:
-            return float(self.raw.trajectory.vehicle(t)[1])
-        if not self.t.size or not self.t[0] <= t <= self.t[-1]:
-            return None
-        return float(np.interp(t, self.t, self.vv))
+        """The car's velocity VV along XV at ``t``; None outside the run."""
+        return self.trajectory.car_velocity(t)
 
     def motion(self, t: float) -> dict:
-        """The post's and the car's motion at ``t`` from the core's dense solution:
+        """The post's and the car's motion at ``t`` from a dense solution:
         ``mass_centre_ft`` (XX, YY, ZZ), ``velocity_body_ft_s``, ``attitude_wxyz`` (body to
         road), ``angular_velocity_body_rad_s``, ``car_position_ft`` and ``car_velocity_ft_s``
-        (SV, VV along XV)."""
-        if self.engine != "core" or self.raw is None:
-            raise ValueError("the motion between steps is the core's dense solution")
-        traj = self.raw.trajectory
-        sv, vv = traj.vehicle(t)
-        return {"mass_centre_ft": traj.mass_centre(t), "velocity_body_ft_s": traj.velocity_body(t),
-                "attitude_wxyz": traj.attitude(t),
-                "angular_velocity_body_rad_s": traj.angular_velocity_body(t),
-                "car_position_ft": sv, "car_velocity_ft_s": vv}
+        (SV, VV along XV); a run known only at its steps raises ValueError."""
+        return self.trajectory.motion(t)
 
     def solver_steps(self) -> int:
-        """The core's integration steps: its solution's step ends, over its segments."""
-        if self.engine != "core" or self.raw is None:
-            raise ValueError("the integration steps are the core's solution's")
-        return sum(len(s.solution.ts) - 1 for s in self.raw.trajectory.segments
-                   if getattr(s.solution, "ts", None) is not None)
+        """The integrator's steps over its segments (a dense solution's; else ValueError)."""
+        return self.trajectory.solver_steps()
 
     def accepted_steps(self) -> tuple[np.ndarray, np.ndarray]:
         """The emulator's accepted steps: their times (n,) and the mass centre at each (3, n)
@@ -250,16 +240,8 @@ class Outcome:
         """The post's point ``name`` at ``t`` in the report's XL, YL, ZL axes: the core's
         dense solution, the emulator's nearest accepted step (None outside the run or for a
         point the post lacks)."""
-        if self.engine == "core" and self.raw is not None:
-            traj = self.raw.trajectory
-            if name not in traj.point_names or not traj.t_start <= t <= traj.t_end:
-                return None
-            p = traj.point(name, t)
-        else:
-            if name not in self.points or not self.t.size or t > self.t[-1]:
-                return None
-            p = self.points[name][self.at(t)]
-        return tuple(float(x) for x in self.to_l(p))
+        p = self.trajectory.point_near(name, t)
+        return None if p is None else tuple(float(x) for x in self.to_l(p))
 
     def trajectory_frame(self):
         """The run as a :class:`pandas.DataFrame`, one row per sample (the emulator's accepted

@@ -124,19 +124,12 @@ def unavailable(outcome, which: Iterable[str]) -> dict[str, str]:
 # ------------------------------------------------------------------ what the definitions read
 
 
-def _cached(o, key: str, compute):
-    """``compute(o)``, once per outcome (kept in ``o.cache``)."""
-    if key not in o.cache:
-        o.cache[key] = compute(o)
-    return o.cache[key]
-
-
 def pulse(o):
     """The occupant-risk reading of the outcome's contact history
     (:class:`~deck_emulator.engine.safety.PulseMetrics`, computed once; None without one)."""
     from .safety import assess_outcome
 
-    return _cached(o, "pulse", lambda o: assess_outcome(o) if o.t.size
+    return o.memo("pulse", lambda o: assess_outcome(o) if o.t.size
                    and why_none("contact", o) is None else None)
 
 
@@ -145,20 +138,20 @@ def clearance(o):
     (:class:`~deck_emulator.engine.safety.Clearance`, computed once; None without one)."""
     from .safety import clearance_of
 
-    return _cached(o, "clearance", lambda o: clearance_of(o) if o.t.size
+    return o.memo("clearance", lambda o: clearance_of(o) if o.t.size
                    and why_none("end", o) is None else None)
 
 
 def _energies(o):
     from .energy import energies
 
-    return _cached(o, "energies", energies)
+    return o.memo("energies", energies)
 
 
 def _leaf(o):
     from .leaf_spring import at_unloading
 
-    return _cached(o, "leaf", at_unloading)
+    return o.memo("leaf", at_unloading)
 
 
 def _attitude():

@@ -48,6 +48,8 @@ import numpy as np
 from deck_emulator.vocabulary.scene import VehicleBody, car_boxes
 from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT
 
+from .trajectory import SAMPLED_POINTS
+
 __all__ = [
     "FLAIL_DISTANCE_M",
     "WINDOW_S",
@@ -581,7 +583,7 @@ def clearance_of(out) -> Clearance | None:
     """The post's least clearance above the car in an outcome's free flight."""
     if not out.t.size or not out.free.any():
         return None
-    pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C", "U")}
+    pts = {k: v for k, v in out.points.items() if k in SAMPLED_POINTS}
     if "C" in pts and np.isnan(pts["C"][out.free]).any():
         pts.pop("C")
     return body_clearance(out.t, pts, out.sv, car_body(out.scene),
@@ -596,7 +598,7 @@ def clearance_until(out, until_s: float) -> Clearance | None:
     free = out.free & (out.t <= until_s)
     if not free.any():
         return None
-    pts = {k: v for k, v in out.points.items() if k in ("P", "Q", "R", "C", "U")}
+    pts = {k: v for k, v in out.points.items() if k in SAMPLED_POINTS}
     if "C" in pts and np.isnan(pts["C"][free]).any():
         pts.pop("C")
     return body_clearance(out.t, pts, out.sv, car_body(out.scene),

@@ -1,8 +1,7 @@
 """Imported once, after :mod:`.worker_preload`, in the process the embedded runner forks the
 workers of a run of core scenes from: the compiled core's machine code (numba's, from its
 cache) and the studies that run core scenes, loaded here once so that every worker shares
-their pages instead of loading its own copy (115 MB a worker, measured, when each loaded
-its own).  A core that cannot load here (no numba, a limit of the machine) is left to each
+their pages instead of loading its own copy (docs/scale.md).  A core that cannot load here (no numba, a limit of the machine) is left to each
 worker, which then says why in its scenes' rows."""
 
 from __future__ import annotations

@@ -104,7 +104,6 @@ import functools
 import gc
 import hashlib
 import json
-import logging
 import math
 import os
 import resource
@@ -114,7 +113,6 @@ import tempfile
 import time
 import traceback
 import uuid
-import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
@@ -588,10 +586,9 @@ def _settle() -> None:
     """In a worker process of the embedded runner, once its first batch is done: what the
     process holds for good by then (the modules its first batch imported) is put
     out of the garbage collector's way (``gc.freeze``), whose full collections went through
-    every one of those objects again and again while the scenes ran (about a tenth of a
-    core scene's time, measured); what the scenes make is collected as before.  (The C
-    allocator keeps what a batch freed, some 20 MB; giving it back after each batch,
-    ``malloc_trim``, cost 10 % of a scene's CPU in faulting the pages in again: not done.)"""
+    every one of those objects again and again while the scenes ran; what the scenes make is
+    collected as before (the costs, and why the allocator's memory is not given back after
+    each batch: docs/scale.md)."""
     if _SETTLED or not os.environ.get(SPAWNED_WORKER_ENV):
         return
     _SETTLED.append(True)
@@ -608,9 +605,8 @@ def _only(outs):
 
 
 #: Most scenes in one batch (:func:`batch_size`): a worker holds one batch's solver records
-#: at a time, about 1.1 MB a core scene (measured: batches of 64 grew each worker's heap by
-#: some 75 MB, of 16 by some 20 MB), and the embedded runner's cost a batch is a pickle and a
-#: pipe's round trip
+#: at a time (their size a scene: docs/scale.md, "Batches"), and the embedded runner's cost a
+#: batch is a pickle and a pipe's round trip
 BATCH_TASK_MAX = 16
 
 
@@ -727,22 +723,21 @@ def _cannot_load(what: str, exc: BaseException, also: str = "") -> str:
 
 def _reach(address: str) -> None:
     """:class:`ClusterError` in one line unless a Dask scheduler answers at ``address`` by a
-    scheme this install serves, within ``SCHEDULER_CONNECT_S`` for the connection and again
-    for the handshake (Dask's own connection timeout leaves the handshake unbounded: a port
-    that accepts and says nothing held a sweep for ever, one that answers HTTP a traceback).
-    An in-process address (``inproc://``) is this process's own cluster: not asked."""
+    scheme this install serves: Dask's public ``distributed.comm.connect`` (its connection
+    bounded by ``SCHEDULER_CONNECT_S``), the whole handshake by twice that (Dask leaves the
+    handshake unbounded: a port that accepts and says nothing held a sweep for ever, one that
+    answers HTTP a traceback), then the scheduler's "identity".  An in-process address
+    (``inproc://``) is this process's own cluster: not asked."""
     import asyncio
     import concurrent.futures
 
-    from distributed.comm import parse_address
-    from distributed.comm.registry import get_backend
+    from distributed.comm import connect, parse_address
     from distributed.security import Security
 
     where, bound = f"--scheduler {address}", defaults.SCHEDULER_CONNECT_S
     try:
-        scheme, loc = parse_address(address)
-        connector = get_backend(scheme).get_connector()  # ucx:// without its library: none
-    except (ValueError, TypeError, ImportError) as exc:
+        scheme, _ = parse_address(address)
+    except (ValueError, TypeError) as exc:
         raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
                            "tcp://HOST:PORT") from None
     if scheme == "inproc":
@@ -751,36 +746,36 @@ def _reach(address: str) -> None:
     if scheme in ("tls", "wss") and args.get("ssl_context") is None:
         raise ClusterError(f"{where}: {scheme}:// needs Dask's TLS settings (distributed.comm."
                            "tls.ca-file, .client.cert, .client.key) and none are set")
-    said = {"connect": f"no connection in {bound:g} s", "answer": "something took the "
-            f"connection and said nothing a Dask scheduler says in {bound:g} s"}
-    stage = ["connect"]
 
-    async def identity():  # Dask's handshake, then the scheduler's "identity"
-        comm = await asyncio.wait_for(connector.connect(loc, deserialize=True, **args), bound)
-        stage[0] = "answer"
-
-        async def answer():
-            await comm.write(comm.handshake_info())
-            await comm.read()
+    async def identity():  # Dask's connection and handshake, then the scheduler's "identity"
+        comm = await connect(address, timeout=bound, deserialize=True, **args)
+        try:
             await comm.write({"op": "identity", "reply": True})
             return await comm.read()
-        try:
-            return await asyncio.wait_for(answer(), bound)
         finally:
             comm.abort()
 
+    async def bounded():
+        return await asyncio.wait_for(identity(), 2 * bound)
+
     with concurrent.futures.ThreadPoolExecutor(1) as pool:  # its own event loop, in any caller
         try:
-            who = pool.submit(asyncio.run, identity()).result()
-        except asyncio.TimeoutError:
-            raise ClusterError(f"{where}: {said[stage[0]]}") from None
-        except Exception as exc:  # noqa: BLE001 - refused, reset, or bytes that are not Dask's
-            if stage[0] == "answer":
-                raise ClusterError(f"{where}: something answered there, not in Dask's protocol "
-                                   "(not a Dask scheduler)") from None
+            who = pool.submit(asyncio.run, bounded()).result()
+        except asyncio.TimeoutError:  # connected (else connect says so), then nothing
+            raise ClusterError(f"{where}: something took the connection and said nothing a "
+                               f"Dask scheduler says in {2 * bound:g} s") from None
+        except (TypeError, ImportError) as exc:  # ucx:// without its library: no connector
+            raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
+                               "tcp://HOST:PORT") from None
+        except (OSError, ValueError) as exc:  # refused, reset, no connection in the bound
             cause = exc.__cause__ or exc
             why = str(cause).splitlines()[0][:120] if str(cause) else type(cause).__name__
+            if isinstance(cause, (asyncio.TimeoutError, TimeoutError)):
+                raise ClusterError(f"{where}: no connection in {bound:g} s") from None
             raise ClusterError(f"{where}: {'not an address' if isinstance(cause, ValueError) else 'nothing listens there'} ({why})") from None
+        except Exception:  # noqa: BLE001 - bytes that are not Dask's, whatever they raise
+            raise ClusterError(f"{where}: something answered there, not in Dask's protocol "
+                               "(not a Dask scheduler)") from None
     kind = who.get("type") if isinstance(who, dict) else None
     if kind != "Scheduler":
         raise ClusterError(f"{where}: {'a Dask ' + kind if kind else 'something'} answered "

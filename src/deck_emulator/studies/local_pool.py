@@ -3,9 +3,8 @@
 ``jobs`` worker processes, each running one batch at a time, all forked from one server
 process (multiprocessing's *forkserver*) that has imported, once, what every worker needs:
 with ``core=True`` the compiled core's machine code (numba's, from its cache), so that the
-workers share its pages with the server instead of each loading a copy of its own.  (An
-embedded Dask cluster held some 190 MB a worker before its first scene, Dask 45 of them and
-numba with the core's code 115; a 10^4-scene sweep's process tree peaked at 565 MB.)
+workers share its pages with the server instead of each loading a copy of its own (what
+that saves against the embedded Dask cluster it replaced: docs/scale.md).
 
 What a batch meets, said once here:
 

@@ -41,7 +41,7 @@ from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.distributed import output_store
-from deck_emulator.vocabulary.units import FT_S_PER_MPH
+from deck_emulator.studies.sweep import vvb_for
 
 from .common import (
     ERRATA,
@@ -114,7 +114,7 @@ def scenes(base: dict, quick: bool) -> list[dict]:
     speeds = (5, 120) if quick else (5, 10, 20, 30, 60, 80, 100, 120)
     for mph in speeds:
         out.append(_scene(f"speed-{mph}", "speed", f"{mph} mph",
-                          {"VVB": round(-mph * FT_S_PER_MPH, 4)}, speed_mph=mph))
+                          {"VVB": vvb_for(mph)}, speed_mph=mph))
     top = int(defaults.MAX_APPROACH_ANGLE_DEG)  # the largest angle a scene may have
     angles = (top,) if quick else tuple(range(15, top + 1, 15))
     for deg in angles:

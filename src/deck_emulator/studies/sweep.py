@@ -35,10 +35,10 @@ Rules (stated once, here)
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
-import tempfile
 import time
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
@@ -110,7 +110,7 @@ def _report_of(job: dict, deck: Deck):
     return _report_for(name, deck) if name in decks.names() else None
 
 
-def vvb_for(speed_mph: float, decimals: int = 2) -> float:
+def vvb_for(speed_mph: float, decimals: int = defaults.VVB_DECIMALS) -> float:
     """-(mph * 88/60) ft/s cut (towards zero) to ``decimals`` decimals (module docstring)."""
     exact = Decimal(repr(float(speed_mph))) * FT_PER_MILE / S_PER_HOUR
     q = exact.quantize(Decimal(1).scaleb(-decimals), rounding=ROUND_DOWN)
@@ -138,7 +138,8 @@ def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
     return "steel40", dict(speed_ft_s=abs(vvb_for(speed_mph)), alpha_rad=alpha_for(alpha_deg))
 
 
-def scene_deck(base: Deck, speed_mph: float, angle_deg: float, vvb_decimals: int = 2) -> Deck:
+def scene_deck(base: Deck, speed_mph: float, angle_deg: float,
+               vvb_decimals: int = defaults.VVB_DECIMALS) -> Deck:
     return base.with_values(VVB=vvb_for(speed_mph, vvb_decimals), ALPHA=alpha_for(angle_deg))
 
 
@@ -353,8 +354,8 @@ def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
 def _decoded(stored: list[dict], part: int = 512):
     """The rows of the stored scenes that ended (``row_json``; None for the others), decoded
     a JSON list of ``part`` of them at a time, each text let go once decoded: the rows of a
-    list share their keys' strings (a row decoded alone held its own 86, some 40 MB of a
-    10^4-scene sweep), and no more than ``part`` texts are joined at once."""
+    list share their keys' strings (a row decoded alone holds its own: docs/scale.md), and no
+    more than ``part`` texts are joined at once."""
     for k in range(0, len(stored), part):
         chunk = stored[k:k + part]
         texts = [g.pop("row_json") for g in chunk if g.get("status") == "ok"]
@@ -372,7 +373,7 @@ def sweep(
     post: str = "steel",
     base=None,
     jobs: int | None = None,
-    vvb_decimals: int = 2,
+    vvb_decimals: int = defaults.VVB_DECIMALS,
     quiet: bool = False,
     store_dir=None,
     scheduler: str | None = None,
@@ -391,22 +392,22 @@ def sweep(
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
-    with temporary_store("sweep-") as tmp:
-        store = run_scenes(todo, _stored_scene_jobs, store_dir=store_dir or tmp, jobs=jobs,
+    # the caller's store (the command's --out) where it gives one; a temporary one only if not
+    with (contextlib.nullcontext(store_dir) if store_dir is not None
+          else temporary_store("sweep-")) as where:
+        store = run_scenes(todo, _stored_scene_jobs, store_dir=where, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True,
                            core=engine == "core")
         stored = store.by_id(("status", "error", "row_json"))
     got = [stored.get(scene_id(job), {}) for job in todo]
     del stored
-    rows = []
+    rows, bases = [], {}
     for job, g, row in zip(todo, got, _decoded(got)):
         if row is not None:
             rows.append(row)
         else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
-            deck = scene_deck(read_deck(job["base"]), job["speed"], job["angle"],
-                              job["vvb_decimals"])
-            name = scene_name(job["speed"], job["angle"], job["post"])
+            deck, name = _scene_of(job, bases)  # the base deck read once, not once a row
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
                           error=g.get("error") or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))

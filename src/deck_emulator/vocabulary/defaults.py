@@ -96,6 +96,14 @@ PROGRAM_CONSTANT_DIGITS = 40
 
 # ------------------------------------------------------------------- the core
 
+#: a speed (mph) as a deck's VVB (ft/s): -(mph * 88/60) cut towards zero to this many
+#: decimals, as the report's decks were punched (40 mph -58.66, steel20.dat's 20 mph -29.33;
+#: studies.sweep.vvb_for), for every study that makes a deck of a speed
+VVB_DECIMALS = 2
+
+#: the core's model options by default, for every door (the command line's --preset, the
+#: engine's CoreEngine): legacy, the listing's quirks, the one comparable with the report
+CORE_PRESET = "legacy"
 #: the core's integration method: DOP853, or Radau for a contact its springs make stiff
 CORE_METHOD = "auto"
 #: the core's relative and absolute tolerances (solve_ivp's rtol, atol; the compiled DOP853's)
