@@ -257,6 +257,7 @@ class Printer:
         self._rounding = rounding
         self._binary = binary and rounding == "nearest"
         self.records: list[str] = []
+        self._plans: dict = {}  # (binary) label -> (values, its records' templates): _plan
         # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
         self._layouts, self._decimals = _LAYOUTS, _DECIMALS
         if formats is not None:
@@ -275,14 +276,48 @@ class Printer:
 
     def write(self, label: int, *values) -> None:
         """``WRITE(6,label) values``: append the records that FORMAT ``label`` makes."""
+        if self._binary:
+            plan = self._plans.get(label) or self._plan(label)
+            if len(values) != plan[0]:
+                raise ValueError(f"FORMAT {label} takes {plan[0]} values, got {len(values)}")
+            i = 0
+            for template, n, width, pieces in plan[1]:
+                if n < 0:
+                    n = sum(type(p) is not str for p in pieces)
+                text = template.format(*values[i:i + n])
+                # (a field wider than its w, or a value that is no float: as _field says)
+                self.records.append(text if len(text) == width else
+                                    self._slow(pieces, iter(values[i:i + n])))
+                i += n
+            return
         layout = self._layouts[label]
         decimals = self._decimals[label]
         if len(values) != len(decimals):
             raise ValueError(f"FORMAT {label} takes {len(decimals)} values, got {len(values)}")
         it = iter(values)
         for pieces in layout:
-            self.records.append("".join(p if type(p) is str else self._field(next(it), *p)
-                                        for p in pieces))
+            self.records.append(self._slow(pieces, it))
+
+    def _slow(self, pieces, it) -> str:
+        return "".join(p if type(p) is str else self._field(next(it), *p) for p in pieces)
+
+    def _plan(self, label: int):
+        """A binary FORMAT's records as str.format templates: Fw.d is ``{:#w.df}`` (Python's
+        correctly rounded digits, as :meth:`_field`; ``#`` keeps Fw.0's point); a record whose
+        text is not its layout's width holds a field that did not fit, and is made again by
+        :meth:`_slow` (the dropped leading zero, the asterisks)."""
+        records = []
+        for pieces in self._layouts[label]:
+            if any(type(p) is not str and p[1] == 0 for p in pieces):  # (Fw.0 of NaN: _field)
+                records.append(("", -1, -1, pieces))
+                continue
+            template = "".join(p.replace("{", "{{").replace("}", "}}") if type(p) is str
+                               else f"{{:#{p[0]}.{p[1]}f}}" for p in pieces)
+            fields = sum(type(p) is not str for p in pieces)
+            width = sum(len(p) if type(p) is str else p[0] for p in pieces)
+            records.append((template, fields, width, pieces))
+        self._plans[label] = plan = (len(self._decimals[label]), tuple(records))
+        return plan
 
     def text(self) -> str:
         return "".join(r + "\n" for r in self.records)
