@@ -155,16 +155,46 @@ def _add_option(p: argparse.ArgumentParser, f) -> None:
 
 class _Parser(argparse.ArgumentParser):
     """argparse's parser, but a usage error is one line (and exit status 2), and a negative
-    number in exponent form (``--tha-start -1e-5``) is a value, not an option."""
+    number (``--tha-start -1e-5``) is a value, not an option: argparse takes ``-1`` and ``-.5``
+    after an option as its value but reads ``-1e-5`` and ``-1.`` as options, so a negative
+    number is joined to the option before it (``--tha-start=-1e-5``, argparse's own spelling of
+    a value that starts with a dash) when that option takes a value."""
 
     def __init__(self, *args, **kwargs):
+        self.value_options: dict[str, bool] = {}  # an option string -> it takes one value
         kwargs.setdefault("formatter_class", _help_formatter)
         super().__init__(*args, **kwargs)
-        # argparse's own pattern knows -1 and -.5 but not -1e-5
-        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+    def add_argument(self, *args, **kwargs):
+        action = super().add_argument(*args, **kwargs)
+        for flag in action.option_strings:
+            self.value_options[flag] = action.nargs is None
+        return action
+
+    def parse_known_args(self, args=None, namespace=None):
+        joined: list[str] = []
+        for text in sys.argv[1:] if args is None else args:
+            if (joined and _NEGATIVE_NUMBER.fullmatch(text) and "--" not in joined
+                    and self._takes_a_value(joined[-1])):
+                joined[-1] += "=" + text
+            else:
+                joined.append(text)
+        return super().parse_known_args(joined, namespace)
+
+    def _takes_a_value(self, flag: str) -> bool:
+        """``flag`` is an option of this parser that takes a value, or a long option's
+        abbreviation that names one such option only (argparse takes unique abbreviations)."""
+        if flag in self.value_options:
+            return self.value_options[flag]
+        named = [f for f in self.value_options if flag.startswith("--") and f.startswith(flag)]
+        return len(named) == 1 and self.value_options[named[0]]
 
     def error(self, message: str):
         self.exit(EXIT_BAD_INPUT, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+
+
+#: a negative number (argparse reads -1e-5 and -1. as options; -1 and -.5 as values)
+_NEGATIVE_NUMBER = re.compile(r"-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 
 
 def _help_formatter(prog: str) -> argparse.HelpFormatter:
@@ -201,7 +231,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version, nargs=0,
                         help="print the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    groups: dict[str, argparse._SubParsersAction] = {}
+    groups: dict[str, argparse.Action] = {}  # a first word -> its subcommands' action
     for name in NAMES:
         first, *rest = name.split()
         if command is not None and first != command:

@@ -58,3 +58,18 @@ def test_assembly_props_json_is_the_table_as_numbers(capsys):
     a, b, c = answer["inertia_slug_ft2"]
     assert f"A {a:.2f}, B {b:.2f}, C {c:.3f} slug ft^2" in table
     assert set(answer["points_ft"]) >= {"P", "Q", "R", "U"}
+
+
+def test_assembly_emulator_and_core_run_the_same_deck(capsys):
+    """`assembly NAME emulator --json` and `assembly NAME core --json` report the deck values
+    they ran: the same, field for field, for each shipped assembly the listing can run (the
+    core's are the fields its scene carries; the others are the listing's start values)."""
+    from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
+
+    for name in ("steel", "aluminium"):
+        assert main(["assembly", name, "emulator", "--json"]) == 0
+        emulator = json.loads(capsys.readouterr().out)["deck"]
+        assert main(["assembly", name, "core", "--json"]) == 0
+        core = json.loads(capsys.readouterr().out)["deck"]
+        assert len(emulator) == 64 and set(core) == set(SCENE_PATHS)
+        assert core == {k: emulator[k] for k in core}, name

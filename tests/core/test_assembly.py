@@ -239,3 +239,42 @@ def test_steel_columns_imply_the_deck_length():
     assert g["PQ"]["sd"] < 0.01
     assert g["reach_ft"] == pytest.approx(10.0, abs=0.1)
     assert g["rise_ft"] == pytest.approx(5.0, abs=0.1)
+
+
+@pytest.mark.parametrize("name", ["steel", "aluminium", "twin"])
+def test_an_assembly_is_one_post_for_both_engines(name):
+    """The deck the listing reads (the deck text, F10.5 columns) and the scene the core runs
+    carry the same value in every field, for every shipped assembly, at any car speed and
+    angle: the deck the listing read builds the very scene the core runs (the twin's one-arm
+    deck; its second luminaire U, which no card carries, to the deck's own precision)."""
+    import dataclasses
+
+    from hypothesis import given, settings, strategies as st
+
+    from deck_emulator.engine.assemblies import punched
+    from deck_emulator.vocabulary.scene import Scene
+
+    a, _, _ = load_assembly(name)
+    mp = mass_properties(a)
+    one = dataclasses.replace(a, arms=a.arms[:1])
+    one_mp = dataclasses.replace(mp, points={k: p for k, p in mp.points.items() if k != "U"})
+
+    @settings(max_examples=25, deadline=None)
+    @given(template=st.sampled_from(["steel20", "steel40", "steel40_a15", "steel20_a30"]),
+           speed=st.one_of(st.none(), st.floats(1.0, 300.0)),
+           alpha=st.one_of(st.none(), st.floats(0.0, 0.6)))
+    def check(template, speed, alpha):
+        car = dict(template=template, speed_ft_s=speed, alpha_rad=alpha)
+        scene = to_scene(a, mp, **car)
+        deck = parse_deck(to_deck_text(to_deck_values(one, one_mp, **car)))
+        read = Scene.from_deck(deck, name=a.name)
+        assert scene.deck_values() == read.deck_values()  # every field the scene carries
+        assert scene.initial == read.initial  # and the start values
+        if "U" in mp.points:
+            u = scene.post.second_luminaire_end
+            assert (u.xx_ft, u.yy_ft, u.zz_ft) == tuple(punched(x) for x in mp.points["U"])
+            assert dataclasses.replace(scene.post, second_luminaire_end=None) == read.post
+        else:
+            assert scene == read
+
+    check()

@@ -49,6 +49,27 @@ def test_minus_zero_prints_with_its_sign_as_gfortran_does():
     assert printer.records[-1].endswith("       -0.00000")
 
 
+def test_the_listings_writes_are_what_the_front_end_reads_in_the_listing():
+    """The one table of what the listing prints (its WRITE statements, their FORMATs and
+    variables, its messages) is derived from legacy/luminaire.f by the vocabulary's small
+    reader; the FORTRAN front end, a separate and checked reader of the same cards, reads the
+    same WRITE lists and FORMATs in the same order, and fortranformat prints each message
+    FORMAT as the message the table holds."""
+    from deck_emulator.legacy import listing_lines
+    from deck_emulator.legacy.fortran.parse import parse_units
+    from deck_emulator.legacy.jobdeck import statements
+    from deck_emulator.vocabulary.listing_writes import MESSAGES, WRITES
+
+    units = parse_units(statements(listing_lines()))
+    read = [(s.args[0], tuple(item[1] for item in s.args[1]), u.formats[s.args[0]])
+            for u in units for s in u.statements if s.kind == "write"]
+    assert read == [(w.label, w.variables, w.format) for w in WRITES.values()]
+    assert FORMATS == {label: fmt for label, _, fmt in read}
+    printed = {label: fortranformat.FortranRecordWriter(fmt).write([]).split("\n")[-1].strip()
+               for label, variables, fmt in read if not variables}
+    assert MESSAGES == printed and len(MESSAGES) == 10
+
+
 def test_the_listings_messages_are_the_vocabularys():
     """Each event FORMAT of the listing prints the message the shared vocabulary's one table
     holds for its event (the core words its events from that table, the printer from the
@@ -72,7 +93,8 @@ def test_the_value_fields_are_the_pages_the_golden_prints():
     import re
     from pathlib import Path
 
-    from deck_emulator.legacy.printer import MESSAGE_TEXTS, VALUE_FIELDS
+    from deck_emulator.legacy.printer import VALUE_FIELDS
+    from deck_emulator.vocabulary.listing_writes import MESSAGES
 
     text = (Path(__file__).resolve().parents[2] / "golden" / "steel40.r8.txt").read_text()
     pages = [re.findall(r"THE VALUE OF (\w+) IS ( *\S+)", page) for page in text.split("\n1\n")]
@@ -83,7 +105,7 @@ def test_the_value_fields_are_the_pages_the_golden_prints():
         assert [len(value) for _, value in page] == [f.width for f in fields]
         assert [len(value.split(".")[1]) for _, value in page] == [f.decimals for f in fields]
     messages = set(re.findall(r"THE POST HAS .*\S", text))
-    assert messages and messages <= set(MESSAGE_TEXTS.values())
+    assert messages and messages <= set(MESSAGES.values())
 
 
 _FORMAT_ITEMS = st.one_of(

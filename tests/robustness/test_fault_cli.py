@@ -57,6 +57,30 @@ def test_a_negative_number_in_exponent_form_is_a_value(capsys):
     assert main(["summary", "steel40", "--tha-start", "-1e-5", "--quiet"]) == 0
 
 
+def test_a_negative_number_is_the_value_of_the_option_before_it_in_any_spelling():
+    """Any negative number (exponent form or not) after an option that takes a value is that
+    value, also after an abbreviation of the option or written with '='; after an option that
+    takes none it is left to argparse, which refuses it."""
+    from hypothesis import HealthCheck, given, settings, strategies as st
+
+    from deck_emulator.cli import build_parser
+
+    parser = build_parser("summary")
+    number = st.from_regex(r"-([1-9][0-9]{0,3}(\.[0-9]{0,3})?|\.[0-9]{1,3}[1-9])"
+                           r"([eE][-+]?[0-9]{1,2})?", fullmatch=True)
+
+    @settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])  # (a loaded machine)
+    @given(text=number, spelling=st.sampled_from(["--tha-start", "--tha-st", "--tha-start="]))
+    def check(text, spelling):
+        argv = ["summary", "steel40", *([spelling + text] if spelling.endswith("=")
+                                        else [spelling, text])]
+        assert parser.parse_args(argv).tha_start == text
+
+    check()
+    with pytest.raises(SystemExit):
+        parser.parse_args(["summary", "steel40", "--quiet", "-1e-5"])
+
+
 @pytest.mark.parametrize("command", [["diff"], ["study", "error"]])
 def test_a_deck_the_core_refuses_is_bad_input_for_both_engines(command, tmp_path, capsys):
     w0 = _deck(tmp_path, "w0", W=0.0)

@@ -106,7 +106,7 @@ def assembly(o: AssemblyOptions) -> Answer:
         deck = parse_deck(bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template,
                                                                     **car)))
         out = EmulatorEngine(errata=tuple(o.erratum), trace=False).run(deck)
-        done = answer(out.printout, records=list(out.records))
+        done = answer(out.printout, records=list(out.records), deck=dict(deck.values))
         if out.error:
             done.status, done.error = "stopped", common.stopped(out)
             done.notes = [common.stopped(out)]
@@ -119,6 +119,7 @@ def assembly(o: AssemblyOptions) -> Answer:
                 "car": f"{o.speed_mph:g} mph at {o.alpha_deg:g} deg ({template}'s car"
                        + (", VVB and ALPHA set)" if car else ")")}
     done = common.outcome_answer("assembly", out, a.name, settings, o)
+    done.result["deck"] = scene_.deck_values()  # the post run: the deck's values (one post)
     done.notes += list(out.notes)
     if out.error is not None:
         done.error = common.failed(out, o.description)

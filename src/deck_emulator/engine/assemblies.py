@@ -1,6 +1,11 @@
 """Assemblies as the two paths take them: the typed scene of a described support and, where
 the listing can carry it (one arm), its 8-card deck.
 
+An assembly is one post: its values are the deck's as punched (each field as its 10 columns
+carry it, F10.5 where it fits), and the core's scene is built from those same values, so that
+``assembly NAME emulator`` and ``assembly NAME core`` run the same post (docs/models.md, 'One
+post, one deck').
+
 The builder (:mod:`deck_emulator.core.assembly`) knows masses and points; a deck also needs
 the report's car, springs and start values, which come from a template deck read by the 1967
 path's reader.  This bridge between the two paths is why these functions live in the engine
@@ -24,7 +29,8 @@ from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
 from deck_emulator.vocabulary.scene import Post, PostPoint, Scene
 
 #: the builder's description reader and its error are the studies' too (crash_test): through here
-__all__ = ["AssemblyError", "load_assembly", "to_deck_values", "to_deck_text", "to_scene"]
+__all__ = ["AssemblyError", "load_assembly", "punched", "to_deck_values", "to_deck_text",
+           "to_scene"]
 
 
 #: vehicle values of the report's deck that are heights above the ground (ft) or YV
@@ -40,9 +46,10 @@ def to_deck_values(
     speed_ft_s: float | None = None,
     alpha_rad: float | None = None,
 ) -> dict[str, float]:
-    """READ-list values of the assembly's deck: the post from the builder, the car, the
-    springs and everything else from the ``template`` deck, with the car's heights kept
-    above the ground and its fenders kept about the shaft axis.  One arm at most."""
+    """READ-list values of the assembly's deck, as punched (:func:`punched`): the post from
+    the builder, the car, the springs and everything else from the ``template`` deck, with
+    the car's heights kept above the ground and its fenders kept about the shaft axis.  One
+    arm at most."""
 
     if len(a.arms) > 1:
         raise AssemblyError(f"{a.name}: the listing carries one arm (point R); this has {len(a.arms)}")
@@ -70,7 +77,7 @@ def to_deck_values(
         v["VVB"] = -abs(speed_ft_s)
     if alpha_rad is not None:
         v["ALPHA"] = alpha_rad
-    return v
+    return {name: punched(x) for name, x in v.items()}
 
 
 def _field(x: float) -> str:
@@ -84,6 +91,11 @@ def _field(x: float) -> str:
                 s = "0.0"
             return s.ljust(10)
     raise AssemblyError(f"{x!r} does not fit a 10-column field")
+
+
+def punched(x: float) -> float:
+    """``x`` as its deck field carries it (:func:`_field`): what the 1967 program reads."""
+    return float(_field(x))
 
 
 def to_deck_text(values: dict[str, float]) -> str:
@@ -112,7 +124,8 @@ def to_scene(
     mp1 = dataclasses.replace(mp, points={k: p for k, p in mp.points.items() if k != "U"})
     values = to_deck_values(one, mp1, template=template, speed_ft_s=speed_ft_s, alpha_rad=alpha_rad)
     scene = Scene.from_deck(values, name=a.name)
-    if "U" in mp.points:
-        post = dataclasses.replace(scene.post, second_luminaire_end=PostPoint(*mp.points["U"]))
+    if "U" in mp.points:  # no card carries U: taken to a deck field's precision all the same
+        u = PostPoint(*(punched(x) for x in mp.points["U"]))
+        post = dataclasses.replace(scene.post, second_luminaire_end=u)
         scene = dataclasses.replace(scene, post=post)
     return scene

@@ -69,6 +69,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
+from deck_emulator.legacy.printer import VALUE_FIELDS
 from deck_emulator.vocabulary.events import LOST_MESSAGES, EventKind
 from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
@@ -95,13 +96,13 @@ DELTA_V_CANDIDATES = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_l
 #: The candidate reported as ``Outcome.delta_v_crush_mph`` (see the module docstring).
 DELTA_V_DEFINITION = "crush_pulse_end"
 
-#: Printed Hollerith label -> the variable the WRITE statement prints, where they differ.
+#: Printed Hollerith label -> the variable the WRITE statement prints, where they differ, read
+#: from the listing's WRITE lists: THA ... PSIFA print THAD ... PSIFAD (degrees), FORMAT 207
+#: says ZXCMA for ZZCMA, FORMAT 133 ZYCFA for ZZCFA (typos of the listing); TIME, which prints
+#: Q in contact and T in free flight, keeps its label.
 LABEL_VARIABLE = MappingProxyType({
-    "THA": "THAD", "PHIA": "PHIAD", "PSIA": "PSIAD",  # FORMATs 120-122: degrees
-    "ZXCMA": "ZZCMA",  # FORMAT 207, typo in the listing
-    "THFA": "THFAD", "PHIFA": "PHIFAD", "PSIFA": "PSIFAD",  # FORMATs 60-62: degrees
-    "ZYCFA": "ZZCFA",  # FORMAT 133, typo in the listing
-})
+    f.name: f.variable for f in VALUE_FIELDS if f.name != f.variable
+    and {g.variable for g in VALUE_FIELDS if g.name == f.name} == {f.variable}})
 
 LOST_FIRST_SPRING = LOST_MESSAGES[EventKind.LOST_FIRST_SPRING]
 LOST_VEHICLE = LOST_MESSAGES[EventKind.LOST_VEHICLE]

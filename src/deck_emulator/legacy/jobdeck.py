@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 from deck_emulator.legacy import listing_lines
 from deck_emulator.legacy.cardimage import END_CARDS, card_texts, read_images
 from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck, read_bytes
+from deck_emulator.vocabulary.listing_writes import is_comment, is_continuation
 
 __all__ = ["Job", "read_job", "parse_job", "Statement", "statements", "listing_lines",
            "compare_source", "job_deck_texts", "data_deck_texts"]
@@ -57,17 +58,6 @@ class Statement:
     #: (card or line number, columns 1-72 padded with blanks) of each of its cards: what a
     #: Hollerith text keeps (its blanks) and where a column is (the FORTRAN front end's)
     cards: tuple[tuple[int, str], ...] = field(default=(), repr=False, compare=False)
-
-
-def is_comment(line: str) -> bool:
-    """A fixed-form card that holds no statement: blank, a comment (C or * in column 1), or
-    a control card ($ in column 1)."""
-    return not line[:72].strip() or line[:1] in ("C", "c", "*") or line.startswith("$")
-
-
-def is_continuation(line: str) -> bool:
-    """A statement card continuing the one before (column 6 neither blank nor zero)."""
-    return not is_comment(line) and len(line) > 5 and line[5] not in (" ", "0")
 
 
 def statements(lines: list[str], numbers: list[int] | None = None) -> list[Statement]:

@@ -1,9 +1,9 @@
 """The line printer: every WRITE/FORMAT of the 1967 listing, as records with ASA carriage
 control in column 1 (exactly the lines gfortran writes to unit 6).
 
-Records are laid out from the FORMAT texts below, copied from ``legacy/luminaire.f`` with
-their labels; they use only Hollerith text, ``nX``, ``/`` and ``Fw.d``, which are laid out here
-directly (tests/legacy/test_printer.py checks the layout against fortranformat's, and the goldens
+Records are laid out from the FORMAT texts the listing writes with (:data:`FORMATS`, read
+from ``legacy/luminaire.f`` itself); they use only Hollerith text, ``nX``, ``/`` and ``Fw.d``,
+which are laid out here directly (tests/legacy/test_printer.py checks the layout against fortranformat's, and the goldens
 against gfortran's). The digits are decided from the exact value (see ``rounded_digits``):
 gfortran rounds exact ties to even, where fortranformat rounds them away from zero and
 misrounds some values next to a tie; an arithmetic may also choose to truncate
@@ -16,82 +16,14 @@ import numbers
 import re
 from dataclasses import dataclass
 
-from deck_emulator.vocabulary.events import Event, EventKind, Surface
+from deck_emulator.vocabulary import listing_writes
+from deck_emulator.vocabulary.events import EVENT_FORMATS, Event, EventKind
 
-#: FORMAT statements of the listing, by label, as they stand in legacy/luminaire.f.
-FORMATS: dict[int, str] = {
-    # contact phase, every 4 steps
-    15: "(1H1/5X,20HTHE VALUE OF VVA IS ,F15.5)",
-    19: "(/,5X,20HTHE VALUE OF SVA IS ,F15.5)",
-    120: "(/,5X,20HTHE VALUE OF THA IS ,F15.5)",
-    121: "(/,5X,21HTHE VALUE OF PHIA IS ,F15.5)",
-    122: "(/,5X,21HTHE VALUE OF PSIA IS ,F15.5)",
-    20: "(/,5X,21HTHE VALUE OF XCMA IS ,F15.5)",
-    27: "(/,5X,20HTHE VALUE OF XPA IS ,F15.5)",
-    33: "(/,5X,20HTHE VALUE OF XSA IS ,F15.5)",
-    30: "(/,5X,20HTHE VALUE OF XQA IS ,F15.5)",
-    206: "(/,5X,22HTHE VALUE OF YYCMA IS ,F15.5)",
-    200: "(/,5X,21HTHE VALUE OF YYPA IS ,F15.5,30X,20HTHE VALUE OF XRA IS ,F15.5)",
-    202: "(/,5X,21HTHE VALUE OF YYSA IS ,F15.5,30X,21HTHE VALUE OF YYRA IS ,F15.5)",
-    204: "(/,5X,21HTHE VALUE OF YYQA IS ,F15.5,30X,21HTHE VALUE OF ZZRA IS ,F15.5)",
-    207: "(/,5X,22HTHE VALUE OF ZXCMA IS ,F15.5)",
-    201: "(/,5X,21HTHE VALUE OF ZZPA IS ,F15.5)",
-    203: "(/,5X,21HTHE VALUE OF ZZSA IS ,F15.5)",
-    205: "(/,5X,21HTHE VALUE OF ZZQA IS ,F15.5)",
-    39: "(/,5X,20HTHE VALUE OF FSA IS ,F15.5)",
-    53: "(/,5X,21HTHE VALUE OF DIFF IS ,F15.5)",
-    40: "(/,5X,21HTHE VALUE OF TIME IS ,F10.6)",
-    # loss of contact
-    355: "(//,5X,43HTHE POST HAS LOST CONTACT WITH FIRST SPRING)",
-    100: "(//,5X,42HTHE POST HAS LOST CONTACT WITH THE VEHICLE)",
-    # free flight, every 40 steps
-    60: "(1H1/5X,21HTHE VALUE OF THFA IS ,F10.5)",
-    61: "(/,5X,22HTHE VALUE OF PHIFA IS ,F10.5)",
-    62: "(/,5X,22HTHE VALUE OF PSIFA IS ,F10.5)",
-    63: "(/,5X,22HTHE VALUE OF XCMFA IS ,F10.5)",
-    64: "(/,5X,21HTHE VALUE OF XPFA IS ,F10.5)",
-    66: "(/,5X,21HTHE VALUE OF XQFA IS ,F10.5)",
-    113: "(/,5X,21HTHE VALUE OF XRFA IS ,F10.5)",
-    131: "(/,5X,21HTHE VALUE OF XCFA IS ,F15.5)",
-    208: "(/,5X,23HTHE VALUE OF YYCMFA IS ,F15.5)",
-    210: "(/,5X,22HTHE VALUE OF YYPFA IS ,F15.5)",
-    212: "(/,5X,22HTHE VALUE OF YYQFA IS ,F15.5)",
-    216: "(/,5X,22HTHE VALUE OF YYRFA IS ,F15.5)",
-    132: "(/,5X,22HTHE VALUE OF YYCFA IS ,F15.5)",
-    209: "(/,5X,23HTHE VALUE OF ZZCMFA IS ,F15.5)",
-    211: "(/,5X,22HTHE VALUE OF ZZPFA IS ,F15.5)",
-    213: "(/,5X,22HTHE VALUE OF ZZQFA IS ,F15.5)",
-    217: "(/,5X,22HTHE VALUE OF ZZRFA IS ,F15.5)",
-    133: "(/,5X,22HTHE VALUE OF ZYCFA IS ,F15.5)",
-    75: "(/,5X,21HTHE VALUE OF SVFA IS ,F10.5)",
-    76: "(/,5X,21HTHE VALUE OF TIME IS ,F10.5)",
-    # the end
-    134: "(/,5X,40HTHE POST HAS HIT THE GROUND WITH POINT C)",
-    97: "(//,5X,40HTHE POST HAS HIT THE GROUND WITH POINT Q)",
-    99: "(//,5X,40HTHE POST HAS HIT THE GROUND WITH POINT P)",
-    110: "(//,5X,40HTHE POST HAS HIT THE GROUND WITH POINT R)",
-    237: "(//,5X,40HTHE POST HAS HIT THE HOOD OF THE VEHICLE)",
-    239: "(//,5X,46HTHE POST HAS HIT THE WINDSHIELD OF THE VEHICLE)",
-    242: "(//,5X,39HTHE POST HAS HIT THE TOP OF THE VEHICLE)",
-    248: "(//,5X,41HTHE POST HAS HIT THE TRUNK OF THE VEHICLE)",
-}
-
-#: The FORMATs that report an event, and what each one reports: label -> (kind, surface, point).
-#: The line printer's text comes from FORMATS; the event is this row (never parsed back).
-#: The listing's car messages do not name the point: the program knows it from the check it
-#: was in (P at labels 500-246, R at 112-262, C at 300-462) and passes it on.
-EVENT_FORMATS: dict[int, tuple[EventKind, Surface | None, str | None]] = {
-    355: (EventKind.LOST_FIRST_SPRING, None, None),
-    100: (EventKind.LOST_VEHICLE, None, None),
-    134: (EventKind.HIT, Surface.GROUND, "C"),
-    97: (EventKind.HIT, Surface.GROUND, "Q"),
-    99: (EventKind.HIT, Surface.GROUND, "P"),
-    110: (EventKind.HIT, Surface.GROUND, "R"),
-    237: (EventKind.HIT, Surface.HOOD, None),
-    239: (EventKind.HIT, Surface.WINDSHIELD, None),
-    242: (EventKind.HIT, Surface.TOP, None),
-    248: (EventKind.HIT, Surface.TRUNK, None),
-}
+#: The FORMATs the listing writes with, by label, in the listing's order: read from
+#: legacy/luminaire.f (:mod:`deck_emulator.vocabulary.listing_writes`); the FORMATs that report
+#: an event and what each reports (kind, surface, point) are read off their messages
+#: (:data:`deck_emulator.vocabulary.events.EVENT_FORMATS`).
+FORMATS = listing_writes.FORMATS
 
 
 def event_for(label: int, time_s: float, point: str | None = None) -> Event:
@@ -107,7 +39,7 @@ def event_message(event: Event) -> str | None:
     for label, (kind, surface, point) in EVENT_FORMATS.items():
         if kind is event.kind and surface is event.surface and (
                 point is None or point == event.point):
-            return re.search(r"\d+H(.*)\)$", FORMATS[label]).group(1)
+            return listing_writes.MESSAGES[label]
     return None
 
 
@@ -162,13 +94,15 @@ class ValueField:
     ``label``: its FORMAT's; ``name``: the Hollerith label as printed (FORMAT 207 says ZXCMA
     for ZZCMA); ``page``: the label of the ``1H1`` FORMAT that starts the page it is printed
     on (15 a contact block, 60 a free-flight block: FORMATS are in the order the program
-    prints them, a page being a ``1H1`` FORMAT and the value FORMATs after it)."""
+    prints them, a page being a ``1H1`` FORMAT and the value FORMATs after it);
+    ``variable``: what the WRITE prints there (ZZCMA, THAD for THA's degrees, Q or T for TIME)."""
 
     label: int
     name: str
     width: int
     decimals: int
     page: int
+    variable: str
 
 
 #: The Hollerith text before each printed value (``{name}``: its label).
@@ -187,18 +121,15 @@ def _value_fields() -> tuple[ValueField, ...]:
             for text, field in zip(pieces, pieces[1:]):
                 named = shape.fullmatch(text) if type(text) is str else None
                 if named and type(field) is tuple:
-                    fields.append(ValueField(label, named.group(1), *field, page))
+                    printed = listing_writes.WRITES[label].variables
+                    k = sum(f.label == label for f in fields)
+                    fields.append(ValueField(label, named.group(1), *field, page, printed[k]))
     return tuple(fields)
 
 
 #: Every labelled value of the listing, in printed order (a page's values in the order
 #: printed; the name TIME closes both pages, F10.6 in contact and F10.5 in free flight).
 VALUE_FIELDS = _value_fields()
-
-#: The texts of the FORMATs that print a message (no value), by label.
-MESSAGE_TEXTS: dict[int, str] = {
-    label: records[-1][-1] for label, records in _LAYOUTS.items()
-    if not _DECIMALS[label] and type(records[-1][-1]) is str and records[-1][-1].strip()}
 
 
 def f_field(digits: str, negative: bool, w: int) -> str:

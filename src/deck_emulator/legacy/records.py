@@ -17,7 +17,8 @@ compile listing, where the same words stand in FORMAT statements as Hollerith co
 Everything read from the listing's FORMATs -- the labels, their Fw.d fields, the pages and
 the messages -- is read here, from :data:`~deck_emulator.legacy.printer.VALUE_FIELDS`,
 :data:`~deck_emulator.legacy.printer.VALUE_TEXT` and
-:data:`~deck_emulator.legacy.printer.MESSAGE_TEXTS`, and from nothing else.
+:data:`~deck_emulator.vocabulary.listing_writes.MESSAGES` (all read from the listing), and from
+nothing else.
 
 A **block** is the values one page prints: it begins with the value a ``1H1`` FORMAT prints
 (VVA in contact, THFA in free flight) or after the block before ends, and ends with ``TIME``;
@@ -46,7 +47,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import lru_cache
 
-from deck_emulator.legacy.printer import MESSAGE_TEXTS, VALUE_FIELDS, VALUE_TEXT
+from deck_emulator.legacy.printer import VALUE_FIELDS, VALUE_TEXT
+from deck_emulator.vocabulary.listing_writes import MESSAGES
 
 __all__ = ["LABELS", "MESSAGE", "OCR_CONFUSIONS", "UNKNOWN", "Record", "read_records",
            "read_value"]
@@ -100,7 +102,7 @@ class Record:
 
 #: Every label the listing prints (FORMAT 207's ``ZXCMA`` as printed).
 LABELS = frozenset(f.name for f in VALUE_FIELDS)
-_MESSAGES = frozenset(" ".join(t.split()) for t in MESSAGE_TEXTS.values())
+_MESSAGES = frozenset(" ".join(t.split()) for t in MESSAGES.values())
 _BEFORE, _AFTER = VALUE_TEXT.split("{name}")
 _MESSAGE_START = os.path.commonprefix(sorted(_MESSAGES)).rsplit(" ", 1)[0] + " "
 _PAGE_STARTS = {f.name for f in VALUE_FIELDS if f.label == f.page}

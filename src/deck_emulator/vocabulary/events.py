@@ -2,18 +2,23 @@
 
 An :class:`Event` is one thing the run reports: the post losing contact with the first
 spring, with the car, or hitting something (the ground or one of the car's surfaces) with one
-of its named points.  The 1967 path makes events from the FORMAT labels it writes (the table
-sits next to the FORMATs, in :mod:`deck_emulator.legacy.printer`); the modern core makes them
-from located events.  Nobody parses printed text back into events except
+of its named points.  The 1967 path makes events from the FORMAT labels it writes
+(:data:`EVENT_FORMATS`, read off the listing's messages); the modern core makes them from
+located events and words them with the listing's messages (:data:`LOST_MESSAGES`,
+:data:`HIT_MESSAGES`).  Nobody parses printed text back into events except
 :mod:`deck_emulator.legacy.extract`, whose job is reading printouts that came from elsewhere.
 
-This module imports nothing from the package: both paths may use it.
+This module imports only the vocabulary (the listing's words, :mod:`.listing_writes`): both
+paths may use it.
 """
 
 from __future__ import annotations
 
 import enum
+import re
 from dataclasses import dataclass
+
+from deck_emulator.vocabulary.listing_writes import MESSAGES
 
 
 class EventKind(enum.StrEnum):
@@ -45,25 +50,50 @@ class Surface(str, enum.Enum):
         return self is not Surface.GROUND
 
 
-#: The listing's messages, one row each: what its FORMATs 355 and 100 print when the post leaves
-#: the first spring and the car (legacy/printer.py holds the FORMATs themselves, as the
-#: listing writes them; a test holds the two equal), and its hit messages (FORMATs 97-248) by
-#: the surface hit; FRONT and SIDE, and two luminaires landing together, are the core's own
-#: words for what the listing cannot say.
-LOST_MESSAGES = {
-    EventKind.LOST_FIRST_SPRING: "THE POST HAS LOST CONTACT WITH FIRST SPRING",
-    EventKind.LOST_VEHICLE: "THE POST HAS LOST CONTACT WITH THE VEHICLE",
-}
-HIT_MESSAGES = {
-    "GROUND": "THE POST HAS HIT THE GROUND WITH POINT {point}",
-    "HOOD": "THE POST HAS HIT THE HOOD OF THE VEHICLE",
-    "WINDSHIELD": "THE POST HAS HIT THE WINDSHIELD OF THE VEHICLE",
-    "TOP": "THE POST HAS HIT THE TOP OF THE VEHICLE",
-    "TRUNK": "THE POST HAS HIT THE TRUNK OF THE VEHICLE",
-    "FRONT": "THE POST HAS HIT THE FRONT OF THE VEHICLE",
-    "SIDE": "THE POST HAS HIT THE SIDE OF THE VEHICLE",
-}
-JOINT_GROUND_MESSAGE = "THE POST HAS HIT THE GROUND WITH POINTS {points}"
+#: The listing's messages that report an event: FORMAT label -> (kind, surface, point).  The
+#: words are the listing's (:data:`~deck_emulator.vocabulary.listing_writes.MESSAGES`, read from
+#: ``legacy/luminaire.f``): a hit message names the surface (a :class:`Surface` by name) and, on
+#: the ground, the point; the two messages of lost contact are these labels' (the one row of
+#: meaning here).  The listing's car messages do not name the point: the program knows it from
+#: the check it was in (P at labels 500-246, R at 112-262, C at 300-462) and passes it on.
+_LOST_LABELS = {355: EventKind.LOST_FIRST_SPRING, 100: EventKind.LOST_VEHICLE}
+_HIT = re.compile(r"(?P<head>.* HIT THE )(?P<surface>[A-Z]+)"
+                  r"(?P<tail> OF THE VEHICLE| WITH POINT (?P<point>[A-Z]))")
+
+
+def _event_formats() -> dict[int, tuple[EventKind, Surface | None, str | None]]:
+    rows = {}
+    for label, text in MESSAGES.items():
+        if label in _LOST_LABELS:
+            rows[label] = (_LOST_LABELS[label], None, None)
+        elif (m := _HIT.fullmatch(text)) is not None:
+            rows[label] = (EventKind.HIT, Surface[m["surface"]], m["point"])
+    return rows
+
+
+EVENT_FORMATS = _event_formats()
+
+
+def _hit_messages() -> dict[str, str]:
+    """Each surface's hit message: the listing's, the ground's point left open (``{point}``);
+    FRONT and SIDE, which the listing cannot say, in the words of its car messages."""
+    out, car = {}, ""
+    for label, (kind, surface, point) in EVENT_FORMATS.items():
+        if kind is EventKind.HIT:
+            m = _HIT.fullmatch(MESSAGES[label])
+            out[surface.name] = m.string[:m.start("point")] + "{point}" if point else m.string
+            car = car or ("" if point else m.expand(r"\g<head>{surface}\g<tail>"))
+    return out | {s.name: car.format(surface=s.name) for s in Surface
+                  if s.on_car and s.name not in out}
+
+
+#: The listing's messages of lost contact, by the event's kind.
+LOST_MESSAGES = {kind: MESSAGES[label] for label, kind in _LOST_LABELS.items()}
+#: The hit messages by the surface hit (its :class:`Surface` name): the listing's FORMATs 97-248,
+#: and FRONT and SIDE, the core's exact outline, worded as the listing words the car's surfaces.
+HIT_MESSAGES = _hit_messages()
+#: Two luminaires landing together (the core's twin): the ground message, for two points.
+JOINT_GROUND_MESSAGE = HIT_MESSAGES["GROUND"].replace("POINT {point}", "POINTS {points}")
 
 
 def hit_message(surface: str, point: str) -> str:
@@ -89,6 +119,11 @@ POINT_NAMES = {
     "P-R": "arm P-R",
     "P-U": "second arm P-U",
 }
+
+#: The post's points an outcome traces (its ``points``, beside the mass centre CM): the
+#: listing's P, Q, R and C, and the twin's U; the one row the engines and the pictures pick
+#: their points from.
+TRACED_POINTS = ("P", "Q", "R", "C", "U")
 
 
 @dataclass(frozen=True)
