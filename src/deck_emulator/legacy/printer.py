@@ -12,12 +12,15 @@ misrounds some values next to a tie; an arithmetic may also choose to truncate
 
 from __future__ import annotations
 
-import numbers
 import re
 from dataclasses import dataclass
 
 from deck_emulator.vocabulary import listing_writes
 from deck_emulator.vocabulary.events import EVENT_FORMATS, Event, EventKind
+
+TYPE_CHECKING = False  # (typing.TYPE_CHECKING's value, without importing typing, as engines.py)
+if TYPE_CHECKING:  # (numbers only names a type here: a run does not load it)
+    import numbers
 
 #: The FORMATs the listing writes with, by label, in the listing's order: read from
 #: legacy/luminaire.f (:mod:`deck_emulator.vocabulary.listing_writes`); the FORMATs that report
