@@ -12,6 +12,7 @@ misrounds some values next to a tie; an arithmetic may also choose to truncate
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 
@@ -46,14 +47,13 @@ def event_message(event: Event) -> str | None:
     return None
 
 
-_DECIMALS = {label: [int(d) for d in re.findall(r"F\d+\.(\d+)", text)] for label, text in FORMATS.items()}
-
-
+@functools.lru_cache(maxsize=None)
 def _compile(fmt: str) -> list[list]:
     """A FORMAT of the listing as records, each a list of text pieces and ``(w, d)`` F fields.
 
     Only what the listing's FORMATs use: ``nH`` Hollerith text, ``nX``, ``/`` and ``Fw.d``,
-    separated by commas; each ``/`` ends a record."""
+    separated by commas; each ``/`` ends a record.  Made once a FORMAT's text (a process's
+    runs share it: read, never changed)."""
     body = fmt[1:-1]
     records: list[list] = [[]]
     i = 0
@@ -82,7 +82,22 @@ def _compile(fmt: str) -> list[list]:
     return records
 
 
-_LAYOUTS = {label: _compile(text) for label, text in FORMATS.items()}
+@functools.cache
+def _listing_layouts() -> tuple[dict, dict]:
+    """The listing's FORMATs laid out (:func:`_compile`) and their fields' decimals, by label:
+    made when first asked (a run lays out its program's own FORMATs; the printout readers
+    ask for :data:`VALUE_FIELDS`)."""
+    layouts = {label: _compile(text) for label, text in FORMATS.items()}
+    return layouts, {label: [d for _, d in _fields(layout)] for label, layout in layouts.items()}
+
+
+def __getattr__(name: str):
+    # _LAYOUTS, _DECIMALS and VALUE_FIELDS: the listing's, made when first read
+    if name in ("_LAYOUTS", "_DECIMALS"):
+        return _listing_layouts()[name == "_DECIMALS"]
+    if name == "VALUE_FIELDS":
+        return _value_fields()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _fields(layout: list[list]) -> list[tuple[int, int]]:
@@ -112,12 +127,13 @@ class ValueField:
 VALUE_TEXT = "THE VALUE OF {name} IS "
 
 
+@functools.cache
 def _value_fields() -> tuple[ValueField, ...]:
     before, after = VALUE_TEXT.split("{name}")
     shape = re.compile(re.escape(before) + r"(\w+)" + re.escape(after))
     fields: list[ValueField] = []
     page = 0
-    for label, records in _LAYOUTS.items():
+    for label, records in _listing_layouts()[0].items():
         if records[0] == ["1"]:  # 1H1: a new page
             page = label
         for pieces in records:
@@ -130,9 +146,9 @@ def _value_fields() -> tuple[ValueField, ...]:
     return tuple(fields)
 
 
-#: Every labelled value of the listing, in printed order (a page's values in the order
-#: printed; the name TIME closes both pages, F10.6 in contact and F10.5 in free flight).
-VALUE_FIELDS = _value_fields()
+#: VALUE_FIELDS (made when first read: :func:`__getattr__`): every labelled value of the listing,
+#: in printed order (a page's values in the order printed; the name TIME closes both pages,
+#: F10.6 in contact and F10.5 in free flight).
 
 
 def f_field(digits: str, negative: bool, w: int) -> str:
@@ -193,7 +209,7 @@ class Printer:
         self.records: list[str] = []
         self._plans: dict = {}  # (binary) label -> (values, its records' templates): _plan
         # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
-        self._layouts, self._decimals = _LAYOUTS, _DECIMALS
+        self._layouts, self._decimals = _listing_layouts() if formats is None else ({}, {})
         if formats is not None:
             self._layouts = {label: _compile(text) for label, text in formats.items()}
             self._decimals = {label: [d for _, d in _fields(layout)]
