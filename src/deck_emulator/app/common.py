@@ -119,9 +119,10 @@ def need_address_space(what: str) -> None:
                          f"under the limits of {', '.join(process_limits())}: raise them")
 
 
-def with_progress(quiet: bool, engine, source, *, execute: bool = False):
+def with_progress(quiet: bool, engine, source, *, execute: bool = False, watch=None):
     """``engine.run(source)`` with the progress display (stderr, a terminal only);
-    ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome).
+    ``execute``: the emulator's ``engine.execute(source)`` (the program's run, no Outcome);
+    ``watch``: called with the emulator's program before it runs (``run --html`` keeps it).
     The core is compiled first where this install has not yet (:func:`compile_core`)."""
     from deck_emulator.parallel import busy
 
@@ -134,8 +135,13 @@ def with_progress(quiet: bool, engine, source, *, execute: bool = False):
     def status() -> str:
         return f"step {programs[0].step}" if programs else ""
 
+    def watching(program) -> None:
+        programs.append(program)
+        if watch is not None:
+            watch(program)
+
     with busy(f"{PROG}: emulator running", quiet=quiet, status=status):
-        return (engine.execute if execute else engine.run)(source, watch=programs.append)
+        return (engine.execute if execute else engine.run)(source, watch=watching)
 
 
 def stopped(out) -> str:

@@ -38,6 +38,11 @@ class CompareOptions(Common, Answering):
                               "exactly as printed)")
     max: int | None = option(None, parse=positive_int, metavar="N",
                              help="show at most N findings of each kind (all are counted)")
+    html: str | None = option(None, metavar="FILE.html",
+                              help="also write the comparison as one self-contained HTML page: "
+                              "the counts first, the findings, then the two printouts aligned "
+                              "record by record, differences and damage highlighted "
+                              "(docs/dossier.md)")
 
 
 #: what a printout holds, said when a file holds none of it
@@ -154,8 +159,23 @@ def compare(o: CompareOptions) -> Answer:
     from deck_emulator.legacy.compare import compare_records
 
     said: list[str] = []
+    if o.html:
+        from .dossier import check_html
+
+        check_html(o.html, o.out)
     records = [_printout_records(path, said) for path in (o.a, o.b)]
     found = compare_records(*records, tolerance=o.tolerance)
+    if o.html:
+        from deck_emulator.present.dossier import compare_page
+
+        from .dossier import write_page
+
+        hidden = 0
+        write_page(o.html, compare_page(
+            a=o.a, b=o.b, counts_line=_counts_line(o, found),
+            verdict_line=_verdict_line(o, found, hidden), found=found, records_a=records[0],
+            records_b=records[1], lined_up=found.lined_up))
+        said.append(f"wrote the comparison's page to {o.html}")
 
     def listed(kind):
         return [vars(finding) for finding in (kind if o.max is None else kind[:o.max])]

@@ -31,6 +31,10 @@ class DiffOptions(Source, Errata, Cluster, Answering):
                                    "for (default: with ed-direction as well, since as printed "
                                    "ED walks away from its root on every deck once the step is "
                                    "halved, and the run stops: exit 3)")
+    html: str | None = option(None, metavar="FILE.html",
+                              help="also write the diff as one self-contained HTML page: the "
+                              "emulator and the core side by side with their differences, and "
+                              "the convergence (docs/dossier.md)")
     store: str | None = option(None, metavar="DIR",
                                help="keep the runs in DIR as they finish (default: a temporary "
                                "folder)")
@@ -52,6 +56,10 @@ def diff(o: DiffOptions) -> Answer:
     deck = src.deck("diff")
     common.engine_scene(deck, name=src.name)  # the core must be able to solve it: exit 2
     common.check_out(o.out)
+    if o.html:
+        from .dossier import check_html
+
+        check_html(o.html, o.out)
     if o.resume and not o.store:
         raise UsageError("--resume needs --store DIR (the folder the runs were stored in)")
     common.compile_core(o.quiet)
@@ -69,6 +77,15 @@ def diff(o: DiffOptions) -> Answer:
                                          "core_rtol", "ed_tolerance_scaled")}
     data.pop("deck")
     stopped = next((r["stopped"] for r in data["convergence"] if r.get("stopped")), None)
+    said = list(src.notes)
+    if o.html:
+        from deck_emulator.present.dossier import diff_page
+
+        from .dossier import write_page
+
+        write_page(o.html, diff_page(name=src.name, text=text, data=data, settings=settings,
+                                     stopped=stopped))
+        said.append(f"wrote the diff's page to {o.html}")
     return Answer("diff", src.name, settings=settings, notes=list(src.notes),
-                  said=list(src.notes), result=data, text=text, json=o.json, out=o.out,
+                  said=said, result=data, text=text, json=o.json, out=o.out,
                   status="stopped" if stopped else "ok", error=stopped)

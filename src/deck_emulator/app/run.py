@@ -28,6 +28,11 @@ class RunOptions(Emulator):
                           "raw records")
     json: bool = option(False, help="print the printout's records, per $DATA section, as one "
                         "JSON object (docs/json.md)")
+    html: str | None = option(None, metavar="FILE.html", help="also write the run's dossier: "
+                              "one self-contained HTML page holding the provenance, the "
+                              "events, quantities and ratings, the pictures, and the printout "
+                              "beside the listing, each record linked to the WRITE that "
+                              "printed it (docs/dossier.md)")
     trajectory: str | None = option(None, metavar="FILE.csv|FILE.parquet",
                                     help="also write the run's trajectory: time, every named "
                                     "point (road and report axes), the shaft's tilt and heading, "
@@ -75,18 +80,33 @@ def run(o: RunOptions) -> Answer:
         which = ("--paper is the paper of --pages" if o.paper != "plain"
                  else "--listing is printed on the pages of --pages")
         raise UsageError(f"{which}: give --pages FILE.pdf")
-    engine = common.emulator(o, trace=bool(o.trajectory), fortran=src.fortran)
+    if o.html:
+        from .dossier import check_html
+
+        check_html(o.html, o.out, o.pages, o.trajectory)
+    engine = common.emulator(o, trace=bool(o.trajectory or o.html), fortran=src.fortran)
     answer = Answer("run", src.name, settings={"precision": o.precision,
                                                "errata": list(o.erratum)},
                     notes=list(src.notes), json=o.json, out=None if o.pages else o.out,
                     said=list(src.notes))
     printed_by_run, text, sections, stop = [], "", [], None
+    programs, outcomes, writes = [], [], []  # what --html shows
+
+    def keep(program) -> None:  # the program's run keeps which WRITE printed which record
+        program.keep_writes = True
+        programs.append(program)
+
     for deck in src.decks:  # a job deck's $DATA sections, in turn (or --section's)
-        done = common.with_progress(o.quiet, engine, deck, execute=True)
+        done = common.with_progress(o.quiet, engine, deck, execute=True,
+                                    watch=keep if o.html else None)
         run_ = done.run
-        # the Outcome only where it is used (a trajectory, a stopped run's reasons): a plain
-        # run prints the program's records and loads no numpy
-        out = engine.outcome_of(done, deck) if o.trajectory or done.stopped else None
+        # the Outcome only where it is used (a trajectory, a stopped run's reasons, the
+        # dossier's summary): a plain run prints the program's records and loads no numpy
+        out = (engine.outcome_of(done, deck) if o.trajectory or o.html or done.stopped
+               else None)
+        if o.html:
+            outcomes.append(out)
+            writes.append(tuple(run_.writes))
         printed_by_run.append(list(run_.records))
         text += render_asa(run_.records) if o.render else run_.text()
         settings = _describe(run_, src.fortran is not None)
@@ -109,7 +129,7 @@ def run(o: RunOptions) -> Answer:
     # what produced the printout: for the JSON answer and the pages (the version costs an
     # importlib.metadata read, and the module importlib.resources, so a plain run asks neither)
     facts = None
-    if o.json or o.pages:
+    if o.json or o.pages or o.html:
         from deck_emulator.engine import provenance
 
         facts = provenance.facts(src, [s["settings"] for s in sections], listing=o.listing)
@@ -121,13 +141,21 @@ def run(o: RunOptions) -> Answer:
             facts["note"] = note
     answer.result = {"provenance": facts, "sections": sections}
     answer.text = text
+    page = _dossier(src, facts, sections, stop, programs, outcomes, writes) if o.html else None
+    if page is not None and not o.pages:
+        from .dossier import write_page
+
+        write_page(o.html, page)
+        answer.said.append(f"wrote the dossier to {o.html}")
     if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
         from deck_emulator.files import OutputSet
         from deck_emulator.legacy.pages import write_pdf
 
-        with OutputSet() as outputs:
+        with OutputSet() as outputs:  # (and the dossier, if asked for: all or none)
             if o.out:
                 outputs.write(o.out, answer.printed())
+            if page is not None:
+                outputs.write(o.html, page)
             # the banner page (the job separator) first, the compile listing if asked for
             # (the deck's own cards, or the shipped transcription), then the output as
             # printed, each of several runs after a separator page of its own
@@ -151,6 +179,35 @@ def run(o: RunOptions) -> Answer:
                       metadata=metadata,
                       progress=None if o.quiet else f"{PROG}: writing the pages")
         answer.said.append(f"wrote the line printer's pages to {o.pages}")
+        if page is not None:
+            answer.said.append(f"wrote the dossier to {o.html}")
         if o.out or not o.json:
             answer.text, answer.json = None, False  # written, or not for the terminal
     return answer
+
+
+def _dossier(src, facts, sections, stop, programs, outcomes, writes) -> str:
+    """The page of ``--html``: the provenance (the banner's facts), the stop, the summary's
+    answer of the (last) section run, its pictures, and each section's printout beside the
+    listing of the program that printed it."""
+    from deck_emulator.present import dossier
+    from deck_emulator.present.answers import outcome_result
+
+    from .dossier import program_listing
+
+    title = ("the job deck's own cards, as punched before $DATA (card numbers)"
+             if src.fortran is not None else
+             "luminaire.f, the listing of Report 75-9 as run (line numbers)")
+    program = program_listing(programs[-1].program, title)
+    printed = [dossier.PrintedSection(s["deck"], s["settings"], tuple(s["records"]), w)
+               for s, w in zip(sections, writes)]
+    last = outcomes[-1]
+    result, note = None, None
+    if len(sections) > 1:
+        note = (f"the events, quantities, ratings and pictures are those of the last $DATA "
+                f"section run ({sections[-1]['deck']}, {len(sections)} of {len(src.decks)})")
+    result = outcome_result(last)
+    pictures = dossier.pictures(last)
+    return dossier.run_page(name=src.name, facts=facts, program=program, sections=printed,
+                            stop=stop, result=result, outcome_note=note,
+                            made_pictures=pictures)

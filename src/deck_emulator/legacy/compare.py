@@ -130,6 +130,9 @@ class Comparison:
     differences: list[Difference] = field(default_factory=list)
     damaged: list[Damage] = field(default_factory=list)
     missing: list[Missing] = field(default_factory=list)
+    #: the two printouts' records lined up, in order: (index in A's records, index in B's),
+    #: None on the side that lacks it (what a page shows side by side)
+    lined_up: list[tuple[int | None, int | None]] = field(default_factory=list, repr=False)
 
     @property
     def differing(self) -> int:
@@ -255,7 +258,8 @@ def compare_records(a: list[Record], b: list[Record], tolerance: float = 0.0) ->
         raise ValueError(f"tolerance must be finite and >= 0, got {tolerance}")
     found = Comparison(records_a=len(a), records_b=len(b))
     partner: dict[tuple[str, int], str] = {}
-    for i, j in _pairs(a, b):
+    found.lined_up = _pairs(a, b)
+    for i, j in found.lined_up:
         if i is None or j is None:
             side, r = ("A", a[i]) if j is None else ("B", b[j])
             if r.readable:

@@ -44,6 +44,7 @@ import zlib
 
 from deck_emulator.files import OutputError, OutputSet
 from deck_emulator.parallel import progress_bar
+from deck_emulator.vocabulary import defaults
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
            "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "printed_lines", "paper_bars",
@@ -52,7 +53,7 @@ __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN
 LINES_PER_FORM = 66
 LINES_PER_INCH = 6
 CHARS_PER_INCH = 10
-PRINT_POSITIONS = 132
+PRINT_POSITIONS = defaults.PRINT_POSITIONS
 PAGE_WIDTH_IN = 14.875
 PAGE_HEIGHT_IN = LINES_PER_FORM / LINES_PER_INCH  # 11
 LEFT_MARGIN_IN = (PAGE_WIDTH_IN - PRINT_POSITIONS / CHARS_PER_INCH) / 2

@@ -107,6 +107,11 @@ class Run:
     errata: tuple[str, ...] = ()
     step_scale_k: int = 0
     error: EmulatorError | None = None
+    #: which WRITE printed which records, in order, where the run was asked to keep them
+    #: (the front end's ``Runner.keep_writes``): (index of its first record in ``records``,
+    #: unit, the card of the WRITE statement, its FORMAT's label, the values of its list as
+    #: floats)
+    writes: list[tuple[int, str, int, int, tuple[float, ...]]] = field(default_factory=list)
 
     def text(self) -> str:
         return "".join(r + "\n" for r in self.records)

@@ -20,6 +20,10 @@ LISTING_CAP_STEPS = 20
 #: luminaire, which the listing has not got) is given R's
 LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
 
+#: the line printer's print positions after the carriage control column (its 132-column
+#: forms: the pages of --pages and the forms of the --html dossier)
+PRINT_POSITIONS = 132
+
 #: the job decks' made programs kept in the user's cache folder at most (legacy/fortran: the
 #: least recently used go)
 PROGRAM_CACHE_ENTRIES = 64

@@ -485,7 +485,10 @@ class _Gen:
         elif kind == "write":
             fmt, items = s.args
             values = "".join(f", {self.expr(e)}" for e in items)
-            self.emit(f"{ind}_G.write_{self.u.name}({fmt}{values}){text}", self.where(label))
+            # the WRITE's card goes with it: the run keeps, per record, the statement that
+            # printed it (Run.writes)
+            self.emit(f"{ind}_G.write_{self.u.name}({s.card}, {fmt}{values}){text}",
+                      self.where(label))
             if w and fmt in EVENT_FORMATS:  # the event the FORMAT reports, at its clock
                 clock = w["time"][EVENT_FORMATS[fmt][0] is EventKind.HIT]
                 self.emit(f"{ind}_G.event({fmt}, {self.ref(clock)})", self.where(label))

@@ -340,6 +340,9 @@ class Runner:
         #: of it is the made code's (_program's _left), read by _left()
         self.budget = limits.budget(program.step_scale_k)
         self._left = lambda: self.budget
+        #: keep which WRITE printed which records (Run.writes: what a dossier links); set
+        #: before run(), off by default (a study's thousands of runs keep none)
+        self.keep_writes = False
 
     @property
     def statements_run(self) -> int:
@@ -460,7 +463,7 @@ class Runner:
                 for name, formats in self.formats.items():
                     printer = self._printer(formats)
                     printer.records = self.run_.records
-                    setattr(self, f"write_{name}", printer.write)
+                    setattr(self, f"write_{name}", self._writer(name, printer))
                 makers, self._left = namespace["_program"](self, self.budget)
                 mains = {name: makers[name](self) for name in self.formats}
                 for name in self.formats:
@@ -498,6 +501,20 @@ class Runner:
             self._fail(error)
         return self.run_
 
+    def _writer(self, unit: str, printer):
+        """``WRITE(6,fmt) list`` of ``unit``, on its card: the printer's records, and which
+        statement printed them with the values of its list (:attr:`Run.writes`)."""
+        records, writes, to_float = self.run_.records, self.run_.writes, self.ar.to_float
+        if not self.keep_writes:
+            return lambda card, fmt, *values: printer.write(fmt, *values)
+
+        def write(card: int, fmt: int, *values) -> None:
+            first = len(records)
+            printer.write(fmt, *values)
+            writes.append((first, unit, card, fmt, tuple(map(to_float, values))))
+
+        return write
+
     def _all_finite(self) -> bool:
         return all(self.ar.isfinite(x) for _, get in self.units.values()
                    for v in get().values() for x in (v if type(v) is list else (v,))
@@ -509,6 +526,7 @@ class Runner:
             indicators.underflows = self._underflows_at_start
         again = Runner(self.program, self.deck, self.ar, limits=self.limits, checking=True,
                        trace=self.keep_trace)
+        again.keep_writes = self.keep_writes
         try:
             return again.run()
         finally:  # (what a progress display or a defect's message reads)
