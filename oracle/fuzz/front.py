@@ -39,6 +39,7 @@ def split_job(lines: list[str]) -> tuple[list[str], list[str]]:
 
 
 def main(argv: list[str]) -> int:
+    from deck_emulator.legacy.deck import DeckError
     from deck_emulator.legacy.fortran import DialectError, Program
     from deck_emulator.legacy.stops import EmulatorError
 
@@ -54,6 +55,9 @@ def main(argv: list[str]) -> int:
     except EmulatorError as exc:
         run, status = exc.run, 3
         print(f"stopped: {exc}", file=sys.stderr)
+    except DeckError as exc:  # (a data card its READ cannot take: refused, as the command does)
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     Path(out).write_text("".join(r + "\n" for r in run.records))
     return status
 

@@ -568,3 +568,59 @@ def test_a_utf8_byte_order_mark_is_named_by_every_reader():
         with pytest.raises(DeckError, match="byte-order mark") as info:
             read()
         assert "parity" not in str(info.value)
+
+
+def _read_by_decimal(raw: str, decimals: int = 5):
+    """A field read through Python's decimal module, independently of read_field's digit
+    arithmetic: (value, exact fixed-point text), or None where the field is no number or out
+    of range."""
+    import re
+    from decimal import localcontext
+
+    text = raw.lstrip(" ").replace(" ", "0")
+    if text == "":
+        return 0.0, "0.00000"
+    m = re.fullmatch(r"(?P<m>[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"
+                     r"(?:(?:[ED](?P<s1>[+-]?)|(?P<s2>[+-]))(?P<e>[0-9]+))?", text)
+    if m is None:
+        return None
+    exact = Decimal(m["m"])
+    if "." not in m["m"]:
+        exact = exact.scaleb(-decimals)
+    if m["e"] is not None and exact != 0:
+        e = int((m["s1"] or m["s2"] or "+") + m["e"])
+        if abs(e) > 400:
+            return None
+        exact = exact.scaleb(e)
+    value = float(exact)
+    if not math.isfinite(value) or (exact != 0 and value == 0.0):
+        return None
+    if exact == 0 and exact.is_signed():
+        value = -0.0
+    with localcontext() as ctx:
+        ctx.prec = 1000
+        whole, _, fraction = format(exact, "f").partition(".")
+    return value, f"{whole}.{fraction.rstrip('0').ljust(5, '0')}"
+
+
+@settings(max_examples=1500, deadline=None)
+@given(raw=st.text(alphabet=" +-.0123456789ED", max_size=10)
+       | st.from_regex(r" {0,3}[+-]?[0-9]{0,6}\.?[0-9]{0,6}([ED][+-]?[0-9]{1,3})?", fullmatch=True)
+       .map(lambda t: t[:10]),
+       decimals=st.integers(0, 9))
+def test_a_field_reads_as_the_decimal_module_reads_it(raw, decimals):
+    """read_field's exact value, by digits and a power of ten, is the decimal module's: the
+    same float (sign of zero included) and the same fixed-point text, or both refuse."""
+    from deck_emulator.legacy.deck import read_field
+
+    expected = _read_by_decimal(raw, decimals)
+    try:
+        got = read_field(raw, name="X", card=1, columns=(1, 10), path=None, decimals=decimals)
+    except DeckError:
+        got = None
+    if expected is None or got is None:
+        assert got == expected
+    else:
+        assert got[1] == expected[1]
+        assert math.copysign(1, got[0]) == math.copysign(1, expected[0])
+        assert got[0] == expected[0]

@@ -277,3 +277,16 @@ def test_thousands_of_generated_programs_print_what_gfortran_prints():
     ibm = [r for r in results if r.outcome == "agree" and r.ibm7094[:1] != ("within",)]
     summary = "\n".join(campaign.report(results))
     assert not bad and not ibm, summary
+
+
+def test_the_program_road_refuses_a_data_card_in_one_line(tmp_path, capsys):
+    """--road program: a data card the program's READ cannot take is refused as the command
+    refuses it (exit 2, one line naming card and columns), not a traceback."""
+    from oracle.fuzz import front
+
+    job = tmp_path / "bad.job"
+    job.write_text("$IBFTC MAIN\n      READ(5,1) X\n    1 FORMAT(F10.5)\n      WRITE(6,1) X\n"
+                   "      STOP\n      END\n$ENTRY\n$DATA\n  ABC\n")
+    assert front.main([str(job), "double", str(tmp_path / "out")]) == 2
+    said = capsys.readouterr().err.strip().splitlines()
+    assert len(said) == 1 and "card 1, columns 1-10" in said[0] and "not a number" in said[0]

@@ -9,6 +9,8 @@ from fractions import Fraction
 
 import fortranformat
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from deck_emulator.legacy.printer import FORMATS, Printer, _DECIMALS, printable
 
@@ -104,3 +106,31 @@ def test_the_value_fields_are_the_pages_the_golden_prints():
         assert [len(value.split(".")[1]) for _, value in page] == [f.decimals for f in fields]
     messages = set(re.findall(r"THE POST HAS .*\S", text))
     assert messages and messages <= set(MESSAGES.values())
+
+
+_FORMAT_ITEMS = st.one_of(
+    st.tuples(st.integers(1, 20), st.integers(0, 8)).filter(lambda wd: wd[1] < wd[0])
+    .map(lambda wd: f"F{wd[0]}.{wd[1]}"),
+    st.integers(1, 12).map(lambda n: f"{n}X"),
+    st.text(alphabet="ABC XYZ={}.,-0123456789", min_size=1, max_size=12)
+    .map(lambda t: f"{len(t)}H{t}"),
+    st.just("/"))
+
+
+@settings(max_examples=300, deadline=None)
+@given(items=st.lists(_FORMAT_ITEMS, min_size=1, max_size=8), data=st.data())
+def test_a_binary_record_is_written_as_field_by_field(items, data):
+    """The binary printer writes a record through one str.format template of its FORMAT
+    (Printer._plan); whatever the FORMAT and the values (NaN, infinities, -0.0, values too
+    wide for their field, Fw.0, braces in Hollerith text), it writes what the field-by-field
+    route (Printer._slow: Python's digits, then f_field) writes."""
+    text = "(" + ",".join(items) + ")"
+    n = sum(i.startswith("F") for i in items)
+    values = data.draw(st.lists(st.floats(allow_nan=True, allow_infinity=True)
+                                | st.floats(-1e6, 1e6), min_size=n, max_size=n))
+    printer = Printer(binary=True, formats={1: text})
+    printer.write(1, *values)
+    reference = Printer(binary=True, formats={1: text})
+    it = iter(values)
+    expected = [reference._slow(pieces, it) for pieces in reference._layouts[1]]
+    assert printer.records == expected

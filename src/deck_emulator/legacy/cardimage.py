@@ -59,7 +59,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from deck_emulator.legacy.deck import CARD_COLUMNS, DeckError
-from deck_emulator.legacy.keypunch import rows_text, to_char, to_holes
+
+# (keypunch, the codes of binary cards, is imported where a binary card is read or punched:
+# a text deck's run does not load it)
 
 __all__ = [
     "FORMATS", "CardFile", "detect_format", "read_images", "card_texts", "write_images",
@@ -318,6 +320,8 @@ def card_texts(card_file: CardFile, keypunch: str | None = None, path=None) -> l
     """Every card as text: text cards as they stand, binary ones through ``keypunch``
     ('026', the default, or '029').  A column no character of the code stands for is a
     :class:`DeckError` naming the card, the column and the rows punched."""
+    from deck_emulator.legacy.keypunch import rows_text, to_char  # (binary cards only)
+
     code = keypunch or "026"
     texts = []
     for number, card in enumerate(card_file.cards, start=1):
@@ -345,6 +349,8 @@ def card_texts(card_file: CardFile, keypunch: str | None = None, path=None) -> l
 
 
 def _card_holes(text: str, number: int, code: str) -> list[int]:
+    from deck_emulator.legacy.keypunch import to_holes
+
     if len(text) > CARD_COLUMNS:
         raise _err(f"card text is {len(text)} columns; a card holds {CARD_COLUMNS}",
                    None, number, CARD_COLUMNS + 1)
@@ -361,6 +367,8 @@ def _card_holes(text: str, number: int, code: str) -> list[int]:
 
 def write_images(texts: list[str], card_format: str, keypunch: str | None = None) -> bytes:
     """Punch the card texts in ``card_format`` with ``keypunch`` ('026' default, '029')."""
+    from deck_emulator.legacy.keypunch import rows_text
+
     code = keypunch or "026"
     out = bytearray()
     for number, text in enumerate(texts, start=1):

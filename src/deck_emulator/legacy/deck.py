@@ -31,7 +31,6 @@ import re
 import unicodedata
 from dataclasses import dataclass
 from dataclasses import field as _dc_field
-from decimal import Decimal, localcontext
 
 __all__ = [
     "READ_LIST",
@@ -459,34 +458,35 @@ def read_field(raw: str, *, name: str, card: int, columns, path,
     where = dict(card=card, columns=columns, field=name, path=path)
     text = raw.lstrip(" ").replace(" ", "0")  # leading blanks ignored, the rest are zeros
     if text == "":
-        return 0.0, _fixed(Decimal(0))
+        return 0.0, "0.00000"
     match = _NUMBER_RE.fullmatch(text)
     if match is None:
         raise DeckError(f"not a number: {raw!r}", **where)
 
-    # the number FORTRAN means, exactly, as a decimal
-    mantissa = Decimal(match["mantissa"])
-    if "." not in match["mantissa"]:
-        mantissa = mantissa.scaleb(-decimals)
+    # the number FORTRAN means, exactly: sign * int(digits) * 10**power (the mantissa's digits,
+    # its point or the implied one, the exponent)
+    mantissa = match["mantissa"]
+    negative = mantissa.startswith("-")
+    whole, point, fraction = mantissa.lstrip("+-").partition(".")
+    digits = (whole + fraction).lstrip("0") or "0"
+    power = -len(fraction) if point else -decimals
     exponent_digits = match["exponent"]
-    if exponent_digits is not None and mantissa != 0:
+    if exponent_digits is not None and digits != "0":
         exponent = int((match["esign1"] or match["esign2"] or "+") + exponent_digits)
         # at most 10 digits in the mantissa: beyond 10**+-400 no double is left
         if abs(exponent) > 400:
             raise _out_of_range(raw, text, where)
-        mantissa = mantissa.scaleb(exponent)
-    exact = mantissa
+        power += exponent
 
     # The range is that of the number the field means, the implied decimal point applied
     # first, as gfortran's REAL*8 read does: '     1E309' is 1E304, in range.  fortranformat
     # converts first and divides by 10**5 after (overflowing on 1E309, and rounding twice),
-    # so the value is the correctly rounded one of the exact decimal.
-    value = float(exact)
-    if not math.isfinite(value) or (exact != 0 and value == 0.0):
+    # so the value is the correctly rounded one of the exact decimal (float() of a decimal
+    # text rounds correctly; a minus zero keeps its sign).
+    value = float(f"{'-' if negative else ''}{digits}e{power}")
+    if not math.isfinite(value) or (digits != "0" and value == 0.0):
         raise _out_of_range(raw, text, where)
-    if exact == 0 and exact.is_signed():
-        value = -0.0
-    return value, _fixed(exact)
+    return value, _fixed(negative, digits, power)
 
 
 def _out_of_range(raw: str, text: str, where: dict) -> DeckError:
@@ -494,14 +494,19 @@ def _out_of_range(raw: str, text: str, where: dict) -> DeckError:
     return DeckError(f"number out of range: {raw!r}{note}", **where)
 
 
-def _fixed(number: Decimal) -> str:
-    """Plain fixed-point text of ``number``, at least five decimals, no extra zeros."""
-    with localcontext() as ctx:
-        ctx.prec = 1000
-        text = format(number, "f")
-    whole, _, fraction = text.partition(".")
+def _fixed(negative: bool, digits: str, power: int) -> str:
+    """Plain fixed-point text of sign * int(``digits``) * 10**``power``: at least five
+    decimals, no extra zeros (a minus zero keeps its sign, as the card has it)."""
+    if digits == "0":
+        whole, fraction = "0", ""
+    elif power >= 0:
+        whole, fraction = digits + "0" * power, ""
+    elif len(digits) > -power:
+        whole, fraction = digits[:power], digits[power:]
+    else:
+        whole, fraction = "0", digits.rjust(-power, "0")
     fraction = fraction.rstrip("0").ljust(_DECIMALS, "0")
-    return f"{whole}.{fraction}"
+    return f"{'-' if negative else ''}{whole}.{fraction}"
 
 
 # --------------------------------------------------------------------------------------

@@ -12,12 +12,16 @@ misrounds some values next to a tie; an arithmetic may also choose to truncate
 
 from __future__ import annotations
 
-import numbers
+import functools
 import re
 from dataclasses import dataclass
 
 from deck_emulator.vocabulary import listing_writes
 from deck_emulator.vocabulary.events import EVENT_FORMATS, Event, EventKind
+
+TYPE_CHECKING = False  # (typing.TYPE_CHECKING's value, without importing typing, as engines.py)
+if TYPE_CHECKING:  # (numbers only names a type here: a run does not load it)
+    import numbers
 
 #: The FORMATs the listing writes with, by label, in the listing's order: read from
 #: legacy/luminaire.f (:mod:`deck_emulator.vocabulary.listing_writes`); the FORMATs that report
@@ -43,14 +47,13 @@ def event_message(event: Event) -> str | None:
     return None
 
 
-_DECIMALS = {label: [int(d) for d in re.findall(r"F\d+\.(\d+)", text)] for label, text in FORMATS.items()}
-
-
+@functools.lru_cache(maxsize=None)
 def _compile(fmt: str) -> list[list]:
     """A FORMAT of the listing as records, each a list of text pieces and ``(w, d)`` F fields.
 
     Only what the listing's FORMATs use: ``nH`` Hollerith text, ``nX``, ``/`` and ``Fw.d``,
-    separated by commas; each ``/`` ends a record."""
+    separated by commas; each ``/`` ends a record.  Made once a FORMAT's text (a process's
+    runs share it: read, never changed)."""
     body = fmt[1:-1]
     records: list[list] = [[]]
     i = 0
@@ -79,7 +82,22 @@ def _compile(fmt: str) -> list[list]:
     return records
 
 
-_LAYOUTS = {label: _compile(text) for label, text in FORMATS.items()}
+@functools.cache
+def _listing_layouts() -> tuple[dict, dict]:
+    """The listing's FORMATs laid out (:func:`_compile`) and their fields' decimals, by label:
+    made when first asked (a run lays out its program's own FORMATs; the printout readers
+    ask for :data:`VALUE_FIELDS`)."""
+    layouts = {label: _compile(text) for label, text in FORMATS.items()}
+    return layouts, {label: [d for _, d in _fields(layout)] for label, layout in layouts.items()}
+
+
+def __getattr__(name: str):
+    # _LAYOUTS, _DECIMALS and VALUE_FIELDS: the listing's, made when first read
+    if name in ("_LAYOUTS", "_DECIMALS"):
+        return _listing_layouts()[name == "_DECIMALS"]
+    if name == "VALUE_FIELDS":
+        return _value_fields()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _fields(layout: list[list]) -> list[tuple[int, int]]:
@@ -109,12 +127,13 @@ class ValueField:
 VALUE_TEXT = "THE VALUE OF {name} IS "
 
 
+@functools.cache
 def _value_fields() -> tuple[ValueField, ...]:
     before, after = VALUE_TEXT.split("{name}")
     shape = re.compile(re.escape(before) + r"(\w+)" + re.escape(after))
     fields: list[ValueField] = []
     page = 0
-    for label, records in _LAYOUTS.items():
+    for label, records in _listing_layouts()[0].items():
         if records[0] == ["1"]:  # 1H1: a new page
             page = label
         for pieces in records:
@@ -127,9 +146,9 @@ def _value_fields() -> tuple[ValueField, ...]:
     return tuple(fields)
 
 
-#: Every labelled value of the listing, in printed order (a page's values in the order
-#: printed; the name TIME closes both pages, F10.6 in contact and F10.5 in free flight).
-VALUE_FIELDS = _value_fields()
+#: VALUE_FIELDS (made when first read: :func:`__getattr__`): every labelled value of the listing,
+#: in printed order (a page's values in the order printed; the name TIME closes both pages,
+#: F10.6 in contact and F10.5 in free flight).
 
 
 def f_field(digits: str, negative: bool, w: int) -> str:
@@ -188,8 +207,9 @@ class Printer:
         self._rounding = rounding
         self._binary = binary and rounding == "nearest"
         self.records: list[str] = []
+        self._plans: dict = {}  # (binary) label -> (values, its records' templates): _plan
         # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
-        self._layouts, self._decimals = _LAYOUTS, _DECIMALS
+        self._layouts, self._decimals = _listing_layouts() if formats is None else ({}, {})
         if formats is not None:
             self._layouts = {label: _compile(text) for label, text in formats.items()}
             self._decimals = {label: [d for _, d in _fields(layout)]
@@ -206,14 +226,48 @@ class Printer:
 
     def write(self, label: int, *values) -> None:
         """``WRITE(6,label) values``: append the records that FORMAT ``label`` makes."""
+        if self._binary:
+            plan = self._plans.get(label) or self._plan(label)
+            if len(values) != plan[0]:
+                raise ValueError(f"FORMAT {label} takes {plan[0]} values, got {len(values)}")
+            i = 0
+            for template, n, width, pieces in plan[1]:
+                if n < 0:
+                    n = sum(type(p) is not str for p in pieces)
+                text = template.format(*values[i:i + n])
+                # (a field wider than its w, or a value that is no float: as _field says)
+                self.records.append(text if len(text) == width else
+                                    self._slow(pieces, iter(values[i:i + n])))
+                i += n
+            return
         layout = self._layouts[label]
         decimals = self._decimals[label]
         if len(values) != len(decimals):
             raise ValueError(f"FORMAT {label} takes {len(decimals)} values, got {len(values)}")
         it = iter(values)
         for pieces in layout:
-            self.records.append("".join(p if type(p) is str else self._field(next(it), *p)
-                                        for p in pieces))
+            self.records.append(self._slow(pieces, it))
+
+    def _slow(self, pieces, it) -> str:
+        return "".join(p if type(p) is str else self._field(next(it), *p) for p in pieces)
+
+    def _plan(self, label: int):
+        """A binary FORMAT's records as str.format templates: Fw.d is ``{:#w.df}`` (Python's
+        correctly rounded digits, as :meth:`_field`; ``#`` keeps Fw.0's point); a record whose
+        text is not its layout's width holds a field that did not fit, and is made again by
+        :meth:`_slow` (the dropped leading zero, the asterisks)."""
+        records = []
+        for pieces in self._layouts[label]:
+            if any(type(p) is not str and p[1] == 0 for p in pieces):  # (Fw.0 of NaN: _field)
+                records.append(("", -1, -1, pieces))
+                continue
+            template = "".join(p.replace("{", "{{").replace("}", "}}") if type(p) is str
+                               else f"{{:#{p[0]}.{p[1]}f}}" for p in pieces)
+            fields = sum(type(p) is not str for p in pieces)
+            width = sum(len(p) if type(p) is str else p[0] for p in pieces)
+            records.append((template, fields, width, pieces))
+        self._plans[label] = plan = (len(self._decimals[label]), tuple(records))
+        return plan
 
     def text(self) -> str:
         return "".join(r + "\n" for r in self.records)

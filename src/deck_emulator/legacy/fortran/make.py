@@ -23,11 +23,19 @@ def made_lines(units: dict[str, Unit], made_from: tuple, *, native: bool, checki
     lines: list = [(_HEADER, None), (f"_MADE_FROM = {_literal(made_from)}", None)]
     consts: set[str] = set()
     steps: set[str] = set()
+    # the units inside one function, _program(_G, _left): _left, what is left of the run's
+    # statement budget, is one variable of it that every unit's blocks spend from (a cell,
+    # as cheap to change as a block's own variable)
+    body: list = []
     for unit in units.values():
-        gen = _Gen(unit, units, native, checking, lines, watch, literals)
+        gen = _Gen(unit, units, native, checking, body, watch, literals)
         gen.unit_source()
         consts |= gen.consts
         steps |= gen.steps
+    lines.append(("def _program(_G, _left):", None))
+    lines += [("    " + text, where) for text, where in body]
+    lines.append(("    return {" + ", ".join(f"{name!r}: make_{name}" for name in units)
+                  + "}, lambda: _left", None))
     head = [(f"{_const_name(c)} = _K({c!r})", None) for c in sorted(consts)]
     for block, places in common_blocks(list(units.values())).items():
         runs = [[places[0], 0]]  # (a COMMON block: its places, zero)
@@ -348,7 +356,7 @@ class _Gen:
         self.emit("    _blocks = {}")
         for key, label, stmts, nxt in blocks:
             self.block(key, label, stmts, nxt)
-            self.emit(f"    _blocks[{_key(key)}] = (_block, {len(stmts)})")
+            self.emit(f"    _blocks[{_key(key)}] = _block")
         if blocks[0][0] is not None:
             self.emit(f"    _blocks['START'] = _blocks[{_key(blocks[0][0])}]")
         self.emit("    def _vars():")
@@ -364,13 +372,8 @@ class _Gen:
         for d in u.dummies:
             self.emit(f"        {d} = a_{d}" if d in scalars else
                       f"        {d}, b_{d} = a_{d}, a_b_{d}")
-        self.emit("        lab, n, blocks, limit, left = 'START', 0, _blocks, "
-                  "_G.limits.ed_iterations, _S")
+        self.emit("        lab, n, blocks, limit = 'START', 0, _blocks, _G.limits.ed_iterations")
         self.emit("        while lab is not None:")
-        self.emit("            block, k = blocks[lab]")
-        self.emit("            left[0] -= k")
-        self.emit("            if left[0] < 0:")
-        self.emit(f"                _G.spent({u.name!r}, lab)")
         mine = changed(u, self.units)
         if u.name != "MAIN":  # (a subprogram's call: Limits.ed_iterations blocks at most)
             self.emit("            n += 1")
@@ -381,7 +384,7 @@ class _Gen:
                 shown = list(search[1])
             self.emit(f"                _G.runaway({u.name!r}, lab, _vars(), "
                       f"{tuple(shown)!r})")
-        self.emit("            lab = block()")
+        self.emit("            lab = blocks[lab]()")
         if u.kind == "FUNCTION":
             self.emit(f"        return {self.ref(u.name)}")
         else:
@@ -399,6 +402,11 @@ class _Gen:
         local = set(self.names)
         if names & local:
             self.emit(f"        nonlocal {', '.join(sorted(names & local))}")
+        # the block's statements spent from the run's budget as it starts: a stop naming its
+        # first statement where the budget is gone (Runner.spent)
+        self.emit("        nonlocal _left")
+        self.emit(f"        _left -= {len(stmts)}")
+        self.emit(f"        if _left < 0: _G.spent({self.u.name!r}, {_key(key)})")
         w = self.watch if isinstance(key, int) else None
         if w and key in w["steps"]:
             self.emit("        _G.step += 1")

@@ -336,10 +336,10 @@ class Runner:
         self.label = "START"
         self.units: dict = {}
         self.watch = None  # the listing's guards, where the program is the listing (run())
-        #: the statement budget (Limits.budget: scaled with the program's step) and what is left
-        #: of it (the made code's _S)
+        #: the statement budget (Limits.budget: scaled with the program's step); what is left
+        #: of it is the made code's (_program's _left), read by _left()
         self.budget = limits.budget(program.step_scale_k)
-        self._left = [self.budget]
+        self._left = lambda: self.budget
         #: keep which WRITE printed which records (Run.writes: what a dossier links); set
         #: before run(), off by default (a study's thousands of runs keep none)
         self.keep_writes = False
@@ -347,7 +347,7 @@ class Runner:
     @property
     def statements_run(self) -> int:
         """The statements the run has executed (each block's when it starts)."""
-        return self.budget - self._left[0]
+        return self.budget - self._left()
 
     # what the generated code calls -----------------------------------------------------------
     def read(self, fmt: int, unit: str):
@@ -449,7 +449,7 @@ class Runner:
         namespace = dict(
             _K=ar.decimal, _Z=zero, _fin=ar.isfinite, _NonFinite=_NonFinite, _Replay=_Replay,
             _Stop=_Stop, _sub=_sub, _lost=_lost, sin=ar.sin, cos=ar.cos, sign=ar.sign,
-            _ipow=_power, _S=self._left,
+            _ipow=_power,
             _real=lambda i: ar.decimal(f"{i}.0"), _int=lambda x: _integer(ar.to_float(x)),
             _idiv=lambda a, b: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
         )
@@ -464,7 +464,8 @@ class Runner:
                     printer = self._printer(formats)
                     printer.records = self.run_.records
                     setattr(self, f"write_{name}", self._writer(name, printer))
-                mains = {name: namespace[f"make_{name}"](self) for name in self.formats}
+                makers, self._left = namespace["_program"](self, self.budget)
+                mains = {name: makers[name](self) for name in self.formats}
                 for name in self.formats:
                     if name != "MAIN":
                         setattr(self, f"call_{name}", mains[name])
