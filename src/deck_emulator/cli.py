@@ -258,10 +258,6 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """The command line; SIGINT and SIGTERM end it with 130 and 143 after every temporary
     file is removed and every worker stopped (:mod:`deck_emulator.signals`)."""
-
-    from deck_emulator.core import configure_numba_cache
-
-    configure_numba_cache()  # this process is the package's own: numba's cache is the core's
     if "OPENBLAS_NUM_THREADS" not in os.environ and " MB " in " ".join(process_limits()):
         os.environ["OPENBLAS_NUM_THREADS"] = "1"  # its threads' buffers spun under ulimit -v
     replaced = _streams()
@@ -300,6 +296,10 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
     from deck_emulator.legacy.deck import DeckError
 
     cmd = command_named(args._command)
+    if cmd.core:  # this process is the package's own: numba's cache is the core's
+        from deck_emulator.core import configure_numba_cache
+
+        configure_numba_cache()
     given = {f.name: getattr(args, f.name) for f in fields(cmd.options)
              if f.metadata.get("cli", True)}
     for name in PATH_OPTIONS:  # '--out ""' would name the current folder or stdout

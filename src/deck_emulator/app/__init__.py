@@ -78,13 +78,16 @@ class Answer:
 class Command:
     """One command: its name (``study error``: a command and its study), its options class,
     the function that answers, and its help (``description``: text, or a function that
-    makes it when the help is built)."""
+    makes it when the help is built); ``core``: whether it may run the modern core (the
+    command line then has numba keep the core's machine code in the core's folder, before
+    anything imports numba: deck_emulator.core.configure_numba_cache)."""
 
     name: str
     options: type
     run: Callable
     help: str
     description: str | Callable[[], str] = ""
+    core: bool = True
 
 
 #: name -> :class:`Command`, as the modules holding them are loaded (:func:`command_named`,
@@ -109,10 +112,11 @@ def all_commands() -> dict[str, Command]:
     return {name: command_named(name) for name in NAMES}
 
 
-def command(name: str, options: type, *, help: str, description: str | Callable = ""):
-    """Register the decorated function as the command ``name``."""
+def command(name: str, options: type, *, help: str, description: str | Callable = "",
+            core: bool = True):
+    """Register the decorated function as the command ``name`` (``core``: :class:`Command`)."""
     def register(fn):
-        COMMANDS[name] = Command(name, options, fn, help, description)
+        COMMANDS[name] = Command(name, options, fn, help, description, core)
         return fn
 
     return register

@@ -154,7 +154,7 @@ def _compare_text(o: CompareOptions, found) -> str:
          "both was compared and equal (exactly as printed, or within --tolerance), 1 when a "
          "value differs or a record is missing, 4 when nothing differs but some record could "
          "not be read (not all compared: no agreement claimed), 2 for input that is not a "
-         "printout.")
+         "printout.", core=False)
 def compare(o: CompareOptions) -> Answer:
     from deck_emulator.legacy.compare import compare_records
 

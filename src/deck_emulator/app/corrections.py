@@ -40,7 +40,7 @@ def _corrections_list(entries) -> str:
          help="the corrections to the scanned listing and the named errata",
          description="Every place where the transcribed listing (luminaire.f) departs from the "
          "report's scanned listing, with its reason; what is kept as printed; the named errata "
-         "and their patches. Read from the installed package.")
+         "and their patches. Read from the installed package.", core=False)
 def corrections(o: CorrectionsOptions) -> Answer:
     from deck_emulator.legacy import corrections as record
 

@@ -16,7 +16,7 @@ class ParseOptions(Source):
 
 @command("parse", ParseOptions, help="read a card deck and print its 64 values",
          description="Read a $DATA card deck (8 cards, FORMAT(8F10.5)) with the 1967 input "
-         "rules and print the values under their READ-list names.")
+         "rules and print the values under their READ-list names.", core=False)
 def parse(o: ParseOptions) -> Answer:
     from deck_emulator.present.answers import parse_result, render_parse
 

@@ -24,7 +24,7 @@ class PunchOptions(Source):
          description="Read a deck (any card format) and punch its data cards, in the report's "
          "layout (8F10.5, a $DATA card first), as text, binary, column binary (cbn) or BCD "
          "card images, in the 026 or 029 keypunch code.  --job punches a whole IBSYS job "
-         "deck: control cards, the listing's FORTRAN source and the data.")
+         "deck: control cards, the listing's FORTRAN source and the data.", core=False)
 def punch(o: PunchOptions) -> Answer:
     from deck_emulator.legacy.cardimage import write_images
     from deck_emulator.legacy.deck import DeckError

@@ -53,7 +53,7 @@ def _describe(run, own: bool = False) -> str:
          description="Run the emulated 1967 program on a deck. The printout goes to stdout (or "
          "--out FILE, written whole or not at all); what was run (arithmetic, its assumptions, "
          "errata) is said on stderr. If the run stops early (a trap or a guard), the records "
-         "printed until then are written and the exit status is 3.")
+         "printed until then are written and the exit status is 3.", core=False)
 def run(o: RunOptions) -> Answer:
     from deck_emulator.legacy.printer import render_asa
 
