@@ -731,12 +731,14 @@ def _reach(address: str) -> None:
     import asyncio
     import concurrent.futures
 
-    from distributed.comm import connect, parse_address
+    import socket
+
+    from distributed.comm import connect, parse_address, parse_host_port
     from distributed.security import Security
 
     where, bound = f"--scheduler {address}", defaults.SCHEDULER_CONNECT_S
     try:
-        scheme, _ = parse_address(address)
+        scheme, location = parse_address(address)
     except (ValueError, TypeError) as exc:
         raise ClusterError(f"{where}: this install cannot connect so ({exc}); give "
                            "tcp://HOST:PORT") from None
@@ -746,6 +748,19 @@ def _reach(address: str) -> None:
     if scheme in ("tls", "wss") and args.get("ssl_context") is None:
         raise ClusterError(f"{where}: {scheme}:// needs Dask's TLS settings (distributed.comm."
                            "tls.ca-file, .client.cert, .client.key) and none are set")
+    if scheme in ("tcp", "tls", "ws", "wss"):
+        # the TCP connection first, once: a port nobody listens on refuses at once, whatever
+        # the machine's load (Dask's connect retries a refusal until its time-out, and then
+        # says a refusal or a time-out by which attempt the bound cut)
+        try:
+            with socket.create_connection(parse_host_port(location), timeout=bound):
+                pass
+        except ConnectionRefusedError as exc:
+            raise ClusterError(f"{where}: nothing listens there ({exc})") from None
+        except TimeoutError:
+            raise ClusterError(f"{where}: no connection in {bound:g} s") from None
+        except (OSError, ValueError) as exc:  # no such host, no route, not HOST:PORT
+            raise ClusterError(f"{where}: nothing listens there ({exc})") from None
 
     async def identity():  # Dask's connection and handshake, then the scheduler's "identity"
         comm = await connect(address, timeout=bound, deserialize=True, **args)
