@@ -19,11 +19,14 @@ from typing import Protocol
 
 import numpy as np
 
+from deck_emulator.vocabulary.events import TRACED_POINTS
+
 __all__ = ["Trajectory", "PostState", "Sampled", "Dense", "readonly", "INSTANTS",
            "SAMPLED_POINTS"]
 
-#: the post's named points an outcome samples (beside its mass centre ``CM``), in this order
-SAMPLED_POINTS = ("P", "Q", "R", "C", "U")
+#: the post's named points an outcome samples (beside its mass centre ``CM``), in this order:
+#: the vocabulary's one row of them
+SAMPLED_POINTS = TRACED_POINTS
 
 #: the instants a run gives the post's motion at, for the energy (:mod:`.energy`):
 #: ``launch`` -- the car lets go (the last contact step); ``free_start``, ``free_end`` --
