@@ -209,8 +209,9 @@ class Printer:
         self.records: list[str] = []
         self._plans: dict = {}  # (binary) label -> (values, its records' templates): _plan
         # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
-        self._layouts, self._decimals = _listing_layouts() if formats is None else ({}, {})
-        if formats is not None:
+        if formats is None:
+            self._layouts, self._decimals = _listing_layouts()
+        else:
             self._layouts = {label: _compile(text) for label, text in formats.items()}
             self._decimals = {label: [d for _, d in _fields(layout)]
                               for label, layout in self._layouts.items()}
@@ -232,8 +233,6 @@ class Printer:
                 raise ValueError(f"FORMAT {label} takes {plan[0]} values, got {len(values)}")
             i = 0
             for template, n, width, pieces in plan[1]:
-                if n < 0:
-                    n = sum(type(p) is not str for p in pieces)
                 text = template.format(*values[i:i + n])
                 # (a field wider than its w, or a value that is no float: as _field says)
                 self.records.append(text if len(text) == width else
@@ -253,17 +252,18 @@ class Printer:
 
     def _plan(self, label: int):
         """A binary FORMAT's records as str.format templates: Fw.d is ``{:#w.df}`` (Python's
-        correctly rounded digits, as :meth:`_field`; ``#`` keeps Fw.0's point); a record whose
+        correctly rounded digits, as :meth:`_field`; a record with an Fw.0 is always made by
+        :meth:`_slow`, which writes its point and NaN as _field does); a record whose
         text is not its layout's width holds a field that did not fit, and is made again by
         :meth:`_slow` (the dropped leading zero, the asterisks)."""
         records = []
         for pieces in self._layouts[label]:
+            fields = sum(type(p) is not str for p in pieces)
             if any(type(p) is not str and p[1] == 0 for p in pieces):  # (Fw.0 of NaN: _field)
-                records.append(("", -1, -1, pieces))
+                records.append(("", fields, -1, pieces))  # (width -1: always field by field)
                 continue
             template = "".join(p.replace("{", "{{").replace("}", "}}") if type(p) is str
                                else f"{{:#{p[0]}.{p[1]}f}}" for p in pieces)
-            fields = sum(type(p) is not str for p in pieces)
             width = sum(len(p) if type(p) is str else p[0] for p in pieces)
             records.append((template, fields, width, pieces))
         self._plans[label] = plan = (len(self._decimals[label]), tuple(records))
