@@ -11,7 +11,6 @@ statement that the pages are a reconstruction.
 from __future__ import annotations
 
 import hashlib
-import textwrap
 from importlib import resources
 from pathlib import Path
 
@@ -76,29 +75,17 @@ def separator_records(run: int, runs: int, deck: str, settings: str, width: int 
                       ) -> list[str]:
     """The separator page before run ``run`` of ``runs`` (a job deck's $DATA sections, each
     run in turn), as printer records: a form of its own, the next record starting a new one."""
+    from deck_emulator.legacy.pages import fact_page
 
-    rule = "-" * width
-    records = ["1" + rule, " ", f" RUN {run} OF {runs}", " ", " " + rule, "0"]
-    for key, text in (("deck", deck), ("run", settings)):
-        lines = textwrap.wrap(text, width - 8) or [""]
-        records.append(" " + f"{key.upper():<7}" + lines[0])
-        records += [" " + " " * 7 + more for more in lines[1:]]
-    return records + ["0", " " + rule]
+    return fact_page(f"RUN {run} OF {runs}", {"deck": deck, "run": settings}, "-", width, 7)
 
 
 def banner_records(provenance: dict[str, str], width: int = 131) -> list[str]:
     """The banner page as printer records (carriage control in column 1): a form of its own,
     the facts wrapped to the print line, the next record starting a new form."""
+    from deck_emulator.legacy.pages import fact_page
 
-    rule = "*" * width
-    records = ["1" + rule, " ", " DECK_EMULATOR  --  JOB SEPARATOR", " ", " " + rule, "0"]
-    label = max(len(k) for k in provenance) + 2
-    for key, text in provenance.items():
-        lines = textwrap.wrap(text, width - label - 1) or [""]
-        records.append(" " + f"{key.upper():<{label}}" + lines[0])
-        records += [" " + " " * label + more for more in lines[1:]]
-    records += ["0", " " + rule]
-    return records
+    return fact_page("DECK_EMULATOR  --  JOB SEPARATOR", provenance, "*", width)
 
 
 def pdf_metadata(provenance: dict[str, str]) -> dict[str, str]:

@@ -48,7 +48,8 @@ from deck_emulator.vocabulary import defaults
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
            "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "printed_lines", "paper_bars",
-           "tractor_holes", "face_file", "form_figure", "write_pdf", "stop_facts", "closing_records"]
+           "tractor_holes", "face_file", "form_figure", "write_pdf", "stop_facts", "fact_page",
+           "closing_records"]
 
 LINES_PER_FORM = 66
 LINES_PER_INCH = 6
@@ -113,19 +114,28 @@ def stop_facts(error, records: list[str], *, section: str = "", hint: str = "") 
     return out
 
 
-def closing_records(facts: dict[str, str], width: int = 131) -> list[str]:
-    """The closing page of a run that stopped, as printer records on a form of its own: what
-    :func:`stop_facts` says, after the printout, which stays exactly as printed."""
+def fact_page(title: str, facts: dict[str, str], rule: str, width: int = 131,
+              label: int = 0) -> list[str]:
+    """A page of facts as printer records on a form of its own (the banner, a job's
+    separators, the closing page of a run that stopped): ``title`` between two rules of
+    ``rule``, then each fact's name and its text wrapped to the print line.  ``label``: the
+    names' column (0: the longest name and two)."""
     import textwrap
 
-    rule = "=" * width
-    records = ["1" + rule, " ", " DECK_EMULATOR  --  THE RUN STOPPED", " ", " " + rule, "0"]
-    label = max(len(k) for k in facts) + 2
+    line = rule * width
+    records = ["1" + line, " ", " " + title, " ", " " + line, "0"]
+    label = label or max(len(k) for k in facts) + 2
     for key, text in facts.items():
         lines = textwrap.wrap(text, width - label - 1) or [""]
         records.append(" " + f"{key.upper():<{label}}" + lines[0])
         records += [" " + " " * label + more for more in lines[1:]]
-    return records + ["0", " " + rule]
+    return records + ["0", " " + line]
+
+
+def closing_records(facts: dict[str, str], width: int = 131) -> list[str]:
+    """The closing page of a run that stopped: what :func:`stop_facts` says, after the
+    printout, which stays exactly as printed."""
+    return fact_page("DECK_EMULATOR  --  THE RUN STOPPED", facts, "=", width)
 
 
 def baseline_in(line: int) -> float:
