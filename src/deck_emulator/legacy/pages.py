@@ -1,40 +1,19 @@
 """The printout as the line printer laid it on paper: pages, as PDF.
 
-The 7094's printer (an IBM 1403 on the 1401 or the 7094's own channel; facts from the IBM
-1403 manuals as summarised in the project's reference notes):
+The printer is an IBM 1403 (its manuals, as summarised in the reference notes): 132 print
+positions at 10 characters and 6 lines an inch, an 11-inch form of 66 lines on fan-fold paper
+14 7/8 inches wide, channel 1 at the form's first line.  FORTRAN carriage control (column 1)
+is obeyed before the line prints: blank one line, ``0`` two, ``-`` three, ``1`` a new form
+(none before anything is printed, as POSIX ``asa``), ``+`` overprint; anything else one line.
+Nothing in the listing tests channel 12, so a line past the 66th prints on the next form;
+positions past 132 are not printed; no page numbers are added.  ``striped`` paper has green
+bars three lines deep, the first on lines 1-3.
 
-* 132 print positions at 10 characters an inch, 6 lines an inch;
-* an 11-inch form holds 66 lines; channel 1 of the carriage-control tape marks the form's
-  first line, here line 1 (the top of the form); fan-fold paper 14 7/8 inches wide;
-* FORTRAN carriage control, column 1 of each record, is obeyed before the line prints:
-  blank = space one line, ``0`` = two (one blank line), ``-`` = three (two blank lines; not
-  every installation had it, it is followed here), ``1`` = skip to channel 1 (a new form),
-  ``+`` = no spacing (print over the line before).  Any other character spaces one line.
-* There is no overflow control: nothing in the listing tests channel 12, so a line past the
-  66th prints on the next form, across the perforation, as the paper simply moves on.
-* A ``1`` before anything is printed leaves the printer on the first form (as POSIX ``asa``
-  does); whether an operator's first skip fed one blank form is not known.
-* Print positions beyond 132 are not printed.  The listing printed no page numbers and none
-  are added.
-
-Each printed line's baseline sits 1/6 inch below the previous one; line ``n`` of a form
-(1-based) has its baseline ``BASELINE_DROP`` above the bottom of its 1/6-inch band.  The face
-is DejaVu Sans Mono, embedded in the PDF (the subset of it the pages use, made once a
-document with fontTools), at the size whose advance is exactly 1/10 inch.  The package ships
-the font file (``fonts/DejaVuSansMono.ttf``, as matplotlib ships it, version 2.35) with its
-licence beside it (``fonts/LICENSE_DEJAVU``: Bitstream Vera's, a free licence that allows
-embedding and redistribution, with DejaVu's changes in the public domain); PDF's standard
-Courier, used before, is not embedded, so every viewer drew the pages in a face of its own
-choosing.  ``striped`` paper has green bars three lines (half an inch) deep, starting with a
-bar on lines 1-3.
-
-The PDF is written directly (legacy/pdf.py): one text object a form, one string a printed
-line, so its text extracts line by line in the order printed; no plotting library is
-needed (:func:`form_figure` draws the same form as a matplotlib figure, for pictures).
-
-The same records give the same bytes: the PDF carries no creation date (or the one
-``SOURCE_DATE_EPOCH`` gives, as reproducible builds set it) and names its producer by
-version; its metadata are the facts the caller passes (the provenance of the run).
+The face is DejaVu Sans Mono at the size whose advance is 1/10 inch, shipped with its licence
+(``fonts/``) and embedded (the subset the pages use) so every viewer draws the same face.  The
+PDF is written directly (legacy/pdf.py): one text object a form, one string a printed line, so
+its text extracts line by line in printed order.  It is reproducible: no creation date but
+``SOURCE_DATE_EPOCH``'s, the producer by version, the caller's facts as metadata.
 """
 
 from __future__ import annotations
@@ -153,9 +132,7 @@ BAR_RGB = (0xD8 / 255, 0xEC / 255, 0xD8 / 255)  # #d8ecd8
 HOLE_RGB = (0xB0 / 255, 0xB0 / 255, 0xB0 / 255)  # #b0b0b0
 HOLE_LINE_PT = 0.6
 HOLE_RADIUS_IN = 0.08
-#: The holes' height as drawn since they were first drawn (a matplotlib Circle of radius
-#: 0.08/14.875 of the figure's width, in figure fractions, so 0.08 * 11/14.875 inch tall):
-#: ellipses, kept so the pages look as before.
+#: The holes are ellipses, as :func:`form_figure`'s Circle in figure fractions draws them.
 HOLE_HEIGHT_RADIUS_IN = HOLE_RADIUS_IN * PAGE_HEIGHT_IN / PAGE_WIDTH_IN
 
 

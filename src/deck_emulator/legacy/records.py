@@ -1,42 +1,23 @@
-"""A printout of the 1967 program read into its records, whatever its page layout (issues 33, 45).
+"""A printout of the 1967 program read into its records, whatever its page layout.
 
-A **record** is what one of the listing's FORMATs prints (:mod:`deck_emulator.legacy.printer`
-says which): a labelled value, ``THE VALUE OF label IS`` and its Fw.d field (the block's
-``TIME`` among them), or a message, ``THE POST HAS ...``.  A value record is named by the
-label printed on the paper (``THFA``, ``ZXCMA``), not by the variable its WRITE prints.
-Records are found by their text wherever they stand, so the page layout does not matter:
-carriage control in column 1 (gfortran's and this tool's printouts), the page as the line
-printer printed it (form feeds and blank lines, no control column: ``run --render``), the text
-of a PDF of the forms (``pdftotext -layout``; and plain ``pdftotext``, which puts each value
-on a line of its own after its label's: a label that ends its line takes the lone field of
-the next line that is not blank), blank lines dropped or fields re-spaced by a typist, two
-records on one line.  The page marks themselves are not records.  The FORTRAN source of a
-compile listing, where the same words stand in FORMAT statements as Hollerith constants
-(``20HTHE VALUE OF ...``), is not read.
+A **record** is what one of the listing's FORMATs prints: a labelled value, ``THE VALUE OF
+label IS`` and its Fw.d field, named by the label printed on the paper (``THFA``, ``ZXCMA``),
+or a message, ``THE POST HAS ...``.  Records are found by their text wherever they stand, so
+carriage control, a rendered page, ``pdftotext`` output (with or without ``-layout``: a label
+that ends its line takes the lone field of the next non-blank line), re-spaced fields and two
+records on one line all read alike; a compile listing's FORMAT statements (``20HTHE VALUE OF
+...``) are not records.  What the FORMATs print is read from
+:data:`~deck_emulator.legacy.printer.VALUE_FIELDS`, :data:`~deck_emulator.legacy.printer.VALUE_TEXT`
+and :data:`~deck_emulator.vocabulary.listing_writes.MESSAGES` only.
 
-Everything read from the listing's FORMATs -- the labels, their Fw.d fields, the pages and
-the messages -- is read here, from :data:`~deck_emulator.legacy.printer.VALUE_FIELDS`,
-:data:`~deck_emulator.legacy.printer.VALUE_TEXT` and
-:data:`~deck_emulator.vocabulary.listing_writes.MESSAGES` (all read from the listing), and from
-nothing else.
+A **block** is the values one page prints, from a ``1H1`` FORMAT's value (or the record after
+the last block) to ``TIME``; each value carries its block's TIME, which lines two printouts up.
 
-A **block** is the values one page prints: it begins with the value a ``1H1`` FORMAT prints
-(VVA in contact, THFA in free flight) or after the block before ends, and ends with ``TIME``;
-each value carries its block's TIME, which is how two printouts' records are lined up.
-
-**Damage.**  A scan (or a typist) confuses characters: :data:`OCR_CONFUSIONS` is the one table
-of them (O for 0, l for 1 ...), and a printed letter may be read as the digit it is confused
-with (``F5A`` for ``FSA``, ``VA1UE`` for ``VALUE``, ``I5`` for ``IS``).  A record whose words,
-label or value read as the listing's only through these confusions (or, for a value, with a
-lost or doubled point put back where its FORMAT fixes the point) is **damaged**: it is read as
-what it stands for, and its ``why`` says what was read through what.  A record that does not
-read even so is **unreadable**: a value that is not an Fw.d field of its FORMAT (no value, a
-character no confusion explains, more or fewer decimals than the FORMAT prints, wider than its
-field), a label that is none of the listing's (or could be several), a message whose words are
-none of the listing's, or a line that looks like a record (its start resembles ``THE VALUE OF``
-or ``THE POST HAS``, or it is a lone number no label claims) but cannot be read as one.  Every
-record keeps the ``text`` of the line(s) it stands on, as they stand.  A field all of ``*``
-overflowed its width, as Fw.d prints a value too wide for it.
+A record that reads as the listing's only through a scan's confusions (:data:`OCR_CONFUSIONS`:
+``F5A`` for ``FSA``), or with a lost or doubled point put back where its FORMAT fixes it, is
+**damaged** and says why; one that does not read even so (no Fw.d field of its FORMAT, an
+unknown or ambiguous label or message, a line that only looks like a record) is
+**unreadable**.  A field all of ``*`` overflowed its width.
 """
 
 from __future__ import annotations
@@ -171,26 +152,19 @@ def _read_words(seen: str, printed: str) -> str | None:
 
 
 @lru_cache(maxsize=1024)
-def _label(seen: str) -> tuple[str | None, str | None]:
-    """(the label ``seen`` stands for or None, why: None when read as printed)."""
-    if seen in LABELS:
+def _known(kind: str, seen: str) -> tuple[str | None, str | None]:
+    """(the ``kind`` -- label or message -- that ``seen`` stands for or None, why: None when
+    read as printed)."""
+    known = LABELS if kind == "label" else _MESSAGES
+    if seen in known:
         return seen, None
-    could = sorted(label for label in LABELS if _reads_as(seen, label))
+    could = sorted(k for k in known if _reads_as(seen, k))
     if len(could) == 1:
-        return could[0], f"label {seen!r} read as {could[0]}"
+        said = could[0] if kind == "label" else repr(could[0])
+        return could[0], f"{kind} {seen!r} read as {said}"
     if could:
-        return None, f"label {seen!r} could be any of {', '.join(could)}"
-    return None, f"label {seen!r} is none of the listing's"
-
-
-def _message(seen: str) -> tuple[str | None, str | None]:
-    """(the listing's message ``seen`` stands for or None, why: None when read as printed)."""
-    if seen in _MESSAGES:
-        return seen, None
-    could = sorted(m for m in _MESSAGES if _reads_as(seen, m))
-    if len(could) == 1:
-        return could[0], f"message {seen!r} read as {could[0]!r}"
-    return None, f"message {seen!r} is none of the listing's"
+        return None, f"{kind} {seen!r} could be any of {', '.join(could)}"
+    return None, f"{kind} {seen!r} is none of the listing's"
 
 
 def _places(field: str) -> int:
@@ -269,7 +243,7 @@ def _find(lines: list[str]) -> list[_Found]:
             why: list[str] = []
             if m.group("message") is not None:
                 seen = " ".join(m.group("message").split())
-                text, why_message = _message(seen)
+                text, why_message = _known("message", seen)
                 if why_message:
                     why.append(why_message)
                 found.append(_Found(k + 1, MESSAGE, seen, line, why, text is None, text))
@@ -278,7 +252,7 @@ def _find(lines: list[str]) -> list[_Found]:
                 why_words = _read_words(part, printed)
                 if why_words:
                     why.append(why_words)
-            name, why_label = _label(m.group("label"))
+            name, why_label = _known("label", m.group("label"))
             if why_label:
                 why.append(why_label)
             field, text = m.group("field") or "", line
