@@ -35,10 +35,9 @@ import signal
 import sys
 
 __all__ = ["Terminated", "held", "install_signal_handlers", "exit_status", "run",
-           "EXIT_SIGINT", "EXIT_SIGTERM", "REDELIVER_S"]
+           "EXIT_SIGINT", "REDELIVER_S"]
 
 EXIT_SIGINT = 128 + signal.SIGINT  # 130
-EXIT_SIGTERM = 128 + signal.SIGTERM  # 143
 
 
 class Terminated(BaseException):

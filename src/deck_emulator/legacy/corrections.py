@@ -1,4 +1,4 @@
-"""The corrections record and the named errata, read from the installed package (issue 26).
+"""The corrections record and the named errata, read from the installed package.
 
 ``CORRECTIONS.md`` (shipped beside ``luminaire.f``; the checkout's ``legacy/CORRECTIONS.md``
 is a link to it) lists every place where the transcription departs from the scanned listing,
@@ -13,10 +13,9 @@ import re
 from dataclasses import dataclass
 from importlib import resources
 
-__all__ = ["Entry", "entries", "find", "document", "patch", "ERRATA"]
+from deck_emulator.legacy.stops import ERRATA
 
-#: the named errata and their patches (applied only with --erratum NAME)
-ERRATA = ("ed-direction",)
+__all__ = ["Entry", "entries", "find", "document", "patch", "ERRATA"]
 
 
 @dataclass(frozen=True)

@@ -4,8 +4,7 @@ MAIN begins with eight ``READ(5,n)`` statements, each with ``FORMAT(8F10.5)``: e
 80-column cards, eight 10-column fields per card.  The input semantics reproduced here:
 
 * every field is ``F10.5``: the exact decimal it means, correctly rounded to binary64, as
-  gfortran's REAL*8 read converts it (which texts are numbers: ``_NUMBER_RE``; fortranformat's
-  ``FortranRecordReader`` reads every text it accepts, tests/legacy/test_deck.py checks);
+  gfortran's REAL*8 read converts it (which texts are numbers: ``_NUMBER_RE``);
 * leading blanks are ignored, embedded and trailing blanks read as zeros (``-58.66    ``
   is ``-58.660000``; ``1.5E2     `` is ``1.5E200000``), an all-blank field is 0.0;
 * a field without a decimal point gets the implied one: ``     12345`` reads 0.12345;
@@ -28,6 +27,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import stat
 import unicodedata
 from dataclasses import dataclass
 from dataclasses import field as _dc_field
@@ -45,11 +45,7 @@ __all__ = [
     "parse_deck",
 ]
 
-#: The READ list of MAIN, card by card (``READ(5,1)`` ... ``READ(5,130)``), the names, the
-#: card's layout: the deck-field table's (one row a field: vocabulary/deck_fields.py).
-import stat
-
-from deck_emulator.vocabulary.deck_fields import (  # noqa: E402
+from deck_emulator.vocabulary.deck_fields import (
     CARD_COLUMNS,
     FIELD_WIDTH,
     FIELDS_PER_CARD,
@@ -73,9 +69,7 @@ _FORMAT = "(F10.5)"
 _DECIMALS = 5  # the .5 of F10.5: implied decimal places, and the minimum in `fields`
 
 # One number after the 1967 blank handling (no blank left in it): whether the text is a number
-# FORTRAN IV accepts.  (fortranformat's reader, once asked here too, accepted every text this
-# accepts -- tests/legacy/test_deck.py checks it -- so it is no longer imported for a read: its import
-# cost every run ~40 ms, most of it importlib.metadata for its __version__.)
+# FORTRAN IV accepts (every text fortranformat's reader accepts: tests/legacy/test_deck.py).
 # Exponent: E or D with an optional sign, or a bare sign (``1.5+2`` is 1.5E+2).
 _NUMBER_RE = re.compile(
     r"(?P<mantissa>[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"

@@ -43,9 +43,7 @@ Definitions
   - ``crush_pulse_end``: VVA of the first contact block whose printed FSA equals FCONST after a
     block with FSA > FCONST, i.e. where the first spring's crush pulse has been cut to the
     FCONST cap (label 504). This is the one reported as ``delta_v_crush_mph``: of the four it alone
-    comes near the report (steel40 golden 2.059 mph against 2.05; 40 mph decks within 0.07 mph;
-    20 mph decks 0.05-0.12 mph *below* the report, where the other three are 0.3-0.8 mph above);
-    docs/comparison.md has the numbers;
+    comes near the report's figures (docs/comparison.md);
   - ``first_spring_lost``: VVA of the block before ``LOST CONTACT WITH FIRST SPRING``;
   - ``vehicle_contact_lost``: VVA of the block before ``LOST CONTACT WITH THE VEHICLE``;
   - ``end_of_run``: the vehicle's speed over the free flight, (SVFA_last - SVFA_first) /
@@ -65,11 +63,11 @@ Definitions
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from deck_emulator.legacy.printer import VALUE_FIELDS
+from deck_emulator.legacy.printer import VALUE_FIELDS, printout_lines
 from deck_emulator.vocabulary.events import LOST_MESSAGES, EventKind
 from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
@@ -86,8 +84,6 @@ __all__ = [
     "extract",
     "parse_printout",
 ]
-
-#: One mile per hour in ft/s.
 
 #: The candidate definitions of the report's "DECREASE IN VEHICLE VELOCITY", in order.
 DELTA_V_CANDIDATES = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost",
@@ -215,21 +211,6 @@ class Outcome:
 # ------------------------------------------------------------------------------------ parsing
 
 
-def _records(printout) -> list[str]:
-    if hasattr(printout, "records"):
-        printout = printout.records
-    if isinstance(printout, str):
-        return printout.splitlines()
-    if isinstance(printout, Iterable):
-        out = []
-        for r in printout:
-            if not isinstance(r, str):
-                raise TypeError(f"a printout record must be str, not {type(r).__name__}")
-            out.extend(r.splitlines() or [""])
-        return out
-    raise TypeError(f"cannot read a printout from {type(printout).__name__}")
-
-
 def _number(text: str, label: str, record: int) -> float | None:
     if set(text) <= {"*"}:
         return None  # field overflow: F10.5 / F15.5 filled with asterisks
@@ -238,6 +219,10 @@ def _number(text: str, label: str, record: int) -> float | None:
     except ValueError:
         raise ExtractError(f"record {record + 1}: THE VALUE OF {label} IS {text[:20]!r}: "
                            "not a number (a damaged printout?)") from None
+
+
+def _split(text: str) -> list[str]:
+    return text.splitlines() or [""]
 
 
 def parse_printout(printout) -> list[Block | Message]:
@@ -254,7 +239,7 @@ def parse_printout(printout) -> list[Block | Message]:
             items.append(Block(kind, MappingProxyType(cur), start, MappingProxyType(lines)))
         cur, lines = None, {}
 
-    for i, rec in enumerate(_records(printout)):
+    for i, rec in enumerate(printout_lines(printout, _split)):
         if rec[:1] == "1" and rec[1:].strip() == "":  # ASA page eject: a new block
             close()
             cur, start = {}, i

@@ -37,10 +37,10 @@ from dataclasses import dataclass, field
 
 from deck_emulator.legacy import listing_lines
 from deck_emulator.legacy.cardimage import END_CARDS, card_texts, read_images
-from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck, read_bytes
+from deck_emulator.legacy.deck import CARD_COLUMNS, Deck, DeckError, parse_deck
 from deck_emulator.vocabulary.listing_writes import is_comment, is_continuation
 
-__all__ = ["Job", "read_job", "parse_job", "Statement", "statements", "listing_lines",
+__all__ = ["Job", "parse_job", "Statement", "statements", "listing_lines",
            "compare_source", "job_deck_texts", "data_deck_texts"]
 
 #: the largest deck file read (a job deck with its source is ~100 KB)
@@ -128,12 +128,6 @@ class Job:
     def program_differs(self) -> bool:
         """The deck carries FORTRAN that is not the listing's program."""
         return bool(self.source_verdict) and self.source_verdict.startswith(_DIFFERS)
-
-
-def read_job(path, card_format: str = "auto", keypunch: str | None = None) -> Job:
-    """Read a deck file (plain or job deck, any card format).  DeckError for bad input."""
-    shown, data = read_bytes(path, limit=MAX_BYTES)
-    return parse_job(data, path=shown, card_format=card_format, keypunch=keypunch)
 
 
 def _is_control(text: str) -> bool:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from deck_emulator.vocabulary import listing_writes
@@ -289,3 +290,20 @@ def render_asa(records: list[str]) -> str:
         else:
             out.append(body)
     return "\n".join(out) + "\n"
+
+
+def printout_lines(printout, split=lambda text: text.split("\n")) -> list[str]:
+    """The lines of a printout -- text, a list of records, or an object with ``.records`` --
+    each text cut by ``split`` (by default at line ends only: a form feed is no new line)."""
+    if hasattr(printout, "records"):
+        printout = printout.records
+    if isinstance(printout, str):
+        return split(printout)
+    if isinstance(printout, Iterable):
+        out: list[str] = []
+        for r in printout:
+            if not isinstance(r, str):
+                raise TypeError(f"a printout record must be str, not {type(r).__name__}")
+            out.extend(split(r))
+        return out
+    raise TypeError(f"cannot read a printout from {type(printout).__name__}")

@@ -24,11 +24,10 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import lru_cache
 
-from deck_emulator.legacy.printer import VALUE_FIELDS, VALUE_TEXT
+from deck_emulator.legacy.printer import VALUE_FIELDS, VALUE_TEXT, printout_lines
 from deck_emulator.vocabulary.listing_writes import MESSAGES
 
 __all__ = ["LABELS", "MESSAGE", "OCR_CONFUSIONS", "UNKNOWN", "Record", "read_records",
@@ -203,21 +202,6 @@ def read_value(printed: str, decimals: int | None, width: int | None = None
     return (NUMBER if why is None else DAMAGED), float(repaired), repaired, why
 
 
-def _lines(printout) -> list[str]:
-    if hasattr(printout, "records"):
-        printout = printout.records
-    if isinstance(printout, str):
-        return printout.split("\n")  # not splitlines: a form feed is not a new line of the text
-    if isinstance(printout, Iterable):
-        out: list[str] = []
-        for r in printout:
-            if not isinstance(r, str):
-                raise TypeError(f"a printout record must be str, not {type(r).__name__}")
-            out.extend(r.split("\n"))
-        return out
-    raise TypeError(f"cannot read a printout from {type(printout).__name__}")
-
-
 @dataclass
 class _Found:
     """A record found in the text, before its value is read."""
@@ -294,7 +278,7 @@ def _looks_like_a_record(line: str) -> bool:
 def read_records(printout) -> list[Record]:
     """The records of a printout (text, a list of lines, or an object with ``.records``), in
     printed order; see the module docstring."""
-    found = _find(_lines(printout))
+    found = _find(printout_lines(printout))
 
     # blocks: from a page's first value, or the record after a block's end, to TIME
     blocks: list[list[int]] = []  # indexes into found, values of a known label only
