@@ -1,4 +1,4 @@
-"""Two printouts of the 1967 program, lined up by their records (issues 26, 33, 45).
+"""Two printouts of the 1967 program, lined up by their records.
 
 Each printout is read into its records (:func:`~deck_emulator.legacy.records.read_records`:
 labelled values and messages, whatever the page layout), and the two sequences are lined up

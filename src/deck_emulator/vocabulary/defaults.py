@@ -32,7 +32,6 @@ PROGRAM_CACHE_ENTRIES = 64
 PROGRAM_CACHE_MAX_BYTES = 16 << 20
 
 
-
 def user_cache_folder() -> str:
     """The package's folder in the user's cache (``$XDG_CACHE_HOME``, else ``~/.cache``): what
     is made once and kept between runs (a program's made code; numba's machine code where the
@@ -73,12 +72,9 @@ EMULATOR_T_MAX_S = 5.0
 #: statements a run of a FORTRAN program (legacy/fortran: a job deck's own, the listing) may
 #: execute, counted across its units, loops and calls (a block's statements when it starts),
 #: before it stops as a runaway (exit 3, naming the statement): legacy.stops.Limits.statements,
-#: which a caller may set. Measured in binary64: the listing on the shipped decks runs 311,083
-#: (steel20) to 317,630 (steel40), 202,000 to 204,000 where ED's guard stops the a15 and a30
-#: decks, 390,668 at most with the erratum ed-direction; a post flying the 5 s of
-#: EMULATOR_T_MAX_S (steel40 punched with HEIGHT = 5000) 1,911,496: 2.6 times that fits;
-#: a run that takes more steps on purpose (the error study's H/2**k) passes its own budget,
-#: scaled with its steps
+#: which a caller may set; 2.6 times what the longest run of the listing takes (docs/scale.md,
+#: 'Bounds'); a run that takes more steps on purpose (the error study's H/2**k) passes its own
+#: budget, scaled with its steps
 PROGRAM_STATEMENTS = 5_000_000
 #: what a program of the front end's dialect may hold, refused beyond in one line naming the
 #: card, its columns and the statement kind (none of them is reached by the listing):
@@ -169,9 +165,8 @@ WORKER_WAIT_S = 60.0
 WORKER_WAIT_RANGE_S = (1.0, 86400.0)
 #: files the embedded runner needs open in its command beside those open before it starts
 #: its workers, and more for each worker process (its pipe, its sentinel, the forkserver's
-#: handing over): measured, the lowest open-file limit (ulimit -n) under which a sweep ran
-#: with 8 files open before, 16 for 1 job, 18 for 2, 24 for 4; a command checks them
-#: against the limit before it starts the workers
+#: handing over), as measured (docs/scale.md, 'Bounds'); a command checks them against the
+#: open-file limit before it starts the workers
 POOL_FILES = 6
 POOL_WORKER_FILES = 3
 #: times a batch of scenes is run again on a new worker after the one running it died (killed,
@@ -200,9 +195,8 @@ ERROR_GRID_POINTS = 2001
 #: engine call; a point's time is their median, shown with their least and largest
 ERROR_TIMED_REPS = 5
 #: the BLAS threads every run of the error study runs with (threadpoolctl, in each run): Radau's
-#: LU factorisations round differently with 1 and 2 OpenBLAS threads (measured on steel40:
-#: rtol 1e-10 gives 1.26e-9 ft with 1 thread, 1.45e-10 ft with 2), and the default count is the
-#: machine's cores; 1 is the same on every machine
+#: LU factorisations round differently with 1 and 2 OpenBLAS threads (docs/scale.md, 'Bounds'),
+#: and the default count is the machine's cores; 1 is the same on every machine
 STUDY_BLAS_THREADS = 1
 
 # ------------------------------------------------------------------- the studies' bounds
@@ -222,9 +216,6 @@ SENSITIVITY_UNRESOLVED_SPAN = 0.5
 # ------------------------------------------------------------------- the machine's limits
 
 #: the least address space (ulimit -v) a command that runs the core or starts its own worker
-#: processes is started under, MB, refused below it in one line before any work (measured on
-#: this project's pinned versions: numba's compiler and OpenBLAS aborted the process outright
-#: at 500 and 700 MB with an empty cache; a sweep's embedded Dask cluster failed at 400 to 700
-#: MB, some starts with the workers' tracebacks on stderr; 800 MB and more ran; the package's
-#: own runner since ran a core sweep on 2 jobs at 800 MB)
+#: processes is started under, MB, refused below it in one line before any work: below it
+#: numba's compiler and OpenBLAS abort the process outright (docs/scale.md, 'Bounds')
 MIN_ADDRESS_SPACE_MB = 800

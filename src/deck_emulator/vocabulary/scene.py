@@ -18,12 +18,10 @@ A component a scene does not have is ``None`` (no luminaire arm R, no point C, n
 crush spring T, no base friction, no car body outline, no vehicle at all); the core then
 builds no force, no point and no check for it.
 
-Deck names (the READ list) map to fields as written in each docstring; the mapping, in one
-place and used both ways, is :data:`SCENE_PATHS`.  The deck carries no base friction and no normal-force
-release distance: those are constants of the listing (``FFXA=3.1*T`` with ``T=300.0``,
-the 1 in. slot ``0.083333`` ft, the release at ``XQA <= -0.4166`` ft) and
-:meth:`Scene.from_deck` fills them in as :data:`LISTING_BASE_FRICTION` and
-:data:`LISTING_NORMAL_RELEASE_FT`.
+Deck names (the READ list) map to fields through :data:`SCENE_PATHS`, read and written both
+ways; the initial state is kept as a quaternion and body rates.  The base friction and the
+normal force's release are the listing's constants, not deck fields: :meth:`Scene.from_deck`
+fills in :data:`LISTING_BASE_FRICTION` and :data:`LISTING_NORMAL_RELEASE_FT`.
 
 :class:`ModelOptions` (with the presets :data:`LEGACY` and :data:`PHYSICAL`) says how the
 core treats the listing's quirks -- each one a named flag, so every difference between the
@@ -404,14 +402,6 @@ LISTING_FRICTION_WINDOW_FT = LISTING_BASE_FRICTION.slip_window_ft - 0.004
 #: The listing's release of the normal force: ``IF(XQA+0.4166)107,107,106`` (5 in.).
 LISTING_NORMAL_RELEASE_FT = 0.4166
 
-# The one deck <-> scene mapping is the deck-field table's SCENE_PATHS (READ-list name -> the
-# path of the scene field it is, through the nested tables of Scene.to_toml): Scene.from_deck
-# reads a deck through it and Scene.deck_values writes a scene back through it.  Not in it: the
-# initial state (XCMB ... PHIB, kept as a quaternion and body rates), the scheme's start values
-# (SCHEME_ONLY), and what the listing has no field for (base friction, the normal force's
-# release, a second luminaire U, a leaf spring).
-
-
 # --------------------------------------------------------------------------------------
 # the scene
 
@@ -637,9 +627,8 @@ def _plain(obj: Any) -> dict:
 
 @functools.cache
 def _field_types(cls: type) -> dict[str, Any]:
-    """A scene class's field types, resolved once a class (typing.get_type_hints evaluates
-    every annotation's text each time: most of the time Scene.from_deck took)."""
-
+    """A scene class's field types, resolved once a class (get_type_hints evaluates every
+    annotation's text each time it is called)."""
     return typing.get_type_hints(cls)
 
 
@@ -669,9 +658,9 @@ def _build_dataclass(cls: type, data: Mapping[str, Any], where: str) -> Any:
         elif typing.get_origin(tp) is tuple:
             if not isinstance(value, list) or len(value) != len(args):
                 raise SceneError(f"{path} must be a list of {len(args)} numbers")
-            kwargs[f.name] = tuple(_number(x, path) for x in value)
+            kwargs[f.name] = tuple(toml_number(x, path) for x in value)
         elif tp is float:
-            kwargs[f.name] = _number(value, path)
+            kwargs[f.name] = toml_number(value, path)
         elif tp is str:
             if not isinstance(value, str):
                 raise SceneError(f"{path} must be a string")
@@ -703,11 +692,6 @@ def toml_number(value: Any, path: str, error: type[Exception] = SceneError) -> f
     if not math.isfinite(x):
         raise error(f"{path} = {x}: not a finite number")
     return x
-
-
-_number = toml_number
-
-
 
 
 def read_scene(path: str | os.PathLike[str]) -> "Scene":
