@@ -8,7 +8,7 @@ SPAWNED_WORKER_ENV = "DECK_EMULATOR_SPAWNED_WORKER"
 
 def __getattr__(name: str):
     # The version is written once, in pyproject.toml; this reads the installed metadata, and
-    # only when asked (importlib.metadata costs ~50 ms of every command's start-up).
+    # only when asked (a command that does not ask does not import importlib.metadata).
     if name == "__version__":
         from importlib.metadata import PackageNotFoundError, version
 

@@ -2,11 +2,11 @@
 
 Every parser is built from the application layer's table (:data:`deck_emulator.app.NAMES`,
 :func:`deck_emulator.app.command_named`: a command's options dataclass, one field an option,
-its help and spelling in the field's metadata); the parsed options become that dataclass, the command's function answers
-(:class:`deck_emulator.app.Answer`), and this module writes the answer to stdout (or
-``--out``), what it says to stderr, and maps its status to the exit status: 0 done, 1
-``compare``'s printouts differ, 2 bad input (nothing written), 3 a run could not end, 4
-``compare`` could not read every record (nothing differs among what it read: no verdict).
+its help and spelling in the field's metadata); the parsed options become that dataclass, the
+command's function answers (:class:`deck_emulator.app.Answer`), and this module writes the
+answer to stdout (or ``--out``), what it says to stderr, and maps its status to the exit
+status: 0 done, 1 ``compare``'s printouts differ, 2 bad input (nothing written), 3 a run could
+not end, 4 ``compare`` could not read every record (nothing differs among what it read).
 
 Standard output and error are written here and only here (:func:`_streams`): a stream the
 process was started without (``>&-``) is a sink, so that a command's answer is refused before
@@ -200,7 +200,7 @@ _NEGATIVE_NUMBER = re.compile(r"-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 def _help_formatter(prog: str) -> argparse.HelpFormatter:
     """argparse's help formatter at the terminal's width, found as shutil.get_terminal_size
     finds it (COLUMNS, else the terminal of stdout, else 80 columns) but without importing
-    shutil (with zlib, bz2 and lzma: about 2.5 ms of a plain run's start)."""
+    shutil, and with it zlib, bz2 and lzma, at a plain run's start."""
     try:
         columns = int(os.environ.get("COLUMNS", "0"))
     except ValueError:

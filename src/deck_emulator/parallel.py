@@ -1,9 +1,7 @@
 """The package's progress display: :func:`progress_bar` (a tqdm bar on stderr, only on a
 terminal) and :class:`busy` (the same for one long call that reports nothing itself).
 
-Runs of many scenes go to the one scene runner, :func:`deck_emulator.studies.distributed.run_scenes`
-(worker processes, or a Dask cluster); the process-pool map that was here is gone with its last user (the report comparison
-runs in one process: no slower, measured).
+Runs of many scenes go to the one scene runner, :func:`deck_emulator.studies.distributed.run_scenes`.
 """
 
 from __future__ import annotations
@@ -23,8 +21,7 @@ def _on_terminal() -> bool:
 
 
 #: the share of a bar's work done before it shows the time left (and at least two items):
-#: the first items' time holds the workers' start (4 s before a 0.1 s scene), so the time
-#: left they give is far off (9 min shown for an 8 s study)
+#: the first items' time holds the workers' start, so the time left they give is far off
 SETTLED = 0.1
 
 _NO_TIME_LEFT = "{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}, {rate_fmt}{postfix}]"

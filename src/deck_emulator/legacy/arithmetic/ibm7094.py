@@ -121,8 +121,8 @@ class Word:
     """
 
     # The fields live in private slots, read-only from outside through the properties below;
-    # the operators build their results by setting the slots directly (two to three times
-    # faster than a guarded __setattr__, and the one place words are made: _make, _pack).
+    # the operators build their results by setting the slots directly (faster than a guarded
+    # __setattr__; the one place words are made: _make, _pack).
     __slots__ = ("_s", "_c", "_f")
     __array_ufunc__ = None  # NumPy: refuse mixed operations instead of making object arrays
 

@@ -31,7 +31,7 @@ class DoubleArithmetic(Arithmetic):
 
 
 def _libm():
-    import ctypes  # here: only binary32 calls sinf/cosf (ctypes.util costs a double run ~3 ms)
+    import ctypes  # here: only binary32 calls sinf/cosf (a binary64 run imports no ctypes)
     import ctypes.util
 
     path = ctypes.util.find_library("m")
