@@ -49,7 +49,6 @@ __all__ = [
     "check_output_file",
     "check_distinct",
     "write_file",
-    "write_atomic",
 ]
 
 _MARK = ".~"  # between a hidden name and the writer's pid in temporary names
@@ -450,11 +449,6 @@ def write_file(path, data: str | bytes) -> None:
         with contextlib.suppress(OSError):
             tmp.unlink()
         raise
-
-
-def write_atomic(path, text: str | bytes) -> None:
-    """The former name of :func:`write_file` (kept until every caller has moved)."""
-    write_file(path, text)
 
 
 # --------------------------------------------------------------------------- a set of files

@@ -1,22 +1,7 @@
 """SIGTERM (and SIGHUP) as exceptions, so that ``finally`` blocks and ``with`` exits run and
 remove temporary files, as they already do for Ctrl-C (KeyboardInterrupt); the exit statuses a
-shell expects of a program ended by a signal: 128 + the signal's number.
-
-Usage from a command's ``main()``::
-
-    from deck_emulator import signals
-
-    def main(argv=None) -> int:
-        signals.install_signal_handlers()
-        try:
-            return _main(argv)
-        except BaseException as exc:
-            code = signals.exit_status(exc)
-            if code is None:
-                raise
-            return code
-
-or simply ``return signals.run(_main, argv)``.
+shell expects of a program ended by a signal: 128 + the signal's number.  A command's
+``main()`` returns ``signals.run(_main, argv)``.
 
 A signal is never swallowed.  Python cannot raise an exception out of a garbage-collector
 callback, a ``__del__`` or a weakref callback: one raised there is printed ("Exception ignored

@@ -15,7 +15,6 @@ import pytest
 
 from procs import sigint_as_on_a_terminal
 
-from deck_emulator import files
 from deck_emulator.files import OutputError, OutputSet, check_output_dir, check_output_file, write_file
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -387,11 +386,6 @@ def test_set_into_a_device(tmp_path):
         out.write("/dev/null", "x")
         out.write(tmp_path / "a.txt", "y")
     assert stat.S_ISCHR(os.stat("/dev/null").st_mode) and (tmp_path / "a.txt").read_text() == "y"
-
-
-def test_write_atomic_is_write_file(tmp_path):
-    files.write_atomic(tmp_path / "a", "x")
-    assert (tmp_path / "a").read_text() == "x"
 
 
 # ----------------------------------------------------------------------- signals
