@@ -3,8 +3,8 @@ control in column 1 (exactly the lines gfortran writes to unit 6).
 
 Records are laid out from the FORMAT texts the listing writes with (:data:`FORMATS`, read
 from ``legacy/luminaire.f`` itself); they use only Hollerith text, ``nX``, ``/`` and ``Fw.d``,
-which are laid out here directly (tests/legacy/test_printer.py checks the layout against fortranformat's, and the goldens
-against gfortran's). The digits are decided from the exact value (see ``rounded_digits``):
+which are laid out here directly (tests/legacy/test_printer.py checks the layout against
+fortranformat's, and the goldens against gfortran's). The digits are decided from the exact value (see ``rounded_digits``):
 gfortran rounds exact ties to even, where fortranformat rounds them away from zero and
 misrounds some values next to a tie; an arithmetic may also choose to truncate
 (``format_rounding``).
@@ -93,9 +93,9 @@ def _listing_layouts() -> tuple[dict, dict]:
 
 
 def __getattr__(name: str):
-    # _LAYOUTS, _DECIMALS and VALUE_FIELDS: the listing's, made when first read
-    if name in ("_LAYOUTS", "_DECIMALS"):
-        return _listing_layouts()[name == "_DECIMALS"]
+    # _DECIMALS and VALUE_FIELDS: the listing's, made when first read
+    if name == "_DECIMALS":
+        return _listing_layouts()[1]
     if name == "VALUE_FIELDS":
         return _value_fields()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -130,6 +130,8 @@ VALUE_TEXT = "THE VALUE OF {name} IS "
 
 @functools.cache
 def _value_fields() -> tuple[ValueField, ...]:
+    """VALUE_FIELDS: every labelled value of the listing, in printed order (the name TIME
+    closes both pages, F10.6 in contact and F10.5 in free flight)."""
     before, after = VALUE_TEXT.split("{name}")
     shape = re.compile(re.escape(before) + r"(\w+)" + re.escape(after))
     fields: list[ValueField] = []
@@ -145,11 +147,6 @@ def _value_fields() -> tuple[ValueField, ...]:
                     k = sum(f.label == label for f in fields)
                     fields.append(ValueField(label, named.group(1), *field, page, printed[k]))
     return tuple(fields)
-
-
-#: VALUE_FIELDS (made when first read: :func:`__getattr__`): every labelled value of the listing,
-#: in printed order (a page's values in the order printed; the name TIME closes both pages,
-#: F10.6 in contact and F10.5 in free flight).
 
 
 def f_field(digits: str, negative: bool, w: int) -> str:

@@ -37,8 +37,7 @@ class DeckField:
     @property
     def columns(self) -> tuple[int, int]:
         """First and last column (1-based) of the field on its card."""
-        first = (self.field - 1) * FIELD_WIDTH + 1
-        return first, first + FIELD_WIDTH - 1
+        return field_columns(self.field)
 
 
 def _point(letter: str, attr: str, what: str) -> list[tuple]:

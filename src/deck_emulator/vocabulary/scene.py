@@ -113,18 +113,12 @@ class PostPoint:
 
 @dataclass(frozen=True)
 class Post:
-    """The rigid post assembly (post, base plate, luminaire arm).
+    """The rigid post assembly (post, base plate, luminaire arm); each field's deck name and
+    meaning is its row of :mod:`~deck_emulator.vocabulary.deck_fields`.
 
-    * ``mass_slug`` -- the deck's ``W`` (a mass in slugs, although the name says weight).
-    * ``inertia_1_slug_ft2``, ``inertia_2_slug_ft2``, ``inertia_3_slug_ft2`` -- the principal
-      moments of inertia ``A``, ``B``, ``C`` about axes 1, 2, 3 (3 is the post axis).
-    * ``principal_tilt_rad`` -- ``DELTA``: the principal axes X, Y, Z are the road axes
-      turned by this angle about ``XX``.
-    * Named points (see :class:`PostPoint`): ``top`` P, ``base`` Q (where the base forces
-      act), ``first_impact`` S (first crush spring), ``second_impact`` T (second crush
-      spring), ``luminaire_end`` R, ``point_c`` C, ``second_luminaire_end`` U (a second
-      arm, which the listing cannot carry).  P and Q are always there; the others are
-      ``None`` when the scene has no such point.
+    The principal axes X, Y, Z are the road axes turned by ``principal_tilt_rad`` about
+    ``XX`` (3 is the post axis).  Of the named points (:data:`POINT_FIELDS`) P and Q are
+    always there; the others are ``None`` when the scene has no such point.
     """
 
     mass_slug: float
@@ -169,17 +163,11 @@ class Post:
 
 @dataclass(frozen=True)
 class PostInitialState:
-    """The post's motion at t = 0 (the deck's B values of the first step).
-
-    * ``mass_centre_ft`` -- mass-centre position in ``XX, YY, ZZ`` (the deck gives
-      ``XCMB, YCMB, ZCMB`` in ``X, Y, Z``; :meth:`Scene.from_deck` turns them).
-    * ``velocity_body_ft_s`` -- ``V1B, V2B, V3B``: mass-centre velocity along axes 1, 2, 3.
-    * ``angular_velocity_body_rad_s`` -- ``W1B, W2B, W3B``.
-    * ``attitude_wxyz`` -- the rotation of the principal axes from ``X, Y, Z`` as a unit
-      quaternion ``(w, x, y, z)``; equal to the report's rotation parameters
-      ``(chi, xi, eta, zeta)`` (eq. 2.51).  :meth:`from_euler` converts the listing's
-      ``PSIB, THB, PHIB``.
-    """
+    """The post's motion at t = 0 (the deck's B values): the mass centre in ``XX, YY, ZZ``
+    (the deck gives ``XCMB, YCMB, ZCMB`` in ``X, Y, Z``), its velocity (``V1B`` ...) and the
+    angular velocity (``W1B`` ...) along the body axes, and the attitude as a unit quaternion
+    ``(w, x, y, z)``, the report's rotation parameters ``(chi, xi, eta, zeta)`` (eq. 2.51;
+    :meth:`from_euler` converts the listing's ``PSIB, THB, PHIB``)."""
 
     mass_centre_ft: Vec3 = (0.0, 0.0, 0.0)
     velocity_body_ft_s: Vec3 = (0.0, 0.0, 0.0)
@@ -326,19 +314,13 @@ def car_boxes(body) -> tuple[CarBox, CarBox, CarBox]:
 
 @dataclass(frozen=True)
 class Vehicle:
-    """The single-degree-of-freedom car (section 3.2, eq. 3.18).
+    """The single-degree-of-freedom car (section 3.2, eq. 3.18); each field's deck name and
+    meaning is its row of :mod:`~deck_emulator.vocabulary.deck_fields`.
 
-    * ``mass_slug`` -- ``WV``.
-    * ``initial_velocity_ft_s`` -- ``VVB``: velocity along ``XV``; negative, the car moves
-      towards ``-XV`` (58.66 ft/s is 40 mph).
-    * ``approach_angle_rad`` -- ``ALPHA``: angle of the path to ``XX``.
-    * ``initial_position_ft`` -- ``SVB``: the car's reference point on ``XV`` at t = 0.
-    * ``contact_position_ft`` -- ``SVO``: the car's position when the spring starts to
-      crush (eq. 3.15: ``FS = K*((SVO - SV) - (XVSO - XVS))``).
-    * ``first_spring`` (``CK``, at S); ``second_spring`` (``CT``, at T) or ``None``.
-    * ``force_cap_lb`` -- ``FCONST``, the listing's cap on the spring force (used only by
-      the ``force_cap`` option), or ``None``.
-    * ``body`` -- the outline checked in free flight, or ``None`` (no vehicle checks).
+    It moves along ``XV``, towards ``-XV`` (a negative ``initial_velocity_ft_s``); its spring
+    starts to crush at ``contact_position_ft`` (eq. 3.15: ``FS = K*((SVO - SV) - (XVSO -
+    XVS))``).  ``None``: no second spring, no force cap (used only by the ``force_cap_from_s``
+    option), no ``body`` (no vehicle checks in free flight).
     """
 
     mass_slug: float
