@@ -261,8 +261,8 @@ def remove_own_temp_folder() -> None:
 
 def _temp_prefix(name: str) -> str:
     """The hidden name of a temporary beside ``name``: the name cut to leave room for the
-    pid, mkstemp's 8 characters and the suffix within a file name's 255 bytes (a legal name
-    of 240 bytes was refused: its temporary's was too long)."""
+    pid, mkstemp's 8 characters and the suffix within a file name's 255 bytes, so that any
+    legal name can be written."""
     room = 255 - len(f".{_MARK}{os.getpid()}.") - 8 - len(".part") - 16  # 16: an extension
     cut = os.fsencode(name)[:room].decode(errors="ignore") if len(os.fsencode(name)) > room \
         else name

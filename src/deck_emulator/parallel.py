@@ -1,7 +1,8 @@
 """The package's progress display: :func:`progress_bar` (a tqdm bar on stderr, only on a
 terminal) and :class:`busy` (the same for one long call that reports nothing itself).
 
-Runs of many scenes go to the one scene runner, :func:`deck_emulator.studies.distributed.run_scenes`.
+Runs of many scenes go to the one scene runner,
+:func:`deck_emulator.studies.distributed.run_scenes`.
 """
 
 from __future__ import annotations

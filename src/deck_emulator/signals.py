@@ -5,12 +5,11 @@ shell expects of a program ended by a signal: 128 + the signal's number.  A comm
 
 A signal is never swallowed.  Python cannot raise an exception out of a garbage-collector
 callback, a ``__del__`` or a weakref callback: one raised there is printed ("Exception ignored
-in ...") and dropped, and the program went on as if no signal had come (a sweep asleep for
-ever in Dask's start-up; a study that exited 0).  So each signal is noted as *pending* until
-its exception reaches :func:`run`; while one is pending, SIGALRM is armed every
-:data:`REDELIVER_S` seconds and raises it again -- unless it is on its way out already (being
-handled: a ``finally`` or ``with`` exit running on its account, which must not be cut).  A
-command that returns while a signal is pending ends with that signal's status all the same.
+in ...") and dropped, and the program would go on as if no signal had come.  So each signal
+is noted as *pending* until its exception reaches :func:`run`; while one is pending, SIGALRM
+is armed every :data:`REDELIVER_S` seconds and raises it again -- unless it is on its way out
+already (being handled: a ``finally`` or ``with`` exit running on its account, which must not
+be cut).  A command that returns while a signal is pending ends with its status all the same.
 """
 
 from __future__ import annotations

@@ -9,15 +9,13 @@ How the printout is laid out (labels of ``legacy/luminaire.f``)
 * A **block** is one page: a ``1`` record (the ``1H1`` page eject of FORMAT 15 or 60) followed by
   ``THE VALUE OF name IS value`` lines. Contact blocks (label 88) start with VVA and end with
   ``TIME`` = Q; free-flight blocks (label 98) start with THFA and end with ``TIME`` = T. Values
-  are stored under the *variable* each WRITE prints, not the Hollerith label: FORMAT 207 says
-  ``ZXCMA`` for ZZCMA, FORMAT 133 ``ZYCFA`` for ZZCFA, FORMATs 120-122 and 60-62 say ``THA`` ...
-  ``PSIFA`` for the angles in degrees THAD ... PSIFAD (see :data:`LABEL_VARIABLE`). A field that
-  overflowed its F10.5/F15.5 width (all ``*``) reads as ``None``.
+  are stored under the *variable* each WRITE prints, not the Hollerith label
+  (:data:`LABEL_VARIABLE`). A field that overflowed its width (all ``*``) reads as ``None``.
 * Contact blocks are printed when the counter E reaches 0.0016 (label 87: every 4th step of
-  0.0004 s in binary64; see the note on the 7094 below), and also when the step that loses
-  contact is found (labels 56 and 353 set M or N and ``GO TO 88``). A contact block is printed
-  *before* the step is judged, so one printed by the counter can be a trial step that label 108
-  then rejects (halving H); such blocks are kept, as printed.
+  0.0004 s in binary64, every 5th under the 7094's chopped E counter), and also when the step
+  that loses contact is found (labels 56 and 353 set M or N and ``GO TO 88``). A contact block
+  is printed *before* the step is judged, so one printed by the counter can be a trial step
+  that label 108 then rejects (halving H); such blocks are kept, as printed.
 * **Loss of contact.** When DIFF (then DIFFT) first lies in (0, 0.01], label 56 (353) prints that
   step's block through ``GO TO 88``, and only then does control reach 354 (42), which writes
   ``THE POST HAS LOST CONTACT WITH FIRST SPRING`` (``... THE VEHICLE``). So **the block just
@@ -35,8 +33,7 @@ Definitions
 * ``final_time_s``: the last TIME printed.
 * ``max_decel_g``: max of the printed FSA over the contact blocks, divided by WV*G (FSA, the
   spring force, in lb; WV, the vehicle mass, in slug; G in ft/s^2). It is over the *printed*
-  records only -- every 4th step in binary64 (every 5th under the 7094's chopped E counter) --
-  not over every step, so a peak between two prints is missed.
+  records only, not over every step, so a peak between two prints is missed.
 * ``delta_v_candidates_mph``: the decrease of the vehicle's speed, |VVB| - |VV|, with VVB the
   deck's initial value, in mph (1 mph = 88/60 ft/s), at four instants (:data:`DELTA_V_CANDIDATES`):
 
@@ -50,14 +47,10 @@ Definitions
     (TIME_last - TIME_first) of the free-flight blocks. VVFA is never changed in free flight
     (``VVFA=VVFB``) and is not printed, so this recovers it from the printed displacement; it
     equals ``vehicle_contact_lost`` to print precision.
-* Terminal coordinates in the report's XL, YL, ZL axes ("origin at the base of the support ...
-  translating the XX, YY, ZZ coordinate system"): the printout gives points in XX, YY, ZZ with
-  origin at the post's initial mass centre; the base point Q starts at (XQO, YYQO, ZZQO) and the
-  ground is the plane ZZ = -HEIGHT (the listing's ground test is ``ZZ+HEIGHT = 0``). So
-  ``XL = XX - XQO``, ``YL = YY - YYQO``, ``ZL = ZZ + HEIGHT``: origin on the ground under the
-  base (Q itself starts at ZL = ZZQO + HEIGHT = 0.5 ft in the steel decks). Points P, Q, R and C
-  (C is the listing's extra check point; in the steel decks XCO, YYCO, ZZCO equal XQO, YYQO,
-  ZZQO, so C and Q coincide).
+* Terminal coordinates of P, Q, R and C in the report's XL, YL, ZL axes ("origin at the base
+  of the support ... translating the XX, YY, ZZ coordinate system"): the printout's XX, YY, ZZ
+  have their origin at the post's initial mass centre and the ground is ZZ = -HEIGHT (the
+  listing's ground test), so ``XL = XX - XQO``, ``YL = YY - YYQO``, ``ZL = ZZ + HEIGHT``.
 """
 
 from __future__ import annotations

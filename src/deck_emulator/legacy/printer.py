@@ -4,10 +4,10 @@ control in column 1 (exactly the lines gfortran writes to unit 6).
 Records are laid out from the FORMAT texts the listing writes with (:data:`FORMATS`, read
 from ``legacy/luminaire.f`` itself); they use only Hollerith text, ``nX``, ``/`` and ``Fw.d``,
 which are laid out here directly (tests/legacy/test_printer.py checks the layout against
-fortranformat's, and the goldens against gfortran's). The digits are decided from the exact value (see ``rounded_digits``):
-gfortran rounds exact ties to even, where fortranformat rounds them away from zero and
-misrounds some values next to a tie; an arithmetic may also choose to truncate
-(``format_rounding``).
+fortranformat's, and the goldens against gfortran's). The digits are decided from the exact
+value (see ``rounded_digits``): gfortran rounds exact ties to even, where fortranformat rounds
+them away from zero and misrounds some values next to a tie; an arithmetic may also choose to
+truncate (``format_rounding``).
 """
 
 from __future__ import annotations

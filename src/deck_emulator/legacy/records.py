@@ -6,9 +6,9 @@ or a message, ``THE POST HAS ...``.  Records are found by their text wherever th
 carriage control, a rendered page, ``pdftotext`` output (with or without ``-layout``: a label
 that ends its line takes the lone field of the next non-blank line), re-spaced fields and two
 records on one line all read alike; a compile listing's FORMAT statements (``20HTHE VALUE OF
-...``) are not records.  What the FORMATs print is read from
-:data:`~deck_emulator.legacy.printer.VALUE_FIELDS`, :data:`~deck_emulator.legacy.printer.VALUE_TEXT`
-and :data:`~deck_emulator.vocabulary.listing_writes.MESSAGES` only.
+...``) are not records.  What the FORMATs print is read from the listing only
+(:data:`~deck_emulator.legacy.printer.VALUE_FIELDS`, ``printer.VALUE_TEXT``,
+:data:`~deck_emulator.vocabulary.listing_writes.MESSAGES`).
 
 A **block** is the values one page prints, from a ``1H1`` FORMAT's value (or the record after
 the last block) to ``TIME``; each value carries its block's TIME, which lines two printouts up.
