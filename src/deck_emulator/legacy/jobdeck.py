@@ -245,9 +245,6 @@ def job_deck_texts(decks: list[Deck], job_name: str = "LUMIN") -> list[str]:
                 texts.append(line[1:])
             continue
         texts.append(_punchable(line) if line[:1] in ("C", "*") else line)
-    texts += ["$ENTRY         MAIN"]
-    for deck in decks:
-        texts += ["$DATA", *(card.rstrip(" ") for card in deck.cards)]
-    texts.append("$IBSYS")
+    texts += ["$ENTRY         MAIN", *data_deck_texts(decks), "$IBSYS"]
     assert all(len(t) <= CARD_COLUMNS for t in texts)
     return texts
