@@ -30,6 +30,11 @@ its made code by the cards' SHA-256 in the user's cache folder: XDG_CACHE_HOME p
 same temporary folder); one unmeasured run of each fills the caches.  The commands
 alternate within each repetition, so that a change in the machine's load falls on all of
 them alike.  Times are wall-clock: say how loaded the machine was when quoting them.
+
+``--baseline REF`` adds ``run steel40`` of the package as it stood at the git commit REF (its
+``src/`` exported to a temporary folder, with a cache folder of its own), measured in the same
+alternation, and prints the ratio of this checkout's run to it: "no slower than REF" is judged
+on that ratio, not on figures of two different runs.
 """
 
 from __future__ import annotations
@@ -77,24 +82,44 @@ def job_deck(folder: str, env: dict[str, str]) -> str:
 
 
 
+def baseline(ref: str, folder: str) -> tuple[list[str], dict[str, str]]:
+    """``run steel40`` of the package at the commit ``ref`` (its src/ and legacy/ exported into
+    ``folder``), and the environment it runs in: bytecode and user cache in ``folder`` too."""
+    tree = Path(folder) / "baseline"
+    tree.mkdir()
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "src", "legacy"],
+                             check=True, capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
+    env = environment(str(tree / "cache"))
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(tree / "src"),
+                                                      os.environ.get("PYTHONPATH")]))
+    return [sys.executable, "-m", "deck_emulator", "run", DECK], env
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7, help="runs of each command (default 7)")
     ap.add_argument("--ibm7094-repeat", type=int, default=7,
                     help="runs of the ibm7094 command (default 7, ~1.5 s each)")
+    ap.add_argument("--baseline", metavar="REF",
+                    help="also run steel40 with the package at git commit REF, alternating")
     args = ap.parse_args(argv)
     with tempfile.TemporaryDirectory() as cache:
         env = environment(cache)
         cmds = commands(job_deck(cache, env))
+        envs = dict.fromkeys(cmds, env)
+        if args.baseline:
+            at_ref = f"run steel40 at {args.baseline}"
+            cmds[at_ref], envs[at_ref] = baseline(args.baseline, cache)
         walls: dict[str, list[float]] = {name: [] for name in cmds}
         cpus: dict[str, list[float]] = {name: [] for name in cmds}
-        for argv_ in cmds.values():  # fill the bytecode cache, unmeasured
-            measure(argv_, env)
+        for name, argv_ in cmds.items():  # fill the bytecode cache, unmeasured
+            measure(argv_, envs[name])
         for i in range(max(args.repeat, args.ibm7094_repeat)):
             for name, argv_ in cmds.items():
                 wanted = args.ibm7094_repeat if "ibm7094" in name else args.repeat
                 if i < wanted:
-                    wall_s, cpu_s = measure(argv_, env)
+                    wall_s, cpu_s = measure(argv_, envs[name])
                     walls[name].append(wall_s)
                     cpus[name].append(cpu_s)
     med = {name: statistics.median(t) for name, t in walls.items()}
@@ -116,6 +141,11 @@ def main(argv=None) -> int:
                   f"{RUN_TARGET_RATIO:g}): {'met' if ratio <= RUN_TARGET_RATIO else 'NOT met'}; "
                   f"run --precision ibm7094 {ibm:.3f} s (target at most {IBM7094_TARGET_S:g} "
                   f"s): {'met' if ibm <= IBM7094_TARGET_S else 'NOT met'}")
+    if args.baseline:
+        for what, m in (("wall", med), ("CPU", cpu)):
+            ratio = m["deck-emulator run steel40"] / m[at_ref]
+            print(f"{what:>4}: run steel40 / the same at {args.baseline} {ratio:.3f} "
+                  f"({'no slower' if ratio <= 1 else 'slower'})")
     print(f"(load average at the end: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; "
           f"{os.cpu_count()} CPUs)")
     return 0

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
+from collections import namedtuple
 
 #: The listing as shipped (a byte-for-byte copy of the repository's ``legacy/luminaire.f``).
 LISTING_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
@@ -42,16 +42,15 @@ def _continues(card: str) -> bool:
     return len(card) > 5 and card[5] not in (" ", "0")
 
 
-@dataclass(frozen=True)
-class Write:
-    """One ``WRITE(6,label) variables`` of the listing and its FORMAT: ``format`` its text
-    with blanks dropped outside the Hollerith texts (``(/,5X,20HTHE VALUE OF SVA IS ,F15.5)``),
-    ``variables`` what the WRITE prints, in order; ``card``: the WRITE's line."""
+class Write(namedtuple("Write", "label format variables card")):
+    """One ``WRITE(6,label) variables`` of the listing and its FORMAT: ``label`` (int) the
+    FORMAT's, ``format`` its text with blanks dropped outside the Hollerith texts
+    (``(/,5X,20HTHE VALUE OF SVA IS ,F15.5)``), ``variables`` (tuple of str) what the WRITE
+    prints, in order; ``card`` (int): the WRITE's line.  A named tuple: every run reads the listing
+    at import, where a frozen dataclass would compile its methods and typing's NamedTuple
+    import typing (docs/scale.md, "A plain run's start")."""
 
-    label: int
-    format: str
-    variables: tuple[str, ...]
-    card: int
+    __slots__ = ()
 
 
 #: a Hollerith count after the delimiter before it (blanks in it ignored)

@@ -84,18 +84,34 @@ OPTION_LITERALS = {
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
 
 
-@functools.cache
-def _front_end_sha256() -> str:
-    """SHA-256 of this front end's text (every module of it): kept code names it."""
-    import hashlib
-
+def _front_end_text() -> bytes:
+    """This front end's text: every module of it, in the order of their names."""
     here = os.path.dirname(__file__)
-    digest = hashlib.sha256()
+    text = []
     for name in sorted(os.listdir(here)):
         if name.endswith(".py"):
             with open(os.path.join(here, name), "rb") as fh:
-                digest.update(fh.read())
-    return digest.hexdigest()
+                text.append(fh.read())
+    return b"".join(text)
+
+
+@functools.cache
+def _front_end_sha256() -> str:
+    """SHA-256 of this front end's text: the made code's header names it."""
+    import hashlib
+
+    return hashlib.sha256(_front_end_text()).hexdigest()
+
+
+@functools.cache
+def _front_end_identity() -> bytes:
+    """What kept code holds of the front end that made it: the hash Python checks a source
+    against its cached bytecode with (``importlib.util.source_hash``).  Any change of the text
+    changes it; the entry itself is named and checked by the SHA-256 of the whole identity
+    (cache.py), and a run that finds its code kept hashes no module of the front end."""
+    from importlib.util import source_hash
+
+    return source_hash(_front_end_text())
 
 
 #: The ways of running a program: (binary64, checked per assignment).
@@ -265,12 +281,12 @@ class Program:
 
     def _identity(self, key) -> bytes:
         """What the made code of a way of running is made from: the cards, this front end's
-        SHA-256, the watch, the way and Python's bytecode tag (a kept entry is named by its
+        text (its hash: :func:`_front_end_identity`), the watch, the way and Python's bytecode tag (a kept entry is named by its
         SHA-256 and checked against it whole: legacy/fortran/cache.py; made once a way)."""
         if key not in self._identities:
             import sys
 
-            self._identities[key] = repr((self.lines, _front_end_sha256(), self.watch, key,
+            self._identities[key] = repr((self.lines, _front_end_identity(), self.watch, key,
                                           sys.implementation.cache_tag)).encode()
         return self._identities[key]
 
