@@ -1,30 +1,11 @@
 """Work-precision study: error against run time and against work, for the 1967 scheme and the
 modern core.
 
-The reference is the core (``legacy`` preset, DOP853) at the defaults' ``REFERENCE_RTOL``, checked
-against a second method at a tenth of that tolerance (Radau and LSODA; LSODA only with ``quick``).
-Errors of a run against a reference:
-
-* ``err_traj_ft``: the largest distance between the post's mass-centre trajectories -- at the
-  emulator's accepted steps (the reference's dense output interpolated there), or on a fixed
-  grid of 2001 times for a core run -- over the time both runs cover;
-* ``err_hit_time_s``: the difference of the hit times (the emulator's lies on its step grid:
-  no order is fitted to it, :data:`~deck_emulator.studies.orders.QUANTISED`);
-* ``err_R_ft``: the distance between the luminaire point R of the two runs at their hits.
-
-The emulator and the core's legacy preset are not the same discretisation of the start-up kick
-once the step is scaled: the emulator's run at step ``H0/2**k`` is therefore measured against
-a reference with ``StartupKick(step_s=h)`` (and the ``FCONST`` cap armed at 8 ms, as the
-emulator arms it at every k; :func:`~.common.matched_options`) (``err_*``), and also against the
-single k = 0 reference (``err_*_ref0``).  Core runs use the k = 0 model, so both coincide.
-
-The core runs three ways: solve_ivp with its largest step bounded by ``MAX_STEP_S`` (as every
-core run is), the same without the bound, and the compiled DOP853 (``CoreEngine.run_batch``, a batch
-of one scene) with and without it.  Every run is timed the same way (the page says how), and runs
-with the BLAS threads of :data:`BLAS_THREADS` (Radau's LU factorisations round differently with
-another count).  For each core run the contact phase's error is followed into the free flight
-(``dt_*``, ``err_release_*``, ``err_flight_*`` columns: :func:`_release_errors`), which is what
-makes the error-against-tolerance curve non-monotone.
+Every run is measured against the core's reference (``legacy`` preset, DOP853 at the defaults'
+``REFERENCE_RTOL``, itself checked by a second method at a tenth of it); an emulator run at
+``H0/2**k`` against a reference with the matching start-up kick (:func:`~.common.matched_options`)
+and against the k = 0 one. What the columns, the orders and the timings mean is said on the page
+the study writes (``templates/error_study.md``).
 """
 
 from __future__ import annotations

@@ -3,19 +3,9 @@ steel40, and the stability of both stated from the scheme and the model (:func:`
 the 1967 scheme's one-step matrix on a spring; :func:`contact_spectrum`: the eigenvalues of the
 core's contact Jacobian).
 
-Every scene is run by the emulator (double precision, erratum ``ed-direction``, the guards of
-:data:`LIMITS`) and by the core (``legacy`` preset with the start-up kick and the 20-step
-``FCONST`` arming of the emulator's step, DOP853 at the defaults' ``STUDY_RTOL`` and ``STUDY_T_MAX_S``).  What
-is recorded for each: how the run ended (the hit message and time, or the guard that fired, or
-the exception), when the car let go, the post's kinetic energy then (the "launch" energy), and
-the drift of the post's total energy over the free flight (in free flight only gravity acts,
-so it should stay constant).
-
-The emulator's end is then classed against the core's: ``agrees`` (same hit, hit times within
-:data:`AGREE_HIT_S`, launch energies within :data:`AGREE_KE`), ``same hit, off`` (same hit,
-further apart), ``other hit`` (it ends cleanly, with another answer), ``no hit`` (time limit),
-``guard: NAME``, ``crash`` (an exception the emulator does not expect), ``n/a`` (the scene's
-change is not a deck input), ``hit (core failed)``.
+Every scene runs on both engines; the emulator's end is classed against the core's
+(:func:`classify`). How each runs and what the classes mean is said on the page the study
+writes (``templates/stability_study.md``).
 """
 
 from __future__ import annotations
@@ -229,6 +219,10 @@ def _task_core(spec, deck) -> dict:
 
 
 def classify(row: dict) -> str:
+    """The emulator's end against the core's: ``agrees`` (same hit, hit times within
+    :data:`AGREE_HIT_S`, launch energies within :data:`AGREE_KE`), ``same hit, off``, ``other
+    hit``, ``no hit``, ``guard: NAME``, ``crash``, ``n/a`` (the scene's change is no deck input)
+    or ``hit (core failed)``."""
     if not row["emulator"]:
         return "n/a"
     status = row.get("emulator_status")
