@@ -27,6 +27,7 @@ from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords, quan
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
+from deck_emulator.studies.pages import page
 from deck_emulator.studies.distributed import (
     SceneStore,
     Stopped,
@@ -846,25 +847,15 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
         if failed is not None:  # no index can come of it: a run that could not end, exit 3
             raise RunFailed(f"{label}: every scene failed ({failed}); no table written")
     wall = time.perf_counter() - started
-    cmd = command_line
-    rng = "; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs)
-    header = "\n".join([
-        "# Sobol sensitivity indices" + (f" — {first}" if first else ""),
-        "",
-        f"Command: `{cmd}`" if cmd else "",
-        "",
-        f"Engine **{engine}** (preset {keywords.get('preset', 'legacy')}"
-        + {None: "", True: ", shaft contact on", False: ", shaft contact off"}[
-            keywords.get("shaft_contact")] + f"); N = {n} (and N/2 for convergence); "
-        f"{n * (len(inputs) + 2)} scenes per deck; seed {seed}; "
-        f"{wall:.0f} s wall for the scenes run now (measured under load).",
-        "",
-        f"Inputs (uniform): {rng}.",
-        *(f"\nNote: {x}." for x in notes),
-        "",
-        "Class outcomes as indicators: P(first hit on the car) and P(first hit on roof: top or "
-        "windshield); see `deck_emulator.studies.sensitivity`.",
-    ])
+    header = page(
+        "sensitivity_header.md", blind=f" — {first}" if first else "",
+        command=f"Command: `{command_line}`" if command_line else "", engine=engine,
+        preset=keywords.get("preset", "legacy"),
+        shaft={None: "", True: ", shaft contact on", False: ", shaft contact off"}[
+            keywords.get("shaft_contact")],
+        n=n, scenes=n * (len(inputs) + 2), seed=seed, wall=f"{wall:.0f}",
+        inputs="; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs),
+        notes="".join(f"\n\nNote: {x}." for x in notes))
     files = write_outputs(studies, out, header=header)
     say("wrote " + ", ".join(str(f) for f in files))
     return files
