@@ -258,6 +258,13 @@ CASES_ALL = MappingProxyType({
 })
 
 
+def report_time_ms_all(column: str) -> float | None:
+    """The report's time of the terminal event of any of the 18 columns, ms."""
+    row = REPORT_ALL[column]
+    return row["time_to_hit_car_ms"] if row["time_to_hit_car_ms"] is not None \
+        else row["time_to_hit_ground_ms"]
+
+
 # ------------------------------------------------------------------------------------------
 # Chapter V: the crash test (Tables 8, 9, 10), seed lines 1622-1674.
 
