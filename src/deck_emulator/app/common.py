@@ -94,9 +94,8 @@ def emulator(options, *, trace: bool = True, fortran=None):
                           arithmetic_options=arithmetic, trace=trace, fortran=fortran)
 
 
-#: what numba's first compilation of the core's batch costs, said while it runs: measured with
-#: an empty cache (benchmarks/bench_core_start.py, NUMBA_CACHE_DIR empty; 2 busy cores) about
-#: 75 s of CPU; the cache holds it after that.  A single scene compiles nothing.
+#: said while numba first compiles the core's batch (what it costs: docs/scale.md); a single
+#: scene compiles nothing
 COMPILING = f"{PROG}: compiling the core once, about 75 s of CPU"
 
 

@@ -2,13 +2,9 @@
 
 A printout is read as people hold it: text (carriage control in column 1, the page as printed,
 typed, scanned; ``pdftotext`` of the pages, plain or ``-layout``), or the PDF of ``run --pages``
-itself.  A PDF's text is taken with pypdf (the ``[pdf]`` extra), a well-kept pure-Python
-reader, rather than by decoding this tool's own PDF writer's streams: a PDF people hold has
-often passed through other hands (printed again to PDF, re-saved, annotated), and a general
-reader takes its text as any PDF tool would, where a reader of our own writer's internals
-would take only what that writer makes (and break when matplotlib changes).  Without the
-extra, a PDF is refused in one line naming it (exit 2), as every command refuses a missing
-extra.
+itself.  A PDF's text is taken with pypdf (the ``[pdf]`` extra), a general reader, not by
+decoding our own writer's streams: a PDF people hold has often passed through other hands.
+Without the extra, a PDF is refused in one line naming it (exit 2).
 
 The verdict and its exit status: 0 ``agree``, every record of both printouts lined up,
 compared and equal; 1 ``differ``, a value differs or a record is in one printout only; 4

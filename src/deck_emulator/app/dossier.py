@@ -6,10 +6,6 @@ from __future__ import annotations
 
 from deck_emulator.errors import UsageError
 
-#: what ``--html`` says in every command's help
-HTML_HELP = ("also write the dossier as one self-contained HTML page (no network, no external "
-             "file; readable without its script): docs/dossier.md")
-
 
 def check_html(path: str | None, *others: str | None) -> None:
     """``--html FILE.html``: a .html (or .htm) file whose folder is writable, not another

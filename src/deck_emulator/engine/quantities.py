@@ -7,18 +7,8 @@ label and generated page takes a quantity's name, unit, digits and value from he
 nothing else computes it.  The name carries the unit the value is in (``hit_time_s`` is in
 seconds; a table may show it in ms: ``scale`` and ``unit`` say how it is shown).
 
-Quantities that differ get different names:
-
-* three speed changes, read at three instants of the contact: ``delta_v_crush_mph`` (by the
-  end of the crush pulse, the reading that fits the report's "DECREASE IN VEHICLE VELOCITY"
-  for its own steel deck), ``delta_v_first_spring_mph`` (by the instant the post loses the
-  first spring, the listing's FORMAT 355) and ``delta_v_contact_mph`` (by the end of the
-  contact; the car keeps its speed after it, section 3.8, so this is also the end of the run);
-* three decelerations: ``max_decel_g`` (the report's: the largest spring force over WV*G
-  as the listing prints it, at its print instants, after the start-up steps),
-  ``max_decel_every_step_g`` (the same at every accepted step of the emulator, and over the
-  core's continuous solution: what the two engines compute alike) and ``max_decel_10ms_g``
-  (the largest average over any 10 ms, the occupant-risk reading).
+Quantities that differ get different names (three speed changes read at three instants of the
+contact, three decelerations): each row's definition says which.
 
 A quantity knows what it needs of its run (``needs``): ``"end"``, the run ended with its hit
 (the terminal points, the clearances over the car, the free flight's energy); ``"contact"``,

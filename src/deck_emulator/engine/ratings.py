@@ -3,33 +3,13 @@ ridedown acceleration against each cited limit (:data:`~.safety.CRITERIA`), in t
 :data:`~.safety.VERDICTS`.
 
 Every answer that rates occupant risk (``summary``, ``core``, ``assembly ... core``, a
-sweep's rows) takes its verdicts from :func:`ratings`:
-
-* **the occupant compartment** is the roof box of the car's outline: its windshield, roof and
-  side glass (:func:`~deck_emulator.vocabulary.scene.car_boxes`, ``occupant_compartment``);
-  the hood and the trunk are not part of it. The first place the post meets the car (the
-  run's strike, or the post's line checked over the computed path, what a model that tests
-  only P, R and C runs through: :func:`~.safety.body_clearance`) is reported as what it is,
-  "the shaft Q-P strikes the hood at 765.5 ms".
-
-  - A strike on the compartment is judged by MASH by the deformation and any penetration it
-    causes (:data:`~.safety.COMPARTMENT_LIMITS`); the car is a rigid outline here, which
-    computes neither: the verdict is ``not judged``, never a pass, and the reason says so.
-  - A strike outside it (hood, trunk) is no failure of the compartment, and no pass either:
-    the model does not follow the post past its first strike on the car (a run that ends
-    there leaves the post lying on the car beside the compartment; a path that goes on
-    through the car, as a model that tests only the points runs, is not one a rigid car
-    allows): ``not judged``, with the margin the post kept over the compartment until then.
-  - It ``passes`` only when the model that ran tested the whole post against the car
-    (``Outcome.contact_test == "segments"``) and no part of it met the car before the run
-    ended (on the ground); a model that tests only the points gives no pass: ``not judged``,
-    and why.
-
-* **OIV and ORA** come from the contact pulse, which no later strike changes: each is read
-  against every cited limit, whatever the compartment's verdict.
-
-A run that did not end is rated nothing (:func:`ratings` is None; the registry's
-``unavailable`` says why).
+sweep's rows) takes its verdicts from :func:`ratings`. The compartment is the roof box of the
+car's outline; a strike on it or beside it is ``not judged`` (a rigid car computes no
+deformation, and the post is not followed past its first strike), and it ``passes`` only when
+the whole post was tested against the car and met none of it (:func:`compartment`; the rules
+and their sources: docs/safety.md). OIV and ORA come from the contact pulse, which no later
+strike changes. A run that did not end is rated nothing (:func:`ratings` is None; the
+registry's ``unavailable`` says why).
 """
 
 from __future__ import annotations

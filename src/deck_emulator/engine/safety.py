@@ -1,40 +1,12 @@
 """Occupant-risk numbers a modern reviewer asks for, from the car's velocity history.
 
-Everything here works on plain arrays, so either engine (the emulator's accepted steps,
-the core's dense trajectory) or a hand-made pulse can be judged the same way.
-
-Inputs
-------
-``t`` (s, strictly increasing) and ``vv`` (ft/s): the car's velocity along its path at those
-instants, with the sign the deck uses (VVB < 0: the car moves towards -XV) -- only the
-direction of the first sample matters; the forward speed is ``u = |vv[0]|``-signed. The
-history is taken as **piecewise linear** between samples (the emulator's explicit step
-``VVA = VVB + (H/WV)*FSB`` is exactly that) and **constant after its last sample** (once
-contact with the post is over nothing slows the car: the listing's ``VVFA = VVFB``).
-
-Definitions (numbers in ft, s, ft/s unless the name says otherwise)
--------------------------------------------------------------------
-* ``max_decel_sampled_g``: the largest deceleration between two samples of the history,
-  ``-(du/dt)/G`` (not the registry's ``max_decel_g``, the report's reading: for the
-  emulator's every accepted step it equals ``max_decel_every_step_g``).
-* ``max_decel_10ms_g``: the largest average deceleration over any 10 ms window,
-  ``(u(t) - u(t + 0.010)) / 0.010 / G`` -- exact for a piecewise-linear history (the
-  maximum of that piecewise-linear function of ``t`` lies on a breakpoint).
-* Flail space (Michie 1981; NCHRP Report 230, kept unchanged in NCHRP Report 350 and
-  MASH): the occupant is a free mass that keeps the car's initial speed ``u0``; it moves
-  forward relative to the car by ``x(t) = integral (u0 - u) dt`` and strikes the interior
-  when ``x`` reaches ``flail_distance`` (0.6 m, the standards' value; 2 ft in the issue's
-  round figure: pass ``flail_distance_ft=2.0`` for that). ``oiv`` is the relative speed
-  ``u0 - u`` then. If the history (the contact) ends before that, the relative speed stays
-  at the car's speed change from then on: that is the OIV, and the strike comes at
-  ``t_end + (D - x_end) / (u0 - u_end)``. If the car lost no speed, the occupant never strikes:
-  ``oiv = 0`` and no strike time.
-* ``ora_g`` (occupant ridedown acceleration): the largest 10 ms average deceleration of the
-  car over windows that start at or after the strike (0 if the car is no longer slowing).
-
-Limits (see docs/safety.md for where each comes from and how sure it is): :data:`CRITERIA`.
-
-The post's margin to the car body is :func:`body_clearance`.
+Everything works on plain arrays, so either engine or a hand-made pulse is judged the same
+way: ``t`` (s, strictly increasing) and ``vv`` (ft/s, the deck's sign: VVB < 0 moves the car
+towards -XV), taken as piecewise linear between samples (the emulator's explicit step is
+exactly that) and constant after the last one (nothing slows the car once the contact is
+over). The definitions (10 ms average, flail-space OIV and ORA) and the limits'
+(:data:`CRITERIA`) sources: docs/safety.md. The post's margin to the car body is
+:func:`body_clearance`.
 """
 
 from __future__ import annotations

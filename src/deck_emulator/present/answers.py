@@ -5,10 +5,6 @@ number of digits, all in the registry :data:`deck_emulator.engine.quantities.QUA
 which also defines its value; the table and the JSON are both built from the same answer
 dict, so they cannot disagree.  The JSON schema is documented in ``docs/json.md``
 (a test checks that every name here is listed there).
-
-Digits: positions as the printout gives them (five decimals, ft); speed changes and
-decelerations as the report tabulates them (two decimals); times in ms with one decimal
-(the emulator's step is 0.4 ms).
 """
 
 from __future__ import annotations

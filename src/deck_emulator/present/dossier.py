@@ -1,30 +1,11 @@
-"""A run's dossier as one self-contained HTML page (issue 49): ``run --html``, ``compare
---html``, ``diff --html``.
+"""A run's dossier as one self-contained HTML page: ``run --html``, ``compare --html``,
+``diff --html`` (what the page shows and why: docs/dossier.md).
 
-The page opens from disk in any browser and asks for nothing: its style and its script are in
-the page, the pictures are inline SVG, and a Content-Security-Policy in the page forbids every
-request (``default-src 'none'``), so a browser that would fetch something logs it instead.
-It is readable without its script: the script only adds the detail box of a record, the
-listing's scroll to it and the search.
-
-**The printout beside the listing.**  Every record the run printed stands on its form as the
-line printer printed it: its carriage control (column 1) kept in a gutter and obeyed (``1`` a
-new form, ``0`` a blank line before, ``+`` over the line before), 132 print positions, the
-paper's bars.  Each record is inside the link of the WRITE statement that printed it -- which
-the run itself recorded, statement by statement (the run's ``writes``: the card of the WRITE,
-its FORMAT, the values of its list), never guessed from the text -- to that card of the
-program's listing beside it (the listing of Report 75-9 as run, or a job deck's own cards);
-the link's title holds the WRITE, its FORMAT and its values, and the listing's cards carry
-their card numbers, internal statement numbers and statement labels.
-
-Everything said about the run is read from what the commands already computed: the provenance
-(:mod:`deck_emulator.engine.provenance`'s facts), the events, quantities and ratings of the
-summary's answer (:func:`deck_emulator.present.answers.outcome_result`), the comparison's and
-the diff's results; nothing is computed again here.
-
-Nothing from a card, a file or the command line reaches the page but as text escaped for it
-(:func:`html.escape`); the one JSON block in the page is escaped so that it cannot end its
-script element.
+Everything said about the run is read from what the commands already computed (the
+provenance's facts, the summary's answer, the comparison's and the diff's results); nothing is
+computed again here. Nothing from a card, a file or the command line reaches the page but as
+text escaped for it (:func:`html.escape`); the one JSON block is escaped so that it cannot end
+its script element.
 """
 
 from __future__ import annotations

@@ -564,6 +564,10 @@ def _wrap(s: str, width: int) -> str:
     return "\n".join(textwrap.wrap(s, width, subsequent_indent="    ")) if len(s) > width else s
 
 
+#: the trajectory pictures' legend beside or under the views
+_LEGEND = dict(fontsize=9, title_fontsize=9, alignment="left")
+
+
 def figure_trajectory(res: Outcome, view: str = "side", every: float | None = None) -> Figure:
     """The trajectory picture of one run."""
     if view not in VIEWS:
@@ -584,27 +588,12 @@ def figure_trajectory(res: Outcome, view: str = "side", every: float | None = No
             handles.insert(
                 4, mpl().Patch(fc="0.72", ec=CAR_COLOUR, label="roof (passenger compartment)")
             )
-        fig.legend(
-            handles=handles,
-            title=title,
-            loc="outside right upper",
-            fontsize=9,
-            title_fontsize=9,
-            alignment="left",
-        )
+        fig.legend(handles=handles, title=title, loc="outside right upper", **_LEGEND)
     elif view == "3d":
         ax = fig.add_subplot(projection="3d")
         _draw_3d(ax, res, idx)
         handles = [h for h in handles if not h.get_label().startswith("windshield")]
-        fig.legend(
-            handles=handles,
-            title=title,
-            loc="outside lower center",
-            ncols=3,
-            fontsize=9,
-            title_fontsize=9,
-            alignment="left",
-        )
+        fig.legend(handles=handles, title=title, loc="outside lower center", ncols=3, **_LEGEND)
     else:
         gs = fig.add_gridspec(2, 2)
         ax1 = fig.add_subplot(gs[0, 0])

@@ -1,27 +1,12 @@
 """The emulator and the core on one deck, side by side, and how their difference shrinks with h.
 
-Both give the same quantities under the same definitions:
-
-* loss of contact with the first spring and with the vehicle (s);
-* the hit message and time;
-* ``delta_v_contact_mph``: the speed the car lost up to loss of contact with the vehicle
-  (the report's tables give ``delta_v_crush_mph``, by the end of the crush pulse: see
-  ``deck-emulator summary``);
-* ``max_decel_every_step_g``: the largest spring force over the car's weight, over every
-  step of the contact phase (the emulator's every accepted step, not only the printed ones;
-  the core's continuous maximum);
-* terminal P, Q, R in the report's XL, YL, ZL axes (origin at the base of the support; the
-  emulator's as its printout gives them);
-(the quantities are the registry's, :mod:`deck_emulator.engine.quantities`)
-* the largest distance between the two mass-centre trajectories, at the emulator's steps.
-
-The convergence table runs the emulator with every "one step" literal divided by 2**k and the
-core's ``legacy`` preset with the matching start-up step (``StartupKick(step_s=h)``) and force
-cap time (20 steps), so that the difference measures the 1967 scheme's discretisation error.
-Its rows also apply the erratum ``ed-direction`` unless told not to (``ed_direction_rows``): as
-printed, SUBROUTINE ED walks away from its root on every deck once the step is halved (the
-listing's steps themselves are not the rows' concern: the side by side is the listing's run with
-the errata asked for).
+Both are read through the registry (:data:`COMPARED`, the terminal P, Q, R, and the largest
+distance between the mass-centre trajectories at the emulator's steps). The convergence table
+runs the emulator with every "one step" literal divided by 2**k against the core's ``legacy``
+preset matched to that step (:func:`legacy_options`), so that the difference measures the 1967
+scheme's discretisation error; its rows apply the erratum ``ed-direction`` unless told not to
+(``ed_direction_rows``): as printed, SUBROUTINE ED walks away from its root on every deck once
+the step is halved.
 """
 
 from __future__ import annotations

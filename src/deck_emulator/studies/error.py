@@ -1,30 +1,11 @@
 """Work-precision study: error against run time and against work, for the 1967 scheme and the
 modern core.
 
-The reference is the core (``legacy`` preset, DOP853) at the defaults' ``REFERENCE_RTOL``, checked
-against a second method at a tenth of that tolerance (Radau and LSODA; LSODA only with ``quick``).
-Errors of a run against a reference:
-
-* ``err_traj_ft``: the largest distance between the post's mass-centre trajectories -- at the
-  emulator's accepted steps (the reference's dense output interpolated there), or on a fixed
-  grid of 2001 times for a core run -- over the time both runs cover;
-* ``err_hit_time_s``: the difference of the hit times (the emulator's lies on its step grid:
-  no order is fitted to it, :data:`~deck_emulator.studies.orders.QUANTISED`);
-* ``err_R_ft``: the distance between the luminaire point R of the two runs at their hits.
-
-The emulator and the core's legacy preset are not the same discretisation of the start-up kick
-once the step is scaled: the emulator's run at step ``H0/2**k`` is therefore measured against
-a reference with ``StartupKick(step_s=h)`` (and the ``FCONST`` cap armed at 8 ms, as the
-emulator arms it at every k; :func:`~.common.matched_options`) (``err_*``), and also against the
-single k = 0 reference (``err_*_ref0``).  Core runs use the k = 0 model, so both coincide.
-
-The core runs three ways: solve_ivp with its largest step bounded by ``MAX_STEP_S`` (as every
-core run is), the same without the bound, and the compiled DOP853 (``CoreEngine.run_batch``, a batch
-of one scene) with and without it.  Every run is timed the same way (:data:`TIMING`), and runs
-with the BLAS threads of :data:`BLAS_THREADS` (Radau's LU factorisations round differently with
-another count).  For each core run the contact phase's error is followed into the free flight
-(``dt_*``, ``err_release_*``, ``err_flight_*`` columns: :func:`_release_errors`), which is what
-makes the error-against-tolerance curve non-monotone.
+Every run is measured against the core's reference (``legacy`` preset, DOP853 at the defaults'
+``REFERENCE_RTOL``, itself checked by a second method at a tenth of it); an emulator run at
+``H0/2**k`` against a reference with the matching start-up kick (:func:`~.common.matched_options`)
+and against the k = 0 one. What the columns, the orders and the timings mean is said on the page
+the study writes (``templates/error_study.md``).
 """
 
 from __future__ import annotations
@@ -45,6 +26,7 @@ from deck_emulator.vocabulary.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.studies.distributed import output_store
+from .pages import page, snippet
 from .common import (
     H0,
     agg_backend,
@@ -115,16 +97,8 @@ def blas_threads(n: int = BLAS_THREADS):
         yield
 
 
-#: How a point is timed, in words (the README says it).
-TIMING = ("every run once untimed (its answer; the process warmed up), then timed the same way "
-          "for every engine and method: `time.perf_counter()` around the whole engine call "
-          "(`EmulatorEngine.run` of the deck; `CoreEngine.run` of the scene, or "
-          "`CoreEngine.run_batch` of a batch of one for the compiled core; no sampled arrays), repeated; a point's time is the median of the "
-          "repetitions, shown with their least and largest")
-
-
 def _timed(fn, reps: int) -> tuple[object, list[float]]:
-    """``fn()`` once (its value), then ``reps`` times timed (:data:`TIMING`)."""
+    """``fn()`` once (its value), then ``reps`` times timed (the page says how)."""
     value = fn()
     walls = []
     for _ in range(reps):
@@ -645,13 +619,16 @@ def _unbounded_note(rows) -> str:
     tols = {r["rtol"] for r in flat}
     bounded = [abs(r.get("dt_first_spring_lost_s", math.nan)) for r in _ok(rows, "core DOP853")
                if r["rtol"] in tols]
-    return (f"DOP853 stays at {min(r['err_traj_ft'] for r in flat):.2g} to "
-            f"{max(r['err_traj_ft'] for r in flat):.2g} ft at rtol "
-            + ", ".join(format(r["rtol"], "g") for r in flat)
-            + f", with the loss of the first spring located {min(dts):.2g} to {max(dts):.2g} s "
-            "off (`dt_first_spring_lost_s`)"
-            + (f", against {min(bounded):.2g} to {max(bounded):.2g} s with the bound at the "
-               "same tolerances." if bounded else "."))
+    against = (f", against {min(bounded):.2g} to {max(bounded):.2g} s with the bound at the "
+               "same tolerances." if bounded else ".")
+    errs = [r["err_traj_ft"] for r in flat]
+    return snippet("error_tolerance.md", "unbounded", lo=f"{min(errs):.2g}",
+                   hi=f"{max(errs):.2g}", tolerances=_tolerances(flat),
+                   dt_lo=f"{min(dts):.2g}", dt_hi=f"{max(dts):.2g}", against=against)
+
+
+def _tolerances(rows) -> str:
+    return ", ".join(format(r["rtol"], "g") for r in rows)
 
 
 def _tolerance_rows(rows) -> list[dict]:
@@ -659,117 +636,62 @@ def _tolerance_rows(rows) -> list[dict]:
 
 
 def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
-    m = machine()
+    """The page (``templates/error_study.md``) of the study's rows and summary."""
     o = summary["orders"]
     lst, tight = o[SERIES_LISTING], o[SERIES_TIGHT]
     checks = [r for r in rows if r["series"] == "reference check"]
-    lines = [
-        "# Work-precision study: the 1967 scheme against the modern core",
-        "",
-        f"Command: `{cmd}`",
-        "",
-        machine_line(m, jobs, wall),
-        f" Every run ran with {BLAS_THREADS} BLAS thread(s) (threadpoolctl, inside each run): "
-        "Radau's LU factorisations round differently with another count, and the default count "
-        "is the machine's cores. With that setting and the same package versions the errors, "
-        "steps and evaluations do not change from one run of the study to the next; only the "
-        "times do, and each shows its spread.",
-        "",
-        "![work-precision diagram](work_precision.png)",
-        "",
-        "## Observed orders",
-        "",
-        "An order is the least-squares slope of log error against log H over every step size "
-        "that ran, with its 95 % interval (Student's t on the points' scatter about the line), "
-        "the step-by-step orders log2(e(H)/e(H/2)) beside it; none from fewer than three step "
-        "sizes.",
-        "",
-        f"* **The listing's scheme as printed** (ED's root search stops at |DF| < .0001 rad at "
-        f"every step size): {lst['vs_h'].text()}."
-        + (" It does not converge: ED's error in psi per step does not shrink with H, so "
-           "halving the step adds error." if not lst["vs_h"].p > 0.5 else ""),
-        f"* **The same scheme with ED's tolerance tightened with the step** (1e-6 rad / 4**k, "
-        f"as `deck-emulator diff` does): trajectory {tight['vs_h'].text()}; terminal R "
-        f"{tight['vs_h_R'].text()}. First order, as its explicit Euler velocities and the "
-        "switches it detects at whole steps make it.",
-        f"* **Hit time**: no order: {QUANTISED}. Its error in steps of H: "
-        + ", ".join(f"{x:.2f}" for x in tight["hit_in_steps"]) + " (tightened series, k = 0, 1, "
-        "...).",
-    ]
-    for series in _all_core_series():
-        c = o[series]
-        if not c["points"]:
-            continue
-        lines.append(
-            f"* **{series}**: slope of error against rtol {_short(c['vs_rtol'])} "
-            f"(tolerance proportionality, {c['points']} runs above ten times the references' "
-            f"error); work {c['n_min']} ... {c['n_max']} evaluations, slope of error against "
-            f"work {_short(c['vs_nfev'])}.")
-    lines += [
-        "",
-        f"With the largest-step bound (`max_step_s = {defaults.MAX_STEP_S}` s, so that no "
-        "event function changes "
-        "sign twice inside one step) the core takes about as many steps at every tolerance, "
-        "and the slope against work is steep and meaningless: the bound, not the method's "
-        "order, decides the cost. Without the bound (dashed) the work follows the tolerance, "
-        "but the error does not: " + _unbounded_note(rows) + " These slopes are not the "
-        "methods' orders (8, 5 and 5) either: on this scene the events' location, not the "
-        "smooth stretches between them, decides the error.",
-        "",
-    ]
-    lines += _tolerance_section(rows)
-    lines += ["## Speed at equal accuracy", ""]
+    core_orders = "".join(
+        f"\n* **{series}**: slope of error against rtol {_short(c['vs_rtol'])} "
+        f"(tolerance proportionality, {c['points']} runs above ten times the references' "
+        f"error); work {c['n_min']} ... {c['n_max']} evaluations, slope of error against "
+        f"work {_short(c['vs_nfev'])}." for series in _all_core_series()
+        if (c := o[series])["points"])
     sp = summary["speed"]
     head = next((s for s in sp if s["series"] == SERIES_LISTING and s["k"] == 0), None)
-    if head:
-        lines.append(
-            f"At the listing's own accuracy (k = 0, double: {head['err_ft']:.3g} ft in "
-            f"{head['wall_s']:.3g} s, the median of the whole engine call) the fastest core run "
-            f"at least as accurate is {head['core']} ({head['core_err_ft']:.2g} ft in "
-            f"{head['core_wall_s']:.3g} s): **{head['ratio']:.1f} times faster**. The ratios "
-            "compare whole calls, Python overhead included, on a machine shared with other "
-            "work (the times' spread is in the table below); they are not the methods' costs.")
-    lines += ["", md_table(["series", "k", "error (ft)", "time (s)", "fastest core run at least as "
-                            "accurate", "its error (ft)", "its time (s)", "speed ratio"],
-                           [[s["series"], s["k"], fmt(s["err_ft"]), fmt(s["wall_s"]), s["core"],
-                             fmt(s["core_err_ft"]), fmt(s["core_wall_s"]), f"{s['ratio']:.1f}"]
-                            for s in sp])]
-    lines += [
-        "",
-        "## The reference",
-        "",
-        f"The core's `legacy` preset (the listing's quirks as options), DOP853 at rtol = atol = "
-        f"{REF_RTOL:g}, default `max_step_s`. Its own error, measured against "
-        f"{' and '.join(p['checks'])} at rtol = atol = {CHECK_RTOL:g}: "
-        f"**{summary['reference_error_ft']:.2g} ft** (k = 0; largest over all references "
-        f"{summary['reference_error_all_ft']:.2g} ft).",
-        "",
-        md_table(["reference", "checked with", "trajectory (ft)", "hit time (s)", "R at the hit (ft)",
-                  "check's time (s)"],
-                 [[r["reference"], f"{r['method']} rtol {r['rtol']:g}", fmt(r.get("err_traj_ft")),
-                   fmt(r.get("err_hit_time_s")), fmt(r.get("err_R_ft")), fmt(r.get("wall_s"))]
-                  for r in checks]),
-        "",
-        "The emulator with its step literals divided by 2**k is **not** the same discretisation "
-        "of the start-up as the core's k = 0 model: the listing's first step (F1B = -10000 lb, "
-        "FSB = 10000 lb, THA = 0.000022) lasts one step H. Each emulator run is therefore "
-        "measured against a reference with the matching `StartupKick(step_s=H)` (solid lines, "
-        "`err_*` columns; the `FCONST` cap armed at 8 ms, as the emulator arms it at every k), "
-        "and also against the single k = 0 reference (dashed, `err_*_ref0`): against the latter "
-        "the error stops shrinking at the size of the start-up's own effect.",
-        "",
-        "## Errors and times",
-        "",
-        "Errors: `traj` the largest distance between the mass-centre trajectories over the time "
-        "both runs cover (at the emulator's accepted steps; on a grid of 2001 times for the core), "
-        "`hit` the hit-time difference, `R` the distance between the luminaire points R at the "
-        "two hits. Times: " + TIMING + f" ({p['reps']} timed repetitions of every run; a run "
-        f"that does not end with a hit is not timed); {jobs} runs at a time, one per process. "
-        "An emulator run at H0/2**k runs with the statement budget of the defaults times 2**k "
-        "(`statements`: the listing takes 2**k times its steps). Every number is in "
-        "`error_study.csv`.",
-        "",
-    ]
+    speed_head = "" if head is None else snippet(
+        "error_tolerance.md", "speed_head", err=f"{head['err_ft']:.3g}",
+        wall=f"{head['wall_s']:.3g}", core=head["core"], core_err=f"{head['core_err_ft']:.2g}",
+        core_wall=f"{head['core_wall_s']:.3g}", ratio=f"{head['ratio']:.1f}") + "\n"
+    failed = [r for r in rows if r["engine"] == "emulator" and r["status"] != "hit"]
+    failed_section = "".join(line + "\n" for line in [
+        "## Runs that failed", "",
+        *(f"* {r['series']}, k = {r['k']} (H = {r['h_s']:.3g} s): {r['status']}"
+          + (f" ({r['guard']})" if r["guard"] != r["status"] else "") + f": {r['error']}"
+          for r in failed), ""]) if failed else ""
+    return page(
+        "error_study.md", command=cmd, machine_line=machine_line(machine(), jobs, wall),
+        blas_threads=BLAS_THREADS, listing_order=lst["vs_h"].text(),
+        listing_diverges="" if lst["vs_h"].p > 0.5 else (
+            " It does not converge: ED's error in psi per step does not shrink with H, so "
+            "halving the step adds error."),
+        tight_order=tight["vs_h"].text(), tight_order_R=tight["vs_h_R"].text(),
+        quantised=QUANTISED, hit_in_steps=", ".join(f"{x:.2f}" for x in tight["hit_in_steps"]),
+        core_orders=core_orders, max_step=defaults.MAX_STEP_S,
+        max_step_g=f"{defaults.MAX_STEP_S:g}", unbounded_note=_unbounded_note(rows),
+        tolerance="".join(line + "\n" for line in _tolerance_section(rows)),
+        speed_head=speed_head, speed_table=_speed_table(sp), ref_rtol=f"{REF_RTOL:g}",
+        checks=" and ".join(p["checks"]), check_rtol=f"{CHECK_RTOL:g}",
+        reference_error=f"{summary['reference_error_ft']:.2g}",
+        reference_error_all=f"{summary['reference_error_all_ft']:.2g}",
+        checks_table=md_table(
+            ["reference", "checked with", "trajectory (ft)", "hit time (s)", "R at the hit (ft)",
+             "check's time (s)"],
+            [[r["reference"], f"{r['method']} rtol {r['rtol']:g}", fmt(r.get("err_traj_ft")),
+              fmt(r.get("err_hit_time_s")), fmt(r.get("err_R_ft")), fmt(r.get("wall_s"))]
+             for r in checks]),
+        grid_points=GRID_POINTS, reps=p["reps"], jobs=jobs, runs_table=_runs_table(rows),
+        failed=failed_section, deck_path=deck_path)
+
+
+def _speed_table(sp) -> str:
+    return md_table(["series", "k", "error (ft)", "time (s)", "fastest core run at least as "
+                     "accurate", "its error (ft)", "its time (s)", "speed ratio"],
+                    [[s["series"], s["k"], fmt(s["err_ft"]), fmt(s["wall_s"]), s["core"],
+                      fmt(s["core_err_ft"]), fmt(s["core_wall_s"]), f"{s['ratio']:.1f}"]
+                     for s in sp])
+
+
+def _runs_table(rows) -> str:
     table = []
     for r in rows:
         if r["series"] == "reference check":
@@ -783,30 +705,9 @@ def _report(rows, summary, p, deck_path, cmd, jobs, wall) -> str:
         table.append([r["series"], what, status, fmt(r.get("err_traj_ft")), fmt(r.get("err_hit_time_s")),
                       fmt(r.get("err_R_ft")), fmt(r.get("err_traj_ref0_ft")), _time_cell(r),
                       r.get("steps", ""), r.get("nfev") or ""])
-    lines += [md_table(["series", "run", "end", "traj (ft)", "hit (s)", "R (ft)",
-                        "traj vs k = 0 ref (ft)", "time (s): median [least–largest]", "steps",
-                        "nfev"], table), ""]
-    failed = [r for r in rows if r["engine"] == "emulator" and r["status"] != "hit"]
-    if failed:
-        lines += ["## Runs that failed", ""]
-        for r in failed:
-            lines.append(f"* {r['series']}, k = {r['k']} (H = {r['h_s']:.3g} s): {r['status']}"
-                         + (f" ({r['guard']})" if r["guard"] != r["status"] else "")
-                         + f": {r['error']}")
-        lines.append("")
-    lines += [
-        "## Method",
-        "",
-        f"Scene: `{deck_path}`. The emulator runs with the erratum `ed-direction` (ED steps "
-        "towards its root; no effect on this deck as printed) and the guards' defaults, its "
-        "statement budget scaled with 2**k. The IBM 7094 arithmetic is the emulator's model of "
-        "the 1967 machine's 36-bit words, at k = 0 only. Core runs: the `legacy` preset, atol = "
-        f"rtol, with the largest step `max_step_s` = {defaults.MAX_STEP_S:g} s (the core's "
-        "default) and without it (`no step bound`); the compiled DOP853 "
-        "(`CoreEngine(batched=True).run_batch`, a batch of one scene) the same.",
-        "",
-    ]
-    return "\n".join(lines)
+    return md_table(["series", "run", "end", "traj (ft)", "hit (s)", "R (ft)",
+                     "traj vs k = 0 ref (ft)", "time (s): median [least–largest]", "steps",
+                     "nfev"], table)
 
 
 def _tolerance_section(rows) -> list[str]:
@@ -817,63 +718,33 @@ def _tolerance_section(rows) -> list[str]:
     default = next((r for r in tol if math.isclose(r["rtol"], defaults.CORE_RTOL)), None)
     own = [r.get("err_flight_own_ft", math.nan) for r in tol]
     own_max = max((x for x in own if np.isfinite(x)), default=math.nan)
-    own_zero = own_max == 0.0
     amp = {id(r): r.get("err_flight_propagated_ft", math.nan) / r.get("err_release_ft", math.nan)
            for r in tol}
-    odd = [r for r in tol if amp[id(r)] < 5]
     usual = [amp[id(r)] for r in tol if amp[id(r)] >= 5]
     amp_lo, amp_hi = (min(usual), max(usual)) if usual else (math.nan, math.nan)
-    out = [
-        "## The tolerance curve, and the core's default",
-        "",
-        "The error of DOP853 (with the step bound) is not monotone in rtol. The table follows "
-        "each run's error from the contact into the free flight: the instants of the first "
-        "spring's loss and of the car's release against the reference's, the mass centre's and "
-        "the body velocity's errors at the release, and the error at the hit split in two -- "
-        "the run's own state at its release carried through the free flight at the "
-        f"reference's tolerance ({REF_RTOL:g}) against the reference (*propagated*), and the "
-        "run's own free flight against that (*own*).",
-        "",
-        md_table(["rtol", "traj (ft)", "first spring lost, Δt (s)", "release, Δt (s)",
-                  "at release: position (ft)", "velocity (ft/s)", "at the hit: propagated (ft)",
-                  "free flight's own (ft)", "propagated / at release"],
-                 [[f"{r['rtol']:g}", fmt(r["err_traj_ft"]),
-                   fmt(r.get("dt_first_spring_lost_s")), fmt(r.get("dt_release_s")),
-                   fmt(r.get("err_release_ft")), fmt(r.get("err_release_vel_ft_s")),
-                   fmt(r.get("err_flight_propagated_ft")), fmt(r.get("err_flight_own_ft")),
-                   fmt(r.get("err_flight_propagated_ft", math.nan)
-                       / r.get("err_release_ft", math.nan), ".2g")]
-                  for r in tol]),
-        "",
-        "What the columns show: the free flight adds "
-        + ("nothing of its own (its solution does not change with rtol)" if own_zero else
-           f"at most {own_max:.2g} ft of its own")
-        + ", and the error at the hit is what the contact phase left at the release, carried "
-        "through about 0.7 s of flight: a velocity error grows into a position error there, "
-        f"{amp_lo:.0f}- to {amp_hi:.0f}-fold on every row but "
-        + ", ".join(format(r["rtol"], "g") for r in odd) + ". The contact phase's error at the "
-        "release is itself not monotone in rtol -- it follows how well its events (the first "
-        "spring's loss, the release) are located, and rtol only bounds each step's local "
-        "error: at rtol 1e-9 the release velocity happens to come out nearly right, at 1e-10 "
-        "(with the loss of the first spring further off) it does not.",
-        "",
-    ]
+    table = md_table(
+        ["rtol", "traj (ft)", "first spring lost, Δt (s)", "release, Δt (s)",
+         "at release: position (ft)", "velocity (ft/s)", "at the hit: propagated (ft)",
+         "free flight's own (ft)", "propagated / at release"],
+        [[f"{r['rtol']:g}", fmt(r["err_traj_ft"]), fmt(r.get("dt_first_spring_lost_s")),
+          fmt(r.get("dt_release_s")), fmt(r.get("err_release_ft")),
+          fmt(r.get("err_release_vel_ft_s")), fmt(r.get("err_flight_propagated_ft")),
+          fmt(r.get("err_flight_own_ft")),
+          fmt(r.get("err_flight_propagated_ft", math.nan) / r.get("err_release_ft", math.nan),
+              ".2g")]
+         for r in tol])
+    out = snippet("error_tolerance.md", "section", ref_rtol=f"{REF_RTOL:g}", table=table,
+                  own=("nothing of its own (its solution does not change with rtol)"
+                       if own_max == 0.0 else f"at most {own_max:.2g} ft of its own"),
+                  amp_lo=f"{amp_lo:.0f}", amp_hi=f"{amp_hi:.0f}",
+                  odd=_tolerances(r for r in tol if amp[id(r)] < 5)).split("\n") + [""]
     if default is not None:
         better = [r for r in tol if r["err_traj_ft"] < default["err_traj_ft"]]
-        out += [
-            f"**The core's default rtol = atol = {defaults.CORE_RTOL:g}** (`CORE_RTOL`): its "
-            f"measured error on this scene is {default['err_traj_ft']:.2g} ft in the trajectory, "
-            f"{default['err_hit_time_s']:.2g} s in the hit time, {default['err_R_ft']:.2g} ft "
-            f"in R at the hit, at {default['nfev']} evaluations. Kept: "
-            + (", ".join(format(r["rtol"], "g") for r in better) + " come out more "
-               "accurate here, but the curve's wiggle is the contact events' location, which "
-               "moves with the scene, so no tolerance is better on every scene for the same "
-               "reason; " if better else "")
-            + "the default's error is five orders below the listing's own (0.08 ft at its "
-            "step, tightened ED) and far below what the report prints (0.01 ft, 0.0001 s), and "
-            "changing it would move every core number the project's tests and documents hold. "
-            "A user who needs better asks for it (`--rtol`); the study's own reference runs at "
-            f"{REF_RTOL:g}.",
-            "",
-        ]
+        out += [snippet("error_tolerance.md", "default", core_rtol=f"{defaults.CORE_RTOL:g}",
+                        traj=f"{default['err_traj_ft']:.2g}",
+                        hit_time=f"{default['err_hit_time_s']:.2g}",
+                        r=f"{default['err_R_ft']:.2g}", nfev=default["nfev"],
+                        better=snippet("error_tolerance.md", "better",
+                                       tolerances=_tolerances(better)) + " " if better else "",
+                        ref_rtol=f"{REF_RTOL:g}"), ""]
     return out

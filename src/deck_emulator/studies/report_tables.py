@@ -155,13 +155,6 @@ def report_comment(hit) -> str:
 # Cells as printed; the OCR's "00.39" (Table 11, aluminium 0 deg, YQL) is kept as text and
 # reads 0.39; "10.5" / "-10.5" / "0.0" as printed (one decimal where the scan has one).
 
-#: seed lines of the twin post's point-U rows
-SEED_LINES_U = MappingProxyType({20: {"XUL (FT)": 1763, "YUL (FT)": 1764, "ZUL (FT)": 1765},
-                                 40: {"XUL (FT)": 1787, "YUL (FT)": 1788, "ZUL (FT)": 1789}})
-
-#: Assembly weights (lb) as printed (lines 1750, 1774)
-POST_WEIGHT_LB = MappingProxyType({"aluminium": 316.63, "steel": 485.07, "twin": 502.45})
-
 NUMERIC_FIELDS_ALL = NUMERIC_FIELDS[:11] + ("XUL", "YUL", "ZUL") + NUMERIC_FIELDS[11:]
 
 _TABLE11_ALUMINIUM = {  # 20 mph, line 1752 on

@@ -1,49 +1,12 @@
 """Which uncertain input decides the outcome: Sobol indices, ``deck-emulator sensitivity``.
 
-The report takes several inputs as estimates: the slip base's friction force and the travel over
-which it acts (constants of the listing, ``FFXA=3.1*T`` with ``T=300`` lb over the 1 in. slot),
-the car's crush springs ``CK`` and ``CT``, the cap ``FCONST`` on the spring force and the car's
-mass ``WV``. This study varies them over ranges (:data:`DEFAULT_INPUTS`, or any deck input a user
-names with ``--input NAME=LO:HI``), runs every sample on either engine, and gives Sobol
-first-order (S1) and total (ST) indices with 95 % bootstrap confidence intervals (SALib: Sobol'
-sequence, Saltelli's scheme without second-order terms, ``N (D + 2)`` scenes for ``D`` inputs).
-
-The ranges in :data:`DEFAULT_INPUTS` are *ours*, not the report's: the report gives single values
-and calls them estimates; we take friction +-50 %, the slip travel 0.04-0.12 ft (about 1/2 to
-1 1/2 in.), CK, CT and FCONST +-30 %, the car's mass +-20 %. Uniform distributions throughout.
-
-Outcomes (each a number per scene; :data:`OUTCOMES`):
-
-* what the post hits first, as two indicators (Sobol indices need a number, a class has none):
-  ``hits_car`` -- 1 if the first hit is on the car (hood, windshield, top, trunk), else 0 (the
-  ground); ``hits_roof`` -- 1 if it is the roof: top or windshield. The indices of an indicator
-  are those of the probability of that class. The surface itself is stored (``hit_surface``) and
-  drawn as a map over the two most influential inputs;
-* ``hit_time_ms`` -- time of that first hit;
-* ``delta_v_crush_mph`` -- the speed the car lost by the end of the crush pulse (the report's
-  delta-V: where the spring force is first cut to FCONST); ``delta_v_contact_mph`` -- by the end
-  of the contact with the car;
-* ``max_decel_g`` -- the car's largest deceleration (the report's: largest printed FSA/(WV G) on
-  the emulator, the continuous maximum on the core);
-* ``oiv_m_s`` -- occupant impact velocity (flail space, :mod:`deck_emulator.engine.safety`);
-* ``roof_clearance_ft`` -- the post's least clearance above the roof (windshield base to the end of
-  the top) while it is over it in free flight; a scene in which the post is never over the roof
-  has no value, and an outcome with scenes without a value gets no indices (the table says how
-  many).
-
-Engines. The deck has no field for base friction (it is a constant of the listing), so the
-friction inputs exist only on the core, where they are the scene's ``base.friction``; with the
-``legacy`` preset the core's ``listing_friction`` option (which ignores the scene's friction) is
-then switched off and the scene's friction used, with the listing's travel ``0.083333 - 0.004``
-ft as the nominal value, so that at the nominal values the run is the legacy run. On the
-emulator the friction inputs are dropped (and said so).
-
-Every input value is rounded to six significant digits before it is used, so that a sampled
-value can be punched in an ``F10.5`` field and read back exactly.
-
-All engine calls go through :func:`_run_scenes`, the one adapter to the engine layer; a
-worker's task is a batch of scenes (:func:`scene_tasks`), the core's run together by
-``CoreEngine.run_batch``.
+The inputs the report takes as estimates (base friction and its travel, the crush springs
+``CK`` and ``CT``, the cap ``FCONST``, the car's mass ``WV``: :data:`DEFAULT_INPUTS`, ranges
+ours) or any deck input named with ``--input NAME=LO:HI`` are sampled uniformly (SALib:
+Saltelli's scheme on a Sobol' sequence, ``N (D + 2)`` scenes for ``D`` inputs) and every
+sample run on either engine; the answer is each outcome's (:data:`OUTCOMES`) first-order and
+total indices with 95 % bootstrap intervals. What the inputs, the outcomes and the rules of
+a withheld index mean: docs/sensitivity.md.
 """
 
 from __future__ import annotations
@@ -64,6 +27,7 @@ from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords, quan
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
+from deck_emulator.studies.pages import page
 from deck_emulator.studies.distributed import (
     SceneStore,
     Stopped,
@@ -131,7 +95,7 @@ SCENE_INPUTS = {
 LISTING_FRICTION_LB = LISTING_BASE_FRICTION.force_lb
 LISTING_FRICTION_TRAVEL_FT = LISTING_FRICTION_WINDOW_FT
 
-#: The inputs the report calls estimates, with our ranges (module docstring).
+#: The inputs the report calls estimates, with our ranges (docs/sensitivity.md).
 DEFAULT_INPUTS: tuple[InputRange, ...] = (
     InputRange("friction_lb", 465.0, 1395.0, LISTING_FRICTION_LB, SCENE_INPUTS["friction_lb"]),
     InputRange(
@@ -193,6 +157,7 @@ def unresolved(index: float | None, half_width: float | None) -> bool:
 
 
 def _round6(x: float) -> float:
+    """Six significant digits: a sampled value punched in an ``F10.5`` field reads back exactly."""
     return float(f"{float(x):.6g}")
 
 
@@ -882,25 +847,15 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
         if failed is not None:  # no index can come of it: a run that could not end, exit 3
             raise RunFailed(f"{label}: every scene failed ({failed}); no table written")
     wall = time.perf_counter() - started
-    cmd = command_line
-    rng = "; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs)
-    header = "\n".join([
-        "# Sobol sensitivity indices" + (f" — {first}" if first else ""),
-        "",
-        f"Command: `{cmd}`" if cmd else "",
-        "",
-        f"Engine **{engine}** (preset {keywords.get('preset', 'legacy')}"
-        + {None: "", True: ", shaft contact on", False: ", shaft contact off"}[
-            keywords.get("shaft_contact")] + f"); N = {n} (and N/2 for convergence); "
-        f"{n * (len(inputs) + 2)} scenes per deck; seed {seed}; "
-        f"{wall:.0f} s wall for the scenes run now (measured under load).",
-        "",
-        f"Inputs (uniform): {rng}.",
-        *(f"\nNote: {x}." for x in notes),
-        "",
-        "Class outcomes as indicators: P(first hit on the car) and P(first hit on roof: top or "
-        "windshield); see `deck_emulator.studies.sensitivity`.",
-    ])
+    header = page(
+        "sensitivity_header.md", blind=f" — {first}" if first else "",
+        command=f"Command: `{command_line}`" if command_line else "", engine=engine,
+        preset=keywords.get("preset", "legacy"),
+        shaft={None: "", True: ", shaft contact on", False: ", shaft contact off"}[
+            keywords.get("shaft_contact")],
+        n=n, scenes=n * (len(inputs) + 2), seed=seed, wall=f"{wall:.0f}",
+        inputs="; ".join(f"{i.name} {i.low:g}–{i.high:g}" for i in inputs),
+        notes="".join(f"\n\nNote: {x}." for x in notes))
     files = write_outputs(studies, out, header=header)
     say("wrote " + ", ".join(str(f) for f in files))
     return files

@@ -3,19 +3,9 @@ steel40, and the stability of both stated from the scheme and the model (:func:`
 the 1967 scheme's one-step matrix on a spring; :func:`contact_spectrum`: the eigenvalues of the
 core's contact Jacobian).
 
-Every scene is run by the emulator (double precision, erratum ``ed-direction``, the guards of
-:data:`LIMITS`) and by the core (``legacy`` preset with the start-up kick and the 20-step
-``FCONST`` arming of the emulator's step, DOP853 at the defaults' ``STUDY_RTOL`` and ``STUDY_T_MAX_S``).  What
-is recorded for each: how the run ended (the hit message and time, or the guard that fired, or
-the exception), when the car let go, the post's kinetic energy then (the "launch" energy), and
-the drift of the post's total energy over the free flight (in free flight only gravity acts,
-so it should stay constant).
-
-The emulator's end is then classed against the core's: ``agrees`` (same hit, hit times within
-:data:`AGREE_HIT_S`, launch energies within :data:`AGREE_KE`), ``same hit, off`` (same hit,
-further apart), ``other hit`` (it ends cleanly, with another answer), ``no hit`` (time limit),
-``guard: NAME``, ``crash`` (an exception the emulator does not expect), ``n/a`` (the scene's
-change is not a deck input), ``hit (core failed)``.
+Every scene runs on both engines; the emulator's end is classed against the core's
+(:func:`classify`). How each runs and what the classes mean is said on the page the study
+writes (``templates/stability_study.md``).
 """
 
 from __future__ import annotations
@@ -43,6 +33,7 @@ from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.distributed import output_store
 from deck_emulator.studies.sweep import vvb_for
 
+from .pages import page, snippet
 from .common import (
     ERRATA,
     H0,
@@ -228,6 +219,10 @@ def _task_core(spec, deck) -> dict:
 
 
 def classify(row: dict) -> str:
+    """The emulator's end against the core's: ``agrees`` (same hit, hit times within
+    :data:`AGREE_HIT_S`, launch energies within :data:`AGREE_KE`), ``same hit, off``, ``other
+    hit``, ``no hit``, ``guard: NAME``, ``crash``, ``n/a`` (the scene's change is no deck input)
+    or ``hit (core failed)``."""
     if not row["emulator"]:
         return "n/a"
     status = row.get("emulator_status")
@@ -536,47 +531,7 @@ def _plot_extremes(rows, path: Path) -> None:
 
 
 def _report(rows, summary, deck_path, cmd, jobs, wall, quick, deck_file=None) -> str:
-    m = machine()
-    lines = [
-        "# Stability study: stiff springs and extreme scenes",
-        "",
-        f"Command: `{cmd}`",
-        "",
-        machine_line(m, jobs, wall),
-        "",
-        f"Every scene is derived from `{deck_path}`. The emulator runs the listing in double "
-        "precision with the erratum `ed-direction` and the guards "
-        f"`Limits(ed_iterations={LIMITS.ed_iterations}, halvings={LIMITS.halvings}, "
-        f"time_s={LIMITS.time_s:g})`; the extreme scenes as printed (k = 0, ED's tolerance "
-        ".0001), the stiff-spring grid with its step literals divided by 2**k and ED's tolerance "
-        "tightened with the step (1e-6 rad / 4**k: with the printed one the scheme stops "
-        "converging as H shrinks, see the error study, which would hide the stiffness). The core "
-        "runs the `legacy` preset with the emulator's start-up step (`StartupKick(step_s=H)`, the "
-        f"`FCONST` cap armed at 8 ms), DOP853 at rtol = atol = {CORE_RTOL:g}, up to "
-        f"{CORE_T_MAX_S:g} s; beside it, the same scene under the `physical` preset (column "
-        "*core's end, physical preset*; the scene's base friction as a reaction, the ground solid "
-        "in the contact). A legacy run whose post went through the ground during the contact "
-        "reports that passage as its hit (*passing through* in `core_notes`). An emulator run **agrees** when it reports the same hit as the "
-        f"core, within {AGREE_HIT_S:g} s, with the post's kinetic energy when the car lets go "
-        f"(the *launch energy*) within {100 * AGREE_KE:.0f} %; **same hit, off** when the hit "
-        "is the same but further off; **other hit** when it ends cleanly with another hit. "
-        "Energy drift: (E_end - E_start) / E_start over the free "
-        "flight in per cent, as the figure gives it, E = kinetic + W G (ZZ + HEIGHT).",
-        "",
-        "![stability map](stability_map.png)",
-        "",
-        "![extreme scenes](extreme_scenes.png)",
-        "",
-        "## Failure modes found",
-        "",
-    ]
-    lines += [f"* {s}" for s in failure_modes(rows, summary)]
-    lines += [""] + stability_section(rows, deck_file or deck_path)
-    lines += ["", "## What else happens", ""]
-    lines += [f"* {s}" for s in other_findings(rows)]
-    lines += ["", "## Outcomes", "",
-              "Counts of the emulator's classes: "
-              + ", ".join(f"{k} {v}" for k, v in sorted(summary["classes"].items())) + ".", ""]
+    """The page (``templates/stability_study.md``) of the grid's rows and summary."""
     table = []
     for r in rows:
         table.append([
@@ -588,29 +543,36 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick, deck_file=None) ->
             _per_cent(r.get("emulator_free_flight_energy_drift"), "+.2g"),
             _per_cent(r.get("core_free_flight_energy_drift"), "+.1e"),
         ])
-    lines += [md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
+    errors = []
+    for r in rows:
+        for key, who in (("emulator_error", "emulator"), ("core_error", "core"),
+                         ("physical_error", "core (physical)")):
+            if r.get(key):
+                errors.append(f"* `{r['scene']}`, {who}: {r[key]}")
+    return page(
+        "stability_study.md", command=cmd, machine_line=machine_line(machine(), jobs, wall),
+        deck_path=deck_path, ed_iterations=LIMITS.ed_iterations, halvings=LIMITS.halvings,
+        time_s=f"{LIMITS.time_s:g}", core_rtol=f"{CORE_RTOL:g}",
+        core_t_max=f"{CORE_T_MAX_S:g}", agree_hit=f"{AGREE_HIT_S:g}",
+        agree_ke=f"{100 * AGREE_KE:.0f}",
+        failure_modes="".join(f"* {s}\n" for s in failure_modes(rows, summary)),
+        stability_section="".join(line + "\n"
+                                  for line in stability_section(rows, deck_file or deck_path)),
+        other_findings="".join(f"* {s}\n" for s in other_findings(rows)),
+        classes=", ".join(f"{k} {v}" for k, v in sorted(summary["classes"].items())),
+        table=md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
                         "core's end, physical preset",
                         "launch energy, emulator vs core", "largest mass-centre distance (ft)",
-                        "emulator free-flight drift (%)", "core free-flight drift (%)"],
-                       table), ""]
-    errors = [r for r in rows
-              if r.get("emulator_error") or r.get("core_error") or r.get("physical_error")]
-    if errors:
-        lines += ["## Messages of the runs that failed", ""]
-        for r in errors:
-            if r.get("emulator_error"):
-                lines.append(f"* `{r['scene']}`, emulator: {r['emulator_error']}")
-            if r.get("core_error"):
-                lines.append(f"* `{r['scene']}`, core: {r['core_error']}")
-            if r.get("physical_error"):
-                lines.append(f"* `{r['scene']}`, core (physical): {r['physical_error']}")
-        lines.append("")
-    lines += ["Every number is in `stability_study.csv` (one row per scene; `k` is the step "
-              "scaling, `h_omega` = H sqrt(CK / W)).", ""]
-    return "\n".join(lines)
+                        "emulator free-flight drift (%)", "core free-flight drift (%)"], table),
+        errors="".join(line + "\n" for line in
+                       ["## Messages of the runs that failed", "", *errors, ""]) if errors else "")
 
 
 MAP, EXT = "[map](stability_map.png)", "[scenes](extreme_scenes.png)"
+
+
+def _finding(key: str, **fields) -> str:
+    return snippet("stability_findings.md", key, **fields)
 
 
 def failure_modes(rows, summary) -> list[str]:
@@ -620,54 +582,37 @@ def failure_modes(rows, summary) -> list[str]:
     s = summary.get("stiff")
     if s and s["first_ke10"]:
         r = by[s["first_ke10"]]
-        out.append(
-            "**Energy gain on a stiff spring.** The explicit scheme (Euler velocities, trapezoid "
-            "displacements; per step an amplification \u221a(1 + (h\u03c9)\u00b2/2) on an undamped "
-            "spring: see *Stability from the scheme and the model*) launches the post with more kinetic energy than the core: about "
-            f"{s['ke_per_h_omega']:.2f} h\u03c9 (relative; slope {s['slope']:.2f} in log-log below "
-            f"h\u03c9 = 1), more than {100 * AGREE_KE:.0f} % from h\u03c9 = "
-            f"{s['first_ke10_h_omega']:.2g} on (`{r['scene']}`: "
-            f"{100 * r['launch_ke_rel_diff']:+.0f} %). Figure: {MAP}.")
+        out.append(_finding(
+            "energy_gain", ke_per_h_omega=f"{s['ke_per_h_omega']:.2f}", slope=f"{s['slope']:.2f}",
+            agree_ke=f"{100 * AGREE_KE:.0f}", h_omega=f"{s['first_ke10_h_omega']:.2g}",
+            scene=r["scene"], ke_diff=f"{100 * r['launch_ke_rel_diff']:+.0f}"))
     if s and s["first_differs"]:
         r = by[s["first_differs"]]
-        out.append(
-            "**A clean end with a wrong answer.** On the stiff-spring grid the emulator "
-            + ("never trips a guard" if not s["failed"] else f"trips {', '.join(s['failed'])} only "
-               "in places")
-            + f"; it ends with another hit than the core's from h\u03c9 = "
-            f"{s['first_differs_h_omega']:.2g} on (`{r['scene']}`: emulator "
-            f"{_cell_text(r, 'emulator')}, core {_cell_text(r, 'core')}); of the "
-            f"{s['n_beyond']} runs at h\u03c9 >= {s['first_differs_h_omega']:.2g}, "
-            f"{s['n_other_beyond']} end with another hit and the others with the same hit but a "
-            "hit time or launch energy further off; the last run that agrees in hit, hit time "
-            f"and launch energy is at h\u03c9 = {s['last_agrees_h_omega']:.2g}. Figure: {MAP}.")
+        out.append(_finding(
+            "clean_end_wrong_answer",
+            guards=("never trips a guard" if not s["failed"]
+                    else f"trips {', '.join(s['failed'])} only in places"),
+            h_omega=f"{s['first_differs_h_omega']:.2g}", scene=r["scene"],
+            emulator=_cell_text(r, "emulator"), core=_cell_text(r, "core"),
+            n_beyond=s["n_beyond"], n_other_beyond=s["n_other_beyond"],
+            last_agrees=f"{s['last_agrees_h_omega']:.2g}"))
     if s and not s["failed"]:
         top = max(_stiff(rows), key=lambda r: r["h_omega"])
         hi = [r["launch_ke_rel_diff"] for r in _stiff(rows)
               if r["h_omega"] > 1 and _finite(r.get("launch_ke_rel_diff"))]
-        out.append(
-            f"**No divergence, even at h\u03c9 = {s['max_h_omega']:.3g}** (`{top['scene']}`: "
-            f"{_cell_text(top, 'emulator')}, launch energy "
-            f"{100 * top.get('launch_ke_rel_diff', math.nan):+.0f} %). The stiffest springs' "
-            "contact lasts under a millisecond (its length in *Stability from the scheme and "
-            "the model*), a few steps of H, and label 108 halves the step "
-            "whenever the post runs 0.01 ft ahead of the car, so the scheme's growth (a factor "
-            "\u221a(1 + (h\u03c9)\u00b2/2) per step at every h, real eigenvalues past h\u03c9 = 4: "
-            "the scheme has no stability interval, see below) acts for too few steps to "
-            "overflow: it shows as a wrong launch energy"
-            + (f" ({100 * min(hi):+.0f} to {100 * max(hi):+.0f} % beyond h\u03c9 = 1)" if hi else "")
-            + f", not as a blow-up. Figure: {MAP}.")
+        out.append(_finding(
+            "no_divergence", max_h_omega=f"{s['max_h_omega']:.3g}", scene=top["scene"],
+            emulator=_cell_text(top, "emulator"),
+            ke_diff=f"{100 * top.get('launch_ke_rel_diff', math.nan):+.0f}",
+            beyond=(f" ({100 * min(hi):+.0f} to {100 * max(hi):+.0f} % beyond h\u03c9 = 1)"
+                    if hi else "")))
     for r in rows:
         if r.get("emulator_guard") == "halvings" and "DIFFT" in r.get("emulator_error", ""):
-            difft = r["emulator_error"].split("DIFFT = ", 1)[1].split(" ", 1)[0]
-            out.append(
-                f"**Endless halving at label 108** (`{r['scene']}`, {r['description']}): the listing "
-                "tests DIFFT, the lead of point T over the car, only after the first spring has "
-                f"let go; by then T is already {difft} ft ahead, and label 352 sends every retry "
-                "(DIFFT > 0.01) back to 108, which cannot undo a lead the last accepted step "
-                f"already had: the step is halved {LIMITS.halvings} times in a row at t = "
-                f"{_time_of(r['emulator_error'])} s (the 1967 program would loop). "
-                f"The core ends: {_cell_text(r, 'core')}. Figure: {EXT}.")
+            out.append(_finding(
+                "endless_halving", scene=r["scene"], description=r["description"],
+                difft=r["emulator_error"].split("DIFFT = ", 1)[1].split(" ", 1)[0],
+                halvings=LIMITS.halvings, time=_time_of(r["emulator_error"]),
+                core=_cell_text(r, "core")))
             break
     tha_fail = [r for r in rows if r["group"] == "start-up THA"
                 and r.get("emulator_guard") == "arithmetic" and "ED" in r.get("emulator_error", "")]
@@ -675,91 +620,71 @@ def failure_modes(rows, summary) -> list[str]:
         ok = [float(r["tha"]) for r in rows if r["group"] == "start-up THA"
               and r["emulator_class"] == "agrees"]
         r = min(tha_fail, key=lambda r: float(r["tha"]))
-        out.append(
-            f"**Division by zero in ED from a large start-up THA** (from `{r['scene']}` on"
-            + (f"; THA = {', '.join(f'{x:g}' for x in sorted(ok))} pass" if ok else "")
-            + "): the start-up step tilts the "
-            "post by THA, point S (18.8 ft below the mass centre) moves more than 0.01 ft ahead "
-            "of the car, label 108 rejects the first step and retries it through label 44, whose "
-            "ED then divides by sin \u03b8 with the deck's THB = 0 and zero rates -- the "
-            "sin \u03b8 = 0 the printed 0.000022 exists to dodge "
-            f"(`{r['emulator_error']}`). The core, with a quaternion, runs them all. Figure: {EXT}.")
+        out.append(_finding(
+            "tha_division", scene=r["scene"], error=r["emulator_error"],
+            passing=f"; THA = {', '.join(f'{x:g}' for x in sorted(ok))} pass" if ok else ""))
     for r in rows:
         if r.get("core_status") == "no hit":
             low = r.get("core_lowest_at_release_ft")
             below = _finite(low) and low < 0
-            out.append(
-                f"**Core: no hit** (`{r['scene']}`, {r['description']}): the car lets go only at "
-                f"{r.get('core_vehicle_contact_lost_s') or math.nan:.3g} s"
-                + (f", when the post is already {-low:.1f} ft through the ground (neither program "
-                   "checks the ground during the contact), so free flight starts below the "
-                   "ground and nothing is ever hit" if below else "")
-                + f"; the emulator ends: {_cell_text(r, 'emulator')}. Figure: {EXT}.")
+            out.append(_finding(
+                "core_no_hit", scene=r["scene"], description=r["description"],
+                lost=f"{r.get('core_vehicle_contact_lost_s') or math.nan:.3g}",
+                below=_finding("below_ground", depth=f"{-low:.1f}") if below else "",
+                emulator=_cell_text(r, "emulator")))
     for r in rows:
         err = r.get("core_error") or ""
         if "chatter" in err:
-            out.append(
-                f"**Core: chattering force cap** (`{r['scene']}`, {r['description']}): the `FCONST` "
-                "cap is on while DIFF does not decrease; here the capped spring holds DIFF "
-                "stationary (a sliding mode), the cap's on/off events repeat at one instant and "
-                f"the core stops with `{err.split(' (mode')[0]}`; the emulator, which decides once "
-                f"per step, ends: {_cell_text(r, 'emulator')}. Figure: {EXT}.")
+            out.append(_finding(
+                "chattering", scene=r["scene"], description=r["description"],
+                error=err.split(" (mode")[0], emulator=_cell_text(r, "emulator")))
         elif r.get("core_status") == "error":
             out.append(f"**Core error** (`{r['scene']}`, {r['description']}): {err}. Figure: {EXT}.")
     warned = [r for r in rows if r.get("core_warnings")]
     if warned:
         r = warned[0]
         ended = all(x.get("core_status") == "hit" for x in warned)
-        out.append(
-            f"**Core: SciPy warnings** in {len(warned)} run(s), e.g. `{r['scene']}` "
-            f"({r['description']}): `{r['core_warnings']}` -- "
-            + ("DOP853 rejected the steps whose error estimate was not finite and every one of "
-               "these runs still ended with a hit." if ended else "see the CSV.")
-            + f" Figure: {MAP if r['group'] == STIFF_SPRING else EXT}.")
+        out.append(_finding(
+            "scipy_warnings", n=len(warned), scene=r["scene"], description=r["description"],
+            warnings=r["core_warnings"],
+            ended=("DOP853 rejected the steps whose error estimate was not finite and every one "
+                   "of these runs still ended with a hit." if ended else "see the CSV."),
+            figure=MAP if r["group"] == STIFF_SPRING else EXT))
     fric = [r for r in rows if r["group"] == "base friction"]
     base = by.get("base")
     for r in fric:
         if base and r.get("core_hit") != base.get("core_hit"):
-            out.append(
-                f"**Friction as a driving force** (`{r['scene']}`, {r['description']}; core only, "
-                "since the deck has no friction field: the listing's 3.1 x 300 lb is a constant of "
-                "the program): the model applies base friction as a constant force along +XX "
-                "while XQ > -0.083 ft (the slot), not as a reaction bounded by what would hold the "
-                "base still, so a large value drives the base towards the car "
-                f"({r.get('core_base_travel_ft', math.nan):+.1f} ft along XX by the end) and the "
-                "friction never ends, since a base moving along +XX never leaves the slot: "
-                f"{_cell_text(r, 'core')} (as printed: {_cell_text(base, 'core')}). Figure: {EXT}.")
+            out.append(_finding(
+                "friction", scene=r["scene"], description=r["description"],
+                travel=f"{r.get('core_base_travel_ft', math.nan):+.1f}",
+                core=_cell_text(r, "core"), base=_cell_text(base, "core")))
     thb = [r for r in rows if r["group"] == "theta near 90 deg" and base
            and r.get("emulator_hit") == base.get("emulator_hit")
            and r.get("emulator_hit_time_s") == base.get("emulator_hit_time_s")]
     if thb:
         r = thb[-1]
         others = ", ".join("`" + x["scene"] + "`" for x in thb[:-1])
-        others = f"; so do {others}" if others else ""
-        out.append(
-            f"**The emulator ignores the deck's THB** (`{r['scene']}` ends exactly as `base`, "
-            f"{_cell_text(r, 'emulator')}{others}): "
-            "label 123 sets THA, PHIA and PSIA at the first step, so a post cannot start "
-            f"tilted; the core turns the post by THB ({_cell_text(r, 'core')}). Figure: {EXT}.")
+        out.append(_finding(
+            "ignores_thb", scene=r["scene"], emulator=_cell_text(r, "emulator"),
+            others=f"; so do {others}" if others else "", core=_cell_text(r, "core")))
     for r in rows:
         if r["group"] in (STIFF_SPRING, "theta near 90 deg") or r["emulator_class"] != "other hit":
             continue
-        out.append(
-            f"**Different answer** (`{r['scene']}`, {r['description']}): emulator "
-            f"{_cell_text(r, 'emulator')}, core {_cell_text(r, 'core')}; launch energy "
-            f"{fmt(r.get('launch_ke_rel_diff'), '+.1%')}, mass centres up to "
-            f"{fmt(r.get('traj_diff_ft'), '.2g')} ft apart. Figure: {EXT}.")
+        out.append(_finding(
+            "different_answer", scene=r["scene"], description=r["description"],
+            emulator=_cell_text(r, "emulator"), core=_cell_text(r, "core"),
+            ke_diff=fmt(r.get("launch_ke_rel_diff"), "+.1%"),
+            traj_diff=fmt(r.get("traj_diff_ft"), ".2g")))
     drifts = [r for r in rows if _finite(r.get("emulator_free_flight_energy_drift"))]
     if drifts:
         r = max(drifts, key=lambda r: abs(r["emulator_free_flight_energy_drift"]))
         c = [abs(x["core_free_flight_energy_drift"]) for x in rows if _finite(x.get("core_free_flight_energy_drift"))]
         b = f" (`base`: {100 * base['emulator_free_flight_energy_drift']:+.2g} %)" if base and _finite(
             base.get("emulator_free_flight_energy_drift")) else ""
-        out.append(
-            "**Energy drift in free flight.** With gravity alone the post's energy should stay "
-            f"constant; the emulator's explicit steps add energy{b}, most in `{r['scene']}` "
-            f"({100 * r['emulator_free_flight_energy_drift']:+.2g} %); the core's largest drift is "
-            f"{100 * max(c, default=math.nan):.1e} %. Figure: {EXT} (last column).")
+        out.append(_finding(
+            "energy_drift", base=b, scene=r["scene"],
+            drift=f"{100 * r['emulator_free_flight_energy_drift']:+.2g}",
+            core_drift=f"{100 * max(c, default=math.nan):.1e}"))
     return out
 
 
@@ -772,27 +697,23 @@ def other_findings(rows) -> list[str]:
     for group, rs in groups.items():
         ok = [r for r in rs if r["emulator_class"] == "agrees"]
         if ok:
-            out.append(f"{group}: " + ", ".join(f"`{r['scene']}`" for r in ok)
-                       + " end as the core does (same hit within "
-                       f"{AGREE_HIT_S:g} s, launch energy within {100 * AGREE_KE:.0f} %).")
+            out.append(_finding("agrees", group=group,
+                                scenes=", ".join(f"`{r['scene']}`" for r in ok),
+                                agree_hit=f"{AGREE_HIT_S:g}", agree_ke=f"{100 * AGREE_KE:.0f}"))
     for r in rows:
         if r["group"] not in (STIFF_SPRING, "theta near 90 deg") and r["emulator_class"] == "same hit, off":
-            out.append(
-                f"`{r['scene']}` ({r['description']}): the same hit, "
-                f"{abs(r['hit_time_diff_s']):.3f} s {'later' if r['hit_time_diff_s'] > 0 else 'earlier'} "
-                f"than the core's (emulator {_cell_text(r, 'emulator')}, core "
-                f"{_cell_text(r, 'core')}; mass centres up to {fmt(r.get('traj_diff_ft'), '.2g')} ft "
-                "apart, of the order of the listing's own accuracy at H = 0.0004 s, see the error "
-                "study).")
+            out.append(_finding(
+                "same_hit_off", scene=r["scene"], description=r["description"],
+                diff=f"{abs(r['hit_time_diff_s']):.3f}",
+                later="later" if r["hit_time_diff_s"] > 0 else "earlier",
+                emulator=_cell_text(r, "emulator"), core=_cell_text(r, "core"),
+                traj_diff=fmt(r.get("traj_diff_ft"), ".2g")))
     for r in rows:
         if r["emulator_class"] == "n/a":
             out.append(f"`{r['scene']}` ({r['description']}; core only): {_cell_text(r, 'core')}.")
     tha0 = next((r for r in rows if r["scene"] == "tha-0.0"), None)
     if tha0 and tha0["emulator_class"] in CLEAN:
-        out.append(
-            "`tha-0.0`: THA = 0 at the start-up does not fail: the first step's rates (THDA = "
-            "0.0545) make the next THA nonzero before anything divides by sin \u03b8; "
-            f"{_cell_text(tha0, 'emulator')}.")
+        out.append(_finding("tha_zero", emulator=_cell_text(tha0, "emulator")))
     return out
 
 
@@ -849,39 +770,13 @@ def stability_section(rows, deck_path) -> list[str]:
     STIFF_RATIO = stiff_ratio()
     base = read_deck(deck_path)
     w = base.values["W"]
-    out = [
-        "## Stability from the scheme and the model",
-        "",
-        "**The 1967 scheme has no stability interval.** On an undamped spring x'' = -\u03c9\u00b2x "
-        "its step (velocity by explicit Euler, displacement by the trapezoid of the two "
-        "velocities) is (x, v) -> M (x, v) with M = [[1 - (h\u03c9)\u00b2/2, h], [-h\u03c9\u00b2, 1]] "
-        "(`one_step_matrix`), whose determinant is 1 + (h\u03c9)\u00b2/2 > 1 at every h > 0. "
-        "For h\u03c9 < 4 its eigenvalues are a complex pair of modulus \u221a(1 + (h\u03c9)\u00b2/2): "
-        "the spring's energy grows by 1 + (h\u03c9)\u00b2/2 each step, however small the step; "
-        "past h\u03c9 = 4 they are real and one grows faster still. h\u03c9 = 2 is the limit of "
-        "leapfrog (St\u00f6rmer-Verlet), whose matrix has determinant 1; it is not this "
-        "scheme's. Computed (`scheme_growth`, numpy's eigenvalues):",
-        "",
-        md_table(["h\u03c9", "eigenvalues of M", "largest |\u03bb|", "det M",
-                  "1 + (h\u03c9)\u00b2/2", "energy growth per step", "over a half period \u03c0/\u03c9"],
-                 [[f"{g['h_omega']:g}", ", ".join(f"{z.real:.4g}{z.imag:+.4g}i"
-                                                   for z in g["eigenvalues"]),
-                   f"{g['modulus']:.6g}", f"{g['det']:.6g}", f"{1 + g['h_omega']**2 / 2:.6g}",
-                   f"{g['energy_per_step']:.6g}", f"{g['energy_half_period']:.4g}"]
-                  for g in map(scheme_growth, SCHEME_H_OMEGA)]),
-        "",
-        "What it means for the runs: the scheme's error on a spring is a steady energy gain, "
-        "about \u03c0h\u03c9/2 over a half period \u03c0/\u03c9 of the spring for small h\u03c9 "
-        "(the last column, less 1), not a threshold past which it diverges.",
-        "",
-        "**The model's contact eigenvalues.** The core's contact right-hand side, linearised on a "
-        "state of the contact (`contact_spectrum`: its Jacobian by central differences, the "
-        "spring at S), for each spring of the grid; \u03c9 = \u221a(CK/W) is the grid's "
-        "h\u03c9 axis; *slow* the largest eigenvalue outside the spring's pair; the contact "
-        "in periods of the fast mode; the core's own estimate `stiffness()` and its threshold "
-        f"{STIFF_RATIO:g} above which `method=\"auto\"` would integrate the contact with Radau:",
-        "",
-    ]
+    growth = md_table(
+        ["h\u03c9", "eigenvalues of M", "largest |\u03bb|", "det M", "1 + (h\u03c9)\u00b2/2",
+         "energy growth per step", "over a half period \u03c0/\u03c9"],
+        [[f"{g['h_omega']:g}", ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in g["eigenvalues"]),
+          f"{g['modulus']:.6g}", f"{g['det']:.6g}", f"{1 + g['h_omega']**2 / 2:.6g}",
+          f"{g['energy_per_step']:.6g}", f"{g['energy_half_period']:.4g}"]
+         for g in map(scheme_growth, SCHEME_H_OMEGA)])
     table, ratios, periods_seen = [], [], []
     for ck in sorted({r["CK_lb_ft"] for r in _stiff(rows)}):
         scene = Scene.from_deck(base.with_values(CK=ck, CT=ck))
@@ -897,38 +792,23 @@ def stability_section(rows, deck_path) -> list[str]:
                       f"{spec['fast'] / omega:.3f}", f"{spec['slow']:.3g}",
                       f"{spec['fast'] / spec['slow']:.3g}" if spec["slow"] else "–",
                       fmt(spec["contact_s"], ".3g"), fmt(periods, ".2g"), f"{estimate:.3f}"])
-    out += [md_table(["CK = CT (lb/ft)", "\u03c9 (rad/s)", "fast |\u03bb| (1/s)", "fast / \u03c9",
-                      "slow |\u03bb| (1/s)", "spread fast / slow", "contact (s, to 1 ms)",
-                      "contact in fast periods", "core's stiffness()"], table), ""]
+    spectrum = md_table(["CK = CT (lb/ft)", "\u03c9 (rad/s)", "fast |\u03bb| (1/s)",
+                         "fast / \u03c9", "slow |\u03bb| (1/s)", "spread fast / slow",
+                         "contact (s, to 1 ms)", "contact in fast periods", "core's stiffness()"],
+                        table)
+    out = _finding("scheme", growth_table=growth, stiff_ratio=f"{STIFF_RATIO:g}",
+                   spectrum_table=spectrum).split("\n") + [""]
     if ratios:
         lo, hi = min(r for r, _, _ in ratios), max(r for r, _, _ in ratios)
-        est = sorted({round(e, 3) for _, e, _ in ratios})
-        reduced = sorted({round(f, 3) for _, _, f in ratios})
-        fast_periods = (f"{min(periods_seen):.2g} to {max(periods_seen):.2g}" if periods_seen
-                        else "a few")
-        out += [
-            f"The fast eigenvalue is {lo:.3f}"
-            + (f" to {hi:.3f}" if hi - lo > 5e-4 else "")
-            + " \u03c9 at every spring: the grid's h\u03c9 understates the scheme's h|\u03bb| "
-            "by that factor (the core's own estimate of the fast mode, the spring on the post's "
-            "translation and its turning about the mass centre with the car in series, "
-            "\u221a(K (1/m + r\u00b2/I + 1/WV)), gives " + ", ".join(f"{f:.3f}" for f in reduced)
-            + " \u03c9). The spread grows as \u221aCK, but the contact of the stiffest "
-            f"springs lasts only {fast_periods} periods of that fast mode: the fast mode is the contact "
-            "force itself, which any method must resolve to get the answer, so an explicit "
-            "method's step is set by accuracy there, not by a stability bound. These scenes are "
-            "stiff springs, not a stiff problem in the numerical analyst's sense, and an "
-            "implicit method buys nothing on them. The core's own estimate `stiffness()` is "
-            + ", ".join(f"{e:.3f}" for e in est)
-            + " for every spring: it is the ratio of two spring frequencies that both grow as "
-            "\u221aCK, so it depends on the masses alone and never reaches its threshold "
-            f"{STIFF_RATIO:g} on a stiffer spring: `method=\"auto\"` never switches to Radau "
-            "on any scene of this grid, rightly, since none of them is stiff. It does where a "
-            "mass makes a fast mode that the answer does not need resolved (a car of "
-            f"{TINY_CAR_SLUG:g} slug on steel40's springs: `stiffness()` = "
-            f"{stiffness_estimate(Scene.from_deck(base.with_values(WV=TINY_CAR_SLUG)), matched_options(H0))[0]:.3g}).",
-            "",
-        ]
+        tiny = Scene.from_deck(base.with_values(WV=TINY_CAR_SLUG))
+        out += [_finding(
+            "fast_mode", fast=f"{lo:.3f}" + (f" to {hi:.3f}" if hi - lo > 5e-4 else ""),
+            reduced=", ".join(f"{f:.3f}" for f in sorted({round(f, 3) for _, _, f in ratios})),
+            fast_periods=(f"{min(periods_seen):.2g} to {max(periods_seen):.2g}" if periods_seen
+                          else "a few"),
+            estimates=", ".join(f"{e:.3f}" for e in sorted({round(e, 3) for _, e, _ in ratios})),
+            stiff_ratio=f"{STIFF_RATIO:g}", tiny_car=f"{TINY_CAR_SLUG:g}",
+            tiny_stiffness=f"{stiffness_estimate(tiny, matched_options(H0))[0]:.3g}"), ""]
         out += _explicit_against_implicit(base, max(r["CK_lb_ft"] for r in _stiff(rows)))
     return out
 
@@ -947,11 +827,8 @@ def _explicit_against_implicit(base, ck: float) -> list[str]:
         runs[method] = (out["result"], out["wall_s"])
     (d, td), (r, tr) = runs["DOP853"], runs["Radau"]
     same = d.hit_message is not None and d.hit_message == r.hit_message
-    return [
-        f"On the stiffest spring, CK = CT = {ck:.3g} lb/ft, the whole run at rtol {CORE_RTOL:g}: "
-        f"DOP853 {d.evaluations} right-hand-side evaluations ({td:.2g} s), Radau "
-        f"{r.evaluations} plus its Jacobians and LU factorisations ({tr:.2g} s); "
-        + (f"the same hit, {abs(d.hit_time_s - r.hit_time_s):.2g} s apart."
-           if same else f"different ends: DOP853 {d.hit_message}, Radau {r.hit_message}."),
-        "",
-    ]
+    return [_finding(
+        "explicit_implicit", ck=f"{ck:.3g}", rtol=f"{CORE_RTOL:g}", dop_nfev=d.evaluations,
+        dop_wall=f"{td:.2g}", radau_nfev=r.evaluations, radau_wall=f"{tr:.2g}",
+        ends=(f"the same hit, {abs(d.hit_time_s - r.hit_time_s):.2g} s apart." if same
+              else f"different ends: DOP853 {d.hit_message}, Radau {r.hit_message}.")), ""]
