@@ -206,6 +206,8 @@ class Answering:
 
 @options_class
 class Errata:
+    """The listing's errata a command applies (none: the listing as printed)."""
+
     erratum: tuple[str, ...] = option((), many=True, choices=ERRATA_NAMES,
                                       help="apply a named erratum to the listing (default: "
                                       "none, the listing as printed; ed-direction lets ED's "

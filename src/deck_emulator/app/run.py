@@ -11,6 +11,9 @@ from .options import Emulator, option, options_class
 
 @options_class
 class RunOptions(Emulator):
+    """What ``run`` takes beyond the emulator's options: where its printout, pages, JSON,
+    trajectory and dossier go, and how they are laid out."""
+
     out: str | None = option(None, metavar="FILE", help="write the printout to FILE")
     pages: str | None = option(None, metavar="FILE.pdf",
                                help="lay the printout out as the line printer's pages, as PDF "

@@ -52,6 +52,8 @@ _DATA_STARTS = ("$DATA", "$ENTRY")
 
 @dataclass(frozen=True)
 class Statement:
+    """One FORTRAN statement of a job deck's source: its label, its text and its cards."""
+
     label: str
     text: str  # columns 7-72 of the card and its continuations, blanks removed
     line: int  # card (or line) where it starts, 1-based
