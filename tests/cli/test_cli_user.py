@@ -208,14 +208,14 @@ def test_no_progress_when_stderr_is_not_a_terminal(capsys):
 @pytest.fixture
 def no_work(monkeypatch):
     """Fail the test if either engine is asked to run."""
-    from deck_emulator.engine import engines
+    from deck_emulator.engine import core_engine, engines
 
     def refuse(*a, **k):
         raise AssertionError("an engine ran before the command's inputs were checked")
 
     monkeypatch.setattr(engines.EmulatorEngine, "run", refuse)
-    monkeypatch.setattr(engines.CoreEngine, "run", refuse)
-    monkeypatch.setattr(engines.CoreEngine, "simulate", refuse)
+    monkeypatch.setattr(core_engine.CoreEngine, "run", refuse)
+    monkeypatch.setattr(core_engine.CoreEngine, "simulate", refuse)
 
 
 @pytest.mark.parametrize("make_argv", [

@@ -58,7 +58,7 @@ def assert_same(ref, got, label=""):
         assert (a is None) == (b is None), (label, name)
         if a is not None:
             assert abs(a - b) <= tol, (label, name, a, b)
-    # the crush ΔV (engine/engines.py): the car's velocity at the force cap, from the trajectory
+    # the crush ΔV (engine/core_engine.py): the car's velocity at the force cap, from the trajectory
     cap = next((e.time_s for e in ref.events if e.name == EventKind.FORCE_CAP), None)
     if cap is not None:
         va = ref.trajectory.vehicle(cap)[1]

@@ -240,14 +240,14 @@ def test_read_only_folder_fails_before_any_work(tmp_path):
 # engine run (EmulatorEngine.run, CoreEngine.run) and the studies' scene runner.
 NO_ENGINE = """
 import os, sys
-from deck_emulator.engine import engines
+from deck_emulator.engine import core_engine, engines
 from deck_emulator.studies import distributed
 
 def started(*args, **kwargs):
     print("ENGINE STARTED", flush=True)
     os._exit(99)
 
-engines.EmulatorEngine.run = engines.CoreEngine.run = engines.CoreEngine.run_batch = started
+engines.EmulatorEngine.run = core_engine.CoreEngine.run = core_engine.CoreEngine.run_batch = started
 distributed.run_scenes = started
 from deck_emulator.cli import main
 sys.exit(main(sys.argv[1:]))

@@ -6,8 +6,8 @@ from deck_emulator.vocabulary import defaults
 
 from . import Answer, command
 from . import common
-from .groups import Preset
-from .options import Answering, option, options_class, positive_float, SceneSource, tolerance
+from .groups import Preset, SceneSource
+from .options import Answering, option, options_class, positive_float, tolerance
 
 
 @options_class

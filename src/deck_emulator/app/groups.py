@@ -1,5 +1,5 @@
-"""The option groups of the commands that run more than the listing: the core's preset, the
-cluster a many-scene command runs on, a study's folder (rows of the same kind as
+"""The option groups of the commands that run more than the listing: a SOURCE that may be a
+scene, the core's preset, the cluster a many-scene command runs on, a study's folder (rows of the same kind as
 :mod:`.options`, apart so that the 1967 path's commands do not make them at every start)."""
 
 from __future__ import annotations
@@ -8,7 +8,15 @@ import os
 
 from deck_emulator.vocabulary import defaults
 
-from .options import PRESETS, Common, option, options_class, positive_int, worker_wait
+from .options import (PRESETS, SOURCE_HELP, Common, Source, option, options_class, positive_int,
+                      worker_wait)
+
+
+@options_class
+class SceneSource(Source):
+    """SOURCE for the commands that also take a scene file."""
+
+    source: str = option(positional=True, metavar="SOURCE", help=SOURCE_HELP)
 
 
 @options_class

@@ -189,13 +189,6 @@ class Source(Common):
 
 
 @options_class
-class SceneSource(Source):
-    """SOURCE for the commands that also take a scene file."""
-
-    source: str = option(positional=True, metavar="SOURCE", help=SOURCE_HELP)
-
-
-@options_class
 class Answering:
     """--json, --out and --quiet."""
 

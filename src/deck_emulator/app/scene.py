@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from . import Answer, command
 from . import common
-from .options import option, options_class, SceneSource
+from .groups import SceneSource
+from .options import option, options_class
 
 
 @options_class

@@ -14,10 +14,10 @@ registry's definitions for its help) loads neither the engines nor numpy.
 import importlib
 
 _WHERE = {
-    "ENGINES": "engines", "CoreEngine": "engines", "EmulatorEngine": "engines",
-    "core_events": "engines", "engine_for": "engines",
-    "source_name": "engines", "core_keywords": "engines", "step_literals": "engines",
-    "compile_core": "engines", "load_core": "engines", "Outcome": "outcome",
+    "ENGINES": "engines", "CoreEngine": "core_engine", "EmulatorEngine": "engines",
+    "core_events": "core_engine", "engine_for": "engines",
+    "source_name": "sources", "core_keywords": "core_engine", "step_literals": "engines",
+    "compile_core": "core_engine", "load_core": "core_engine", "Outcome": "outcome",
 }
 _MODULES = ("errata", "quantities", "safety", "energy", "assemblies", "leaf_spring", "attitude")
 

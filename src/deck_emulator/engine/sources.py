@@ -275,3 +275,20 @@ def _compile(job, name: str):
         raise DeckError(f"the deck's own FORTRAN cannot run, nothing was run: {exc} (the "
                         "FORTRAN front end runs the listing's dialect; --listing-program runs "
                         "the listing's program on this deck's data)", path=name) from None
+
+
+def given(source, engine: str) -> tuple[object, str]:
+    """``source`` as ``engine`` runs it, and its name: a deck or a scene object as it is (no
+    name); a shipped deck's name or a file read as :func:`deck_emulator.run` reads it."""
+    if not isinstance(source, (str, os.PathLike)):
+        return source, ""
+    src = load_source(source, kinds=kinds_for(engine), command=f"the {engine}")
+    return src.for_engine(engine), src.stem
+
+
+def source_name(source) -> str:
+    """'steel40' for decks/steel40.dat; a scene's own name; else 'scene'."""
+    path = getattr(source, "path", None)
+    if path:
+        return file_stem(str(path))
+    return getattr(source, "name", "") or "scene"
