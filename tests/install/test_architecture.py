@@ -68,25 +68,27 @@ def test_parse_and_run_start_without_scipy_or_matplotlib(command, tmp_path):
     assert "HEAVY [] STATUS 0" in proc.stdout, proc.stdout + proc.stderr
 
 
-def test_cli_names_agree_with_the_layers_below():
-    """The CLI names its choices itself so that building the parser imports nothing heavy;
-    they must be the registry's, the emulator's errata and the pictures' views."""
-    from deck_emulator.app import options as cli
-    from deck_emulator.vocabulary.scene import PRESETS
-    from deck_emulator.legacy.arithmetic import ARITHMETICS
-    from deck_emulator.legacy.stops import ERRATA
-    from deck_emulator.present.plot import VIEWS
+def test_every_named_choice_is_implemented_by_its_layer():
+    """The choices' names are one table (vocabulary/choices.py) that the command line offers
+    without importing the layers below; each layer must implement exactly those names."""
+    from importlib.resources import files
 
-    assert cli.PRECISIONS == ARITHMETICS
-    assert set(cli.ERRATA_NAMES) == set(ERRATA)
-    assert set(cli.PRESETS) == set(PRESETS)
-    assert cli.VIEWS == VIEWS
-    from deck_emulator.engine import ENGINES
-    from deck_emulator.legacy.cardimage import FORMATS
+    from deck_emulator.engine import engine_for
+    from deck_emulator.legacy import cardimage
+    from deck_emulator.legacy.arithmetic import get_arithmetic
     from deck_emulator.legacy.keypunch import CODES
+    from deck_emulator.vocabulary import choices
+    from deck_emulator.vocabulary.scene import PRESETS
 
-    assert cli.CARD_FORMATS == tuple(FORMATS) and cli.KEYPUNCH_CODES == tuple(sorted(CODES))
-    assert cli.ENGINES == ENGINES
+    for name in choices.ARITHMETICS:
+        assert get_arithmetic(name) is not None
+    errata = files("deck_emulator.legacy") / "errata"
+    assert {p.name for p in errata.iterdir() if p.name.endswith(".patch")} == {
+        f"{name}.patch" for name in choices.ERRATA}
+    assert tuple(PRESETS) == choices.PRESETS
+    assert [engine_for(name).name for name in choices.ENGINES] == list(choices.ENGINES)
+    assert set(cardimage._READERS) == set(choices.CARD_FORMATS)
+    assert tuple(CODES) == choices.KEYPUNCH_CODES
 
 
 def test_only_the_cli_parses_arguments():

@@ -12,7 +12,8 @@ from __future__ import annotations
 import math
 from dataclasses import MISSING, dataclass, field
 
-from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary import choices, defaults
+from deck_emulator.vocabulary.choices import CARD_FORMATS, ENGINES, KEYPUNCH_CODES, PRESETS, VIEWS
 
 #: What SOURCE may be, said once for every command's help: a deck (the commands that run the
 #: emulator or read cards take only a deck), or for the commands that also take a scene (``core``,
@@ -21,16 +22,10 @@ _DECKS = "a shipped deck's name (steel40), a deck file (text, or card images in 
 DECK_WORDS = _DECKS + " or a job deck"
 DECK_HELP = DECK_WORDS + "; a scene file (.toml) is refused (`scene` and `core` take scenes)"
 SOURCE_HELP = _DECKS + ", a job deck, or a scene file (.toml)"
-#: the arithmetics, errata, presets and views, named here so that building the parser imports
-#: nothing heavy (tests check that these agree with the registries they name)
-PRECISIONS = ("double", "single", "ibm7094")
-ERRATA_NAMES = ("ed-direction",)
-PRESETS = ("legacy", "physical")
-VIEWS = ("side", "plan", "3d", "all")
-ENGINES = ("emulator", "core")
+#: the arithmetics and errata a command offers (vocabulary/choices.py: every choice's names)
+PRECISIONS = choices.ARITHMETICS
+ERRATA_NAMES = tuple(choices.ERRATA)
 #: the card image formats and keypunch codes (legacy.cardimage.FORMATS, legacy.keypunch.CODES)
-CARD_FORMATS = ("text", "binary", "cbn", "bcd")
-KEYPUNCH_CODES = ("026", "029")
 
 
 def option(default=MISSING, *, help: str, flag: str | None = None, positional: bool = False,

@@ -20,6 +20,7 @@ from deck_emulator.legacy.fortran import STEP_LITERALS, listing_program
 from deck_emulator.legacy.stops import EmulatorError, Limits
 from deck_emulator.legacy.printer import event_message
 from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.choices import ENGINES
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.units import force_in_g
 
@@ -33,7 +34,6 @@ TYPE_CHECKING = False
 if TYPE_CHECKING:
     from .outcome import Outcome
 
-ENGINES = ("emulator", "core")
 
 
 # ============================================================================ the emulator

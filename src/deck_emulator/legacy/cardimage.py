@@ -59,6 +59,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from deck_emulator.legacy.deck import CARD_COLUMNS, DeckError
+from deck_emulator.vocabulary.choices import CARD_FORMATS
 
 # (keypunch, the codes of binary cards, is imported where a binary card is read or punched:
 # a text deck's run does not load it)
@@ -68,7 +69,7 @@ __all__ = [
     "bcd_to_holes", "holes_to_bcd", "parity_bit",
 ]
 
-FORMATS = ("text", "binary", "cbn", "bcd")
+FORMATS = CARD_FORMATS
 BINARY_CARD_BYTES = 160
 BCD_CARD_BYTES = 80
 RECORD_MARK = 0x80

@@ -23,6 +23,8 @@ Letters and digits are the same in both: A-I are 12 with 1-9, J-R 11 with 1-9, S
 
 from __future__ import annotations
 
+from deck_emulator.vocabulary.choices import KEYPUNCH_CODES
+
 __all__ = ["CODES", "ROWS", "row_bit", "rows_text", "to_holes", "to_char"]
 
 #: Row names in card order, top to bottom, with their bit in the 12-bit column.
@@ -114,7 +116,7 @@ _029 = {
 
 #: code name -> (character -> 12-bit column, 12-bit column -> character)
 CODES: dict[str, tuple[dict[str, int], dict[int, str]]] = {}
-for _name, _table in (("026", _026), ("029", _029)):
+for _name, _table in zip(KEYPUNCH_CODES, (_026, _029), strict=True):
     _back = {v: k for k, v in _table.items()}
     assert len(_back) == len(_table), f"{_name}: two characters share a combination"
     CODES[_name] = (dict(_table), _back)

@@ -8,14 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.choices import ERRATA
 from deck_emulator.vocabulary.events import Event
-
-
-#: The errata (legacy/errata/NAME.patch: patches to the listing's statements) by name.
-ERRATA = {
-    "ed-direction": "ED steps towards its root in the branch 'ROOT GOES NEGATIVE TO POSITIVE' "
-    "(labels 1 and 15: DH=D-H, DH=D-H/2.)",
-}
 
 
 class EmulatorError(RuntimeError):

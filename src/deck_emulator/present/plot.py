@@ -30,6 +30,7 @@ from deck_emulator.engine import ENGINES, Outcome, engine_for, quantities, safet
 from deck_emulator.engine.ratings import ratings
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputSet, check_output_file
+from deck_emulator.vocabulary.choices import VIEWS
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.units import ft_s_to_mph
@@ -51,7 +52,6 @@ __all__ = [
     "instants",
 ]
 
-VIEWS = ("side", "plan", "3d", "all")
 #: Figure size (inches) per view; at DPI the PNG is exactly FIGSIZE * DPI pixels.
 FIGSIZE = {
     "side": (13.0, 6.5),

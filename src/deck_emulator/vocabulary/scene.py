@@ -42,6 +42,7 @@ from dataclasses import dataclass, field, fields, is_dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from deck_emulator.vocabulary import choices
 from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
 from deck_emulator.vocabulary.defaults import (
     LISTING_CAP_STEPS,
@@ -807,6 +808,7 @@ LEGACY = ModelOptions(
 PHYSICAL = ModelOptions(name="physical")
 
 PRESETS: dict[str, ModelOptions] = {"legacy": LEGACY, "physical": PHYSICAL}
+assert tuple(PRESETS) == choices.PRESETS, "a preset without its model options, or the other way"
 
 
 @dataclass(frozen=True)

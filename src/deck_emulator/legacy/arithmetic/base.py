@@ -24,6 +24,8 @@ import contextlib
 import importlib
 import math
 
+from deck_emulator.vocabulary.choices import ARITHMETICS
+
 
 class ArithmeticFault(ArithmeticError):
     """An operation the machine would trap on (division by zero, overflow, invalid)."""
@@ -81,10 +83,10 @@ class Arithmetic:
 #: name -> factory(**options); filled by the implementations' modules (see the package).
 _REGISTRY: dict[str, object] = {}
 
-#: Each arithmetic's name, in the order the CLI offers them, and the module of this package
-#: that registers it (imported when the arithmetic is first asked for).
+#: The module of this package that registers each arithmetic (imported when the arithmetic
+#: is first asked for), by its name (vocabulary/choices.py).
 _MODULES = {"double": "ieee", "single": "ieee", "ibm7094": "ibm7094"}
-ARITHMETICS = tuple(_MODULES)
+assert tuple(_MODULES) == ARITHMETICS, "an arithmetic without its module, or the other way"
 
 
 def register(name: str, factory) -> None:
