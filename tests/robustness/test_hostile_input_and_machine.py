@@ -346,8 +346,7 @@ def test_brackets_and_digits_inside_strings_and_comments_do_not_count():
 
 
 def test_a_store_knows_the_files_and_scenes_it_was_made_from(tmp_path):
-    from deck_emulator.studies.distributed import (STUDY_NAME, StudyChanged, _check_study,
-                                                   _made_from, scene_id)
+    from deck_emulator.studies.store import STUDY_NAME, StudyChanged, _check_study, scene_id
 
     deck = tmp_path / "b.dat"
     deck.write_bytes(STEEL40.read_bytes())
@@ -360,24 +359,24 @@ def test_a_store_knows_the_files_and_scenes_it_was_made_from(tmp_path):
     unique = study([20.0, 40.0])
     store = tmp_path / "store"
     store.mkdir()
-    _check_study(store, _made_from(unique), set(), unique)  # a new store keeps it
+    _check_study(store, unique, set())  # a new store keeps it
     assert (store / STUDY_NAME).is_file()
     stored = set(unique)
-    _check_study(store, _made_from(unique), stored, unique)  # the same study: resumed
+    _check_study(store, unique, stored)  # the same study: resumed
     # W changed from 15.1 to 15.2 slugs: another deck under the same name
     deck.write_bytes(STEEL40.read_bytes().replace(b"15.1      ", b"15.2      ", 1))
     with pytest.raises(StudyChanged, match=r"b\.dat changed since .*store was made from it"):
-        _check_study(store, _made_from(unique), stored, unique)
+        _check_study(store, unique, stored)
     deck.write_bytes(STEEL40.read_bytes())
-    _check_study(store, _made_from(unique), stored, unique)  # back as it was: resumed
+    _check_study(store, unique, stored)  # back as it was: resumed
     wider = study([20.0, 40.0, 60.0])  # a grid made larger keeps the scenes both share
-    _check_study(store, _made_from(wider), stored, wider)
+    _check_study(store, wider, stored)
     core = study([20.0, 40.0], engine="core")  # another engine: no stored scene is asked for
     with pytest.raises(StudyChanged, match=r"none of the 2 scenes stored in .* is among the 2"):
-        _check_study(store, _made_from(core), stored, core)
+        _check_study(store, core, stored)
     (store / STUDY_NAME).write_text("{")
     with pytest.raises(StudyChanged, match="unreadable"):
-        _check_study(store, _made_from(unique), stored, unique)
+        _check_study(store, unique, stored)
 
 
 @pytest.mark.slow

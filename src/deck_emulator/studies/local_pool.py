@@ -1,26 +1,17 @@
-"""The embedded runner: :class:`LocalPool`, a ``concurrent.futures.ProcessPoolExecutor`` on
-forkserver workers plus the two things the standard library lacks.
+"""The embedded runner: :class:`LocalPool`, a ``ProcessPoolExecutor`` whose workers are forked
+from one server (multiprocessing's *forkserver*) that imported :data:`PRELOAD` (for core scenes
+:data:`CORE_PRELOAD`: the compiled core) once, so that they share those pages (docs/scale.md),
+plus what the standard library lacks:
 
-The workers are forked from one server process (multiprocessing's *forkserver*) that imported,
-once, :data:`PRELOAD` (and for core scenes :data:`CORE_PRELOAD`: the compiled core), so that
-every worker shares those pages instead of loading its own copy (docs/scale.md). The forkserver
-is one per process, made at the first pool; what it imported then holds for later pools.
+* a worker that dies breaks the executor (``BrokenProcessPool`` for every batch it holds): the
+  batches go to a new one.  Workers take batches in the order given, so the ``jobs`` oldest
+  unfinished ones were those running: each runs again *alone*, and a batch whose worker dies
+  alone more than ``WORKER_DEATHS_PER_BATCH`` times is answered :class:`WorkerDied`;
+* a worker ends as soon as its command is gone (``kill -9``), and :meth:`LocalPool.shutdown`
+  ends busy workers (SIGTERM, then SIGKILL) instead of waiting for their batches.
 
-What :class:`LocalPool` adds to the executor:
-
-* a worker that dies in a batch breaks a ``ProcessPoolExecutor`` (``BrokenProcessPool`` for
-  every batch it holds); the batches are handed to a new one.  The at most ``jobs`` oldest
-  unfinished batches of the broken pool were the ones running (workers take batches in the
-  order given), so each of them runs again *alone*: a worker that dies then died of its own
-  batch, which is answered :class:`WorkerDied` once it died more than
-  ``WORKER_DEATHS_PER_BATCH`` times alone; the other batches run as before;
-* a worker ends as soon as its command is gone (``kill -9``), not at the end of its batch;
-  :meth:`LocalPool.shutdown` ends busy workers (SIGTERM, then SIGKILL) instead of waiting for
-  their batches.
-
-Workers ignore SIGINT (a terminal's Ctrl-C reaches the whole process group; the command stores
-what completed and shuts the pool) and take the command's environment, import path and folder
-as they are when the pool starts.
+Workers ignore SIGINT (the command handles a terminal's Ctrl-C) and take the command's
+environment, import path and folder as they are when the pool starts.
 """
 
 from __future__ import annotations
@@ -53,7 +44,7 @@ class WorkerDied(Exception):
 
 
 def _worker_start(env: dict, path: list, cwd: str) -> None:
-    """A worker's initializer: the command's context, SIGINT ignored, and an end with its
+    """A worker's initializer: the command's context, SIGINT ignored, an end with its
     command."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     os.environ.clear()
@@ -73,13 +64,10 @@ def _end_with(parent) -> None:
 
 
 def _start_server() -> None:
-    """Start the forkserver (once a process) with SIGINT ignored from its first instruction,
-    its ``pymp-*`` folder in the command's own temporary folder (``files.own_temp_folder``,
-    which a SIGKILL does not leave behind for ever).  An ignored signal stays ignored across
-    exec, so the command ignores SIGINT for the moment of the server's start, the main thread
-    holding it blocked meanwhile: a Ctrl-C then is kept pending for the command's handler
-    (without this, one landing while the server's interpreter started printed its traceback).
-    """
+    """Start the forkserver (once a process), its ``pymp-*`` folder in the command's own
+    (``files.own_temp_folder``), SIGINT ignored and blocked meanwhile (an ignored signal stays
+    ignored across exec): a Ctrl-C while its interpreter starts waits for the command's
+    handler instead of printing the server's traceback."""
     import tempfile
     from multiprocessing import forkserver
 
