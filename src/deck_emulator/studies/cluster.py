@@ -1,5 +1,5 @@
-"""Dask's executor of an existing cluster, for :func:`~deck_emulator.studies.distributed.run_scenes`
-(``--scheduler``), once its address is known to answer as a Dask scheduler."""
+"""Dask's executor of an existing cluster (``--scheduler``) for
+:func:`~deck_emulator.studies.distributed.run_scenes`, once a Dask scheduler answers there."""
 
 from __future__ import annotations
 

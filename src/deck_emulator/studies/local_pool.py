@@ -173,7 +173,7 @@ class LocalPool(cf.Executor):
                     self._deaths[item[0]] += 1
                     died = self._deaths[item[0]]
                     if died > defaults.WORKER_DEATHS_PER_BATCH:
-                        how = _how([p.exitcode for p in self._alone if p.exitcode][:1])
+                        how = _how(next((p.exitcode for p in self._alone if p.exitcode), None))
                         item[0].set_exception(WorkerDied(
                             f"WorkerDied: the worker running it died {died} times (last "
                             f"{how}); not run again"))
@@ -220,17 +220,11 @@ class LocalPool(cf.Executor):
 
 
 def _copy(inner: cf.Future, outer: cf.Future) -> None:
-    if outer.cancelled():
-        return
-    exc = inner.exception()
-    if exc is not None:
-        outer.set_exception(exc)
-    else:
-        outer.set_result(inner.result())
+    if not outer.cancelled():
+        exc = inner.exception()
+        outer.set_exception(exc) if exc is not None else outer.set_result(inner.result())
 
 
-def _how(codes: list) -> str:
-    code = codes[0] if codes else None
-    if code is not None and code < 0:
-        return f"killed by {signal.Signals(-code).name}"
-    return f"exit status {code}"
+def _how(code) -> str:
+    return (f"killed by {signal.Signals(-code).name}" if code and code < 0
+            else f"exit status {code}")
