@@ -108,6 +108,7 @@ class LocalPool(cf.Executor):
         self._deaths: collections.Counter = collections.Counter()
         self._alone: list | None = None  # the pool's workers while a batch runs alone
         self._closed = False
+        self._broken: list = []
         self._pool = self._new_pool()
         for _ in range(self.jobs):  # the workers start now: the machine's limits show here
             self._pool.submit(int)
@@ -167,7 +168,8 @@ class LocalPool(cf.Executor):
             else:  # the pool broke: every batch it held goes to a new one
                 broken = list(self._live.values())
                 self._live.clear()
-                self._pool.shutdown(wait=False)
+                self._pool.shutdown(wait=False)  # (waited for at the end: nothing left)
+                self._broken.append(self._pool)
                 self._pool = None  # a new one, at the next batch
                 if self._alone is not None:  # it ran alone: its own death
                     self._deaths[item[0]] += 1
@@ -210,8 +212,9 @@ class LocalPool(cf.Executor):
         if busy:
             for p in mine:
                 p.terminate()
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
+        for pool in [*self._broken, self._pool]:
+            if pool is not None:
+                pool.shutdown(wait=True, cancel_futures=True)
         for p in mine:
             p.join(timeout=2)
             if p.is_alive():
