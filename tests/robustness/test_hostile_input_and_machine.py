@@ -346,8 +346,7 @@ def test_brackets_and_digits_inside_strings_and_comments_do_not_count():
 
 
 def test_a_store_knows_the_files_and_scenes_it_was_made_from(tmp_path):
-    from deck_emulator.studies.distributed import (STUDY_NAME, StudyChanged, _check_study,
-                                                   _made_from, scene_id)
+    from deck_emulator.studies.store import STUDY_NAME, StudyChanged, _check_study, scene_id
 
     deck = tmp_path / "b.dat"
     deck.write_bytes(STEEL40.read_bytes())
@@ -360,24 +359,24 @@ def test_a_store_knows_the_files_and_scenes_it_was_made_from(tmp_path):
     unique = study([20.0, 40.0])
     store = tmp_path / "store"
     store.mkdir()
-    _check_study(store, _made_from(unique), set(), unique)  # a new store keeps it
+    _check_study(store, unique, set())  # a new store keeps it
     assert (store / STUDY_NAME).is_file()
     stored = set(unique)
-    _check_study(store, _made_from(unique), stored, unique)  # the same study: resumed
+    _check_study(store, unique, stored)  # the same study: resumed
     # W changed from 15.1 to 15.2 slugs: another deck under the same name
     deck.write_bytes(STEEL40.read_bytes().replace(b"15.1      ", b"15.2      ", 1))
     with pytest.raises(StudyChanged, match=r"b\.dat changed since .*store was made from it"):
-        _check_study(store, _made_from(unique), stored, unique)
+        _check_study(store, unique, stored)
     deck.write_bytes(STEEL40.read_bytes())
-    _check_study(store, _made_from(unique), stored, unique)  # back as it was: resumed
+    _check_study(store, unique, stored)  # back as it was: resumed
     wider = study([20.0, 40.0, 60.0])  # a grid made larger keeps the scenes both share
-    _check_study(store, _made_from(wider), stored, wider)
+    _check_study(store, wider, stored)
     core = study([20.0, 40.0], engine="core")  # another engine: no stored scene is asked for
     with pytest.raises(StudyChanged, match=r"none of the 2 scenes stored in .* is among the 2"):
-        _check_study(store, _made_from(core), stored, core)
+        _check_study(store, core, stored)
     (store / STUDY_NAME).write_text("{")
     with pytest.raises(StudyChanged, match="unreadable"):
-        _check_study(store, _made_from(unique), stored, unique)
+        _check_study(store, unique, stored)
 
 
 @pytest.mark.slow
@@ -596,29 +595,12 @@ def test_a_folder_with_undecodable_bytes_holds_the_store_and_the_tables(tmp_path
     assert bytes(out) in (out / "sweep.md").read_bytes()  # the bytes as given
 
 
-def test_a_temporary_store_left_by_a_killed_run_is_removed_by_the_next(tmp_path, monkeypatch):
-    import tempfile
+def test_a_temporary_store_is_in_the_commands_own_temporary_folder():
+    """So a killed run's store goes with that folder, which the next command removes
+    (files.own_temp_folder; test_fault_items.py shows it for multiprocessing's pymp-*)."""
+    from deck_emulator.files import own_temp_folder
+    from deck_emulator.studies.distributed import temporary_store
 
-    from deck_emulator.studies.distributed import store_lock, temporary_store
-
-    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
-    dead, young, held = (tmp_path / f"sweep-{n}" for n in ("dead", "young", "held"))
-    for folder in (dead, young, held):
-        (folder / "results").mkdir(parents=True)
-    for folder in (dead, held):
-        os.utime(folder, (time.time() - 3600,) * 2)
-    # a live run's lock: held by another process (a lock this process holds is re-entrant)
-    holder = subprocess.Popen([sys.executable, "-c", "import fcntl, os, sys, time; "
-                               "fd = os.open(sys.argv[1], os.O_RDWR | os.O_CREAT); "
-                               "fcntl.flock(fd, fcntl.LOCK_EX); print(1, flush=True); "
-                               "time.sleep(60)", str(held / ".lock")], stdout=subprocess.PIPE)
-    try:
-        holder.stdout.readline()
-        with temporary_store("sweep-") as tmp:
-            assert Path(tmp).is_dir()
-        assert not dead.exists() and young.exists() and held.exists()
-    finally:
-        holder.kill()
-        holder.wait()
-    with store_lock(tmp_path / "x"):
-        pass
+    with temporary_store("sweep-") as tmp:
+        assert Path(tmp).parent == Path(own_temp_folder()) and Path(tmp).is_dir()
+    assert not Path(tmp).exists()

@@ -1,5 +1,7 @@
-"""The embedded runner's workers (deck_emulator.studies.local_pool): forked from one process
-that has loaded the compiled core, replaced when they die, gone when their command is."""
+"""The embedded runner (deck_emulator.studies.local_pool.LocalPool): a ProcessPoolExecutor on
+workers forked from one process that has loaded the compiled core; a batch whose worker died
+runs again, and one that kills its worker every time is said so; workers end with their
+command."""
 
 from __future__ import annotations
 
@@ -14,7 +16,9 @@ import pytest
 
 from deck_emulator.studies.distributed import SceneStore, run_scenes, scene_id
 from deck_emulator.errors import RunFailed
-from deck_emulator.studies.local_pool import BatchError, WorkerDied, WorkerPool
+import concurrent.futures as cf
+
+from deck_emulator.studies.local_pool import LocalPool, WorkerDied
 from deck_emulator.vocabulary import defaults
 
 
@@ -40,23 +44,48 @@ def test_a_batch_whose_worker_dies_every_time_is_stored_failed_and_the_rest_run(
         i * 0.5 for i in range(6)]
 
 
+def _answers(pool, calls):
+    futures = [pool.submit(fn, *args) for fn, args in calls]
+    cf.wait(futures, timeout=120)
+    return [f.exception() or f.result() for f in futures]
+
+
 def test_a_worker_that_exits_in_its_batch_is_replaced_and_said_how_it_ended():
-    with WorkerPool(1) as pool:
-        got = dict(pool.run([(0, (os._exit, (3,))), (1, (abs, (-4,)))]))
-    assert isinstance(got[0], WorkerDied)
-    assert f"died {defaults.WORKER_DEATHS_PER_BATCH + 1} times (last exit status 3)" in str(got[0])
-    assert got[1] == 4  # on the worker that replaced the last one
+    pool = LocalPool(1)
+    try:
+        died, after = _answers(pool, [(os._exit, (3,)), (abs, (-4,))])
+    finally:
+        pool.shutdown()
+    assert isinstance(died, WorkerDied)
+    assert f"died {defaults.WORKER_DEATHS_PER_BATCH + 1} times (last exit status 3)" in str(died)
+    assert after == 4  # on a worker that replaced the last one
+
+
+def test_the_batches_beside_a_dying_one_run_once_more_and_are_not_blamed(tmp_path):
+    """Two workers: a batch that kills its worker every time runs beside others; only it
+    is answered WorkerDied, every other batch gives its answer."""
+    pool = LocalPool(2)
+    try:
+        got = _answers(pool, [(abs, (-k,)) for k in range(3)] + [(os._exit, (9,))]
+                       + [(abs, (-k,)) for k in range(3, 9)])
+    finally:
+        pool.shutdown()
+    assert isinstance(got[3], WorkerDied)
+    assert got[:3] + got[4:] == list(range(9))
 
 
 def test_when_no_worker_can_start_again_the_run_ends_saying_so(monkeypatch):
-    with WorkerPool(1) as pool:
+    pool = LocalPool(1)
+    try:
         def cannot():
             raise OSError(11, "Resource temporarily unavailable")
 
-        monkeypatch.setattr(pool, "_start", cannot)
-        with pytest.raises(RunFailed, match="no worker process could be started again .*"
-                                            "--resume runs the rest"):
-            list(pool.run([(0, (os._exit, (3,)))]))
+        monkeypatch.setattr(pool, "_new_pool", cannot)
+        (got,) = _answers(pool, [(os._exit, (3,))])
+    finally:
+        pool.shutdown()
+    assert isinstance(got, RunFailed)
+    assert "no worker process could be started again" in str(got) and "--resume" in str(got)
 
 
 @pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="counts /proc/self/fd")
@@ -65,33 +94,34 @@ def test_a_pool_holds_no_more_files_than_its_rows_count(n):
     """The rows the open-file check reads (POOL_FILES, POOL_WORKER_FILES) hold what a pool
     of n workers keeps open, its server's included."""
     before = len(os.listdir("/proc/self/fd"))
-    with WorkerPool(n) as pool:
-        assert dict(pool.run([(0, (abs, (-2,)))])) == {0: 2}
+    pool = LocalPool(n)
+    try:
+        assert _answers(pool, [(abs, (-2,))] * (2 * n)) == [2] * (2 * n)
         held = len(os.listdir("/proc/self/fd")) - before
+    finally:
+        pool.shutdown()
     assert 0 < held <= defaults.POOL_FILES + defaults.POOL_WORKER_FILES * n
 
 
-def test_a_batch_that_cannot_travel_is_said_and_the_worker_goes_on(tmp_path, monkeypatch):
-    (tmp_path / "late_module.py").write_text("def f():\n    return 1\n")
-    with WorkerPool(1) as pool:
-        monkeypatch.syspath_prepend(str(tmp_path))  # after the worker started: not in its path
-        import late_module
-
-        got = dict(pool.run([(0, (lambda: 1, ())), (1, (late_module.f, ())),
-                             (2, (abs, (-3,)))]))
-    assert isinstance(got[0], BatchError) and "cannot be sent to a worker" in str(got[0])
-    assert isinstance(got[1], BatchError) and "cannot load the batch" in str(got[1])
-    assert "late_module" in str(got[1])
-    assert got[2] == 3
+def test_a_batch_that_cannot_travel_is_said_and_the_worker_goes_on():
+    pool = LocalPool(1)
+    try:
+        lam, after = _answers(pool, [(lambda: 1, ()), (abs, (-3,))])
+    finally:
+        pool.shutdown()
+    assert isinstance(lam, Exception) and "pickle" in str(lam).lower()
+    assert after == 3
 
 
 def test_a_worker_starts_in_its_commands_folder_and_environment(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("DECK_EMULATOR_TEST_SEEN", "yes")
-    with WorkerPool(1) as pool:
-        got = dict(pool.run([(0, (os.getcwd, ())),
-                             (1, (os.getenv, ("DECK_EMULATOR_TEST_SEEN",)))]))
-    assert got == {0: str(tmp_path), 1: "yes"}
+    pool = LocalPool(1)
+    try:
+        got = _answers(pool, [(os.getcwd, ()), (os.getenv, ("DECK_EMULATOR_TEST_SEEN",))])
+    finally:
+        pool.shutdown()
+    assert got == [str(tmp_path), "yes"]
 
 
 def _script(tmp_path, body: str) -> list[str]:
@@ -107,27 +137,26 @@ def test_a_core_pools_workers_have_the_compiled_core_before_their_first_batch(st
     pytest.importorskip("numba")
     out = subprocess.run(_script(tmp_path, """
         import stub_engine
-        from deck_emulator.studies.local_pool import WorkerPool
+        from deck_emulator.studies.local_pool import LocalPool
         if __name__ == "__main__":
-            with WorkerPool(1, core=True) as pool:
-                got = dict(pool.run([(k, (stub_engine.loaded, (name,))) for k, name in
-                                     enumerate(["deck_emulator.core.batch", "numba",
-                                                "deck_emulator.studies.sweep"])]))
+            pool = LocalPool(1, core=True)
+            got = [pool.submit(stub_engine.loaded, name).result() for name in
+                   ["deck_emulator.core.batch", "numba", "deck_emulator.studies.sweep"]]
+            pool.shutdown()
             print(got)
         """), capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.strip() == "{0: True, 1: True, 2: True}"
+    assert out.stdout.strip() == "[True, True, True]"
 
 
 def test_a_worker_ends_with_its_command(tmp_path):
     proc = subprocess.Popen(_script(tmp_path, """
-        import time
-        from deck_emulator.studies.local_pool import WorkerPool
+        import os, time
+        from deck_emulator.studies.local_pool import LocalPool
         if __name__ == "__main__":
-            with WorkerPool(1) as pool:
-                print(pool.workers[0].process.pid, flush=True)
-                for _ in pool.run([(0, (time.sleep, (120,)))]):
-                    pass
+            pool = LocalPool(1)
+            print(pool.submit(os.getpid).result(), flush=True)
+            pool.submit(time.sleep, 120).result()
         """), stdout=subprocess.PIPE, text=True, start_new_session=True)
     try:
         worker = int(proc.stdout.readline())

@@ -203,6 +203,22 @@ def test_a_batch_of_scenes_gives_the_rows_of_its_scenes_one_by_one():
         assert a == b
 
 
+def test_a_batch_given_its_base_deck_reads_no_deck_file(monkeypatch):
+    """The command reads the base deck once and hands it with each batch: a worker's batch
+    then reads no deck file of its own, and its rows are those of a batch that read it."""
+    base = str(ROOT / "decks" / "steel40.dat")
+    jobs = [dict(base=base, speed=float(s), angle=0.0, engine="core",
+                 options={"preset": "legacy"}, post="car", vvb_decimals=2) for s in (25, 35)]
+    read = sweep._scene_rows(jobs)
+    given = {base: read_deck(base)}
+    monkeypatch.setattr(sweep, "read_deck", lambda path: pytest.fail(f"{path} read again"))
+    handed = sweep._scene_rows(jobs, given)
+    for a, b in zip(read, handed):
+        a, b = dict(a), dict(b)
+        assert a.pop("run_s") > 0 and b.pop("run_s") > 0
+        assert a == b
+
+
 def test_a_base_deck_names_the_scenes_and_the_page(tmp_path, capsys):
     """A sweep of another deck is named after it, not after the report's post: the page's
     "Base deck" line and the scenes (car820.dat -> car820_v21.75)."""

@@ -88,7 +88,7 @@ def sweep(o: SweepOptions) -> Answer:
         common.compile_core(o.quiet)
     started = time.perf_counter()
     rows = run_sweep(speeds, angles, engine=o.engine, options=options, post=label, base=base,
-                     jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
+                     base_deck=base_deck, jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
                      scheduler=common.scheduler(o), resume=o.resume)
     wall = time.perf_counter() - started
     with OutputSet(directory=o.out) as outputs:

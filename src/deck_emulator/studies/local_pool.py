@@ -1,48 +1,37 @@
-"""The embedded scene runner's worker processes: :class:`WorkerPool`.
+"""The embedded runner: :class:`LocalPool`, a ``ProcessPoolExecutor`` whose workers are forked
+from one server (multiprocessing's *forkserver*) that imported :data:`PRELOAD` (for core scenes
+:data:`CORE_PRELOAD`: the compiled core) once, so that they share those pages (docs/scale.md),
+plus what the standard library lacks:
 
-``jobs`` worker processes, each running one batch at a time, all forked from one server
-process (multiprocessing's *forkserver*) that has imported, once, what every worker needs:
-with ``core=True`` the compiled core's machine code (numba's, from its cache), so that the
-workers share its pages with the server instead of each loading a copy of its own (what
-that saves against the embedded Dask cluster it replaced: docs/scale.md).
+* a worker that dies breaks the executor (``BrokenProcessPool`` for every batch it holds): the
+  batches go to a new one.  Workers take batches in the order given, so the ``jobs`` oldest
+  unfinished ones were those running: each runs again *alone*, and a batch whose worker dies
+  alone more than ``WORKER_DEATHS_PER_BATCH`` times is answered :class:`WorkerDied`;
+* a worker ends as soon as its command is gone (``kill -9``), and :meth:`LocalPool.shutdown`
+  ends busy workers (SIGTERM, then SIGKILL) instead of waiting for their batches.
 
-What a batch meets, said once here:
-
-* a worker that dies while it runs a batch (killed, out of memory) is replaced, and the
-  batch runs again on the new one, up to
-  :data:`~deck_emulator.vocabulary.defaults.WORKER_DEATHS_PER_BATCH` times; then it is answered by :class:`WorkerDied` (each of its
-  scenes stored failed, with why), and the other batches go on;
-* a batch whose callable cannot be sent or loaded in the worker (a function the worker
-  cannot import) is answered by :class:`BatchError` saying so;
-* workers ignore SIGINT: a Ctrl-C at a terminal goes to the whole process group, and the
-  command that owns the pool handles it (it stores what completed and closes the pool);
-* a worker whose command is gone (``kill -9``) ends as soon as it sees so (a thread that
-  waits on its parent), not at the end of its batch.
-
-The forkserver is one per process, made at the first pool and kept until the process ends
-(Python's own design); what it imported then (``core`` or not) holds for every later pool of
-the process, which only decides how much of the workers' memory is shared.  Each worker
-takes the command's environment, import path and working folder as they are when it starts.
+Workers ignore SIGINT (the command handles a terminal's Ctrl-C) and take the command's
+environment, import path and folder as they are when the pool starts.
 """
 
 from __future__ import annotations
 
 import collections
+import concurrent.futures as cf
 import contextlib
+import functools
 import multiprocessing
 import os
-import pickle
 import signal
 import sys
 import threading
-from collections.abc import Callable, Iterable, Iterator
-from multiprocessing.connection import wait
+from concurrent.futures.process import BrokenProcessPool
 
 from deck_emulator import SPAWNED_WORKER_ENV
 from deck_emulator.errors import RunFailed
 from deck_emulator.vocabulary import defaults
 
-__all__ = ["CORE_PRELOAD", "PRELOAD", "BatchError", "WorkerDied", "WorkerPool"]
+__all__ = ["CORE_PRELOAD", "PRELOAD", "LocalPool", "WorkerDied"]
 
 #: what the server imports for every pool: SIGINT ignored, the runner's own module
 PRELOAD = ("deck_emulator.studies.worker_preload",)
@@ -51,18 +40,13 @@ CORE_PRELOAD = (*PRELOAD, "deck_emulator.studies.core_preload")
 
 
 class WorkerDied(Exception):
-    """A batch whose worker died every time it ran it (:class:`WorkerPool`)."""
+    """A batch whose worker died every time it ran it alone."""
 
 
-class BatchError(Exception):
-    """A batch that could not be handed to a worker, or whose answer could not come back."""
-
-
-def _serve(conn, context: tuple[dict, list, str]) -> None:
-    """In a worker: answer batches from ``conn`` (``(callable, args)`` pickled) with
-    ``("done", callable(*args))`` or ``("error", why)`` until the command closes it."""
+def _worker_start(env: dict, path: list, cwd: str) -> None:
+    """A worker's initializer: the command's context, SIGINT ignored, an end with its
+    command."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    env, path, cwd = context
     os.environ.clear()
     os.environ.update(env)
     os.environ[SPAWNED_WORKER_ENV] = "1"
@@ -70,32 +54,8 @@ def _serve(conn, context: tuple[dict, list, str]) -> None:
     with contextlib.suppress(OSError):
         os.chdir(cwd)
     parent = multiprocessing.parent_process()
-    if parent is not None:  # the command gone (kill -9): this worker goes too, at once
+    if parent is not None:
         threading.Thread(target=_end_with, args=(parent,), daemon=True).start()
-    while True:
-        try:
-            data = conn.recv_bytes()
-        except (EOFError, OSError):
-            return
-        try:
-            fn, args = pickle.loads(data)
-        except Exception as exc:  # noqa: BLE001 - a batch the worker cannot load
-            answer = ("error", f"the worker cannot load the batch: {type(exc).__name__}: "
-                               f"{exc}")
-        else:
-            try:
-                answer = ("done", fn(*args))
-            except Exception as exc:  # noqa: BLE001 - said to the command, the worker stays
-                answer = ("error", f"{type(exc).__name__}: {exc}")
-        try:
-            data = pickle.dumps(answer, protocol=pickle.HIGHEST_PROTOCOL)
-        except Exception as exc:  # noqa: BLE001 - an answer that cannot travel
-            data = pickle.dumps(("error", f"the batch's answer cannot be sent: "
-                                          f"{type(exc).__name__}: {exc}"))
-        try:
-            conn.send_bytes(data)
-        except OSError:
-            return
 
 
 def _end_with(parent) -> None:
@@ -104,25 +64,15 @@ def _end_with(parent) -> None:
 
 
 def _start_server() -> None:
-    """Start the forkserver (once a process) with SIGINT ignored from its first instruction:
-    a Ctrl-C at a terminal reaches the whole process group, and one that came while the
-    server's interpreter started, before its preload ignores SIGINT, printed its
-    ``KeyboardInterrupt`` traceback.  An ignored signal stays ignored across exec (the
-    interpreter then installs no handler of its own); a started program's signal mask does
-    not (Python's process start clears it), so the command ignores SIGINT for the moment of
-    the server's fork and exec, the main thread holding it blocked meanwhile: a Ctrl-C then is
-    kept pending and taken by the command's own handler as soon as it is restored -- unless
-    another thread of the command (a progress bar's monitor) takes it in those milliseconds,
-    where it is ignored: the one moment a Ctrl-C can be lost, against the tenths of a second
-    in which it printed the server's traceback."""
+    """Start the forkserver (once a process), its ``pymp-*`` folder in the command's own
+    (``files.own_temp_folder``), SIGINT ignored and blocked meanwhile (an ignored signal stays
+    ignored across exec): a Ctrl-C while its interpreter starts waits for the command's
+    handler instead of printing the server's traceback."""
     import tempfile
     from multiprocessing import forkserver
 
     from deck_emulator.files import own_temp_folder
 
-    # multiprocessing's temporary folder (pymp-*, made once a process, the server's socket
-    # in it) in the command's own, which a SIGKILL does not leave behind for ever
-    # (files.own_temp_folder); tempfile's default is the system's again after it
     default, tempfile.tempdir = tempfile.tempdir, own_temp_folder()
     try:
         if threading.current_thread() is not threading.main_thread():
@@ -141,125 +91,143 @@ def _start_server() -> None:
         tempfile.tempdir = default
 
 
-class _Worker:
-    def __init__(self, process, conn):
-        self.process, self.conn = process, conn
-        self.batch = None  # (key, payload) it runs, or None when idle
-
-
-class WorkerPool:
-    """``with WorkerPool(jobs, core=True) as pool: for key, answer in pool.run(batches)``:
-    each batch ``(key, (callable, args))`` is run once by a worker, ``callable(*args)``; its
-    answer is what the callable returned, or a :class:`WorkerDied` / :class:`BatchError`.
-    Batches start in the order given; answers come as batches end."""
+class LocalPool(cf.Executor):
+    """``jobs`` forkserver workers (``core``: sharing the compiled core), the
+    ``concurrent.futures`` interface; :meth:`submit`'s futures answer a batch whose worker
+    died too often with :class:`WorkerDied` (the module docstring)."""
 
     def __init__(self, jobs: int, *, core: bool = False):
         self.jobs = max(1, int(jobs))
-        self.context = multiprocessing.get_context("forkserver")
-        self.context.set_forkserver_preload(list(CORE_PRELOAD if core else PRELOAD))
-        self.workers: list[_Worker] = []
+        self._context = multiprocessing.get_context("forkserver")
+        self._context.set_forkserver_preload(list(CORE_PRELOAD if core else PRELOAD))
+        self._others = set(multiprocessing.active_children())  # not this pool's
+        self._lock = threading.RLock()
+        self._waiting: collections.deque = collections.deque()  # (outer, fn, args)
+        self._suspects: collections.deque = collections.deque()  # to run alone
+        self._live: dict = {}  # the current pool's future -> (outer, fn, args)
+        self._deaths: collections.Counter = collections.Counter()
+        self._alone: list | None = None  # the pool's workers while a batch runs alone
+        self._closed = False
+        self._broken: list = []
+        self._pool = self._new_pool()
+        for _ in range(self.jobs):  # the workers start now: the machine's limits show here
+            self._pool.submit(int)
 
-    def __enter__(self) -> WorkerPool:
-        try:
-            for _ in range(self.jobs):
-                self._start()
-        except BaseException:
-            self.close()
-            raise
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-    def _start(self) -> _Worker:
-        """A new worker (OSError, or the server's own error, when none can start)."""
+    def _new_pool(self) -> cf.ProcessPoolExecutor:
         _start_server()
-        mine, theirs = self.context.Pipe()
-        context = (dict(os.environ), list(sys.path), os.getcwd())
-        process = self.context.Process(target=_serve, args=(theirs, context), daemon=True,
-                                       name="deck-emulator-worker")
-        try:
-            process.start()
-        finally:
-            theirs.close()
-        worker = _Worker(process, mine)
-        self.workers.append(worker)
-        return worker
+        self._before = set(multiprocessing.active_children())  # not the new pool's
+        return cf.ProcessPoolExecutor(
+            self.jobs, mp_context=self._context, initializer=_worker_start,
+            initargs=(dict(os.environ), list(sys.path), os.getcwd()))
 
-    def close(self) -> None:
-        """End every worker: its pipe closed (an idle worker ends at once), then SIGTERM for
-        one still in a batch after a short wait, then SIGKILL."""
-        for w in self.workers:
-            with contextlib.suppress(OSError):
-                w.conn.close()
-        for w in self.workers:
-            w.process.join(timeout=0.2 if w.batch is None else 0)
-            if w.process.is_alive():
-                w.process.terminate()
-                w.process.join(timeout=2)
-            if w.process.is_alive():
-                w.process.kill()
-                w.process.join()
-        self.workers.clear()
+    def submit(self, fn, /, *args, **kwargs):
+        outer: cf.Future = cf.Future()
+        with self._lock:
+            self._waiting.append((outer, functools.partial(fn, **kwargs) if kwargs else fn,
+                                  args))
+            self._feed()
+        return outer
 
-    def run(self, batches: Iterable[tuple[object, tuple[Callable, tuple]]]
-            ) -> Iterator[tuple[object, object]]:
-        todo = collections.deque(batches)
-        deaths: collections.Counter = collections.Counter()
-        while todo or any(w.batch is not None for w in self.workers):
-            for w in self.workers:
-                if w.batch is None and todo:
-                    key, payload = todo.popleft()
-                    try:
-                        data = pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
-                    except Exception as exc:  # noqa: BLE001 - e.g. a lambda: said, not run
-                        yield key, BatchError(f"the batch cannot be sent to a worker: "
-                                              f"{type(exc).__name__}: {exc}")
-                        continue
-                    try:
-                        w.conn.send_bytes(data)
-                    except OSError:  # gone before it was given anything: not the batch's
-                        todo.appendleft((key, payload))
-                        self._replace(w)
-                        break
-                    w.batch = (key, payload)
-            busy = [w for w in self.workers if w.batch is not None]
-            if not busy:
+    def _feed(self) -> None:
+        """Hand batches to the pool: all that wait, or one suspect at a time, alone."""
+        while not self._closed and (self._waiting or self._suspects):
+            alone = bool(self._suspects)
+            if alone and self._live:
+                return
+            queue = self._suspects if alone else self._waiting
+            item = queue.popleft()
+            try:
+                self._pool = self._pool or self._new_pool()
+                inner = self._pool.submit(item[1], *item[2])
+            except BrokenProcessPool:  # broke before its batches' callbacks came
+                queue.appendleft(item)
+                if self._live:
+                    return  # they will hand everything to a new pool
+                self._pool = None
                 continue
-            ready = set(wait([w.conn for w in busy] + [w.process.sentinel for w in busy]))
-            for w in busy:
-                if w.conn not in ready and w.process.sentinel not in ready:
-                    continue
-                key, payload = w.batch
-                try:
-                    kind, answer = pickle.loads(w.conn.recv_bytes())
-                except (EOFError, OSError):  # died in the batch
-                    deaths[key] += 1
-                    how = self._replace(w)
-                    if deaths[key] > defaults.WORKER_DEATHS_PER_BATCH:
-                        yield key, WorkerDied(
-                            f"WorkerDied: the worker running it died {deaths[key]} times "
-                            f"(last {how}); not run again")
-                    else:
-                        todo.appendleft((key, payload))
-                    continue
-                w.batch = None
-                yield key, (answer if kind == "done" else BatchError(answer))
+            except OSError as exc:  # no worker can start again: the machine's limits
+                self._fail(RunFailed(f"no worker process could be started again ({exc}): "
+                                     "the scenes completed are stored; --resume runs the "
+                                     "rest"), item)
+                return
+            self._alone = ([p for p in multiprocessing.active_children()
+                            if p not in self._before] if alone else None)
+            self._live[inner] = item
+            inner.add_done_callback(self._done)
+            if alone:
+                return
 
-    def _replace(self, worker: _Worker) -> str:
-        """Take a dead worker out and start another in its place; how it ended."""
-        worker.batch = None
-        with contextlib.suppress(OSError):
-            worker.conn.close()
-        worker.process.join(timeout=5)
-        code = worker.process.exitcode
-        self.workers.remove(worker)
-        try:
-            self._start()  # (its batch, or another one's that dies next, needs it)
-        except OSError as exc:  # the machine's limits: go on with the workers left, if any
-            if not self.workers:
-                raise RunFailed(f"no worker process could be started again ({exc}): the "
-                                "scenes completed are stored; --resume runs the rest") from None
-        if code is not None and code < 0:
-            return f"killed by {signal.Signals(-code).name}"
-        return f"exit status {code}"
+    def _done(self, inner: cf.Future) -> None:
+        with self._lock:
+            item = self._live.get(inner)
+            if item is None or self._closed:
+                return
+            if not isinstance(inner.exception(), BrokenProcessPool):
+                del self._live[inner]
+                _copy(inner, item[0])
+            else:  # the pool broke: every batch it held goes to a new one
+                broken = list(self._live.values())
+                self._live.clear()
+                self._pool.shutdown(wait=False)  # (waited for at the end: nothing left)
+                self._broken.append(self._pool)
+                self._pool = None  # a new one, at the next batch
+                if self._alone is not None:  # it ran alone: its own death
+                    self._deaths[item[0]] += 1
+                    died = self._deaths[item[0]]
+                    if died > defaults.WORKER_DEATHS_PER_BATCH:
+                        how = _how(next((p.exitcode for p in self._alone if p.exitcode), None))
+                        item[0].set_exception(WorkerDied(
+                            f"WorkerDied: the worker running it died {died} times (last "
+                            f"{how}); not run again"))
+                    else:
+                        self._suspects.appendleft(item)
+                else:
+                    self._suspects.extend(broken[: self.jobs])
+                    self._waiting.extendleft(reversed(broken[self.jobs:]))
+            self._alone = None
+            self._feed()
+
+    def _fail(self, exc: Exception, *items) -> None:
+        for item in (*items, *self._waiting, *self._suspects, *self._live.values()):
+            if not item[0].done():
+                item[0].set_exception(exc)
+        self._waiting.clear()
+        self._suspects.clear()
+        self._live.clear()
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = True) -> None:
+        """End the pool now: batches not started are cancelled, busy workers ended (SIGTERM,
+        then SIGKILL); idle ones end at once."""
+        with self._lock:
+            self._closed = True
+            left = [item[0] for item in (*self._waiting, *self._suspects,
+                                         *self._live.values())]
+            busy = bool(self._live)
+            self._waiting.clear()
+            self._suspects.clear()
+            self._live.clear()
+        for outer in left:
+            outer.cancel()
+        mine = [p for p in multiprocessing.active_children() if p not in self._others]
+        if busy:
+            for p in mine:
+                p.terminate()
+        for pool in [*self._broken, self._pool]:
+            if pool is not None:
+                pool.shutdown(wait=True, cancel_futures=True)
+        for p in mine:
+            p.join(timeout=2)
+            if p.is_alive():
+                p.kill()
+                p.join()
+
+
+def _copy(inner: cf.Future, outer: cf.Future) -> None:
+    if not outer.cancelled():
+        exc = inner.exception()
+        outer.set_exception(exc) if exc is not None else outer.set_result(inner.result())
+
+
+def _how(code) -> str:
+    return (f"killed by {signal.Signals(-code).name}" if code and code < 0
+            else f"exit status {code}")

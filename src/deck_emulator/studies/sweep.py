@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import functools
 import json
 import math
 import time
@@ -300,7 +301,7 @@ def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
     return deck, scene_name(job["speed"], job["angle"], job["post"])
 
 
-def _scene_rows(jobs: list[dict]) -> list[dict]:
+def _scene_rows(jobs: list[dict], bases: dict | None = None) -> list[dict]:
     """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
@@ -309,11 +310,12 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     instead (the machine's bound: its scene runs again on resume).  Anything else raised
     here is a defect, not a scene's outcome: it ends the batch, and the runner
     (studies.distributed) runs each of its scenes again alone and stores the one that
-    fails as a failed scene with the exception's line."""
+    fails as a failed scene with the exception's line.  ``bases``: the base decks the
+    command has read, by path (a deck not in it is read here)."""
     from deck_emulator.studies.common import stopped_at_wall
     from deck_emulator.studies.distributed import Stopped
 
-    bases: dict = {}
+    bases = dict(bases or {})
     decks = [_scene_of(job, bases) for job in jobs]
     groups: dict[str, list[int]] = {}
     for i, job in enumerate(jobs):
@@ -344,11 +346,11 @@ def _scene_rows(jobs: list[dict]) -> list[dict]:
     return rows
 
 
-def _stored_scene_jobs(jobs: list[dict]) -> list[dict]:
+def _stored_scene_jobs(jobs: list[dict], bases: dict | None = None) -> list[dict]:
     """Worker: a batch of scenes -> one row each, as JSON in one column (the store's own
     columns, such as ``error`` and ``run_s``, never mix with the row's)."""
     return [row if isinstance(row, Exception) else {"row_json": json.dumps(row)}
-            for row in _scene_rows(jobs)]
+            for row in _scene_rows(jobs, bases)]
 
 
 def _decoded(stored: list[dict], part: int = 512):
@@ -372,6 +374,7 @@ def sweep(
     options: dict | None = None,
     post: str = "steel",
     base=None,
+    base_deck: Deck | None = None,
     jobs: int | None = None,
     vvb_decimals: int = defaults.VVB_DECIMALS,
     quiet: bool = False,
@@ -381,7 +384,8 @@ def sweep(
 ) -> list[dict]:
     """Run every (speed, angle) on ``engine`` (``engine_for(engine, **options)``); rows
     sorted by speed, then angle. ``base``: another base deck than ``post``'s; ``post`` then
-    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``).
+    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``); ``base_deck``:
+    that file as the caller read it (else it is read here, once).
 
     The scenes run on worker processes (:func:`deck_emulator.studies.distributed.run_scenes`:
     the embedded runner's ``jobs`` workers, or the Dask cluster at ``scheduler``), a batch of
@@ -389,25 +393,28 @@ def sweep(
     finish in ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
 
     base = str(base if base is not None else POSTS[post])
+    # the base deck read once, handed to the workers with each batch
+    bases = {base: base_deck if base_deck is not None else read_deck(base)}
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
     # the caller's store (the command's --out) where it gives one; a temporary one only if not
     with (contextlib.nullcontext(store_dir) if store_dir is not None
           else temporary_store("sweep-")) as where:
-        store = run_scenes(todo, _stored_scene_jobs, store_dir=where, jobs=jobs,
+        store = run_scenes(todo, functools.partial(_stored_scene_jobs, bases=bases),
+                           store_dir=where, jobs=jobs,
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True,
                            core=engine == "core")
         stored = store.by_id(("status", "error", "row_json"))
     got = [stored.get(scene_id(job), {}) for job in todo]
     del stored
-    rows, bases = [], {}
+    rows = []
     for job, g, row in zip(todo, got, _decoded(got)):
         if row is not None:
             rows.append(row)
         else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
-            deck, name = _scene_of(job, bases)  # the base deck read once, not once a row
+            deck, name = _scene_of(job, bases)
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
                           error=g.get("error") or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))
