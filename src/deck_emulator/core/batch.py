@@ -49,6 +49,7 @@ from .solve import (
     CoreError,
     _Run,
     _simulate_with,
+    distinct,
     simulate,
 )
 
@@ -179,8 +180,7 @@ def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
     grid = np.empty(8 * n_steps + 1)
     for k in range(n_steps):
         grid[8 * k: 8 * k + 9] = np.linspace(ts[k], ts[k + 1], 9)
-    grid.sort()  # np.unique's values (as compiled code finds them), no masked arrays loaded
-    fine = grid[np.concatenate(([True], grid[1:] != grid[:-1]))]
+    fine = distinct(grid)  # np.unique's values, as compiled code finds them
     states = dop853.dense_eval(ts, t_old, h, y_old, F, fine).T.tolist()
     Pl, Ml = P.tolist(), M.tolist()
     best_k = 0
