@@ -75,15 +75,22 @@ EPS = np.finfo(float).eps
 N = 15  # the core's state
 
 
-def _rhs_floats(phase, t, y, P, M, acc, out):
-    """:func:`_rhs` (its plain-Python form) over the state, the parameters and the mode as
-    Python floats: the laws' same operations, in the same order, each a double's (a numpy
-    scalar's arithmetic is the same IEEE arithmetic, at several times the cost)."""
-    y, P, M = y.tolist(), P.tolist(), M.tolist()
+def _derivative_floats(phase, t, y, P, M):
+    """The state derivative (a list) of the state ``y``, the parameters ``P`` and the mode
+    ``M`` given as lists of Python floats: the compiled laws' same operations in the same
+    order, as a double's (a numpy scalar's arithmetic is the same IEEE arithmetic, at
+    several times the cost)."""
+    out = [0.0] * len(y)
     if phase == PHASE_CONTACT:
         laws.contact_derivative_with(t, y, P, M, [0.0] * 7, out)
     else:
         laws.free_derivative_into(y, P, out)
+    return out
+
+
+def _rhs_floats(phase, t, y, P, M, acc, out):
+    """:func:`_rhs` (its plain-Python form) over Python floats (:func:`_derivative_floats`)."""
+    out[:] = _derivative_floats(phase, t, y.tolist(), P.tolist(), M.tolist())
 
 
 @_jit(plain=_rhs_floats)
@@ -203,13 +210,14 @@ _E_COLUMNS = np.ascontiguousarray(np.stack((_E5, _E3))[:, :, None])
 def _rk_step_rows(phase, t, y, f, h, P, M, K, acc, ytmp, y_new):
     """:func:`_rk_step` over whole rows (its plain-Python form): each element's sum in the
     same order, ``0.0 + K[0] a_0 + K[1] a_1 + ...``."""
+    Pl, Ml = P.tolist(), M.tolist()
     K[0, :] = f
     work = _work(y.size)
     for s in range(1, N_STAGES):
         ytmp[:] = y + _sums(_A_COLUMNS[s], K[:s], work) * h
-        _rhs(phase, t + _C[s] * h, ytmp, P, M, acc, K[s])
+        K[s] = _derivative_floats(phase, t + _C[s] * h, ytmp.tolist(), Pl, Ml)
     y_new[:] = y + h * _sums(_B_COLUMN, K[:N_STAGES], work)
-    _rhs(phase, t + h, y_new, P, M, acc, K[N_STAGES])
+    K[N_STAGES] = _derivative_floats(phase, t + h, y_new.tolist(), Pl, Ml)
 
 
 @_jit(plain=_rk_step_rows)
@@ -267,10 +275,11 @@ def _error_norm(K, h, scale):
 
 def _dense_rows(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, F):
     """:func:`_dense` over whole rows (its plain-Python form), each element as it does."""
+    Pl, Ml = P.tolist(), M.tolist()
     work = _work(y.size)
     for s in range(N_STAGES + 1, N_EXT):
         ytmp[:] = y_old + _sums(_A_COLUMNS[s], K[:s], work) * h
-        _rhs(phase, t_old + _C[s] * h, ytmp, P, M, acc, K[s])
+        K[s] = _derivative_floats(phase, t_old + _C[s] * h, ytmp.tolist(), Pl, Ml)
     dlt = y - y_old
     F[0] = dlt
     F[1] = h * K[0] - dlt
