@@ -300,6 +300,10 @@ def _run(args: argparse.Namespace, argv: Sequence[str] = ()) -> int:
         from deck_emulator.core import configure_numba_cache
 
         configure_numba_cache()
+    if cmd.one_scene and "OPENBLAS_NUM_THREADS" not in os.environ and "numpy" not in sys.modules:
+        # (OpenBLAS's documented setting, read as numpy loads it) one scene shares no linear
+        # algebra out: its thread pool's start would be CPU spent for nothing
+        os.environ["OPENBLAS_NUM_THREADS"] = "1"
     given = {f.name: getattr(args, f.name) for f in fields(cmd.options)
              if f.metadata.get("cli", True)}
     for name in PATH_OPTIONS:  # '--out ""' would name the current folder or stdout

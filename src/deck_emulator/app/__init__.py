@@ -80,7 +80,9 @@ class Command:
     the function that answers, and its help (``description``: text, or a function that
     makes it when the help is built); ``core``: whether it may run the modern core (the
     command line then has numba keep the core's machine code in the core's folder, before
-    anything imports numba: deck_emulator.core.configure_numba_cache)."""
+    anything imports numba: deck_emulator.core.configure_numba_cache); ``one_scene``: it
+    solves a single scene in its own process, where numpy's BLAS has nothing to share out
+    (the command line starts it with one thread, :func:`deck_emulator.cli._run`)."""
 
     name: str
     options: type
@@ -88,6 +90,7 @@ class Command:
     help: str
     description: str | Callable[[], str] = ""
     core: bool = True
+    one_scene: bool = False
 
 
 #: name -> :class:`Command`, as the modules holding them are loaded (:func:`command_named`,
@@ -113,10 +116,11 @@ def all_commands() -> dict[str, Command]:
 
 
 def command(name: str, options: type, *, help: str, description: str | Callable = "",
-            core: bool = True):
-    """Register the decorated function as the command ``name`` (``core``: :class:`Command`)."""
+            core: bool = True, one_scene: bool = False):
+    """Register the decorated function as the command ``name`` (``core``, ``one_scene``:
+    :class:`Command`)."""
     def register(fn):
-        COMMANDS[name] = Command(name, options, fn, help, description, core)
+        COMMANDS[name] = Command(name, options, fn, help, description, core, one_scene)
         return fn
 
     return register

@@ -30,7 +30,8 @@ class CoreOptions(SceneSource, Preset, Answering):
                                     help=common.TRAJECTORY_HELP)
 
 
-@command("core", CoreOptions, help="solve a deck or a scene (.toml) with the modern core",
+@command("core", CoreOptions, one_scene=True,
+         help="solve a deck or a scene (.toml) with the modern core",
          description="The same model solved with quaternions, solve_ivp and located events. "
          "Presets: legacy (the listing's quirks) or physical (none).")
 def core(o: CoreOptions) -> Answer:

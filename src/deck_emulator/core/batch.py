@@ -49,6 +49,7 @@ from .solve import (
     CoreError,
     _Run,
     _simulate_with,
+    distinct,
     simulate,
 )
 
@@ -81,7 +82,15 @@ _SQRT_EPS = math.sqrt(2.2e-16)
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
 
 
-@_jit
+def _force_at_floats(s, ts, t_old, h, y_old, F, P, M, tmp):
+    """:func:`_force_at` (its plain-Python form): the law over Python floats (as
+    :func:`~.dop853._rhs_floats`)."""
+    seg = min(max(np.searchsorted(ts, s) - 1, 0), t_old.size - 1)
+    dop853._interp(t_old[seg], h[seg], y_old[seg], F[seg], s, tmp)
+    return laws.sliding_vehicle_force(s, tmp.tolist(), P.tolist(), M.tolist())
+
+
+@_jit(plain=_force_at_floats)
 def _force_at(s, ts, t_old, h, y_old, F, P, M, tmp):
     seg = min(max(np.searchsorted(ts, s) - 1, 0), t_old.size - 1)
     dop853._interp(t_old[seg], h[seg], y_old[seg], F[seg], s, tmp)
@@ -163,7 +172,35 @@ def _fminbound_neg_force(x1, x2, xatol, maxfun, ts, t_old, h, y_old, F, P, M, tm
     return xf, fx
 
 
-@_jit
+def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
+    """:func:`segment_max_force` (its plain-Python form): the grid's states interpolated all
+    at once (:func:`~.dop853.dense_eval`), each force over Python floats, then the same
+    search."""
+    n_steps = ts.size - 1
+    grid = np.empty(8 * n_steps + 1)
+    for k in range(n_steps):
+        grid[8 * k: 8 * k + 9] = np.linspace(ts[k], ts[k + 1], 9)
+    fine = distinct(grid)  # np.unique's values, as compiled code finds them
+    states = dop853.dense_eval(ts, t_old, h, y_old, F, fine).T.tolist()
+    Pl, Ml = P.tolist(), M.tolist()
+    best_k = 0
+    best_f = -np.inf
+    for k, (s, y) in enumerate(zip(fine.tolist(), states)):
+        fk = laws.sliding_vehicle_force(s, y, Pl, Ml)
+        if fk > best_f or k == 0:
+            best_f = fk
+            best_k = k
+    fk, tk = best_f, fine[best_k]
+    lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
+    if hi > lo:
+        tmp = np.empty(y_old.shape[1])
+        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
+        if -fx > fk:
+            fk, tk = -fx, x
+    return fk, tk
+
+
+@_jit(plain=_segment_max_force_rows)
 def segment_max_force(ts, t_old, h, y_old, F, P, M):
     """(lb, s): the grid of 9 points a step, its best, then the bounded search between
     the best's neighbours (as :meth:`~.solve._Run._segment_max_force`)."""

@@ -75,7 +75,25 @@ EPS = np.finfo(float).eps
 N = 15  # the core's state
 
 
-@_jit
+def _derivative_floats(phase, t, y, P, M):
+    """The state derivative (a list) of the state ``y``, the parameters ``P`` and the mode
+    ``M`` given as lists of Python floats: the compiled laws' same operations in the same
+    order, as a double's (a numpy scalar's arithmetic is the same IEEE arithmetic, at
+    several times the cost)."""
+    out = [0.0] * len(y)
+    if phase == PHASE_CONTACT:
+        laws.contact_derivative_with(t, y, P, M, [0.0] * 7, out)
+    else:
+        laws.free_derivative_into(y, P, out)
+    return out
+
+
+def _rhs_floats(phase, t, y, P, M, acc, out):
+    """:func:`_rhs` (its plain-Python form) over Python floats (:func:`_derivative_floats`)."""
+    out[:] = _derivative_floats(phase, t, y.tolist(), P.tolist(), M.tolist())
+
+
+@_jit(plain=_rhs_floats)
 def _rhs(phase, t, y, P, M, acc, out):
     if phase == PHASE_CONTACT:
         laws.contact_derivative_with(t, y, P, M, acc, out)
@@ -83,7 +101,24 @@ def _rhs(phase, t, y, P, M, acc, out):
         laws.free_derivative_into(y, P, out)
 
 
-@_jit
+def _event_floats(k, t, y, P, M, EV, rows_a, rows_c, letters, pairs, z):
+    """:func:`_event` (its plain-Python form) over the state, the parameters and the mode as
+    Python floats (as :func:`_rhs_floats`), a row's sum in index order."""
+    code = int(EV[k, 0])
+    yl, Pl = y.tolist(), P.tolist()
+    if code == laws.EV_ROW:
+        laws.check_coordinates(yl, Pl, letters, z)
+        s = 0.0
+        for a, b in zip(rows_a[int(EV[k, 1])].tolist(), z.tolist()):
+            s += a * b
+        return s + float(rows_c[int(EV[k, 1])])
+    if code == laws.EV_SEGMENT:
+        laws.check_coordinates(yl, Pl, letters, z)
+        return laws.pair_depth(z, pairs[int(EV[k, 1])])[0]
+    return laws.contact_event(code, float(EV[k, 1]), t, yl, Pl, M.tolist())
+
+
+@_jit(plain=_event_floats)
 def _event(k, t, y, P, M, EV, rows_a, rows_c, letters, pairs, z):
     code = int(EV[k, 0])
     if code == laws.EV_ROW:
@@ -99,7 +134,27 @@ def _event(k, t, y, P, M, EV, rows_a, rows_c, letters, pairs, z):
     return laws.contact_event(code, EV[k, 1], t, y, P, M)
 
 
-@_jit
+def _events_all_rows(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g):
+    """:func:`_events_all` (its plain-Python form): the checks' rows all at once, each row's
+    sum in index order (:func:`_sums`), the other events over Python floats."""
+    yl, Pl, Ml = y.tolist(), P.tolist(), M.tolist()
+    codes = EV[:, 0]
+    rows = codes == laws.EV_ROW
+    if rows.any() or (codes == laws.EV_SEGMENT).any():
+        laws.check_coordinates(yl, Pl, letters, z)
+    if rows.any():
+        r = EV[rows, 1].astype(np.int64)
+        terms = np.zeros((r.size, z.size + 1))  # 0.0, then each row's terms in order
+        np.multiply(rows_a[r], z, out=terms[:, 1:])
+        g[rows] = np.add.accumulate(terms, axis=1)[:, -1] + rows_c[r]
+    for k in np.flatnonzero(~rows).tolist():
+        if codes[k] == laws.EV_SEGMENT:
+            g[k] = laws.pair_depth(z, pairs[int(EV[k, 1])])[0]
+        else:
+            g[k] = laws.contact_event(int(codes[k]), float(EV[k, 1]), t, yl, Pl, Ml)
+
+
+@_jit(plain=_events_all_rows)
 def _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g):
     """Every event's value into ``g`` (the checks' coordinates computed once)."""
     have_z = False
@@ -129,21 +184,40 @@ def _norm(x):
     return math.sqrt(s) / math.sqrt(x.size)
 
 
+def _sums(coefficients, rows, work):
+    """``0.0 + c[0] r[0] + c[1] r[1] + ...`` (``coefficients`` a column (k, 1), or a stack
+    of them (m, k, 1), against the rows ``rows`` (k, n)): each element's sum in that order,
+    as the compiled loops do it (``np.add.accumulate`` is sequential by definition; a
+    reduction may sum pairwise).  ``work``: (k + 1, n), or (m, k + 1, n), row 0 zero."""
+    k = rows.shape[0]
+    terms = work[..., : k + 1, :]
+    np.multiply(rows, coefficients, out=terms[..., 1:, :])
+    return np.add.accumulate(terms, axis=-2)[..., k, :]
+
+
+def _work(n, m=None):
+    """A :func:`_sums` work buffer for up to :data:`N_EXT` terms of ``n`` elements."""
+    return np.zeros((N_EXT + 1, n) if m is None else (m, N_EXT + 1, n))
+
+
+#: the stages' coefficients as columns: ``_A_COLUMNS[s]`` is ``_A[s, :s]`` shaped (s, 1)
+_A_COLUMNS = [np.ascontiguousarray(_A[s, :s, None]) for s in range(N_EXT)]
+_B_COLUMN = np.ascontiguousarray(_B[:, None])
+_D_COLUMNS = np.ascontiguousarray(_D[:, :, None])
+_E_COLUMNS = np.ascontiguousarray(np.stack((_E5, _E3))[:, :, None])
+
+
 def _rk_step_rows(phase, t, y, f, h, P, M, K, acc, ytmp, y_new):
     """:func:`_rk_step` over whole rows (its plain-Python form): each element's sum in the
     same order, ``0.0 + K[0] a_0 + K[1] a_1 + ...``."""
+    Pl, Ml = P.tolist(), M.tolist()
     K[0, :] = f
+    work = _work(y.size)
     for s in range(1, N_STAGES):
-        dy = np.zeros(y.size)
-        for j in range(s):
-            dy += K[j] * _A[s, j]
-        ytmp[:] = y + dy * h
-        _rhs(phase, t + _C[s] * h, ytmp, P, M, acc, K[s])
-    d = np.zeros(y.size)
-    for j in range(N_STAGES):
-        d += K[j] * _B[j]
-    y_new[:] = y + h * d
-    _rhs(phase, t + h, y_new, P, M, acc, K[N_STAGES])
+        ytmp[:] = y + _sums(_A_COLUMNS[s], K[:s], work) * h
+        K[s] = _derivative_floats(phase, t + _C[s] * h, ytmp.tolist(), Pl, Ml)
+    y_new[:] = y + h * _sums(_B_COLUMN, K[:N_STAGES], work)
+    K[N_STAGES] = _derivative_floats(phase, t + h, y_new.tolist(), Pl, Ml)
 
 
 @_jit(plain=_rk_step_rows)
@@ -166,7 +240,20 @@ def _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new):
     _rhs(phase, t + h, y_new, P, M, acc, K[N_STAGES])
 
 
-@_jit
+def _error_norm_rows(K, h, scale):
+    """:func:`_error_norm` over whole rows (its plain-Python form): the estimates' sums
+    element by element in the same order, their squares summed in index order."""
+    a5, a3 = _sums(_E_COLUMNS, K[:N_STAGES + 1], _work(scale.size, 2)) / scale
+    e5 = e3 = 0.0
+    for v5, v3 in zip((a5 * a5).tolist(), (a3 * a3).tolist()):
+        e5 += v5
+        e3 += v3
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * scale.size)
+
+
+@_jit(plain=_error_norm_rows)
 def _error_norm(K, h, scale):
     n = scale.size
     e5 = 0.0
@@ -188,22 +275,16 @@ def _error_norm(K, h, scale):
 
 def _dense_rows(phase, t_old, h, y_old, y, f, P, M, K, acc, ytmp, F):
     """:func:`_dense` over whole rows (its plain-Python form), each element as it does."""
-    n = y.size
+    Pl, Ml = P.tolist(), M.tolist()
+    work = _work(y.size)
     for s in range(N_STAGES + 1, N_EXT):
-        dy = np.zeros(n)
-        for j in range(s):
-            dy += K[j] * _A[s, j]
-        ytmp[:] = y_old + dy * h
-        _rhs(phase, t_old + _C[s] * h, ytmp, P, M, acc, K[s])
+        ytmp[:] = y_old + _sums(_A_COLUMNS[s], K[:s], work) * h
+        K[s] = _derivative_floats(phase, t_old + _C[s] * h, ytmp.tolist(), Pl, Ml)
     dlt = y - y_old
     F[0] = dlt
     F[1] = h * K[0] - dlt
     F[2] = 2 * dlt - h * (f + K[0])
-    for r in range(N_F - 3):
-        d = np.zeros(n)
-        for j in range(N_EXT):
-            d += _D[r, j] * K[j]
-        F[3 + r] = h * d
+    F[3:] = h * _sums(_D_COLUMNS, K, _work(y.size, len(_D_COLUMNS)))
 
 
 @_jit(plain=_dense_rows)
@@ -257,7 +338,23 @@ def _interp(t_old, h, y_old, F, t, out):
         out[i] = v + y_old[i]
 
 
-@_jit
+def _dense_eval_rows(ts, t_old, h, y_old, F, tq):
+    """:func:`dense_eval` (its plain-Python form) for all the times at once, each element as
+    :func:`_interp` does it."""
+    seg = np.minimum(np.maximum(np.searchsorted(ts, tq) - 1, 0), t_old.size - 1)
+    x = ((tq - t_old[seg]) / h[seg])[:, None]
+    Fq = F[seg]
+    v = np.zeros((tq.size, y_old.shape[1]))
+    for r in range(N_F - 1, -1, -1):
+        v += Fq[:, r]
+        if (N_F - 1 - r) % 2 == 0:
+            v *= x
+        else:
+            v *= 1 - x
+    return (v + y_old[seg]).T.copy()
+
+
+@_jit(plain=_dense_eval_rows)
 def dense_eval(ts, t_old, h, y_old, F, tq):
     """States (n, m) at times ``tq`` from stored steps (scipy's ``OdeSolution``: the
     step is found by ``searchsorted(ts, t, 'left') - 1``, clipped)."""
@@ -333,6 +430,60 @@ def brentq(k, a, b, t_old, h, y_old, F, P, M, EV, rows_a, rows_c, letters, pairs
         _interp(t_old, h, y_old, F, xcur, ytmp)
         fcur = _event(k, xcur, ytmp, P, M, EV, rows_a, rows_c, letters, pairs, z)
     return xcur
+
+
+def _step_scale_rows(y, y_new, atol, rtol, scale):
+    """:func:`_step_scale` (its plain-Python form), element by element as it does (Python's
+    ``max(a, b)``: ``b if b > a else a``)."""
+    a, b = np.abs(y), np.abs(y_new)
+    scale[:] = atol + np.where(b > a, b, a) * rtol
+
+
+@_jit(plain=_step_scale_rows)
+def _step_scale(y, y_new, atol, rtol, scale):
+    """The error's scale of a step from ``y`` to ``y_new`` into ``scale``."""
+    for i in range(y.size):
+        scale[i] = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+
+
+def _finite_rows(y):
+    """:func:`_finite` (its plain-Python form)."""
+    return bool(np.isfinite(y).all())
+
+
+@_jit(plain=_finite_rows)
+def _finite(y):
+    """Every element of ``y`` is finite."""
+    for i in range(y.size):
+        if not math.isfinite(y[i]):
+            return False
+    return True
+
+
+def _crossed_rows(g, g_new, EV, active):
+    """:func:`_crossed` (its plain-Python form), the same comparisons for all events at once."""
+    up = (g <= 0) & (g_new >= 0)
+    down = (g >= 0) & (g_new <= 0)
+    d = EV[:, 2]
+    found = np.flatnonzero((up & (d > 0)) | (down & (d < 0)) | ((up | down) & (d == 0)))
+    active[: found.size] = found
+    return found.size
+
+
+@_jit(plain=_crossed_rows)
+def _crossed(g, g_new, EV, active):
+    """The events whose function crossed zero over the step in their direction (``g`` at
+    its start, ``g_new`` at its end; solve_ivp's ``find_active_events``) into ``active``, in
+    their order; returns how many."""
+    n_act = 0
+    for k in range(g.size):
+        up = g[k] <= 0 and g_new[k] >= 0
+        down = g[k] >= 0 and g_new[k] <= 0
+        d = EV[k, 2]
+        if (up and d > 0) or (down and d < 0) or ((up or down) and d == 0):
+            active[n_act] = k
+            n_act += 1
+    return n_act
 
 
 @_jit
@@ -436,8 +587,7 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol
             h_abs = abs(h)
             _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new)
             nfev += N_STAGES
-            for i in range(n):
-                scale[i] = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+            _step_scale(y, y_new, atol, rtol, scale)
             err = _error_norm(K, h, scale)
             if not math.isfinite(err):
                 return (STATUS_NOT_FINITE, nfev, ts[: nsteps + 1], t_olds[:nsteps],
@@ -475,21 +625,13 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol
         Fst = Fs[nsteps]
         nsteps += 1
         ts[nsteps] = t
-        for i in range(n):
-            if not math.isfinite(y[i]):
-                return (STATUS_NOT_FINITE, nfev, ts[: nsteps + 1], t_olds[:nsteps],
-                        hs[:nsteps], y_olds[:nsteps], Fs[:nsteps], rec_k[:n_rec],
-                        rec_t[:n_rec], rec_y[:n_rec])
+        if not _finite(y):
+            return (STATUS_NOT_FINITE, nfev, ts[: nsteps + 1], t_olds[:nsteps],
+                    hs[:nsteps], y_olds[:nsteps], Fs[:nsteps], rec_k[:n_rec],
+                    rec_t[:n_rec], rec_y[:n_rec])
         # -- events (solve_ivp's find_active_events and handle_events)
-        n_act = 0
         _events_all(t, y, P, M, EV, rows_a, rows_c, letters, pairs, z, g_new)
-        for k in range(n_ev):
-            up = g[k] <= 0 and g_new[k] >= 0
-            down = g[k] >= 0 and g_new[k] <= 0
-            d = EV[k, 2]
-            if (up and d > 0) or (down and d < 0) or ((up or down) and d == 0):
-                active[n_act] = k
-                n_act += 1
+        n_act = _crossed(g, g_new, EV, active)
         if n_act > 0:
             for a in range(n_act):
                 roots[a] = brentq(active[a], t_old, t, t_old, h, y_old, Fst, P, M, EV, rows_a,

@@ -26,7 +26,6 @@ from __future__ import annotations
 import functools
 import math
 import os
-import shutil
 import sys
 import time
 
@@ -76,6 +75,8 @@ def recompiling(fn):
             if (_COMPILING is None or not _raised_by(exc, _COMPILING.failed)
                     or os.environ.get("NUMBA_CACHE_DIR") != folder):
                 raise
+            import shutil  # (here: a run that starts well never needs it)
+
             shutil.rmtree(folder, ignore_errors=True)
             return fn(*args, **kwargs)
 
@@ -447,9 +448,14 @@ def contact_loads(t, y, P, M, acc):
     torques about the mass centre, ``torque = r x F``; eq. 3.28-3.31): gravity, the base's
     normal force and friction at Q, the crush spring at S or T -- each only if the scene
     has it (``P_HAS_*``) -- or, in the start-up kick's window, the kick alone."""
+    _contact_loads_turned(t, y, _rot(y), P, M, acc)
+
+
+@_jit
+def _contact_loads_turned(t, y, R, P, M, acc):
+    """:func:`contact_loads` with the attitude's rotation ``R`` of ``y`` given."""
     for i in range(7):
         acc[i] = 0.0
-    R = _rot(y)
     if M[M_WINDOW] == WINDOW_KICK:
         f1 = P[P_KICK_F1]
         fx, fy, fz = _arm(R, f1, 0.0, 0.0)
@@ -481,8 +487,8 @@ def contact_loads(t, y, P, M, acc):
 def plain_derivative(t, y, P, M, acc, out):
     """The contact phase's state derivative into ``out`` with the forces of ``M`` as they
     are (no sliding mode solved for; the loads left in ``acc``)."""
-    contact_loads(t, y, P, M, acc)
     R = _rot(y)
+    _contact_loads_turned(t, y, R, P, M, acc)
     post_derivative(y, R, acc[0], acc[1], acc[2], acc[3], acc[4], acc[5],
                     P[P_MASS], P[P_I1], P[P_I2], P[P_I3], out)
     out[13] = y[14]
@@ -600,7 +606,15 @@ def contact_derivative_with(t, y, P, M, acc, out):
     plain_derivative(t, y, P, M, acc, out)
 
 
-@_jit
+def _vehicle_forces_floats(ts, ys, P, M):
+    """:func:`vehicle_forces` (its plain-Python form) over Python floats: the same
+    arithmetic as numpy's scalars, at a fraction of the cost."""
+    Pl, Ml = P.tolist(), M.tolist()
+    return np.array([vehicle_force(t, y, Pl, Ml) for t, y in zip(ts.tolist(), ys.T.tolist())],
+                    dtype=float)
+
+
+@_jit(plain=_vehicle_forces_floats)
 def vehicle_forces(ts, ys, P, M):
     """:func:`vehicle_force` at each time ``ts[k]`` and state ``ys[:, k]``."""
     out = np.empty(ts.size)
