@@ -128,8 +128,8 @@ def _entry(program: Program):
 
 def _forged(identity: bytes, code_bytes: bytes) -> bytes:
     """An entry of the cache's format around ``code_bytes``, its digest computed anew."""
-    rest = b"%d\n" % len(identity) + identity + code_bytes
-    return cache.MAGIC + hashlib.sha256(rest).hexdigest().encode() + b"\n" + rest
+    return (cache.MAGIC + hashlib.sha256(code_bytes).hexdigest().encode() + b"\n"
+            + b"%d\n" % len(identity) + identity + code_bytes)
 
 
 def test_an_entry_is_named_by_the_sha256_of_what_made_it(kept):

@@ -2,7 +2,7 @@
 input from outside.
 
 An entry is ``<SHA-256 of what the code was made from>.code`` in the user's cache folder's
-``fortran/``; it holds a first line (:data:`MAGIC` and the SHA-256 of the rest), what the
+``fortran/``; it holds a first line (:data:`MAGIC` and the SHA-256 of the code), what the
 code was made from (compared whole with what is to run), and the code (marshal).  Read back
 only
 
@@ -35,7 +35,8 @@ import sys
 from deck_emulator.vocabulary.defaults import (PROGRAM_CACHE_ENTRIES, PROGRAM_CACHE_MAX_BYTES,
                                                user_cache_folder)
 
-#: An entry's first bytes (the format's version in it): then the SHA-256 of the rest, in hex.
+#: An entry's first bytes (the format's version in it): then the SHA-256 of its code, in hex
+#: (what it was made from is compared whole, not hashed again).
 MAGIC = b"deck_emulator fortran code sha256 "
 #: The first bytes of an entry of the format before (named by a CRC-32: 8 hex digits), which
 #: is never read and goes at the next prune
@@ -157,20 +158,21 @@ def _read_bounded(fd: int) -> bytes | None:
 
 
 def _unpack(data: bytes, identity: bytes):
-    """The code of an entry's bytes if its SHA-256 holds, it was made from ``identity`` and
-    marshal reads a code object from it; else None."""
+    """The code of an entry's bytes if it was made from ``identity``, the SHA-256 of its code
+    holds and marshal reads a code object from it; else None."""
     import hashlib
     import marshal
     import types
 
     head, _, rest = data.partition(b"\n")
-    if head != MAGIC + hashlib.sha256(rest).hexdigest().encode():
-        return None
     size, _, rest = rest.partition(b"\n")
     if not size.isdigit() or rest[:int(size)] != identity:
         return None
+    code_bytes = rest[int(size):]
+    if head != MAGIC + hashlib.sha256(code_bytes).hexdigest().encode():
+        return None
     try:
-        code = marshal.loads(rest[int(size):])
+        code = marshal.loads(code_bytes)
     except (ValueError, EOFError, TypeError):
         return None
     return code if isinstance(code, types.CodeType) else None
@@ -210,8 +212,9 @@ def keep(identity: bytes, code) -> None:
     if fd is None:
         return
     try:
-        rest = b"%d\n" % len(identity) + identity + marshal.dumps(code)
-        data = MAGIC + hashlib.sha256(rest).hexdigest().encode() + b"\n" + rest
+        code_bytes = marshal.dumps(code)
+        data = (MAGIC + hashlib.sha256(code_bytes).hexdigest().encode() + b"\n"
+                + b"%d\n" % len(identity) + identity + code_bytes)
         name = entry_name(identity)
         tmp = f".{name}.{os.urandom(6).hex()}.part"
         try:
