@@ -167,7 +167,7 @@ WORKER_WAIT_RANGE_S = (1.0, 86400.0)
 #: its workers, and more for each worker process (its pipe, its sentinel, the forkserver's
 #: handing over), as measured (docs/scale.md, 'Bounds'); a command checks them against the
 #: open-file limit before it starts the workers
-POOL_FILES = 6
+POOL_FILES = 8
 POOL_WORKER_FILES = 3
 #: times a batch of scenes is run again on a new worker after the one running it died (killed,
 #: out of memory) before its scenes are stored failed (as Dask's allowed-failures, 3)
