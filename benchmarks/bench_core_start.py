@@ -33,7 +33,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from whole_process import environment, measure
+from whole_process import environment, machine_line, measure
 
 ROOT = Path(__file__).resolve().parent.parent
 DECK = str(ROOT / "decks" / "steel40.dat")
@@ -64,9 +64,7 @@ def main(argv=None) -> int:
     walls: dict[str, list[float]] = {REFERENCE: [], WARM: [], FIRST: []}
     cpus: dict[str, list[float]] = {REFERENCE: [], WARM: [], FIRST: []}
     with tempfile.TemporaryDirectory() as cache:
-        env = environment(cache)
-        if args.src:
-            env["PYTHONPATH"] = str(Path(args.src).resolve())
+        env = environment(cache, *([Path(args.src).resolve()] if args.src else []))
         cmds = commands()
         for argv_ in cmds.values():  # fills the bytecode (and numba's) caches, unmeasured
             measure(argv_, env)
@@ -98,8 +96,7 @@ def main(argv=None) -> int:
         print(f"first use: {first:.1f} s CPU, {statistics.median(walls[FIRST]):.1f} s wall "
               f"(target at most {FIRST_USE_TARGET_CPU_S:g} s CPU): "
               f"{'met' if first <= FIRST_USE_TARGET_CPU_S else 'NOT met'}")
-    print(f"(load average at the end: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; "
-          f"{os.cpu_count()} CPUs)")
+    print(machine_line())
     return 0
 
 

@@ -47,7 +47,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from whole_process import environment, measure
+from whole_process import environment, machine_line, measure
 
 ROOT = Path(__file__).resolve().parent.parent
 DECK = str(ROOT / "decks" / "steel40.dat")
@@ -90,10 +90,8 @@ def baseline(ref: str, folder: str) -> tuple[list[str], dict[str, str]]:
     archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "src", "legacy"],
                              check=True, capture_output=True).stdout
     subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
-    env = environment(str(tree / "cache"))
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(tree / "src"),
-                                                      os.environ.get("PYTHONPATH")]))
-    return [sys.executable, "-m", "deck_emulator", "run", DECK], env
+    return [sys.executable, "-m", "deck_emulator", "run", DECK], environment(
+        str(tree / "cache"), tree / "src")
 
 
 def main(argv=None) -> int:
@@ -146,8 +144,7 @@ def main(argv=None) -> int:
             ratio = m["deck-emulator run steel40"] / m[at_ref]
             print(f"{what:>4}: run steel40 / the same at {args.baseline} {ratio:.3f} "
                   f"({'no slower' if ratio <= 1 else 'slower'})")
-    print(f"(load average at the end: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; "
-          f"{os.cpu_count()} CPUs)")
+    print(machine_line())
     return 0
 
 

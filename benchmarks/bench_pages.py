@@ -33,7 +33,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from whole_process import environment, measure
+from whole_process import environment, machine_line, measure
 
 ROOT = Path(__file__).resolve().parent.parent
 DECK = str(ROOT / "decks" / "steel40.dat")
@@ -90,8 +90,7 @@ def main(argv=None) -> int:
                   f"{TARGET_RATIO:g}): {'met' if ratio <= TARGET_RATIO else 'NOT met'}")
     print(f"the same PDF bytes on every run of `run steel40 --pages`: {'yes' if same else 'NO'}"
           f" ({len(first)} bytes)")
-    print(f"(load average at the end: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; "
-          f"{os.cpu_count()} CPUs)")
+    print(machine_line())
     return 0 if same else 1
 
 

@@ -11,17 +11,23 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def environment(cache: str) -> dict[str, str]:
+def environment(cache: str, src: Path = ROOT / "src") -> dict[str, str]:
     """The caller's environment with bytecode and the package's user cache kept in ``cache``
-    (warm after a first run), the checkout's ``src`` first on the path, and no fixed
-    SOURCE_DATE_EPOCH."""
+    (warm after a first run), ``src`` (default: the checkout's) first on the path, and no
+    fixed SOURCE_DATE_EPOCH."""
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env.pop("SOURCE_DATE_EPOCH", None)
     env["PYTHONPYCACHEPREFIX"] = cache
     env["XDG_CACHE_HOME"] = cache  # (a job deck's made code is kept there, as the bytecode)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(src), env.get("PYTHONPATH")]))
     return env
+
+
+def machine_line() -> str:
+    """How loaded the machine was when the figures above were measured."""
+    return (f"(load average at the end: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; "
+            f"{os.cpu_count()} CPUs)")
 
 
 def measure(argv: list[str], env: dict[str, str]) -> tuple[float, float]:
