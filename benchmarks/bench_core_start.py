@@ -27,7 +27,6 @@ Say how loaded the machine was when quoting the times.
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import sys
 import tempfile

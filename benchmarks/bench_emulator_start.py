@@ -40,7 +40,6 @@ on that ratio, not on figures of two different runs.
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import subprocess
 import sys
