@@ -36,11 +36,12 @@ import fcntl
 import os
 import re
 import shutil
-import signal
 import stat
 import tempfile
 import time
 from pathlib import Path
+
+from deck_emulator.signals import held
 
 __all__ = [
     "OutputError",
@@ -301,38 +302,6 @@ def _mode_as_open(tmp: Path, existing: os.stat_result | None) -> None:
         os.chmod(tmp, 0o666 & ~_umask())
 
 
-@contextlib.contextmanager
-def _signals_held():
-    """Hold SIGINT/SIGTERM/SIGHUP over a commit (a few renames): a Ctrl-C arriving there is
-    delivered just after, so the commit is never cut in half by a catchable signal.
-
-    The Python handlers are swapped for one that notes the signal, and the first signal noted
-    is raised again once they are back.  (Blocking the signals with ``pthread_sigmask`` does
-    not hold them: it blocks them in the calling thread only, the kernel then gives them to
-    another thread of the process -- numpy's OpenBLAS starts some -- and Python runs the
-    handler in the main thread all the same, inside the window.)  Python runs handlers only in
-    the main thread: from another thread nothing needs holding, and nothing is changed."""
-    noted: list[int] = []
-    held: dict[int, object] = {}
-    sigs = [signal.SIGINT, signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
-    try:
-        for sig in sigs:
-            handler = signal.getsignal(sig)
-            if handler in (signal.SIG_IGN, None):  # ignored, or not Python's to restore
-                continue
-            signal.signal(sig, lambda signum, frame: noted.append(signum))
-            held[sig] = handler
-    except ValueError:  # not the main thread
-        pass
-    try:
-        yield
-    finally:
-        for sig, handler in held.items():
-            signal.signal(sig, handler)
-        if noted:
-            signal.raise_signal(noted[0])  # its own handler now: KeyboardInterrupt, Terminated
-
-
 #: Longest wait (s) for a reader to open a FIFO named as an output.
 FIFO_WAIT_S = 10.0
 
@@ -438,7 +407,7 @@ def write_file(path, data: str | bytes) -> None:
             fh.flush()
             os.fsync(fh.fileno())
         _mode_as_open(tmp, st)
-        with _signals_held():
+        with held():
             os.replace(tmp, target)
         _fsync_dir(folder)
     except OSError as exc:
@@ -611,7 +580,7 @@ class OutputSet:
             if st is not None and _is_stream(st):
                 _stream_copy(stage, real, user)
         folders = set()
-        with _signals_held():
+        with held():
             for stage, real, user, st in plans:
                 if st is not None and _is_stream(st):
                     continue
@@ -637,7 +606,7 @@ class OutputSet:
         for sub in [p for p in self._stage_dir.rglob("*") if p.is_dir()] + [self._stage_dir]:
             os.chmod(sub, 0o777 & ~umask)
         _fsync_dir(self._stage_dir)
-        with _signals_held():
+        with held():
             if self.directory.exists():
                 raise OutputError(self.directory, "it appeared while the outputs were being made",
                                   errno.EEXIST)

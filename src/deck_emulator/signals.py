@@ -105,10 +105,16 @@ def _unraisable(hook):
 @contextlib.contextmanager
 def held():
     """``with signals.held():`` a SIGINT, SIGTERM or SIGHUP that comes meanwhile is noted and
-    raised only as the block ends, not inside it: for a library's compiled code (Cython's)
-    that catches an exception raised in it and prints its traceback itself, past
-    ``sys.unraisablehook`` (scipy while SALib builds a Sobol' sample).  Nothing changes in a
-    thread other than the main one, or when the handlers are not this module's."""
+    raised only as the block ends, not inside it: over the commit of output files (a few
+    renames, :mod:`deck_emulator.files`), and for a library's compiled code (Cython's) that
+    catches an exception raised in it and prints its traceback itself, past
+    ``sys.unraisablehook`` (scipy while SALib builds a Sobol' sample).
+
+    The Python handlers are swapped for one that notes the signal, and what was noted is
+    raised again once they are back (blocking the signals with ``pthread_sigmask`` would not
+    hold them: the kernel gives them to another thread, numpy's OpenBLAS starts some, and
+    Python runs the handler in the main thread all the same).  Python runs handlers only in
+    the main thread: from another thread nothing is changed."""
     noted: list[int] = []
 
     def note(signum, frame):
@@ -119,8 +125,11 @@ def held():
     try:
         for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None),
                     signal.SIGALRM):
-            if sig is not None and signal.getsignal(sig) in (_raise, _redeliver):
-                swapped[sig] = signal.signal(sig, note)
+            handler = None if sig is None else signal.getsignal(sig)
+            if handler in (signal.SIG_IGN, None) or (sig == signal.SIGALRM
+                                                     and handler is not _redeliver):
+                continue  # ignored, not Python's to restore, or no redelivery of ours
+            swapped[sig] = signal.signal(sig, note)
     except ValueError:  # not the main thread
         pass
     try:
@@ -128,11 +137,8 @@ def held():
     finally:
         for sig, handler in swapped.items():
             signal.signal(sig, handler)
-        for sig in noted:
-            if sig == signal.SIGALRM:
-                _redeliver(sig, None)  # (a signal pending from before: raised again)
-            else:
-                _raise(sig, None)
+        for sig in noted:  # its own handler now: KeyboardInterrupt, Terminated
+            signal.raise_signal(sig)
 
 
 def install_signal_handlers() -> None:

@@ -414,7 +414,6 @@ sys.exit(signals.run(main))
 HELD = """
 import signal, sys, threading, time
 from deck_emulator import signals
-from deck_emulator.files import _signals_held
 
 # a second thread, which does not hold the signals: the kernel may give a signal to it
 threading.Thread(target=time.sleep, args=(600,), daemon=True).start()
@@ -422,7 +421,7 @@ CATCHABLE = {signal.SIGINT, signal.SIGTERM}
 
 
 def main():
-    with _signals_held():
+    with signals.held():
         seen, handlers = [], {s: signal.getsignal(s) for s in CATCHABLE}
         for s, h in handlers.items():  # note when the signal reaches its handler
             signal.signal(s, lambda n, f, h=h: (seen.append(n), h(n, f)))
