@@ -96,8 +96,8 @@ def test_the_studies_refuse_what_they_cannot_read_in_one_line_naming_the_convers
 def test_the_studies_take_a_shipped_name_and_a_text_deck(inputs):
     from deck_emulator.app.common import deck_file as _deck_file
 
-    assert Path(_deck_file("steel40", "study error")).name == "steel40.dat"
-    assert _deck_file(inputs["text deck"], "study error") == inputs["text deck"]
+    assert Path(_deck_file("steel40", "study error").path).name == "steel40.dat"
+    assert _deck_file(inputs["text deck"], "study error").path == inputs["text deck"]
 
 
 def test_every_command_has_json(capsys):

@@ -28,16 +28,17 @@ def load(options, command: str, kinds=("deck", "scene"), given=None, own_program
                        kinds=kinds, command=command, own_program=own_program)
 
 
-def deck_file(given: str, command: str) -> str:
+def deck_file(given: str, command: str):
     """A deck that a study reads by its file in every worker: a text deck of one $DATA
-    section (a shipped deck's name resolves to its file); card images and job decks are
-    refused with the one conversion that makes a text deck."""
-    from deck_emulator.engine.sources import load_source
-    from deck_emulator.legacy.deck import DeckError, read_deck
+    section, read once; its ``path`` is the file (a shipped deck's name resolves to its file).
+    Card images and job decks are refused with the one conversion that makes a text deck."""
+    from deck_emulator.engine.sources import load_source, parse_deck
+    from deck_emulator.legacy.deck import DeckError
 
     src = load_source(given, kinds=("deck",), command=command)  # refused or not: no notes yet
+    path = given if os.path.exists(given) else src.path
     try:
-        plain = read_deck(src.path)
+        plain = parse_deck(src.data, path=path)  # the bytes as a worker's read_deck takes them
     except DeckError:
         plain = None
     if plain is None or len(src.decks) != 1 or plain.values != src.decks[0].values:
@@ -45,7 +46,7 @@ def deck_file(given: str, command: str) -> str:
         raise UsageError(f"{src.name}: a {kind}; {command} reads a text deck of one $DATA "
                          f"section: `{PROG} punch {given} --to text --out deck.dat` (with "
                          "--section N for a job deck) writes one")
-    return given if os.path.exists(given) else src.path
+    return plain
 
 
 def engine_scene(source, name: str = "", *, scene_name: str | None = None):
@@ -242,10 +243,6 @@ def outputs_result(out_dir) -> dict:
                               and os.path.isfile(os.path.join(out_dir, n)))}
 
 
-TRAJECTORY_HELP = ("also write the run's trajectory: time, every named point (road and report "
-                    "axes), the shaft's tilt and heading, the car (pandas reads it)")
-
-
 def outcome_answer(name: str, out, source: str, settings: dict, o) -> Answer:
     """An outcome as the answer of ``summary``, ``core`` or ``assembly`` (its text made by
     :func:`rendered` once the caller's notes are in): the registry's quantities, and for a
@@ -270,13 +267,13 @@ def rendered(answer: Answer) -> str | None:
 def study_answer(name: str, o, run) -> Answer:
     """A study's command: the deck checked, the folder checked, the study run, its lines."""
     from deck_emulator.files import check_output_dir
-    from deck_emulator.legacy.deck import read_deck
 
     require("studies")
     deck = None
     if o.deck:
-        deck = deck_file(o.deck, f"study {name}")
-        engine_scene(read_deck(deck), name=deck)  # both engines run it: exit 2
+        text = deck_file(o.deck, f"study {name}")
+        deck = text.path
+        engine_scene(text, name=deck)  # both engines run it: exit 2
     check_output_dir(o.out)  # before any work, and before the study makes the folder
     jobs = o.jobs or os.cpu_count() or 1
     typed = o.command_line or shlex.join(  # called from Python: the command it stands for

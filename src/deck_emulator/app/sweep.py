@@ -69,12 +69,12 @@ def sweep(o: SweepOptions) -> Answer:
                          "degrees")
     if not 0 <= o.vvb_decimals <= 5:
         raise UsageError("--vvb-decimals must be 0 to 5")
-    base = (Path(common.deck_file(o.base_deck, "sweep --base-deck")) if o.base_deck
-            else POSTS[o.post])
+    base_deck = (common.deck_file(o.base_deck, "sweep --base-deck") if o.base_deck
+                 else read_deck(POSTS[o.post]))  # bad deck -> DeckError, before any work
+    base = Path(base_deck.path)
     # the scenes are named after the deck given (car820.dat: car820_v40_a15), the post's after it
     label = o.post if not o.base_deck else Path(o.base_deck).stem
     label = f"{label}_deck" if o.base_deck and label in POSTS else label
-    base_deck = read_deck(base)  # bad deck -> DeckError, before any work
     # every VVB and ALPHA must punch: fail before running anything.  A speed gives VVB and an
     # angle ALPHA, each punched in its own field: each speed and each angle once is every one
     for s in speeds:
