@@ -7,7 +7,8 @@ from deck_emulator.vocabulary import defaults
 from . import Answer, command
 from . import common
 from .groups import Preset, SceneSource
-from .options import Answering, option, options_class, positive_float, tolerance
+from .options import (Answering, option, options_class, positive_float, tolerance,
+                      trajectory_option)
 
 
 @options_class
@@ -26,8 +27,7 @@ class CoreOptions(SceneSource, Preset, Answering):
     max_wall: float = option(defaults.MAX_WALL_S, parse=positive_float, metavar="S",
                              help="stop when the run has taken S seconds of wall time "
                              "(default %(default)s)")
-    trajectory: str | None = option(None, metavar="FILE.csv|FILE.parquet",
-                                    help=common.TRAJECTORY_HELP)
+    trajectory: str | None = trajectory_option()
 
 
 @command("core", CoreOptions, one_scene=True,

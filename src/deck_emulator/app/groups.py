@@ -9,7 +9,7 @@ import os
 from deck_emulator.vocabulary import defaults
 
 from .options import (PRESETS, SOURCE_HELP, Common, Source, option, options_class, positive_int,
-                      worker_wait)
+                      quiet_option, worker_wait)
 
 
 @options_class
@@ -61,7 +61,7 @@ class Cluster:
 class Many(Common, Cluster):
     """What a many-scene command has: where it runs, --quiet, --json."""
 
-    quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
+    quiet: bool = quiet_option()
     json: bool = option(False, help="print what ran and what was written as one JSON object "
                         "(docs/json.md)")
 

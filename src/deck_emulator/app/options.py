@@ -153,6 +153,18 @@ def worker_wait(text: str) -> float:
     return value
 
 
+def quiet_option():
+    """``--quiet``: every command that shows progress spells it alike."""
+    return option(False, help="no progress display on stderr (shown only on a terminal)")
+
+
+def trajectory_option():
+    """``--trajectory FILE``: the run's trajectory as a table (``run``, ``summary``, ``core``)."""
+    return option(None, metavar="FILE.csv|FILE.parquet",
+                  help="also write the run's trajectory: time, every named point (road and "
+                  "report axes), the shaft's tilt and heading, the car (pandas reads it)")
+
+
 # ------------------------------------------------------------------------ the shared groups
 
 
@@ -189,7 +201,7 @@ class Answering:
 
     json: bool = option(False, help="print the answer as one JSON object (docs/json.md)")
     out: str | None = option(None, metavar="FILE", help="write to FILE instead of stdout")
-    quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
+    quiet: bool = quiet_option()
 
 
 @options_class

@@ -9,7 +9,8 @@ from . import Answer, command
 from . import common
 from .groups import Preset
 from .options import (
-    DECK_WORDS, ENGINES, VIEWS, Errata, option, options_class, positive_float, Source,
+    DECK_WORDS, ENGINES, VIEWS, Errata, option, options_class, positive_float, quiet_option,
+    Source,
 )
 
 
@@ -32,7 +33,7 @@ class PlotOptions(Source, Errata, Preset):
     every: float | None = option(None, parse=positive_float, metavar="MS",
                                  help="draw the post every MS milliseconds (default: about 20 "
                                  "instants)")
-    quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
+    quiet: bool = quiet_option()
     json: bool = option(False, help="print what was drawn and written as one JSON object "
                         "(docs/json.md)")
 

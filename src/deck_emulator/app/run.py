@@ -6,7 +6,7 @@ from deck_emulator.errors import UsageError
 
 from . import PROG, Answer, command
 from . import common
-from .options import Emulator, option, options_class
+from .options import Emulator, option, options_class, quiet_option, trajectory_option
 
 
 @options_class
@@ -25,7 +25,7 @@ class RunOptions(Emulator):
                            "before the output: a job deck's own cards, with its control "
                            "cards, when it carries them, the shipped transcription otherwise "
                            "(the banner page says which)")
-    quiet: bool = option(False, help="no progress display on stderr (shown only on a terminal)")
+    quiet: bool = quiet_option()
     render: bool = option(False, help="render ASA carriage control (1 = form feed, 0 = blank "
                           "line, + = overprint) as the POSIX asa utility does, instead of the "
                           "raw records")
@@ -36,10 +36,7 @@ class RunOptions(Emulator):
                               "events, quantities and ratings, the pictures, and the printout "
                               "beside the listing, each record linked to the WRITE that "
                               "printed it (docs/dossier.md)")
-    trajectory: str | None = option(None, metavar="FILE.csv|FILE.parquet",
-                                    help="also write the run's trajectory: time, every named "
-                                    "point (road and report axes), the shaft's tilt and heading, "
-                                    "the car (pandas reads it)")
+    trajectory: str | None = trajectory_option()
 
 
 def _describe(run, own: bool = False) -> str:

@@ -6,13 +6,12 @@ from __future__ import annotations
 from deck_emulator.engine.quantities import definitions_help
 
 from . import Answer, command, common
-from .options import Answering, Emulator, option, options_class
+from .options import Answering, Emulator, options_class, trajectory_option
 
 
 @options_class
 class SummaryOptions(Emulator, Answering):
-    trajectory: str | None = option(None, metavar="FILE.csv|FILE.parquet",
-                                    help=common.TRAJECTORY_HELP)
+    trajectory: str | None = trajectory_option()
 
 
 def _summary_description() -> str:

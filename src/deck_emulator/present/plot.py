@@ -47,7 +47,6 @@ __all__ = [
     "figure_trajectory",
     "figure_pulse",
     "save_trajectory",
-    "save_pulse",
     "save_animation",
     "instants",
 ]
@@ -732,12 +731,6 @@ def figure_pulse(results: list[Outcome]) -> Figure:
     return fig
 
 
-def save_pulse(results: list[Outcome], out) -> None:
-    """Write the pulse picture to ``out`` (whole or not at all)."""
-    with OutputSet() as files:
-        savefig(figure_pulse(results), files.path(out))
-
-
 # ============================================================================= animation
 
 
@@ -905,9 +898,8 @@ def draw(source, name: str, *, engine: str, options: dict, out, view: str = "sid
     """``deck-emulator plot``: run ``source`` (a deck, or a scene for the core) on ``engine``
     (both with ``pulse``; ``options``: each engine's keywords) and write the picture ``out``
     (the trajectory's ``view``, or the pulse) and ``animate`` (the fall as a GIF), both or
-    neither."""
+    neither (the command has checked them: :func:`check_plot_outputs`)."""
     check_every(every_ms)
-    check_plot_outputs(out, animate)
     if engine == "core" and not pulse and hasattr(source, "values"):
         # the core refuses such a deck's scene as `core` does: bad input (2), before any run
 

@@ -138,8 +138,6 @@ NAMES: tuple[str, ...] = tuple(FIELD)
 DECK_UNITS: dict[str, str] = {f.name: f.unit for f in DECK_FIELDS if f.unit}
 #: the one deck <-> scene mapping: name -> the scene field's path
 SCENE_PATHS: dict[str, tuple[str, ...]] = {f.name: f.scene for f in DECK_FIELDS if f.scene}
-#: the names that are start values of the listing's difference scheme, not of the scene
-SCHEME_ONLY: tuple[str, ...] = tuple(f.name for f in DECK_FIELDS if f.role == "scheme")
 
 
 def field_columns(index: int) -> tuple[int, int]:
