@@ -54,6 +54,10 @@ def assembly(o: AssemblyOptions) -> Answer:
             "what": o.what, "speed_mph": o.speed_mph, "alpha_deg": o.alpha_deg},
             result=result, text=text, json=o.json, out=o.out)
 
+    def scene_answer(scene_):
+        text = scene_.to_toml()
+        return answer(text, scene=tomllib.loads(text))
+
     try:
         a, extra, _ = asm.load_assembly(o.description)
     except (asm.AssemblyError, OSError) as exc:
@@ -63,7 +67,7 @@ def assembly(o: AssemblyOptions) -> Answer:
 
         scene_ = ct.crash_scene(extra["crash_test"])  # the description's own crash test
         if o.what == "scene":
-            return answer(scene_.to_toml(), scene=tomllib.loads(scene_.to_toml()))
+            return scene_answer(scene_)
         if o.what in ("deck", "emulator"):
             raise UsageError(f"cannot run on the listing: {asm.scene_runs_on_listing(scene_)}")
         res, loss, r70 = ct.table10(scene_)  # res: the run's Outcome
@@ -91,20 +95,20 @@ def assembly(o: AssemblyOptions) -> Answer:
                       points_ft={k: list(p) for k, p in mp.points.items()})
     scene_ = bridge.to_scene(a, mp, template=template, **car)
     if o.what == "scene":
-        return answer(scene_.to_toml(), scene=tomllib.loads(scene_.to_toml()))
+        return scene_answer(scene_)
     reason = asm.scene_runs_on_listing(scene_)
     if o.what in ("deck", "emulator") and reason is not None:
         raise UsageError(f"cannot run on the listing: {reason}")
-    if o.what == "deck":
+    if o.what in ("deck", "emulator"):
         values = bridge.to_deck_values(a, mp, template=template, **car)
-        return answer(bridge.to_deck_text(values), values=values,
-                      cards=bridge.to_deck_text(values).splitlines())
+        text = bridge.to_deck_text(values)
+    if o.what == "deck":
+        return answer(text, values=values, cards=text.splitlines())
     if o.what == "emulator":
         from deck_emulator.engine import EmulatorEngine
         from deck_emulator.legacy.deck import parse_deck
 
-        deck = parse_deck(bridge.to_deck_text(bridge.to_deck_values(a, mp, template=template,
-                                                                    **car)))
+        deck = parse_deck(text)
         out = EmulatorEngine(errata=tuple(o.erratum), trace=False).run(deck)
         done = answer(out.printout, records=list(out.records), deck=dict(deck.values))
         if out.error:

@@ -89,12 +89,8 @@ def _list_names(text: str) -> tuple[str, ...]:
     return tuple(items)
 
 
-def write_page(path: str, page: str, outputs=None) -> None:
-    """The page, written whole or not at all (within ``outputs``, an
-    :class:`~deck_emulator.files.OutputSet`, when the command writes several files)."""
-    if outputs is not None:
-        outputs.write(path, page)
-        return
+def write_page(path: str, page: str) -> None:
+    """The page, written whole or not at all."""
     from deck_emulator.files import write_file
 
     write_file(path, page)

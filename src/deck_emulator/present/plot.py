@@ -33,7 +33,7 @@ from deck_emulator.files import OutputSet, check_output_file
 from deck_emulator.vocabulary.choices import VIEWS
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import Scene
-from deck_emulator.vocabulary.units import ft_s_to_mph
+from deck_emulator.vocabulary.units import force_in_g, ft_s_to_mph
 
 from .answers import compartment_words
 
@@ -139,7 +139,7 @@ def post_l(res: Outcome, i: int) -> np.ndarray:
     return res.to_l(pts)
 
 
-def _car_xy_l(res: Outcome, sv: float, xv: np.ndarray, yv: np.ndarray):
+def _car_xy_l(res: Outcome, xv: np.ndarray, yv: np.ndarray):
     """XV, YV of the car -> XL, YL."""
     a = safety.approach_angle_rad(res.scene)
     ca, sa = math.cos(a), math.sin(a)
@@ -159,7 +159,7 @@ def _profile(res: Outcome, sv: float, yv: float):
     )
     zz = np.array([-h, body.hood_height_ft, body.hood_height_ft, body.top_height_ft,
                    body.top_height_ft, body.trunk_height_ft, body.trunk_height_ft, -h])
-    xl, _ = _car_xy_l(res, sv, xv, np.full_like(xv, yv))
+    xl, _ = _car_xy_l(res, xv, np.full_like(xv, yv))
     return xl, zz + h
 
 
@@ -182,13 +182,11 @@ def _legend_title(res: Outcome) -> str:
         t = t[:1].upper() + t[1:]
     else:
         t = f"no hit by {1000 * res.end_time_s:.0f} ms" + (" (run stopped)" if res.error else "")
-    eng = res.engine + (
-        f", {'+'.join(res.errata)} erratum"
-        if res.errata
-        else (", listing as printed" if res.engine == "emulator" else "")
-    )
     if res.engine == "core":
         eng = f"core, {res.settings}"
+    else:
+        eng = "emulator, " + (f"{'+'.join(res.errata)} erratum" if res.errata
+                              else "listing as printed")
     return (f"{res.name}: {res.speed_mph:.3g} mph, α = {res.angle_deg:.3g}°\n{t}\n"
             + "".join(f"{line}\n" for line in _compartment_lines(res)) + f"engine: {eng}")
 
@@ -261,7 +259,7 @@ def car_side(ax, res: Outcome, i: int) -> list[float]:
             )
         )
     o = body.outline_xv(sv)
-    wx, _ = _car_xy_l(res, sv, np.array([o["SV"]]), np.array([sides[0]]))
+    wx, _ = _car_xy_l(res, np.array([o["SV"]]), np.array([sides[0]]))
     h = res.scene.environment.ground_depth_ft
     ax.plot(
         [wx[0], wx[0]],
@@ -287,7 +285,7 @@ def _draw_side(ax, res: Outcome, idx: list[int]):
     if hp is not None:
         ax.plot(hp[0], hp[2], marker="*", ms=18, color="gold", mec="k", zorder=6)
     # direction of travel
-    xb, _ = _car_xy_l(res, sv, np.array([o["XBUMP"]]), np.array([sides[0]]))
+    xb, _ = _car_xy_l(res, np.array([o["XBUMP"]]), np.array([sides[0]]))
     ax.annotate(
         "",
         xy=(xb[0] - 4, 1.0),
@@ -314,13 +312,13 @@ def car_plan(ax, res: Outcome, i: int) -> None:
     def rect(x0, x1, **kw):
         xv = np.array([x0, x1, x1, x0])
         yv = np.array([yl, yl, yr, yr])
-        x, y = _car_xy_l(res, sv, xv, yv)
+        x, y = _car_xy_l(res, xv, yv)
         ax.add_patch(mpl().Polygon(np.c_[x, y], closed=True, **kw))
 
     rect(o["XBUMP"], o["SV"], fc="0.88", ec=CAR_COLOUR, lw=1.2, zorder=1)
     rect(o["SV"], o["XENTOP"], fc="0.72", ec=CAR_COLOUR, lw=1.2, zorder=1)
     rect(o["XENTOP"], o["XTAIL"], fc="0.88", ec=CAR_COLOUR, lw=1.2, zorder=1)
-    wx, wy = _car_xy_l(res, sv, np.array([o["SV"], o["SV"]]), np.array([yl, yr]))
+    wx, wy = _car_xy_l(res, np.array([o["SV"], o["SV"]]), np.array([yl, yr]))
     ax.plot(wx, wy, color="tab:cyan", lw=3, zorder=1.5)
 
 
@@ -337,7 +335,7 @@ def _draw_plan(ax, res: Outcome, idx: list[int]):
         ax.plot(hp[0], hp[1], marker="*", ms=18, color="gold", mec="k", zorder=6)
     # direction of travel along -XV
     a = safety.approach_angle_rad(res.scene)
-    bx, by = _car_xy_l(res, sv, np.array([o["XBUMP"]]), np.array([0.5 * (yl + yr)]))
+    bx, by = _car_xy_l(res, np.array([o["XBUMP"]]), np.array([0.5 * (yl + yr)]))
     tip = (bx[0] - 4 * math.cos(a), by[0] + 4 * math.sin(a))
     ax.annotate(
         "",
@@ -415,7 +413,7 @@ def _draw_3d(ax, res: Outcome, idx: list[int]):
         (o["XENTOP"], o["XTAIL"], body.trunk_height_ft),
     ):
         corners, fidx = _box_faces(x0, x1, body.left_fender_ft, body.right_fender_ft, -h, ztop)
-        xl, yl = _car_xy_l(res, sv, corners[:, 0], corners[:, 1])
+        xl, yl = _car_xy_l(res, corners[:, 0], corners[:, 1])
         cl = np.c_[xl, yl, corners[:, 2] + h]
         faces += [cl[f] for f in fidx]
     ax.add_collection3d(
@@ -694,7 +692,7 @@ def figure_pulse(results: list[Outcome]) -> Figure:
     car = first.scene.vehicle
     fc = (car.force_cap_lb or 0.0) if car is not None else 0.0
     if fc > 0 and t_max > 0:
-        g_cap = fc / (car.mass_slug * first.gravity_ft_s2)
+        g_cap = force_in_g(fc, car.mass_slug, first.gravity_ft_s2)
         ax.annotate(
             f"force capped at FCONST = {fc:g} lb ({g_cap:.2f} g)",
             xy=(1000 * t_max * 0.45, g_cap),
@@ -763,7 +761,7 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
     car_x = []
     for i in (0, last):
         o = body.outline_xv(res.sv[i])
-        xs, _ = _car_xy_l(res, res.sv[i], np.array([o["XBUMP"], o["XTAIL"]]), np.array([yl, yr]))
+        xs, _ = _car_xy_l(res, np.array([o["XBUMP"], o["XTAIL"]]), np.array([yl, yr]))
         car_x += list(xs)
     x0, x1 = min(allp[:, 0].min(), min(car_x)) - 2, max(allp[:, 0].max(), 12.0) + 2
     if view == "side":
@@ -810,7 +808,7 @@ def _save_animation(res: Outcome, out, view: str, frame_s: float, fps: int, dpi:
             xl, zl = _profile(res, sv, 0.5 * (yl + yr))
             return np.c_[xl, zl]
         o = body.outline_xv(sv)
-        x, y = _car_xy_l(res, sv, np.array([o["XBUMP"], o["XTAIL"], o["XTAIL"], o["XBUMP"]]),
+        x, y = _car_xy_l(res, np.array([o["XBUMP"], o["XTAIL"], o["XTAIL"], o["XBUMP"]]),
                          np.array([yl, yl, yr, yr]))
         return np.c_[x, y]
 
