@@ -1,31 +1,18 @@
 """The one writer for every file the package and its scripts write: whole or not at all, and
 never at the cost of something that is not ours.
 
-* :func:`check_output_file` / :func:`check_output_dir`: called before any work, so that a
-  missing or read-only folder fails at once, naming the user's path.
-* :func:`write_file`: one file.  A regular file (or a new path) is written to a temporary file
-  beside it, flushed and fsynced, renamed over the target, and the folder fsynced: a reader,
-  a crash or a kill sees the old file or the new one, never part of one.  An existing path that
-  is not a regular file (a character device such as ``/dev/null`` or ``/dev/stdout``, a FIFO,
-  a socket) is written as a stream and never replaced: it is not ours to replace.  A FIFO
-  that no reader opens within :data:`FIFO_WAIT_S` is an :class:`OutputError`, not a wait
-  for ever.
-* :class:`OutputSet`: several files committed as one unit (a picture and its animation; a
-  printout and its PDF; a study's CSV, figures and report), optionally as a directory.
-  :func:`check_distinct` refuses two outputs on one file before any work.
-
-Symbolic links: a link given as the output is written *through*: the file it points to is
-written (atomically, via its resolved path, in the resolved file's folder) and the link stays
-a link.  That is what the shell's ``>`` and ``open(path, "w")`` do, so a user who keeps a link
-to a results file gets what they expect; replacing the link with a regular file would destroy
-something that is not ours, and refusing would break the common "latest -> run-42.txt" habit.
-
+Outputs are checked before any work (:func:`check_output_file`, :func:`check_output_dir`,
+:func:`check_distinct`: a missing or read-only folder fails at once, naming the user's path),
+then written by :func:`write_file` (one file) or an :class:`OutputSet` (several, committed as
+one unit).  An existing device or FIFO (``/dev/null``, a named pipe) is written as a stream,
+never replaced: it is not ours to replace.  A symbolic link is written *through*, as the
+shell's ``>`` does, and stays a link (replacing it would destroy something that is not ours).
 Permissions are those ``open(path, "w")`` would give: an existing file keeps its mode (and, if
 we may, its owner and group); a new file gets ``0o666 & ~umask``.
 
-Temporary names are hidden (``.NAME.~PID.XXXX.part...``) and carry the writer's process id:
-a later writer into the same folder removes those left by a process that no longer exists
-(a SIGKILL leaves them; SIGINT and SIGTERM do not, see :mod:`deck_emulator.signals`).
+Temporary names are hidden (``.NAME.~PID.XXXX.part...``) and carry the writer's process id: a
+later writer into the same folder removes those a killed process left (SIGINT and SIGTERM
+leave none: :mod:`deck_emulator.signals`).
 """
 
 from __future__ import annotations
@@ -380,12 +367,11 @@ def _as_bytes(data: str | bytes) -> bytes:
 
 
 def write_file(path, data: str | bytes) -> None:
-    """Write ``data`` (text is UTF-8 encoded) to ``path``, whole or not at all.
-
-    A regular file or a new path: through a temporary file beside it, flushed, fsynced and
-    renamed over the target; the folder is fsynced.  An existing non-regular file (``/dev/null``,
-    ``/dev/stdout``, a FIFO): written as a stream, never replaced.  A symbolic link: its target
-    is written (see the module's notes).  Errors raise :class:`OutputError` naming ``path``."""
+    """Write ``data`` (text is UTF-8 encoded) to ``path``, whole or not at all: a regular file
+    or a new path through a temporary file beside it, flushed, fsynced and renamed over the
+    target, the folder fsynced (a reader, a crash or a kill sees the old file or the new one);
+    a device or a FIFO as a stream (a FIFO no reader opens within :data:`FIFO_WAIT_S` is an
+    error, not a wait for ever).  Errors raise :class:`OutputError` naming ``path``."""
     user = path
     _not_empty(path)
     target = _resolve(Path(path))

@@ -4,13 +4,8 @@ A printout is read as people hold it: text (carriage control in column 1, the pa
 typed, scanned; ``pdftotext`` of the pages, plain or ``-layout``), or the PDF of ``run --pages``
 itself.  A PDF's text is taken with pypdf (the ``[pdf]`` extra), a general reader, not by
 decoding our own writer's streams: a PDF people hold has often passed through other hands.
-Without the extra, a PDF is refused in one line naming it (exit 2).
-
-The verdict and its exit status: 0 ``agree``, every record of both printouts lined up,
-compared and equal; 1 ``differ``, a value differs or a record is in one printout only; 4
-``unreadable``, no difference among what could be read, but some value (or label) of a
-printout could not be read, so not every value was compared and no agreement is claimed
-(:mod:`deck_emulator.legacy.compare`); 2 input that is not a printout.
+The verdicts and their exit statuses are the command's description's
+(:mod:`deck_emulator.legacy.compare` computes them).
 """
 
 from __future__ import annotations

@@ -4,18 +4,17 @@ from __future__ import annotations
 
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.choices import ARITHMETICS
 
 from . import Answer, command
 from . import common
 from .groups import Cluster
-from .options import (
-    PRECISIONS, Answering, Errata, max_k, option, options_class, Source, tolerance,
-)
+from .options import Answering, Errata, max_k, option, options_class, Source, tolerance
 
 
 @options_class
 class DiffOptions(Source, Errata, Cluster, Answering):
-    precision: str = option("double", choices=PRECISIONS,
+    precision: str = option("double", choices=ARITHMETICS,
                             help="the emulator's arithmetic at k = 0 (must run the deck to its "
                             "end)")
     max_k: int = option(4, parse=max_k, metavar="K",

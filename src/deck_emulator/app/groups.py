@@ -7,8 +7,9 @@ from __future__ import annotations
 import os
 
 from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.choices import PRESETS
 
-from .options import (PRESETS, SOURCE_HELP, Common, Source, option, options_class, positive_int,
+from .options import (SOURCE_HELP, Common, Source, option, options_class, positive_int,
                       quiet_option, worker_wait)
 
 

@@ -13,7 +13,6 @@ import math
 from dataclasses import MISSING, dataclass, field
 
 from deck_emulator.vocabulary import choices, defaults
-from deck_emulator.vocabulary.choices import CARD_FORMATS, ENGINES, KEYPUNCH_CODES, PRESETS, VIEWS
 
 #: What SOURCE may be, said once for every command's help: a deck (the commands that run the
 #: emulator or read cards take only a deck), or for the commands that also take a scene (``core``,
@@ -22,10 +21,6 @@ _DECKS = "a shipped deck's name (steel40), a deck file (text, or card images in 
 DECK_WORDS = _DECKS + " or a job deck"
 DECK_HELP = DECK_WORDS + "; a scene file (.toml) is refused (`scene` and `core` take scenes)"
 SOURCE_HELP = _DECKS + ", a job deck, or a scene file (.toml)"
-#: the arithmetics and errata a command offers (vocabulary/choices.py: every choice's names)
-PRECISIONS = choices.ARITHMETICS
-ERRATA_NAMES = tuple(choices.ERRATA)
-#: the card image formats and keypunch codes (legacy.cardimage.FORMATS, legacy.keypunch.CODES)
 
 
 def option(default=MISSING, *, help: str, flag: str | None = None, positional: bool = False,
@@ -181,10 +176,10 @@ class Source(Common):
     to read it."""
 
     source: str = option(positional=True, metavar="SOURCE", help=DECK_HELP)
-    card_format: str = option("auto", choices=("auto", *CARD_FORMATS),
+    card_format: str = option("auto", choices=("auto", *choices.CARD_FORMATS),
                               help="the deck file's card image format (default: detected when "
                               "the file is unambiguous)")
-    keypunch: str | None = option(None, choices=KEYPUNCH_CODES,
+    keypunch: str | None = option(None, choices=choices.KEYPUNCH_CODES,
                                   help="the code holes are read in: 026 (the 7090/7094 FORTRAN "
                                   "code, the default for binary images) or 029; text cards are "
                                   "taken as they stand")
@@ -208,7 +203,7 @@ class Answering:
 class Errata:
     """The listing's errata a command applies (none: the listing as printed)."""
 
-    erratum: tuple[str, ...] = option((), many=True, choices=ERRATA_NAMES,
+    erratum: tuple[str, ...] = option((), many=True, choices=tuple(choices.ERRATA),
                                       help="apply a named erratum to the listing (default: "
                                       "none, the listing as printed; ed-direction lets ED's "
                                       "root search end on the angled decks)")
@@ -218,7 +213,7 @@ class Errata:
 class Emulator(Source, Errata):
     """The emulator's options."""
 
-    precision: str = option("double", choices=PRECISIONS,
+    precision: str = option("double", choices=choices.ARITHMETICS,
                             help="arithmetic: double (IEEE binary64, as the r8 goldens), single "
                             "(IEEE binary32, as the r4 goldens, trapping), ibm7094 (the 1967 "
                             "machine's 36-bit words)")

@@ -4,14 +4,12 @@ animation."""
 from __future__ import annotations
 
 from deck_emulator.errors import UsageError
+from deck_emulator.vocabulary.choices import ENGINES, VIEWS
 
 from . import Answer, command
 from . import common
 from .groups import Preset
-from .options import (
-    DECK_WORDS, ENGINES, VIEWS, Errata, option, options_class, positive_float, quiet_option,
-    Source,
-)
+from .options import DECK_WORDS, Errata, option, options_class, positive_float, quiet_option, Source
 
 
 @options_class

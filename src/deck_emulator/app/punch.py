@@ -3,9 +3,11 @@ format."""
 
 from __future__ import annotations
 
+from deck_emulator.vocabulary.choices import CARD_FORMATS, KEYPUNCH_CODES
+
 from . import Answer, command
 from . import common
-from .options import CARD_FORMATS, KEYPUNCH_CODES, option, options_class, Source
+from .options import option, options_class, Source
 
 
 @options_class

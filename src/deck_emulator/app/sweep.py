@@ -9,12 +9,13 @@ from pathlib import Path
 
 from deck_emulator.errors import UsageError
 from deck_emulator.vocabulary import defaults
+from deck_emulator.vocabulary.choices import ENGINES
 from deck_emulator.vocabulary.defaults import SCENE_STORE
 
 from . import Answer, command
 from . import common
 from .groups import Many, Preset
-from .options import ENGINES, Errata, option, options_class, whole_number
+from .options import Errata, option, options_class, whole_number
 
 
 @options_class

@@ -10,7 +10,7 @@ dict, so they cannot disagree.  The JSON schema is documented in ``docs/json.md`
 from __future__ import annotations
 
 from deck_emulator.engine import quantities
-from deck_emulator.engine.quantities import QUANTITIES, definitions_help  # noqa: F401
+from deck_emulator.engine.quantities import QUANTITIES
 from deck_emulator.vocabulary.deck_fields import DECK_FIELDS, READ_LIST
 
 #: Version of the JSON answers; bumped when a key changes meaning or goes away.

@@ -39,7 +39,6 @@ import types
 import typing
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, is_dataclass, replace
-from pathlib import Path
 from typing import Any
 
 from deck_emulator.vocabulary import choices
@@ -559,18 +558,12 @@ class Scene:
         return header + tomli_w.dumps(_plain(self))
 
     @classmethod
-    def read(cls, path) -> "Scene":
-        """Read a scene file (:meth:`from_toml` takes its text)."""
-
-        return cls.from_toml(Path(path).read_text(encoding="utf-8"))
-
-    @classmethod
     def from_toml(cls, text: str) -> "Scene":
         """Read a scene from TOML text (the layout :meth:`to_toml` writes); a file's path is
-        refused with what to call instead (:meth:`read`)."""
+        refused with what to call instead (:func:`read_scene`)."""
         if not isinstance(text, str) or ("\n" not in text and "=" not in text
                                          and str(text).endswith(".toml")):
-            raise SceneError(f"{text!r}: from_toml takes the TOML text; Scene.read(path) "
+            raise SceneError(f"{text!r}: from_toml takes the TOML text; read_scene(path) "
                              "reads a file")
         from deck_emulator.vocabulary.toml_limits import TomlLimitError, loads
 
