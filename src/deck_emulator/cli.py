@@ -5,8 +5,7 @@ Every parser is built from the application layer's table (:data:`deck_emulator.a
 its help and spelling in the field's metadata); the parsed options become that dataclass, the
 command's function answers (:class:`deck_emulator.app.Answer`), and this module writes the
 answer to stdout (or ``--out``), what it says to stderr, and maps its status to the exit
-status: 0 done, 1 ``compare``'s printouts differ, 2 bad input (nothing written), 3 a run could
-not end, 4 ``compare`` could not read every record (nothing differs among what it read).
+status (:data:`deck_emulator.app.EXIT`).
 
 Standard output and error are written here and only here (:func:`_streams`): a stream the
 process was started without (``>&-``) is a sink, so that a command's answer is refused before

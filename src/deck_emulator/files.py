@@ -99,14 +99,7 @@ def check_output_file(path) -> None:
     user = path
     _not_empty(path)
     target = _resolve(Path(path))
-    try:
-        st = os.stat(target)
-    except FileNotFoundError:
-        st = None
-    except OSError as exc:
-        raise OutputError(user, _reason(exc), exc.errno) from None
-    if st is not None and stat.S_ISDIR(st.st_mode):
-        raise OutputError(user, "it is a folder", errno.EISDIR)
+    st = _existing(target, user)
     if st is not None and _is_stream(st):
         if not os.access(target, os.W_OK):
             raise OutputError(user, "permission denied", errno.EACCES)

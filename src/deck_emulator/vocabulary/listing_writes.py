@@ -22,8 +22,7 @@ LISTING_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__fi
 
 
 def listing_lines() -> list[str]:
-    """The lines of the listing (the package's ``legacy/luminaire.f``; read as bytes and
-    decoded, which every run does at import, at a third of a text file's cost)."""
+    """The lines of the listing (read as bytes and decoded: every run reads it at import)."""
     with open(LISTING_FILE, "rb") as fh:
         return fh.read().decode("ascii").splitlines()
 
