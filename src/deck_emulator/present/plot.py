@@ -21,7 +21,6 @@ import dataclasses
 import functools
 import math
 import textwrap
-import types
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -68,18 +67,23 @@ HIT_COLOUR = "crimson"
 CAR_COLOUR = "0.35"
 
 
+class _Classes:
+    """matplotlib's classes the pictures use, by name."""
+
+    def __init__(self, *classes):
+        self.__dict__.update((c.__name__, c) for c in classes)
+
+
 @functools.cache
-def mpl() -> types.SimpleNamespace:
-    """matplotlib's classes the pictures use, by name, imported on first use (so that
-    registering the command costs nothing)."""
+def mpl():
+    """matplotlib, imported on first use (so that registering the command costs nothing)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch, Polygon
 
-    return types.SimpleNamespace(**{c.__name__: c for c in (
-        FigureCanvasAgg, Normalize, Figure, Line2D, Patch, Polygon)})
+    return _Classes(FigureCanvasAgg, Normalize, Figure, Line2D, Patch, Polygon)
 
 
 # ====================================================================== geometry helpers
