@@ -81,3 +81,12 @@ def test_a_studys_text_deck_is_read_once_and_handed_on(counted):
     text = deck_file(str(deck), "study error")
     assert counts["opened"] == 1
     assert text.path == str(deck) and text.values["VVB"] == pytest.approx(-58.66)
+
+
+def test_plot_on_the_core_builds_its_scene_once(counted, tmp_path):
+    """The scene the command checks is the scene the core runs (it was built twice)."""
+    deck, counts = counted
+    answer = app.call("plot", source=str(deck), engine="core", out=str(tmp_path / "side.png"),
+                      quiet=True)
+    assert answer.status == "ok" and (tmp_path / "side.png").stat().st_size > 0
+    assert counts["opened"] == 1 and counts["scene"] == 1, counts

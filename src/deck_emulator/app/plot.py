@@ -57,10 +57,14 @@ def plot(o: PlotOptions) -> Answer:
     name = "plot" + (" --pulse" if o.pulse else "")
     emulator = o.engine != "core" or o.pulse
     src = common.load(o, name, kinds=("deck",) if emulator else ("deck", "scene"))
+    source = src.scene_or_deck(name)
+    # the core's scene, built once; a deck the core cannot solve: exit 2 before any run
+    scene = None if emulator else common.engine_scene(source, scene_name=src.stem)
     options = {"emulator": {"errata": tuple(o.erratum)}, "core": o.core_keywords()}
     with busy("deck-emulator: plot", quiet=o.quiet):
-        drawn = draw(src.scene_or_deck(name), src.name, engine=o.engine, options=options,
-                     out=o.out, view=o.view, pulse=o.pulse, animate=o.animate, every_ms=o.every)
+        drawn = draw(source, src.name, engine=o.engine, options=options, out=o.out,
+                     view=o.view, pulse=o.pulse, animate=o.animate, every_ms=o.every,
+                     scene=scene)
     return Answer("plot", src.name, status="stopped" if drawn.stopped else "ok",
                   settings={"engine": o.engine, "view": o.view, "pulse": o.pulse,
                             "errata": list(o.erratum), "preset": o.preset},

@@ -891,22 +891,19 @@ class Drawn:
 
 
 def draw(source, name: str, *, engine: str, options: dict, out, view: str = "side",
-         pulse: bool = False, animate=None, every_ms: float | None = None) -> Drawn:
+         pulse: bool = False, animate=None, every_ms: float | None = None,
+         scene: Scene | None = None) -> Drawn:
     """``deck-emulator plot``: run ``source`` (a deck, or a scene for the core) on ``engine``
     (both with ``pulse``; ``options``: each engine's keywords) and write the picture ``out``
     (the trajectory's ``view``, or the pulse) and ``animate`` (the fall as a GIF), both or
-    neither (the command has checked them: :func:`check_plot_outputs`)."""
+    neither (the command has checked them: :func:`check_plot_outputs`); ``scene``: the core's
+    scene of ``source``, already built and checked by the command."""
     check_every(every_ms)
-    if engine == "core" and not pulse and hasattr(source, "values"):
-        # the core refuses such a deck's scene as `core` does: bad input (2), before any run
-
-        problems = Scene.from_deck(source, checked=False).problems()
-        if problems:
-            raise UsageError(f"{getattr(source, 'path', None) or name}: {problems[0]}")
     said: list[str] = []
 
     def run(which: str) -> Outcome:
-        res = engine_for(which, **options[which]).run(source)
+        given = {"scene": scene} if which == "core" and scene is not None else {}
+        res = engine_for(which, **options[which]).run(source, **given)
         if res.error:
             said.append(f"{getattr(source, 'path', None) or name}: the {which} stopped early: "
                         f"{res.error}" + (f"; {res.hint}" if res.hint else ""))
