@@ -24,5 +24,5 @@ def parse(o: ParseOptions) -> Answer:
     deck = src.deck("parse")
     result = parse_result(deck)
     answer = Answer("parse", str(deck.path), result=result, json=o.json, said=list(src.notes))
-    answer.text = render_parse(answer.document())
+    answer.text = None if o.json else render_parse(answer.document())  # the document once
     return answer
