@@ -134,15 +134,25 @@ def test_the_examples_are_found():
 
 
 @pytest.mark.parametrize("document", DOCUMENTS)
+def _long(document: str) -> tuple[str, ...]:
+    """The examples of a document that run with -m slow_corpus: those of :data:`LONG`, and all
+    but the first of docs/diff.md, whose sections are one command (a diff at five step sizes,
+    tens of runs of both engines) on each of the shipped decks in turn."""
+    if document == "docs/diff.md":
+        return tuple(c for c, _ in examples(document)[1:])
+    return LONG.get(document, ())
+
+
 def test_every_example_runs_as_written(document, tmp_path):
-    long = LONG.get(document, ())
+    long = _long(document)
     commands = [(c, s) for c, s in examples(document) if c not in long]
     assert _run_in_order(commands, tmp_path) == []
 
 
 @pytest.mark.slow_corpus
-@pytest.mark.parametrize("document", sorted(LONG))
+@pytest.mark.parametrize("document", sorted({*LONG, "docs/diff.md"}))
 def test_the_long_examples_run(document, tmp_path):
-    commands = [(c, s) for c, s in examples(document) if c in LONG[document]]
-    assert [c for c, _ in commands] == list(LONG[document])  # still in the document
+    long = _long(document)
+    commands = [(c, s) for c, s in examples(document) if c in long]
+    assert long and [c for c, _ in commands] == list(long)  # still in the document
     assert _run_in_order(commands, tmp_path) == []

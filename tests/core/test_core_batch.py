@@ -143,10 +143,12 @@ def _check_grid(grid):
             assert_same(ref, simulate_batch([scene], preset)[0], f"{name} physical")
 
 
-def test_extreme_grid_same_as_scipy():
-    """Every scene of the stability study's whole extreme grid (about 9 s: the quick grid is
-    a part of it)."""
-    _check_grid(_grid(quick=False))
+@pytest.mark.parametrize("quick", [
+    True, pytest.param(False, marks=pytest.mark.slow_corpus)], ids=["quick grid", "whole grid"])
+def test_extreme_grid_same_as_scipy(quick):
+    """Every scene of the stability study's extreme grid: its quick grid (each axis's ends) in
+    the default suite, the whole grid (the quick one is a part of it) with -m slow_corpus."""
+    _check_grid(_grid(quick=quick))
 
 
 # --------------------------------------------------------------------------------------

@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from procs import sigint_as_on_a_terminal
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 
@@ -53,7 +54,7 @@ def test_a_swallowed_signal_is_raised_again(tmp_path, sig, code):
     env = dict(os.environ, PYTHONPATH=str(SRC))
     started = time.monotonic()
     r = subprocess.run([sys.executable, str(script), "30"], capture_output=True, text=True,
-                       env=env, timeout=60)
+                       env=env, timeout=60, preexec_fn=sigint_as_on_a_terminal)
     took = time.monotonic() - started
     assert r.returncode == code, r.stderr
     # the first delivery was dropped (the command went on) and said nothing: no "Exception
