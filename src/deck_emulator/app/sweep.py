@@ -52,10 +52,9 @@ class SweepOptions(Many, Errata, Preset):
 def sweep(o: SweepOptions) -> Answer:
     common.require("studies")
     from deck_emulator.files import OutputSet, check_output_dir
-    from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.studies.distributed import output_store
-    from deck_emulator.studies.sweep import (POSTS, parse_grid, render_markdown, scene_deck,
-                                             sweep as run_sweep, write_csv)
+    from deck_emulator.studies.store import output_store
+    from deck_emulator.studies.sweep import (POSTS, parse_grid, read_base, render_markdown,
+                                             scene_deck, sweep as run_sweep, write_csv)
 
     try:
         speeds = parse_grid(o.speeds)
@@ -74,7 +73,7 @@ def sweep(o: SweepOptions) -> Answer:
     # the scenes are named after the deck given (car820.dat: car820_v40_a15), the post's after it
     label = o.post if not o.base_deck else Path(o.base_deck).stem
     label = f"{label}_deck" if o.base_deck and label in POSTS else label
-    base_deck = read_deck(base)  # bad deck -> DeckError, before any work
+    base_deck, base_sha256 = read_base(base)  # bad deck -> DeckError, before any work
     # every VVB and ALPHA must punch: fail before running anything.  A speed gives VVB and an
     # angle ALPHA, each punched in its own field: each speed and each angle once is every one
     for s in speeds:
@@ -88,7 +87,7 @@ def sweep(o: SweepOptions) -> Answer:
         common.compile_core(o.quiet)
     started = time.perf_counter()
     rows = run_sweep(speeds, angles, engine=o.engine, options=options, post=label, base=base,
-                     base_deck=base_deck, jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
+                     base_deck=base_deck, base_sha256=base_sha256, jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
                      scheduler=common.scheduler(o), resume=o.resume)
     wall = time.perf_counter() - started
     with OutputSet(directory=o.out) as outputs:

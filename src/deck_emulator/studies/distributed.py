@@ -128,13 +128,15 @@ def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
                resume: bool = False, desc: str = "scenes", progress: bool | None = None,
                retry_failed: bool = False, flush_s: float = 1.0, chunk: int | None = None,
                max_scenes: int = MAX_SCENES, worker_wait_s: float = WORKER_WAIT_S,
-               eta: bool = True, many: bool = False, core: bool = False) -> SceneStore:
+               eta: bool = True, many: bool = False, core: bool = False,
+               files: dict[str, str] | None = None) -> SceneStore:
     """Run every task not yet stored with ``fn`` and store each result (the module
     docstring): on ``jobs`` local workers (``core``: sharing the compiled core), or on the
     Dask cluster at ``scheduler``.  ``resume``: only the tasks not stored yet (without it, a
     store that holds results is refused); ``chunk``: scenes per batch (default
     :func:`batch_size`); ``many``: ``fn`` takes a batch; ``eta``: the time left on the
-    progress bar.  Returns the :class:`SceneStore`."""
+    progress bar; ``files``: the SHA-256 of the files the tasks name, as the caller read them
+    (None: read here).  Returns the :class:`SceneStore`."""
     if isinstance(scheduler, Scheduler):
         scheduler, worker_wait_s = scheduler.address, scheduler.worker_wait_s
     if len(tasks) > max_scenes:
@@ -153,7 +155,7 @@ def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
                 text = _canonical(t)
                 unique.setdefault(_id_of(text), (t, text))
             _check_study(store.dir, {sid: t for sid, (t, _) in unique.items()},
-                         store.ids() if resume else set())
+                         store.ids() if resume else set(), files)
             todo = [(sid, t, text) for sid, (t, text) in unique.items() if sid not in done]
             if todo:
                 with (dask_executor(scheduler, worker_wait_s) if scheduler else

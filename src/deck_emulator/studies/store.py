@@ -157,11 +157,15 @@ def _named_files(tasks: Iterable[dict]) -> dict[str, str]:
     return out
 
 
-def _check_study(store_dir: Path, unique: dict[str, dict], stored: set[str]) -> None:
+def _check_study(store_dir: Path, unique: dict[str, dict], stored: set[str],
+                 files_read: dict[str, str] | None = None) -> None:
     """Keep what the store's scenes are made from; on a resume (``stored``: its scenes' ids),
-    :class:`StudyChanged` when a file the tasks name changed, or no stored scene is asked."""
+    :class:`StudyChanged` when a file the tasks name changed, or no stored scene is asked.
+    ``files_read``: the SHA-256 of the files the tasks name, by the caller who read them
+    (None: each file is read here)."""
     path = store_dir / STUDY_NAME
-    made_from = {"files": _named_files(unique.values()), "scenes": len(unique)}
+    named = _named_files(unique.values()) if files_read is None else dict(files_read)
+    made_from = {"files": named, "scenes": len(unique)}
     files: dict[str, str] = {}
     if stored and path.is_file():
         try:

@@ -38,6 +38,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
+import hashlib
 import json
 import math
 import time
@@ -47,7 +48,7 @@ from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 from deck_emulator import decks
 from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
-from deck_emulator.engine.sources import Deck, read_deck
+from deck_emulator.engine.sources import Deck, parse_deck, read_bytes, read_deck
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.distributed import run_scenes, scene_id, temporary_store
 from deck_emulator.studies.report_tables import REPORT, report_comment
@@ -102,13 +103,30 @@ def scene_name(speed_mph: float, angle_deg: float, post: str = "steel") -> str:
     return s if angle_deg == 0 else f"{s}_a{_fmt_num(angle_deg)}"
 
 
-def _report_of(job: dict, deck: Deck):
-    """The report's values for a job's scene: the report's post by its scene's name; another
-    base deck only where its scene is, value for value, one of the shipped report decks."""
-    if job["post"] in POSTS:
-        return _report_for(scene_name(job["speed"], job["angle"], job["post"]), deck)
-    name = scene_name(job["speed"], job["angle"])
-    return _report_for(name, deck) if name in decks.names() else None
+def _report_key(job: dict) -> tuple:
+    """What decides a job's scene deck and name."""
+    return job["base"], job["post"], job["speed"], job["angle"], job["vvb_decimals"]
+
+
+def _reports(jobs: list[dict], bases: dict) -> dict[tuple, str]:
+    """The report's cases among the jobs' scenes (their names in REPORT), by :func:`_report_key`:
+    the report's post by its scene's name; another base deck only where its scene is, value
+    for value, one of the shipped report decks.  ``bases``: the decks read so far, by path
+    (each shipped deck is read at most once, and added)."""
+    out = {}
+    for job in jobs:
+        mine = job["post"] in POSTS
+        name = scene_name(job["speed"], job["angle"], job["post"] if mine else "steel")
+        if name not in REPORT or not (mine or name in decks.names()):
+            continue
+        if name in decks.names():
+            deck, ref = _scene_of(job, bases)[0], str(decks.path(name))
+            if ref not in bases:
+                bases[ref] = read_deck(ref)
+            if any(bases[ref].values[k] != deck.values[k] for k in bases[ref].values):
+                continue
+        out[_report_key(job)] = name
+    return out
 
 
 def vvb_for(speed_mph: float, decimals: int = defaults.VVB_DECIMALS) -> float:
@@ -137,6 +155,13 @@ def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
     if template in decks.names():
         return template, {}
     return "steel40", dict(speed_ft_s=abs(vvb_for(speed_mph)), alpha_rad=alpha_for(alpha_deg))
+
+
+def read_base(path) -> tuple[Deck, str]:
+    """A base deck read once: the deck and the SHA-256 of its file's bytes (what a resume of
+    its store checks)."""
+    shown, data = read_bytes(path)
+    return parse_deck(data, path=shown), hashlib.sha256(data).hexdigest()
 
 
 def scene_deck(base: Deck, speed_mph: float, angle_deg: float,
@@ -186,18 +211,6 @@ def parse_grid(text: str) -> list[float]:
 
 
 # ========================================================================= one scene's row
-
-
-def _report_for(name: str, deck: Deck):
-    """The report's values for this scene, if it is one of the report's cases (same deck)."""
-
-    if name not in REPORT:
-        return None
-    if name in decks.names():
-        ref = read_deck(decks.path(name))
-        if any(ref.values[k] != deck.values[k] for k in ref.values):
-            return None
-    return REPORT[name]
 
 
 #: The registry's quantities a sweep row carries, under their registry names and units.
@@ -286,10 +299,13 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
 #: keep the report's ms, named so: ``report_time_to_hit_ground_ms`` ...).
 _MD_ONLY = ("time_to_hit_car_ms", "time_to_hit_ground_ms")
 
-#: The CSV's columns, in order (the keys of :func:`result_row`).
-COLUMNS: tuple[str, ...] = tuple(
-    k for k in result_row(Outcome("emulator", ""), 0.0, 0.0) if k not in _MD_ONLY
-)
+#: The keys of :func:`result_row`, in order.
+ROW_KEYS: tuple[str, ...] = tuple(result_row(Outcome("emulator", ""), 0.0, 0.0))
+#: The CSV's columns, in order.
+COLUMNS: tuple[str, ...] = tuple(k for k in ROW_KEYS if k not in _MD_ONLY)
+#: A row's keys are the scene store's columns under this prefix: the store's own columns
+#: (its ``error`` and ``run_s``) never mix with the row's.
+ROW_PREFIX = "row."
 
 
 def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
@@ -301,7 +317,8 @@ def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
     return deck, scene_name(job["speed"], job["angle"], job["post"])
 
 
-def _scene_rows(jobs: list[dict], bases: dict | None = None) -> list[dict]:
+def _scene_rows(jobs: list[dict], bases: dict | None = None,
+                reports: dict | None = None) -> list[dict]:
     """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
@@ -316,6 +333,7 @@ def _scene_rows(jobs: list[dict], bases: dict | None = None) -> list[dict]:
     from deck_emulator.studies.distributed import Stopped
 
     bases = dict(bases or {})
+    reports = _reports(jobs, bases) if reports is None else reports
     decks = [_scene_of(job, bases) for job in jobs]
     groups: dict[str, list[int]] = {}
     for i, job in enumerate(jobs):
@@ -337,33 +355,21 @@ def _scene_rows(jobs: list[dict], bases: dict | None = None) -> list[dict]:
             outcomes[i] = res if res is not None else engine.run(decks[i][0], name=decks[i][1])
             walls[i] = (getattr(engine, "wall_bound_s", math.inf), batch_s)
     rows: list = []
-    for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
+    for job, res, wall in zip(jobs, outcomes, walls):
         try:
             rows.append(result_row(stopped_at_wall(res, *wall), job["speed"], job["angle"],
-                                   _report_of(job, deck)))
+                                   REPORT.get(reports.get(_report_key(job)))))
         except Stopped as exc:  # the store's status for it (run again on resume), not a row
             rows.append(exc)
     return rows
 
 
-def _stored_scene_jobs(jobs: list[dict], bases: dict | None = None) -> list[dict]:
-    """Worker: a batch of scenes -> one row each, as JSON in one column (the store's own
-    columns, such as ``error`` and ``run_s``, never mix with the row's)."""
-    return [row if isinstance(row, Exception) else {"row_json": json.dumps(row)}
-            for row in _scene_rows(jobs, bases)]
-
-
-def _decoded(stored: list[dict], part: int = 512):
-    """The rows of the stored scenes that ended (``row_json``; None for the others), decoded
-    a JSON list of ``part`` of them at a time, each text let go once decoded: the rows of a
-    list share their keys' strings (a row decoded alone holds its own: docs/scale.md), and no
-    more than ``part`` texts are joined at once."""
-    for k in range(0, len(stored), part):
-        chunk = stored[k:k + part]
-        texts = [g.pop("row_json") for g in chunk if g.get("status") == "ok"]
-        ended = iter(json.loads("[" + ",".join(texts) + "]"))
-        del texts
-        yield from (next(ended) if g.get("status") == "ok" else None for g in chunk)
+def _stored_scene_jobs(jobs: list[dict], bases: dict | None = None,
+                       reports: dict | None = None) -> list[dict]:
+    """Worker: a batch of scenes -> one row each, its keys as the store's columns
+    (:data:`ROW_PREFIX`)."""
+    return [row if isinstance(row, Exception) else {ROW_PREFIX + k: v for k, v in row.items()}
+            for row in _scene_rows(jobs, bases, reports)]
 
 
 def sweep(
@@ -375,6 +381,7 @@ def sweep(
     post: str = "steel",
     base=None,
     base_deck: Deck | None = None,
+    base_sha256: str | None = None,
     jobs: int | None = None,
     vvb_decimals: int = defaults.VVB_DECIMALS,
     quiet: bool = False,
@@ -384,8 +391,8 @@ def sweep(
 ) -> list[dict]:
     """Run every (speed, angle) on ``engine`` (``engine_for(engine, **options)``); rows
     sorted by speed, then angle. ``base``: another base deck than ``post``'s; ``post`` then
-    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``); ``base_deck``:
-    that file as the caller read it (else it is read here, once).
+    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``); ``base_deck``,
+    ``base_sha256``: that file as the caller read it (:func:`read_base`; else it is read here).
 
     The scenes run on worker processes (:func:`deck_emulator.studies.distributed.run_scenes`:
     the embedded runner's ``jobs`` workers, or the Dask cluster at ``scheduler``), a batch of
@@ -393,26 +400,30 @@ def sweep(
     finish in ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
 
     base = str(base if base is not None else POSTS[post])
-    # the base deck read once, handed to the workers with each batch
-    bases = {base: base_deck if base_deck is not None else read_deck(base)}
+    if base_deck is None:
+        base_deck, base_sha256 = read_base(base)
+    # the base deck read once, handed to the workers with each batch with the report's values
+    bases = {base: base_deck}
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
+    reports = _reports(todo, bases)
     # the caller's store (the command's --out) where it gives one; a temporary one only if not
     with (contextlib.nullcontext(store_dir) if store_dir is not None
           else temporary_store("sweep-")) as where:
-        store = run_scenes(todo, functools.partial(_stored_scene_jobs, bases=bases),
+        store = run_scenes(todo, functools.partial(_stored_scene_jobs, bases={base: base_deck},
+                                                   reports=reports),
                            store_dir=where, jobs=jobs,
+                           files=None if base_sha256 is None else {base: base_sha256},
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True,
                            core=engine == "core")
-        stored = store.by_id(("status", "error", "row_json"))
-    got = [stored.get(scene_id(job), {}) for job in todo]
-    del stored
+        stored = store.by_id(("status", "error", *(ROW_PREFIX + k for k in ROW_KEYS)))
     rows = []
-    for job, g, row in zip(todo, got, _decoded(got)):
-        if row is not None:
-            rows.append(row)
+    for job in todo:
+        g = stored.pop(scene_id(job), {})
+        if g.get("status") == "ok":
+            rows.append({k: g[ROW_PREFIX + k] for k in ROW_KEYS})
         else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
             deck, name = _scene_of(job, bases)
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
