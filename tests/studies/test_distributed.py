@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 
 from procs import sigint_as_on_a_terminal
 
-from deck_emulator.studies.distributed import SceneStore, StoreError, run_scenes, scene_id
+from deck_emulator.studies.distributed import run_scenes
+from deck_emulator.studies.store import SceneStore, StoreError, scene_id
 
 
 # The stub "engine" lives in its own module so that Dask's worker processes can import it.

@@ -291,7 +291,7 @@ def test_a_core_batch_past_its_wall_bound_gives_stopped_rows_and_a_resume_runs_t
     from distributed import LocalCluster
 
     from deck_emulator.cli import main
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
     from deck_emulator.vocabulary import defaults
 
     out = tmp_path / "s"

@@ -229,7 +229,8 @@ def scheduler(options):
     if not options.scheduler:
         need_address_space("the worker processes")
         return None
-    from deck_emulator.studies.distributed import WORKER_WAIT_S, Scheduler
+    from deck_emulator.studies.cluster import Scheduler
+    from deck_emulator.vocabulary.defaults import WORKER_WAIT_S
 
     wait = options.worker_wait
     return Scheduler(options.scheduler, WORKER_WAIT_S if wait is None else float(wait))

@@ -27,7 +27,8 @@ from deck_emulator.engine import errata as errata_policy
 from deck_emulator.files import write_file
 from deck_emulator.studies.csvfile import csv_text, csv_value
 from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
-from deck_emulator.studies.distributed import Stopped, run_longest_first  # noqa: F401 - the studies' runner
+from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
+from deck_emulator.studies.store import Stopped  # noqa: F401 - the studies' runner
 from deck_emulator.vocabulary import defaults
 
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root

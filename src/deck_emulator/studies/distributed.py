@@ -31,21 +31,16 @@ from collections.abc import Callable
 from deck_emulator import SPAWNED_WORKER_ENV
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.parallel import progress_bar
-from deck_emulator.studies.cluster import ClusterError, Scheduler, dask_executor  # noqa: F401
+from deck_emulator.studies.cluster import Scheduler, dask_executor
 from deck_emulator.studies.local_pool import LocalPool, WorkerDied
-from deck_emulator.studies.store import (  # noqa: F401 - the runner's store, named here too
-    META_COLUMNS, LimitError, SceneStore, Stopped, StoreBusy, StoreError, StudyChanged,
-    _cannot_load, _canonical, _check_study, _id_of, _missing_folders, _remove_if_unused, _row_of,
-    output_store, scene_id, store_lock)
+from deck_emulator.studies.store import (
+    LimitError, SceneStore, StoreError, _cannot_load, _canonical, _check_study, _id_of,
+    _missing_folders, _remove_if_unused, _row_of, scene_id, store_lock)
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.defaults import WORKER_WAIT_S
 
-__all__ = [
-    "BATCH_TASK_MAX", "META_COLUMNS", "MAX_SCENES", "WORKER_WAIT_S", "ClusterError",
-    "SceneLimitError", "SceneStore", "Scheduler", "Stopped", "StoreBusy", "StoreError",
-    "batch_size", "output_store", "run_batches", "run_longest_first", "run_scenes", "scene_id",
-    "store_lock", "temporary_store",
-]
+__all__ = ["BATCH_TASK_MAX", "MAX_SCENES", "SceneLimitError", "batch_size", "run_batches",
+           "run_longest_first", "run_scenes", "temporary_store"]
 
 #: Most rows one store file holds.
 BATCH_MAX = 256

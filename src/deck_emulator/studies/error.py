@@ -25,7 +25,7 @@ from deck_emulator.studies.orders import QUANTISED, order_fit
 from deck_emulator.vocabulary.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
-from deck_emulator.studies.distributed import output_store
+from deck_emulator.studies.store import output_store
 from .pages import page, snippet
 from .common import (
     H0,

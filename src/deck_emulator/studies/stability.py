@@ -30,7 +30,7 @@ from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.studies.distributed import output_store
+from deck_emulator.studies.store import output_store
 from deck_emulator.studies.sweep import vvb_for
 
 from .pages import page, snippet

@@ -50,7 +50,8 @@ from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
 from deck_emulator.engine.sources import Deck, parse_deck, read_bytes, read_deck
 from deck_emulator.studies.csvfile import csv_text
-from deck_emulator.studies.distributed import run_scenes, scene_id, temporary_store
+from deck_emulator.studies.distributed import run_scenes, temporary_store
+from deck_emulator.studies.store import Stopped, scene_id
 from deck_emulator.studies.report_tables import REPORT, report_comment
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Surface
@@ -323,15 +324,13 @@ def _scene_rows(jobs: list[dict], bases: dict | None = None,
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
     at a time).  A scene the engine cannot run is a row saying why (the outcome's error); a
-    core run past its wall bound is :class:`~deck_emulator.studies.distributed.Stopped`
+    core run past its wall bound is :class:`~deck_emulator.studies.store.Stopped`
     instead (the machine's bound: its scene runs again on resume).  Anything else raised
     here is a defect, not a scene's outcome: it ends the batch, and the runner
     (studies.distributed) runs each of its scenes again alone and stores the one that
     fails as a failed scene with the exception's line.  ``bases``: the base decks the
     command has read, by path (a deck not in it is read here)."""
     from deck_emulator.studies.common import stopped_at_wall
-    from deck_emulator.studies.distributed import Stopped
-
     bases = dict(bases or {})
     reports = _reports(jobs, bases) if reports is None else reports
     decks = [_scene_of(job, bases) for job in jobs]
