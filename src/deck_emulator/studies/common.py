@@ -25,8 +25,8 @@ from deck_emulator import decks
 from deck_emulator.engine import CoreEngine, EmulatorEngine, quantities
 from deck_emulator.engine import errata as errata_policy
 from deck_emulator.files import write_file
-from deck_emulator.studies.csvfile import csv_text, csv_value
-from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
+from deck_emulator.studies.csvfile import csv_text
+from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - the studies' step and options
 from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
 from deck_emulator.studies.store import Stopped  # noqa: F401 - the studies' runner
 from deck_emulator.vocabulary import defaults
@@ -34,9 +34,6 @@ from deck_emulator.vocabulary import defaults
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
 #: (no effect at alpha = 0 on steel40, needed by every angled deck); said in each README
 ERRATA = (errata_policy.ED_DIRECTION,)
-
-
-matched_options = legacy_options  # one definition: deck_emulator.studies.diff.legacy_options
 
 
 def default_deck() -> str:
@@ -75,11 +72,6 @@ def emulator_hit(run_out: dict) -> tuple[str, float | None]:
     None without a hit)."""
     out = run_out["outcome"]
     return (out.hit_message or "", out.hit_time_s) if out.hit is not None else ("", None)
-
-
-def emulator_trajectory(out) -> tuple[np.ndarray, np.ndarray]:
-    """Times (n,) and mass centres (3, n) of an emulator outcome's accepted steps."""
-    return out.accepted_steps()
 
 
 def energies(run_out: dict) -> dict:
@@ -193,9 +185,6 @@ def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
     write_file(path, csv_text(rows, columns))
 
 
-fmt_csv = csv_value  # the one cell format (deck_emulator.studies.csvfile)
-
-
 def fmt(v, spec=".3g", none="–") -> str:
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return none
@@ -208,15 +197,6 @@ def md_table(header: list[str], rows: list[list]) -> str:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
     return "\n".join(out)
-
-
-def fit_slope(x, y) -> float:
-    """Least-squares slope of log10(y) against log10(x) over the finite positive points."""
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    keep = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
-    if keep.sum() < 2:
-        return math.nan
-    return float(np.polyfit(np.log10(x[keep]), np.log10(y[keep]), 1)[0])
 
 
 def agg_backend():

@@ -50,6 +50,7 @@ from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
 from deck_emulator.engine.sources import Deck, parse_deck, read_bytes, read_deck
 from deck_emulator.studies.csvfile import csv_text
+from deck_emulator.studies.pages import snippet
 from deck_emulator.studies.distributed import run_scenes, temporary_store
 from deck_emulator.studies.store import Stopped, scene_id
 from deck_emulator.studies.report_tables import REPORT, report_comment
@@ -482,39 +483,11 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
     if command:
         lines += [f"Command: `{command}`", ""]
     eng = rows[0]["settings"] if rows and engine == "core" else ""
-    lines += [
-        f"Engine: **{engine}**{' (' + eng + ')' if eng else ''}. Base deck: "
-        + ("the report's steel post (`decks/steel40.dat`)" if base is None else f"`{base}`")
-        + ", VVB and ALPHA changed (rules in `deck_emulator.studies.sweep`).",
-        "",
-        "Each cell: **ours (report, ours − report)** where the report's Tables 11 (20 mph) and "
-        "12 (40 mph), steel-post columns, have the case; otherwise ours alone. The report's "
-        "numbers come from `deck_emulator.studies.report_tables`.",
-        "",
-        "- ΔV (the report's row, `delta_v_crush_mph`): the speed lost by the end of the crush "
-        "pulse (the spring force first capped at FCONST); the maximum deceleration is "
-        + (
-            "the largest *printed* FSA/(WV·G), as the report read it."
-            if engine == "emulator"
-            else "the core's continuous maximum after the start-up kick."
-        ),
-        "- Terminal coordinates in the report's XL, YL, ZL axes (origin on the ground under the "
-        "base of the support), at the hit.",
-        "- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md), "
-        f"limits for breakaway supports: OIV {limits['oiv_m_s']}; ORA {limits['ora_g']}; "
-        f"occupant compartment {limits['occupant_compartment']}. The verdicts are "
-        "`deck_emulator.engine.ratings`': the occupant compartment is the roof, windshield "
-        "and side glass, not the hood or the trunk; a strike on it is not judged (a rigid car "
-        "computes no deformation) and gets no pass; OIV and ORA come from the contact pulse "
-        "and are rated whatever the compartment's verdict; a model that tests only the "
-        "points P, R and C (the emulator, the core's legacy preset without --shaft-contact) "
-        "gives the compartment no pass verdict.",
-        "- Clearance: the least vertical clearance (ft) between the post (the line Q–P–R, and "
-        "P–U for a second arm) and the "
-        "car's outline while the post is over the car in free flight; over the roof = over the "
-        "passenger compartment (windshield base to the end of the top). — : never over it.",
-        "",
-    ]
+    lines += [*snippet("sweep.md", "header", engine=engine, settings=f" ({eng})" if eng else "",
+                       base=snippet("sweep.md", "steel_post") if base is None else f"`{base}`",
+                       decel=snippet("sweep.md", f"decel_{engine}"), oiv=limits["oiv_m_s"],
+                       ora=limits["ora_g"], compartment=limits["occupant_compartment"]
+                       ).split("\n"), ""]
     speeds = sorted({r["speed_mph"] for r in rows})
     for s in speeds:
         rs = [r for r in rows if r["speed_mph"] == s]
@@ -618,13 +591,6 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         lines.append("")
     if engine == "emulator" and any(r["errata"] != "none" for r in rows):
         used = sorted({r["errata"] for r in rows if r["errata"] != "none"})
-        lines += ["¹ errata applied as requested on the command line: " + ", ".join(used)
-                  + " (why: `deck-emulator corrections NAME`).", ""]
-    lines += [
-        "² The listing tests only the points P, R and C against the car (labels 500-462); "
-        "this is the first instant at which any place on the line Q–P–R is inside the "
-        "car's outline (hood, roof, trunk), i.e. when the post would meet the car if the "
-        "whole post were checked.",
-        "",
-    ]
+        lines += [snippet("sweep.md", "errata", used=", ".join(used)), ""]
+    lines += [snippet("sweep.md", "line_meets_car"), ""]
     return "\n".join(lines).rstrip("\n") + "\n"
