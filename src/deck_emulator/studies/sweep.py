@@ -94,15 +94,11 @@ REPORT_ROWS = (
 # ============================================================================ the scenes
 
 
-def _fmt_num(x: float) -> str:
-    return f"{x:g}"
-
-
 def scene_name(speed_mph: float, angle_deg: float, post: str = "steel") -> str:
     """``steel40``, ``steel40_a15`` -- the names of decks/ and of report_tables for the report's
     cases; another base deck's scenes are named after it: ``car820_v40``, ``car820_v40_a15``."""
-    s = f"{post}{_fmt_num(speed_mph)}" if post in POSTS else f"{post}_v{_fmt_num(speed_mph)}"
-    return s if angle_deg == 0 else f"{s}_a{_fmt_num(angle_deg)}"
+    s = f"{post}{speed_mph:g}" if post in POSTS else f"{post}_v{speed_mph:g}"
+    return s if angle_deg == 0 else f"{s}_a{angle_deg:g}"
 
 
 def _report_key(job: dict) -> tuple:
@@ -153,7 +149,7 @@ def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
     sweep's rules (``car``: the keywords ``speed_ft_s`` and ``alpha_rad`` of
     :func:`deck_emulator.engine.assemblies.to_scene` and ``to_deck_values``)."""
 
-    template = f"steel{speed_mph:g}" + ("" if alpha_deg == 0 else f"_a{alpha_deg:g}")
+    template = scene_name(speed_mph, alpha_deg)
     if template in decks.names():
         return template, {}
     return "steel40", dict(speed_ft_s=abs(vvb_for(speed_mph)), alpha_rad=alpha_for(alpha_deg))
@@ -171,14 +167,10 @@ def scene_deck(base: Deck, speed_mph: float, angle_deg: float,
     return base.with_values(VVB=vvb_for(speed_mph, vvb_decimals), ALPHA=alpha_for(angle_deg))
 
 
-#: The most values one grid may hold (a sweep is speeds x angles of them): counted before
-#: a range is expanded, so a tiny step is refused instead of filling the memory.
-MAX_GRID = defaults.MAX_SWEEP_GRID
-
-
 def parse_grid(text: str) -> list[float]:
     """'20,40' or '0:45:5' (start:stop:step, stop included) or a mix: '10,20:60:10'; every
-    value finite, at most :data:`MAX_GRID` of them."""
+    value finite, at most ``defaults.MAX_SWEEP_GRID`` of them (a range counted before it is
+    expanded, so that a tiny step is refused instead of filling the memory)."""
     out: list[float] = []
     for part in text.split(","):
         part = part.strip()
@@ -193,9 +185,9 @@ def parse_grid(text: str) -> list[float]:
                 raise ValueError(f"range {part!r}: not finite")
             if s <= 0:
                 raise ValueError(f"range {part!r}: step must be positive")
-            if (b - a) / s + 1 > MAX_GRID:
+            if (b - a) / s + 1 > defaults.MAX_SWEEP_GRID:
                 raise ValueError(f"range {part!r}: {math.floor((b - a) / s) + 1:.3g} values, "
-                                 f"more than {MAX_GRID}")
+                                 f"more than {defaults.MAX_SWEEP_GRID}")
             k = 0
             while a + k * s <= b + 1e-9 * max(1.0, abs(b)):
                 out.append(round(a + k * s, 10))
@@ -205,8 +197,8 @@ def parse_grid(text: str) -> list[float]:
             if not math.isfinite(x):
                 raise ValueError(f"{part!r}: not finite")
             out.append(x)
-        if len(out) > MAX_GRID:
-            raise ValueError(f"more than {MAX_GRID} values")
+        if len(out) > defaults.MAX_SWEEP_GRID:
+            raise ValueError(f"more than {defaults.MAX_SWEEP_GRID} values")
     if not out:
         raise ValueError("empty list")
     return sorted(set(out))
@@ -462,10 +454,6 @@ def _cell(row, key, nd):
     return f"{_num(ours, nd)} ({_num(rep, nd)}, {_num(ours - rep, nd, True)})"
 
 
-def _deg(a):
-    return f"{a:g}"
-
-
 def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emulator",
                     base: str | None = None) -> str:
     """Tables laid out like the report's Tables 11 and 12: one table per speed. ``base``: the
@@ -492,9 +480,9 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
     for s in speeds:
         rs = [r for r in rows if r["speed_mph"] == s]
         rs.sort(key=lambda r: r["angle_deg"])
-        lines.append(f"## {_deg(s)} mph (VVB = {rs[0]['VVB_ft_s']:g} ft/s)")
+        lines.append(f"## {s:g} mph (VVB = {rs[0]['VVB_ft_s']:g} ft/s)")
         lines.append("")
-        head = ["APPROACH ANGLE α (DEG)"] + [_deg(r["angle_deg"]) for r in rs]
+        head = ["APPROACH ANGLE α (DEG)"] + [f"{r['angle_deg']:g}" for r in rs]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
 
