@@ -410,16 +410,19 @@ def sweep(
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True,
                            core=engine == "core")
-        stored = store.by_id(("status", "error", *(ROW_PREFIX + k for k in ROW_KEYS)))
+        got = store.columns(("scene_id", "status", "error", *(ROW_PREFIX + k for k in ROW_KEYS)))
+    last = {sid: i for i, sid in enumerate(got.pop("scene_id"))}  # a scene's last row
+    status, error = got.pop("status"), got.pop("error")
+    values = list(got.values())
     rows = []
     for job in todo:
-        g = stored.pop(scene_id(job), {})
-        if g.get("status") == "ok":
-            rows.append({k: g[ROW_PREFIX + k] for k in ROW_KEYS})
+        i = last.get(scene_id(job))
+        if i is not None and status[i] == "ok":
+            rows.append(dict(zip(ROW_KEYS, [column[i] for column in values])))
         else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
             deck, name = _scene_of(job, bases)
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
-                          error=g.get("error") or "not run")
+                          error=(error[i] if i is not None else None) or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))
     rows.sort(key=lambda r: (r["speed_mph"], r["angle_deg"]))
     return rows
