@@ -385,3 +385,15 @@ def test_a_sweep_reads_its_base_deck_once(tmp_path, monkeypatch):
     assert len(rows) == 4 and str(base) not in read and len(read) == len(set(read)) == 3
     study = (tmp_path / "store" / store.STUDY_NAME).read_text()
     assert sha == hashlib.sha256(Path(base).read_bytes()).hexdigest() and sha in study
+
+
+def test_a_resume_on_rows_stored_as_json_by_an_earlier_sweep_is_refused(tmp_path):
+    """A store whose ended scenes hold their row as one JSON text (an earlier sweep's) has no
+    row columns to read back: --resume is refused, not answered with empty rows."""
+    from deck_emulator.studies.store import SceneStore, StudyChanged
+
+    store = tmp_path / "store"
+    SceneStore(store).write_batch([{"scene_id": "0" * 24, "status": "ok",
+                                    "row_json": '{"scene": "steel40"}'}])
+    with pytest.raises(StudyChanged, match="earlier sweep"):
+        sweep.sweep([40], [0], quiet=True, jobs=1, store_dir=store, resume=True)

@@ -52,7 +52,7 @@ from deck_emulator.engine.sources import Deck, parse_deck, read_bytes, read_deck
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.pages import snippet
 from deck_emulator.studies.distributed import run_scenes, temporary_store
-from deck_emulator.studies.store import Stopped, scene_id
+from deck_emulator.studies.store import SceneStore, Stopped, StudyChanged, scene_id
 from deck_emulator.studies.report_tables import REPORT, report_comment
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Surface
@@ -400,6 +400,12 @@ def sweep(
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
     reports = _reports(todo, bases)
+    if resume and store_dir is not None:  # an ended scene must have its row's columns
+        kept = SceneStore(store_dir).columns(("status", ROW_PREFIX + "scene"))
+        if any(s == "ok" and name is None for s, name in zip(*kept.values())):
+            raise StudyChanged(f"--resume: {store_dir} holds rows stored by an earlier sweep "
+                               "(one JSON text a row): run without --resume to start again, "
+                               "or use a new folder")
     # the caller's store (the command's --out) where it gives one; a temporary one only if not
     with (contextlib.nullcontext(store_dir) if store_dir is not None
           else temporary_store("sweep-")) as where:
