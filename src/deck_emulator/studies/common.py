@@ -14,7 +14,6 @@ import datetime
 import math
 import os
 import platform
-import statistics
 import time
 import warnings
 from pathlib import Path
@@ -131,21 +130,6 @@ def _warnings(caught) -> str:
         if text not in seen:
             seen.append(text)
     return "; ".join(seen)
-
-
-# --------------------------------------------------------------------------- timing, processes
-
-
-def median_wall(fn, reps: int) -> tuple[float, list[float], object]:
-    """Run ``fn`` ``reps`` times: (median wall time, all times, the first run's value).
-    ``fn`` returns (value, wall seconds)."""
-    times, first = [], None
-    for i in range(max(1, reps)):
-        value, wall = fn()
-        times.append(wall)
-        if i == 0:
-            first = value
-    return statistics.median(times), times, first
 
 
 # --------------------------------------------------------------------------- files
