@@ -95,7 +95,7 @@ def in_process(n: int, repeat: int) -> tuple[float, float]:
     processes solving side by side."""
     from deck_emulator.core import simulate_batch
     from deck_emulator.studies import sensitivity as sa
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
 
     problem = sa.problem_for(sa.DEFAULT_INPUTS)
     base = 1 << max(1, (n // (len(sa.DEFAULT_INPUTS) + 2) - 1).bit_length())

@@ -74,7 +74,7 @@ def test_the_twin_posts_outcome_carries_its_second_arm():
 
 def test_the_diff_runs_on_the_scene_runner_and_resumes_from_its_store(tmp_path):
     from deck_emulator.studies.diff import diff_deck
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
 
     deck = read_deck(STEEL40)
     store = tmp_path / "store"

@@ -403,7 +403,7 @@ def test_a_sweep_resumed_on_a_changed_deck_is_refused(tmp_path, capsys):
 
 def test_a_core_run_past_its_wall_bound_is_a_stopped_scene(monkeypatch):
     from deck_emulator.studies import common
-    from deck_emulator.studies.distributed import Stopped
+    from deck_emulator.studies.store import Stopped
     from deck_emulator.vocabulary import defaults
     from deck_emulator.vocabulary.scene import LEGACY, Scene
 
@@ -425,7 +425,7 @@ def test_a_study_whose_core_run_passes_its_wall_bound_stops_and_its_resume_runs_
 
     from distributed import LocalCluster
 
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
     from deck_emulator.vocabulary import defaults
 
     monkeypatch.setattr(defaults, "MAX_WALL_S", 0.0)

@@ -575,7 +575,7 @@ def test_sweep_killed_then_resumed_runs_each_scene_once(tmp_path):
     changed), only the missing ones run, and the table has every scene once."""
     import csv
 
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
 
     argv = ["sweep", "--speeds", "20:45:5", "--angles", "0,15", "--erratum", "ed-direction",
             "--jobs", "2", "--quiet", "--out", str(tmp_path / "out")]

@@ -13,10 +13,13 @@ import time
 from collections import Counter
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from procs import sigint_as_on_a_terminal
 
-from deck_emulator.studies.distributed import SceneStore, StoreError, run_scenes, scene_id
+from deck_emulator.studies.distributed import run_scenes
+from deck_emulator.studies.store import SceneStore, StoreError, scene_id
 
 
 # The stub "engine" lives in its own module so that Dask's worker processes can import it.
@@ -209,3 +212,19 @@ def test_a_spawned_workers_first_batch_puts_what_it_holds_out_of_the_collectors_
         assert gc.get_freeze_count() > frozen and distributed._SETTLED == [True]  # once
     finally:
         gc.unfreeze()
+
+
+_KINDS = (st.integers(-2**62, 2**62), st.floats(), st.text(max_size=5), st.booleans())
+
+
+@given(values=st.sampled_from(_KINDS).flatmap(
+    lambda kind: st.lists(st.one_of(st.none(), kind), min_size=1, max_size=8)))
+@settings(max_examples=60, deadline=None)
+def test_a_stored_column_reads_back_as_written_missing_values_included(tmp_path_factory, values):
+    """A column of one kind (whole numbers, floats, text or booleans) with missing values is
+    read back value for value and type for type: an int is not made a float by a None."""
+    store = SceneStore(tmp_path_factory.mktemp("store"))
+    store.write_batch([{"scene_id": str(i), "v": v} for i, v in enumerate(values)])
+    got = [r["v"] for r in store.rows(("v",))]
+    assert [type(v) for v in got] == [type(v) for v in values]
+    assert all(a == b or (a != a and b != b) for a, b in zip(got, values))

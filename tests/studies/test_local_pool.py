@@ -14,7 +14,8 @@ import time
 
 import pytest
 
-from deck_emulator.studies.distributed import SceneStore, run_scenes, scene_id
+from deck_emulator.studies.distributed import run_scenes
+from deck_emulator.studies.store import SceneStore, scene_id
 from deck_emulator.errors import RunFailed
 import concurrent.futures as cf
 

@@ -255,7 +255,7 @@ def test_a_batch_past_its_wall_bound_stops_its_scenes_and_a_resume_runs_them(
     from distributed import LocalCluster
 
     from deck_emulator.cli import main
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
     from deck_emulator.vocabulary import defaults
 
     out = tmp_path / "s"

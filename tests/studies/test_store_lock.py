@@ -17,16 +17,9 @@ from collections import Counter
 import pytest
 
 from deck_emulator.errors import RunFailed, UsageError
-from deck_emulator.studies.distributed import (
-    ClusterError,
-    SceneLimitError,
-    Scheduler,
-    SceneStore,
-    StoreBusy,
-    output_store,
-    run_scenes,
-    scene_id,
-)
+from deck_emulator.studies.cluster import ClusterError, Scheduler
+from deck_emulator.studies.distributed import SceneLimitError, run_scenes
+from deck_emulator.studies.store import SceneStore, StoreBusy, output_store, scene_id
 
 #: process-level or document tests: the README's test command runs them, a bare pytest not
 pytestmark = pytest.mark.slow
@@ -58,7 +51,7 @@ def test_a_store_another_run_holds_is_neither_used_nor_deleted(tmp_path):
     # this test's process holds the folder now: a second process must be refused
     holder = _start(tmp_path, "second", f"""
         import sys
-        from deck_emulator.studies.distributed import StoreBusy, output_store
+        from deck_emulator.studies.store import StoreBusy, output_store
         try:
             output_store({str(out)!r}, resume=False)
         except StoreBusy as exc:
@@ -80,7 +73,7 @@ def test_the_lock_is_released_when_its_holder_is_killed(tmp_path):
     out = tmp_path / "out"
     holder = _start(tmp_path, "holder", f"""
         import time
-        from deck_emulator.studies.distributed import SceneStore, output_store
+        from deck_emulator.studies.store import SceneStore, output_store
         SceneStore({str(out / ".scenes")!r}).write_batch(
             [{{"scene_id": "a", "task_json": "{{}}", "status": "ok"}}])
         output_store({str(out)!r}, resume=True)
@@ -108,7 +101,8 @@ def test_two_resumes_on_one_folder_store_every_scene_once(stub, tmp_path):
     n = 24
     body = f"""
         import sys
-        from deck_emulator.studies.distributed import StoreBusy, run_scenes
+        from deck_emulator.studies.distributed import run_scenes
+        from deck_emulator.studies.store import StoreBusy
         import stub_engine
         if __name__ == "__main__":
             tasks = [{{"i": i, "sleep": 0.2}} for i in range({n})]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import math
 from pathlib import Path
@@ -290,7 +291,7 @@ def test_a_core_batch_past_its_wall_bound_gives_stopped_rows_and_a_resume_runs_t
     from distributed import LocalCluster
 
     from deck_emulator.cli import main
-    from deck_emulator.studies.distributed import SceneStore
+    from deck_emulator.studies.store import SceneStore
     from deck_emulator.vocabulary import defaults
 
     out = tmp_path / "s"
@@ -337,3 +338,62 @@ def test_a_defect_in_building_a_row_is_a_failed_scene_with_its_reason(monkeypatc
     rows = distributed._call_many(sweep._stored_scene_jobs, jobs, many=True)
     assert [r["status"] for r in rows] == ["ok", "failed"]
     assert rows[1]["error"] == "TypeError: a defect in the row"
+
+
+def test_a_sweeps_rows_are_stored_as_columns_and_read_back_as_made(tmp_path):
+    """The store holds each key of a row as a column of its own (no JSON text), and the sweep
+    reads back the rows its worker made, value for value and type for type."""
+    import pyarrow.parquet as pq
+
+    from deck_emulator.studies.store import META_COLUMNS, SceneStore
+
+    rows = sweep.sweep([20, 40], [0, 15], engine="emulator", options={"errata": ["ed-direction"]},
+                       quiet=True, jobs=1, store_dir=tmp_path / "store")
+    (first, *_) = SceneStore(tmp_path / "store").files()
+    names = set(pq.read_schema(first).names)
+    assert names == {*META_COLUMNS, *(sweep.ROW_PREFIX + k for k in sweep.ROW_KEYS)}
+    jobs = [dict(base=str(sweep.POSTS["steel"]), speed=float(s), angle=float(a),
+                 engine="emulator", options={"errata": ["ed-direction"]}, post="steel", vvb_decimals=2)
+            for s in (20, 40) for a in (0, 15)]
+    made = sweep._scene_rows(jobs)
+    assert [r["scene"] for r in rows] == [r["scene"] for r in made]
+    assert rows[3]["report_delta_v_crush_mph"] is not None  # steel40_a15: a report case
+    for got, want in zip(rows, made):
+        assert list(got) == list(want)
+        for k in want:
+            if k != "run_s":
+                assert type(got[k]) is type(want[k]), k
+                assert got[k] == want[k] or (want[k] != want[k] and got[k] != got[k]), k
+
+
+def test_a_sweep_reads_its_base_deck_once(tmp_path, monkeypatch):
+    """Given its base deck as the command read it (the deck and its file's SHA-256), a sweep
+    reads that file no more: not for the store's study check, not for the report's cases
+    (each other shipped deck it compares is read once), not in a worker."""
+    from deck_emulator.studies import store
+
+    base = sweep.POSTS["steel"]
+    deck, sha = sweep.read_base(base)
+    read = []
+    real = sweep.read_deck
+    monkeypatch.setattr(sweep, "read_deck", lambda path: read.append(str(path)) or real(path))
+    monkeypatch.setattr(sweep, "read_bytes", lambda *a, **k: pytest.fail("read again"))
+    monkeypatch.setattr(store, "_named_files", lambda tasks: pytest.fail("hashed again"))
+    rows = sweep.sweep([20, 40], [0, 15], engine="emulator", base=base, base_deck=deck,
+                       base_sha256=sha, quiet=True, jobs=1, store_dir=tmp_path / "store",
+                       options={"errata": ["ed-direction"]})
+    assert len(rows) == 4 and str(base) not in read and len(read) == len(set(read)) == 3
+    study = (tmp_path / "store" / store.STUDY_NAME).read_text()
+    assert sha == hashlib.sha256(Path(base).read_bytes()).hexdigest() and sha in study
+
+
+def test_a_resume_on_rows_stored_as_json_by_an_earlier_sweep_is_refused(tmp_path):
+    """A store whose ended scenes hold their row as one JSON text (an earlier sweep's) has no
+    row columns to read back: --resume is refused, not answered with empty rows."""
+    from deck_emulator.studies.store import SceneStore, StudyChanged
+
+    store = tmp_path / "store"
+    SceneStore(store).write_batch([{"scene_id": "0" * 24, "status": "ok",
+                                    "row_json": '{"scene": "steel40"}'}])
+    with pytest.raises(StudyChanged, match="earlier sweep"):
+        sweep.sweep([40], [0], quiet=True, jobs=1, store_dir=store, resume=True)

@@ -28,9 +28,10 @@ def load(options, command: str, kinds=("deck", "scene"), given=None, own_program
                        kinds=kinds, command=command, own_program=own_program)
 
 
-def deck_file(given: str, command: str):
+def deck_file(given: str, command: str, *, with_sha256: bool = False):
     """A deck that a study reads by its file in every worker: a text deck of one $DATA
-    section, read once; its ``path`` is the file (a shipped deck's name resolves to its file).
+    section, read once; its ``path`` is the file (a shipped deck's name resolves to its file);
+    ``with_sha256``: ``(deck, the SHA-256 of the bytes read)``, what a resume checks.
     Card images and job decks are refused with the one conversion that makes a text deck."""
     from deck_emulator.engine.sources import load_source, parse_deck
     from deck_emulator.legacy.deck import DeckError
@@ -46,7 +47,7 @@ def deck_file(given: str, command: str):
         raise UsageError(f"{src.name}: a {kind}; {command} reads a text deck of one $DATA "
                          f"section: `{PROG} punch {given} --to text --out deck.dat` (with "
                          "--section N for a job deck) writes one")
-    return plain
+    return (plain, src.sha256) if with_sha256 else plain
 
 
 def engine_scene(source, name: str = "", *, scene_name: str | None = None):
@@ -230,7 +231,8 @@ def scheduler(options):
     if not options.scheduler:
         need_address_space("the worker processes")
         return None
-    from deck_emulator.studies.distributed import WORKER_WAIT_S, Scheduler
+    from deck_emulator.studies.cluster import Scheduler
+    from deck_emulator.vocabulary.defaults import WORKER_WAIT_S
 
     wait = options.worker_wait
     return Scheduler(options.scheduler, WORKER_WAIT_S if wait is None else float(wait))

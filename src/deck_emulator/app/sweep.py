@@ -53,10 +53,9 @@ class SweepOptions(Many, Errata, Preset):
 def sweep(o: SweepOptions) -> Answer:
     common.require("studies")
     from deck_emulator.files import OutputSet, check_output_dir
-    from deck_emulator.legacy.deck import read_deck
-    from deck_emulator.studies.distributed import output_store
-    from deck_emulator.studies.sweep import (POSTS, parse_grid, render_markdown, scene_deck,
-                                             sweep as run_sweep, write_csv)
+    from deck_emulator.studies.store import output_store
+    from deck_emulator.studies.sweep import (POSTS, parse_grid, read_base, render_markdown,
+                                             scene_deck, sweep as run_sweep, write_csv)
 
     try:
         speeds = parse_grid(o.speeds)
@@ -70,8 +69,11 @@ def sweep(o: SweepOptions) -> Answer:
                          "degrees")
     if not 0 <= o.vvb_decimals <= 5:
         raise UsageError("--vvb-decimals must be 0 to 5")
-    base_deck = (common.deck_file(o.base_deck, "sweep --base-deck") if o.base_deck
-                 else read_deck(POSTS[o.post]))  # bad deck -> DeckError, before any work
+    if o.base_deck:  # bad deck -> DeckError, before any work
+        base_deck, base_sha256 = common.deck_file(o.base_deck, "sweep --base-deck",
+                                                  with_sha256=True)
+    else:
+        base_deck, base_sha256 = read_base(POSTS[o.post])
     base = Path(base_deck.path)
     # the scenes are named after the deck given (car820.dat: car820_v40_a15), the post's after it
     label = o.post if not o.base_deck else Path(o.base_deck).stem
@@ -89,7 +91,8 @@ def sweep(o: SweepOptions) -> Answer:
         common.compile_core(o.quiet)
     started = time.perf_counter()
     rows = run_sweep(speeds, angles, engine=o.engine, options=options, post=label, base=base,
-                     base_deck=base_deck, jobs=o.jobs, vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
+                     base_deck=base_deck, base_sha256=base_sha256, jobs=o.jobs,
+                     vvb_decimals=o.vvb_decimals, quiet=o.quiet, store_dir=store,
                      scheduler=common.scheduler(o), resume=o.resume)
     wall = time.perf_counter() - started
     with OutputSet(directory=o.out) as outputs:

@@ -49,7 +49,8 @@ from deck_emulator.legacy.deck import (
 from deck_emulator.legacy.jobdeck import MAX_BYTES, parse_job
 from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES
 
-__all__ = ["Deck", "Source", "is_scene_file", "load_source", "parse_deck", "read_deck"]
+__all__ = ["Deck", "Source", "is_scene_file", "load_source", "parse_deck", "read_bytes",
+           "read_deck"]
 
 
 

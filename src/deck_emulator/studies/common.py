@@ -14,7 +14,6 @@ import datetime
 import math
 import os
 import platform
-import statistics
 import time
 import warnings
 from pathlib import Path
@@ -25,17 +24,15 @@ from deck_emulator import decks
 from deck_emulator.engine import CoreEngine, EmulatorEngine, quantities
 from deck_emulator.engine import errata as errata_policy
 from deck_emulator.files import write_file
-from deck_emulator.studies.csvfile import csv_text, csv_value
-from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - H0: the studies' step
-from deck_emulator.studies.distributed import Stopped, run_longest_first  # noqa: F401 - the studies' runner
+from deck_emulator.studies.csvfile import csv_text
+from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - the studies' step and options
+from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
+from deck_emulator.studies.store import Stopped  # noqa: F401 - the studies' runner
 from deck_emulator.vocabulary import defaults
 
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
 #: (no effect at alpha = 0 on steel40, needed by every angled deck); said in each README
 ERRATA = (errata_policy.ED_DIRECTION,)
-
-
-matched_options = legacy_options  # one definition: deck_emulator.studies.diff.legacy_options
 
 
 def default_deck() -> str:
@@ -74,11 +71,6 @@ def emulator_hit(run_out: dict) -> tuple[str, float | None]:
     None without a hit)."""
     out = run_out["outcome"]
     return (out.hit_message or "", out.hit_time_s) if out.hit is not None else ("", None)
-
-
-def emulator_trajectory(out) -> tuple[np.ndarray, np.ndarray]:
-    """Times (n,) and mass centres (3, n) of an emulator outcome's accepted steps."""
-    return out.accepted_steps()
 
 
 def energies(run_out: dict) -> dict:
@@ -140,21 +132,6 @@ def _warnings(caught) -> str:
     return "; ".join(seen)
 
 
-# --------------------------------------------------------------------------- timing, processes
-
-
-def median_wall(fn, reps: int) -> tuple[float, list[float], object]:
-    """Run ``fn`` ``reps`` times: (median wall time, all times, the first run's value).
-    ``fn`` returns (value, wall seconds)."""
-    times, first = [], None
-    for i in range(max(1, reps)):
-        value, wall = fn()
-        times.append(wall)
-        if i == 0:
-            first = value
-    return statistics.median(times), times, first
-
-
 # --------------------------------------------------------------------------- files
 
 
@@ -192,9 +169,6 @@ def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
     write_file(path, csv_text(rows, columns))
 
 
-fmt_csv = csv_value  # the one cell format (deck_emulator.studies.csvfile)
-
-
 def fmt(v, spec=".3g", none="–") -> str:
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return none
@@ -207,15 +181,6 @@ def md_table(header: list[str], rows: list[list]) -> str:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
     return "\n".join(out)
-
-
-def fit_slope(x, y) -> float:
-    """Least-squares slope of log10(y) against log10(x) over the finite positive points."""
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    keep = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
-    if keep.sum() < 2:
-        return math.nan
-    return float(np.polyfit(np.log10(x[keep]), np.log10(y[keep]), 1)[0])
 
 
 def agg_backend():

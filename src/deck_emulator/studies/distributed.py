@@ -31,21 +31,16 @@ from collections.abc import Callable
 from deck_emulator import SPAWNED_WORKER_ENV
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.parallel import progress_bar
-from deck_emulator.studies.cluster import ClusterError, Scheduler, dask_executor  # noqa: F401
+from deck_emulator.studies.cluster import Scheduler, dask_executor
 from deck_emulator.studies.local_pool import LocalPool, WorkerDied
-from deck_emulator.studies.store import (  # noqa: F401 - the runner's store, named here too
-    META_COLUMNS, LimitError, SceneStore, Stopped, StoreBusy, StoreError, StudyChanged,
-    _cannot_load, _canonical, _check_study, _id_of, _missing_folders, _remove_if_unused, _row_of,
-    output_store, scene_id, store_lock)
+from deck_emulator.studies.store import (
+    LimitError, SceneStore, StoreError, _cannot_load, _canonical, _check_study, _id_of,
+    _missing_folders, _remove_if_unused, _row_of, scene_id, store_lock)
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.defaults import WORKER_WAIT_S
 
-__all__ = [
-    "BATCH_TASK_MAX", "META_COLUMNS", "MAX_SCENES", "WORKER_WAIT_S", "ClusterError",
-    "SceneLimitError", "SceneStore", "Scheduler", "Stopped", "StoreBusy", "StoreError",
-    "batch_size", "output_store", "run_batches", "run_longest_first", "run_scenes", "scene_id",
-    "store_lock", "temporary_store",
-]
+__all__ = ["BATCH_TASK_MAX", "MAX_SCENES", "SceneLimitError", "batch_size", "run_batches",
+           "run_longest_first", "run_scenes", "temporary_store"]
 
 #: Most rows one store file holds.
 BATCH_MAX = 256
@@ -128,13 +123,15 @@ def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
                resume: bool = False, desc: str = "scenes", progress: bool | None = None,
                retry_failed: bool = False, flush_s: float = 1.0, chunk: int | None = None,
                max_scenes: int = MAX_SCENES, worker_wait_s: float = WORKER_WAIT_S,
-               eta: bool = True, many: bool = False, core: bool = False) -> SceneStore:
+               eta: bool = True, many: bool = False, core: bool = False,
+               files: dict[str, str] | None = None) -> SceneStore:
     """Run every task not yet stored with ``fn`` and store each result (the module
     docstring): on ``jobs`` local workers (``core``: sharing the compiled core), or on the
     Dask cluster at ``scheduler``.  ``resume``: only the tasks not stored yet (without it, a
     store that holds results is refused); ``chunk``: scenes per batch (default
     :func:`batch_size`); ``many``: ``fn`` takes a batch; ``eta``: the time left on the
-    progress bar.  Returns the :class:`SceneStore`."""
+    progress bar; ``files``: the SHA-256 of the files the tasks name, as the caller read them
+    (None: read here).  Returns the :class:`SceneStore`."""
     if isinstance(scheduler, Scheduler):
         scheduler, worker_wait_s = scheduler.address, scheduler.worker_wait_s
     if len(tasks) > max_scenes:
@@ -153,7 +150,7 @@ def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
                 text = _canonical(t)
                 unique.setdefault(_id_of(text), (t, text))
             _check_study(store.dir, {sid: t for sid, (t, _) in unique.items()},
-                         store.ids() if resume else set())
+                         store.ids() if resume else set(), files)
             todo = [(sid, t, text) for sid, (t, text) in unique.items() if sid not in done]
             if todo:
                 with (dask_executor(scheduler, worker_wait_s) if scheduler else

@@ -3,7 +3,7 @@ modern core.
 
 Every run is measured against the core's reference (``legacy`` preset, DOP853 at the defaults'
 ``REFERENCE_RTOL``, itself checked by a second method at a tenth of it); an emulator run at
-``H0/2**k`` against a reference with the matching start-up kick (:func:`~.common.matched_options`)
+``H0/2**k`` against a reference with the matching start-up kick (:func:`~.diff.legacy_options`)
 and against the k = 0 one. What the columns, the orders and the timings mean is said on the page
 the study writes (``templates/error_study.md``).
 """
@@ -25,18 +25,17 @@ from deck_emulator.studies.orders import QUANTISED, order_fit
 from deck_emulator.vocabulary.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
-from deck_emulator.studies.distributed import output_store
+from deck_emulator.studies.store import output_store
 from .pages import page, snippet
 from .common import (
     H0,
     agg_backend,
     cpu_count,
     emulator_hit,
-    emulator_trajectory,
     fmt,
     machine,
     machine_line,
-    matched_options,
+    legacy_options,
     md_table,
     run_emulator,
     run_longest_first,
@@ -159,7 +158,7 @@ def reference(deck_path, k: int):
     key = ("ref", str(deck_path), k)
     if key not in _REFS:
         _, scene = _scene(deck_path)
-        res = _simulate(scene, matched_options(H0 / 2**k), "DOP853", REF_RTOL)
+        res = _simulate(scene, legacy_options(H0 / 2**k), "DOP853", REF_RTOL)
         if res.hit_time_s is None:
             raise RuntimeError(f"the reference (k = {k}) did not end with a hit")
         _REFS[key] = res
@@ -218,7 +217,7 @@ def _release_errors(res, ref, scene) -> dict:
 
 
 def _emulator_errors(run, hit_time, ref) -> dict:
-    t, xyz = emulator_trajectory(run)
+    t, xyz = run.accepted_steps()
     t_start, t_end = ref.span
     keep = (t >= t_start) & (t <= t_end)
     out = {"err_traj_ft": math.nan, "err_hit_time_s": math.nan, "err_R_ft": math.nan}
@@ -259,7 +258,7 @@ def _task_check(spec):
            "max_step_s": defaults.MAX_STEP_S, "reference": f"DOP853 rtol {REF_RTOL:g}, k = {k}"}
     started = time.perf_counter()
     try:
-        res = _simulate(scene, matched_options(H0 / 2**k), method, CHECK_RTOL)
+        res = _simulate(scene, legacy_options(H0 / 2**k), method, CHECK_RTOL)
     except RunError as exc:
         return {**row, **_core_error_row(exc)}
     row.update(_core_errors(res, ref), status="hit" if res.hit_time_s is not None else "no hit",

@@ -28,12 +28,8 @@ from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
 from deck_emulator.studies.pages import page
-from deck_emulator.studies.distributed import (
-    SceneStore,
-    Stopped,
-    run_scenes,
-    scene_id,
-)
+from deck_emulator.studies.distributed import run_scenes
+from deck_emulator.studies.store import SceneStore, Stopped, scene_id
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
 from deck_emulator.vocabulary.defaults import SCENE_STORE
@@ -280,7 +276,7 @@ def _run_scenes(prepared: list) -> list:
     order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
     emulator's one after another (the 1967 program runs one deck at a time).  A core scene
     stopped by the wall bound (a starved or suspended machine) is
-    :class:`~deck_emulator.studies.distributed.Stopped` in its place: its scene runs again on
+    :class:`~deck_emulator.studies.store.Stopped` in its place: its scene runs again on
     resume."""
     from deck_emulator.studies.common import stopped_at_wall
 

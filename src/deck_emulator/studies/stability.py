@@ -30,7 +30,7 @@ from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
-from deck_emulator.studies.distributed import output_store
+from deck_emulator.studies.store import output_store
 from deck_emulator.studies.sweep import vvb_for
 
 from .pages import page, snippet
@@ -42,12 +42,11 @@ from .common import (
     csv_text,
     default_deck,
     emulator_hit,
-    emulator_trajectory,
     energies,
     fmt,
     machine,
     machine_line,
-    matched_options,
+    legacy_options,
     md_table,
     run_core,
     run_emulator,
@@ -154,7 +153,7 @@ def _task_emulator(spec, deck) -> dict:
     out = run_emulator(deck, k=spec["k"], tha_start=spec["tha"], limits=LIMITS, errata=ERRATA,
                        ed_tolerance=spec["ed_tolerance"])
     run = out["outcome"]
-    t, xyz = emulator_trajectory(run)
+    t, xyz = run.accepted_steps()
     message, hit_time = emulator_hit(out)
     release = next((e.time_s for e in run.events if e.kind is EventKind.LOST_VEHICLE), None)
     row = {"emulator_status": out["status"], "emulator_guard": out["guard"],
@@ -171,7 +170,7 @@ def core_case(spec, deck):
     :func:`scenes`, ``deck`` its deck): the listing's step matched, the start-up tilt and the
     base's friction as the spec says."""
     scene = Scene.from_deck(deck)
-    options = matched_options(H0 / 2 ** spec["k"])
+    options = legacy_options(H0 / 2 ** spec["k"])
     if spec["tha"] is not None:
         options = dataclasses.replace(options, startup_kick=dataclasses.replace(
             options.startup_kick, tilt_at_step_rad=float(spec["tha"])))
@@ -780,9 +779,9 @@ def stability_section(rows, deck_path) -> list[str]:
     table, ratios, periods_seen = [], [], []
     for ck in sorted({r["CK_lb_ft"] for r in _stiff(rows)}):
         scene = Scene.from_deck(base.with_values(CK=ck, CT=ck))
-        spec = contact_spectrum(scene, matched_options(H0))
+        spec = contact_spectrum(scene, legacy_options(H0))
         omega = math.sqrt(ck / w)
-        estimate, est_fast, _ = stiffness_estimate(scene, matched_options(H0))
+        estimate, est_fast, _ = stiffness_estimate(scene, legacy_options(H0))
         ratios.append((spec["fast"] / omega, estimate, est_fast / omega))
         periods = (spec["contact_s"] * spec["fast"] / (2 * math.pi)
                    if spec["contact_s"] is not None else math.nan)
@@ -808,7 +807,7 @@ def stability_section(rows, deck_path) -> list[str]:
                           else "a few"),
             estimates=", ".join(f"{e:.3f}" for e in sorted({round(e, 3) for _, e, _ in ratios})),
             stiff_ratio=f"{STIFF_RATIO:g}", tiny_car=f"{TINY_CAR_SLUG:g}",
-            tiny_stiffness=f"{stiffness_estimate(tiny, matched_options(H0))[0]:.3g}"), ""]
+            tiny_stiffness=f"{stiffness_estimate(tiny, legacy_options(H0))[0]:.3g}"), ""]
         out += _explicit_against_implicit(base, max(r["CK_lb_ft"] for r in _stiff(rows)))
     return out
 
@@ -819,7 +818,7 @@ def _explicit_against_implicit(base, ck: float) -> list[str]:
     scene = Scene.from_deck(base.with_values(CK=ck, CT=ck))
     runs = {}
     for method in ("DOP853", "Radau"):
-        out = run_core(scene, matched_options(H0), method=method, rtol=CORE_RTOL,
+        out = run_core(scene, legacy_options(H0), method=method, rtol=CORE_RTOL,
                        t_max_s=CORE_T_MAX_S)
         if out["result"] is None:
             return [f"On CK = CT = {ck:.3g} lb/ft, {method} at rtol {CORE_RTOL:g} failed: "

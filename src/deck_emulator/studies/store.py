@@ -157,11 +157,15 @@ def _named_files(tasks: Iterable[dict]) -> dict[str, str]:
     return out
 
 
-def _check_study(store_dir: Path, unique: dict[str, dict], stored: set[str]) -> None:
+def _check_study(store_dir: Path, unique: dict[str, dict], stored: set[str],
+                 files_read: dict[str, str] | None = None) -> None:
     """Keep what the store's scenes are made from; on a resume (``stored``: its scenes' ids),
-    :class:`StudyChanged` when a file the tasks name changed, or no stored scene is asked."""
+    :class:`StudyChanged` when a file the tasks name changed, or no stored scene is asked.
+    ``files_read``: the SHA-256 of the files the tasks name, by the caller who read them
+    (None: each file is read here)."""
     path = store_dir / STUDY_NAME
-    made_from = {"files": _named_files(unique.values()), "scenes": len(unique)}
+    named = _named_files(unique.values()) if files_read is None else dict(files_read)
+    made_from = {"files": named, "scenes": len(unique)}
     files: dict[str, str] = {}
     if stored and path.is_file():
         try:
@@ -236,17 +240,29 @@ class SceneStore:
     def rows(self, columns: Iterable[str] | None = None) -> list[dict]:
         """Every stored row, in the order written; ``columns``: only these (None where a
         file lacks one)."""
+        if columns is not None:
+            got = self.columns(columns)
+            return [dict(zip(got, values)) for values in zip(*got.values())]
         pq = _arrow()[1]
         out: list[dict] = []
         for f in self.files():
             with open(f, "rb") as fh:
-                if columns is None:
-                    out.extend(pq.read_table(fh).to_pylist())
-                    continue
+                out.extend(pq.read_table(fh).to_pylist())
+        return out
+
+    def columns(self, names: Iterable[str]) -> dict[str, list]:
+        """The stored values of the columns ``names``, each a list in the order written
+        (None where a file lacks the column)."""
+        pq = _arrow()[1]
+        out: dict[str, list] = {c: [] for c in names}
+        for f in self.files():
+            with open(f, "rb") as fh:
                 stored = pq.ParquetFile(fh)
                 have = set(stored.schema_arrow.names)
-                rows = stored.read(columns=[c for c in columns if c in have]).to_pylist()
-                out.extend({c: row.get(c) for c in columns} for row in rows)
+                got = stored.read(columns=[c for c in out if c in have]).to_pydict()
+                n = stored.metadata.num_rows
+            for c, values in out.items():
+                values.extend(got[c] if c in got else [None] * n)
         return out
 
     def ids(self, *, include_failed: bool = True) -> set[str]:
@@ -262,12 +278,15 @@ class SceneStore:
         return {r["scene_id"]: r for r in self.rows(columns)}
 
     def write_batch(self, rows: list[dict]) -> Path | None:
-        """``rows`` as one new Parquet file, named in the order written."""
+        """``rows`` as one new Parquet file, named in the order written: a column a key of
+        any row (None where a row lacks it; a column of ints and floats is of floats)."""
         if not rows:
             return None
         self.results.mkdir(parents=True, exist_ok=True)
         name = f"batch-{time.time_ns():020d}-{os.getpid()}-{uuid.uuid4().hex[:8]}.parquet"
-        _write_atomic(self.results / name, None, _arrow()[0].Table.from_pylist(_uniform(rows)))
+        keys = dict.fromkeys([*META_COLUMNS, *(k for r in rows for k in r)])
+        table = _arrow()[0].Table.from_pydict({k: [r.get(k) for r in rows] for k in keys})
+        _write_atomic(self.results / name, None, table)
         return self.results / name
 
     def clean_temporaries(self) -> None:
@@ -289,14 +308,6 @@ def _arrow():
         raise LimitError(_cannot_load("pyarrow", exc)) from None
     pa.set_memory_pool(pa.system_memory_pool())
     return pa, pq
-
-
-def _uniform(rows: list[dict]) -> list[dict]:
-    """Rows with the same keys (missing: None), an int in a column of floats as a float."""
-    keys = list(dict.fromkeys([*META_COLUMNS, *(k for r in rows for k in r)]))
-    floaty = {k for r in rows for k, v in r.items() if isinstance(v, float)}
-    return [{k: float(v) if k in floaty and type(v) is int else v
-             for k in keys for v in (r.get(k),)} for r in rows]
 
 
 def _missing_folders(folder) -> list[Path]:

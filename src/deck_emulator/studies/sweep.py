@@ -38,6 +38,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
+import hashlib
 import json
 import math
 import time
@@ -47,9 +48,11 @@ from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 from deck_emulator import decks
 from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
-from deck_emulator.engine.sources import Deck, read_deck
+from deck_emulator.engine.sources import Deck, parse_deck, read_bytes, read_deck
 from deck_emulator.studies.csvfile import csv_text
-from deck_emulator.studies.distributed import run_scenes, scene_id, temporary_store
+from deck_emulator.studies.pages import snippet
+from deck_emulator.studies.distributed import run_scenes, temporary_store
+from deck_emulator.studies.store import SceneStore, Stopped, StudyChanged, scene_id
 from deck_emulator.studies.report_tables import REPORT, report_comment
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.events import Surface
@@ -91,24 +94,37 @@ REPORT_ROWS = (
 # ============================================================================ the scenes
 
 
-def _fmt_num(x: float) -> str:
-    return f"{x:g}"
-
-
 def scene_name(speed_mph: float, angle_deg: float, post: str = "steel") -> str:
     """``steel40``, ``steel40_a15`` -- the names of decks/ and of report_tables for the report's
     cases; another base deck's scenes are named after it: ``car820_v40``, ``car820_v40_a15``."""
-    s = f"{post}{_fmt_num(speed_mph)}" if post in POSTS else f"{post}_v{_fmt_num(speed_mph)}"
-    return s if angle_deg == 0 else f"{s}_a{_fmt_num(angle_deg)}"
+    s = f"{post}{speed_mph:g}" if post in POSTS else f"{post}_v{speed_mph:g}"
+    return s if angle_deg == 0 else f"{s}_a{angle_deg:g}"
 
 
-def _report_of(job: dict, deck: Deck):
-    """The report's values for a job's scene: the report's post by its scene's name; another
-    base deck only where its scene is, value for value, one of the shipped report decks."""
-    if job["post"] in POSTS:
-        return _report_for(scene_name(job["speed"], job["angle"], job["post"]), deck)
-    name = scene_name(job["speed"], job["angle"])
-    return _report_for(name, deck) if name in decks.names() else None
+def _report_key(job: dict) -> tuple:
+    """What decides a job's scene deck and name."""
+    return job["base"], job["post"], job["speed"], job["angle"], job["vvb_decimals"]
+
+
+def _reports(jobs: list[dict], bases: dict) -> dict[tuple, str]:
+    """The report's cases among the jobs' scenes (their names in REPORT), by :func:`_report_key`:
+    the report's post by its scene's name; another base deck only where its scene is, value
+    for value, one of the shipped report decks.  ``bases``: the decks read so far, by path
+    (each shipped deck is read at most once, and added)."""
+    out = {}
+    for job in jobs:
+        mine = job["post"] in POSTS
+        name = scene_name(job["speed"], job["angle"], job["post"] if mine else "steel")
+        if name not in REPORT or not (mine or name in decks.names()):
+            continue
+        if name in decks.names():
+            deck, ref = _scene_of(job, bases)[0], str(decks.path(name))
+            if ref not in bases:
+                bases[ref] = read_deck(ref)
+            if any(bases[ref].values[k] != deck.values[k] for k in bases[ref].values):
+                continue
+        out[_report_key(job)] = name
+    return out
 
 
 def vvb_for(speed_mph: float, decimals: int = defaults.VVB_DECIMALS) -> float:
@@ -133,10 +149,17 @@ def car_at(speed_mph: float, alpha_deg: float) -> tuple[str, dict]:
     sweep's rules (``car``: the keywords ``speed_ft_s`` and ``alpha_rad`` of
     :func:`deck_emulator.engine.assemblies.to_scene` and ``to_deck_values``)."""
 
-    template = f"steel{speed_mph:g}" + ("" if alpha_deg == 0 else f"_a{alpha_deg:g}")
+    template = scene_name(speed_mph, alpha_deg)
     if template in decks.names():
         return template, {}
     return "steel40", dict(speed_ft_s=abs(vvb_for(speed_mph)), alpha_rad=alpha_for(alpha_deg))
+
+
+def read_base(path) -> tuple[Deck, str]:
+    """A base deck read once: the deck and the SHA-256 of its file's bytes (what a resume of
+    its store checks)."""
+    shown, data = read_bytes(path)
+    return parse_deck(data, path=shown), hashlib.sha256(data).hexdigest()
 
 
 def scene_deck(base: Deck, speed_mph: float, angle_deg: float,
@@ -144,14 +167,10 @@ def scene_deck(base: Deck, speed_mph: float, angle_deg: float,
     return base.with_values(VVB=vvb_for(speed_mph, vvb_decimals), ALPHA=alpha_for(angle_deg))
 
 
-#: The most values one grid may hold (a sweep is speeds x angles of them): counted before
-#: a range is expanded, so a tiny step is refused instead of filling the memory.
-MAX_GRID = defaults.MAX_SWEEP_GRID
-
-
 def parse_grid(text: str) -> list[float]:
     """'20,40' or '0:45:5' (start:stop:step, stop included) or a mix: '10,20:60:10'; every
-    value finite, at most :data:`MAX_GRID` of them."""
+    value finite, at most ``defaults.MAX_SWEEP_GRID`` of them (a range counted before it is
+    expanded, so that a tiny step is refused instead of filling the memory)."""
     out: list[float] = []
     for part in text.split(","):
         part = part.strip()
@@ -166,9 +185,9 @@ def parse_grid(text: str) -> list[float]:
                 raise ValueError(f"range {part!r}: not finite")
             if s <= 0:
                 raise ValueError(f"range {part!r}: step must be positive")
-            if (b - a) / s + 1 > MAX_GRID:
+            if (b - a) / s + 1 > defaults.MAX_SWEEP_GRID:
                 raise ValueError(f"range {part!r}: {math.floor((b - a) / s) + 1:.3g} values, "
-                                 f"more than {MAX_GRID}")
+                                 f"more than {defaults.MAX_SWEEP_GRID}")
             k = 0
             while a + k * s <= b + 1e-9 * max(1.0, abs(b)):
                 out.append(round(a + k * s, 10))
@@ -178,26 +197,14 @@ def parse_grid(text: str) -> list[float]:
             if not math.isfinite(x):
                 raise ValueError(f"{part!r}: not finite")
             out.append(x)
-        if len(out) > MAX_GRID:
-            raise ValueError(f"more than {MAX_GRID} values")
+        if len(out) > defaults.MAX_SWEEP_GRID:
+            raise ValueError(f"more than {defaults.MAX_SWEEP_GRID} values")
     if not out:
         raise ValueError("empty list")
     return sorted(set(out))
 
 
 # ========================================================================= one scene's row
-
-
-def _report_for(name: str, deck: Deck):
-    """The report's values for this scene, if it is one of the report's cases (same deck)."""
-
-    if name not in REPORT:
-        return None
-    if name in decks.names():
-        ref = read_deck(decks.path(name))
-        if any(ref.values[k] != deck.values[k] for k in ref.values):
-            return None
-    return REPORT[name]
 
 
 #: The registry's quantities a sweep row carries, under their registry names and units.
@@ -286,10 +293,13 @@ def result_row(res: Outcome, speed_mph: float, angle_deg: float, report=None) ->
 #: keep the report's ms, named so: ``report_time_to_hit_ground_ms`` ...).
 _MD_ONLY = ("time_to_hit_car_ms", "time_to_hit_ground_ms")
 
-#: The CSV's columns, in order (the keys of :func:`result_row`).
-COLUMNS: tuple[str, ...] = tuple(
-    k for k in result_row(Outcome("emulator", ""), 0.0, 0.0) if k not in _MD_ONLY
-)
+#: The keys of :func:`result_row`, in order.
+ROW_KEYS: tuple[str, ...] = tuple(result_row(Outcome("emulator", ""), 0.0, 0.0))
+#: The CSV's columns, in order.
+COLUMNS: tuple[str, ...] = tuple(k for k in ROW_KEYS if k not in _MD_ONLY)
+#: A row's keys are the scene store's columns under this prefix: the store's own columns
+#: (its ``error`` and ``run_s``) never mix with the row's.
+ROW_PREFIX = "row."
 
 
 def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
@@ -301,21 +311,21 @@ def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
     return deck, scene_name(job["speed"], job["angle"], job["post"])
 
 
-def _scene_rows(jobs: list[dict], bases: dict | None = None) -> list[dict]:
+def _scene_rows(jobs: list[dict], bases: dict | None = None,
+                reports: dict | None = None) -> list[dict]:
     """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
     scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
     where there is one); the emulator's run one after another (the 1967 program runs one deck
     at a time).  A scene the engine cannot run is a row saying why (the outcome's error); a
-    core run past its wall bound is :class:`~deck_emulator.studies.distributed.Stopped`
+    core run past its wall bound is :class:`~deck_emulator.studies.store.Stopped`
     instead (the machine's bound: its scene runs again on resume).  Anything else raised
     here is a defect, not a scene's outcome: it ends the batch, and the runner
     (studies.distributed) runs each of its scenes again alone and stores the one that
     fails as a failed scene with the exception's line.  ``bases``: the base decks the
     command has read, by path (a deck not in it is read here)."""
     from deck_emulator.studies.common import stopped_at_wall
-    from deck_emulator.studies.distributed import Stopped
-
     bases = dict(bases or {})
+    reports = _reports(jobs, bases) if reports is None else reports
     decks = [_scene_of(job, bases) for job in jobs]
     groups: dict[str, list[int]] = {}
     for i, job in enumerate(jobs):
@@ -337,33 +347,21 @@ def _scene_rows(jobs: list[dict], bases: dict | None = None) -> list[dict]:
             outcomes[i] = res if res is not None else engine.run(decks[i][0], name=decks[i][1])
             walls[i] = (getattr(engine, "wall_bound_s", math.inf), batch_s)
     rows: list = []
-    for job, (deck, name), res, wall in zip(jobs, decks, outcomes, walls):
+    for job, res, wall in zip(jobs, outcomes, walls):
         try:
             rows.append(result_row(stopped_at_wall(res, *wall), job["speed"], job["angle"],
-                                   _report_of(job, deck)))
+                                   REPORT.get(reports.get(_report_key(job)))))
         except Stopped as exc:  # the store's status for it (run again on resume), not a row
             rows.append(exc)
     return rows
 
 
-def _stored_scene_jobs(jobs: list[dict], bases: dict | None = None) -> list[dict]:
-    """Worker: a batch of scenes -> one row each, as JSON in one column (the store's own
-    columns, such as ``error`` and ``run_s``, never mix with the row's)."""
-    return [row if isinstance(row, Exception) else {"row_json": json.dumps(row)}
-            for row in _scene_rows(jobs, bases)]
-
-
-def _decoded(stored: list[dict], part: int = 512):
-    """The rows of the stored scenes that ended (``row_json``; None for the others), decoded
-    a JSON list of ``part`` of them at a time, each text let go once decoded: the rows of a
-    list share their keys' strings (a row decoded alone holds its own: docs/scale.md), and no
-    more than ``part`` texts are joined at once."""
-    for k in range(0, len(stored), part):
-        chunk = stored[k:k + part]
-        texts = [g.pop("row_json") for g in chunk if g.get("status") == "ok"]
-        ended = iter(json.loads("[" + ",".join(texts) + "]"))
-        del texts
-        yield from (next(ended) if g.get("status") == "ok" else None for g in chunk)
+def _stored_scene_jobs(jobs: list[dict], bases: dict | None = None,
+                       reports: dict | None = None) -> list[dict]:
+    """Worker: a batch of scenes -> one row each, its keys as the store's columns
+    (:data:`ROW_PREFIX`)."""
+    return [row if isinstance(row, Exception) else {ROW_PREFIX + k: v for k, v in row.items()}
+            for row in _scene_rows(jobs, bases, reports)]
 
 
 def sweep(
@@ -375,6 +373,7 @@ def sweep(
     post: str = "steel",
     base=None,
     base_deck: Deck | None = None,
+    base_sha256: str | None = None,
     jobs: int | None = None,
     vvb_decimals: int = defaults.VVB_DECIMALS,
     quiet: bool = False,
@@ -384,8 +383,8 @@ def sweep(
 ) -> list[dict]:
     """Run every (speed, angle) on ``engine`` (``engine_for(engine, **options)``); rows
     sorted by speed, then angle. ``base``: another base deck than ``post``'s; ``post`` then
-    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``); ``base_deck``:
-    that file as the caller read it (else it is read here, once).
+    names its scenes (the deck's name: ``car820`` gives ``car820_v40_a15``); ``base_deck``,
+    ``base_sha256``: that file as the caller read it (:func:`read_base`; else it is read here).
 
     The scenes run on worker processes (:func:`deck_emulator.studies.distributed.run_scenes`:
     the embedded runner's ``jobs`` workers, or the Dask cluster at ``scheduler``), a batch of
@@ -393,30 +392,43 @@ def sweep(
     finish in ``store_dir`` (a temporary folder if none); ``resume`` runs only the scenes not stored."""
 
     base = str(base if base is not None else POSTS[post])
-    # the base deck read once, handed to the workers with each batch
-    bases = {base: base_deck if base_deck is not None else read_deck(base)}
+    if base_deck is None:
+        base_deck, base_sha256 = read_base(base)
+    # the base deck read once, handed to the workers with each batch with the report's values
+    bases = {base: base_deck}
     todo = [dict(base=base, speed=float(s), angle=float(a), engine=engine,
                  options=dict(options or {}), post=post, vvb_decimals=vvb_decimals)
             for s in speeds for a in angles]
+    reports = _reports(todo, bases)
+    if resume and store_dir is not None:  # an ended scene must have its row's columns
+        kept = SceneStore(store_dir).columns(("status", ROW_PREFIX + "scene"))
+        if any(s == "ok" and name is None for s, name in zip(*kept.values())):
+            raise StudyChanged(f"--resume: {store_dir} holds rows stored by an earlier sweep "
+                               "(one JSON text a row): run without --resume to start again, "
+                               "or use a new folder")
     # the caller's store (the command's --out) where it gives one; a temporary one only if not
     with (contextlib.nullcontext(store_dir) if store_dir is not None
           else temporary_store("sweep-")) as where:
-        store = run_scenes(todo, functools.partial(_stored_scene_jobs, bases=bases),
+        store = run_scenes(todo, functools.partial(_stored_scene_jobs, bases={base: base_deck},
+                                                   reports=reports),
                            store_dir=where, jobs=jobs,
+                           files=None if base_sha256 is None else {base: base_sha256},
                            scheduler=scheduler, resume=resume, desc=f"sweep ({engine})",
                            progress=False if quiet else None, many=True,
                            core=engine == "core")
-        stored = store.by_id(("status", "error", "row_json"))
-    got = [stored.get(scene_id(job), {}) for job in todo]
-    del stored
+        got = store.columns(("scene_id", "status", "error", *(ROW_PREFIX + k for k in ROW_KEYS)))
+    last = {sid: i for i, sid in enumerate(got.pop("scene_id"))}  # a scene's last row
+    status, error = got.pop("status"), got.pop("error")
+    values = list(got.values())
     rows = []
-    for job, g, row in zip(todo, got, _decoded(got)):
-        if row is not None:
-            rows.append(row)
+    for job in todo:
+        i = last.get(scene_id(job))
+        if i is not None and status[i] == "ok":
+            rows.append(dict(zip(ROW_KEYS, [column[i] for column in values])))
         else:  # the worker died with it (WorkerDied, or Dask's KilledWorker): a row saying so
             deck, name = _scene_of(job, bases)
             out = Outcome(engine, name, Scene.from_deck(deck, name=name, checked=False),
-                          error=g.get("error") or "not run")
+                          error=(error[i] if i is not None else None) or "not run")
             rows.append(result_row(out, job["speed"], job["angle"]))
     rows.sort(key=lambda r: (r["speed_mph"], r["angle_deg"]))
     return rows
@@ -451,10 +463,6 @@ def _cell(row, key, nd):
     return f"{_num(ours, nd)} ({_num(rep, nd)}, {_num(ours - rep, nd, True)})"
 
 
-def _deg(a):
-    return f"{a:g}"
-
-
 def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emulator",
                     base: str | None = None) -> str:
     """Tables laid out like the report's Tables 11 and 12: one table per speed. ``base``: the
@@ -472,46 +480,18 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
     if command:
         lines += [f"Command: `{command}`", ""]
     eng = rows[0]["settings"] if rows and engine == "core" else ""
-    lines += [
-        f"Engine: **{engine}**{' (' + eng + ')' if eng else ''}. Base deck: "
-        + ("the report's steel post (`decks/steel40.dat`)" if base is None else f"`{base}`")
-        + ", VVB and ALPHA changed (rules in `deck_emulator.studies.sweep`).",
-        "",
-        "Each cell: **ours (report, ours − report)** where the report's Tables 11 (20 mph) and "
-        "12 (40 mph), steel-post columns, have the case; otherwise ours alone. The report's "
-        "numbers come from `deck_emulator.studies.report_tables`.",
-        "",
-        "- ΔV (the report's row, `delta_v_crush_mph`): the speed lost by the end of the crush "
-        "pulse (the spring force first capped at FCONST); the maximum deceleration is "
-        + (
-            "the largest *printed* FSA/(WV·G), as the report read it."
-            if engine == "emulator"
-            else "the core's continuous maximum after the start-up kick."
-        ),
-        "- Terminal coordinates in the report's XL, YL, ZL axes (origin on the ground under the "
-        "base of the support), at the hit.",
-        "- Occupant risk (flail-space model, `deck_emulator.engine.safety`, docs/safety.md), "
-        f"limits for breakaway supports: OIV {limits['oiv_m_s']}; ORA {limits['ora_g']}; "
-        f"occupant compartment {limits['occupant_compartment']}. The verdicts are "
-        "`deck_emulator.engine.ratings`': the occupant compartment is the roof, windshield "
-        "and side glass, not the hood or the trunk; a strike on it is not judged (a rigid car "
-        "computes no deformation) and gets no pass; OIV and ORA come from the contact pulse "
-        "and are rated whatever the compartment's verdict; a model that tests only the "
-        "points P, R and C (the emulator, the core's legacy preset without --shaft-contact) "
-        "gives the compartment no pass verdict.",
-        "- Clearance: the least vertical clearance (ft) between the post (the line Q–P–R, and "
-        "P–U for a second arm) and the "
-        "car's outline while the post is over the car in free flight; over the roof = over the "
-        "passenger compartment (windshield base to the end of the top). — : never over it.",
-        "",
-    ]
+    lines += [*snippet("sweep.md", "header", engine=engine, settings=f" ({eng})" if eng else "",
+                       base=snippet("sweep.md", "steel_post") if base is None else f"`{base}`",
+                       decel=snippet("sweep.md", f"decel_{engine}"), oiv=limits["oiv_m_s"],
+                       ora=limits["ora_g"], compartment=limits["occupant_compartment"]
+                       ).split("\n"), ""]
     speeds = sorted({r["speed_mph"] for r in rows})
     for s in speeds:
         rs = [r for r in rows if r["speed_mph"] == s]
         rs.sort(key=lambda r: r["angle_deg"])
-        lines.append(f"## {_deg(s)} mph (VVB = {rs[0]['VVB_ft_s']:g} ft/s)")
+        lines.append(f"## {s:g} mph (VVB = {rs[0]['VVB_ft_s']:g} ft/s)")
         lines.append("")
-        head = ["APPROACH ANGLE α (DEG)"] + [_deg(r["angle_deg"]) for r in rs]
+        head = ["APPROACH ANGLE α (DEG)"] + [f"{r['angle_deg']:g}" for r in rs]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
 
@@ -608,13 +588,6 @@ def render_markdown(rows: list[dict], *, command: str = "", engine: str = "emula
         lines.append("")
     if engine == "emulator" and any(r["errata"] != "none" for r in rows):
         used = sorted({r["errata"] for r in rows if r["errata"] != "none"})
-        lines += ["¹ errata applied as requested on the command line: " + ", ".join(used)
-                  + " (why: `deck-emulator corrections NAME`).", ""]
-    lines += [
-        "² The listing tests only the points P, R and C against the car (labels 500-462); "
-        "this is the first instant at which any place on the line Q–P–R is inside the "
-        "car's outline (hood, roof, trunk), i.e. when the post would meet the car if the "
-        "whole post were checked.",
-        "",
-    ]
+        lines += [snippet("sweep.md", "errata", used=", ".join(used)), ""]
+    lines += [snippet("sweep.md", "line_meets_car"), ""]
     return "\n".join(lines).rstrip("\n") + "\n"
