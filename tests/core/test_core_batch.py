@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from test_scene import STEEL40, steel40
+from test_scene import STEEL40, contact_delta_v_mph, steel40
 
 from deck_emulator.engine import quantities
 from deck_emulator.vocabulary.events import EventKind
@@ -51,13 +51,15 @@ def assert_same(ref, got, label=""):
         assert (p is None) == (q is None), (label, k)
         if p is not None:
             assert max(abs(x - y) for x, y in zip(p, q)) <= POSITION_TOL_FT, (label, k, p, q)
-    for name, tol in (("delta_v_contact_mph", DELTA_V_TOL_MPH), ("max_decel_g", DECEL_TOL_G),
-                      ("max_decel_after_startup_g", DECEL_TOL_G),
+    for name, tol in (("max_decel_g", DECEL_TOL_G), ("max_decel_after_startup_g", DECEL_TOL_G),
+                      ("contact_end_s", TIME_TOL_S),
                       ("vehicle_contact_lost_s", TIME_TOL_S), ("first_spring_lost_s", TIME_TOL_S)):
         a, b = getattr(ref, name), getattr(got, name)
         assert (a is None) == (b is None), (label, name)
         if a is not None:
             assert abs(a - b) <= tol, (label, name, a, b)
+    a, b = contact_delta_v_mph(ref), contact_delta_v_mph(got)
+    assert (a is None) == (b is None) and (a is None or abs(a - b) <= DELTA_V_TOL_MPH), label
     # the crush ΔV (engine/core_engine.py): the car's velocity at the force cap, from the trajectory
     cap = next((e.time_s for e in ref.events if e.name == EventKind.FORCE_CAP), None)
     if cap is not None:

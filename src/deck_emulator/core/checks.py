@@ -22,7 +22,7 @@ import math
 from collections.abc import Mapping
 
 from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
-from deck_emulator.vocabulary.units import ft_s_to_mph
+from deck_emulator.vocabulary.units import ft_s_to_mph, speed_lost_mph
 
 __all__ = [
     "check_outcome",
@@ -126,9 +126,12 @@ def check_outcome(result) -> list[str]:
     if result.hit is not None and traj.segments:
         t = min(result.hit.time_s, traj.t_end)
         heights = {p: float(x[2]) + depth for p, x in traj.points(t).items()}  # one state
-    car_speed = (
-        ft_s_to_mph(abs(scene.vehicle.initial_velocity_ft_s)) if scene.vehicle else None
-    )
+    car_speed = delta_v = None
+    if scene.vehicle is not None:
+        v0 = scene.vehicle.initial_velocity_ft_s
+        car_speed = ft_s_to_mph(abs(v0))
+        if result.contact_end_s is not None:
+            delta_v = speed_lost_mph(v0, float(traj.vehicle(result.contact_end_s)[1]))
     extra = {"end time": result.end_time_s}
     for k, v in result.terminal_points_ft.items():
         if v is not None:
@@ -138,15 +141,15 @@ def check_outcome(result) -> list[str]:
         hit=(result.hit.surface.lower() + " hit") if result.hit else None,
         hit_time_s=result.hit_time_s,
         heights_at_hit_ft=heights,
-        delta_v_contact_mph=result.delta_v_contact_mph,
+        delta_v_contact_mph=delta_v,
         car_speed_mph=car_speed,
         max_decel_g=result.max_decel_g,
-        no_hit_reason=getattr(result, "no_hit_reason", None),
+        no_hit_reason=result.no_hit_reason,
         ground_tolerance_ft=ground_tolerance_ft(result.options),
         who="the core",
         extra_numbers=extra,
     )
-    if result.hit is None and traj.segments and not getattr(result, "ground_passage", None):
+    if result.hit is None and traj.segments and not result.ground_passage:
         t = traj.t_end
         low = min((float(x[2]) + depth, p) for p, x in traj.points(t).items())
         if low[0] < -EXACT_GROUND_TOLERANCE_FT:
