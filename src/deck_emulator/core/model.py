@@ -169,22 +169,6 @@ class Model:
             self._modes[mode] = M
         return M
 
-    def _mode_now(self, y, mode: ContactMode) -> np.ndarray:
-        """``mode``'s vector with the overrides the sliding modes set."""
-        M = self.mode_vector(mode)
-        contact = self.components.get("vehicle contact")
-        friction = self.components.get("base friction")
-        spring = contact.override if contact is not None else None
-        fric = friction.override if friction is not None else None
-        if spring is None and fric is None:
-            return M
-        M = M.copy()
-        if spring is not None:
-            M[laws.M_SPRING_OVERRIDE] = spring
-        if fric is not None:
-            M[laws.M_FRICTION_OVERRIDE] = fric
-        return M
-
     # -- geometry
 
     def point_position(self, kin: Kinematics, letter: str):
@@ -264,14 +248,6 @@ class Model:
             mode = replace(mode, cap_armed=True, cap_engaged=engaged)
         return mode
 
-    def loads(self, t, kin: Kinematics, mode: ContactMode):
-        """(Fx, Fy, Fz, Tx, Ty, Tz, F_vehicle) in the contact phase, road axes
-        (:func:`~.laws.contact_loads`)."""
-        acc = np.empty(7)
-        y = np.asarray(kin.y, dtype=float)
-        laws.contact_loads(t, y, self.law_parameters, self._mode_now(kin.y, mode), acc)
-        return acc.tolist()
-
     def contact_rhs(self, mode: ContactMode):
         P = self.law_parameters
         derivative = laws.contact_derivative
@@ -283,7 +259,7 @@ class Model:
     def vehicle_force(self, t, y, mode: ContactMode) -> float:
         """Force on the car along ``+XV`` (lb)."""
         y = np.asarray(y, dtype=float)
-        return laws.vehicle_force(t, y, self.law_parameters, self._mode_now(y, mode))
+        return laws.vehicle_force(t, y, self.law_parameters, self.mode_vector(mode))
 
     def vehicle_forces(self, ts, ys, mode: ContactMode):
         """:meth:`vehicle_force` at times ``ts`` and states ``ys`` (15, n), in one call."""

@@ -36,7 +36,6 @@ import numpy as np
 from deck_emulator.vocabulary.events import EventKind
 from . import laws
 from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
-from .rigid import post_derivative
 
 __all__ = [
     "Filippov",
@@ -63,45 +62,15 @@ def point_acceleration(model, kin: Kinematics, d, letter: str):
                                    np.asarray(d, dtype=float), bx, by, bz)
 
 
-class _CapSlider:
-    """The ``FCONST`` cap's surface ``dDIFF/dt = 0`` (``DIFF`` of point S)."""
-
-    name = "cap"
-
-    def __init__(self, model):
-        self.comp = model.components["vehicle contact"]
-
-
-class _StickSlider:
-    """The base's surface ``v_Q = 0`` along ``XX`` (Coulomb friction sticking)."""
-
-    name = "stick"
-
-    def __init__(self, model):
-        self.comp = model.components["base friction"]
-
-
-def _sliders(model, mode: ContactMode):
+def _sliders(mode: ContactMode) -> list[str]:
+    """The sliding surfaces ``mode`` holds, the cap's first: "cap" (``dDIFF/dt = 0`` of point
+    S) and "stick" (the base's ``v_Q = 0`` along ``XX``)."""
     out = []
     if mode.cap_sliding:
-        out.append(_CapSlider(model))
+        out.append("cap")
     if mode.friction_on and mode.friction_stick:
-        out.append(_StickSlider(model))
+        out.append("stick")
     return out
-
-
-def _derivative(model, mode, t, kin, sliders, values):
-    for s, v in zip(sliders, values):
-        s.comp.override = v
-    try:
-        acc = model.loads(t, kin, mode)
-    finally:
-        for s in sliders:
-            s.comp.override = None
-    d = post_derivative(kin.y, kin.R, acc[0:3], acc[3:6], model.mass, model.inertia)
-    d.append(kin.y[IDX_VV])
-    d.append(acc[6] / model.vehicle_mass)
-    return d, acc
 
 
 class Filippov:
@@ -113,7 +82,7 @@ class Filippov:
     def __init__(self, model, mode: ContactMode):
         self.model = model
         self.mode = mode
-        self.sliders = _sliders(model, mode)
+        self.sliders = _sliders(mode)
         self._key = None
         self._val = None
 
@@ -127,14 +96,14 @@ class Filippov:
         d = np.empty(15)
         lam, force, lo, hi, diag = (np.empty(2) for _ in range(5))
         laws.filippov(t, np.asarray(yl, dtype=float), m.law_parameters,
-                      m._mode_now(yl, self.mode), d, lam, force, lo, hi, diag)
+                      m.mode_vector(self.mode), d, lam, force, lo, hi, diag)
         val = {
             "d": d.tolist(),
             "lam": lam[:n].tolist(),
             "force": force[:n].tolist(),
             "bounds": list(zip(lo[:n].tolist(), hi[:n].tolist())),
             "diag": diag[:n].tolist(),
-            "sliders": [s.name for s in sl],
+            "sliders": sl,
         }
         self._key, self._val = key, val
         return val
@@ -152,7 +121,7 @@ class Filippov:
 
 def contact_rhs(model, mode: ContactMode):
     """The right-hand side of the contact phase in ``mode`` (sliding forces included)."""
-    if not _sliders(model, mode):
+    if not _sliders(mode):
         return model.contact_rhs(mode)
     fil = Filippov(model, mode)
     fun = lambda t, y: fil.solve(t, y)["d"]  # noqa: E731
@@ -214,7 +183,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
         for i, s in enumerate(fil.sliders):
             out.append(
                 EventSpec(
-                    f"{s.name} sliding ends at lower bound",
+                    f"{s} sliding ends at lower bound",
                     lambda t, y, i=i: fil.solve(t, y)["lam"][i],
                     -1.0,
                     code=(laws.EV_LAM, float(i)),
@@ -222,13 +191,13 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
             )
             out.append(
                 EventSpec(
-                    f"{s.name} sliding ends at upper bound",
+                    f"{s} sliding ends at upper bound",
                     lambda t, y, i=i: fil.solve(t, y)["lam"][i] - 1.0,
                     +1.0,
                     code=(laws.EV_LAM_UPPER, float(i)),
                 )
             )
-            if s.name == "cap":
+            if s == "cap":
                 out.append(
                     EventSpec(
                         "cap sliding ends: cap not binding",
@@ -268,7 +237,9 @@ def _friction_state(model, mode: ContactMode, t, y) -> ContactMode:
         return trial
     # it slips: which way?  the base's acceleration with the friction at its limit against
     plus = replace(mode, friction_stick=False, friction_sign=+1.0)
-    d, _ = _derivative(model, plus, t, kin, [], [])
+    d = np.empty(15)
+    laws.plain_derivative(t, np.asarray(kin.y, dtype=float), model.law_parameters,
+                          model.mode_vector(plus), np.empty(7), d)
     if point_acceleration(model, kin, d, "Q")[0] > 0.0:
         return plus
     return replace(mode, friction_stick=False, friction_sign=-1.0)
