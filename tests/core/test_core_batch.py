@@ -20,7 +20,6 @@ from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.core import CoreError, dop853, laws, simulate, simulate_batch
 from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
 from deck_emulator.core import model as core_model
-from deck_emulator.core.batch import time_per_scene
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path as deck_path
 from deck_emulator.legacy.deck import read_deck
@@ -372,16 +371,6 @@ def test_brentq_transcription_finds_scipys_roots():
     assert abs(t_hit - math.sqrt(2.0 / 32.174)) < 1e-12
     f = lambda t: 1.0 - 0.5 * 32.174 * t * t
     assert abs(t_hit - brentq(f, 0.0, 2.0, xtol=1e-15)) < 1e-12
-
-
-# --------------------------------------------------------------------------------------
-# the measurement function runs (its numbers are the benchmark's, not a test's)
-
-
-def test_time_per_scene_reports_both_paths():
-    out = time_per_scene([steel40()], LEGACY, repeats=1)
-    assert set(out) == {"compiled", "scipy", "ratio", "n"}
-    assert out["n"] == 1 and out["compiled"] > 0.0 and out["scipy"] > 0.0
 
 
 # --------------------------------------------------------------------------------------

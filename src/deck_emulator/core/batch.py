@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import functools
 import math
-import time
 from collections import namedtuple
 
 import numpy as np
@@ -34,15 +33,9 @@ from deck_emulator.vocabulary.scene import ModelOptions, Scene
 from . import dop853, laws
 from .kinematics import ContactMode
 from .laws import _jit
-from .solve import (
-    CoreError,
-    _Run,
-    _simulate_with,
-    distinct,
-    simulate,
-)
+from .solve import CoreError, _Run, _simulate_with, distinct
 
-__all__ = ["CompiledSolution", "component_key", "simulate_batch", "time_per_scene"]
+__all__ = ["CompiledSolution", "component_key", "simulate_batch"]
 
 
 #: a compiled segment's answer, read as solve_ivp's (the fields the solve reads of it)
@@ -396,26 +389,3 @@ def simulate_batch(
             except (CoreError, ValueError, ArithmeticError) as exc:
                 out[i] = exc
     return out
-
-
-def time_per_scene(scenes, options: ModelOptions, *, repeats: int = 5) -> dict:
-    """Process CPU time per scene (s) of both paths on ``scenes`` after a warm-up run:
-    ``{"compiled": median, "scipy": median, "ratio": scipy / compiled, "n": scenes}``,
-    medians over ``repeats`` repetitions (for the benchmark)."""
-
-    scenes = list(scenes)
-    simulate_batch(scenes[:1], options)  # warm-up: load or compile the laws
-    simulate(scenes[0], options)
-
-    def per_scene(run) -> float:
-        times = []
-        for _ in range(repeats):
-            t0 = time.process_time()
-            run()
-            times.append((time.process_time() - t0) / len(scenes))
-        return float(np.median(times))
-
-    compiled = per_scene(lambda: simulate_batch(scenes, options))
-    scipy_s = per_scene(lambda: [simulate(s, options) for s in scenes])
-    return {"compiled": compiled, "scipy": scipy_s, "ratio": scipy_s / compiled,
-            "n": len(scenes)}
