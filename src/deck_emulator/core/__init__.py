@@ -98,21 +98,4 @@ def __dir__():
     return sorted(list(globals()) + list(_WHERE))
 
 
-__all__ = [
-    "simulate",
-    "simulate_batch",
-    "free_flight",
-    "assemble",
-    "Model",
-    "ContactMode",
-    "CoreResult",
-    "CoreEvent",
-    "Hit",
-    "Trajectory",
-    "CoreError",
-    "check_outcome",
-    "check_summary",
-    "kinetic_energy",
-    "angular_momentum_world",
-    "attitude_angle_between",
-]
+__all__ = list(_WHERE)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from deck_emulator.vocabulary.events import EventKind
-from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions, Scene
 import numpy as np
 
 from . import laws
@@ -23,13 +23,7 @@ __all__ = [
     "BaseFriction",
     "StartupKickLoad",
     "VehicleContact",
-    "LISTING_FRICTION_LB",
-    "LISTING_FRICTION_WINDOW_FT",
 ]
-
-#: ``FFXA=3.1*T`` with ``T=300.0``
-#: the listing's friction force and the window it acts in (one home: the scene module)
-LISTING_FRICTION_LB = LISTING_BASE_FRICTION.force_lb
 
 
 class Gravity:

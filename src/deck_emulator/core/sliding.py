@@ -1,29 +1,23 @@
 """Sliding modes of the contact phase (Filippov) and the solid ground.
 
-Two forces of the contact phase switch on a surface of the state and can hold the state
-*on* that surface -- a sliding mode, in which an event-per-switch integration chatters
-(the on/off events repeat at one instant):
+Two forces of the contact phase switch on a surface of the state and can hold the state on
+it -- a sliding mode, where an event-per-switch integration chatters:
 
-* the ``FCONST`` cap (``ModelOptions.cap_sliding``): it is on while ``DIFF`` does not
-  decrease.  Under the cap the post falls behind (``DIFF`` decreases), under the uncapped
-  spring it runs ahead: on the surface ``dDIFF/dt = 0`` the spring force is the one that
-  keeps ``dDIFF/dt`` stationary, between the cap (lower bound) and the uncapped spring
-  force (upper bound).  The mode is left, by a located event, when that force reaches
-  either bound: at the cap the cap stays engaged, at the uncapped force it is released.
-* Coulomb friction at the base (``ModelOptions.friction_reaction``): on the surface
-  ``v_Q = 0`` (the base's velocity along ``XX``) the friction is the reaction that keeps
-  the base still, bounded by the friction limit; the base slips, against the friction,
-  once the reaction needed reaches the limit (a located event), and sticks again when its
-  velocity returns to zero while a reaction within the limit holds it.
+* the ``FCONST`` cap (``ModelOptions.cap_sliding``), on while ``DIFF`` does not decrease:
+  under the cap the post falls behind, under the uncapped spring it runs ahead, so on the
+  surface ``dDIFF/dt = 0`` the spring force is the one that keeps it there, between the cap
+  and the uncapped force; the mode ends (a located event) when that force reaches a bound,
+  the cap staying engaged at the lower one and released at the upper.
+* Coulomb friction at the base (``ModelOptions.friction_reaction``): on ``v_Q = 0`` along
+  ``XX`` the friction is the reaction that keeps the base still, up to the friction limit;
+  the base slips once the reaction needed reaches the limit and sticks again when its
+  velocity returns to zero with a reaction within the limit.
 
-Both forces act linearly on the state's derivative, so the force that keeps a surface
-stationary is found from the derivatives at the two bounds (Filippov's convex
-combination; with both modes at once, a 2 x 2 linear system).  A mode is entered only
-where it is attractive (the derivative of the surface function has opposite signs at
-the two bounds, pointing back to the surface).
-
-The solid ground (``ModelOptions.solid_ground``): events that end the run with a ground
-hit when a post point reaches the ground plane while the car still pushes.
+Both forces act linearly on the derivative, so the force that holds a surface follows from
+the derivatives at its two bounds (Filippov's convex combination; a 2 x 2 system with both
+modes); a mode is entered only where it attracts.  The solid ground
+(``ModelOptions.solid_ground``): events that end the run with a ground hit when a post point
+reaches the ground while the car still pushes.
 """
 
 from __future__ import annotations
@@ -45,7 +39,6 @@ __all__ = [
     "initial_mode",
     "point_acceleration",
     "friction_force",
-    "spring_force",
     "mode_labels",
 ]
 
@@ -129,19 +122,11 @@ def contact_rhs(model, mode: ContactMode):
     return fun
 
 
-def spring_force(model, t, y, mode) -> float:
-    """The spring force (lb) on the car in ``mode`` (the sliding one while the cap holds)."""
-    if mode.cap_sliding:
-        r = Filippov(model, mode).solve(t, y)
-        return r["force"][r["sliders"].index("cap")]
-    return model.vehicle_force(t, y, mode)
-
-
 def vehicle_force(model, t, y, mode) -> float:
-    """Force on the car along ``+XV`` (lb) in ``mode``."""
-    if mode.window == "kick" or not mode.cap_sliding:
-        return model.vehicle_force(t, y, mode)
-    return spring_force(model, t, y, mode)
+    """Force on the car along ``+XV`` (lb) in ``mode``, the cap's sliding force while it
+    holds (:func:`~.laws.sliding_vehicle_force`)."""
+    return laws.sliding_vehicle_force(t, np.ascontiguousarray(y, dtype=float),
+                                      model.law_parameters, model.mode_vector(mode))
 
 
 def friction_force(model, t, y, mode) -> float:

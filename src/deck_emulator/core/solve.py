@@ -144,6 +144,10 @@ class _Run:
                 self.contact_method = "DOP853"
             self.method = self.contact_method
 
+    def integrator(self) -> str:
+        """Who integrated the run (``CoreResult.integrator``)."""
+        return "scipy"
+
     def _guarded(self, fun):
         def wrapped(t, y):
             self._evals += 1
@@ -604,6 +608,7 @@ def _result(run: _Run, scene: Scene, options: ModelOptions) -> CoreResult:
         ground_passage=passage,
         max_decel_after_startup_g=max_g_after,
         contact_end_s=t_release,
+        integrator=run.integrator(),
     )
 
 
@@ -688,11 +693,7 @@ def _simulate_with(run_class, scene, options, method, rtol, atol, max_step_s, t_
             run.free_flight(t, y)
         if run.ground_passage is not None:
             run.report_ground_passage()
-    result = _result(run, scene, options)
-    integrator = getattr(run, "integrator", None)
-    if integrator is not None:
-        result = dataclasses.replace(result, integrator=integrator())
-    return _checked(result, check)
+    return _checked(_result(run, scene, options), check)
 
 
 def free_flight(
