@@ -1,18 +1,10 @@
 """Plausibility checks of an outcome before it is reported.
 
-Two entry points:
-
-* :func:`check_outcome` -- a core run (:class:`~.result.CoreResult`): returns the list of
-  failed checks as sentences (empty: the outcome may be reported); ``simulate(...,
-  check=True)`` raises :class:`~.solve.CoreError` naming the first one.
-* :func:`check_summary` -- the same checks on a trajectory summary given as plain numbers
-  (hit time, the points' heights above the ground at the hit, delta-V, the car's speed),
-  for any program's outcome, e.g. the emulator's; it imports nothing of the 1967 path and
-  returns flag sentences ("the listing reports a ground hit with Q 11.4 ft below the
-  ground").
-
-The checks: every number is finite; no post point is below the ground at a reported hit
-by more than the hit test's tolerance; the car's speed change lies between 0 and its
+:func:`check_outcome` checks a core run (:class:`~.result.CoreResult`; ``simulate(...,
+check=True)`` raises :class:`~.solve.CoreError` naming the first failure);
+:func:`check_summary` makes the same checks on plain numbers, for any program's outcome (the
+emulator's flags).  The checks: every number is finite; no post point is below the ground at
+a hit by more than the hit test's tolerance; the car's speed change lies between 0 and its
 speed; a run without a hit names its reason.
 """
 

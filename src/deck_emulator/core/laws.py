@@ -607,7 +607,7 @@ def vehicle_forces(ts, ys, P, M):
 @_jit
 def sliding_vehicle_force(t, y, P, M):
     """Force on the car along ``+XV`` (lb) in mode ``M``, the cap's sliding force while it
-    holds (:func:`.sliding.vehicle_force`)."""
+    holds (:func:`filippov`)."""
     if M[M_CAP_SLIDING] == 1.0 and M[M_WINDOW] != WINDOW_KICK:
         f = np.empty(2)
         filippov(t, y, P, M, np.empty(15), np.empty(2), f, np.empty(2), np.empty(2),

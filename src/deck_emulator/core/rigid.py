@@ -1,4 +1,4 @@
-"""Rigid-body kinematics and the Newton-Euler equations in the post's principal axes.
+"""Quaternions and rigid-body quantities of the post's state, in its principal axes.
 
 State of the post (13 numbers), all in the units of the scene (ft, slug, s, rad):
 
@@ -10,9 +10,8 @@ State of the post (13 numbers), all in the units of the scene (ft, slug, s, rad)
 
 No Euler angles anywhere: nothing is singular at theta = 0 or cos psi = 0.
 
-The rotation and the equations of motion are the compiled laws of :mod:`.laws` (written
-once, for the scipy path and the compiled batch alike); the small helpers here use plain
-Python floats: for 3-vectors that is several times faster than NumPy.
+The rotation and the equations of motion are the compiled laws of :mod:`.laws`; the
+helpers here work on plain Python floats.
 """
 
 from __future__ import annotations
