@@ -222,7 +222,7 @@ def test_a_scene_in_progress_stops_at_its_next_segment_once_the_batch_is_past_it
         return got
 
     monkeypatch.setattr(batch._CompiledRun, "_solve", solve)
-    monkeypatch.setattr(batch.time, "perf_counter", lambda: now[0])
+    monkeypatch.setattr(batch.laws, "working_clock", lambda: now[0])  # the bound's clock
     good = steel40()
     first, second = simulate_batch([good, good], LEGACY, max_wall_s=50.0)
     assert len(solved) == 1  # the first segment ran; the second did not start
