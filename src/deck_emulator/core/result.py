@@ -166,14 +166,12 @@ class CoreResult:
     * ``max_decel_g`` -- the car's largest deceleration in contact, located on the dense
       solution with the model's force law; ``max_decel_after_startup_g`` -- the same after the
       start-up kick (the listing's 10,000 lb over its first steps is not an impact force).
-    * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire)
-      at the hit in the report's XL, YL, ZL axes (origin
-      at the base of the support: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``;
-      ``None`` for a point the scene lacks).
+    * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire) at
+      the hit in the report's axes: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``
+      (``None`` for a point the scene lacks).
     * ``trajectory`` -- :class:`Trajectory`.
-    * ``notes`` -- what the run did that a reader should know: the named sliding modes
-      and their intervals ("cap holding, 0.0971-0.1032 s"), the method chosen for the
-      contact and why, a numerical warning recovered from.
+    * ``notes`` -- what a reader should know of the run: the sliding modes and their
+      intervals, the method chosen for the contact and why, a warning recovered from.
     * ``no_hit_reason`` -- why there is no hit (``None`` when there is one).
     * ``ground_passage`` -- under the listing's behaviour (no ground during the contact):
       the first post point that went through the ground, when, and how deep the post got
@@ -198,9 +196,7 @@ class CoreResult:
     max_decel_after_startup_g: float | None = None
     contact_end_s: float | None = None
     #: who integrated the run: "scipy" (``solve_ivp``), "compiled" (:mod:`.dop853`, the
-    #: batch), or "compiled+scipy" (a batch run some of whose segments the compiled
-    #: integrator cannot do -- a sliding mode, a leaf spring, a stiff contact, the shaft's
-    #: segments against the car -- were solved by ``solve_ivp``)
+    #: batch), or "compiled+scipy" (a batch run some of whose segments ``solve_ivp`` solved)
     integrator: str = "scipy"
 
     @property
