@@ -32,8 +32,7 @@ from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
 from deck_emulator.vocabulary.scene import CarBox, car_boxes
 from . import laws
 
-__all__ = ["Pair", "SegmentChecks", "build_segment_checks", "segment_depth",
-           "post_segments"]
+__all__ = ["Pair", "SegmentChecks", "build_segment_checks", "post_segments"]
 
 #: faces whose depth is within this of the deepest (ft) are "at" the contact
 ACTIVE_FT = 1e-9
@@ -70,20 +69,6 @@ def post_segments(body_points: dict) -> list[tuple[str, str, str]]:
         if not on:
             out.append(("C", "C", "C"))
     return out
-
-
-def _faces(box: CarBox, a, b, sv):
-    """(ga, db) of the five faces along A + s (B - A) (:func:`~.laws.segment_faces`);
-    ``a``, ``b`` in XV, YV, ZZ."""
-    return laws.segment_faces(a[0], a[1], a[2], b[0], b[1], b[2], sv, box.x0_ft, box.x1_ft,
-                              box.left_ft, box.right_ft, box.top_ft)
-
-
-def segment_depth(ga, db) -> tuple[float, float]:
-    """``max over s in [0, 1] of min_k (ga[k] + db[k] s)`` and an ``s`` where it is reached
-    (:func:`~.laws.segment_depth`)."""
-    h, s = laws.segment_depth(np.asarray(ga, dtype=float), np.asarray(db, dtype=float))
-    return float(h), float(s)
 
 
 FACE_SURFACES = ("front", "rear", "SIDE", "SIDE", "top")
@@ -144,9 +129,12 @@ class SegmentChecks:
         yl = y.tolist() if isinstance(y, np.ndarray) else list(y)
         z = self._coordinates(yl)
         ia, ib = int(self.table[i][0]), int(self.table[i][1])
-        a, b = z[3 * ia: 3 * ia + 3], z[3 * ib: 3 * ib + 3]
-        ga, db = _faces(p.box, a, b, yl[IDX_SV])
-        h, s = segment_depth(ga, db)
+        a, b = z[3 * ia: 3 * ia + 3], z[3 * ib: 3 * ib + 3]  # XV, YV, ZZ of the ends
+        box = p.box
+        ga, db = laws.segment_faces(a[0], a[1], a[2], b[0], b[1], b[2], yl[IDX_SV], box.x0_ft,
+                                    box.x1_ft, box.left_ft, box.right_ft, box.top_ft)
+        h, s = laws.segment_depth(ga, db)
+        s = float(s)
         g = [float(x + d * s) for x, d in zip(ga, db)]
         active = [k for k in range(5) if g[k] <= h + ACTIVE_FT]
         kin = Kinematics(m, yl)
@@ -156,7 +144,6 @@ class SegmentChecks:
         vv = yl[IDX_VV]
         rates = (vxv - vv, vv - vxv, vyv, -vyv, -v[2])
         k = max(active, key=lambda j: rates[j])
-        box = p.box
         words = {"front": box.front_surface, "rear": box.rear_surface, "top": box.top_surface}
         name = [words.get(FACE_SURFACES[j], FACE_SURFACES[j]) for j in range(5)]
         others = tuple(dict.fromkeys(name[j] for j in active if name[j] != name[k]))

@@ -37,7 +37,6 @@ __all__ = [
     "contact_events",
     "after_event",
     "initial_mode",
-    "point_acceleration",
     "friction_force",
     "mode_labels",
 ]
@@ -45,14 +44,6 @@ __all__ = [
 #: a mode is entered only if its force is this far (as a fraction of the bound interval)
 #: inside its bounds: at the bound itself its exit event would fire at once
 _INSIDE = 1e-9
-
-
-def point_acceleration(model, kin: Kinematics, d, letter: str):
-    """Road-axes acceleration (ft/s^2) of post point ``letter`` given the state derivative
-    ``d`` (:func:`~.laws.point_acceleration`)."""
-    bx, by, bz = model.body_points[letter]
-    return laws.point_acceleration(np.asarray(kin.y, dtype=float), kin.R,
-                                   np.asarray(d, dtype=float), bx, by, bz)
 
 
 def _sliders(mode: ContactMode) -> list[str]:
@@ -222,10 +213,9 @@ def _friction_state(model, mode: ContactMode, t, y) -> ContactMode:
         return trial
     # it slips: which way?  the base's acceleration with the friction at its limit against
     plus = replace(mode, friction_stick=False, friction_sign=+1.0)
-    d = np.empty(15)
-    laws.plain_derivative(t, np.asarray(kin.y, dtype=float), model.law_parameters,
-                          model.mode_vector(plus), np.empty(7), d)
-    if point_acceleration(model, kin, d, "Q")[0] > 0.0:
+    d, ya = np.empty(15), np.asarray(kin.y, dtype=float)
+    laws.plain_derivative(t, ya, model.law_parameters, model.mode_vector(plus), np.empty(7), d)
+    if laws.point_acceleration(ya, kin.R, d, *model.body_points["Q"])[0] > 0.0:
         return plus
     return replace(mode, friction_stick=False, friction_sign=-1.0)
 
