@@ -5,20 +5,46 @@ compiled batch (``simulate_batch``), process CPU time after a warm-up, medians o
     python benchmarks/bench_core_compiled.py [--repeat 5] [--scenes 100]
 
 One steel40 scene (legacy preset), then ``--scenes`` of the sweep's scenes (steel40 with its
-speed and angle changed), each preset.  The measurement is
-:func:`deck_emulator.core.batch.time_per_scene`; nothing here passes or fails.
+speed and angle changed), each preset.  The measurement is :func:`time_per_scene`; nothing
+here passes or fails.
 """
 
 from __future__ import annotations
 
 import argparse
+import time
 
-from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL
-from deck_emulator.core.batch import time_per_scene
+import numpy as np
+
+from deck_emulator.core import simulate, simulate_batch
+from deck_emulator.vocabulary.scene import LEGACY, PHYSICAL, ModelOptions
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.decks import path
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.studies.sweep import scene_deck
+
+
+def time_per_scene(scenes, options: ModelOptions, *, repeats: int = 5) -> dict:
+    """Process CPU time per scene (s) of both paths on ``scenes`` after a warm-up run:
+    ``{"compiled": median, "scipy": median, "ratio": scipy / compiled, "n": scenes}``,
+    medians over ``repeats`` repetitions (for the benchmark)."""
+
+    scenes = list(scenes)
+    simulate_batch(scenes[:1], options)  # warm-up: load or compile the laws
+    simulate(scenes[0], options)
+
+    def per_scene(run) -> float:
+        times = []
+        for _ in range(repeats):
+            t0 = time.process_time()
+            run()
+            times.append((time.process_time() - t0) / len(scenes))
+        return float(np.median(times))
+
+    compiled = per_scene(lambda: simulate_batch(scenes, options))
+    scipy_s = per_scene(lambda: [simulate(s, options) for s in scenes])
+    return {"compiled": compiled, "scipy": scipy_s, "ratio": scipy_s / compiled,
+            "n": len(scenes)}
 
 
 def main() -> None:

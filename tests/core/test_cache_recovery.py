@@ -33,7 +33,9 @@ def _raising_inside_numbas_compiler_lock(exc: BaseException):
 
 @pytest.fixture
 def own_cache(tmp_path, monkeypatch):
-    """The core's cache folder, numba pointed at it (as the command line does)."""
+    """The core's cache folder, numba pointed at it (as the command line does), and the core's
+    functions handed to numba (its compiler-lock listener registered), whatever ran before."""
+    laws.compile_functions()
     cache = tmp_path / "deck_emulator-cache"
     monkeypatch.setattr(laws, "compiled_cache_folder", lambda: str(cache))
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(cache))

@@ -21,7 +21,7 @@ from deck_emulator.core.leaf_spring import (
     unloading_force,
     zero_force_set,
 )
-from deck_emulator.core.pair_hits import joint_ground_hit, terminal_points_xl
+from deck_emulator.core.pair_hits import joint_ground_hit
 from deck_emulator.core.rigid import angular_momentum_world, kinetic_energy
 from deck_emulator.vocabulary.scene import LeafSpring, Scene
 from deck_emulator.studies.crash_test import crash_scene
@@ -117,7 +117,7 @@ def test_twin_planar_lands_on_r_and_u_together(twin):
     assert s.post.principal_tilt_rad == 0.0  # symmetric: the motion stays in XX-ZZ
     r = joint_ground_hit(simulate(s, LEGACY))
     assert r.hit.message == "THE POST HAS HIT THE GROUND WITH POINTS R&U"
-    pts = terminal_points_xl(r)
+    pts = r.terminal_points_ft
     assert pts["R"][2] == pytest.approx(pts["U"][2], abs=1e-9)
     assert pts["R"][1] == pytest.approx(-pts["U"][1], abs=1e-9)
 
@@ -128,7 +128,7 @@ def test_twin_at_an_angle_lands_on_one_point(twin):
     assert "R&U" not in r.hit.message
     other = {"R": "U", "U": "R"}.get(r.hit.point)
     if other:
-        assert abs(terminal_points_xl(r)[other][2]) > 0.1
+        assert abs(r.terminal_points_ft[other][2]) > 0.1
 
 
 def test_twin_scene_toml_round_trip(twin):

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from deck_emulator.vocabulary.units import speed_lost_mph
 from deck_emulator.vocabulary.scene import (
     LEGACY,
     LISTING_BASE_FRICTION,
@@ -42,6 +43,15 @@ STEEL40 = {
     "YYCO": 1.53, "ZZCO": -19.77, "XTO": 0.0, "YYTO": 1.53, "ZZTO": -17.5, "CT": 20000.0,
     "FCONST": 1200.0,
 }  # fmt: skip
+
+
+def contact_delta_v_mph(r) -> float | None:
+    """The speed a core run's car lost by the end of its contact: the registry's reading
+    (``vocabulary.units.speed_lost_mph`` of the car's velocity at ``contact_end_s``)."""
+    if r.contact_end_s is None:
+        return None
+    v = float(r.trajectory.vehicle(r.contact_end_s)[1])
+    return speed_lost_mph(r.scene.vehicle.initial_velocity_ft_s, v)
 
 
 def steel40() -> Scene:

@@ -17,8 +17,7 @@ import sys
 
 from deck_emulator.vocabulary.defaults import user_cache_folder
 
-#: public name -> the submodule that defines it.  Imported on first use, so that
-#: the package costs no scipy until a name is used.
+#: public name -> the submodule that defines it, imported on first use (no scipy until then)
 _WHERE = {
     "ContactMode": "model", "Model": "model", "assemble": "model",
     "CoreEvent": "result", "CoreResult": "result", "Hit": "result", "Trajectory": "result",
@@ -41,16 +40,12 @@ COMPILED_MODULES = ("laws.py", "dop853.py", "batch.py")
 
 
 def compiled_cache_folder() -> str:
-    """Where the command line's processes have numba keep the core's machine code (numba's
-    documented setting NUMBA_CACHE_DIR, set by :func:`configure_numba_cache`; found here
-    without importing numba: a command's own process, whose workers run the core, only asks
-    whether it was compiled).  numba stamps a cached function with its own file's content
-    only, so a compiled function of dop853.py would keep the old copy of a law changed in
-    laws.py: the folder is named by the content of all of :data:`COMPILED_MODULES`, below
-    the user's own NUMBA_CACHE_DIR when set, else the package's ``__pycache__`` where it
-    can be written, else the user's cache folder.  A changed module is a new folder: the old
-    machine code is never taken for the new.  Where NUMBA_CACHE_DIR already names this
-    folder (a worker started by the command, which inherits its environment), it is that."""
+    """Where the command line's processes have numba keep the core's machine code (without
+    importing numba).  numba stamps a cached function with its own file only, so a function
+    of dop853.py would keep an old copy of a law of laws.py: the folder is named by the
+    content of all of :data:`COMPILED_MODULES`, below the user's NUMBA_CACHE_DIR when set
+    (or that folder itself, in a worker that inherited it), else the package's
+    ``__pycache__`` where writable, else the user's cache folder."""
     import hashlib
 
     here = os.path.dirname(os.path.abspath(__file__))
@@ -73,13 +68,10 @@ def compiled_cache_folder() -> str:
 
 
 def configure_numba_cache() -> bool:
-    """Have numba keep the core's machine code in :func:`compiled_cache_folder`, through
-    numba's documented environment variable NUMBA_CACHE_DIR, read when numba is imported
-    (its workers inherit it).  Called where a process of this package's own starts (the
-    command line), and only before numba is imported there: a host application that imports
-    the core keeps its numba configured as it was (its own NUMBA_CACHE_DIR, or numba's
-    default: ``__pycache__`` beside the sources where writable, else numba's user-wide
-    folder).  True when the setting was made (or was already this one)."""
+    """Point numba's documented NUMBA_CACHE_DIR (read when numba is imported; workers inherit
+    it) at :func:`compiled_cache_folder`.  Called where the package's own processes start,
+    and only before numba is imported, so a host application's numba keeps its own setting.
+    True when the setting was made (or was already this one)."""
     folder = compiled_cache_folder()
     if os.environ.get("NUMBA_CACHE_DIR") == folder:
         return True
@@ -106,21 +98,4 @@ def __dir__():
     return sorted(list(globals()) + list(_WHERE))
 
 
-__all__ = [
-    "simulate",
-    "simulate_batch",
-    "free_flight",
-    "assemble",
-    "Model",
-    "ContactMode",
-    "CoreResult",
-    "CoreEvent",
-    "Hit",
-    "Trajectory",
-    "CoreError",
-    "check_outcome",
-    "check_summary",
-    "kinetic_energy",
-    "angular_momentum_world",
-    "attitude_angle_between",
-]
+__all__ = list(_WHERE)

@@ -1,70 +1,31 @@
 """Post-assembly builder: from a description of a luminaire support (as the report gives
-one: shaft, base, arm(s), luminaire(s)) to mass properties, named points, a typed
-:class:`~deck_emulator.vocabulary.scene.Scene` and -- for one arm -- an 8-card deck.
+one: shaft, base, arm(s), luminaire(s)) to mass properties, named points and a typed
+:class:`~deck_emulator.vocabulary.scene.Scene`.
 
-Frame of the builder
---------------------
-``y`` horizontal (the road's ``YY``), ``z`` up, ``x`` (the road's ``XX``) normal to the
-plane of the arms.  The shaft axis is the line ``x = y = 0``; the base point Q is at
-``z = 0`` (the bottom of the shaft), the top P at ``z = L``.  Everything is summed about
-this origin first, then moved to the mass centre.
+Builder's frame: ``x`` the road's ``XX`` (normal to the arms' plane), ``y`` its ``YY``, ``z``
+up; the shaft axis is ``x = y = 0``, Q at ``z = 0``, P at ``z = L``.  Lengths in ft, weights
+in lb (a mass ``W/g`` slug), inertias in slug ft^2.  Every part is summed about this origin,
+then moved to the mass centre ``c`` by the parallel-axis theorem in tensor form,
+``I_G = I_O - M (|c|^2 1 - c c^T)``.
 
-Formulas and why they hold
---------------------------
-Units: lengths in ft, weights in lb (a weight ``W`` lb is a mass ``W/g`` slug; the report
-writes "lbs_m"), inertias in slug ft^2.
+1. The shaft, a thin-wall tapered tube: outside diameter ``D(s)`` linear in the height ``s``,
+   wall ``t``; a slice is a ring of radius ``r = (D - t)/2`` and mass ``rho pi (D - t) t ds``
+   (``I = dm r^2`` about its axis, ``dm r^2/2`` about a diameter).  The integrands are
+   polynomials of degree <= 3: Gauss-Legendre with 8 points is exact.  Given the total weight
+   instead of the wall, ``t`` is solved for (the mass grows with ``t``).
+2. An arm, a slender rod of uniform mass along a quadratic Bezier curve from its root on the
+   shaft axis to the luminaire point R (``shape = "straight"``: the control point on the
+   chord), cut into straight pieces, each ``m l^2/12 (1 - u u^T)`` about its centre (exact
+   for a straight arm at any number of pieces).
+3. Point masses (the luminaire at R, a base on the axis): ``m (|d|^2 1 - d d^T)``; the
+   luminaire's own size is neglected (an assumption).
+4. Principal axes by ``numpy.linalg.eigh``: axis 3 the one nearest the shaft, axis 1 nearest
+   ``XX``; every part lies in (or is symmetric about) ``x = 0``, so axis 3 is
+   ``(0, -sin delta, cos delta)``, ``delta = atan2(-e3_y, e3_z)`` (the scene's convention).
 
-1. **Thin-wall tapered tube (the shaft).**  Outside diameter ``D(s) = Db + (Dt - Db) s/L``
-   at height ``s``; wall ``t`` (constant).  The wall's mid-surface has diameter
-   ``Dm(s) = D(s) - t`` and radius ``r(s) = Dm/2``.  Treating the wall as thin, a slice
-   ``ds`` is a ring of mass ``dm = rho * pi * Dm(s) * t * ds`` (circumference x wall x
-   length).  A ring of radius ``r`` has ``I = dm r^2`` about its own axis and
-   ``dm r^2 / 2`` about any diameter (perpendicular-axis theorem: the two diameters share
-   ``dm r^2``).  So, with ``lambda(s) = rho pi Dm(s) t``:
-
-   * mass ``m = int lambda ds``; mass centre ``s_c = int lambda s ds / m``;
-   * about the shaft axis ``I_zz = int lambda r^2 ds``;
-   * about a transverse axis through the origin ``I_xx = I_yy = int lambda (r^2/2 + s^2) ds``
-     (ring about its diameter + parallel-axis shift by ``s``).
-
-   ``lambda`` is linear and ``r^2`` quadratic in ``s``, so every integrand is a polynomial
-   of degree <= 3 and a 4-point Gauss-Legendre rule is exact (8 points are used).  Given a
-   total weight instead of the wall, ``t`` is found from ``m(t) = weight`` (monotone in
-   ``t``; solved by bisection).  For ``Db = Dt`` this is the uniform thin tube
-   ``I_axis = m r^2``, ``I_transverse(centre) = m r^2/2 + m L^2/12`` (tested).
-
-2. **Rod (the luminaire arm).**  The arm is a thin rod of uniform mass per length along a
-   quadratic Bezier curve from its root (on the shaft axis, ``attach_below_top_ft`` below
-   P) to the luminaire point R, through a control point; ``shape = "straight"`` puts the
-   control point on the chord (a straight rod).  The curve is cut into ``n`` straight
-   pieces; a straight piece of mass ``m``, length ``l``, direction ``u`` has about its own
-   centre ``I = m l^2/12 (1 - u u^T)`` (slender rod: nothing about its own axis), shifted
-   to the origin by the parallel-axis theorem.  For a straight arm this sum is exact for
-   every ``n`` (tested against ``m l^2/12`` and ``m l^2/3``).
-
-3. **Point masses** (luminaire at R, base plate or transformer base on the axis at
-   ``height_ft`` above Q): ``I = m (|d|^2 1 - d d^T)`` about the origin, nothing about
-   their own centre (the luminaire's own size is neglected -- a stated assumption).
-
-4. **Parallel-axis theorem** (tensor form).  For a body of mass ``m`` whose tensor about
-   its own centre is ``I_c``, the tensor about a point at ``-d`` from that centre is
-   ``I_c + m (|d|^2 1 - d d^T)``.  All parts are summed about the builder's origin, then
-   moved to the assembly's mass centre ``c`` with the theorem backwards:
-   ``I_G = I_O - M (|c|^2 1 - c c^T)``.
-
-5. **Principal axes.**  ``I_G`` is real symmetric, so ``numpy.linalg.eigh`` gives its
-   eigenvalues (the principal moments) and orthonormal eigenvectors (the principal axes).
-   The report's axis 3 is the one nearest the shaft (largest ``|e_z|``), axis 1 the one
-   nearest ``XX``, axis 2 the third; ``A, B, C`` are their moments.  All parts lie in
-   (or are symmetric about) the plane ``x = 0``, so ``XX`` is itself principal and
-   axes 2, 3 are ``YY, ZZ`` turned by delta about ``XX``: axis 3 is ``(0, -sin delta,
-   cos delta)`` (the scene's convention, ``ZPO = -YYPO sin delta + ZZPO cos delta``),
-   ``delta = atan2(-e3_y, e3_z)``.
-
-Named points (road axes, origin at the mass centre): P top of the shaft, Q base, R end of
-the first arm (the luminaire), U end of the second arm, S and T the car's two impact
-points on the shaft at the heights given, C (the listing's extra ground point; the
-report's deck puts it on Q).
+Named points (road axes, from the mass centre): P top, Q base, R and U the arms' ends, S and
+T the car's impact points on the shaft, C the listing's extra ground point (the report's deck
+puts it on Q).
 """
 
 from __future__ import annotations
@@ -199,10 +160,7 @@ class MassProperties:
     cm_height_ft: float  # above Q
     cm_offset_ft: float  # YY of the mass centre from the shaft axis
     wall_in: float
-    shaft_weight_lb: float
     points: dict[str, tuple[float, float, float]] = field(default_factory=dict)
-    inertia_tensor: np.ndarray | None = field(default=None, repr=False)
-    axes: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def delta_deg(self) -> float:
@@ -355,7 +313,7 @@ def mass_properties(a: Assembly) -> MassProperties:
         mass += ml
     c = first / mass
     IG = I - point_tensor(mass, c)
-    A, B, C, axes, delta = principal_axes(IG)
+    A, B, C, _, delta = principal_axes(IG)
 
     def rel(p):
         q = np.asarray(p, float) - c
@@ -380,10 +338,7 @@ def mass_properties(a: Assembly) -> MassProperties:
         cm_height_ft=float(c[2]),
         cm_offset_ft=float(c[1]),
         wall_in=wall,
-        shaft_weight_lb=m_s * g,
         points=points,
-        inertia_tensor=IG,
-        axes=axes,
     )
 
 

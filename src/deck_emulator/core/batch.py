@@ -1,33 +1,20 @@
 """Many scenes through the compiled core: :func:`simulate_batch`.
 
-Each scene is run exactly as :func:`~.solve.simulate` runs it -- the same contact modes,
-the same events and transitions (:mod:`.sliding`, :meth:`~.model.Model.transition`), the
-same hit rules and summary -- but its segments are integrated by the compiled DOP853
-(:mod:`.dop853`) over the compiled force laws (:mod:`.laws`), each scene with its own
-adaptive step and its own located events, and the car's largest force is found in
-compiled code too.  Only the bookkeeping between segments (a handful per scene) is Python.
-
-Every batch ends: besides each scene's own bounds (``t_max_s``, ``max_evaluations``), the
-batch as a whole is bounded by ``max_wall_s`` of wall time (a starved or suspended machine):
-past it, the scene in progress stops at its next segment and the scenes not started yet do
-not start, each a ``CoreError`` saying so ("run stopped: the batch took more than ...").
-
-A segment the compiled integrator cannot do is solved by ``solve_ivp`` inside the same
-run, and the result says so (``CoreResult.integrator == "compiled+scipy"``):
-
-* a stiff contact (``method="auto"`` chooses Radau there) and a segment on which the
-  explicit step met a non-finite number (scipy's path then re-solves it with Radau);
-
-Scenes are grouped by their component set (the force laws and checks their model has);
-each group runs one after another, and within it no scene evaluates a law it lacks (the
-laws branch on what the scene's parameter vector says it has).
+Each scene runs as :func:`~.solve.simulate` runs it -- the same contact modes, events,
+transitions and hit rules -- but its segments are integrated by the compiled DOP853
+(:mod:`.dop853`) over the compiled laws (:mod:`.laws`), and the car's largest force is found
+in compiled code too; only the bookkeeping between segments is Python.  A segment the
+compiled integrator cannot do (a stiff contact, which ``method="auto"`` gives to Radau, or a
+non-finite explicit step) is solved by ``solve_ivp`` in the same run, and the result says so
+(``CoreResult.integrator == "compiled+scipy"``).  Besides each scene's own bounds, the batch
+as a whole is bounded by ``max_wall_s``: past it, the scene in progress stops at its next
+segment and the others do not start, each a ``CoreError`` saying so.
 """
 
 from __future__ import annotations
 
 import functools
 import math
-import time
 from collections import namedtuple
 
 import numpy as np
@@ -35,25 +22,20 @@ import numpy as np
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.defaults import (
     CORE_ATOL,
+    CORE_METHOD,
     CORE_RTOL,
     MAX_EVALUATIONS,
     MAX_STEP_S,
     T_MAX_S,
 )
-from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions, Scene
 
 from . import dop853, laws
 from .kinematics import ContactMode
 from .laws import _jit
-from .solve import (
-    CoreError,
-    _Run,
-    _simulate_with,
-    distinct,
-    simulate,
-)
+from .solve import CoreError, _Run, _simulate_with, distinct
 
-__all__ = ["CompiledSolution", "component_key", "simulate_batch", "time_per_scene"]
+__all__ = ["CompiledSolution", "component_key", "simulate_batch"]
 
 
 #: a compiled segment's answer, read as solve_ivp's (the fields the solve reads of it)
@@ -172,15 +154,32 @@ def _fminbound_neg_force(x1, x2, xatol, maxfun, ts, t_old, h, y_old, F, P, M, tm
     return xf, fx
 
 
-def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
-    """:func:`segment_max_force` (its plain-Python form): the grid's states interpolated all
-    at once (:func:`~.dop853.dense_eval`), each force over Python floats, then the same
-    search."""
+@_jit
+def _grid(ts):
+    """9 points on every step of ``ts``, the steps' ends repeated."""
     n_steps = ts.size - 1
     grid = np.empty(8 * n_steps + 1)
     for k in range(n_steps):
         grid[8 * k: 8 * k + 9] = np.linspace(ts[k], ts[k + 1], 9)
-    fine = distinct(grid)  # np.unique's values, as compiled code finds them
+    return grid
+
+
+@_jit
+def _refined(fine, best_k, best_f, ts, t_old, h, y_old, F, P, M, tmp):
+    """(lb, s): the grid's best, refined by the bounded search between its neighbours."""
+    fk, tk = best_f, fine[best_k]
+    lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
+    if hi > lo:
+        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
+        if -fx > fk:
+            fk, tk = -fx, x
+    return fk, tk
+
+
+def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
+    """:func:`segment_max_force` (its plain-Python form): the grid's states interpolated all
+    at once (:func:`~.dop853.dense_eval`), each force over Python floats."""
+    fine = distinct(_grid(ts))  # np.unique's values, as compiled code finds them
     states = dop853.dense_eval(ts, t_old, h, y_old, F, fine).T.tolist()
     Pl, Ml = P.tolist(), M.tolist()
     best_k = 0
@@ -190,25 +189,15 @@ def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
         if fk > best_f or k == 0:
             best_f = fk
             best_k = k
-    fk, tk = best_f, fine[best_k]
-    lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
-    if hi > lo:
-        tmp = np.empty(y_old.shape[1])
-        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
-        if -fx > fk:
-            fk, tk = -fx, x
-    return fk, tk
+    return _refined(fine, best_k, best_f, ts, t_old, h, y_old, F, P, M,
+                    np.empty(y_old.shape[1]))
 
 
 @_jit(plain=_segment_max_force_rows)
 def segment_max_force(ts, t_old, h, y_old, F, P, M):
-    """(lb, s): the grid of 9 points a step, its best, then the bounded search between
-    the best's neighbours (as :meth:`~.solve._Run._segment_max_force`)."""
-    n_steps = ts.size - 1
-    grid = np.empty(8 * n_steps + 1)
-    for k in range(n_steps):
-        grid[8 * k: 8 * k + 9] = np.linspace(ts[k], ts[k + 1], 9)
-    fine = np.unique(grid)
+    """(lb, s): the largest force on the car over a compiled segment, on a grid of 9 points
+    a step refined by a bounded search (as :meth:`~.solve._Run._segment_max_force`)."""
+    fine = np.unique(_grid(ts))
     tmp = np.empty(y_old.shape[1])
     best_k = 0
     best_f = -np.inf
@@ -217,13 +206,7 @@ def segment_max_force(ts, t_old, h, y_old, F, P, M):
         if fk > best_f or k == 0:
             best_f = fk
             best_k = k
-    fk, tk = best_f, fine[best_k]
-    lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
-    if hi > lo:
-        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
-        if -fx > fk:
-            fk, tk = -fx, x
-    return fk, tk
+    return _refined(fine, best_k, best_f, ts, t_old, h, y_old, F, P, M, tmp)
 
 
 # --------------------------------------------------------------------------------------
@@ -331,11 +314,7 @@ def _past_wall(max_wall_s: float, where: str) -> str:
             f"time ({where})")
 
 
-def _default_mode():
-    return ContactMode()
-
-
-_DEFAULT_MODE = _default_mode()
+_DEFAULT_MODE = ContactMode()
 
 
 def component_key(scene: Scene, options: ModelOptions) -> tuple:
@@ -357,7 +336,7 @@ def component_key(scene: Scene, options: ModelOptions) -> tuple:
 
 def simulate_batch(
     scenes,
-    options: ModelOptions = PHYSICAL,
+    options: ModelOptions,
     *,
     rtol: float = CORE_RTOL,
     atol: float = CORE_ATOL,
@@ -365,26 +344,21 @@ def simulate_batch(
     t_max_s: float = T_MAX_S,
     max_evaluations: int | None = MAX_EVALUATIONS,
     max_wall_s: float | None = None,
-    method: str = "auto",
+    method: str = CORE_METHOD,
     check: bool = True,
     compile: bool = True,
 ) -> list:
     """Run every scene of ``scenes`` through the compiled core; one item per scene, in
-    their order: a :class:`~.result.CoreResult` (``integrator`` says which integrator
-    ran it) or the :class:`~.solve.CoreError` (or ``ValueError``, ``ArithmeticError``)
-    the scene met -- one scene's failure does not stop the batch.
+    their order: a :class:`~.result.CoreResult` or the :class:`~.solve.CoreError` (or
+    ``ValueError``, ``ArithmeticError``) the scene met -- one scene's failure does not stop
+    the batch.  Scenes run grouped by :func:`component_key`.
 
-    ``options`` is one preset for all, or a sequence of one per scene.  The keywords are
-    :func:`~.solve.simulate`'s (``method="auto"``: DOP853, the contact of a stiff scene by
-    scipy's Radau), but ``max_wall_s`` bounds the whole batch (the module docstring; None:
-    the row ``MAX_WALL_S`` of :mod:`~deck_emulator.vocabulary.defaults` as the batch starts,
-    ``math.inf``: no bound).  Scenes are run grouped by :func:`component_key`.
-
-    ``compile``: have numba compile the core's functions (or load them from its cache)
-    first; False: run them as this process has them -- plain Python where nothing compiled
-    them yet, the same operations in the same order, so the same numbers (a single scene:
-    no numba to load, no compiling on a first use, where the compiled path's start costs
-    far more than the scene's solve)."""
+    ``options``: one preset for all, or one per scene.  The keywords are
+    :func:`~.solve.simulate`'s, but ``max_wall_s`` bounds the whole batch (None: the row
+    ``MAX_WALL_S`` as the batch starts; ``math.inf``: no bound).  ``compile``: have numba
+    compile the core's functions (or load them) first; False: run them as this process has
+    them -- plain Python where nothing compiled them, the same numbers, no numba to load
+    (for a single scene)."""
     if compile:
         laws.compile_functions()
     scenes = list(scenes)
@@ -415,26 +389,3 @@ def simulate_batch(
             except (CoreError, ValueError, ArithmeticError) as exc:
                 out[i] = exc
     return out
-
-
-def time_per_scene(scenes, options: ModelOptions, *, repeats: int = 5) -> dict:
-    """Process CPU time per scene (s) of both paths on ``scenes`` after a warm-up run:
-    ``{"compiled": median, "scipy": median, "ratio": scipy / compiled, "n": scenes}``,
-    medians over ``repeats`` repetitions (for the benchmark)."""
-
-    scenes = list(scenes)
-    simulate_batch(scenes[:1], options)  # warm-up: load or compile the laws
-    simulate(scenes[0], options)
-
-    def per_scene(run) -> float:
-        times = []
-        for _ in range(repeats):
-            t0 = time.process_time()
-            run()
-            times.append((time.process_time() - t0) / len(scenes))
-        return float(np.median(times))
-
-    compiled = per_scene(lambda: simulate_batch(scenes, options))
-    scipy_s = per_scene(lambda: [simulate(s, options) for s in scenes])
-    return {"compiled": compiled, "scipy": scipy_s, "ratio": scipy_s / compiled,
-            "n": len(scenes)}

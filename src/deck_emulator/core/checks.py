@@ -1,18 +1,10 @@
 """Plausibility checks of an outcome before it is reported.
 
-Two entry points:
-
-* :func:`check_outcome` -- a core run (:class:`~.result.CoreResult`): returns the list of
-  failed checks as sentences (empty: the outcome may be reported); ``simulate(...,
-  check=True)`` raises :class:`~.solve.CoreError` naming the first one.
-* :func:`check_summary` -- the same checks on a trajectory summary given as plain numbers
-  (hit time, the points' heights above the ground at the hit, delta-V, the car's speed),
-  for any program's outcome, e.g. the emulator's; it imports nothing of the 1967 path and
-  returns flag sentences ("the listing reports a ground hit with Q 11.4 ft below the
-  ground").
-
-The checks: every number is finite; no post point is below the ground at a reported hit
-by more than the hit test's tolerance; the car's speed change lies between 0 and its
+:func:`check_outcome` checks a core run (:class:`~.result.CoreResult`; ``simulate(...,
+check=True)`` raises :class:`~.solve.CoreError` naming the first failure);
+:func:`check_summary` makes the same checks on plain numbers, for any program's outcome (the
+emulator's flags).  The checks: every number is finite; no post point is below the ground at
+a hit by more than the hit test's tolerance; the car's speed change lies between 0 and its
 speed; a run without a hit names its reason.
 """
 
@@ -22,7 +14,7 @@ import math
 from collections.abc import Mapping
 
 from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
-from deck_emulator.vocabulary.units import ft_s_to_mph
+from deck_emulator.vocabulary.units import ft_s_to_mph, speed_lost_mph
 
 __all__ = [
     "check_outcome",
@@ -126,9 +118,12 @@ def check_outcome(result) -> list[str]:
     if result.hit is not None and traj.segments:
         t = min(result.hit.time_s, traj.t_end)
         heights = {p: float(x[2]) + depth for p, x in traj.points(t).items()}  # one state
-    car_speed = (
-        ft_s_to_mph(abs(scene.vehicle.initial_velocity_ft_s)) if scene.vehicle else None
-    )
+    car_speed = delta_v = None
+    if scene.vehicle is not None:
+        v0 = scene.vehicle.initial_velocity_ft_s
+        car_speed = ft_s_to_mph(abs(v0))
+        if result.contact_end_s is not None:
+            delta_v = speed_lost_mph(v0, float(traj.vehicle(result.contact_end_s)[1]))
     extra = {"end time": result.end_time_s}
     for k, v in result.terminal_points_ft.items():
         if v is not None:
@@ -138,15 +133,15 @@ def check_outcome(result) -> list[str]:
         hit=(result.hit.surface.lower() + " hit") if result.hit else None,
         hit_time_s=result.hit_time_s,
         heights_at_hit_ft=heights,
-        delta_v_contact_mph=result.delta_v_contact_mph,
+        delta_v_contact_mph=delta_v,
         car_speed_mph=car_speed,
         max_decel_g=result.max_decel_g,
-        no_hit_reason=getattr(result, "no_hit_reason", None),
+        no_hit_reason=result.no_hit_reason,
         ground_tolerance_ft=ground_tolerance_ft(result.options),
         who="the core",
         extra_numbers=extra,
     )
-    if result.hit is None and traj.segments and not getattr(result, "ground_passage", None):
+    if result.hit is None and traj.segments and not result.ground_passage:
         t = traj.t_end
         low = min((float(x[2]) + depth, p) for p, x in traj.points(t).items())
         if low[0] < -EXACT_GROUND_TOLERANCE_FT:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from deck_emulator.vocabulary.events import EventKind
-from deck_emulator.vocabulary.scene import LISTING_BASE_FRICTION, LISTING_FRICTION_WINDOW_FT, ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions, Scene
 import numpy as np
 
 from . import laws
@@ -23,13 +23,7 @@ __all__ = [
     "BaseFriction",
     "StartupKickLoad",
     "VehicleContact",
-    "LISTING_FRICTION_LB",
-    "LISTING_FRICTION_WINDOW_FT",
 ]
-
-#: ``FFXA=3.1*T`` with ``T=300.0``
-#: the listing's friction force and the window it acts in (one home: the scene module)
-LISTING_FRICTION_LB = LISTING_BASE_FRICTION.force_lb
 
 
 class Gravity:
@@ -77,7 +71,7 @@ class BaseFriction:
     ``reaction=True``: Coulomb friction with ``force_lb`` as its limit -- while the base
     slips (``mode.friction_sign`` = the sign of its velocity along ``XX``) the force is
     ``-force_lb * sign``; while it sticks (``mode.friction_stick``) it is the reaction that
-    holds it, set by :mod:`.sliding` through ``override``.
+    holds it (:mod:`.sliding`).
     """
 
     name = "base friction"
@@ -86,7 +80,6 @@ class BaseFriction:
         self.force_lb = force_lb
         self.window_ft = window_ft
         self.reaction = reaction
-        self.override: float | None = None
 
     def force(self, mode, model) -> float:
         """The friction force along ``+XX`` (lb) in ``mode`` (:func:`~.laws.friction_force`)."""
@@ -136,9 +129,7 @@ class VehicleContact:
 
     def __init__(self, scene: Scene, options: ModelOptions, model: ModelView):
         v = scene.vehicle
-        self.alpha = v.approach_angle_rad
-        self.cos_a, self.sin_a = math.cos(self.alpha), math.sin(self.alpha)
-        self.direction = (-self.cos_a, self.sin_a, 0.0)
+        self.cos_a, self.sin_a = math.cos(v.approach_angle_rad), math.sin(v.approach_angle_rad)
         self.stiffness = {"S": v.first_spring.stiffness_lb_per_ft}
         if v.second_spring is not None:
             self.stiffness["T"] = v.second_spring.stiffness_lb_per_ft
@@ -148,13 +139,10 @@ class VehicleContact:
         self.absolute = options.spring_absolute
         self.switch_ft = options.spring_switch_ft
         self.cap_lb = v.force_cap_lb if options.force_cap_from_s is not None else None
-        self.kick = options.startup_kick
         self.listing_diff = options.listing_diff
         # XVSO, XVTO: the points' initial XV coordinates
         self.xv0 = {k: model.initial_xv(k) for k in self.stiffness}
         self.model = model
-        # the spring force set by :mod:`.sliding` while the cap's switching surface is held
-        self.override: float | None = None
 
     # -- geometry of the contact (eq. 3.13-3.15)
 
@@ -187,12 +175,8 @@ class VehicleContact:
     def spring_force(self, kin, mode) -> float:
         """``FS`` (lb) in this mode (:func:`~.laws.contact_spring_force`)."""
         model = self.model
-        M = model.mode_vector(mode)
-        if self.override is not None:
-            M = M.copy()
-            M[laws.M_SPRING_OVERRIDE] = self.override
         return laws.contact_spring_force(np.asarray(kin.y, dtype=float), kin.R,
-                                         model.law_parameters, M)
+                                         model.law_parameters, model.mode_vector(mode))
 
     def pack(self, P) -> None:
         P[laws.P_HAS_CONTACT] = 1.0

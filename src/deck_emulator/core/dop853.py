@@ -1,20 +1,13 @@
 """DOP853, compiled: the scipy path's explicit method, callable from compiled code.
 
-Why our own: ``scipy.integrate.solve_ivp`` cannot be called from compiled code (its
-steps are Python), and numba has no ODE solver; a batch of small problems spends nearly
-all of scipy's time in that Python.  So this module transcribes the method scipy uses --
-the explicit Runge-Kutta pair of order 8(5,3) of Dormand and Prince as implemented by
-Hairer (E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential Equations I:
-Nonstiff Problems", 2nd ed., Springer 1993, section II.10; code DOP853), in the form of
-``scipy.integrate.DOP853``: its tableau (:mod:`.dop853_tableau`, the project's own copy,
-held equal to scipy's by a test), its error norm (the 5th- and
-3rd-order estimates combined), its step-size control (safety 0.9, factors 0.2-10, no
-growth after a rejection), its first-step choice and its 7th-degree dense output -- and
-``solve_ivp``'s event handling: an event is active where its function changes sign in
-the direction asked over a step; its root is found on the dense output by Brent's method
-(a transcription of scipy's ``brentq``, ``xtol = rtol = 4 eps``); the integration stops at
-the first terminal root.  The tests check the order (error ratio ~ 2^8 as the step
-halves) and compare whole runs with scipy's.
+``solve_ivp`` cannot be called from compiled code and numba has no ODE solver, so this
+module transcribes the method scipy uses, the Runge-Kutta pair 8(5,3) of Dormand and Prince
+(E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential Equations I", 2nd ed.,
+Springer 1993, II.10) in the form of ``scipy.integrate.DOP853`` -- its tableau
+(:mod:`.dop853_tableau`), error norm, step-size control, first step and dense output -- and
+``solve_ivp``'s event handling: an event is active where its function changes sign in the
+direction asked over a step, its root found on the dense output by Brent's method (scipy's
+``brentq``, ``xtol = rtol = 4 eps``); the integration stops at the first terminal root.
 
 The right-hand side and the events are the model's compiled laws (:mod:`.laws`), chosen
 by ``phase`` (contact or free flight) with the scene's parameter vector ``P`` and the

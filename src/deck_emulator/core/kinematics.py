@@ -9,7 +9,7 @@ from typing import Callable, Protocol
 import numpy as np
 
 from . import laws as _laws
-from .rigid import N_POST, rotate, rotation_matrix
+from .rigid import N_POST, rotation_matrix
 
 __all__ = ["IDX_SV", "IDX_VV", "N_STATE", "ContactMode", "EventSpec", "Kinematics",
            "ModelView", "state_vector"]
@@ -110,10 +110,6 @@ class Kinematics:
         self.y = y
         self.R = rotation_matrix((y[6], y[7], y[8], y[9]))
         self._pos: dict[str, tuple] = {}
-
-    def arm(self, letter: str):
-        """Point minus mass centre, road axes (ft)."""
-        return rotate(self.R, self.model.body_points[letter])
 
     def point(self, letter: str):
         """Point position, road axes XX, YY, ZZ (ft)."""

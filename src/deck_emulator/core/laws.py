@@ -1,19 +1,11 @@
 """The model's force laws and equations of motion, written once, compiled.
 
-Both roads call these functions: the scipy path (:mod:`.model`, :mod:`.sliding`, one call
-per right-hand-side evaluation) and the compiled batch (:mod:`.batch`, from compiled code).
-They are numba ``@njit`` functions over plain floats and float arrays.  Why numba: it
-installs as a wheel, compiles plain Python arithmetic to machine code with IEEE semantics
-(no fast-math: the operations happen in the order written, so the scipy path's outcomes
-did not move by one bit when its arithmetic moved here), and its functions can be called
-both from Python and from other compiled functions -- JAX would need the whole model
-rewritten as array programs and cannot hold the contact modes' branching cheaply.
-
-``cache=True`` keeps the machine code where numba's configuration says: the command line
-points numba's documented NUMBA_CACHE_DIR at the core's own folder before numba is
-imported (:func:`~deck_emulator.core.configure_numba_cache`); a host application's numba
-is left as it configured it.  Where no cache can be written at all the functions are
-compiled in each process instead (:func:`_jit`), never an error.
+Both roads call these functions: the scipy path (:mod:`.model`, :mod:`.sliding`) and the
+compiled batch (:mod:`.batch`, from compiled code).  They are numba ``@njit`` functions over
+plain floats and float arrays: numba compiles plain Python arithmetic with IEEE semantics
+(no fast-math: the operations in the order written) and its functions can be called from
+Python and from compiled code alike.  ``cache=True`` keeps the machine code where numba's
+configuration says (:func:`~deck_emulator.core.configure_numba_cache`).
 
 A scene's numbers are packed once into a parameter vector ``P`` (layout ``P_*``, filled by
 :meth:`~.model.Model.law_parameters`), the contact mode into a mode vector ``M`` (``M_*``,
@@ -54,15 +46,11 @@ __all__ = [
 
 def recompiling(fn):
     """``fn`` (an entry of the core), run again once when numba failed while it held its
-    compiler lock (loading the core's machine code from its cache, or compiling it): a cache
-    file truncated or garbled (an interrupted write, a full disk, a copy cut short), which
-    numba unpickles without checking.  The core's own cache folder is removed first, so
-    numba compiles anew and caches again, instead of the run ending in an
-    ``UnpicklingError`` at every start; an error that comes back is raised.  Only where numba
-    keeps the core's code in that folder (the command line's processes:
-    :func:`~deck_emulator.core.configure_numba_cache`): a host application's numba cache is
-    its own, and its error is left to it.  An error of the run itself (not raised inside
-    numba's compiler lock) is never retried."""
+    compiler lock: a cache file truncated or garbled, which numba unpickles without checking.
+    The core's own cache folder is removed first, so numba compiles anew instead of failing
+    at every start; an error that comes back is raised.  Only where numba keeps the core's
+    code in that folder (the command line's processes): a host application's cache and its
+    errors are its own.  An error of the run itself is never retried."""
 
     @functools.wraps(fn)
     def entry(*args, **kwargs):
@@ -95,11 +83,9 @@ def _raised_by(exc: BaseException, cause: BaseException | None) -> bool:
 
 
 class _CompilerTime:
-    """The seconds numba has held (or waited for) its compiler lock in this process: compiling
-    the core's machine code, or loading it from its cache, and the exception that last ended
-    a hold (unwinding through it).  Registered by :func:`compile_functions` on numba's
-    documented event ``numba:compiler_lock`` (numba.core.event, its Event API), as one of
-    that API's listeners; nested and overlapping holds count once."""
+    """The seconds numba has held (or waited for) its compiler lock in this process, and the
+    exception that last ended a hold; a listener of numba's documented event
+    ``numba:compiler_lock`` (:func:`compile_functions`).  Nested holds count once."""
 
     def __init__(self) -> None:
         self.total_s = 0.0
@@ -127,9 +113,8 @@ _COMPILING: _CompilerTime | None = None
 
 def working_clock() -> float:
     """A clock for the core's wall bounds (``max_wall_s``), s: ``time.perf_counter()`` less the
-    time numba has spent compiling or loading the core's machine code in this process, so that
-    a cold cache never counts against a run's bound (the first run on a new machine compiles
-    for a minute). Only differences of its readings mean anything."""
+    time numba has spent compiling or loading the core in this process, so that a cold cache
+    never counts against a run's bound.  Only differences of its readings mean anything."""
     now = time.perf_counter()
     if _COMPILING is None:
         return now
@@ -144,12 +129,11 @@ _FUNCTIONS: list = []
 
 
 def _jit(fn=None, *, plain=None):
-    """One of the core's compiled functions: kept plain Python as written (a single scene runs
-    it so, importing no numba) until :func:`compile_functions` puts numba's compiled
-    dispatcher in its place.  ``plain``: what runs instead while uncompiled -- the same
-    operations on each element in the same order over whole rows of numpy arrays, where the
-    loops written for numba are slow as Python (``@_jit(plain=twin)``; the plain and the
-    compiled functions are held to the same numbers by tests/core/test_interpreted.py)."""
+    """One of the core's compiled functions: plain Python as written (a single scene runs it
+    so, importing no numba) until :func:`compile_functions` puts numba's dispatcher in its
+    place.  ``plain``: what runs instead while uncompiled, the same operations in the same
+    order over whole rows, where the loops written for numba are slow in Python
+    (tests/core/test_interpreted.py holds the two to the same numbers)."""
     if fn is None:
         return functools.partial(_jit, plain=plain)
     if _COMPILING is not None:  # a module imported after compile_functions
@@ -174,14 +158,9 @@ def compiled() -> bool:
 
 
 def compile_functions() -> None:
-    """Each of the core's functions (``@_jit``) replaced in its module by numba's
-    ``njit(cache=True)`` of it, or plain ``njit`` where numba finds no place to cache (those
-    of a module imported later, as they are defined); once a process (the batch and the scipy path call this; a single scene on the batch's path
-    need not).  The compiled code does the same operations in the same order as the plain
-    Python (numba without fast-math; IEEE semantics), so a scene's numbers are the same
-    either way (tests/core/test_interpreted.py holds them equal, bit for bit).  numba
-    compiles each function at its first call with new argument types, or loads it from its
-    cache."""
+    """Each of the core's functions (``@_jit``) replaced in its module by :func:`_njit` of it
+    (those of a module imported later, as they are defined); once a process.  numba compiles
+    each at its first call, or loads it from its cache; the numbers are the plain Python's."""
     global _COMPILING
     if _COMPILING is not None:
         return
@@ -628,7 +607,7 @@ def vehicle_forces(ts, ys, P, M):
 @_jit
 def sliding_vehicle_force(t, y, P, M):
     """Force on the car along ``+XV`` (lb) in mode ``M``, the cap's sliding force while it
-    holds (:func:`.sliding.vehicle_force`)."""
+    holds (:func:`filippov`)."""
     if M[M_CAP_SLIDING] == 1.0 and M[M_WINDOW] != WINDOW_KICK:
         f = np.empty(2)
         filippov(t, y, P, M, np.empty(15), np.empty(2), f, np.empty(2), np.empty(2),

@@ -28,36 +28,28 @@ from dataclasses import replace
 import numpy as np
 
 from deck_emulator.vocabulary.events import EventKind
-from deck_emulator.vocabulary.scene import ModelOptions, Scene
+from deck_emulator.vocabulary.scene import (
+    LISTING_BASE_FRICTION,
+    LISTING_FRICTION_WINDOW_FT,
+    ModelOptions,
+    Scene,
+)
 
 from . import laws
 from .components import (
-    LISTING_FRICTION_LB,
-    LISTING_FRICTION_WINDOW_FT,
     BaseFriction,
     BaseNormalForce,
     Gravity,
     StartupKickLoad,
     VehicleContact,
 )
-from .kinematics import IDX_SV, IDX_VV, N_STATE, ContactMode, EventSpec, Kinematics
+from .kinematics import ContactMode, EventSpec, Kinematics
 from .leaf_spring import LeafSpringContact
 from .regions import FreeFlightChecks, build_checks
 from .rigid import quat_about_axis, quat_multiply
 from .segments import SegmentChecks, build_segment_checks
 
-__all__ = [
-    "IDX_SV",
-    "IDX_VV",
-    "N_STATE",
-    "ContactMode",
-    "EventSpec",
-    "Kinematics",
-    "Model",
-    "assemble",
-    "LISTING_FRICTION_LB",
-    "LISTING_FRICTION_WINDOW_FT",
-]
+__all__ = ["Model", "assemble"]
 
 
 # --------------------------------------------------------------------------------------
@@ -105,7 +97,7 @@ class Model:
                 )
             if options.listing_friction:
                 comps["base friction"] = BaseFriction(
-                    LISTING_FRICTION_LB, LISTING_FRICTION_WINDOW_FT
+                    LISTING_BASE_FRICTION.force_lb, LISTING_FRICTION_WINDOW_FT
                 )
             elif base.friction is not None:
                 comps["base friction"] = BaseFriction(
@@ -167,22 +159,6 @@ class Model:
                 M[laws.M_LEAF_PEAK] = mode.spring_peak_ft
             M.setflags(write=False)
             self._modes[mode] = M
-        return M
-
-    def _mode_now(self, y, mode: ContactMode) -> np.ndarray:
-        """``mode``'s vector with the overrides the sliding modes set."""
-        M = self.mode_vector(mode)
-        contact = self.components.get("vehicle contact")
-        friction = self.components.get("base friction")
-        spring = contact.override if contact is not None else None
-        fric = friction.override if friction is not None else None
-        if spring is None and fric is None:
-            return M
-        M = M.copy()
-        if spring is not None:
-            M[laws.M_SPRING_OVERRIDE] = spring
-        if fric is not None:
-            M[laws.M_FRICTION_OVERRIDE] = fric
         return M
 
     # -- geometry
@@ -264,14 +240,6 @@ class Model:
             mode = replace(mode, cap_armed=True, cap_engaged=engaged)
         return mode
 
-    def loads(self, t, kin: Kinematics, mode: ContactMode):
-        """(Fx, Fy, Fz, Tx, Ty, Tz, F_vehicle) in the contact phase, road axes
-        (:func:`~.laws.contact_loads`)."""
-        acc = np.empty(7)
-        y = np.asarray(kin.y, dtype=float)
-        laws.contact_loads(t, y, self.law_parameters, self._mode_now(kin.y, mode), acc)
-        return acc.tolist()
-
     def contact_rhs(self, mode: ContactMode):
         P = self.law_parameters
         derivative = laws.contact_derivative
@@ -279,11 +247,6 @@ class Model:
         fun = lambda t, y: derivative(t, y, P, M)  # noqa: E731
         fun.law = ("contact", M)  # the batch's compiled integrator runs the same law
         return fun
-
-    def vehicle_force(self, t, y, mode: ContactMode) -> float:
-        """Force on the car along ``+XV`` (lb)."""
-        y = np.asarray(y, dtype=float)
-        return laws.vehicle_force(t, y, self.law_parameters, self._mode_now(y, mode))
 
     def vehicle_forces(self, ts, ys, mode: ContactMode):
         """:meth:`vehicle_force` at times ``ts`` and states ``ys`` (15, n), in one call."""

@@ -18,20 +18,9 @@ from deck_emulator.vocabulary.events import JOINT_GROUND_MESSAGE, EventKind
 from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
 from .result import CoreEvent, CoreResult, Hit
 
-__all__ = ["joint_ground_hit", "terminal_points_xl", "GROUND_BAND_FT"]
+__all__ = ["joint_ground_hit", "GROUND_BAND_FT"]
 
 GROUND_BAND_FT = LISTING_GROUND_TOLERANCE_FT["R"]
-
-
-def terminal_points_xl(result: CoreResult) -> dict[str, tuple[float, float, float]]:
-    """Every point of the run's post at the end (hit) in the report's XL, YL, ZL axes."""
-    traj = result.trajectory
-    model = traj._model
-    q0 = model._q0
-    depth = result.scene.environment.ground_depth_ft
-    t = min(result.end_time_s, traj.t_end)
-    return {name: (float(p[0] - q0[0]), float(p[1] - q0[1]), float(p[2] + depth))
-            for name, p in traj.points(t).items()}  # one state for all the points
 
 
 def joint_ground_hit(result: CoreResult, band_ft: float = GROUND_BAND_FT) -> CoreResult:
@@ -40,8 +29,8 @@ def joint_ground_hit(result: CoreResult, band_ft: float = GROUND_BAND_FT) -> Cor
     hit = result.hit
     if hit is None or hit.surface != "GROUND" or hit.point not in ("R", "U"):
         return result
-    pts = terminal_points_xl(result)
-    if "R" not in pts or "U" not in pts:
+    pts = result.terminal_points_ft  # R and U at the hit, in the report's axes
+    if pts.get("R") is None or pts.get("U") is None:
         return result
     other = "U" if hit.point == "R" else "R"
     # the other point "in the band" to the event location's accuracy (1e-6 ft)

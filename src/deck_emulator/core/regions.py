@@ -33,13 +33,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from deck_emulator.vocabulary.defaults import LISTING_GROUND_TOLERANCE_FT
-from deck_emulator.vocabulary.events import hit_message
 from deck_emulator.vocabulary.scene import car_boxes
 
 from . import laws
 from .kinematics import EventSpec
 
-__all__ = ["hit_message", "Region", "FreeFlightChecks", "build_checks"]
+__all__ = ["Region", "FreeFlightChecks", "build_checks"]
 
 GROUND_POINTS = ("P", "Q", "R", "C", "U")
 VEHICLE_POINTS = ("P", "R", "C", "U")
@@ -47,7 +46,6 @@ VEHICLE_POINTS = ("P", "R", "C", "U")
 LISTING_SURFACE_TOLERANCE_FT = 0.1
 #: how far outside its other half-spaces a point may be and still count as inside (ft)
 SLACK_FT = 1e-9
-
 
 
 @dataclass(frozen=True)

@@ -90,18 +90,6 @@ class Trajectory:
         out[6:10] = q / np.linalg.norm(q, axis=0)
         return out[:, 0] if np.ndim(t) == 0 else out
 
-    def velocity_body(self, t) -> np.ndarray:
-        """Mass-centre velocity along the body axes 1, 2, 3 (ft/s): (3,) or (3, n)."""
-        return self.state(t)[3:6]
-
-    def attitude(self, t) -> np.ndarray:
-        """The unit quaternion (w, x, y, z) turning body axes into road axes: (4,) or (4, n)."""
-        return self.state(t)[6:10]
-
-    def angular_velocity_body(self, t) -> np.ndarray:
-        """Angular velocity along the body axes 1, 2, 3 (rad/s): (3,) or (3, n)."""
-        return self.state(t)[10:13]
-
     def mass_centre(self, t) -> np.ndarray:
         """Mass-centre position (XX, YY, ZZ), ft: shape (3,) or (3, n)."""
         return self.state(t)[0:3]
@@ -173,21 +161,17 @@ class CoreResult:
     * ``hit`` -- :class:`Hit` or ``None`` (nothing hit before ``t_max_s``).
     * ``first_spring_lost_s``, ``vehicle_contact_lost_s`` -- the listing's two messages.
     * ``contact_end_s`` -- when the contact with the car ends (the car let go, or the post hit
-      the car while in contact); ``delta_v_contact_mph`` -- the speed the car lost by then
-      (positive: slowed down), mph, the core's own check (the engine layer's registry reads
-      the same instant: ``deck_emulator.engine.quantities``).
-    * ``max_decel_g``, ``max_decel_time_s`` -- the car's largest deceleration in contact;
-      ``max_decel_after_startup_g`` -- the same after the start-up kick (the listing's device
-      of 10,000 lb over its first steps is not an impact force; its printed FSA starts after).
-    * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire)
-      at the hit in the report's XL, YL, ZL axes (origin
-      at the base of the support: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``;
-      ``None`` for a point the scene lacks).
-    * ``planar`` -- the scene's motion stays in the XX-ZZ plane (``Scene.is_planar``).
+      the car while in contact): the instant the registry reads the speed lost at
+      (``deck_emulator.engine.quantities``).
+    * ``max_decel_g`` -- the car's largest deceleration in contact, located on the dense
+      solution with the model's force law; ``max_decel_after_startup_g`` -- the same after the
+      start-up kick (the listing's 10,000 lb over its first steps is not an impact force).
+    * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire) at
+      the hit in the report's axes: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``
+      (``None`` for a point the scene lacks).
     * ``trajectory`` -- :class:`Trajectory`.
-    * ``notes`` -- what the run did that a reader should know: the named sliding modes
-      and their intervals ("cap holding, 0.0971-0.1032 s"), the method chosen for the
-      contact and why, a numerical warning recovered from.
+    * ``notes`` -- what a reader should know of the run: the sliding modes and their
+      intervals, the method chosen for the contact and why, a warning recovered from.
     * ``no_hit_reason`` -- why there is no hit (``None`` when there is one).
     * ``ground_passage`` -- under the listing's behaviour (no ground during the contact):
       the first post point that went through the ground, when, and how deep the post got
@@ -197,20 +181,14 @@ class CoreResult:
     scene: Scene
     options: ModelOptions
     method: str
-    rtol: float
-    atol: float
     events: tuple[CoreEvent, ...]
     hit: Hit | None
     first_spring_lost_s: float | None
     vehicle_contact_lost_s: float | None
-    delta_v_contact_mph: float | None
     max_decel_g: float | None
-    max_decel_time_s: float | None
     terminal_points_ft: dict[str, tuple[float, float, float] | None]
-    planar: bool
     end_time_s: float
     nfev: int
-    run_time_s: float
     trajectory: Trajectory = field(repr=False)
     notes: tuple[str, ...] = ()
     no_hit_reason: str | None = None
@@ -218,9 +196,7 @@ class CoreResult:
     max_decel_after_startup_g: float | None = None
     contact_end_s: float | None = None
     #: who integrated the run: "scipy" (``solve_ivp``), "compiled" (:mod:`.dop853`, the
-    #: batch), or "compiled+scipy" (a batch run some of whose segments the compiled
-    #: integrator cannot do -- a sliding mode, a leaf spring, a stiff contact, the shaft's
-    #: segments against the car -- were solved by ``solve_ivp``)
+    #: batch), or "compiled+scipy" (a batch run some of whose segments ``solve_ivp`` solved)
     integrator: str = "scipy"
 
     @property
@@ -230,32 +206,3 @@ class CoreResult:
     @property
     def hit_time_s(self) -> float | None:
         return self.hit.time_s if self.hit else None
-
-    def summary(self) -> dict:
-        """The run's numbers as plain JSON-able values."""
-        return {
-            "preset": self.options.name,
-            "method": self.method,
-            "hit": self.hit_message,
-            "hit_point": self.hit.point if self.hit else None,
-            "hit_surface": self.hit.surface if self.hit else None,
-            "hit_time_s": self.hit_time_s,
-            "first_spring_lost_s": self.first_spring_lost_s,
-            "vehicle_contact_lost_s": self.vehicle_contact_lost_s,
-            "delta_v_contact_mph": self.delta_v_contact_mph,
-            "max_decel_g": self.max_decel_g,
-            "max_decel_time_s": self.max_decel_time_s,
-            "terminal_xl_yl_zl_ft": {
-                k: (list(v) if v is not None else None) for k, v in self.terminal_points_ft.items()
-            },
-            "planar": self.planar,
-            "events": [
-                {"name": e.name, "time_s": e.time_s, "message": e.message} for e in self.events
-            ],
-            "nfev": self.nfev,
-            "run_time_s": self.run_time_s,
-            "notes": list(self.notes),
-            "no_hit_reason": self.no_hit_reason,
-            "ground_passage": dict(self.ground_passage) if self.ground_passage else None,
-            "integrator": self.integrator,
-        }

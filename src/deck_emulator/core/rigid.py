@@ -1,4 +1,4 @@
-"""Rigid-body kinematics and the Newton-Euler equations in the post's principal axes.
+"""Quaternions and rigid-body quantities of the post's state, in its principal axes.
 
 State of the post (13 numbers), all in the units of the scene (ft, slug, s, rad):
 
@@ -10,9 +10,8 @@ State of the post (13 numbers), all in the units of the scene (ft, slug, s, rad)
 
 No Euler angles anywhere: nothing is singular at theta = 0 or cos psi = 0.
 
-The rotation and the equations of motion are the compiled laws of :mod:`.laws` (written
-once, for the scipy path and the compiled batch alike); the small helpers here use plain
-Python floats: for 3-vectors that is several times faster than NumPy.
+The rotation and the equations of motion are the compiled laws of :mod:`.laws`; the
+helpers here work on plain Python floats.
 """
 
 from __future__ import annotations
@@ -29,9 +28,6 @@ __all__ = [
     "quat_multiply",
     "quat_normalised",
     "quat_about_axis",
-    "rotate",
-    "rotate_back",
-    "post_derivative",
     "kinetic_energy",
     "angular_momentum_world",
     "attitude_angle_between",
@@ -68,37 +64,6 @@ def rotation_matrix(q):
     (eq. 3.21; the compiled law :func:`~.laws.rotation_matrix`)."""
     w, x, y, z = q
     return _laws.rotation_matrix(float(w), float(x), float(y), float(z))
-
-
-def rotate(R, v):
-    """``R @ v`` for a flat row-major ``R``."""
-    return (
-        R[0] * v[0] + R[1] * v[1] + R[2] * v[2],
-        R[3] * v[0] + R[4] * v[1] + R[5] * v[2],
-        R[6] * v[0] + R[7] * v[1] + R[8] * v[2],
-    )
-
-
-def rotate_back(R, v):
-    """``R.T @ v``: road components -> body components (eq. 3.29, 3.31)."""
-    return (
-        R[0] * v[0] + R[3] * v[1] + R[6] * v[2],
-        R[1] * v[0] + R[4] * v[1] + R[7] * v[2],
-        R[2] * v[0] + R[5] * v[1] + R[8] * v[2],
-    )
-
-
-def post_derivative(y, R, force_road, torque_road, mass, inertia):
-    """Time derivative of the 13 post states (eq. 3.16, 3.17 and the kinematics; the
-    compiled law :func:`~.laws.post_derivative`).
-
-    ``force_road``: total force, ``torque_road``: total torque about the mass centre,
-    both in road components.  Returns a list of 13 floats.
-    """
-    out = np.empty(N_POST)
-    _laws.post_derivative(np.asarray(y[:N_POST], dtype=float), tuple(R), *force_road,
-                          *torque_road, mass, *inertia, out)
-    return out.tolist()
 
 
 def kinetic_energy(y, mass, inertia):

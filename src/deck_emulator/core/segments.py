@@ -1,51 +1,25 @@
 """The shaft and the arms against the car: segments of the post checked in free flight.
 
 The listing (and :mod:`.regions`) checks only the points P, R and C against the car, so a
-shaft that falls across the hood with its ends clear of the outline goes through the car
-unseen.  Under ``ModelOptions.shaft_contact`` the core checks the post's *segments* too:
-the shaft Q-P, the arm P-R, a second arm P-U (those the scene has), and C as a point
-where it lies off them -- each against each of the car's three solid boxes
-(:func:`deck_emulator.vocabulary.scene.car_boxes`: the one outline, the boxes of the exact point checks).  The
-car is always the solid boxes here, under either preset: the listing has no segment test
-whose tolerances could be copied.
+shaft falling across the hood with its ends clear goes through the car unseen.  Under
+``ModelOptions.shaft_contact`` the core checks the segments Q-P, P-R, P-U (those the scene
+has) and C where it lies off them against each of the car's three solid boxes
+(:func:`deck_emulator.vocabulary.scene.car_boxes`), under either preset: the listing has no
+segment test whose tolerances could be copied.
 
-The event function
-------------------
-For a segment ``X(s) = A + s (B - A)``, ``0 <= s <= 1``, and a box with faces ``k`` (front,
-rear, two flanks, top; no bottom: the boxes reach down to the ground), let
-``g_k(X)`` be the signed distance of ``X`` to the plane of face ``k``, positive on the box's
-side (``XV - SV - x0``, ``x1 - (XV - SV)``, ``YV - left``, ``right - YV``, ``top - ZZ``).
-The event function is
+The event function of a segment ``X(s) = A + s (B - A)`` and a box is
+``h = max over s in [0, 1] of min over k of g_k(X(s))``, ``g_k`` the signed distance to the
+plane of face ``k`` (front, rear, two flanks, top; positive inside): the depth of the
+segment's deepest point in the box.  Each ``g_k`` is affine in ``s``, so the maximum lies at
+an end or where two lines cross: ``h`` is exact, with no iteration.  ``h`` is 1-Lipschitz in
+the ends and the car's position, hence continuous along a run, and crosses zero upwards at
+the first contact -- what scipy's event location needs (the Euclidean distance would not do:
+it stays zero through a penetration).
 
-    h = max over s in [0, 1] of  min over k of  g_k(X(s)),
-
-the depth of the segment's deepest point inside the box (negative outside: minus the
-smallest largest-face-violation along the segment).  ``h >= 0`` exactly when some point of
-the segment is in the closed box, ``h > 0`` when one is inside it, so ``h`` crosses zero
-upwards at the first contact.  Each ``g_k`` is affine along the segment, ``a_k + b_k s``;
-``min_k`` of them is concave and piecewise linear in ``s``, so its maximum over [0, 1] is
-at ``s = 0``, ``s = 1`` or where two of the lines cross: ``h`` is computed exactly from
-those (at most 12) candidates, with no iteration.
-
-Why the root finder can use it: each ``g_k`` has a unit gradient in the point's position
-(the faces are planes of the vehicle axes, a rotation of the road axes), so ``min_k g_k``
-is 1-Lipschitz in the point, and ``h`` -- a maximum over the compact set [0, 1] of a
-function continuous in ``(s, state)`` -- satisfies ``|h - h'| <= max(|A - A'|, |B - B'|)
-+ |SV - SV'|``.  Along a trajectory ``h(t)`` is therefore continuous (Lipschitz, piecewise
-smooth), and scipy's event location (a sign change bracketed between two steps, refined by
-``brentq`` on the dense output) needs only that.  The Euclidean distance of segment and
-box would not do: it is zero throughout a penetration, so it has no sign change.
-
-The surface named is the face that was crossed: at the hit, of the faces at which the
-deepest point lies (``g_k = h`` to 1e-9 ft), the one whose ``g_k`` was growing fastest
-(``g_k(t - e) ~ -e dg_k/dt`` there: the face that was the binding one just before); at an
-edge hit by a post falling straight down, the top.
-
-A segment that is already inside a box when free flight starts (right after separation the
-foot of the post can still be inside the *undeformed* outline: the crush the car took) is
-checked against that box only once it has left it -- the event fires on an upward zero
-crossing only -- as :func:`deck_emulator.engine.safety.body_clearance` counts a (segment,
-part) pair; the outcome's notes say so.
+The surface named is the face crossed: of the faces at the deepest point, the one whose
+``g_k`` grew fastest.  A segment already inside a box when free flight starts (the crush the
+car took) is checked against it only once it has left it (an upward crossing), as
+:func:`deck_emulator.engine.safety.body_clearance` counts it; the notes say so.
 """
 
 from __future__ import annotations
@@ -58,8 +32,7 @@ from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics
 from deck_emulator.vocabulary.scene import CarBox, car_boxes
 from . import laws
 
-__all__ = ["Pair", "SegmentChecks", "build_segment_checks", "segment_depth",
-           "post_segments"]
+__all__ = ["Pair", "SegmentChecks", "build_segment_checks", "post_segments"]
 
 #: faces whose depth is within this of the deepest (ft) are "at" the contact
 ACTIVE_FT = 1e-9
@@ -98,20 +71,6 @@ def post_segments(body_points: dict) -> list[tuple[str, str, str]]:
     return out
 
 
-def _faces(box: CarBox, a, b, sv):
-    """(ga, db) of the five faces along A + s (B - A) (:func:`~.laws.segment_faces`);
-    ``a``, ``b`` in XV, YV, ZZ."""
-    return laws.segment_faces(a[0], a[1], a[2], b[0], b[1], b[2], sv, box.x0_ft, box.x1_ft,
-                              box.left_ft, box.right_ft, box.top_ft)
-
-
-def segment_depth(ga, db) -> tuple[float, float]:
-    """``max over s in [0, 1] of min_k (ga[k] + db[k] s)`` and an ``s`` where it is reached
-    (:func:`~.laws.segment_depth`)."""
-    h, s = laws.segment_depth(np.asarray(ga, dtype=float), np.asarray(db, dtype=float))
-    return float(h), float(s)
-
-
 FACE_SURFACES = ("front", "rear", "SIDE", "SIDE", "top")
 
 
@@ -148,9 +107,6 @@ class SegmentChecks:
         self._cache_key, self._cache_val = key, out
         return out
 
-    def values(self, y) -> np.ndarray:
-        return np.array([h for h, _ in self.depths(y)])
-
     def events(self) -> list[EventSpec]:
         """One event per pair: ``h`` crossing zero upwards; recorded, not terminal (the
         earliest of all the free flight's candidates is the hit)."""
@@ -173,9 +129,12 @@ class SegmentChecks:
         yl = y.tolist() if isinstance(y, np.ndarray) else list(y)
         z = self._coordinates(yl)
         ia, ib = int(self.table[i][0]), int(self.table[i][1])
-        a, b = z[3 * ia: 3 * ia + 3], z[3 * ib: 3 * ib + 3]
-        ga, db = _faces(p.box, a, b, yl[IDX_SV])
-        h, s = segment_depth(ga, db)
+        a, b = z[3 * ia: 3 * ia + 3], z[3 * ib: 3 * ib + 3]  # XV, YV, ZZ of the ends
+        box = p.box
+        ga, db = laws.segment_faces(a[0], a[1], a[2], b[0], b[1], b[2], yl[IDX_SV], box.x0_ft,
+                                    box.x1_ft, box.left_ft, box.right_ft, box.top_ft)
+        h, s = laws.segment_depth(ga, db)
+        s = float(s)
         g = [float(x + d * s) for x, d in zip(ga, db)]
         active = [k for k in range(5) if g[k] <= h + ACTIVE_FT]
         kin = Kinematics(m, yl)
@@ -185,7 +144,6 @@ class SegmentChecks:
         vv = yl[IDX_VV]
         rates = (vxv - vv, vv - vxv, vyv, -vyv, -v[2])
         k = max(active, key=lambda j: rates[j])
-        box = p.box
         words = {"front": box.front_surface, "rear": box.rear_surface, "top": box.top_surface}
         name = [words.get(FACE_SURFACES[j], FACE_SURFACES[j]) for j in range(5)]
         others = tuple(dict.fromkeys(name[j] for j in active if name[j] != name[k]))

@@ -1,29 +1,23 @@
 """Sliding modes of the contact phase (Filippov) and the solid ground.
 
-Two forces of the contact phase switch on a surface of the state and can hold the state
-*on* that surface -- a sliding mode, in which an event-per-switch integration chatters
-(the on/off events repeat at one instant):
+Two forces of the contact phase switch on a surface of the state and can hold the state on
+it -- a sliding mode, where an event-per-switch integration chatters:
 
-* the ``FCONST`` cap (``ModelOptions.cap_sliding``): it is on while ``DIFF`` does not
-  decrease.  Under the cap the post falls behind (``DIFF`` decreases), under the uncapped
-  spring it runs ahead: on the surface ``dDIFF/dt = 0`` the spring force is the one that
-  keeps ``dDIFF/dt`` stationary, between the cap (lower bound) and the uncapped spring
-  force (upper bound).  The mode is left, by a located event, when that force reaches
-  either bound: at the cap the cap stays engaged, at the uncapped force it is released.
-* Coulomb friction at the base (``ModelOptions.friction_reaction``): on the surface
-  ``v_Q = 0`` (the base's velocity along ``XX``) the friction is the reaction that keeps
-  the base still, bounded by the friction limit; the base slips, against the friction,
-  once the reaction needed reaches the limit (a located event), and sticks again when its
-  velocity returns to zero while a reaction within the limit holds it.
+* the ``FCONST`` cap (``ModelOptions.cap_sliding``), on while ``DIFF`` does not decrease:
+  under the cap the post falls behind, under the uncapped spring it runs ahead, so on the
+  surface ``dDIFF/dt = 0`` the spring force is the one that keeps it there, between the cap
+  and the uncapped force; the mode ends (a located event) when that force reaches a bound,
+  the cap staying engaged at the lower one and released at the upper.
+* Coulomb friction at the base (``ModelOptions.friction_reaction``): on ``v_Q = 0`` along
+  ``XX`` the friction is the reaction that keeps the base still, up to the friction limit;
+  the base slips once the reaction needed reaches the limit and sticks again when its
+  velocity returns to zero with a reaction within the limit.
 
-Both forces act linearly on the state's derivative, so the force that keeps a surface
-stationary is found from the derivatives at the two bounds (Filippov's convex
-combination; with both modes at once, a 2 x 2 linear system).  A mode is entered only
-where it is attractive (the derivative of the surface function has opposite signs at
-the two bounds, pointing back to the surface).
-
-The solid ground (``ModelOptions.solid_ground``): events that end the run with a ground
-hit when a post point reaches the ground plane while the car still pushes.
+Both forces act linearly on the derivative, so the force that holds a surface follows from
+the derivatives at its two bounds (Filippov's convex combination; a 2 x 2 system with both
+modes); a mode is entered only where it attracts.  The solid ground
+(``ModelOptions.solid_ground``): events that end the run with a ground hit when a post point
+reaches the ground while the car still pushes.
 """
 
 from __future__ import annotations
@@ -36,7 +30,6 @@ import numpy as np
 from deck_emulator.vocabulary.events import EventKind
 from . import laws
 from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
-from .rigid import post_derivative
 
 __all__ = [
     "Filippov",
@@ -44,9 +37,7 @@ __all__ = [
     "contact_events",
     "after_event",
     "initial_mode",
-    "point_acceleration",
     "friction_force",
-    "spring_force",
     "mode_labels",
 ]
 
@@ -55,53 +46,15 @@ __all__ = [
 _INSIDE = 1e-9
 
 
-def point_acceleration(model, kin: Kinematics, d, letter: str):
-    """Road-axes acceleration (ft/s^2) of post point ``letter`` given the state derivative
-    ``d`` (:func:`~.laws.point_acceleration`)."""
-    bx, by, bz = model.body_points[letter]
-    return laws.point_acceleration(np.asarray(kin.y, dtype=float), kin.R,
-                                   np.asarray(d, dtype=float), bx, by, bz)
-
-
-class _CapSlider:
-    """The ``FCONST`` cap's surface ``dDIFF/dt = 0`` (``DIFF`` of point S)."""
-
-    name = "cap"
-
-    def __init__(self, model):
-        self.comp = model.components["vehicle contact"]
-
-
-class _StickSlider:
-    """The base's surface ``v_Q = 0`` along ``XX`` (Coulomb friction sticking)."""
-
-    name = "stick"
-
-    def __init__(self, model):
-        self.comp = model.components["base friction"]
-
-
-def _sliders(model, mode: ContactMode):
+def _sliders(mode: ContactMode) -> list[str]:
+    """The sliding surfaces ``mode`` holds, the cap's first: "cap" (``dDIFF/dt = 0`` of point
+    S) and "stick" (the base's ``v_Q = 0`` along ``XX``)."""
     out = []
     if mode.cap_sliding:
-        out.append(_CapSlider(model))
+        out.append("cap")
     if mode.friction_on and mode.friction_stick:
-        out.append(_StickSlider(model))
+        out.append("stick")
     return out
-
-
-def _derivative(model, mode, t, kin, sliders, values):
-    for s, v in zip(sliders, values):
-        s.comp.override = v
-    try:
-        acc = model.loads(t, kin, mode)
-    finally:
-        for s in sliders:
-            s.comp.override = None
-    d = post_derivative(kin.y, kin.R, acc[0:3], acc[3:6], model.mass, model.inertia)
-    d.append(kin.y[IDX_VV])
-    d.append(acc[6] / model.vehicle_mass)
-    return d, acc
 
 
 class Filippov:
@@ -113,7 +66,7 @@ class Filippov:
     def __init__(self, model, mode: ContactMode):
         self.model = model
         self.mode = mode
-        self.sliders = _sliders(model, mode)
+        self.sliders = _sliders(mode)
         self._key = None
         self._val = None
 
@@ -127,14 +80,14 @@ class Filippov:
         d = np.empty(15)
         lam, force, lo, hi, diag = (np.empty(2) for _ in range(5))
         laws.filippov(t, np.asarray(yl, dtype=float), m.law_parameters,
-                      m._mode_now(yl, self.mode), d, lam, force, lo, hi, diag)
+                      m.mode_vector(self.mode), d, lam, force, lo, hi, diag)
         val = {
             "d": d.tolist(),
             "lam": lam[:n].tolist(),
             "force": force[:n].tolist(),
             "bounds": list(zip(lo[:n].tolist(), hi[:n].tolist())),
             "diag": diag[:n].tolist(),
-            "sliders": [s.name for s in sl],
+            "sliders": sl,
         }
         self._key, self._val = key, val
         return val
@@ -152,7 +105,7 @@ class Filippov:
 
 def contact_rhs(model, mode: ContactMode):
     """The right-hand side of the contact phase in ``mode`` (sliding forces included)."""
-    if not _sliders(model, mode):
+    if not _sliders(mode):
         return model.contact_rhs(mode)
     fil = Filippov(model, mode)
     fun = lambda t, y: fil.solve(t, y)["d"]  # noqa: E731
@@ -160,19 +113,11 @@ def contact_rhs(model, mode: ContactMode):
     return fun
 
 
-def spring_force(model, t, y, mode) -> float:
-    """The spring force (lb) on the car in ``mode`` (the sliding one while the cap holds)."""
-    if mode.cap_sliding:
-        r = Filippov(model, mode).solve(t, y)
-        return r["force"][r["sliders"].index("cap")]
-    return model.vehicle_force(t, y, mode)
-
-
 def vehicle_force(model, t, y, mode) -> float:
-    """Force on the car along ``+XV`` (lb) in ``mode``."""
-    if mode.window == "kick" or not mode.cap_sliding:
-        return model.vehicle_force(t, y, mode)
-    return spring_force(model, t, y, mode)
+    """Force on the car along ``+XV`` (lb) in ``mode``, the cap's sliding force while it
+    holds (:func:`~.laws.sliding_vehicle_force`)."""
+    return laws.sliding_vehicle_force(t, np.ascontiguousarray(y, dtype=float),
+                                      model.law_parameters, model.mode_vector(mode))
 
 
 def friction_force(model, t, y, mode) -> float:
@@ -214,7 +159,7 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
         for i, s in enumerate(fil.sliders):
             out.append(
                 EventSpec(
-                    f"{s.name} sliding ends at lower bound",
+                    f"{s} sliding ends at lower bound",
                     lambda t, y, i=i: fil.solve(t, y)["lam"][i],
                     -1.0,
                     code=(laws.EV_LAM, float(i)),
@@ -222,13 +167,13 @@ def contact_events(model, mode: ContactMode) -> list[EventSpec]:
             )
             out.append(
                 EventSpec(
-                    f"{s.name} sliding ends at upper bound",
+                    f"{s} sliding ends at upper bound",
                     lambda t, y, i=i: fil.solve(t, y)["lam"][i] - 1.0,
                     +1.0,
                     code=(laws.EV_LAM_UPPER, float(i)),
                 )
             )
-            if s.name == "cap":
+            if s == "cap":
                 out.append(
                     EventSpec(
                         "cap sliding ends: cap not binding",
@@ -268,8 +213,9 @@ def _friction_state(model, mode: ContactMode, t, y) -> ContactMode:
         return trial
     # it slips: which way?  the base's acceleration with the friction at its limit against
     plus = replace(mode, friction_stick=False, friction_sign=+1.0)
-    d, _ = _derivative(model, plus, t, kin, [], [])
-    if point_acceleration(model, kin, d, "Q")[0] > 0.0:
+    d, ya = np.empty(15), np.asarray(kin.y, dtype=float)
+    laws.plain_derivative(t, ya, model.law_parameters, model.mode_vector(plus), np.empty(7), d)
+    if laws.point_acceleration(ya, kin.R, d, *model.body_points["Q"])[0] > 0.0:
         return plus
     return replace(mode, friction_stick=False, friction_sign=-1.0)
 

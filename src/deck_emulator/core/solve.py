@@ -1,31 +1,24 @@
 """Integration of a model: phases chained by located events.
 
-Contact with the car (spring at S, then at T) and free flight are integrated with
-``scipy.integrate.solve_ivp`` (``method="auto"`` by default: DOP853, and Radau for the
-contact phase of a stiff scene, see :func:`stiffness`; any ``solve_ivp`` method can be
-named).  A segment on which an explicit method meets a numerical warning is solved again
-with Radau and the outcome says so; no warning reaches the caller.  The sliding modes of
-the ``FCONST`` cap and of the base friction (:mod:`.sliding`), and -- under
-``ModelOptions.solid_ground`` -- the ground during the contact, are located events too.
-Every run ends: ``t_max_s``, ``max_evaluations`` and ``max_wall_s`` bound its work, and
-every outcome passes :func:`~.checks.check_outcome` before it is returned.  Every
-switch -- a spring losing contact, the force moving from S to T, the base friction and
-normal force ending, the ``FCONST`` cap engaging -- is an event function located by
-scipy's root finder on the step's dense output (to a few units in the last place of t);
-the integration restarts from the event with the new contact mode.  No step halving.
+Contact with the car and free flight are integrated with ``scipy.integrate.solve_ivp``
+(``method="auto"``: DOP853, and Radau for the contact of a stiff scene, :func:`stiffness`).
+Every switch -- a spring losing contact, the force moving from S to T, the base's normal
+force and friction ending, the ``FCONST`` cap, the sliding modes (:mod:`.sliding`), the
+ground under ``ModelOptions.solid_ground`` -- is an event located on the step's dense
+output; the integration restarts there in the new contact mode.  A segment on which an
+explicit method meets a numerical warning is solved again with Radau and the notes say so.
+``t_max_s``, ``max_evaluations`` and ``max_wall_s`` bound every run, and every outcome
+passes :func:`~.checks.check_outcome`.
 
-scipy pitfalls handled here (see the project notes): an event that is zero at the start
-of a segment and moving in its direction fires at once -- so after an event the next
-segment either drops that function (a latch) or watches it in the opposite direction;
-two crossings inside one step are missed -- so the step is bounded by ``max_step_s``;
-segments are kept apart (no concatenated dense output with duplicate times).
+scipy fires an event that is zero at a segment's start, so after an event the next segment
+drops that function or watches it the other way; it misses two crossings in one step, so
+the step is bounded by ``max_step_s``; segments are kept apart (no duplicate times).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-import time
 import warnings
 
 import numpy as np
@@ -36,12 +29,12 @@ from deck_emulator.vocabulary.events import (
     EventKind,
     hit_message,
 )
-from deck_emulator.vocabulary.scene import PHYSICAL, ModelOptions, Scene
-from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
+from deck_emulator.vocabulary.scene import ModelOptions, Scene
+from deck_emulator.vocabulary.units import force_in_g
 
 from . import laws, sliding
 from .checks import check_outcome, ground_tolerance_ft
-from .kinematics import IDX_VV, N_STATE, ContactMode
+from .kinematics import N_STATE, ContactMode
 from .laws import working_clock
 from .model import Model, assemble
 from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
@@ -150,6 +143,10 @@ class _Run:
             else:
                 self.contact_method = "DOP853"
             self.method = self.contact_method
+
+    def integrator(self) -> str:
+        """Who integrated the run (``CoreResult.integrator``)."""
+        return "scipy"
 
     def _guarded(self, fun):
         def wrapped(t, y):
@@ -306,9 +303,8 @@ class _Run:
             self._close_mode(label, t)
 
     def _log(self, name, t):
-        if name.startswith("base ") and name in ("base stops sliding",):
-            return
-        if " sliding ends " in name or name.startswith("cap sliding"):
+        if name == "base stops sliding" or " sliding ends " in name or name.startswith(
+                "cap sliding"):
             return
         self.events.append(CoreEvent(name, t, LOST_MESSAGES.get(name, "")))
 
@@ -460,17 +456,16 @@ class _Run:
     # -- summary
 
     def max_vehicle_force(self):
-        """Largest force on the car over the contact segments, and over those after the
-        start-up kick's window: ((lb, time s), (lb, time s)); each segment searched once."""
-        best = after = (-math.inf, None)
+        """Largest force on the car (lb) over the contact segments, and over those after the
+        start-up kick's window; each segment searched once."""
+        best = after = -math.inf
         for seg in self.segments:
             if seg.phase != "contact" or seg.t1 <= seg.t0:
                 continue
-            fk, tk = self._segment_max_force(seg)
-            if fk > best[0]:
-                best = (fk, float(tk))
-            if (seg.mode is None or seg.mode.window is None) and fk > after[0]:
-                after = (fk, float(tk))
+            fk = self._segment_max_force(seg)[0]
+            best = max(best, fk)
+            if seg.mode is None or seg.mode.window is None:
+                after = max(after, fk)
         return best, after
 
     def _segment_max_force(self, seg):
@@ -535,28 +530,24 @@ def _heights(m, ys, q, name):
     ) * bz
 
 
-def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> CoreResult:
+def _result(run: _Run, scene: Scene, options: ModelOptions) -> CoreResult:
     m = run.model
     traj = Trajectory(run.segments, m)
     end = run.hit.time_s if run.hit else traj.t_end
-    delta_v = max_g = max_t = max_g_after = None
+    max_g = max_g_after = None
     notes = list(run.notes)
     t_release = run.vehicle_lost
     if t_release is None and run.hit_in_contact:
         t_release = run.contact_end
     if scene.vehicle is not None and t_release is not None:
-        vv_loss = float(traj.state(t_release)[IDX_VV])
-        delta_v = speed_lost_mph(scene.vehicle.initial_velocity_ft_s, vv_loss)
-        (f, max_t), (f_after, _) = run.max_vehicle_force()
+        f, f_after = run.max_vehicle_force()
         if not math.isfinite(f):
-            max_t = None
             notes.append("no largest deceleration: the contact lasted no time")
         elif m.gravity > 0.0:
             max_g = force_in_g(float(f), m.vehicle_mass, m.gravity)
             if math.isfinite(f_after):
-                max_g_after = float(f_after) / (m.vehicle_mass * m.gravity)
+                max_g_after = force_in_g(float(f_after), m.vehicle_mass, m.gravity)
         else:
-            max_t = None
             notes.append(
                 "the largest deceleration in g is not defined: gravity G = "
                 f"{m.gravity:g} ft/s^2"
@@ -603,26 +594,21 @@ def _result(run: _Run, scene: Scene, options: ModelOptions, started: float) -> C
         scene=scene,
         options=options,
         method=run.method,
-        rtol=run.rtol,
-        atol=run.atol,
         events=tuple(sorted(run.events, key=lambda e: e.time_s)),
         hit=run.hit,
         first_spring_lost_s=run.first_lost,
         vehicle_contact_lost_s=run.vehicle_lost,
-        delta_v_contact_mph=delta_v,
         max_decel_g=max_g,
-        max_decel_time_s=max_t,
         terminal_points_ft=terminal,
-        planar=scene.is_planar,
         end_time_s=end,
         nfev=run.nfev,
-        run_time_s=time.perf_counter() - started,
         trajectory=traj,
         notes=tuple(notes),
         no_hit_reason=reason,
         ground_passage=passage,
         max_decel_after_startup_g=max_g_after,
         contact_end_s=t_release,
+        integrator=run.integrator(),
     )
 
 
@@ -664,7 +650,7 @@ def _checked(result: CoreResult, check: bool) -> CoreResult:
 
 def simulate(
     scene: Scene,
-    options: ModelOptions = PHYSICAL,
+    options: ModelOptions,
     *,
     method: str = CORE_METHOD,
     rtol: float = CORE_RTOL,
@@ -675,8 +661,9 @@ def simulate(
     max_wall_s: float | None = MAX_WALL_S,
     check: bool = True,
 ) -> CoreResult:
-    """Run ``scene`` from t = 0: contact with the car (if it has one), then free flight
-    until the first hit (or ``t_max_s``).
+    """Run ``scene`` under ``options`` (a preset: ``vocabulary.scene.PRESETS``) from t = 0:
+    contact with the car (if it has one), then free flight until the first hit (or
+    ``t_max_s``).
 
     ``method``: a ``solve_ivp`` method, or ``"auto"`` (DOP853; Radau for the contact phase
     of a stiff scene, see :func:`stiffness`).  The core's work is bounded by ``t_max_s``
@@ -692,7 +679,6 @@ def simulate(
 def _simulate_with(run_class, scene, options, method, rtol, atol, max_step_s, t_max_s,
                    max_evaluations, max_wall_s, check) -> CoreResult:
     """:func:`simulate` with the run's integration by ``run_class`` (a :class:`_Run`)."""
-    started = time.perf_counter()
     check_inertia(scene)
     model = assemble(scene, options)
     run = run_class(model, method, rtol, atol, max_step_s, t_max_s, max_evaluations,
@@ -707,18 +693,14 @@ def _simulate_with(run_class, scene, options, method, rtol, atol, max_step_s, t_
             run.free_flight(t, y)
         if run.ground_passage is not None:
             run.report_ground_passage()
-    result = _result(run, scene, options, started)
-    integrator = getattr(run, "integrator", None)
-    if integrator is not None:
-        result = dataclasses.replace(result, integrator=integrator())
-    return _checked(result, check)
+    return _checked(_result(run, scene, options), check)
 
 
 def free_flight(
     scene: Scene,
     state,
-    t0_s: float = 0.0,
-    options: ModelOptions = PHYSICAL,
+    t0_s: float,
+    options: ModelOptions,
     *,
     method: str = CORE_METHOD,
     rtol: float = CORE_RTOL,
@@ -731,7 +713,6 @@ def free_flight(
 ) -> CoreResult:
     """Free flight of the post from ``state`` (15 numbers, the layout of
     :class:`~.result.Trajectory`) at ``t0_s`` until the first hit or ``t_max_s``."""
-    started = time.perf_counter()
     model = assemble(scene, options)
     state = np.asarray(state, dtype=float)
     if state.shape != (N_STATE,):
@@ -740,4 +721,4 @@ def free_flight(
     laws.compile_functions()  # the laws scipy calls: numba's compiled ones
     run = _Run(model, method, rtol, atol, max_step_s, t_max, max_evaluations, max_wall_s)
     run.free_flight(t0_s, state)
-    return _checked(_result(run, scene, options, started), check)
+    return _checked(_result(run, scene, options), check)
