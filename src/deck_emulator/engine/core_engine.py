@@ -81,7 +81,7 @@ class CoreEngine:
     preset: str = defaults.CORE_PRESET
     options: object = None
     shaft_contact: bool | None = None
-    method: str = "auto"
+    method: str = defaults.CORE_METHOD
     rtol: float = defaults.CORE_RTOL
     atol: float = defaults.CORE_ATOL
     t_max_s: float = defaults.T_MAX_S
