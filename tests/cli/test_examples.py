@@ -133,7 +133,6 @@ def test_the_examples_are_found():
         c for c, _ in examples("docs/sensitivity.md")]
 
 
-@pytest.mark.parametrize("document", DOCUMENTS)
 def _long(document: str) -> tuple[str, ...]:
     """The examples of a document that run with -m slow_corpus: those of :data:`LONG`, and all
     but the first of docs/diff.md, whose sections are one command (a diff at five step sizes,
@@ -143,6 +142,7 @@ def _long(document: str) -> tuple[str, ...]:
     return LONG.get(document, ())
 
 
+@pytest.mark.parametrize("document", DOCUMENTS)
 def test_every_example_runs_as_written(document, tmp_path):
     long = _long(document)
     commands = [(c, s) for c, s in examples(document) if c not in long]
