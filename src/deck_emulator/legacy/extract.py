@@ -151,11 +151,8 @@ class Outcome:
     crush_pulse_end_s: float | None  # TIME of the block the crush pulse ends at
     vehicle_speed_fps: Mapping[str, float | None]  # VVA at each of INSTANTS
     max_fsa_lb: float | None  # over the printed contact blocks
-    max_fsa_time_s: float | None
     terminal: Mapping[str, PointL]  # "P", "Q", "R", "C" in XL, YL, ZL
     terminal_time_s: float | None  # TIME of the block the terminal coordinates come from
-    contact_blocks: int
-    free_blocks: int
     notes: tuple[str, ...] = field(default=())
 
 
@@ -252,8 +249,7 @@ def extract(printout, deck) -> Outcome:
     final_time = times[-1] if times else None
 
     # the largest printed spring force
-    fsa = [(b.values["FSA"], b.time) for b in contact if b.values.get("FSA") is not None]
-    max_fsa, max_t = max(fsa, key=lambda p: p[0]) if fsa else (None, None)
+    fsa = [b.values["FSA"] for b in contact if b.values.get("FSA") is not None]
 
     # the vehicle's speed at each instant
     fconst = d["FCONST"]
@@ -303,7 +299,6 @@ def extract(printout, deck) -> Outcome:
     return Outcome(
         events=tuple(events), hit=hit, hit_time_s=hit_time, final_time_s=final_time,
         crush_pulse_end_s=crush_end_s, vehicle_speed_fps=MappingProxyType(speeds),
-        max_fsa_lb=max_fsa, max_fsa_time_s=max_t, terminal=MappingProxyType(terminal),
-        terminal_time_s=None if term is None else term.time,
-        contact_blocks=len(contact), free_blocks=len(free), notes=tuple(notes),
+        max_fsa_lb=max(fsa, default=None), terminal=MappingProxyType(terminal),
+        terminal_time_s=None if term is None else term.time, notes=tuple(notes),
     )
