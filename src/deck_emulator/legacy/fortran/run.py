@@ -369,38 +369,29 @@ class Runner:
     def read(self, fmt: int, unit: str):
         """READ(5,fmt) in ``unit``: the next data card's fields, by the unit's FORMAT fmt,
         through the arithmetic."""
-        import re
-
         from deck_emulator.legacy.deck import read_field
+        from deck_emulator.legacy.printer import format_layout
 
-        if self.card >= len(self.deck.cards):
-            raise EmulatorError(f"READ past the last of the deck's {len(self.deck.cards)} data "
-                                "cards", label=self.label, step=self.step, guard="read")
         values = []
-        col = 0
-        text = self.formats[unit][fmt]
-        card = self.deck.cards[self.card]
-        for m in re.finditer(r"(\d+)H|(\d+)X|F(\d+)\.(\d+)|/", text[1:-1]):
-            if m.group(1):  # (a Hollerith text would be overwritten by the card: skipped)
-                col += int(m.group(1))
-            elif m.group(2):
-                col += int(m.group(2))
-            elif m.group(3):
-                w, d = int(m.group(3)), int(m.group(4))
+        for n, pieces in enumerate(format_layout(self.formats[unit][fmt])):
+            if self.card >= len(self.deck.cards):
+                slash = f" (FORMAT {fmt}'s /)" if n else ""
+                raise EmulatorError(f"READ{slash} past the last of the deck's "
+                                    f"{len(self.deck.cards)} data cards", label=self.label,
+                                    step=self.step, guard="read")
+            card, col = self.deck.cards[self.card], 0
+            for piece in pieces:
+                if type(piece) is str:  # nX, or a Hollerith text the card would overwrite
+                    col += len(piece)
+                    continue
+                w, d = piece
                 raw = card[col:col + w].ljust(w)
                 _, exact = read_field(raw, name=f"field {len(values) + 1}", card=self.card + 1,
                                       columns=(col + 1, col + w), path=self.deck.path,
                                       decimals=d)
                 values.append(self.ar.decimal(exact))
                 col += w
-            else:
-                self.card += 1
-                if self.card >= len(self.deck.cards):
-                    raise EmulatorError(f"READ (FORMAT {fmt}'s /) past the last of the deck's "
-                                        f"{len(self.deck.cards)} data cards", label=self.label,
-                                        step=self.step, guard="read")
-                card, col = self.deck.cards[self.card], 0
-        self.card += 1
+            self.card += 1
         return values
 
     def record(self, phase: str, *values):
