@@ -640,19 +640,6 @@ class IBM7094Arithmetic(Arithmetic):
         ``"4.4E-5"``), chopped or rounded as the ``decimal`` assumption says."""
         return _decimal_word(text, self._dec_nearest)
 
-    def ipow(self, x: Word, n: int) -> Word:
-        """``X**n`` for a small integer constant: repeated FMP, ((x*x)*x)*..."""
-        if type(x) is not Word:
-            raise TypeError(f"ipow of {type(x).__name__}, not Word")
-        if n < 0:
-            raise ValueError("negative integer powers are not modelled")
-        if n == 0:
-            return ONE
-        r = x
-        for _ in range(n - 1):
-            r = r * x
-        return r
-
     def sin(self, x: Word) -> Word:
         if type(x) is not Word:
             raise TypeError(f"sin of {type(x).__name__}, not Word")
