@@ -223,7 +223,7 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
             if stat.S_ISDIR(mode):
                 raise IsADirectoryError
             if stat.S_ISREG(mode):
-                data = _read_all(fd, limit)
+                data = read_at_most(fd, limit)
             elif stat.S_ISFIFO(mode):
                 data = _read_stream(fd, shown, limit, wait_s)
             else:
@@ -251,7 +251,7 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
     return shown, data
 
 
-def _read_all(fd: int, limit: int) -> bytes:
+def read_at_most(fd: int, limit: int) -> bytes:
     """A regular file's bytes, at most ``limit`` + 1 (one more tells that it is too large)."""
     chunks, size = [], 0
     while size <= limit:

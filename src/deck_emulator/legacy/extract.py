@@ -1,4 +1,5 @@
-"""The outcomes the report tabulates, read back from a line-printer printout of the 1967 program.
+"""What the report's authors read off a line-printer printout of the 1967 program: its events,
+instants and printed values.
 
 Works on any printout of ``legacy/luminaire.f``: a gfortran golden (``golden/*.txt``) or the
 emulator's ``Run.records`` -- text, a list of records, or an object with ``.records``. Only what
@@ -30,8 +31,8 @@ How the printout is laid out (labels of ``legacy/luminaire.f``)
 
 What is read
 ------------
-Instants, events and printed values only; the quantities (a speed lost, a deceleration in g)
-are computed from them elsewhere, by their one formula (:mod:`deck_emulator.vocabulary.units`).
+No quantity: a speed lost or a deceleration in g is computed from these by its one formula
+(:mod:`deck_emulator.vocabulary.units`).
 
 * ``final_time_s``: the last TIME printed.
 * ``max_fsa_lb``: the largest FSA printed in a contact block (a peak between two prints is
