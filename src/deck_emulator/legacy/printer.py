@@ -81,20 +81,8 @@ def format_layout(fmt: str) -> list[list]:
     return records
 
 
-@functools.cache
-def _listing_layouts() -> tuple[dict, dict]:
-    """The listing's FORMATs laid out (:func:`format_layout`) and their fields' decimals, by label:
-    made when first asked (a run lays out its program's own FORMATs; the printout readers
-    ask for :data:`VALUE_FIELDS`)."""
-    layouts = {label: format_layout(text) for label, text in FORMATS.items()}
-    return layouts, {label: [d for _, d in format_fields(layout)]
-                     for label, layout in layouts.items()}
-
-
 def __getattr__(name: str):
-    # _DECIMALS and VALUE_FIELDS: the listing's, made when first read
-    if name == "_DECIMALS":
-        return _listing_layouts()[1]
+    # VALUE_FIELDS: the listing's, made when first read (a run lays out its own FORMATs)
     if name == "VALUE_FIELDS":
         return _value_fields()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -135,7 +123,8 @@ def _value_fields() -> tuple[ValueField, ...]:
     shape = re.compile(re.escape(before) + r"(\w+)" + re.escape(after))
     fields: list[ValueField] = []
     page = 0
-    for label, records in _listing_layouts()[0].items():
+    for label, text in FORMATS.items():
+        records = format_layout(text)
         if records[0] == ["1"]:  # 1H1: a new page
             page = label
         for pieces in records:
@@ -206,12 +195,10 @@ class Printer:
         self.records: list[str] = []
         self._plans: dict = {}  # (binary) label -> (values, its records' templates): _plan
         # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
-        if formats is None:
-            self._layouts, self._decimals = _listing_layouts()
-        else:
-            self._layouts = {label: format_layout(text) for label, text in formats.items()}
-            self._decimals = {label: [d for _, d in format_fields(layout)]
-                              for label, layout in self._layouts.items()}
+        formats = FORMATS if formats is None else formats
+        self._layouts = {label: format_layout(text) for label, text in formats.items()}
+        self._decimals = {label: [d for _, d in format_fields(layout)]
+                          for label, layout in self._layouts.items()}
 
     def _field(self, value, w: int, d: int) -> str:
         if self._binary:
