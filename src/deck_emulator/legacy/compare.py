@@ -214,9 +214,6 @@ def _difference(x: Record, y: Record, tolerance: float) -> Difference | None:
             return None
         return Difference(x.line, y.line, time, MESSAGE, repr(_shown(x)), repr(_shown(y)),
                           None)
-    if x.name != y.name:  # cannot happen: records line up by their labels
-        raise AssertionError(f"records {x.line} and {y.line} lined up with labels "
-                             f"{x.name} and {y.name}")
     if OVERFLOW in (x.reading, y.reading):
         if x.reading == y.reading:
             return None

@@ -24,6 +24,7 @@ READ-list name where that applies.  No other exception escapes :func:`read_deck`
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import re
@@ -514,17 +515,13 @@ _PUNCH_FORMATS = (
 )
 
 
-_WRITERS: dict = {}
-
-
+@functools.cache
 def _writer(fmt: str):
     """fortranformat's writer of ``fmt`` (imported here: only punching a changed field needs
     it)."""
-    if fmt not in _WRITERS:
-        from fortranformat import FortranRecordWriter
+    from fortranformat import FortranRecordWriter
 
-        _WRITERS[fmt] = FortranRecordWriter(fmt)
-    return _WRITERS[fmt]
+    return FortranRecordWriter(fmt)
 
 
 def _same(a: float, b: float) -> bool:
