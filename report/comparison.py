@@ -34,15 +34,14 @@ from deck_emulator.legacy.arithmetic import get_arithmetic
 from deck_emulator.legacy.deck import read_deck
 from deck_emulator.engine import EmulatorEngine
 from deck_emulator.legacy.printer import event_message
-from deck_emulator.legacy.extract import (
-    DELTA_V_CANDIDATES,
-    DELTA_V_DEFINITION,
-    Block,
-    extract,
-    parse_printout,
-)
+from deck_emulator.legacy.extract import INSTANTS, Block, extract, parse_printout
 from deck_emulator.studies.report_tables import CASES, REPORT, SOURCE, report_time_ms
-from deck_emulator.vocabulary.units import speed_lost_mph
+from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
+
+#: The readings of the report's ΔV: the vehicle's speed lost at each instant ``extract`` reads.
+DELTA_V_CANDIDATES = INSTANTS
+#: The one reported as ``delta_v_crush_mph``: of the four it alone comes near the report.
+DELTA_V_DEFINITION = "crush_pulse_end"
 
 DECKS = ("steel40", "steel40_a15", "steel40_a30", "steel20", "steel20_a15", "steel20_a30")
 COMMAND = "python scripts/compare_report.py"
@@ -126,6 +125,24 @@ def event_time(outcome, needle):
         if needle in e.message:
             return e.time_s
     return None
+
+
+class Reading:
+    """A printout's instants and values (``extract``) with the report's ΔV readings and
+    maximum deceleration computed from them by their one formula each."""
+
+    def __init__(self, printout, deck):
+        d = deck.values
+        self.printed = extract(printout, deck)
+        self.delta_v_candidates_mph = {
+            c: None if v is None else speed_lost_mph(d["VVB"], v)
+            for c, v in self.printed.vehicle_speed_fps.items()}
+        self.delta_v_crush_mph = self.delta_v_candidates_mph[DELTA_V_DEFINITION]
+        fsa = self.printed.max_fsa_lb
+        self.max_decel_g = None if fsa is None else force_in_g(fsa, d["WV"], d["G"])
+
+    def __getattr__(self, name):
+        return getattr(self.printed, name)
 
 
 def rows_for(outcome):
@@ -279,13 +296,13 @@ def build(runs: dict, seconds: float) -> str:
         gp, errata = golden_path(n)
         goldens[n] = (gp, errata)
         text = gp.read_text()
-        og = extract(text, decks[n])
-        od = extract(runs[(n, "double", errata)]["records"], decks[n])
-        oi = extract(runs[(n, "ibm7094", errata)]["records"], decks[n])
+        og = Reading(text, decks[n])
+        od = Reading(runs[(n, "double", errata)]["records"], decks[n])
+        oi = Reading(runs[(n, "ibm7094", errata)]["records"], decks[n])
         outcomes[n] = dict(golden=og, double=od, ibm7094=oi)
         rows[n] = {k: rows_for(o) for k, o in outcomes[n].items()}
         equal_records[n] = (text.splitlines() == runs[(n, "double", errata)]["records"],
-                            og.summary_dict() == od.summary_dict())
+                            og.printed == od.printed)
     arith_7094 = runs[("steel40", "ibm7094", ())]["arithmetic"]
 
     w("# The report's Tables 11 and 12 beside the listing's printouts")

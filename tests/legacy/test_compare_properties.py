@@ -37,7 +37,6 @@ ROOT = Path(__file__).resolve().parents[2]
 STEEL40 = ROOT / "golden" / "steel40.r8.txt"
 LINES = STEEL40.read_text().split("\n")
 VALUE = re.compile(r"THE VALUE OF (\w+) IS +(\S+)")
-RECORD = re.compile(r"THE VALUE OF \w+ IS +\S+|THE POST HAS .*?(?=\s*THE |\s*$)")
 #: every printed value of A: (line index, label, the field's span on its line)
 FIELDS = [(k, m.group(1), m.span(2)) for k, line in enumerate(LINES)
           for m in VALUE.finditer(line)]

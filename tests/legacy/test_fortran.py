@@ -34,13 +34,6 @@ def _deck(name: str):
     return read_deck(ROOT / "decks" / f"{name}.dat")
 
 
-def _ended(runner):
-    try:
-        return runner.run(), None
-    except EmulatorError as exc:
-        return exc.run, exc
-
-
 def test_the_7094s_arithmetic_tells_the_goldens_story():
     """The 7094's 27-bit words take other steps than binary64 (4129 records, the golden 4769),
     so its printout is not the golden's; the story is: the same three events, in order, at

@@ -291,14 +291,6 @@ def test_zero_operands():
         ZERO / ZERO
 
 
-def test_ipow_is_repeated_fmp():
-    x = AR.decimal("1.1")
-    assert AR.ipow(x, 1).octal() == x.octal()
-    assert AR.ipow(x, 2).octal() == (x * x).octal()
-    assert AR.ipow(x, 3).octal() == ((x * x) * x).octal()
-    assert AR.ipow(x, 0) == ONE
-
-
 # --- underflow and overflow ---------------------------------------------------------------------
 
 

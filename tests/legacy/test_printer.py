@@ -12,7 +12,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from deck_emulator.legacy.printer import FORMATS, Printer, _DECIMALS, printable
+from deck_emulator.legacy.printer import (FORMATS, Printer, format_fields, format_layout,
+                                          printable)
 
 
 def values(seed: int, n: int):
@@ -27,7 +28,8 @@ def values(seed: int, n: int):
 @pytest.mark.parametrize("label", sorted(FORMATS))
 def test_layout_matches_fortranformat(label):
     writer = fortranformat.FortranRecordWriter(FORMATS[label])
-    n = len(_DECIMALS[label])
+    decimals = [d for _, d in format_fields(format_layout(FORMATS[label]))]
+    n = len(decimals)
     vals = values(label, 200)
     for binary in (True, False):
         printer = Printer(binary=binary)
@@ -35,7 +37,7 @@ def test_layout_matches_fortranformat(label):
         for i in range(0, len(vals) - n + 1, max(n, 1)):
             args = vals[i:i + n]
             printer.write(label, *args)
-            items = [printable(Fraction(v), d) for v, d in zip(args, _DECIMALS[label])]
+            items = [printable(Fraction(v), d) for v, d in zip(args, decimals)]
             expected.extend(writer.write(items).split("\n"))
             if n == 0:
                 break

@@ -75,13 +75,35 @@ def compare(old: list[np.ndarray], new: list[np.ndarray]) -> dict[str, float]:
             "largest difference averaged 3x3": round(averaged, 1)}
 
 
+def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
+    """One form as a matplotlib Figure, 14 7/8 by 11 inches, from the pages' own geometry: the
+    independent drawing the direct writer is checked against."""
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Circle, Rectangle
+
+    from deck_emulator.legacy import pages as p
+
+    w, h = p.PAGE_WIDTH_IN, p.PAGE_HEIGHT_IN
+    fig = Figure(figsize=(w, h))
+    for x, y, width, height in p.paper_bars(paper):
+        fig.add_artist(Rectangle((x / w, y / h), width / w, height / h,
+                                 transform=fig.transFigure, color=p.BAR_RGB, lw=0))
+    for x, y in p.tractor_holes():
+        fig.add_artist(Circle((x / w, y / h), p.HOLE_RADIUS_IN / w, transform=fig.transFigure,
+                              fill=False, color=p.HOLE_RGB, lw=p.HOLE_LINE_PT))
+    for line, first, text in p.printed_lines(form):
+        fig.text(p.column_x_in(first) / w, p.baseline_in(line) / h, text,
+                 family="DejaVu Sans Mono", size=p.FONT_SIZE_PT, ha="left", va="baseline")
+    return fig
+
+
 def _matplotlib_pdf(records: list[str], path: Path, paper: str) -> None:
     """The pages as they were drawn before: a matplotlib figure a form (form_figure), the
     TrueType face embedded as such (type 42)."""
     from matplotlib import rc_context
     from matplotlib.backends.backend_pdf import PdfPages
 
-    from deck_emulator.legacy.pages import form_figure, layout
+    from deck_emulator.legacy.pages import layout
 
     with rc_context({"pdf.fonttype": 42}), PdfPages(path, metadata={"CreationDate": None}) as pdf:
         for form in layout(records):

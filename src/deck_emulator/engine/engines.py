@@ -237,15 +237,18 @@ def _printed_quantities(fields: dict, run, deck) -> list[str]:
     the report's authors read the paper); its notes."""
     from deck_emulator.legacy.extract import ExtractError, extract
 
+    d = deck.values
     try:
         printed = extract(run.records, deck)
+        max_decel_g = (None if printed.max_fsa_lb is None
+                       else force_in_g(printed.max_fsa_lb, d["WV"], d["G"]))
     except (ExtractError, ZeroDivisionError) as exc:  # said in the outcome's notes
         fields["notes"] = (f"the printout's own numbers could not be read "
                            f"({type(exc).__name__}: {exc}): the speed lost by the end of the "
                            "crush pulse, the largest printed deceleration and the terminal "
                            "points are not given",)
         return []
-    fields.update(crush_end_s=printed.crush_pulse_end_s, max_decel_g=printed.max_decel_g,
+    fields.update(crush_end_s=printed.crush_pulse_end_s, max_decel_g=max_decel_g,
                   terminal={k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()})
     return list(printed.notes)
 

@@ -1,57 +1,7 @@
-"""Card image files: the formats archives keep punched cards in, read and written.
-
-Each format is the one open-simh's generic card reader and punch define (``sim_card.c``,
-by Richard Cornwell, in the simh repository; its header comment and the routines
-``_sim_parse_card``, ``sim_punch_card``, ``sim_bcd_to_hol`` and ``sim_hol_to_bcd``):
-
-``text``
-    One card a line, LF or CRLF; a short line is a card padded with blanks, blanks after
-    column 80 are tolerated (characters are checked by the deck reader, which names the
-    card and column of anything a card cannot hold); a line holding ``~`` alone (blanks after it allowed) is the end
-    of the file; ``~eor``, ``~eof``, ``~eoi`` stand for the 7-8-9, 6-7-9 and 6-7-8-9 end
-    cards.  The characters are the card's as they stand (no keypunch code applies).  One
-    departure: the simulator expands a tab to the next multiple of 8 columns; the deck
-    reader refuses tabs, naming the card and column, since a data card's columns matter.
-``binary``
-    160 bytes a card, two a column: column ``c`` is ``((b[2c] >> 4) & 0xF) | (b[2c+1] << 4)``,
-    rows 12, 11, 0, 1 ... 9 in bits 11 ... 0; the low four bits of every even byte are 0.
-``cbn`` (column binary)
-    160 bytes a card: byte ``2c`` holds rows 12-3 of column ``c`` (bits 11-6 of the column),
-    byte ``2c+1`` rows 4-9 (bits 5-0); bit 6 of every byte is odd parity over the byte's
-    seven low bits; bit 7 is set on the first byte of each card only.  A record of one byte
-    0x8F (octal 217) is a tape mark, the end of the file.  The simulator's punch writes
-    every record whole; a shorter even record is read as a card with blank columns after it,
-    except as the file's last record (below).
-``bcd``
-    One record a card, at most 80 bytes, one 6-bit BCD character a byte with even parity in
-    bit 6, bit 7 set on the first byte of each card (the record mark); a short record is a
-    card with blanks after it.  Characters become holes as ``sim_bcd_to_hol`` has it: 020 is
-    a blank column, 012 the digit 0, 000 an 8-2 punch.  ``sim_hol_to_bcd`` (the simulator's
-    punch) writes a blank column as 000, which its own reader takes for 8-2; this module
-    writes a blank as 020, the inverse of the reader, so that a card it punches reads back,
-    and writes its last card whole (all 80 characters).
-
-A file cut short: in the binary format its length is not a multiple of 160 bytes; in CBN and
-BCD the cut leaves a short last record, which reads as the same card with blanks (zeros, to
-FORTRAN) where its last columns were -- 1200.0 read as 12000 or 0, and no error.  So a short
-record is taken as a card only when something follows it (the next card's record mark or a
-tape mark); a short *last* record is refused, naming the card and its bytes, as a text deck's
-last line stopping short with no line end is.  This departs from the simulator, whose reader
-takes the short last record, and whose BCD punch trims the last card's blanks too: such a
-file reads here once its last card is given all 80 columns or a tape mark is added after it.
-
-Autodetection follows the simulator: a record mark in the first byte and odd parity
-throughout the first card mean CBN, even parity BCD (the simulator's test for BCD compares
-the count of *odd* bytes with 80, which can never hold for even-parity bytes; the evident
-intent is followed), 160 bytes with all even bytes' low nibbles zero mean binary, anything
-else text.  A file is taken as detected only if it reads whole in exactly one format (the
-one the simulator picks, when it picks one); if it reads in several, the error says which
-and ``--card-format`` decides; if in none, it is read in the format it most resembles (the
-simulator's pick, or, after a record mark, CBN or BCD by the parity of most bytes), so that
-the error names the card and column where that format breaks.
-
-Binary images hold holes, not characters: :func:`card_texts` turns them into text with a
-keypunch code (:mod:`deck_emulator.legacy.keypunch`).
+"""Card image files: the formats archives keep punched cards in (open-simh's ``sim_card.c``:
+text, binary, column binary, BCD), read, detected and written; a file cut short is refused.
+Each format's layout and where the package departs from the simulator: docs/emulator.md,
+"Card image files".
 """
 
 from __future__ import annotations

@@ -1,31 +1,12 @@
 """Two printouts of the 1967 program, lined up by their records.
 
-Each printout is read into its records (:func:`~deck_emulator.legacy.records.read_records`:
-labelled values and messages, whatever the page layout), and the two sequences are lined up
-by their content as a diff lines up lines: a value by its printed label and its block's TIME,
-a message by its words.  A stretch where the two do not line up so (a block whose TIME differs
-or was lost) is lined up again by the labels alone, and there a record whose label cannot be
-read lines up with the other's record at its place.  So one record lost or added, or a page
-mark, costs one finding, not every record after it.
-
-Every record of both printouts ends in exactly one of these, counted apart:
-
-* **compared**: two readable records lined up -- **equal**, or **differing**: two values that
-  differ by more than ``tolerance`` (0: exactly as printed, the sign of a zero included), or
-  where one field overflowed (``*``) and the other did not; two messages whose words differ;
-* **unreadable**: a record of either printout whose value, label or words cannot be read
-  (:mod:`~deck_emulator.legacy.records`): nothing is compared with it, and the record lined up
-  with it in the other printout is not compared either;
-* **missing**: a readable record of one printout that lines up with none of the other's.
-
-A record read through a scan's damage (``F5A`` for ``FSA``, ``O`` for ``0``) is compared as
-read, and named (``damaged``) with its line as it stands.
-
-The verdict is computed from these counts and from nothing else (:attr:`Comparison.verdict`):
-``agree`` only when every record of both printouts was lined up, compared and equal; ``differ``
-when a value differs or a record is missing; otherwise ``unreadable``: no difference was found
-among what could be read, but not every value could be compared, so no agreement is claimed.
-Findings name each value by the label printed on the paper (``THFA``, ``ZXCMA``).
+Each printout is read into its records (:func:`~deck_emulator.legacy.records.read_records`),
+and the two sequences are lined up by their content as a diff lines up lines: a value by its
+printed label and its block's TIME, a message by its words; a stretch that does not line up
+so is lined up again by the labels alone.  Every record of both printouts ends compared
+(equal or differing), unreadable or missing, and the verdict is computed from these counts
+alone (:attr:`Comparison.verdict`): ``agree`` only when every record was lined up, compared
+and equal.  The rules as a user reads them: README, "compare".
 """
 
 from __future__ import annotations
@@ -233,9 +214,6 @@ def _difference(x: Record, y: Record, tolerance: float) -> Difference | None:
             return None
         return Difference(x.line, y.line, time, MESSAGE, repr(_shown(x)), repr(_shown(y)),
                           None)
-    if x.name != y.name:  # cannot happen: records line up by their labels
-        raise AssertionError(f"records {x.line} and {y.line} lined up with labels "
-                             f"{x.name} and {y.name}")
     if OVERFLOW in (x.reading, y.reading):
         if x.reading == y.reading:
             return None

@@ -24,6 +24,7 @@ READ-list name where that applies.  No other exception escapes :func:`read_deck`
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import re
@@ -223,7 +224,7 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
             if stat.S_ISDIR(mode):
                 raise IsADirectoryError
             if stat.S_ISREG(mode):
-                data = _read_all(fd, limit)
+                data = read_at_most(fd, limit)
             elif stat.S_ISFIFO(mode):
                 data = _read_stream(fd, shown, limit, wait_s)
             else:
@@ -251,7 +252,7 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
     return shown, data
 
 
-def _read_all(fd: int, limit: int) -> bytes:
+def read_at_most(fd: int, limit: int) -> bytes:
     """A regular file's bytes, at most ``limit`` + 1 (one more tells that it is too large)."""
     chunks, size = [], 0
     while size <= limit:
@@ -514,17 +515,13 @@ _PUNCH_FORMATS = (
 )
 
 
-_WRITERS: dict = {}
-
-
+@functools.cache
 def _writer(fmt: str):
     """fortranformat's writer of ``fmt`` (imported here: only punching a changed field needs
     it)."""
-    if fmt not in _WRITERS:
-        from fortranformat import FortranRecordWriter
+    from fortranformat import FortranRecordWriter
 
-        _WRITERS[fmt] = FortranRecordWriter(fmt)
-    return _WRITERS[fmt]
+    return FortranRecordWriter(fmt)
 
 
 def _same(a: float, b: float) -> bool:

@@ -1,4 +1,5 @@
-"""The outcomes the report tabulates, read back from a line-printer printout of the 1967 program.
+"""What the report's authors read off a line-printer printout of the 1967 program: its events,
+instants and printed values.
 
 Works on any printout of ``legacy/luminaire.f``: a gfortran golden (``golden/*.txt``) or the
 emulator's ``Run.records`` -- text, a list of records, or an object with ``.records``. Only what
@@ -28,29 +29,28 @@ How the printout is laid out (labels of ``legacy/luminaire.f``)
   after the hit message is the terminal state**: its TIME is the hit time, the last TIME of the
   printout, and its coordinates are the terminal coordinates.
 
-Definitions
------------
-* ``final_time_s``: the last TIME printed.
-* ``max_decel_g``: max of the printed FSA over the contact blocks, divided by WV*G (FSA, the
-  spring force, in lb; WV, the vehicle mass, in slug; G in ft/s^2). It is over the *printed*
-  records only, not over every step, so a peak between two prints is missed.
-* ``delta_v_candidates_mph``: the decrease of the vehicle's speed, |VVB| - |VV|, with VVB the
-  deck's initial value, in mph (1 mph = 88/60 ft/s), at four instants (:data:`DELTA_V_CANDIDATES`):
+What is read
+------------
+No quantity: a speed lost or a deceleration in g is computed from these by its one formula
+(:mod:`deck_emulator.vocabulary.units`).
 
-  - ``crush_pulse_end``: VVA of the first contact block whose printed FSA equals FCONST after a
-    block with FSA > FCONST, i.e. where the first spring's crush pulse has been cut to the
-    FCONST cap (label 504). This is the one reported as ``delta_v_crush_mph``: of the four it alone
-    comes near the report's figures (docs/comparison.md);
+* ``final_time_s``: the last TIME printed.
+* ``max_fsa_lb``: the largest FSA printed in a contact block (a peak between two prints is
+  missed, as the report's authors missed it).
+* ``vehicle_speed_fps``: the vehicle's printed velocity at four instants (:data:`INSTANTS`):
+
+  - ``crush_pulse_end`` (``crush_pulse_end_s``): VVA of the first contact block whose printed
+    FSA equals FCONST after a block with FSA > FCONST, where the first spring's crush pulse is
+    cut to the FCONST cap (label 504); of the four it alone comes near the report's ΔV
+    (docs/comparison.md);
   - ``first_spring_lost``: VVA of the block before ``LOST CONTACT WITH FIRST SPRING``;
   - ``vehicle_contact_lost``: VVA of the block before ``LOST CONTACT WITH THE VEHICLE``;
-  - ``end_of_run``: the vehicle's speed over the free flight, (SVFA_last - SVFA_first) /
-    (TIME_last - TIME_first) of the free-flight blocks. VVFA is never changed in free flight
-    (``VVFA=VVFB``) and is not printed, so this recovers it from the printed displacement; it
-    equals ``vehicle_contact_lost`` to print precision.
+  - ``end_of_run``: (SVFA_last - SVFA_first) / (TIME_last - TIME_first) over the free-flight
+    blocks: VVFA is never changed in free flight (``VVFA=VVFB``) nor printed.
 * Terminal coordinates of P, Q, R and C in the report's XL, YL, ZL axes ("origin at the base
-  of the support ... translating the XX, YY, ZZ coordinate system"): the printout's XX, YY, ZZ
-  have their origin at the post's initial mass centre and the ground is ZZ = -HEIGHT (the
-  listing's ground test), so ``XL = XX - XQO``, ``YL = YY - YYQO``, ``ZL = ZZ + HEIGHT``.
+  of the support"): the printout's XX, YY, ZZ have their origin at the post's initial mass
+  centre and the ground is ZZ = -HEIGHT, so ``XL = XX - XQO``, ``YL = YY - YYQO``,
+  ``ZL = ZZ + HEIGHT``.
 """
 
 from __future__ import annotations
@@ -62,11 +62,9 @@ from types import MappingProxyType
 
 from deck_emulator.legacy.printer import VALUE_FIELDS, printout_lines
 from deck_emulator.vocabulary.events import LOST_MESSAGES, EventKind
-from deck_emulator.vocabulary.units import force_in_g, speed_lost_mph
 
 __all__ = [
-    "DELTA_V_CANDIDATES",
-    "DELTA_V_DEFINITION",
+    "INSTANTS",
     "LABEL_VARIABLE",
     "Block",
     "Event",
@@ -78,12 +76,9 @@ __all__ = [
     "parse_printout",
 ]
 
-#: The candidate definitions of the report's "DECREASE IN VEHICLE VELOCITY", in order.
-DELTA_V_CANDIDATES = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost",
-                      "end_of_run")
-
-#: The candidate reported as ``Outcome.delta_v_crush_mph`` (see the module docstring).
-DELTA_V_DEFINITION = "crush_pulse_end"
+#: The instants the vehicle's printed speed is read at: the candidate readings of the report's
+#: "DECREASE IN VEHICLE VELOCITY", in order (see the module docstring).
+INSTANTS = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost", "end_of_run")
 
 #: Printed Hollerith label -> the variable the WRITE statement prints, where they differ, read
 #: from the listing's WRITE lists: THA ... PSIFA print THAD ... PSIFAD (degrees), FORMAT 207
@@ -114,15 +109,10 @@ class Block:
     kind: str
     values: Mapping[str, float | None]
     record: int  # index of its ``1`` record in the printout
-    #: index of the record each value is printed on
-    value_records: Mapping[str, int] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def time(self) -> float | None:
         return self.values.get("TIME")
-
-    def __getitem__(self, name: str) -> float | None:
-        return self.values[name]
 
 
 @dataclass(frozen=True)
@@ -150,55 +140,21 @@ class PointL:
     YL: float | None
     ZL: float | None
 
-    def as_dict(self, ndigits: int | None = None) -> dict:
-        """The coordinates; ``ndigits`` rounds them (the printout has 5 decimals)."""
-        def r(v):
-            return v if v is None or ndigits is None else round(v, ndigits)
-        return {"XL": r(self.XL), "YL": r(self.YL), "ZL": r(self.ZL)}
-
 
 @dataclass(frozen=True)
 class Outcome:
-    """What the report tabulates, as read from one printout."""
+    """The instants, events and printed values of one printout (see the module docstring)."""
 
     events: tuple[Event, ...]  # the LOST CONTACT messages, in order, with their times
     hit: str | None  # the final THE POST HAS HIT ... message, None if the printout has none
     hit_time_s: float | None  # TIME of the block printed after the hit message
     final_time_s: float | None  # last TIME printed
-    delta_v_crush_mph: float | None  # the candidate named by delta_v_definition
-    crush_pulse_end_s: float | None  # TIME of the block that candidate is read at
-    delta_v_definition: str
-    delta_v_candidates_mph: Mapping[str, float | None]
-    max_decel_g: float | None  # over the printed contact blocks
-    max_decel_time_s: float | None
-    max_fsa_lb: float | None
+    crush_pulse_end_s: float | None  # TIME of the block the crush pulse ends at
+    vehicle_speed_fps: Mapping[str, float | None]  # VVA at each of INSTANTS
+    max_fsa_lb: float | None  # over the printed contact blocks
     terminal: Mapping[str, PointL]  # "P", "Q", "R", "C" in XL, YL, ZL
     terminal_time_s: float | None  # TIME of the block the terminal coordinates come from
-    contact_blocks: int
-    free_blocks: int
     notes: tuple[str, ...] = field(default=())
-
-    def summary_dict(self) -> dict:
-        """Plain JSON-able dict (floats as read, None where the printout has nothing)."""
-        return {
-            "events": [{"message": e.message, "time_s": e.time_s} for e in self.events],
-            "hit": self.hit,
-            "hit_time_s": self.hit_time_s,
-            "final_time_s": self.final_time_s,
-            "delta_v_crush_mph": self.delta_v_crush_mph,
-            "delta_v_definition": self.delta_v_definition,
-            "delta_v_candidates_mph": dict(self.delta_v_candidates_mph),
-            "max_decel_g": self.max_decel_g,
-            "max_decel_time_s": self.max_decel_time_s,
-            "max_decel_basis": "max printed FSA over the contact blocks / (WV*G)",
-            "max_fsa_lb": self.max_fsa_lb,
-            "terminal_time_s": self.terminal_time_s,
-            "terminal_axes": "XL = XX - XQO, YL = YY - YYQO, ZL = ZZ + HEIGHT",
-            "terminal": {k: p.as_dict(5) for k, p in self.terminal.items()},  # as printed: 5 dp
-            "contact_blocks": self.contact_blocks,
-            "free_blocks": self.free_blocks,
-            "notes": list(self.notes),
-        }
 
 
 # ------------------------------------------------------------------------------------ parsing
@@ -222,15 +178,14 @@ def parse_printout(printout) -> list[Block | Message]:
     """The printout as a list of blocks and messages, in printed order."""
     items: list[Block | Message] = []
     cur: dict | None = None
-    lines: dict[str, int] = {}
     start = 0
 
     def close():
-        nonlocal cur, lines
+        nonlocal cur
         if cur:
             kind = "contact" if "VVA" in cur else "free" if "THFAD" in cur else "unknown"
-            items.append(Block(kind, MappingProxyType(cur), start, MappingProxyType(lines)))
-        cur, lines = None, {}
+            items.append(Block(kind, MappingProxyType(cur), start))
+        cur = None
 
     for i, rec in enumerate(printout_lines(printout, _split)):
         if rec[:1] == "1" and rec[1:].strip() == "":  # ASA page eject: a new block
@@ -249,7 +204,6 @@ def parse_printout(printout) -> list[Block | Message]:
             for label, text in found:
                 name = LABEL_VARIABLE.get(label, label)
                 cur[name] = _number(text, label, i)
-                lines[name] = i
     close()
     return items
 
@@ -257,21 +211,10 @@ def parse_printout(printout) -> list[Block | Message]:
 # ------------------------------------------------------------------------------------ extract
 
 
-def _deck_values(deck) -> Mapping[str, float]:
-    values = deck if isinstance(deck, Mapping) else getattr(deck, "values", None)
-    if not isinstance(values, Mapping):
-        raise TypeError("deck must be a Deck or a mapping of READ-list names to values")
-    return values
-
-
-def _decrease_mph(vv0: float, vv: float | None) -> float | None:
-    return None if vv is None else speed_lost_mph(vv0, vv)
-
-
 def extract(printout, deck) -> Outcome:
-    """Read the report's outcomes from a printout; ``deck`` is the Deck it was run on (or its
-    ``.values``): VVB, WV, G, FCONST, XQO, YYQO, HEIGHT are used."""
-    d = _deck_values(deck)
+    """Read a printout's instants and values; ``deck`` is the Deck it was run on (or its
+    ``.values``): FCONST, XQO, YYQO, HEIGHT are used."""
+    d = deck if isinstance(deck, Mapping) else deck.values
     items = parse_printout(printout)
     blocks = [x for x in items if isinstance(x, Block)]
     if not blocks:
@@ -306,17 +249,12 @@ def extract(printout, deck) -> Outcome:
     times = [b.time for b in blocks if b.time is not None]
     final_time = times[-1] if times else None
 
-    # maximum deceleration over the printed contact blocks
-    fsa = [(b["FSA"], b.time) for b in contact if b.values.get("FSA") is not None]
-    if fsa:
-        max_fsa, max_t = max(fsa, key=lambda p: p[0])
-        max_decel = force_in_g(max_fsa, d["WV"], d["G"])
-    else:
-        max_fsa = max_t = max_decel = None
+    # the largest printed spring force
+    fsa = [b.values["FSA"] for b in contact if b.values.get("FSA") is not None]
 
-    # delta-V candidates
-    vv0, fconst = d["VVB"], d["FCONST"]
-    cands: dict[str, float | None] = dict.fromkeys(DELTA_V_CANDIDATES)
+    # the vehicle's speed at each instant
+    fconst = d["FCONST"]
+    speeds: dict[str, float | None] = dict.fromkeys(INSTANTS)
     above = False
     crush_end_s = None
     for b in contact:
@@ -326,18 +264,17 @@ def extract(printout, deck) -> Outcome:
         if f > fconst * (1 + _PRINT_EPS):
             above = True
         elif above and abs(f - fconst) <= fconst * _PRINT_EPS:
-            cands["crush_pulse_end"] = _decrease_mph(vv0, b.values.get("VVA"))
-            crush_end_s = b.time
+            speeds["crush_pulse_end"], crush_end_s = b.values.get("VVA"), b.time
             break
     if LOST_FIRST_SPRING in before:
-        cands["first_spring_lost"] = _decrease_mph(vv0, before[LOST_FIRST_SPRING].values.get("VVA"))
+        speeds["first_spring_lost"] = before[LOST_FIRST_SPRING].values.get("VVA")
     if LOST_VEHICLE in before:
-        cands["vehicle_contact_lost"] = _decrease_mph(vv0, before[LOST_VEHICLE].values.get("VVA"))
+        speeds["vehicle_contact_lost"] = before[LOST_VEHICLE].values.get("VVA")
     sv = [(b.time, b.values.get("SVFA")) for b in free
           if b.time is not None and b.values.get("SVFA") is not None]
     if len(sv) >= 2 and sv[-1][0] != sv[0][0]:
         (t0, s0), (t1, s1) = sv[0], sv[-1]
-        cands["end_of_run"] = _decrease_mph(vv0, (s1 - s0) / (t1 - t0))
+        speeds["end_of_run"] = (s1 - s0) / (t1 - t0)
 
     # terminal coordinates: the hit block, else the last free block
     term = hit_block if hit_block is not None and hit_block.kind == "free" else (free[-1] if free else None)
@@ -362,12 +299,7 @@ def extract(printout, deck) -> Outcome:
 
     return Outcome(
         events=tuple(events), hit=hit, hit_time_s=hit_time, final_time_s=final_time,
-        delta_v_crush_mph=cands[DELTA_V_DEFINITION], crush_pulse_end_s=crush_end_s,
-        delta_v_definition=DELTA_V_DEFINITION,
-        delta_v_candidates_mph=MappingProxyType(cands),
-        max_decel_g=max_decel, max_decel_time_s=max_t, max_fsa_lb=max_fsa,
-        terminal=MappingProxyType(terminal),
-        terminal_time_s=None if term is None else term.time,
-        contact_blocks=len(contact), free_blocks=len(free), notes=tuple(notes),
+        crush_pulse_end_s=crush_end_s, vehicle_speed_fps=MappingProxyType(speeds),
+        max_fsa_lb=max(fsa, default=None), terminal=MappingProxyType(terminal),
+        terminal_time_s=None if term is None else term.time, notes=tuple(notes),
     )
-

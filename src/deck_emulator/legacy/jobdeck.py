@@ -1,34 +1,10 @@
 """Whole decks as they went into the reader: IBSYS job decks in any card format.
 
-An IBSYS job deck puts control cards with ``$`` in column 1 around the program and its
-data::
-
-    $JOB            ...
-    $EXECUTE        IBJOB
-    $IBJOB
-    $IBFTC MAIN                 FORTRAN IV source cards follow
-          READ(5,1)V1B,...
-    ...
-    $IBFTC SR1                  another routine
-    ...
-    $ENTRY   (or)   $DATA       the data cards follow
-    0.0       0.0 ...           eight cards in FORMAT(8F10.5)
-    $IBSYS          (end cards)
-
-A deck of data cards alone (``$DATA`` and eight cards, optionally with control cards before
-them) is a plain deck and reads exactly as :func:`deck_emulator.legacy.deck.parse_deck` reads
-it.  Any other arrangement of ``$`` cards is a job deck: every ``$DATA`` (or ``$ENTRY``)
-section is a deck of its own, run in turn; a section ends at the next ``$`` card or end card
-(the simulator's ``~eor``, ``~eof``, ``~eoi``).  A ``$ENTRY`` card directly followed by
-``$DATA`` starts one section, not two.
-
-When the deck carries FORTRAN source (cards after ``$IBFTC``), it is compared statement by
-statement with the listing the emulator follows (``legacy/luminaire.f``, shipped with the
-package as a byte-for-byte copy): comments (``C`` or ``*`` in column 1) and blank cards are
-not statements, columns 73-80 are ignored, a card with a character other than blank or 0 in
-column 6 continues the statement before it, and blanks are ignored everywhere (FORTRAN
-ignores them; so does this comparison, inside Hollerith texts too).  The listing's own
-``C$IBFTC`` comment lines stand for the control cards the deck carries.
+A deck of data cards alone (``$DATA`` and eight cards) is a plain deck and reads exactly as
+:func:`deck_emulator.legacy.deck.parse_deck` reads it; any other arrangement of ``$`` cards is
+a job deck, each ``$DATA`` (or ``$ENTRY``) section a deck of its own, run in turn.  FORTRAN
+source the deck carries is compared statement by statement with ``legacy/luminaire.f``.  The
+job deck's layout and the comparison's rules: docs/emulator.md, "Job decks".
 """
 
 from __future__ import annotations

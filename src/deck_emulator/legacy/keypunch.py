@@ -1,24 +1,16 @@
 """Keypunch codes: which holes in a card column stand for which character.
 
-A column is held as a 12-bit Hollerith value, as the open-simh card code (``sim_card.c``)
-holds it: bit 11 = row 12, bit 10 = row 11, bit 9 = row 0, bit 8 = row 1, ... bit 0 = row 9.
-
-Two codes, both restricted to characters a column can stand for without ambiguity:
+A column is a 12-bit Hollerith value as open-simh's ``sim_card.c`` holds it: bit 11 = row 12,
+bit 10 = row 11, bit 9 = row 0, bit 8 = row 1, ... bit 0 = row 9.  Two codes, each restricted
+to the characters a column stands for without ambiguity (the combinations: :data:`CODES`):
 
 * ``026``: the IBM 026 code as the 7090/7094 used it for FORTRAN (the 48-character set):
-  ``+`` is a 12 punch alone, ``-`` an 11, ``=`` 8-3, ``(`` 0-8-4, ``)`` 12-8-4, ``'`` 8-4,
-  ``.`` 12-8-3, ``,`` 0-8-3, ``$`` 11-8-3, ``*`` 11-8-4, ``/`` 0-1.  Source: the table
-  ``ascii_to_hol_026`` of open-simh ``sim_card.c`` (whose other entries that share a
-  combination with these, ``&`` with ``+``, ``%`` with ``(``, ``@`` with ``'``, are left out,
-  so that every combination reads as exactly one character).
-* ``029``: the IBM 029 (System/360) code: ``+`` is 12-8-6, ``&`` 12, ``=`` 8-6, ``(`` 12-8-5,
-  ``)`` 11-8-5, ``'`` 8-5, plus the specials ``! " # % : ; < > ? @ _``.  Source: the table
-  ``ascii_to_hol_ebcdic`` of ``sim_card.c`` (its ``ascii_to_hol_029`` is a Burroughs variant,
-  as its comment says), except ``+``, which that table gives as 12 alone but the same file's
-  ``ebcdic_to_hol`` gives, for EBCDIC ``+`` (0x4E), as 12-8-6, the 029's combination.
-
-Letters and digits are the same in both: A-I are 12 with 1-9, J-R 11 with 1-9, S-Z 0 with
-2-9, a digit is its own row, blank is no punch.
+  ``sim_card.c``'s ``ascii_to_hol_026`` without its entries that share a combination with
+  another (``&`` with ``+``, ``%`` with ``(``, ``@`` with ``'``);
+* ``029``: the IBM 029 (System/360) code: ``sim_card.c``'s ``ascii_to_hol_ebcdic`` (its
+  ``ascii_to_hol_029`` is a Burroughs variant, as its comment says), except ``+``, which that
+  table gives as 12 alone but the same file's ``ebcdic_to_hol`` gives, for EBCDIC ``+``
+  (0x4E), as 12-8-6, the 029's combination.
 """
 
 from __future__ import annotations

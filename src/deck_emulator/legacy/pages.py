@@ -27,7 +27,7 @@ from deck_emulator.vocabulary import defaults
 
 __all__ = ["LINES_PER_FORM", "PRINT_POSITIONS", "PAGE_WIDTH_IN", "PAGE_HEIGHT_IN",
            "LEFT_MARGIN_IN", "layout", "baseline_in", "column_x_in", "printed_lines", "paper_bars",
-           "tractor_holes", "face_file", "form_figure", "write_pdf", "stop_facts", "fact_page",
+           "tractor_holes", "face_file", "write_pdf", "stop_facts", "fact_page",
            "closing_records"]
 
 LINES_PER_FORM = 66
@@ -41,7 +41,6 @@ BASELINE_DROP = 0.04  # inch, baseline above the bottom of the line's band
 # DejaVu Sans Mono: every glyph advances 1233 of its 2048 units to the em (the font's hmtx
 # table; a test reads it from the file matplotlib ships), so at 11.96 points 7.2 points,
 # 1/10 inch -- the 1403's pitch.
-_FONT = "DejaVu Sans Mono"
 _ADVANCE_EM = 1233 / 2048
 FONT_SIZE_PT = 72 / CHARS_PER_INCH / _ADVANCE_EM  # 11.959...
 
@@ -132,7 +131,7 @@ BAR_RGB = (0xD8 / 255, 0xEC / 255, 0xD8 / 255)  # #d8ecd8
 HOLE_RGB = (0xB0 / 255, 0xB0 / 255, 0xB0 / 255)  # #b0b0b0
 HOLE_LINE_PT = 0.6
 HOLE_RADIUS_IN = 0.08
-#: The holes are ellipses, as :func:`form_figure`'s Circle in figure fractions draws them.
+#: The holes are ellipses: a circle in fractions of the form's width and height.
 HOLE_HEIGHT_RADIUS_IN = HOLE_RADIUS_IN * PAGE_HEIGHT_IN / PAGE_WIDTH_IN
 
 
@@ -156,18 +155,6 @@ def tractor_holes() -> list[tuple[float, float]]:
     return [(x, (k + 0.5) / 2) for k in range(22) for x in (0.25, PAGE_WIDTH_IN - 0.25)]
 
 
-def _paper(fig, paper: str) -> None:
-    from matplotlib.patches import Circle, Rectangle
-
-    w, h = PAGE_WIDTH_IN, PAGE_HEIGHT_IN
-    for x, y, width, height in paper_bars(paper):
-        fig.add_artist(Rectangle((x / w, y / h), width / w, height / h,
-                                 transform=fig.transFigure, color=BAR_RGB, lw=0))
-    for x, y in tractor_holes():
-        fig.add_artist(Circle((x / w, y / h), HOLE_RADIUS_IN / w, transform=fig.transFigure,
-                              fill=False, color=HOLE_RGB, lw=HOLE_LINE_PT))
-
-
 def printed_lines(form: list[tuple[int, str]]) -> list[tuple[int, int, str]]:
     """What a form shows, in the order printed: (line, first print position, text) for each
     record that prints anything, the text from its first to its last non-blank character
@@ -179,19 +166,6 @@ def printed_lines(form: list[tuple[int, str]]) -> list[tuple[int, int, str]]:
             continue
         out.append((line, len(text) - len(stripped) + 1, stripped.rstrip(" ")))
     return out
-
-
-def form_figure(form: list[tuple[int, str]], paper: str = "plain"):
-    """One form as a matplotlib Figure, 14 7/8 by 11 inches (the same form :func:`write_pdf`
-    writes directly, for a picture or a viewer of one's own; needs matplotlib)."""
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(PAGE_WIDTH_IN, PAGE_HEIGHT_IN))
-    _paper(fig, paper)
-    for line, first, text in printed_lines(form):
-        fig.text(column_x_in(first) / PAGE_WIDTH_IN, baseline_in(line) / PAGE_HEIGHT_IN,
-                 text, family=_FONT, size=FONT_SIZE_PT, ha="left", va="baseline")
-    return fig
 
 
 def write_pdf(records: list[str], path: str | os.PathLike, paper: str = "plain", *,

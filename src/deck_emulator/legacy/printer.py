@@ -49,12 +49,10 @@ def event_message(event: Event) -> str | None:
 
 
 @functools.lru_cache(maxsize=None)
-def _compile(fmt: str) -> list[list]:
-    """A FORMAT of the listing as records, each a list of text pieces and ``(w, d)`` F fields.
-
-    Only what the listing's FORMATs use: ``nH`` Hollerith text, ``nX``, ``/`` and ``Fw.d``,
-    separated by commas; each ``/`` ends a record.  Made once a FORMAT's text (a process's
-    runs share it: read, never changed)."""
+def format_layout(fmt: str) -> list[list]:
+    """A FORMAT's text (as the front end normalises it) as records, each a list of text
+    pieces and ``(w, d)`` F fields: ``nH`` Hollerith text, ``nX``, ``/`` and ``Fw.d``,
+    separated by commas; each ``/`` ends a record.  Shared by a process's runs: never changed."""
     body = fmt[1:-1]
     records: list[list] = [[]]
     i = 0
@@ -83,26 +81,15 @@ def _compile(fmt: str) -> list[list]:
     return records
 
 
-@functools.cache
-def _listing_layouts() -> tuple[dict, dict]:
-    """The listing's FORMATs laid out (:func:`_compile`) and their fields' decimals, by label:
-    made when first asked (a run lays out its program's own FORMATs; the printout readers
-    ask for :data:`VALUE_FIELDS`)."""
-    layouts = {label: _compile(text) for label, text in FORMATS.items()}
-    return layouts, {label: [d for _, d in _fields(layout)] for label, layout in layouts.items()}
-
-
 def __getattr__(name: str):
-    # _DECIMALS and VALUE_FIELDS: the listing's, made when first read
-    if name == "_DECIMALS":
-        return _listing_layouts()[1]
+    # VALUE_FIELDS: the listing's, made when first read (a run lays out its own FORMATs)
     if name == "VALUE_FIELDS":
         return _value_fields()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def _fields(layout: list[list]) -> list[tuple[int, int]]:
-    """The ``(w, d)`` F fields of a compiled FORMAT, in order."""
+def format_fields(layout: list[list]) -> list[tuple[int, int]]:
+    """The ``(w, d)`` F fields of a :func:`format_layout`, in order."""
     return [p for pieces in layout for p in pieces if type(p) is tuple]
 
 
@@ -136,7 +123,8 @@ def _value_fields() -> tuple[ValueField, ...]:
     shape = re.compile(re.escape(before) + r"(\w+)" + re.escape(after))
     fields: list[ValueField] = []
     page = 0
-    for label, records in _listing_layouts()[0].items():
+    for label, text in FORMATS.items():
+        records = format_layout(text)
         if records[0] == ["1"]:  # 1H1: a new page
             page = label
         for pieces in records:
@@ -207,12 +195,10 @@ class Printer:
         self.records: list[str] = []
         self._plans: dict = {}  # (binary) label -> (values, its records' templates): _plan
         # the listing's FORMATs, or a program's own (``formats``: label -> text, as FORMATS)
-        if formats is None:
-            self._layouts, self._decimals = _listing_layouts()
-        else:
-            self._layouts = {label: _compile(text) for label, text in formats.items()}
-            self._decimals = {label: [d for _, d in _fields(layout)]
-                              for label, layout in self._layouts.items()}
+        formats = FORMATS if formats is None else formats
+        self._layouts = {label: format_layout(text) for label, text in formats.items()}
+        self._decimals = {label: [d for _, d in format_fields(layout)]
+                          for label, layout in self._layouts.items()}
 
     def _field(self, value, w: int, d: int) -> str:
         if self._binary:

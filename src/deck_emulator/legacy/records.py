@@ -1,23 +1,15 @@
 """A printout of the 1967 program read into its records, whatever its page layout.
 
-A **record** is what one of the listing's FORMATs prints: a labelled value, ``THE VALUE OF
-label IS`` and its Fw.d field, named by the label printed on the paper (``THFA``, ``ZXCMA``),
-or a message, ``THE POST HAS ...``.  Records are found by their text wherever they stand, so
-carriage control, a rendered page, ``pdftotext`` output (with or without ``-layout``: a label
-that ends its line takes the lone field of the next non-blank line), re-spaced fields and two
-records on one line all read alike; a compile listing's FORMAT statements (``20HTHE VALUE OF
-...``) are not records.  What the FORMATs print is read from the listing only
-(:data:`~deck_emulator.legacy.printer.VALUE_FIELDS`, ``printer.VALUE_TEXT``,
-:data:`~deck_emulator.vocabulary.listing_writes.MESSAGES`).
-
-A **block** is the values one page prints, from a ``1H1`` FORMAT's value (or the record after
-the last block) to ``TIME``; each value carries its block's TIME, which lines two printouts up.
-
-A record that reads as the listing's only through a scan's confusions (:data:`OCR_CONFUSIONS`:
-``F5A`` for ``FSA``), or with a lost or doubled point put back where its FORMAT fixes it, is
-**damaged** and says why; one that does not read even so (no Fw.d field of its FORMAT, an
-unknown or ambiguous label or message, a line that only looks like a record) is
-**unreadable**.  A field all of ``*`` overflowed its width.
+A **record** is what one of the listing's FORMATs prints: a labelled value (``THE VALUE OF
+label IS`` and its Fw.d field, named by the label printed on the paper) or a message (``THE
+POST HAS ...``), found by its text wherever it stands: carriage control, a rendered page,
+``pdftotext`` output with or without ``-layout`` (a label that ends its line takes the lone
+field of the next non-blank line), re-spaced fields, two records on a line.  A compile
+listing's FORMAT statements are not records.  What the FORMATs print is read from the listing
+only (``printer.VALUE_FIELDS``, ``printer.VALUE_TEXT``, ``listing_writes.MESSAGES``).  A
+**block** is the values one page prints, up to ``TIME``: each value carries its block's TIME.
+A record read through a scan's confusions (:data:`OCR_CONFUSIONS`) is **damaged** and says
+why; one that does not read even so is **unreadable** (README, "compare").
 """
 
 from __future__ import annotations

@@ -5,9 +5,8 @@ arithmetic supplies:
 
 * ``decimal(text)``  -- the machine value of a decimal literal or deck field, given as text
   (``"0.0004"``, ``"-58.66"``): compile-time constants and card fields both come through here;
-* the number type's own ``+ - * /``, unary ``-`` and ``abs()``;
-* ``ipow(x, n)`` for ``X**n`` with a small integer constant ``n`` (FORTRAN expands it into
-  repeated multiplication);
+* the number type's own ``+ - * /``, unary ``-`` and ``abs()`` (``X**n`` is products of
+  these: the front end's ``run._power``);
 * the intrinsics ``sin``, ``cos``;
 * ``sign(x)`` -> -1, 0 or 1, the three-way test of an arithmetic IF (a minus zero is zero);
 * ``isfinite(x)``, ``exact(x)`` (the exact value as a :class:`fractions.Fraction`, used by the
@@ -40,12 +39,6 @@ class Arithmetic:
 
     def decimal(self, text: str):
         raise NotImplementedError
-
-    def ipow(self, x, n: int):
-        r = x
-        for _ in range(n - 1):
-            r = r * x
-        return r
 
     def sin(self, x):
         raise NotImplementedError

@@ -1,68 +1,19 @@
 """IBM 7094 single-precision floating point, as the 1967 program's REAL arithmetic ran.
 
-The word (IBM 7090 Reference Manual; open-simh ``I7094/i7094_defs.h``, ``FP_*`` macros)::
+A word is 36 bits, sign-magnitude: sign, an 8-bit characteristic (binary exponent + 128) and
+a 27-bit fraction normalised to [1/2, 1) with no hidden bit; value = (-1)**s * f *
+2**(characteristic - 155).  Printed as 12 octal digits: 10.0 is ``204 500000000``.  The
+operators unpack into integers, work exactly, normalise, and :func:`_pack` checks the
+characteristic and builds the result, as open-simh's ``i7094_cpu1.c`` does; no binary64
+arithmetic is used for any result.
 
-     S  1-8             9-35
-    +-+--------------+---------------------------+
-    |s| characteristic|         fraction          |   36 bits, printed as 12 octal digits
-    +-+--------------+---------------------------+
-
-* sign-magnitude: ``s`` is 1 for minus; the magnitude is never complemented;
-* characteristic = binary exponent + 128 (excess 128, 0..255);
-* fraction: 27 bits, a binary fraction ``f / 2**27`` normalised to [1/2, 1) -- bit 9 is set
-  in every non-zero word; there is no hidden bit, so one unit in the last place at 1.0 is
-  2**-26 (IEEE binary32 has 2**-23);
-* value = (-1)**s * f * 2**(characteristic - 128 - 27);
-* the machine's normal zero is the all-zero word (characteristic 0 and fraction 0); a
-  "minus zero" (sign bit alone) also occurs and compares equal to zero.
-
-Because 27 octal-aligned fraction bits are exactly nine octal digits, the printed word reads
-as three digits of sign+characteristic and nine of fraction: 10.0 is ``204 500000000``.
-
-The word format is handled in one place, as open-simh's ``i7094_cpu1.c`` does it: the
-operators unpack into integers (the 54-bit AC:MQ fraction where the machine uses it), work
-exactly, normalise, and :func:`_pack` checks the characteristic and builds the result.  No
-binary64 arithmetic is used for any result.
-
-Sources, cited where used below:
-
-* [SIMH] open-simh ``I7094/i7094_cpu1.c`` (R. M. Supnik), ``op_fad``, ``op_fmp``, ``op_fdv``,
-  ``fp_norm``, ``fp_pack``; ``I7094/i7094_cpu.c``, the FAD/FSB/FMP/FDP dispatch and
-  ``fp_trap``; ``I7094/i7094_defs.h`` for the ``FP_*`` field masks.
-* [7090RM] IBM 7090 Data Processing System reference manual, section 5.3.13 "Floating Point
-  Trap": on an underflow or overflow in AC or MQ the machine traps to location 8 (octal 10)
-  with a spill code in location 0, when floating-trap mode is on (the reset state).
-
-Under/overflow, as modelled here
---------------------------------
-The hardware does not saturate: ``fp_pack`` [SIMH] stores the characteristic modulo the
-register width (it wraps) and reports a *spill*; the CPU then takes the floating-point trap
-[7090RM], or with trap mode off sets the AC/MQ overflow indicators (``fp_trap`` [SIMH]).
-What happened next was up to the program's trap routine, which for FORTRAN IV under IBSYS
-was the library's; its source was not available to us, so the following is the usual
-account, **not verified against IBSYS code**:
-
-* characteristic < 0 (underflow): the trap routine zeroed the register and carried on.  Here
-  the result is the (signed) zero word and :data:`INDICATORS` ``.underflows`` is incremented;
-* characteristic > 255 (overflow): reported as an error.  Here :class:`ArithmeticFault` is
-  raised, which the emulator turns into an error naming the statement.
-
-Only the AC (the result the program keeps) is checked.  The machine also spills when the
-*MQ* (low-order part, characteristic 27 lower) underflows, e.g. after any FAD whose result is
-below 2**-101; FORTRAN never uses that MQ part, so such spills change nothing here.  The same
-holds for the FDP remainder left in the AC.
-
-Division by zero: FDP with a zero divisor is a *divide check* [SIMH ``op_fdv``]: the
-divide-check indicator is set, the machine does not stop, the AC is left alone and the MQ
-(the quotient) is left as a signed zero.  Whether IBFTC-compiled code tested the indicator is
-not known; here it raises :class:`ArithmeticFault`, as the emulator's interface requires.
-
-Zero results: a FAD/FSB that cancels exactly gives the all-zero word with the sign of the AC
-operand (the left operand of ``+``/``-``) [SIMH ``op_fad``: when the exponents are equal the
-operands are not swapped, and on equal magnitudes the result takes ``op1``'s sign, ``op1``
-being the AC]; so ``1.0 - 1.0`` is +0 and ``(-1.0) - (-1.0)`` is -0.  Both compare equal to
-zero and ``sign()`` gives 0 for either.  FMP/FDP with a zero operand give a zero with the
-exclusive-or of the signs.
+Sources, cited where used below: [SIMH] open-simh ``I7094/i7094_cpu1.c`` (``op_fad``,
+``op_fmp``, ``op_fdv``, ``fp_norm``, ``fp_pack``), ``i7094_cpu.c`` (``fp_trap``),
+``i7094_defs.h`` (the ``FP_*`` masks); [7090RM] the IBM 7090 reference manual, 5.3.13
+"Floating Point Trap".  The word's layout, underflow (a signed zero, counted in
+:data:`INDICATORS`), overflow and division by zero (:class:`ArithmeticFault`) and the sign of
+a zero result, with what is and is not verified: docs/emulator.md, "The 1967 machine's
+arithmetic".
 """
 
 from __future__ import annotations
@@ -688,19 +639,6 @@ class IBM7094Arithmetic(Arithmetic):
         """The word for a decimal constant or card field (``"-58.66"``, ``"0.0004"``,
         ``"4.4E-5"``), chopped or rounded as the ``decimal`` assumption says."""
         return _decimal_word(text, self._dec_nearest)
-
-    def ipow(self, x: Word, n: int) -> Word:
-        """``X**n`` for a small integer constant: repeated FMP, ((x*x)*x)*..."""
-        if type(x) is not Word:
-            raise TypeError(f"ipow of {type(x).__name__}, not Word")
-        if n < 0:
-            raise ValueError("negative integer powers are not modelled")
-        if n == 0:
-            return ONE
-        r = x
-        for _ in range(n - 1):
-            r = r * x
-        return r
 
     def sin(self, x: Word) -> Word:
         if type(x) is not Word:

@@ -32,6 +32,7 @@ import os
 import stat
 import sys
 
+from deck_emulator.legacy.deck import read_at_most
 from deck_emulator.vocabulary.defaults import (PROGRAM_CACHE_ENTRIES, PROGRAM_CACHE_MAX_BYTES,
                                                user_cache_folder)
 
@@ -139,22 +140,11 @@ def _read_entry(dir_fd: int, name: str) -> bytes | None:
     with _open_own(dir_fd, name) as opened:
         if opened is None or opened[1].st_size > PROGRAM_CACHE_MAX_BYTES:
             return None
-        return _read_bounded(opened[0])
-
-
-def _read_bounded(fd: int) -> bytes | None:
-    """What ``fd`` holds, or None past PROGRAM_CACHE_MAX_BYTES or on a read error."""
-    try:
-        chunks, size = [], 0
-        while size <= PROGRAM_CACHE_MAX_BYTES:
-            chunk = os.read(fd, 1 << 20)
-            if not chunk:
-                return b"".join(chunks)
-            chunks.append(chunk)
-            size += len(chunk)
-        return None
-    except OSError:
-        return None
+        try:
+            data = read_at_most(opened[0], PROGRAM_CACHE_MAX_BYTES)
+        except OSError:
+            return None
+        return data if len(data) <= PROGRAM_CACHE_MAX_BYTES else None
 
 
 def _unpack(data: bytes, identity: bytes):

@@ -15,6 +15,7 @@ import re
 from dataclasses import dataclass, field
 
 from deck_emulator.vocabulary import defaults
+from deck_emulator.legacy.printer import format_fields, format_layout
 
 #: The dialect, one row a statement kind: what the front end takes (anything else is refused).
 STATEMENTS = {
@@ -968,7 +969,7 @@ def _check(units: list[Unit], path) -> None:
                 fmt, items = inner.args
                 if fmt not in u.formats:
                     raise DialectError(f"no FORMAT {fmt} in {u.name}", **where)
-                fields = len(re.findall(r"F\d+\.\d+", _strip_hollerith(u.formats[fmt])))
+                fields = len(format_fields(format_layout(u.formats[fmt])))
                 if fields != len(items):
                     raise DialectError(f"{len(items)} items against the {fields} F fields of "
                                        f"FORMAT {fmt}", **where)
@@ -1060,16 +1061,3 @@ def _arguments(units, name, args, kind, where) -> None:
             raise DialectError(f"argument {k} of {name} is "
                                f"{'INTEGER' if a[-1] == 'I' else 'REAL'}, the dummy {d} is not",
                                **where)
-
-
-def _strip_hollerith(fmt: str) -> str:
-    """A FORMAT's text with its Hollerith texts left out (their letters are no fields)."""
-    out, i = "", 0
-    while i < len(fmt):
-        m = re.match(r"(\d+)H", fmt[i:])
-        if m and (i == 0 or fmt[i - 1] in "(,/"):
-            i += m.end() + int(m.group(1))
-            continue
-        out += fmt[i]
-        i += 1
-    return out

@@ -1,33 +1,17 @@
-"""Runs a program of the dialect (:mod:`.parse`): each unit as Python source, statement for
-statement, every value through an arithmetic of :mod:`deck_emulator.legacy.arithmetic`.
+"""Runs a program of the dialect (:mod:`.parse`): each unit made Python source (:mod:`.make`),
+statement for statement, every value through an arithmetic of
+:mod:`deck_emulator.legacy.arithmetic`, its WRITEs through
+:class:`deck_emulator.legacy.printer.Printer` with the program's own FORMATs.
 
-Each unit becomes a function that makes it (its variables, static as on IBSYS and gfortran's
-``-fno-automatic -finit-local-zero``: zero at load, kept between calls) holding one function a
-labelled block (from a label to the next label; a DO range's first statement when
-unlabelled), which returns the label it goes to: all under one name, ``_block``, kept in a
-table with the statements each holds (the run's statement budget, ``Limits.statements``). Arrays are lists (a COMMON
-block one list, by place); a DO's test ends its range's last statement. The program's
-statements stay one a line, with their cards' text beside them (:meth:`Program.python` prints
-it), so the source reads side by side with the cards. A program keeps its made code in the
-user's cache folder, named by the SHA-256 of its cards and the way of running, and checked
-against them whole (:mod:`.cache`): the listing, as a job deck's own program, is parsed and
-made once a machine.
-
-Arithmetic: the number type's ``+ - * /`` and unary ``-``, ``abs()``, the arithmetic's
-``decimal`` for every REAL constant and card field, its ``sin``, ``cos`` and ``sign``; ``X**2``
-is ``X*X`` (as gfortran and the 7094's FORTRAN expand it), ``X**n`` squares as gfortran's build
-(:func:`_power`); INTEGERs are Python ints wrapped to 32 bits where a chain of ``+ - *`` ends
-(make._wrap), converted where they meet a REAL.  Output goes through :class:`deck_emulator.legacy.printer.Printer` with
-the program's own FORMATs.
-
-Stops (:class:`deck_emulator.legacy.stops.EmulatorError`):
-an arithmetic fault or a non-finite value names the unit, the label, the variable and the
-step; so does a subscript outside its array's storage and an assigned GO TO to a label not
-in its list; a subprogram call that runs more than ``Limits.ed_iterations`` blocks; a run that
-spends ``Limits.statements``; and, where the program is the listing's (:func:`watched`), the
-listing's own guards (:data:`LISTING_WATCH`).  Binary64
-runs check each block's values when it ends and, when one is not finite, run again from the
-start checking every assignment, so the message names the statement (as the emulator does).
+Each unit is a function holding one function a labelled block, which returns the label it
+goes to; variables are static and start at zero (IBSYS; gfortran's ``-fno-automatic
+-finit-local-zero``).  The made code is kept in the user's cache folder (:mod:`.cache`).
+A run stops with :class:`~deck_emulator.legacy.stops.EmulatorError` naming the unit, the
+label, the variable and the step: an arithmetic fault or a non-finite value (binary64 runs
+check each block when it ends and, on a non-finite value, run again checking every
+assignment, so that the message names the statement), a subscript outside its storage, a
+runaway subprogram, a spent statement budget, and the listing's own guards
+(:data:`LISTING_WATCH`).  The whole design: docs/emulator.md, "The one engine".
 """
 
 from __future__ import annotations
@@ -369,38 +353,29 @@ class Runner:
     def read(self, fmt: int, unit: str):
         """READ(5,fmt) in ``unit``: the next data card's fields, by the unit's FORMAT fmt,
         through the arithmetic."""
-        import re
-
         from deck_emulator.legacy.deck import read_field
+        from deck_emulator.legacy.printer import format_layout
 
-        if self.card >= len(self.deck.cards):
-            raise EmulatorError(f"READ past the last of the deck's {len(self.deck.cards)} data "
-                                "cards", label=self.label, step=self.step, guard="read")
         values = []
-        col = 0
-        text = self.formats[unit][fmt]
-        card = self.deck.cards[self.card]
-        for m in re.finditer(r"(\d+)H|(\d+)X|F(\d+)\.(\d+)|/", text[1:-1]):
-            if m.group(1):  # (a Hollerith text would be overwritten by the card: skipped)
-                col += int(m.group(1))
-            elif m.group(2):
-                col += int(m.group(2))
-            elif m.group(3):
-                w, d = int(m.group(3)), int(m.group(4))
+        for n, pieces in enumerate(format_layout(self.formats[unit][fmt])):
+            if self.card >= len(self.deck.cards):
+                slash = f" (FORMAT {fmt}'s /)" if n else ""
+                raise EmulatorError(f"READ{slash} past the last of the deck's "
+                                    f"{len(self.deck.cards)} data cards", label=self.label,
+                                    step=self.step, guard="read")
+            card, col = self.deck.cards[self.card], 0
+            for piece in pieces:
+                if type(piece) is str:  # nX, or a Hollerith text the card would overwrite
+                    col += len(piece)
+                    continue
+                w, d = piece
                 raw = card[col:col + w].ljust(w)
                 _, exact = read_field(raw, name=f"field {len(values) + 1}", card=self.card + 1,
                                       columns=(col + 1, col + w), path=self.deck.path,
                                       decimals=d)
                 values.append(self.ar.decimal(exact))
                 col += w
-            else:
-                self.card += 1
-                if self.card >= len(self.deck.cards):
-                    raise EmulatorError(f"READ (FORMAT {fmt}'s /) past the last of the deck's "
-                                        f"{len(self.deck.cards)} data cards", label=self.label,
-                                        step=self.step, guard="read")
-                card, col = self.deck.cards[self.card], 0
-        self.card += 1
+            self.card += 1
         return values
 
     def record(self, phase: str, *values):
