@@ -494,15 +494,6 @@ class Unit:
         """Whether this unit may call ``s`` with arguments of its own that alias nothing."""
         if not self.may_call(s):
             return False
-        for t in "RI":
-            need = sum(1 for x, y in s.dummies if x in s.assigned and y is None and _t(x) == t)
-            pool = [v for v in (self.reals if t == "R" else self.ints)
-                    if v not in self.protected and v not in self.common_names
-                    and v not in self.readonly]
-            elems = [a for a in self.arrays if a not in self.common_names
-                     and a not in self.readonly and _t(a) == t]
-            if len(pool) + len(elems) < need:
-                return False
         arrays = [(d, dims) for d, dims in s.dummies if dims is not None]
         free = [a for a in self.arrays if a not in self.common_names]
         for d, dims in arrays:
@@ -511,6 +502,15 @@ class Unit:
             if not fits:
                 return False
             free.remove(fits[0])
+        for t in "RI":
+            need = sum(1 for x, y in s.dummies if x in s.assigned and y is None and _t(x) == t)
+            pool = [v for v in (self.reals if t == "R" else self.ints)
+                    if v not in self.protected and v not in self.common_names
+                    and v not in self.readonly]
+            # the elements come from the arrays not passed whole, as in call_args
+            elems = [a for a in free if a not in self.readonly and _t(a) == t]
+            if len(pool) + len(elems) < need:
+                return False
         return True
 
     def callable_subs(self):

@@ -12,6 +12,8 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from deck_emulator.legacy.jobdeck import statements
 
@@ -50,6 +52,24 @@ def test_the_same_seed_makes_the_same_program_and_others_differ():
     assert a.job() == b.job() and a.data == b.data
     jobs = {"\n".join(fuzz.generate(s).job()) for s in range(30)}
     assert len(jobs) == 30
+
+
+@pytest.mark.parametrize("seed, index", [(46, 1749), (4600, 1894)])
+def test_a_call_whose_array_is_passed_whole_leaves_the_generator_an_element_or_none(seed, index):
+    """Each of these programs had a SUBROUTINE call whose assigned scalar dummies the
+    generator counted the whole-array argument's array for, then found nothing to pass (an
+    IndexError before the slow corpus's program 1894 of seed 4600 could run)."""
+    fuzz, campaign, *_ = _fuzz()
+    program = fuzz.generate(campaign.program_seed(seed, index))
+    assert any(line.lstrip().startswith("END") for line in program.source)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 10**6), st.integers(0, 10**4))
+def test_every_seed_makes_a_program(seed, index):
+    fuzz, campaign, *_ = _fuzz()
+    program = fuzz.generate(campaign.program_seed(seed, index))
+    assert program.job() and program.source
 
 
 #: a statement kind of the dialect's table -> how a program's statement (blanks removed)
