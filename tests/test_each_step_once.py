@@ -144,3 +144,24 @@ def test_study_stability_reads_its_deck_once_workers_included(counted, in_proces
                       out=str(tmp_path / "st"), quiet=True)
     assert answer.status == "ok" and (tmp_path / "st" / "README.md").is_file()
     assert counts["opened"] == 1, counts
+
+
+@pytest.mark.parametrize("what", ["emulator", "deck", "core"])
+def test_assembly_reads_its_template_deck_once(monkeypatch, what):
+    """The scene and the deck's values are made from one read of the template deck (the
+    scene and the deck each read it)."""
+    from deck_emulator.studies.sweep import car_at
+
+    template = os.path.realpath(decks.path(car_at(40.0, 0.0)[0]))
+    opened: Counter = Counter()
+    real_open = os.open
+
+    def counting(path, *args, **kwargs):
+        if isinstance(path, (str, os.PathLike)) and os.path.realpath(path) == template:
+            opened["template"] += 1
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", counting)
+    answer = app.call("assembly", description="steel", what=what, json=True)
+    assert answer.status == "ok" and '"command": "assembly"' in answer.printed()
+    assert opened["template"] == 1, opened
