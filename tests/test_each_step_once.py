@@ -165,3 +165,14 @@ def test_assembly_reads_its_template_deck_once(monkeypatch, what):
     answer = app.call("assembly", description="steel", what=what, json=True)
     assert answer.status == "ok" and '"command": "assembly"' in answer.printed()
     assert opened["template"] == 1, opened
+
+
+def test_sensitivity_reads_its_deck_once_workers_included(counted, in_process, tmp_path):
+    """The command's read of --deck is the study's deck, its store's hash and the workers'
+    deck (the study read it again, the store hashed it again, each worker once more)."""
+    pytest.importorskip("SALib")
+    deck, counts = counted
+    answer = app.call("sensitivity", deck=(str(deck),), quick=True, jobs=1,
+                      out=str(tmp_path / "sens"), quiet=True)
+    assert answer.status == "ok" and (tmp_path / "sens" / "sensitivity.csv").is_file()
+    assert counts["opened"] == 1, counts
