@@ -92,3 +92,87 @@ def test_plot_on_the_core_builds_its_scene_once(counted, tmp_path):
                       quiet=True)
     assert answer.status == "ok" and (tmp_path / "side.png").stat().st_size > 0
     assert counts["opened"] == 1 and counts["scene"] == 1, counts
+
+
+@pytest.fixture
+def in_process(monkeypatch):
+    """The scene runner's workers as a thread of this process, so that what a worker reads
+    is counted too (the local pool's processes would read unseen)."""
+    import concurrent.futures as cf
+    import contextlib
+
+    from deck_emulator.studies import distributed
+
+    @contextlib.contextmanager
+    def pool(jobs, core):
+        with cf.ThreadPoolExecutor(1) as executor:
+            yield executor, 1, lambda: True
+
+    monkeypatch.setattr(distributed, "_local_pool", pool)
+
+
+def test_study_error_reads_its_deck_once_workers_included(counted, in_process, monkeypatch,
+                                                          tmp_path):
+    """The command hashes the bytes it read for the store's resume check and hands the
+    parsed deck to the workers (it read the file three times, and each worker once more)."""
+    from deck_emulator.studies import error
+
+    pytest.importorskip("scipy")
+    monkeypatch.setattr(error, "plan", lambda quick: {  # a small plan: the count, not the study
+        "ks": range(2), "rtols": (1e-4, 1e-7), "reps": 1, "ibm": False, "checks": ("LSODA",)})
+    deck, counts = counted
+    answer = app.call("study error", deck=str(deck), quick=True, jobs=1,
+                      out=str(tmp_path / "er"), quiet=True)
+    assert answer.status == "ok" and (tmp_path / "er" / "README.md").is_file()
+    assert counts["opened"] == 1, counts
+
+
+def test_diff_reads_its_deck_once(counted, in_process):
+    """The store's resume check takes the SHA-256 of the bytes read (it read the file again)."""
+    deck, counts = counted
+    answer = app.call("diff", source=str(deck), max_k=0, jobs=1, quiet=True)
+    assert answer.status == "ok"
+    assert counts["opened"] == 1, counts
+
+
+def test_study_stability_reads_its_deck_once_workers_included(counted, in_process, tmp_path):
+    """Its base deck read once by the command, hashed from those bytes for the store and
+    handed to every task (each task read the file again, and the page's section once more)."""
+    pytest.importorskip("scipy")
+    deck, counts = counted
+    answer = app.call("study stability", deck=str(deck), quick=True, jobs=1,
+                      out=str(tmp_path / "st"), quiet=True)
+    assert answer.status == "ok" and (tmp_path / "st" / "README.md").is_file()
+    assert counts["opened"] == 1, counts
+
+
+@pytest.mark.parametrize("what", ["emulator", "deck", "core"])
+def test_assembly_reads_its_template_deck_once(monkeypatch, what):
+    """The scene and the deck's values are made from one read of the template deck (the
+    scene and the deck each read it)."""
+    from deck_emulator.studies.sweep import car_at
+
+    template = os.path.realpath(decks.path(car_at(40.0, 0.0)[0]))
+    opened: Counter = Counter()
+    real_open = os.open
+
+    def counting(path, *args, **kwargs):
+        if isinstance(path, (str, os.PathLike)) and os.path.realpath(path) == template:
+            opened["template"] += 1
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", counting)
+    answer = app.call("assembly", description="steel", what=what, json=True)
+    assert answer.status == "ok" and '"command": "assembly"' in answer.printed()
+    assert opened["template"] == 1, opened
+
+
+def test_sensitivity_reads_its_deck_once_workers_included(counted, in_process, tmp_path):
+    """The command's read of --deck is the study's deck, its store's hash and the workers'
+    deck (the study read it again, the store hashed it again, each worker once more)."""
+    pytest.importorskip("SALib")
+    deck, counts = counted
+    answer = app.call("sensitivity", deck=(str(deck),), quick=True, jobs=1,
+                      out=str(tmp_path / "sens"), quiet=True)
+    assert answer.status == "ok" and (tmp_path / "sens" / "sensitivity.csv").is_file()
+    assert counts["opened"] == 1, counts

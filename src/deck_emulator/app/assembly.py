@@ -93,14 +93,14 @@ def assembly(o: AssemblyOptions) -> Answer:
                       inertia_slug_ft2=[mp.A, mp.B, mp.C], delta_rad=mp.delta_rad,
                       cm_height_ft=mp.cm_height_ft, cm_offset_ft=mp.cm_offset_ft,
                       points_ft={k: list(p) for k, p in mp.points.items()})
-    scene_ = bridge.to_scene(a, mp, template=template, **car)
+    # the scene and its deck's values made together: the template deck read once
+    scene_, values = bridge.scene_and_deck_values(a, mp, template=template, **car)
     if o.what == "scene":
         return scene_answer(scene_)
     reason = asm.scene_runs_on_listing(scene_)
     if o.what in ("deck", "emulator") and reason is not None:
         raise UsageError(f"cannot run on the listing: {reason}")
-    if o.what in ("deck", "emulator"):
-        values = bridge.to_deck_values(a, mp, template=template, **car)
+    if o.what in ("deck", "emulator"):  # it runs on the listing: one arm, so its values
         text = bridge.to_deck_text(values)
     if o.what == "deck":
         return answer(text, values=values, cards=text.splitlines())

@@ -267,22 +267,23 @@ def rendered(answer: Answer) -> str | None:
 
 
 def study_answer(name: str, o, run) -> Answer:
-    """A study's command: the deck checked, the folder checked, the study run, its lines."""
+    """A study's command: the deck checked, the folder checked, the study run, its lines.
+    ``run(deck, sha256, jobs, command)``: the deck read (None: the study's own) and the
+    SHA-256 of its bytes."""
     from deck_emulator.files import check_output_dir
 
     require("studies")
-    deck = None
-    if o.deck:
-        text = deck_file(o.deck, f"study {name}")
-        deck = text.path
-        engine_scene(text, name=deck)  # both engines run it: exit 2
+    text = sha256 = None
+    if o.deck:  # read once: the study and its workers take this deck, its store this SHA-256
+        text, sha256 = deck_file(o.deck, f"study {name}", with_sha256=True)
+        engine_scene(text, name=text.path)  # both engines run it: exit 2
     check_output_dir(o.out)  # before any work, and before the study makes the folder
     jobs = o.jobs or os.cpu_count() or 1
     typed = o.command_line or shlex.join(  # called from Python: the command it stands for
         ["deck-emulator", "study", name, *([o.deck] if o.deck else []), "--out", o.out,
          *(["--quick"] if o.quick else []), "--jobs", str(jobs)])
     compile_core(o.quiet)  # both engines run every scene
-    summary, lines = run(deck, jobs, typed)
+    summary, lines = run(text, sha256, jobs, typed)
     answer = Answer(f"study {name}", o.deck or "steel40", json=o.json)
     answer.said = [f"study {name}: {line}" for line in
                    lines + [f"wrote {o.out} in {summary['wall_s']:.0f} s"]]

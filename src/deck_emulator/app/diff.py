@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.choices import ARITHMETICS
@@ -68,7 +70,10 @@ def diff(o: DiffOptions) -> Answer:
                          tighten_ed=not o.as_printed_ed,
                          ed_direction_rows=not o.as_printed_rows, jobs=o.jobs,
                          scheduler=common.scheduler(o), store_dir=o.store, resume=o.resume,
-                         quiet=o.quiet, desc="deck-emulator: diff")
+                         quiet=o.quiet, desc="deck-emulator: diff",
+                         # the file's SHA-256 from the bytes read above (a resume checks it)
+                         files={deck.path: src.sha256} if deck.path and src.data is not None
+                         and os.path.isfile(deck.path) else {})
     except DiffStopped as exc:
         raise RunFailed(str(exc)) from None
     text = format_diff(data)

@@ -47,8 +47,8 @@ def sensitivity(o: SensitivityOptions) -> Answer:
     common.require("studies")
     from deck_emulator.studies.sensitivity import run_command
 
-    for deck in o.deck:  # shipped names stay names (the outputs are named by them)
-        common.deck_file(deck, "sensitivity --deck")
+    read = {deck: common.deck_file(deck, "sensitivity --deck", with_sha256=True)
+            for deck in o.deck}  # shipped names stay names (the outputs are named by them)
     answer = Answer("sensitivity", list(o.deck) or ["steel40"], json=o.json)
     keywords = o.core_keywords()
     if o.engine == "core" and o.shaft_contact is None:
@@ -61,7 +61,7 @@ def sensitivity(o: SensitivityOptions) -> Answer:
                     inputs_text=o.input, only=o.only, n=o.n, quick=o.quick, seed=o.seed,
                     jobs=o.jobs, scheduler=common.scheduler(o), resume=o.resume,
                     quiet=o.quiet, command_line=o.command_line,
-                    say=lambda line: answer.said.append(f"sensitivity: {line}"))
+                    say=lambda line: answer.said.append(f"sensitivity: {line}"), read=read)
     except RunFailed as exc:  # said as every command says it; the JSON still answers
         answer.status, answer.error = "stopped", str(exc)
     answer.result = common.outputs_result(o.out)

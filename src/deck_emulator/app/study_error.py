@@ -27,9 +27,10 @@ class ErrorStudyOptions(StudyOut):
 def study_error(o: ErrorStudyOptions) -> Answer:
     from deck_emulator.studies.error import error_study
 
-    def run(deck, jobs, typed):
-        s = error_study(deck, o.out, quick=o.quick, jobs=jobs, command=typed, quiet=o.quiet,
-                        scheduler=common.scheduler(o), resume=o.resume)
+    def run(deck, sha256, jobs, typed):
+        s = error_study(deck.path, o.out, quick=o.quick, jobs=jobs, command=typed,
+                        quiet=o.quiet, scheduler=common.scheduler(o), resume=o.resume,
+                        deck=deck, deck_sha256=sha256)
         orders = s["orders"]
         return s, [
             "observed order (listing as printed): "

@@ -25,9 +25,10 @@ class StabilityStudyOptions(StudyOut):
 def study_stability(o: StabilityStudyOptions) -> Answer:
     from deck_emulator.studies.stability import stability_study
 
-    def run(deck, jobs, typed):
-        s = stability_study(o.out, quick=o.quick, jobs=jobs, deck_path=deck, command=typed,
-                            quiet=o.quiet, scheduler=common.scheduler(o), resume=o.resume)
+    def run(deck, sha256, jobs, typed):
+        s = stability_study(o.out, quick=o.quick, jobs=jobs, deck_path=deck and deck.path,
+                            command=typed, quiet=o.quiet, scheduler=common.scheduler(o),
+                            resume=o.resume, deck=deck, deck_sha256=sha256)
         return s, [f"emulator classes: {s['classes']}"]
 
     return common.study_answer("stability", o, run)

@@ -117,6 +117,22 @@ def to_scene(
 ):
     """The typed scene of the assembly (any number of arms up to two: R, and U)."""
 
+    return scene_and_deck_values(a, mp, template=template, speed_ft_s=speed_ft_s,
+                                 alpha_rad=alpha_rad)[0]
+
+
+def scene_and_deck_values(
+    a: Assembly,
+    mp: MassProperties | None = None,
+    *,
+    template: str = "steel40",
+    speed_ft_s: float | None = None,
+    alpha_rad: float | None = None,
+):
+    """``(scene, values)``: :func:`to_scene` and the deck values (:func:`to_deck_values`) of
+    the assembly's first arm it is made from, the template deck read once; where the scene
+    runs on the listing (one arm, no U) the values are the deck the listing runs."""
+
     if len(a.arms) > 2:
         raise AssemblyError(f"{a.name}: at most two arms (R and U)")
     mp = mp or mass_properties(a)
@@ -128,4 +144,4 @@ def to_scene(
         u = PostPoint(*(punched(x) for x in mp.points["U"]))
         post = dataclasses.replace(scene.post, second_luminaire_end=u)
         scene = dataclasses.replace(scene, post=post)
-    return scene
+    return scene, values

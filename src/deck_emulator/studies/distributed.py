@@ -277,10 +277,12 @@ def _files_for(n: int) -> None:
 def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, store_dir,
                       quiet: bool = False, scheduler: str | Scheduler | None = None,
                       resume: bool = False, worker_wait_s: float = WORKER_WAIT_S,
-                      many: bool = False, core: bool = False) -> list[dict]:
+                      many: bool = False, core: bool = False,
+                      files: dict[str, str] | None = None) -> list[dict]:
     """``[fn(t) for t in tasks]`` by :func:`run_scenes`, the costliest tasks (``cost``)
     first, stored in ``store_dir`` (None: a temporary folder); rows in the tasks' order, each
-    travelled as JSON.  A task that could not run is an error naming it."""
+    travelled as JSON.  ``files``: as :func:`run_scenes` (the files the tasks name, hashed by
+    the caller who read them).  A task that could not run is an error naming it."""
     order = sorted(tasks, key=lambda t: -t["cost"])
     with temporary_store("scenes-") if store_dir is None else contextlib.nullcontext(
             store_dir) as where:
@@ -288,7 +290,7 @@ def run_longest_first(fn, tasks: list[dict], *, jobs: int | None, desc: str, sto
                             store_dir=where, jobs=jobs, scheduler=scheduler, resume=resume,
                             desc=desc, progress=False if quiet else None,
                             worker_wait_s=worker_wait_s, eta=False, many=many,
-                            core=core).by_id()
+                            core=core, files=files).by_id()
     rows = []
     for t in tasks:
         got = stored.get(scene_id(t))

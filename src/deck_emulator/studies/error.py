@@ -11,6 +11,7 @@ the study writes (``templates/error_study.md``).
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import time
 from pathlib import Path
@@ -26,6 +27,7 @@ from deck_emulator.vocabulary.scene import LEGACY, Scene
 
 from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.studies.store import output_store
+from deck_emulator.studies.sweep import read_base
 from .pages import page, snippet
 from .common import (
     H0,
@@ -121,10 +123,12 @@ def _times(walls: list[float]) -> dict:
 _REFS: dict = {}
 
 
-def _scene(deck_path):
+def _scene(deck_path, deck=None):
+    """The deck named ``deck_path`` and its scene, kept for the process's next tasks;
+    ``deck``: that deck as the command read it (else it is read here)."""
     key = ("scene", str(deck_path))
     if key not in _REFS:
-        deck = read_deck(deck_path)
+        deck = read_deck(deck_path) if deck is None else deck
         _REFS[key] = (deck, Scene.from_deck(deck))
     return _REFS[key]
 
@@ -234,7 +238,11 @@ def _emulator_errors(run, hit_time, ref) -> dict:
 # --------------------------------------------------------------------------- tasks
 
 
-def _task(spec: dict) -> dict:
+def _task(spec: dict, decks: dict | None = None) -> dict:
+    """A worker's run of one task; ``decks``: path -> the deck read by the command, handed
+    on with the function, so that no worker reads the file again."""
+    if decks and spec["deck"] in decks:
+        _scene(spec["deck"], decks[spec["deck"]])
     with blas_threads():
         kind = spec["kind"]
         if kind == "check":
@@ -359,21 +367,26 @@ def _tasks(deck_path: str, p: dict) -> list[dict]:
 
 def error_study(deck_path, out_dir, quick: bool = False, jobs: int | None = None,
                 command: str | None = None, quiet: bool = False, scheduler: str | None = None,
-                resume: bool = False) -> dict:
+                resume: bool = False, deck=None, deck_sha256: str | None = None) -> dict:
     """Run the work-precision study on ``deck_path``; write ``error_study.csv``,
     ``work_precision.png`` and ``README.md`` into ``out_dir`` (the runs are stored in its
-    ``.scenes`` as they finish: ``resume`` runs only the missing ones).  Returns the
-    summary."""
+    ``.scenes`` as they finish: ``resume`` runs only the missing ones).  ``deck``,
+    ``deck_sha256``: that file as the caller read it (else it is read here, once).  Returns
+    the summary."""
     started = time.perf_counter()
     out = Path(out_dir)
     check_output_dir(out)  # a missing or read-only folder fails before any run
     deck_path = str(deck_path)
-    read_deck(deck_path)  # a bad deck fails here, before any process starts
+    if deck is None:  # a bad deck fails here, before any process starts
+        deck, deck_sha256 = read_base(deck_path)
     p = plan(quick)
     jobs = jobs or cpu_count()
-    rows = run_longest_first(_task, _tasks(deck_path, p), jobs=jobs, desc="study error",
+    # the deck handed to the workers with the function; the tasks name its file (their ids)
+    rows = run_longest_first(functools.partial(_task, decks={deck_path: deck}),
+                             _tasks(deck_path, p), jobs=jobs, desc="study error",
                              quiet=quiet, store_dir=output_store(out, resume),
-                             scheduler=scheduler, resume=resume, core=True)
+                             scheduler=scheduler, resume=resume, core=True,
+                             files=None if deck_sha256 is None else {deck_path: deck_sha256})
     summary = _summarise(rows, p)
     with OutputSet(directory=out) as files:  # the three files appear together or not at all
         files.write("error_study.csv", csv_text(rows, COLUMNS))

@@ -16,6 +16,7 @@ import dataclasses
 import functools
 import io
 import math
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -334,10 +335,23 @@ def scene_task(task: dict) -> dict:
     return row
 
 
-def scene_tasks(tasks: list[dict]) -> list:
+def _use_bases(bases: dict) -> None:
+    """The decks ``bases`` (a task's ``deck`` -> the deck the command read) kept as this
+    process's decks of those names, in place of any other kept before."""
+    for name, deck in bases.items():
+        known = _DECKS.get(name)
+        if known is None or known.values != deck.values:
+            _DECKS[name] = deck
+            _deck_with.cache_clear()
+            _deck_scene.cache_clear()
+
+
+def scene_tasks(tasks: list[dict], bases: dict | None = None) -> list:
     """A worker's batch function (``run_scenes(many=True)``): each task's :func:`study_row`,
     the core's scenes run together; a task that cannot be prepared (an unknown input), or
-    whose scene stopped at the wall bound, is its exception, in its place."""
+    whose scene stopped at the wall bound, is its exception, in its place.  ``bases``: the
+    decks the tasks name as the command read them (else each is read here, once a process)."""
+    _use_bases(bases or {})
     prepared: list = []
     for task in tasks:
         try:
@@ -419,12 +433,13 @@ def run_study(
     chunk: int | None = None,
     many: bool = False,
     blind: dict[str, str] | None = None,
+    files: dict[str, str] | None = None,
 ) -> Study:
     """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
     for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample).
     ``chunk``, ``many``: as :func:`run_scenes` (``many``: ``fn`` takes a batch of tasks, as
     :func:`scene_tasks`); ``blind``: the outputs the model cannot see, and why
-    (:func:`blind_outcomes`)."""
+    (:func:`blind_outcomes`); ``files``: as :func:`run_scenes`."""
     X = sample(problem, n, seed=seed)
     tasks = tasks_for(problem, X, base_task, digits=digits)
     store = SceneStore(store_dir)
@@ -433,7 +448,7 @@ def run_study(
     store = run_scenes(
         tasks, fn, store_dir=store_dir, jobs=jobs, scheduler=scheduler, resume=resume,
         desc=desc, progress=progress, chunk=chunk, many=many,
-        core=base_task.get("engine") == "core",
+        core=base_task.get("engine") == "core", files=files,
     )
     wall = time.perf_counter() - started
     by_id = store.by_id()  # read once; each task's id hashed once
@@ -795,10 +810,13 @@ def blind_line(blind: dict[str, str]) -> str:
 def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | None = None,
                 inputs_text=(), only: bool = False, n: int | None = None, quick: bool = False,
                 seed: int = 0, jobs=None, scheduler=None, resume: bool = False,
-                quiet: bool = False, command_line: str = "", say=print) -> list:
+                quiet: bool = False, command_line: str = "", say=print,
+                read: dict | None = None) -> list:
     """``deck-emulator sensitivity``: the study of ``decks`` (default steel40) on ``engine``
     (``engine_keywords``: the core's preset and shaft contact), the files it wrote (``say``:
-    the lines to report as it goes; ``command_line``: the command as typed, for the page)."""
+    the lines to report as it goes; ``command_line``: the command as typed, for the page;
+    ``read``: a deck of ``decks`` -> ``(the deck, the SHA-256 of its bytes)`` as the caller
+    read it, else it is read here)."""
 
     try:
         check_options(n, seed)
@@ -822,11 +840,18 @@ def run_command(*, out, decks=(), engine: str = "core", engine_keywords: dict | 
     for note in notes:
         say(note)
     started = time.perf_counter()
+    read = dict(read or {})
     for deck in deck_names:
-        _base_deck(deck)  # a bad deck fails here, before any work
+        if deck in read:
+            _use_bases({deck: read[deck][0]})
+        base = _base_deck(deck)  # a bad deck fails here, before any work
+        # the store's resume check: the file's SHA-256 from the caller's read (a shipped
+        # deck's name names no file); without it, the store reads the file
+        files = ({deck: read[deck][1]} if os.path.isfile(deck) else {}) if deck in read else None
         label = Path(deck).stem
         st = run_study(
-            problem, n, scene_tasks, many=True,
+            problem, n, functools.partial(scene_tasks, bases={deck: base}), many=True,
+            files=files,
             base_task={"deck": deck, "engine": engine, **keywords},
             outputs=list(OUTCOMES), store_dir=out / SCENE_STORE / label, seed=seed,
             jobs=jobs, scheduler=scheduler, resume=resume, desc=label,

@@ -11,6 +11,7 @@ writes (``templates/stability_study.md``).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import os
 import time
@@ -31,7 +32,7 @@ from deck_emulator.files import OutputSet, check_output_dir
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.store import output_store
-from deck_emulator.studies.sweep import vvb_for
+from deck_emulator.studies.sweep import read_base, vvb_for
 
 from .pages import page, snippet
 from .common import (
@@ -142,8 +143,11 @@ def scenes(base: dict, quick: bool) -> list[dict]:
 # --------------------------------------------------------------------------- the runs
 
 
-def _task(spec: dict) -> dict:
-    deck = read_deck(spec["deck_path"]).with_values(**spec["deck"])
+def _task(spec: dict, bases: dict | None = None) -> dict:
+    """A worker's run of one scene; ``bases``: path -> the base deck read by the command,
+    handed on with the function, so that no worker reads the file again."""
+    base = bases[spec["deck_path"]] if bases and spec["deck_path"] in bases else None
+    deck = (read_deck(spec["deck_path"]) if base is None else base).with_values(**spec["deck"])
     if spec["engine"] == "emulator":
         return _task_emulator(spec, deck)
     return _task_core(spec, deck)
@@ -268,15 +272,20 @@ def _merge(spec, emu, core) -> dict:
 
 def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_path=None,
                     command: str | None = None, quiet: bool = False,
-                    scheduler: str | None = None, resume: bool = False) -> dict:
+                    scheduler: str | None = None, resume: bool = False, deck=None,
+                    deck_sha256: str | None = None) -> dict:
     """Run the stability grid; write ``stability_study.csv``, ``stability_map.png``,
-    ``extreme_scenes.png`` and ``README.md`` into ``out_dir``.  Returns the summary."""
+    ``extreme_scenes.png`` and ``README.md`` into ``out_dir``.  ``deck``, ``deck_sha256``:
+    the file ``deck_path`` as the caller read it (else it is read here, once).  Returns the
+    summary."""
     started = time.perf_counter()
     out = Path(out_dir)
     check_output_dir(out)  # a missing or read-only folder fails before any run
     deck_path = str(deck_path or default_deck())
     shown = os.path.relpath(deck_path) if not os.path.relpath(deck_path).startswith("..") else deck_path
-    base = read_deck(deck_path).values
+    if deck is None:
+        deck, deck_sha256 = read_base(deck_path)
+    base = deck.values
     jobs = jobs or cpu_count()
     grid = scenes(base, quick)
     tasks = []
@@ -284,9 +293,11 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
         for engine in ("emulator", "core") if s["emulator"] else ("core",):
             cost = (0.4 * 2 ** s["k"]) if engine == "emulator" else 0.3
             tasks.append(dict(s, engine=engine, deck_path=deck_path, index=i, cost=cost))
-    done = run_longest_first(_task, tasks, jobs=jobs, desc="study stability", quiet=quiet,
+    # the base deck handed to the workers with the function; the tasks name its file
+    done = run_longest_first(functools.partial(_task, bases={deck_path: deck}), tasks,
+                             jobs=jobs, desc="study stability", quiet=quiet,
                              store_dir=output_store(out, resume), scheduler=scheduler,
-                             resume=resume, core=True)
+                             resume=resume, core=True, files={deck_path: deck_sha256})
     results = {(t["index"], t["engine"]): r for t, r in zip(tasks, done)}
     rows = [_merge(s, results.get((i, "emulator")), results.get((i, "core")))
             for i, s in enumerate(grid)]
@@ -298,8 +309,7 @@ def stability_study(out_dir, quick: bool = False, jobs: int | None = None, deck_
         wall = time.perf_counter() - started
         cmd = command or (f"deck-emulator study stability --out {out_dir}"
                           + (" --quick" if quick else "") + f" --jobs {jobs}")
-        files.write("README.md", _report(rows, summary, shown, cmd, jobs, wall, quick,
-                                         deck_path))
+        files.write("README.md", _report(rows, summary, shown, cmd, jobs, wall, quick, deck))
     summary["wall_s"] = wall
     return summary
 
@@ -529,8 +539,9 @@ def _plot_extremes(rows, path: Path) -> None:
 # --------------------------------------------------------------------------- the report
 
 
-def _report(rows, summary, deck_path, cmd, jobs, wall, quick, deck_file=None) -> str:
-    """The page (``templates/stability_study.md``) of the grid's rows and summary."""
+def _report(rows, summary, deck_path, cmd, jobs, wall, quick, deck) -> str:
+    """The page (``templates/stability_study.md``) of the grid's rows and summary; ``deck``:
+    the base deck read (``deck_path``: its file as the page names it)."""
     table = []
     for r in rows:
         table.append([
@@ -556,7 +567,7 @@ def _report(rows, summary, deck_path, cmd, jobs, wall, quick, deck_file=None) ->
         agree_ke=f"{100 * AGREE_KE:.0f}",
         failure_modes="".join(f"* {s}\n" for s in failure_modes(rows, summary)),
         stability_section="".join(line + "\n"
-                                  for line in stability_section(rows, deck_file or deck_path)),
+                                  for line in stability_section(rows, deck)),
         other_findings="".join(f"* {s}\n" for s in other_findings(rows)),
         classes=", ".join(f"{k} {v}" for k, v in sorted(summary["classes"].items())),
         table=md_table(["scene", "what", "h\u03c9", "emulator", "emulator's end", "core's end",
@@ -760,14 +771,13 @@ def contact_spectrum(scene, options) -> dict:
     return {"fast": fast, "slow": slow, "contact_s": got["contact_s"]}
 
 
-def stability_section(rows, deck_path) -> list[str]:
+def stability_section(rows, base) -> list[str]:
     """The page's section on stability from the scheme and the model: the one-step matrix's
     eigenvalues, the contact Jacobian's for each spring of the grid, the core's own stiffness
     estimate beside them."""
     from deck_emulator.engine.spectrum import stiff_ratio, stiffness_estimate
 
     STIFF_RATIO = stiff_ratio()
-    base = read_deck(deck_path)
     w = base.values["W"]
     growth = md_table(
         ["h\u03c9", "eigenvalues of M", "largest |\u03bb|", "det M", "1 + (h\u03c9)\u00b2/2",
