@@ -37,10 +37,11 @@ PURPOSE = {
 
 def missing_extra(exc: ImportError) -> str | None:
     """The one-line message for an import that failed because an extra is not installed
-    (None: not one of the extras' modules, a defect to be reported as it stands)."""
+    (None: not one of the extras' modules, or one that is installed and failed to import --
+    a defect to be reported as it stands, not a missing extra)."""
     name = (getattr(exc, "name", None) or "").split(".")[0]
     extra = EXTRA_OF_MODULE.get(name)
-    if extra is None:
+    if extra is None or importlib.util.find_spec(name) is not None:
         return None
     return (f"{PURPOSE[extra]} needs {name}, which this install has not got: "
             f"pip install 'deck_emulator[{extra}]' (or [all])")
