@@ -28,9 +28,10 @@ from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords, quan
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
+from deck_emulator.studies.common import run_outcomes
 from deck_emulator.studies.pages import page
 from deck_emulator.studies.distributed import run_scenes
-from deck_emulator.studies.store import SceneStore, Stopped, scene_id
+from deck_emulator.studies.store import SceneStore, scene_id
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
 from deck_emulator.vocabulary.defaults import SCENE_STORE
@@ -272,42 +273,6 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
     return core, d, name, scene
 
 
-def _run_scenes(prepared: list) -> list:
-    """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their outcomes, in
-    order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
-    emulator's one after another (the 1967 program runs one deck at a time).  A core scene
-    stopped by the wall bound (a starved or suspended machine) is
-    :class:`~deck_emulator.studies.store.Stopped` in its place: its scene runs again on
-    resume."""
-    from deck_emulator.studies.common import stopped_at_wall
-
-    outcomes: list = [None] * len(prepared)
-    groups: list[tuple[object, list[int]]] = []  # engines are compared, not hashed
-    for i, (engine, *_) in enumerate(prepared):
-        for e, members in groups:
-            if e == engine:
-                members.append(i)
-                break
-        else:
-            groups.append((engine, [i]))
-    for engine, members in groups:
-        if isinstance(engine, CoreEngine):
-            started = time.perf_counter()
-            got = engine.run_batch([prepared[i][3] if prepared[i][3] is not None
-                                    else prepared[i][1] for i in members],
-                                   names=[prepared[i][2] for i in members])
-            batch_s = time.perf_counter() - started
-            for i, res in zip(members, got):
-                try:
-                    outcomes[i] = stopped_at_wall(res, engine.wall_bound_s, batch_s)
-                except Stopped as exc:
-                    outcomes[i] = exc
-        else:
-            for i in members:
-                outcomes[i] = engine.run(prepared[i][1], name=prepared[i][2])
-    return outcomes
-
-
 def study_row(outcome) -> dict:
     """An outcome -> the study's outcomes (:data:`OUTCOMES`, from the registry's values of
     :data:`REPORTED`) plus the hit surface, the engine's error text and its run time."""
@@ -360,7 +325,8 @@ def scene_tasks(tasks: list[dict], bases: dict | None = None) -> list:
                                      task.get("shaft_contact")))
         except Exception as exc:  # noqa: BLE001 - that task's failure, stored as its row
             prepared.append(exc)
-    done = iter(_run_scenes([p for p in prepared if not isinstance(p, Exception)]))
+    done = iter(run_outcomes([(e, d if scene is None else scene, name) for e, d, name, scene
+                              in (p for p in prepared if not isinstance(p, Exception))]))
     rows = [p if isinstance(p, Exception) else next(done) for p in prepared]
     return [r if isinstance(r, Exception) else study_row(r) for r in rows]
 
