@@ -551,19 +551,8 @@ def assess_outcome(out) -> PulseMetrics | None:
     return assess(t, vv, g=out.gravity_ft_s2 or G_FT_S2)
 
 
-def clearance_of(out) -> Clearance | None:
-    """The post's least clearance above the car in an outcome's free flight."""
-    if not out.t.size or not out.free.any():
-        return None
-    pts = {k: v for k, v in out.points.items() if k in SAMPLED_POINTS}
-    if "C" in pts and np.isnan(pts["C"][out.free]).any():
-        pts.pop("C")
-    return body_clearance(out.t, pts, out.sv, car_body(out.scene),
-                          approach_angle_rad(out.scene), free=out.free)
-
-
-def clearance_until(out, until_s: float) -> Clearance | None:
-    """The post's least clearance above the car over its free flight up to ``until_s``
+def clearance_of(out, until_s: float = math.inf) -> Clearance | None:
+    """The post's least clearance above the car in an outcome's free flight, up to ``until_s``
     (inclusive): the margin it kept before a strike the model cannot follow past."""
     if not out.t.size or not out.free.any():
         return None

@@ -22,6 +22,7 @@ from deck_emulator.vocabulary import defaults
 from deck_emulator.engine import Limits
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
+from deck_emulator.studies.diff import max_trajectory_distance
 from deck_emulator.studies.orders import QUANTISED, order_fit
 from deck_emulator.vocabulary.scene import LEGACY, Scene
 
@@ -221,13 +222,8 @@ def _release_errors(res, ref, scene) -> dict:
 
 
 def _emulator_errors(run, hit_time, ref) -> dict:
-    t, xyz = run.accepted_steps()
-    t_start, t_end = ref.span
-    keep = (t >= t_start) & (t <= t_end)
-    out = {"err_traj_ft": math.nan, "err_hit_time_s": math.nan, "err_R_ft": math.nan}
-    if keep.any():
-        out["err_traj_ft"] = float(np.max(np.linalg.norm(
-            xyz[:, keep] - ref.position("CM", t[keep]), axis=0)))
+    out = {"err_traj_ft": max_trajectory_distance(run, ref), "err_hit_time_s": math.nan,
+           "err_R_ft": math.nan}
     if hit_time is not None and ref.hit_time_s is not None:
         r_emu = np.asarray(run.points["R"][-1], dtype=float)  # R at the last accepted step
         out["err_hit_time_s"] = abs(hit_time - ref.hit_time_s)
