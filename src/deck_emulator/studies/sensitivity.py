@@ -28,7 +28,7 @@ from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords, quan
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
-from deck_emulator.studies.common import run_outcomes
+from deck_emulator.studies.common import agg_backend, fmt, run_outcomes
 from deck_emulator.studies.pages import page
 from deck_emulator.studies.distributed import run_scenes
 from deck_emulator.studies.store import SceneStore, scene_id
@@ -522,12 +522,6 @@ INDEX_COLUMNS = ("deck", "engine", "output", "input", "N", "scenes", "missing", 
 NOT_RESOLVED = "not resolved at this N"
 
 
-def _fmt(v, nd=3):
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "—"
-    return f"{v:.{nd}f}" if isinstance(v, float) else str(v)
-
-
 def indices_csv(rows: list) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
@@ -566,7 +560,8 @@ def indices_markdown(rows: list, *, header: str = "") -> str:
                     cells.append(f"{s1} / {st}")
             label, unit = OUTCOMES.get(out, (out, ""))
             m = orow[0]
-            stat = f" ({_fmt(m['mean'], 3)} ± {_fmt(m['sd'], 3)} {unit})" if m["mean"] is not None else ""
+            stat = (f" ({fmt(m['mean'], '.3f', '—')} ± {fmt(m['sd'], '.3f', '—')} {unit})"
+                    if m["mean"] is not None else "")
             note = f" — {orow[0]['note']}" if orow[0]["note"] else ""
             lines.append(f"| {label}{stat}{note} | " + " | ".join(cells) + " |")
         lines.append("")
@@ -596,8 +591,6 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
     """One panel an outcome that has indices (S1 and ST, bars to the 95 % half-width, the
     axis wide enough for every bar: they pass 1.0 and 0 at small N); the outcomes that have
     none (constant over the sample) are named under the title, not drawn as empty panels."""
-    from deck_emulator.studies.common import agg_backend
-
     plt = agg_backend()
     outs = [o for o in OUTCOMES if any(r["output"] == o and r["N"] == n for r in rows)]
     outs += [o for o in dict.fromkeys(r["output"] for r in rows) if o not in outs]
@@ -639,11 +632,7 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
 def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") -> None:
     """What the post hits first (marker) and its least clearance above the roof (colour), per
     scene, over the two given inputs (every scene of the sample; the others vary underneath)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = agg_backend()
     names = study.problem["names"]
     ix = [names.index(k) for k in inputs]
     surf = []
