@@ -28,7 +28,6 @@ __all__ = [
     "Criterion",
     "CRITERIA",
     "STANDARDS",
-    "UNCONFIRMED",
     "COMPARTMENT_LIMITS",
     "NOT_RECHECKED",
     "Strike",
@@ -98,7 +97,7 @@ class Criterion:
 
 #: The limits the answers are judged by (breakaway supports), each with the document it is
 #: taken from, as the source found states it. Only limits that can be cited are here; the ones
-#: remembered but not confirmed are in :data:`UNCONFIRMED` and never printed (docs/safety.md).
+#: remembered but not confirmed are listed in docs/safety.md and never printed.
 CRITERIA: Mapping[str, Criterion] = {
     "nchrp350_compartment": Criterion(
         "occupant compartment", "occupant_compartment", "ft", None, None,
@@ -126,31 +125,6 @@ CRITERIA: Mapping[str, Criterion] = {
     "nchrp350_ora": Criterion(
         "ORA", "ora_g", "g", None, 20.0,
         "NCHRP Report 350 (1993), Table 5.1, criterion I"),
-}
-
-#: Remembered, not confirmed in a document at hand: kept for docs/safety.md, never printed.
-UNCONFIRMED: Mapping[str, Criterion] = {
-    "nchrp350_ora_preferred": Criterion(
-        "ORA", "ora_g", "g", 15.0, 20.0,
-        "15 g preferred: from memory, not found in a source (docs/safety.md)"),
-    "mash_oiv_preferred": Criterion(
-        "OIV", "oiv_m_s", "m/s", 3.0, 4.9,
-        "MASH's preferred 3.0 m/s (10 ft/s) for supports: from memory, not found in a source "
-        "(docs/safety.md)", standard="mash"),
-    "mash_ora": Criterion(
-        "ORA", "ora_g", "g", 15.0, 20.49,
-        "MASH's 15.0 g preferred, 20.49 g at most: from memory, not found in a source "
-        "(docs/safety.md)", standard="mash"),
-    "delta_v_1985": Criterion(
-        "ΔV (1985)",
-        "vehicle velocity change",
-        "ft/s",
-        10.0,
-        15.0,
-        "1985 AASHTO structural-supports specification (from memory, unverified): "
-        "10 ft/s desirable, about 15 ft/s at most",
-        standard="aashto1985",
-    ),
 }
 
 #: MASH's limits on the occupant compartment's deformation, as they were cited to this program
