@@ -20,7 +20,6 @@ from . import quantities
 from .safety import (COMPARTMENT_LIMITS, NOT_RECHECKED, STANDARDS, VERDICTS,
                      clearance_of, criteria_of, rate, strike_on_car)
 
-__all__ = ["ratings", "compartment", "RATED", "part_name"]
 
 #: The readings rated against their limits, beside the occupant compartment.
 RATED = ("oiv_m_s", "ora_g")

@@ -22,30 +22,6 @@ from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT
 
 from .trajectory import SAMPLED_POINTS
 
-__all__ = [
-    "FLAIL_DISTANCE_M",
-    "WINDOW_S",
-    "Criterion",
-    "CRITERIA",
-    "STANDARDS",
-    "COMPARTMENT_LIMITS",
-    "NOT_RECHECKED",
-    "Strike",
-    "strike_on_car",
-    "VERDICTS",
-    "rate",
-    "criteria_of",
-    "PulseMetrics",
-    "assess",
-    "max_deceleration",
-    "max_window_average",
-    "flail_space",
-    "Clearance",
-    "body_clearance",
-    "car_body",
-    "approach_angle_rad",
-    "NO_BODY",
-]
 
 FT_PER_M = 1.0 / M_PER_FT
 #: The flail-space model's longitudinal travel, m (NCHRP 350 / MASH: 0.6 m, "2.0 ft").

@@ -41,32 +41,6 @@ from deck_emulator.vocabulary.scene import (
     BaseFriction,
 )
 
-__all__ = [
-    "InputRange",
-    "DEFAULT_INPUTS",
-    "SCENE_INPUTS",
-    "OUTCOMES",
-    "Study",
-    "problem_for",
-    "sample",
-    "tasks_for",
-    "run_study",
-    "analyse",
-    "REPORTED",
-    "study_row",
-    "scene_task",
-    "scene_tasks",
-    "ishigami_task",
-    "ishigami_indices",
-    "write_outputs",
-    "check_options",
-    "all_failed",
-    "MAX_N",
-    "CAR_TEST_OUTCOMES",
-    "blind_outcomes",
-    "tests_whole_post",
-    "unresolved",
-]
 
 # =================================================================================== inputs
 

@@ -59,17 +59,6 @@ from deck_emulator.vocabulary.events import Surface
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.units import FT_PER_MILE, S_PER_HOUR
 
-__all__ = [
-    "POSTS",
-    "scene_deck",
-    "scene_name",
-    "parse_grid",
-    "result_row",
-    "sweep",
-    "write_csv",
-    "render_markdown",
-    "COLUMNS",
-]
 
 #: --post -> base deck (the report's steel post, 40 mph, 0 deg).
 POSTS = {"steel": decks.path(decks.REPORT_DECK)}
