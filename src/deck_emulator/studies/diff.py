@@ -151,9 +151,9 @@ def diff_step(task: dict) -> dict:
 
 
 def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=defaults.CORE_RTOL,
-              atol=defaults.CORE_ATOL, tighten_ed=True, ed_direction_rows=True, jobs=None,
-              scheduler=None, store_dir=None, resume=False, quiet=False, desc="diff",
-              files=None) -> dict:
+              atol=defaults.CORE_ATOL,
+              tighten_ed=True, ed_direction_rows=True, jobs=None, scheduler=None, store_dir=None, resume=False,
+              quiet=False, desc="diff", files=None) -> dict:
     """Run both engines; return {emulator, core, max_trajectory_diff_ft, convergence, ...}.
 
     The side-by-side values are the listing's run as printed (k = 0, ED tolerance .0001). The
@@ -163,19 +163,35 @@ def diff_deck(deck, *, precision="double", errata=(), ks=range(5), rtol=defaults
 
     The ks run on the one scene runner (:func:`deck_emulator.studies.common.run_longest_first`:
     ``jobs`` workers or the cluster at ``scheduler``), stored in ``store_dir`` (a temporary
-    folder if None; ``resume`` runs only the ks not stored; ``desc``: its progress bar's
-    label; ``files``: the SHA-256 of the deck's file as the caller read it, else it is read
-    again). A run that did not end raises :class:`DiffStopped` naming the smallest k at which
-    one stopped."""
+    folder if None; ``resume`` runs only the ks not stored; ``files``: the SHA-256 of the deck's
+    file as the caller read it, else it is read again). A run that did not end raises
+    :class:`DiffStopped` naming the smallest k at which one stopped."""
     options = dict(precision=precision, errata=errata, ks=ks, rtol=rtol, atol=atol,
                    tighten_ed=tighten_ed, ed_direction_rows=ed_direction_rows)
-    tasks = diff_tasks(deck, **options)
-    if not tasks:
-        raise DiffStopped("no step size to compare: give --max-k 0 or more")
-    steps = run_longest_first(diff_step, tasks, jobs=jobs, desc=desc, store_dir=store_dir,
-                              quiet=quiet, scheduler=scheduler, resume=resume, core=True,
-                              files=files)
-    return _diff_result(deck, options, steps)
+    return diff_decks([(deck, options)], jobs=jobs, scheduler=scheduler, store_dir=store_dir,
+                      resume=resume, quiet=quiet, desc=desc, files=files)[0]
+
+
+def diff_decks(cases, *, jobs=None, scheduler=None, store_dir=None, resume=False,
+               quiet=False, desc="diff", files=None) -> list[dict]:
+    """:func:`diff_deck` of each ``(deck, options)`` in ``cases`` (options: the keywords of
+    :func:`diff_tasks`), all their runs in one call of the scene runner (``desc``: its
+    progress bar's label; ``files``: as :func:`run_scenes`)."""
+
+    plans = []
+    for deck, options in cases:
+        tasks = diff_tasks(deck, **options)
+        if not tasks:
+            raise DiffStopped("no step size to compare: give --max-k 0 or more")
+        plans.append((deck, options, tasks))
+    steps = run_longest_first(diff_step, [t for _, _, tasks in plans for t in tasks], jobs=jobs,
+                              desc=desc, store_dir=store_dir, quiet=quiet,
+                              scheduler=scheduler, resume=resume, core=True, files=files)
+    out, at = [], 0
+    for deck, options, tasks in plans:
+        out.append(_diff_result(deck, options, steps[at:at + len(tasks)]))
+        at += len(tasks)
+    return out
 
 
 def _diff_result(deck, options: dict, steps: list[dict]) -> dict:
