@@ -369,14 +369,13 @@ def run_study(
     digits: bool = True,
     desc: str = "scenes",
     progress: bool | None = None,
-    convergence: bool = True,
     chunk: int | None = None,
     many: bool = False,
     blind: dict[str, str] | None = None,
     files: dict[str, str] | None = None,
 ) -> Study:
     """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
-    for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample).
+    for ``n`` and for ``n/2`` (the first half of the same sample).
     ``chunk``, ``many``: as :func:`run_scenes` (``many``: ``fn`` takes a batch of tasks, as
     :func:`scene_tasks`); ``blind``: the outputs the model cannot see, and why
     (:func:`blind_outcomes`); ``files``: as :func:`run_scenes`."""
@@ -401,7 +400,7 @@ def run_study(
             v = None if r is None or r.get("status") != "ok" else r.get(key)
             vals.append(np.nan if v is None else float(v))
         Y[key] = np.array(vals)
-    sizes = [n // 2, n] if convergence and n >= 4 else [n]
+    sizes = [n // 2, n] if n >= 4 else [n]
     study = Study(problem, n, Xused, tasks, store, list(outputs), rows=rows, Y=Y, wall_s=wall)
     study.ran = len(store.ids()) - before
     study.indices = analyse(problem, Y, sizes, seed=seed, blind=blind)
@@ -434,9 +433,9 @@ def bootstrap_seed(seed: int) -> int:
     return int(np.random.SeedSequence(seed).generate_state(1)[0]) | 1
 
 
-def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float = 0.95,
+def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0,
             blind: dict[str, str] | None = None) -> list:
-    """Sobol S1 and ST (with ``conf_level`` bootstrap half-widths) for every output in ``Y`` and
+    """Sobol S1 and ST (with 95 % bootstrap half-widths) for every output in ``Y`` and
     every base-sample size in ``sizes`` (using the first ``size * (D + 2)`` scenes). An output
     the model is blind to (``blind``: output -> why, :func:`blind_outcomes`), with a missing
     value (NaN), or constant or nearly so (its most common value in at least
@@ -475,7 +474,7 @@ def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float =
                                 "ST": None, "ST_conf": None, "note": note, "unresolved": ""})
                 continue
             with np.errstate(all="ignore"):
-                si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=conf_level,
+                si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=0.95,
                                    num_resamples=200, seed=bootstrap_seed(seed))
             for i, name in enumerate(problem["names"]):
                 row = {**base, "input": name,
