@@ -266,14 +266,6 @@ def study_row(outcome) -> dict:
     }
 
 
-def scene_task(task: dict) -> dict:
-    """A worker's function: ``{"deck", "engine", "preset", "inputs"}`` -> outcomes."""
-    (row,) = scene_tasks([task])
-    if isinstance(row, Exception):
-        raise row
-    return row
-
-
 def _use_bases(bases: dict) -> None:
     """The decks ``bases`` (a task's ``deck`` -> the deck the command read) kept as this
     process's decks of those names, in place of any other kept before."""
