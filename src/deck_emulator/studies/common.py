@@ -16,15 +16,13 @@ import os
 import platform
 import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 
 from deck_emulator import decks
 from deck_emulator.engine import CoreEngine, EmulatorEngine, quantities
 from deck_emulator.engine import errata as errata_policy
-from deck_emulator.files import write_file
-from deck_emulator.studies.csvfile import csv_text
+from deck_emulator.studies.csvfile import csv_text  # noqa: F401 - the studies' CSV
 from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - the studies' step and options
 from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
 from deck_emulator.studies.store import Stopped
@@ -193,11 +191,6 @@ def machine_line(m: dict, jobs: int, wall_s: float) -> str:
             f"{m['python']}, NumPy {m['numpy']}, SciPy "
             f"{m['scipy']}, Matplotlib {m['matplotlib']} ({m['platform']}). The whole study took "
             f"{wall_s:.0f} s.")
-
-
-def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
-    """Write :func:`csv_text` to ``path`` whole or not at all."""
-    write_file(path, csv_text(rows, columns))
 
 
 def fmt(v, spec=".3g", none="–") -> str:
