@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -273,9 +273,6 @@ class PulseMetrics:
     ora_window_start_s: float | None
     flail_distance_ft: float
 
-    def as_dict(self) -> dict:
-        return asdict(self)
-
     def lines(self) -> list[str]:
         """Human-readable lines, with the cited limits (no verdict: a pulse alone cannot say
         whether the post entered the car; :func:`ratings` rates a run)."""
@@ -368,9 +365,6 @@ class Clearance:
     touch_time_s: float | None = None
     touch_surface: str | None = None
     touch_where: str | None = None
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
 
 def _segments(points: Mapping[str, np.ndarray]):
