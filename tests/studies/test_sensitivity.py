@@ -68,8 +68,9 @@ def test_input_ranges_are_parsed_and_checked():
 
 def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
     def run(inputs):
-        return sa.scene_task({"deck": "steel40", "engine": "core", "preset": "legacy",
-                              "inputs": inputs})
+        (row,) = sa.scene_tasks([{"deck": "steel40", "engine": "core", "preset": "legacy",
+                                  "inputs": inputs}])
+        return row
 
     plain = run({})
     nominal = run({"friction_lb": sa.LISTING_FRICTION_LB, "friction_travel_ft": 0.079333})
@@ -81,7 +82,7 @@ def test_the_nominal_friction_through_the_adapter_is_the_listing_run():
 
 def test_a_batch_of_scenes_gives_each_its_own_outcomes():
     """The worker's batch function (the core's scenes through CoreEngine.run_batch, grouped by
-    engine: the friction inputs make another engine) gives every task what scene_task gives it
+    engine: the friction inputs make another engine) gives every task what it gives the task
     alone; an unknown input fails its task only."""
     base = {"deck": "steel40", "engine": "core", "preset": "legacy"}
     tasks = [{**base, "inputs": {"WV": 80.0}},
@@ -94,7 +95,7 @@ def test_a_batch_of_scenes_gives_each_its_own_outcomes():
     for i, task in enumerate(tasks):
         if i == 2:
             continue
-        a, b = dict(together[i]), dict(sa.scene_task(task))
+        a, b = dict(together[i]), dict(sa.scene_tasks([task])[0])
         assert a.pop("engine_run_s") > 0 and b.pop("engine_run_s") > 0
         assert a == b and a["engine_error"] == "" and a["hit_surface"] != "NONE", i
     assert together[0]["delta_v_crush_mph"] != together[3]["delta_v_crush_mph"]

@@ -109,7 +109,7 @@ def assembly(o: AssemblyOptions) -> Answer:
         from deck_emulator.legacy.deck import parse_deck
 
         deck = parse_deck(text)
-        out = EmulatorEngine(errata=tuple(o.erratum), trace=False).run(deck)
+        out = EmulatorEngine(errata=tuple(o.erratum), trace=False).run(deck, scene=scene_)
         done = answer(out.printout, records=list(out.records), deck=dict(deck.values))
         if out.error:
             done.status, done.error = "stopped", common.stopped(out)

@@ -16,9 +16,6 @@ import math
 
 import numpy as np
 
-__all__ = ["spin_deg", "spin_track_deg", "arm_spin_deg", "arm_spin_track", "end_index",
-           "point_at_end_l", "start_l", "largest_distance_ft"]
-
 
 def _rot_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The smallest rotation taking unit vector ``a`` to unit vector ``b`` (Rodrigues'

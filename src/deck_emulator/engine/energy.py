@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["energies"]
-
 
 def energies(outcome) -> dict:
     """``{"launch_ke_ftlb", "free_drift"}`` of an outcome (NaN where its run has none: no run,

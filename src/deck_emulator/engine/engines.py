@@ -128,14 +128,16 @@ class EmulatorEngine:
             defect = f"{type(exc).__name__}: {exc} (label {program.label}, step {program.step})"
         return Execution(run, error, defect, time.perf_counter() - started)
 
-    def run(self, deck, *, name: str = "", watch=None) -> Outcome:
+    def run(self, deck, *, name: str = "", watch=None, scene=None) -> Outcome:
         """``deck`` (or its name, or a file: :func:`given`) run; ``watch``: as
-        :meth:`execute`."""
+        :meth:`execute`; ``scene``: as :meth:`outcome_of`."""
         deck, stem = given(deck, self.name)
-        return self.outcome_of(self.execute(deck, watch=watch), deck, name=name or stem)
+        return self.outcome_of(self.execute(deck, watch=watch), deck, name=name or stem,
+                               scene=scene)
 
-    def outcome_of(self, done: "Execution", deck, *, name: str = "") -> Outcome:
-        """The :class:`Outcome` of an :meth:`execute` of ``deck``, made once."""
+    def outcome_of(self, done: "Execution", deck, *, name: str = "", scene=None) -> Outcome:
+        """The :class:`Outcome` of an :meth:`execute` of ``deck``, made once; ``scene``: the
+        deck's scene where the caller has built it (else it is built here)."""
         import dataclasses
 
         from deck_emulator.vocabulary.scene import Scene
@@ -148,7 +150,7 @@ class EmulatorEngine:
         hit = next((e for e in events if e.kind is EventKind.HIT), None)
         fields = dict(
             engine="emulator", name=name,
-            scene=Scene.from_deck(deck, name=name, checked=False),
+            scene=scene or Scene.from_deck(deck, name=name, checked=False),
             errata=tuple(run.errata), arithmetic=self.precision,
             settings=f"arithmetic {run.arithmetic}; errata: "
             f"{errata_policy.describe(run.errata)}",

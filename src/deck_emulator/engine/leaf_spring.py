@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["at_unloading"]
-
 
 def at_unloading(outcome) -> dict:
     """``{"time_s", "compression_ft", "set_ft"}`` where the run's leaf spring begins to unload

@@ -16,8 +16,6 @@ from pathlib import Path
 
 from deck_emulator import __version__
 
-__all__ = ["RECONSTRUCTION", "facts", "banner_records", "separator_records", "pdf_metadata",
-           "listing_sha256"]
 
 #: Said on every banner page and in every answer: nothing printed in 1967 survives.
 RECONSTRUCTION = ("a reconstruction: Report 75-9 prints no output pages; these are what the "

@@ -18,9 +18,8 @@ from deck_emulator.vocabulary.events import POINT_NAMES
 
 from . import quantities
 from .safety import (COMPARTMENT_LIMITS, NOT_RECHECKED, STANDARDS, VERDICTS,
-                     clearance_until, criteria_of, rate, strike_on_car)
+                     clearance_of, criteria_of, rate, strike_on_car)
 
-__all__ = ["ratings", "compartment", "RATED", "part_name"]
 
 #: The readings rated against their limits, beside the occupant compartment.
 RATED = ("oiv_m_s", "ora_g")
@@ -96,7 +95,7 @@ def compartment(o) -> dict | None:
             surface = c.touch_surface if c.touch_surface != "roof" else None
         struck = strike_on_car(o, t, label, fraction=fraction, surface=surface)
         deep = least is not None and least < -_AT_SURFACE_FT
-        before = clearance_until(o, t)
+        before = clearance_of(o, t)
         roof_before = None if before is None else before.roof_ft
         answer.update(part=part_name(label), surface=struck.face, car_part=struck.car_part,
                       in_compartment=struck.occupant_compartment, where=where, time_s=t,

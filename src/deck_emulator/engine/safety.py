@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,31 +22,6 @@ from deck_emulator.vocabulary.units import G_FT_S2, M_PER_FT
 
 from .trajectory import SAMPLED_POINTS
 
-__all__ = [
-    "FLAIL_DISTANCE_M",
-    "WINDOW_S",
-    "Criterion",
-    "CRITERIA",
-    "STANDARDS",
-    "UNCONFIRMED",
-    "COMPARTMENT_LIMITS",
-    "NOT_RECHECKED",
-    "Strike",
-    "strike_on_car",
-    "VERDICTS",
-    "rate",
-    "criteria_of",
-    "PulseMetrics",
-    "assess",
-    "max_deceleration",
-    "max_window_average",
-    "flail_space",
-    "Clearance",
-    "body_clearance",
-    "car_body",
-    "approach_angle_rad",
-    "NO_BODY",
-]
 
 FT_PER_M = 1.0 / M_PER_FT
 #: The flail-space model's longitudinal travel, m (NCHRP 350 / MASH: 0.6 m, "2.0 ft").
@@ -98,7 +73,7 @@ class Criterion:
 
 #: The limits the answers are judged by (breakaway supports), each with the document it is
 #: taken from, as the source found states it. Only limits that can be cited are here; the ones
-#: remembered but not confirmed are in :data:`UNCONFIRMED` and never printed (docs/safety.md).
+#: remembered but not confirmed are listed in docs/safety.md and never printed.
 CRITERIA: Mapping[str, Criterion] = {
     "nchrp350_compartment": Criterion(
         "occupant compartment", "occupant_compartment", "ft", None, None,
@@ -126,31 +101,6 @@ CRITERIA: Mapping[str, Criterion] = {
     "nchrp350_ora": Criterion(
         "ORA", "ora_g", "g", None, 20.0,
         "NCHRP Report 350 (1993), Table 5.1, criterion I"),
-}
-
-#: Remembered, not confirmed in a document at hand: kept for docs/safety.md, never printed.
-UNCONFIRMED: Mapping[str, Criterion] = {
-    "nchrp350_ora_preferred": Criterion(
-        "ORA", "ora_g", "g", 15.0, 20.0,
-        "15 g preferred: from memory, not found in a source (docs/safety.md)"),
-    "mash_oiv_preferred": Criterion(
-        "OIV", "oiv_m_s", "m/s", 3.0, 4.9,
-        "MASH's preferred 3.0 m/s (10 ft/s) for supports: from memory, not found in a source "
-        "(docs/safety.md)", standard="mash"),
-    "mash_ora": Criterion(
-        "ORA", "ora_g", "g", 15.0, 20.49,
-        "MASH's 15.0 g preferred, 20.49 g at most: from memory, not found in a source "
-        "(docs/safety.md)", standard="mash"),
-    "delta_v_1985": Criterion(
-        "ΔV (1985)",
-        "vehicle velocity change",
-        "ft/s",
-        10.0,
-        15.0,
-        "1985 AASHTO structural-supports specification (from memory, unverified): "
-        "10 ft/s desirable, about 15 ft/s at most",
-        standard="aashto1985",
-    ),
 }
 
 #: MASH's limits on the occupant compartment's deformation, as they were cited to this program
@@ -323,9 +273,6 @@ class PulseMetrics:
     ora_window_start_s: float | None
     flail_distance_ft: float
 
-    def as_dict(self) -> dict:
-        return asdict(self)
-
     def lines(self) -> list[str]:
         """Human-readable lines, with the cited limits (no verdict: a pulse alone cannot say
         whether the post entered the car; :func:`ratings` rates a run)."""
@@ -418,9 +365,6 @@ class Clearance:
     touch_time_s: float | None = None
     touch_surface: str | None = None
     touch_where: str | None = None
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
 
 def _segments(points: Mapping[str, np.ndarray]):
@@ -551,19 +495,8 @@ def assess_outcome(out) -> PulseMetrics | None:
     return assess(t, vv, g=out.gravity_ft_s2 or G_FT_S2)
 
 
-def clearance_of(out) -> Clearance | None:
-    """The post's least clearance above the car in an outcome's free flight."""
-    if not out.t.size or not out.free.any():
-        return None
-    pts = {k: v for k, v in out.points.items() if k in SAMPLED_POINTS}
-    if "C" in pts and np.isnan(pts["C"][out.free]).any():
-        pts.pop("C")
-    return body_clearance(out.t, pts, out.sv, car_body(out.scene),
-                          approach_angle_rad(out.scene), free=out.free)
-
-
-def clearance_until(out, until_s: float) -> Clearance | None:
-    """The post's least clearance above the car over its free flight up to ``until_s``
+def clearance_of(out, until_s: float = math.inf) -> Clearance | None:
+    """The post's least clearance above the car in an outcome's free flight, up to ``until_s``
     (inclusive): the margin it kept before a strike the model cannot follow past."""
     if not out.t.size or not out.free.any():
         return None

@@ -49,8 +49,7 @@ from deck_emulator.legacy.deck import (
 from deck_emulator.legacy.jobdeck import MAX_BYTES, parse_job
 from deck_emulator.vocabulary.defaults import MAX_SCENE_BYTES
 
-__all__ = ["Deck", "Source", "is_scene_file", "load_source", "parse_deck", "read_bytes",
-           "read_deck"]
+__all__ = ["Deck", "Source", "load_source", "parse_deck", "read_bytes", "read_deck"]
 
 
 
@@ -118,22 +117,6 @@ class Source:
         return (f"{self.name}: a scene file; {command} runs the 1967 program, which reads card "
                 f"decks: run the scene on the core (`deck-emulator core {self.given}`), or give "
                 f"the deck it was made from (`deck-emulator scene DECK` writes a deck's scene)")
-
-
-def is_scene_file(path) -> bool:
-    """A scene file (TOML with tables), whatever its name; a card deck is never valid TOML.
-    (Reads the file: for a regular file only; :func:`load_source` reads a SOURCE once.)"""
-    if str(path).endswith(".toml"):
-        return os.path.isfile(path)
-    if not os.path.isfile(path):
-        return False
-
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_SCENE_BYTES)
-    except OSError:
-        return False
-    return _is_scene(str(path), data)
 
 
 def _is_scene(name: str, data: bytes) -> bool:

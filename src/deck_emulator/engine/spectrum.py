@@ -10,8 +10,6 @@ import numpy as np
 
 from deck_emulator.vocabulary import defaults
 
-__all__ = ["contact_spectrum", "stiffness_estimate", "stiff_ratio"]
-
 
 def stiff_ratio() -> float:
     """The core's threshold: above it ``method="auto"`` integrates the contact with Radau."""

@@ -16,18 +16,16 @@ import os
 import platform
 import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 
 from deck_emulator import decks
 from deck_emulator.engine import CoreEngine, EmulatorEngine, quantities
 from deck_emulator.engine import errata as errata_policy
-from deck_emulator.files import write_file
-from deck_emulator.studies.csvfile import csv_text
+from deck_emulator.studies.csvfile import csv_text  # noqa: F401 - the studies' CSV
 from deck_emulator.studies.diff import H0, legacy_options  # noqa: F401 - the studies' step and options
 from deck_emulator.studies.distributed import run_longest_first  # noqa: F401 - the studies' runner
-from deck_emulator.studies.store import Stopped  # noqa: F401 - the studies' runner
+from deck_emulator.studies.store import Stopped
 from deck_emulator.vocabulary import defaults
 
 #: the emulator's errata in every study run, by the studies' design: ED steps towards its root
@@ -122,6 +120,37 @@ def stopped_at_wall(out, max_wall_s: float, batch_s: float | None = None):
     return out
 
 
+def run_outcomes(items: list) -> list:
+    """``(engine, deck or scene, name)`` items -> their outcomes, in order.  The core's scenes
+    of one engine run together (``CoreEngine.run_batch``); the emulator's one after another
+    (the 1967 program runs one deck at a time).  A core scene stopped by the wall bound is
+    :class:`Stopped` in its place: its scene runs again on resume."""
+    outcomes: list = [None] * len(items)
+    groups: list[tuple[object, list[int]]] = []  # engines are compared, not hashed
+    for i, (engine, *_) in enumerate(items):
+        for e, members in groups:
+            if e == engine:
+                members.append(i)
+                break
+        else:
+            groups.append((engine, [i]))
+    for engine, members in groups:
+        if not isinstance(engine, CoreEngine):
+            for i in members:
+                outcomes[i] = engine.run(items[i][1], name=items[i][2])
+            continue
+        started = time.perf_counter()
+        got = engine.run_batch([items[i][1] for i in members],
+                               names=[items[i][2] for i in members])
+        batch_s = time.perf_counter() - started
+        for i, res in zip(members, got):
+            try:
+                outcomes[i] = stopped_at_wall(res, engine.wall_bound_s, batch_s)
+            except Stopped as exc:
+                outcomes[i] = exc
+    return outcomes
+
+
 def _warnings(caught) -> str:
     """The distinct warnings of a run (scipy's, e.g. a NaN in an error estimate it recovered from)."""
     seen = []
@@ -162,11 +191,6 @@ def machine_line(m: dict, jobs: int, wall_s: float) -> str:
             f"{m['python']}, NumPy {m['numpy']}, SciPy "
             f"{m['scipy']}, Matplotlib {m['matplotlib']} ({m['platform']}). The whole study took "
             f"{wall_s:.0f} s.")
-
-
-def write_csv(path: Path, rows: list[dict], columns: list[str]) -> None:
-    """Write :func:`csv_text` to ``path`` whole or not at all."""
-    write_file(path, csv_text(rows, columns))
 
 
 def fmt(v, spec=".3g", none="–") -> str:

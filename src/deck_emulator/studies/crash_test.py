@@ -36,12 +36,7 @@ from deck_emulator.vocabulary.scene import (
     Scene,
     Vehicle,
 )
-from deck_emulator.vocabulary.units import G_FT_S2
 
-__all__ = ["crash_description", "crash_scene", "state_row", "table10", "table9_start",
-           "table9", "crash_run", "G"]
-
-G = G_FT_S2  # the report's gravity (units.py)
 
 
 def crash_description(name_or_path: str = "crash_test") -> dict:
@@ -137,11 +132,9 @@ def _result(out):
 def table10(scene: Scene | None = None, *, t_max_s: float = 0.6):
     """(the run's :class:`~deck_emulator.engine.Outcome`, row at the loss of contact, row at
     70 ms) of a full run of the scene."""
-    scene = scene or crash_scene()
-    out = _engine(t_max_s).run(scene)
-    res = _result(out)
-    t_loss = res.vehicle_contact_lost_s
-    return out, (state_row(res, t_loss) if t_loss is not None else None), state_row(res, 0.070)
+    out = _result(_engine(t_max_s).run(scene or crash_scene()))
+    t_loss = out.vehicle_contact_lost_s
+    return out, (state_row(out, t_loss) if t_loss is not None else None), state_row(out, 0.070)
 
 
 def table9_start(t8: dict) -> PostInitialState:
@@ -182,7 +175,6 @@ def crash_run(task: dict) -> dict:
 
     scene = crash_scene(**task["changes"])
     out, loss, r70 = table10(scene)
-    res = out
     t_stop = out.span[1]
     t_end = min(t_stop, FIGURE_END_S)
     figure = []
@@ -191,9 +183,9 @@ def crash_run(task: dict) -> dict:
             q, p = out.position("Q", t), out.position("P", t)
             figure.append([float(t), float(q[0]), float(q[2]), float(p[0]), float(p[2])])
     row = {"loss": loss, "at_70": r70,
-           "at_270": state_row(res, 0.27) if t_stop >= 0.27 else None,
+           "at_270": state_row(out, 0.27) if t_stop >= 0.27 else None,
            "hit_time_s": out.hit_time_s,
-           "vehicle_contact_lost_s": res.vehicle_contact_lost_s,
+           "vehicle_contact_lost_s": out.vehicle_contact_lost_s,
            "events": [list(e) for e in out.engine_events],
            "leaf_spring_peak_compression_ft": quantities.value("leaf_spring_peak_compression_ft",
                                                                out),

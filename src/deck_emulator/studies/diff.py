@@ -58,10 +58,12 @@ def legacy_options(h: float):
 
 def max_trajectory_distance(emulator, core) -> float:
     """Largest distance (ft) between the mass centres of an emulator outcome at its accepted
-    steps that lie in the core outcome's run, and the core's there."""
+    steps that lie in the core outcome's run, and the core's there (NaN: no step there)."""
     t, xyz = emulator.accepted_steps()
     t_start, t_end = core.span
     keep = (t >= t_start) & (t <= t_end)
+    if not keep.any():
+        return math.nan
     return float(np.max(np.linalg.norm(xyz[:, keep] - core.position("CM", t[keep]), axis=0)))
 
 

@@ -7,9 +7,8 @@ Tasks go in batches (:func:`batch_size`) to a ``concurrent.futures`` executor:
 the preloaded core), or Dask's executor of an existing cluster (``scheduler=``: its scheduling
 and its retries).  One loop, :func:`run_batches`, serves both and stores each row in the
 :mod:`~deck_emulator.studies.store` as its batch completes.  A scene whose ``fn`` raised, or
-whose worker died too often, is stored ``failed`` and not run again on resume (unless
-``retry_failed``); one stopped by a bound of the machine (:class:`Stopped`) is stored
-``stopped`` and runs again.
+whose worker died too often, is stored ``failed`` and not run again on resume; one stopped
+by a bound of the machine (:class:`Stopped`) is stored ``stopped`` and runs again.
 """
 
 from __future__ import annotations
@@ -121,7 +120,7 @@ def batch_size(scenes: int, workers: int) -> int:
 def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
                jobs: int | None = None, scheduler: str | Scheduler | None = None,
                resume: bool = False, desc: str = "scenes", progress: bool | None = None,
-               retry_failed: bool = False, flush_s: float = 1.0, chunk: int | None = None,
+               flush_s: float = 1.0, chunk: int | None = None,
                max_scenes: int = MAX_SCENES, worker_wait_s: float = WORKER_WAIT_S,
                eta: bool = True, many: bool = False, core: bool = False,
                files: dict[str, str] | None = None) -> SceneStore:
@@ -141,7 +140,7 @@ def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
         with store_lock(store_dir):
             store = SceneStore(store_dir)
             store.clean_temporaries()
-            done = store.ids(include_failed=not retry_failed)
+            done = store.ids()
             if done and not resume:
                 raise StoreError(f"{store.results} already holds {len(done)} scene(s): "
                                  "resume, or use a new folder")
@@ -150,7 +149,7 @@ def run_scenes(tasks: list[dict], fn: Callable, *, store_dir: str | os.PathLike,
                 text = _canonical(t)
                 unique.setdefault(_id_of(text), (t, text))
             _check_study(store.dir, {sid: t for sid, (t, _) in unique.items()},
-                         store.ids() if resume else set(), files)
+                         done if resume else set(), files)
             todo = [(sid, t, text) for sid, (t, text) in unique.items() if sid not in done]
             if todo:
                 with (dask_executor(scheduler, worker_wait_s) if scheduler else

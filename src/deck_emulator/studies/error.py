@@ -20,8 +20,8 @@ import numpy as np
 
 from deck_emulator.vocabulary import defaults
 from deck_emulator.engine import Limits
-from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
+from deck_emulator.studies.diff import max_trajectory_distance
 from deck_emulator.studies.orders import QUANTISED, order_fit
 from deck_emulator.vocabulary.scene import LEGACY, Scene
 
@@ -123,14 +123,9 @@ def _times(walls: list[float]) -> dict:
 _REFS: dict = {}
 
 
-def _scene(deck_path, deck=None):
-    """The deck named ``deck_path`` and its scene, kept for the process's next tasks;
-    ``deck``: that deck as the command read it (else it is read here)."""
-    key = ("scene", str(deck_path))
-    if key not in _REFS:
-        deck = read_deck(deck_path) if deck is None else deck
-        _REFS[key] = (deck, Scene.from_deck(deck))
-    return _REFS[key]
+def _scene(deck_path):
+    """The deck named ``deck_path`` and its scene, as :func:`_task` keeps them."""
+    return _REFS[("scene", str(deck_path))]
 
 
 class RunError(Exception):
@@ -221,13 +216,8 @@ def _release_errors(res, ref, scene) -> dict:
 
 
 def _emulator_errors(run, hit_time, ref) -> dict:
-    t, xyz = run.accepted_steps()
-    t_start, t_end = ref.span
-    keep = (t >= t_start) & (t <= t_end)
-    out = {"err_traj_ft": math.nan, "err_hit_time_s": math.nan, "err_R_ft": math.nan}
-    if keep.any():
-        out["err_traj_ft"] = float(np.max(np.linalg.norm(
-            xyz[:, keep] - ref.position("CM", t[keep]), axis=0)))
+    out = {"err_traj_ft": max_trajectory_distance(run, ref), "err_hit_time_s": math.nan,
+           "err_R_ft": math.nan}
     if hit_time is not None and ref.hit_time_s is not None:
         r_emu = np.asarray(run.points["R"][-1], dtype=float)  # R at the last accepted step
         out["err_hit_time_s"] = abs(hit_time - ref.hit_time_s)
@@ -238,11 +228,13 @@ def _emulator_errors(run, hit_time, ref) -> dict:
 # --------------------------------------------------------------------------- tasks
 
 
-def _task(spec: dict, decks: dict | None = None) -> dict:
+def _task(spec: dict, decks: dict) -> dict:
     """A worker's run of one task; ``decks``: path -> the deck read by the command, handed
-    on with the function, so that no worker reads the file again."""
-    if decks and spec["deck"] in decks:
-        _scene(spec["deck"], decks[spec["deck"]])
+    on with the function (no worker reads the file), kept with its scene for the process's
+    next tasks."""
+    key, deck = ("scene", spec["deck"]), decks[spec["deck"]]
+    if key not in _REFS:
+        _REFS[key] = (deck, Scene.from_deck(deck))
     with blas_threads():
         kind = spec["kind"]
         if kind == "check":

@@ -28,24 +28,6 @@ SOURCE = ("J. E. Martinez, An Analytical Solution of the Impact Behavior of Lumi
           "Assemblies, Texas Transportation Institute Research Report 75-9 (1967), Chapter VI, "
           "Tables 11 and 12; line numbers of the project's OCR text of the report")
 
-#: Seed line (1-based) of each row label, for Table 11 (20 mph) and Table 12 (40 mph).
-SEED_LINES = MappingProxyType({
-    20: MappingProxyType({"DECREASE IN VEHICLE VELOCITY (MPH)": 1752,
-                          "MAXIMUM VEHICLE DECELERATION": 1753, "XPL (FT)": 1754,
-                          "YPL (FT)": 1755, "ZPL (FT)": 1756, "XRL (FT)": 1757,
-                          "YRL (FT)": 1758, "ZRL (FT)": 1759, "XQL (FT)": 1760,
-                          "YQL (FT)": 1761, "ZQL (FT)": 1762,
-                          "TIME TO HIT CAR (MILLISEC)": 1766,
-                          "TIME TO HIT GROUND (MILLISEC)": 1767, "COMMENTS": 1768}),
-    40: MappingProxyType({"DECREASE IN VEHICLE VELOCITY (MPH)": 1776,
-                          "MAXIMUM VEHICLE DECELERATION": 1777, "XPL (FT)": 1778,
-                          "YPL (FT)": 1779, "ZPL (FT)": 1780, "XRL (FT)": 1781,
-                          "YRL (FT)": 1782, "ZRL (FT)": 1783, "XQL (FT)": 1784,
-                          "YQL (FT)": 1785, "ZQL (FT)": 1786,
-                          "TIME TO HIT CAR (MILLISEC)": 1790,
-                          "TIME TO HIT GROUND (MILLISEC)": 1791, "COMMENTS": 1792}),
-})
-
 #: Field name here -> row label in the seed (the label text up to its first tab).
 ROW_LABELS = MappingProxyType({
     "delta_v_crush_mph": "DECREASE IN VEHICLE VELOCITY (MPH)",
@@ -96,14 +78,6 @@ _TABLE12_STEEL = {  # 40 mph
     "comment": ("POST HITS GROUND WITH POINT R",) * 3,
 }
 
-#: The printed text of each cell, deck -> field -> text ("" for an empty or dashed cell).
-REPORT_TEXT = MappingProxyType({
-    f"steel{mph}{suffix}": MappingProxyType({k: v[i] for k, v in table.items()})
-    for mph, table in ((20, _TABLE11_STEEL), (40, _TABLE12_STEEL))
-    for i, suffix in enumerate(("", "_a15", "_a30"))
-})
-
-
 def _value(text: str):
     return None if text == "" else text if not _is_number(text) else float(text)
 
@@ -116,24 +90,11 @@ def _is_number(text: str) -> bool:
     return True
 
 
-#: deck -> field -> value: float for numbers, str for the comment, None for an empty cell.
-REPORT = MappingProxyType({
-    deck: MappingProxyType({k: _value(v) for k, v in cells.items()})
-    for deck, cells in REPORT_TEXT.items()
-})
-
 #: deck -> (vehicle speed in mph, approach angle in degrees, table number).
 CASES = MappingProxyType({
     "steel40": (40, 0, 12), "steel40_a15": (40, 15, 12), "steel40_a30": (40, 30, 12),
     "steel20": (20, 0, 11), "steel20_a15": (20, 15, 11), "steel20_a30": (20, 30, 11),
 })
-
-
-def report_time_ms(deck: str) -> float | None:
-    """The report's time of the terminal event (hit car, or else hit ground), in ms."""
-    row = REPORT[deck]
-    return row["time_to_hit_car_ms"] if row["time_to_hit_car_ms"] is not None \
-        else row["time_to_hit_ground_ms"]
 
 
 def report_comment(hit) -> str:
@@ -148,7 +109,7 @@ def report_comment(hit) -> str:
 # ------------------------------------------------------------------------------------------
 # All 18 columns of Tables 11 and 12: aluminium, steel, twin-luminaire steel post.
 #
-# Same seed lines as above (SEED_LINES), plus the twin post's point U rows
+# Same seed lines as the steel post's (the module docstring), plus the twin post's point U rows
 # (XUL, YUL, ZUL: Table 11 lines 1763-1765, Table 12 lines 1787-1789). Column headings at
 # lines 1748 and 1772, assembly weights at lines 1750 and 1774. Columns are named
 # ``<post><mph>[_a15|_a30]`` like the steel decks ("aluminium40_a15", "twin20").
@@ -258,11 +219,20 @@ CASES_ALL = MappingProxyType({
 })
 
 
+#: The steel post's columns (the sweep's report values), deck -> field -> value.
+REPORT = MappingProxyType({deck: REPORT_ALL[deck] for deck in REPORT_ALL if deck in CASES})
+
+
 def report_time_ms_all(column: str) -> float | None:
-    """The report's time of the terminal event of any of the 18 columns, ms."""
+    """The report's time of the terminal event (hit car, or else hit ground) of any of the 18
+    columns, ms."""
     row = REPORT_ALL[column]
     return row["time_to_hit_car_ms"] if row["time_to_hit_car_ms"] is not None \
         else row["time_to_hit_ground_ms"]
+
+
+#: the same of a steel post's column (its deck's name)
+report_time_ms = report_time_ms_all
 
 
 # ------------------------------------------------------------------------------------------

@@ -28,9 +28,10 @@ from deck_emulator.engine import CoreEngine, EmulatorEngine, core_keywords, quan
 from deck_emulator.engine.sources import read_deck
 from deck_emulator.errors import RunFailed, UsageError
 from deck_emulator.files import OutputError, OutputSet, check_output_dir
+from deck_emulator.studies.common import agg_backend, fmt, run_outcomes
 from deck_emulator.studies.pages import page
 from deck_emulator.studies.distributed import run_scenes
-from deck_emulator.studies.store import SceneStore, Stopped, scene_id
+from deck_emulator.studies.store import SceneStore, scene_id
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.deck_fields import DECK_UNITS, NAMES, deck_label
 from deck_emulator.vocabulary.defaults import SCENE_STORE
@@ -40,32 +41,6 @@ from deck_emulator.vocabulary.scene import (
     BaseFriction,
 )
 
-__all__ = [
-    "InputRange",
-    "DEFAULT_INPUTS",
-    "SCENE_INPUTS",
-    "OUTCOMES",
-    "Study",
-    "problem_for",
-    "sample",
-    "tasks_for",
-    "run_study",
-    "analyse",
-    "REPORTED",
-    "study_row",
-    "scene_task",
-    "scene_tasks",
-    "ishigami_task",
-    "ishigami_indices",
-    "write_outputs",
-    "check_options",
-    "all_failed",
-    "MAX_N",
-    "CAR_TEST_OUTCOMES",
-    "blind_outcomes",
-    "tests_whole_post",
-    "unresolved",
-]
 
 # =================================================================================== inputs
 
@@ -272,42 +247,6 @@ def _prepare(values: dict, engine: str, preset: str, deck: str, errata=(),
     return core, d, name, scene
 
 
-def _run_scenes(prepared: list) -> list:
-    """THE adapter to the engine layer: :func:`_prepare`'s scenes -> their outcomes, in
-    order.  The core's scenes of one engine run together (``CoreEngine.run_batch``); the
-    emulator's one after another (the 1967 program runs one deck at a time).  A core scene
-    stopped by the wall bound (a starved or suspended machine) is
-    :class:`~deck_emulator.studies.store.Stopped` in its place: its scene runs again on
-    resume."""
-    from deck_emulator.studies.common import stopped_at_wall
-
-    outcomes: list = [None] * len(prepared)
-    groups: list[tuple[object, list[int]]] = []  # engines are compared, not hashed
-    for i, (engine, *_) in enumerate(prepared):
-        for e, members in groups:
-            if e == engine:
-                members.append(i)
-                break
-        else:
-            groups.append((engine, [i]))
-    for engine, members in groups:
-        if isinstance(engine, CoreEngine):
-            started = time.perf_counter()
-            got = engine.run_batch([prepared[i][3] if prepared[i][3] is not None
-                                    else prepared[i][1] for i in members],
-                                   names=[prepared[i][2] for i in members])
-            batch_s = time.perf_counter() - started
-            for i, res in zip(members, got):
-                try:
-                    outcomes[i] = stopped_at_wall(res, engine.wall_bound_s, batch_s)
-                except Stopped as exc:
-                    outcomes[i] = exc
-        else:
-            for i in members:
-                outcomes[i] = engine.run(prepared[i][1], name=prepared[i][2])
-    return outcomes
-
-
 def study_row(outcome) -> dict:
     """An outcome -> the study's outcomes (:data:`OUTCOMES`, from the registry's values of
     :data:`REPORTED`) plus the hit surface, the engine's error text and its run time."""
@@ -325,14 +264,6 @@ def study_row(outcome) -> dict:
         "engine_error": outcome.error or "",
         "engine_run_s": outcome.run_s,
     }
-
-
-def scene_task(task: dict) -> dict:
-    """A worker's function: ``{"deck", "engine", "preset", "inputs"}`` -> outcomes."""
-    (row,) = scene_tasks([task])
-    if isinstance(row, Exception):
-        raise row
-    return row
 
 
 def _use_bases(bases: dict) -> None:
@@ -360,7 +291,8 @@ def scene_tasks(tasks: list[dict], bases: dict | None = None) -> list:
                                      task.get("shaft_contact")))
         except Exception as exc:  # noqa: BLE001 - that task's failure, stored as its row
             prepared.append(exc)
-    done = iter(_run_scenes([p for p in prepared if not isinstance(p, Exception)]))
+    done = iter(run_outcomes([(e, d if scene is None else scene, name) for e, d, name, scene
+                              in (p for p in prepared if not isinstance(p, Exception))]))
     rows = [p if isinstance(p, Exception) else next(done) for p in prepared]
     return [r if isinstance(r, Exception) else study_row(r) for r in rows]
 
@@ -429,14 +361,13 @@ def run_study(
     digits: bool = True,
     desc: str = "scenes",
     progress: bool | None = None,
-    convergence: bool = True,
     chunk: int | None = None,
     many: bool = False,
     blind: dict[str, str] | None = None,
     files: dict[str, str] | None = None,
 ) -> Study:
     """Sample, run every scene with ``fn`` through :func:`run_scenes`, analyse. Indices are given
-    for ``n`` and, if ``convergence``, for ``n/2`` (the first half of the same sample).
+    for ``n`` and for ``n/2`` (the first half of the same sample).
     ``chunk``, ``many``: as :func:`run_scenes` (``many``: ``fn`` takes a batch of tasks, as
     :func:`scene_tasks`); ``blind``: the outputs the model cannot see, and why
     (:func:`blind_outcomes`); ``files``: as :func:`run_scenes`."""
@@ -461,7 +392,7 @@ def run_study(
             v = None if r is None or r.get("status") != "ok" else r.get(key)
             vals.append(np.nan if v is None else float(v))
         Y[key] = np.array(vals)
-    sizes = [n // 2, n] if convergence and n >= 4 else [n]
+    sizes = [n // 2, n] if n >= 4 else [n]
     study = Study(problem, n, Xused, tasks, store, list(outputs), rows=rows, Y=Y, wall_s=wall)
     study.ran = len(store.ids()) - before
     study.indices = analyse(problem, Y, sizes, seed=seed, blind=blind)
@@ -494,9 +425,9 @@ def bootstrap_seed(seed: int) -> int:
     return int(np.random.SeedSequence(seed).generate_state(1)[0]) | 1
 
 
-def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float = 0.95,
+def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0,
             blind: dict[str, str] | None = None) -> list:
-    """Sobol S1 and ST (with ``conf_level`` bootstrap half-widths) for every output in ``Y`` and
+    """Sobol S1 and ST (with 95 % bootstrap half-widths) for every output in ``Y`` and
     every base-sample size in ``sizes`` (using the first ``size * (D + 2)`` scenes). An output
     the model is blind to (``blind``: output -> why, :func:`blind_outcomes`), with a missing
     value (NaN), or constant or nearly so (its most common value in at least
@@ -535,7 +466,7 @@ def analyse(problem: dict, Y: dict, sizes, *, seed: int = 0, conf_level: float =
                                 "ST": None, "ST_conf": None, "note": note, "unresolved": ""})
                 continue
             with np.errstate(all="ignore"):
-                si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=conf_level,
+                si = sobol.analyze(problem, ym, calc_second_order=False, conf_level=0.95,
                                    num_resamples=200, seed=bootstrap_seed(seed))
             for i, name in enumerate(problem["names"]):
                 row = {**base, "input": name,
@@ -554,12 +485,6 @@ INDEX_COLUMNS = ("deck", "engine", "output", "input", "N", "scenes", "missing", 
                  "S1", "S1_conf", "ST", "ST_conf", "note", "unresolved")
 #: what a cell says of an index whose interval covers most of [0, 1] (:func:`unresolved`)
 NOT_RESOLVED = "not resolved at this N"
-
-
-def _fmt(v, nd=3):
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "—"
-    return f"{v:.{nd}f}" if isinstance(v, float) else str(v)
 
 
 def indices_csv(rows: list) -> str:
@@ -600,7 +525,8 @@ def indices_markdown(rows: list, *, header: str = "") -> str:
                     cells.append(f"{s1} / {st}")
             label, unit = OUTCOMES.get(out, (out, ""))
             m = orow[0]
-            stat = f" ({_fmt(m['mean'], 3)} ± {_fmt(m['sd'], 3)} {unit})" if m["mean"] is not None else ""
+            stat = (f" ({fmt(m['mean'], '.3f', '—')} ± {fmt(m['sd'], '.3f', '—')} {unit})"
+                    if m["mean"] is not None else "")
             note = f" — {orow[0]['note']}" if orow[0]["note"] else ""
             lines.append(f"| {label}{stat}{note} | " + " | ".join(cells) + " |")
         lines.append("")
@@ -630,8 +556,6 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
     """One panel an outcome that has indices (S1 and ST, bars to the 95 % half-width, the
     axis wide enough for every bar: they pass 1.0 and 0 at small N); the outcomes that have
     none (constant over the sample) are named under the title, not drawn as empty panels."""
-    from deck_emulator.studies.common import agg_backend
-
     plt = agg_backend()
     outs = [o for o in OUTCOMES if any(r["output"] == o and r["N"] == n for r in rows)]
     outs += [o for o in dict.fromkeys(r["output"] for r in rows) if o not in outs]
@@ -673,11 +597,7 @@ def plot_indices(rows: list, path, *, n: int, title: str = "") -> None:
 def plot_class_map(study: Study, path, *, inputs: list[str], title: str = "") -> None:
     """What the post hits first (marker) and its least clearance above the roof (colour), per
     scene, over the two given inputs (every scene of the sample; the others vary underneath)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = agg_backend()
     names = study.problem["names"]
     ix = [names.index(k) for k in inputs]
     surf = []

@@ -29,7 +29,6 @@ from deck_emulator.vocabulary.scene import (
 from deck_emulator.engine import Limits
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.files import OutputSet, check_output_dir
-from deck_emulator.engine.sources import read_deck
 from deck_emulator.studies.diff import ed_tolerance as tight_ed_tolerance
 from deck_emulator.studies.store import output_store
 from deck_emulator.studies.sweep import read_base, vvb_for
@@ -143,11 +142,10 @@ def scenes(base: dict, quick: bool) -> list[dict]:
 # --------------------------------------------------------------------------- the runs
 
 
-def _task(spec: dict, bases: dict | None = None) -> dict:
+def _task(spec: dict, bases: dict) -> dict:
     """A worker's run of one scene; ``bases``: path -> the base deck read by the command,
-    handed on with the function, so that no worker reads the file again."""
-    base = bases[spec["deck_path"]] if bases and spec["deck_path"] in bases else None
-    deck = (read_deck(spec["deck_path"]) if base is None else base).with_values(**spec["deck"])
+    handed on with the function, so that no worker reads the file."""
+    deck = bases[spec["deck_path"]].with_values(**spec["deck"])
     if spec["engine"] == "emulator":
         return _task_emulator(spec, deck)
     return _task_core(spec, deck)

@@ -265,11 +265,10 @@ class SceneStore:
                 values.extend(got[c] if c in got else [None] * n)
         return out
 
-    def ids(self, *, include_failed: bool = True) -> set[str]:
-        """The scenes a resume does not run again: ended, and failed unless not
-        ``include_failed``; never a stopped one."""
-        keep = {"ok", "failed"} if include_failed else {"ok"}
-        return {r["scene_id"] for r in self.rows(("scene_id", "status")) if r["status"] in keep}
+    def ids(self) -> set[str]:
+        """The scenes a resume does not run again: ended or failed; never a stopped one."""
+        return {r["scene_id"] for r in self.rows(("scene_id", "status"))
+                if r["status"] in ("ok", "failed")}
 
     def by_id(self, columns: Iterable[str] | None = None) -> dict[str, dict]:
         """scene id -> its last stored row (``columns``: as :meth:`rows`)."""

@@ -41,7 +41,6 @@ import functools
 import hashlib
 import json
 import math
-import time
 from collections.abc import Sequence
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
@@ -49,6 +48,7 @@ from deck_emulator import decks
 from deck_emulator.engine import Outcome, engine_for, quantities, safety
 from deck_emulator.engine.ratings import RATED, ratings
 from deck_emulator.engine.sources import Deck, parse_deck, read_bytes, read_deck
+from deck_emulator.studies.common import run_outcomes
 from deck_emulator.studies.csvfile import csv_text
 from deck_emulator.studies.pages import snippet
 from deck_emulator.studies.distributed import run_scenes, temporary_store
@@ -59,17 +59,6 @@ from deck_emulator.vocabulary.events import Surface
 from deck_emulator.vocabulary.scene import Scene
 from deck_emulator.vocabulary.units import FT_PER_MILE, S_PER_HOUR
 
-__all__ = [
-    "POSTS",
-    "scene_deck",
-    "scene_name",
-    "parse_grid",
-    "result_row",
-    "sweep",
-    "write_csv",
-    "render_markdown",
-    "COLUMNS",
-]
 
 #: --post -> base deck (the report's steel post, 40 mph, 0 deg).
 POSTS = {"steel": decks.path(decks.REPORT_DECK)}
@@ -313,47 +302,27 @@ def _scene_of(job: dict, bases: dict) -> tuple[Deck, str]:
 
 def _scene_rows(jobs: list[dict], bases: dict | None = None,
                 reports: dict | None = None) -> list[dict]:
-    """Worker: a batch of scenes -> their rows (plain data, picklable), in order.  The core's
-    scenes of one engine setting run together (``CoreEngine.run_batch``: the batched core
-    where there is one); the emulator's run one after another (the 1967 program runs one deck
-    at a time).  A scene the engine cannot run is a row saying why (the outcome's error); a
-    core run past its wall bound is :class:`~deck_emulator.studies.store.Stopped`
-    instead (the machine's bound: its scene runs again on resume).  Anything else raised
-    here is a defect, not a scene's outcome: it ends the batch, and the runner
-    (studies.distributed) runs each of its scenes again alone and stores the one that
-    fails as a failed scene with the exception's line.  ``bases``: the base decks the
-    command has read, by path (a deck not in it is read here)."""
-    from deck_emulator.studies.common import stopped_at_wall
+    """Worker: a batch of scenes -> their rows (plain data, picklable), in order, run by
+    :func:`~.common.run_outcomes` (a core run past its wall bound: :class:`Stopped` in its
+    row's place, run again on resume).  A scene the engine cannot run is a row saying why
+    (the outcome's error); anything else raised here is a defect: it ends the batch, and the
+    runner runs each of its scenes again alone and stores the one that fails as failed.
+    ``bases``: the base decks the command has read, by path (a deck not in it is read here)."""
     bases = dict(bases or {})
     reports = _reports(jobs, bases) if reports is None else reports
-    decks = [_scene_of(job, bases) for job in jobs]
-    groups: dict[str, list[int]] = {}
-    for i, job in enumerate(jobs):
-        groups.setdefault(json.dumps([job["engine"], job["options"]], sort_keys=True),
-                          []).append(i)
-    outcomes: list = [None] * len(jobs)
-    walls = [(math.inf, None)] * len(jobs)  # the core's wall bound and its batch's time
-    for members in groups.values():
-        first = jobs[members[0]]
-        engine = engine_for(first["engine"], **first["options"])
-        got, batch_s = [None] * len(members), None
-        if first["engine"] == "core":  # the arrays the row reads, and no others
-            engine = dataclasses.replace(engine, arrays=ROW_ARRAYS)
-            started = time.perf_counter()
-            got = engine.run_batch([decks[i][0] for i in members],
-                                   names=[decks[i][1] for i in members])
-            batch_s = time.perf_counter() - started
-        for i, res in zip(members, got):
-            outcomes[i] = res if res is not None else engine.run(decks[i][0], name=decks[i][1])
-            walls[i] = (getattr(engine, "wall_bound_s", math.inf), batch_s)
-    rows: list = []
-    for job, res, wall in zip(jobs, outcomes, walls):
-        try:
-            rows.append(result_row(stopped_at_wall(res, *wall), job["speed"], job["angle"],
-                                   REPORT.get(reports.get(_report_key(job)))))
-        except Stopped as exc:  # the store's status for it (run again on resume), not a row
-            rows.append(exc)
-    return rows
+    engines: dict[str, object] = {}  # one engine object per setting: its scenes run together
+    items = []
+    for job in jobs:
+        key = json.dumps([job["engine"], job["options"]], sort_keys=True)
+        if key not in engines:
+            engine = engine_for(job["engine"], **job["options"])
+            engines[key] = (dataclasses.replace(engine, arrays=ROW_ARRAYS)  # what a row reads
+                            if job["engine"] == "core" else engine)
+        items.append((engines[key], *_scene_of(job, bases)))
+    return [res if isinstance(res, Stopped) else  # the store's status for it, not a row
+            result_row(res, job["speed"], job["angle"],
+                       REPORT.get(reports.get(_report_key(job))))
+            for job, res in zip(jobs, run_outcomes(items))]
 
 
 def _stored_scene_jobs(jobs: list[dict], bases: dict | None = None,
