@@ -417,6 +417,35 @@ def test_sin_cos_against_exact_reference(text):
             _ref_sin_cos(x.exact(), True), mode="round")
 
 
+
+def _chopped(q: Fraction) -> Fraction:
+    """q chopped to a 27-bit fraction in [1/2, 1) times a power of two (independently of the
+    module: the word format alone)."""
+    e = math.floor(math.log2(abs(q))) + 1
+    while abs(q) >= Fraction(2) ** e:
+        e += 1
+    while abs(q) < Fraction(2) ** (e - 1):
+        e -= 1
+    f = math.floor(abs(q) * Fraction(2) ** (27 - e))
+    return (1 if q > 0 else -1) * Fraction(f) / Fraction(2) ** (27 - e)
+
+
+def test_a_large_card_field_through_cos_and_sin_is_what_27_bit_chopping_gives():
+    """The fuzz campaign's program 120 of seed 4600, record 7: a data field read as 45207.1,
+    Q = COS(ABS(X)), then 28.0*SIN(Q) printed F9.6.  Computed independently (exact rationals,
+    each result chopped to 27 bits, sin and cos by the reference above): 22.168307, where
+    binary64 prints 22.171022.  The 7094 is right: 45207.1 chops by 2**-11 * 0.8 (0.00039)
+    and d(28 sin(cos x))/dx there is 6.9."""
+    x = _chopped(Fraction("45207.1"))
+    assert Fraction("45207.1") - x == Fraction(1, 2560)  # 0.1 - 204/2048
+    q = _chopped(_ref_sin_cos(x, True))
+    s = _chopped(_ref_sin_cos(q, False))
+    product = _chopped(28 * s)
+    w = AR.decimal("28.0") * AR.sin(AR.cos(abs(AR.decimal("45207.1"))))
+    assert w.exact() == product
+    assert f"{float(product):9.6f}" == "22.168307"
+    assert f"{28 * math.sin(math.cos(45207.1)):9.6f}" == "22.171022"
+
 # --- the named assumptions ---------------------------------------------------------------------
 
 
