@@ -376,6 +376,16 @@ def test_a_7094_printout_beyond_the_plain_tolerance_is_judged_by_its_bound(tmp_p
     assert "record 7: 7094 22.168307, gfortran 22.171022" in why
 
 
+
+def test_the_report_counts_the_7094_within_its_bound_apart():
+    campaign = _fuzz()[1]
+    verdicts = [("within", ""), ("within", "within the running error bound (largest 0.02)"),
+                ("withheld", "the 7094's run parts ..."), ("beyond", "record 1: ..."), ()]
+    results = [campaign.Result(k, k, "agree", "", "", v, []) for k, v in enumerate(verdicts)]
+    assert campaign.report(results)[-1].endswith(
+        "beyond 1, not run 1, withheld 1, within 1, within its run's error bound 1")
+
+
 def test_ddmin_finds_a_one_minimal_sublist():
     shrink = _fuzz()[3]
     calls = []
