@@ -194,9 +194,11 @@ class Lockstep(Arithmetic):
 def lockstep(job: list[str]):
     """(what the run found, the run's records, each printed field as (record, column, w, d,
     value)) of the job deck's program on its data cards, through the front end's Python API
-    (front.py); raises the front end's errors."""
+    (front.py); raises the front end's errors, but where the 7094's words, parted from their
+    run, stop it (the records then None)."""
     from deck_emulator.legacy.fortran import Program
     from deck_emulator.legacy.printer import format_layout
+    from deck_emulator.legacy.stops import EmulatorError
 
     from .front import Cards, split_job
 
@@ -205,7 +207,12 @@ def lockstep(job: list[str]):
     ar = Lockstep()
     runner = program.runner(Cards(data), ar)
     runner.keep_writes = True
-    run = runner.run()
+    try:
+        run = runner.run()
+    except EmulatorError:
+        if ar.run.parted:
+            return ar.run, None, []
+        raise
     fields, printed = [], iter(ar.run.printed)
     for first, unit, _card, fmt, _values in run.writes:
         for k, pieces in enumerate(format_layout(runner.formats[unit][fmt])):
@@ -234,6 +241,8 @@ def compare_bounded(ours: str, theirs: str, records: list[str], found: Run,
     ('withheld', why no claim is made)."""
     if found.outside:
         return "beyond", f"a 7094 word outside its bound: {found.outside}"
+    if records is None:
+        return "withheld", f"the 7094's run parts from binary64's at {found.parted}, then stops"
     if records != theirs.splitlines():
         return "beyond", "the lockstep run's binary64 printout is not gfortran's"
     if found.parted:

@@ -362,6 +362,27 @@ def test_the_bound_maps_each_printed_field_past_hollerith_digits():
     assert not found.outside and not found.parted
 
 
+
+@pytest.mark.parametrize("then, stops", [("Y = 2.0", False), ("Y = 1.0/(C - D)", True)])
+def test_a_branch_the_7094_takes_otherwise_withholds_the_verdict(then, stops):
+    """0.1 + 0.2 .NE. 0.3: true in binary64, false on the 7094 (independently: both sums
+    chopped to 27 bits are equal).  The runs part; the verdict is withheld, also where the
+    7094's words, carried on binary64's branch, divide by zero."""
+    from oracle.fuzz.bound import compare_bounded, lockstep
+
+    x, y, z = (_chop27(Fraction(t)) for t in ("0.1", "0.2", "0.3"))
+    assert _chop27(x + y) == z and 0.1 + 0.2 != 0.3
+    source = ["      A = 0.1", "      B = 0.2", "      C = A + B", "      D = 0.3",
+              "      Y = 1.0", f"      IF (C .NE. D) {then}", "    1 FORMAT(1X,F30.3)",
+              "      WRITE(6,1) Y", "      STOP", "      END"]
+    found, records, fields = lockstep(_fuzz()[0].job_deck([("MAIN", source)], []))
+    assert ".NE." in found.parted
+    assert (records is None) is stops
+    theirs = "".join(r + "\n" for r in records or ["?"])  # (binary64's, as gfortran's)
+    status, why = compare_bounded(" " * 26 + "1.000\n", theirs, records, found, fields)
+    assert status == "withheld" and why.endswith("then stops") is stops
+
+
 def test_a_7094_printout_beyond_the_plain_tolerance_is_judged_by_its_bound(tmp_path):
     """Program 120 of the slow corpus (campaign seed 4600): its record 7 is 0.00272 from
     gfortran's, beyond the plain tolerance (0.000976), and within the run's bound: the 7094's
