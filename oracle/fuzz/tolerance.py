@@ -16,6 +16,8 @@ numbers (Hollerith texts, blanks, the record count) must be equal, and a field o
 It is no bound: an error carried forward is amplified by what follows (a cancellation, then a
 product; SIN or COS of a large argument, whose absolute error is the argument's), and a data
 field punched without its point is read as large as 999999 (generate.py), beyond REAL_BOUND.
+And it finds the numbers by their look: two fields printed without a blank between them are
+read as other numbers (``0.4`` then ``794061.6`` as 0.4794061 and .6).
 A printout beyond the tolerance goes to bound.py, which runs the program on both machines at
 once with a running bound on their difference: ``within`` it, ``beyond`` it (a defect), or
 ``withheld`` where the 7094 takes another branch than binary64 (its printout then compares
