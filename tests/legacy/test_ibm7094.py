@@ -446,6 +446,21 @@ def test_a_large_card_field_through_cos_and_sin_is_what_27_bit_chopping_gives():
     assert f"{float(product):9.6f}" == "22.168307"
     assert f"{28 * math.sin(math.cos(45207.1)):9.6f}" == "22.171022"
 
+
+def test_sin_of_a_value_within_1000_then_a_product_is_what_27_bit_chopping_gives():
+    """Program 352 of the fuzz campaign's seed 4600, record 4: card fields 779.705 and -850.9,
+    then UF*SIN(S68), both within the generator's bound of 1000.  Independently: -850.9 chops
+    by 6.1e-6, SIN passes that on and the product multiplies it by 780; the 7094 prints
+    -354.2400741577 against binary64's -354.2358417342, 0.0042 apart (the fuzzer's plain
+    tolerance, 2**-20 * (354 + 1000), is 0.0013)."""
+    x = _chopped(Fraction("-850.9"))
+    assert float(Fraction("-850.9") - x) == -6.103515625e-06
+    product = _chopped(_chopped(Fraction("779.705")) * _chopped(_ref_sin_cos(x, False)))
+    w = AR.decimal("779.705") * AR.sin(AR.decimal("-850.9"))
+    assert w.exact() == product
+    assert f"{float(product):.10f}" == "-354.2400741577"
+    assert f"{779.705 * math.sin(-850.9):.10f}" == "-354.2358417342"
+
 # --- the named assumptions ---------------------------------------------------------------------
 
 
