@@ -24,7 +24,7 @@ import numbers
 import re
 from fractions import Fraction
 
-from .base import Arithmetic, ArithmeticFault, register
+from .base import Arithmetic, ArithmeticFault
 
 __all__ = ["Word", "IBM7094Arithmetic", "INDICATORS", "ZERO", "ONE", "MAX_WORD", "MIN_WORD"]
 
@@ -624,6 +624,3 @@ class IBM7094Arithmetic(Arithmetic):
         """How F-format output rounds, per the ``output`` assumption: ``"nearest"`` or
         ``"truncate"``."""
         return self.assumptions["output"]
-
-
-register("ibm7094", IBM7094Arithmetic)
