@@ -10,7 +10,9 @@ the front end follows give it one meaning:
 * every value is bounded: each REAL variable keeps ``|x| <= REAL_BOUND`` and each INTEGER
   ``|k| <= INT_BOUND`` at all times (an assignment is drawn only if interval arithmetic bounds
   its expression within them), so nothing overflows, in binary64 or on the 7094; a divisor is a
-  non-zero constant or ``(ABS(e) + c)`` with ``c >= 0.5``;
+  non-zero constant or ``(ABS(e) + c)`` with ``c >= 0.5``.  The exception: a data field
+  punched without its point (:func:`_punch`) is read as up to six digits over ``10**d``, up to
+  999999, and what is computed from it may exceed REAL_BOUND too;
 * every variable is set before it is read (MAIN sets each of its own, a subprogram its locals
   on every call); COMMON is zeroed by MAIN's first statements;
 * no argument is aliased: a CALL passes each variable or array at most once, never a COMMON

@@ -285,6 +285,24 @@ def judge(tmp: Path, lines: list[str], data: list[str], job: list[str], *,
                                          in_process=in_process)
         if ending7 == "normal":
             v.precisions["ibm7094"] = compare_within(ours7, theirs)
+            if v.precisions["ibm7094"][0] == "beyond":
+                v.precisions["ibm7094"] = _bounded(job, ours7, theirs,
+                                                   v.precisions["ibm7094"][1])
         else:
             v.precisions["ibm7094"] = (ending7, why7)
     return v
+
+
+def _bounded(job: list[str], ours7: str, theirs: str, plain: str) -> tuple[str, str]:
+    """A 7094 printout beyond the plain tolerance, judged by its run's own error bound
+    (bound.py): within it, beyond it, or withheld (the runs part)."""
+    from deck_emulator.legacy.stops import EmulatorError
+
+    from .bound import compare_bounded, lockstep
+
+    try:
+        found, records, fields = lockstep(job)
+    except EmulatorError as exc:
+        return "beyond", f"{plain}; the lockstep run stopped: {exc}"
+    status, why = compare_bounded(ours7, theirs, records, found, fields)
+    return status, f"{why} (plain tolerance: {plain})"

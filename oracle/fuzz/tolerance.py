@@ -1,23 +1,27 @@
-"""The IBM 7094's printout against the binary64 oracle's: equal within single precision.
+"""The IBM 7094's printout against the binary64 oracle's: equal within single precision, a
+first and cheap screen; a printout beyond it is judged by its own run's error bound (bound.py).
 
 The 7094 keeps a 27-bit fraction and truncates (each operation off by less than 2**-26 of its
-result); binary64 keeps 53 bits.  A generated program keeps every REAL within
-``REAL_BOUND`` (generate.py), so a value printed after n operations is off by at most about
-n * 2**-26 of the largest magnitude it passed through.  The tolerance, per printed number
-``a`` (the 7094's) against ``b`` (the oracle's), printed with ``d`` decimals:
+result); binary64 keeps 53 bits.  The tolerance, per printed number ``a`` (the 7094's) against
+``b`` (the oracle's), printed with ``d`` decimals:
 
     |a - b| <= 2**-20 * (max(|a|, |b|) + REAL_BOUND) + 10**-d
 
--- 2**-20 is 64 of the 7094's units (room for some 60 truncations in a chain, or the same
+-- 2**-20 is 64 of the 7094's units (room for some 60 truncations in a chain, or one
 cancellation against a value as large as REAL_BOUND), and 10**-d is one unit of the last
 printed place (a value near a rounding boundary prints one unit apart).  Everything but the
 numbers (Hollerith texts, blanks, the record count) must be equal, and a field of asterisks
 (too wide a value) must be asterisks in both.
 
-A printout beyond the tolerance is not by itself a defect: a program that branches on a
-comparison of nearly equal REALs takes the other branch in 27 bits.  The campaign counts
-such programs apart (``ibm7094 beyond tolerance``) and its shrinker reduces them to the
-statement that decides.
+It is no bound: an error carried forward is amplified by what follows (a cancellation, then a
+product; SIN or COS of a large argument, whose absolute error is the argument's), and a data
+field punched without its point is read as large as 999999 (generate.py), beyond REAL_BOUND.
+And it finds the numbers by their look: two fields printed without a blank between them are
+read as other numbers (``0.4`` then ``794061.6`` as 0.4794061 and .6).
+A printout beyond the tolerance goes to bound.py, which runs the program on both machines at
+once with a running bound on their difference: ``within`` it, ``beyond`` it (a defect), or
+``withheld`` where the 7094 takes another branch than binary64 (its printout then compares
+with nothing).
 """
 
 from __future__ import annotations

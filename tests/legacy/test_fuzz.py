@@ -7,8 +7,11 @@ A few dozen programs run by default; thousands with ``pytest -m slow_corpus``.""
 
 from __future__ import annotations
 
+import math
+import operator
 import re
 import tempfile
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -237,6 +240,171 @@ def test_the_7094_tolerance_is_single_precision_plus_one_printed_unit():
     assert tol.compare_within(" X=   ********  -0.50", same)[0] == "beyond"
     assert tol.compare_within(same + "\n", same + "\n X\n")[0] == "beyond"  # a record
     assert tol.compare_within(" X=    -0.0000", " X=     0.0000") == ("within", "")
+
+
+
+# ------------------------------------------------------------ the running error bound
+
+
+def _chop27(q: Fraction) -> Fraction:
+    """q chopped to 27 bits (a fraction in [1/2, 1) times a power of two), from the word
+    format alone."""
+    if q == 0:
+        return q
+    e = abs(q).numerator.bit_length() - abs(q).denominator.bit_length()
+    while abs(q) >= Fraction(2) ** e:
+        e += 1
+    while abs(q) < Fraction(2) ** (e - 1):
+        e -= 1
+    f = math.floor(abs(q) * Fraction(2) ** (27 - e))
+    return (1 if q > 0 else -1) * Fraction(f) / Fraction(2) ** (27 - e)
+
+
+_CONSTANTS = st.builds(lambda k, d: f"{k / 10 ** d:.{d}f}", st.integers(-999_999, 999_999),
+                       st.integers(0, 4))
+_OPS = st.lists(st.tuples(st.sampled_from("+-*/"), st.integers(0, 99), st.integers(0, 99)),
+                min_size=1, max_size=12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(_CONSTANTS, min_size=2, max_size=5), _OPS)
+def test_the_running_bound_holds_for_any_27_bit_chopped_run(texts, ops):
+    """Chains of + - * / on decimal constants (up to 10**6, as card fields): the lockstep's
+    binary64 side is plain binary64, and its bound covers both the package's 7094 words and an
+    independent 27-bit chopped computation (exact rationals, each result chopped)."""
+    from oracle.fuzz.bound import Lockstep
+
+    ar = Lockstep()
+    pairs = [ar.decimal(t) for t in texts]
+    floats = [float(t) for t in texts]
+    chopped = [_chop27(Fraction(t)) for t in texts]
+    for op, i, j in ops:
+        a, b = i % len(pairs), j % len(pairs)
+        if op == "/" and not (abs(floats[b]) > 2 * pairs[b].e and chopped[b] and pairs[b].w):
+            continue
+        apply = {"+": operator.add, "-": operator.sub, "*": operator.mul,
+                 "/": operator.truediv}[op]
+        f = apply(floats[a], floats[b])
+        if f and not 1e-30 < abs(f) < 1e30:  # (within the 7094's words: no overflow)
+            continue
+        pair = apply(pairs[a], pairs[b])
+        pairs.append(pair)
+        floats.append(f)
+        chopped.append(_chop27(apply(chopped[a], chopped[b])))
+        assert pair.f == f
+        assert abs(chopped[-1] - Fraction(f)) <= Fraction(pair.e), (op, chopped[a], chopped[b])
+    assert ar.run.outside == ""
+
+
+def _decimal_text(q: Fraction) -> str:
+    """A decimal fraction's exact text (its denominator divides a power of ten)."""
+    places = 0
+    while (q * 10 ** places).denominator != 1:
+        places += 1
+    whole = abs(q.numerator * 10 ** places // q.denominator)
+    digits = str(whole).rjust(places + 1, "0")
+    point = len(digits) - places
+    return ("-" if q < 0 else "") + digits[:point] + "." + digits[point:]
+
+
+@settings(max_examples=300, deadline=None)
+@given(_CONSTANTS, _CONSTANTS, st.sampled_from("+*"), _CONSTANTS, st.booleans())
+def test_the_runs_part_where_the_7094_decides_otherwise(t1, t2, op, t3, exact_third):
+    """A comparison ``(t1 op t2) .LT. t3``, t3 drawn or the exact result itself (where the two
+    machines' roundings decide): the lockstep follows binary64 and says the runs part exactly
+    where the 7094's decision, computed independently, is another."""
+    from oracle.fuzz.bound import Lockstep
+
+    if exact_third:
+        q1, q2 = Fraction(t1), Fraction(t2)
+        t3 = _decimal_text(q1 + q2 if op == "+" else q1 * q2)
+    ar = Lockstep()
+    a, b, c = (ar.decimal(t) for t in (t1, t2, t3))
+    x, y, z = (_chop27(Fraction(t)) for t in (t1, t2, t3))
+    left = _chop27(x + y if op == "+" else x * y)
+    binary64 = (float(t1) + float(t2) if op == "+" else float(t1) * float(t2)) < float(t3)
+    assert ((a + b if op == "+" else a * b) < c) is binary64
+    assert bool(ar.run.parted) == ((left < z) != binary64)
+
+
+def test_a_7094_word_off_by_64_units_is_outside_its_bound(monkeypatch):
+    """The bound bites: a product one part in 2**20 off (what the plain tolerance allows)."""
+    from deck_emulator.legacy.arithmetic.ibm7094 import Word
+
+    from oracle.fuzz.bound import Lockstep
+
+    real_mul = Word.__mul__
+
+    def off(self, other):
+        w = real_mul(self, other)
+        return Word(w.sign, w.characteristic, w.fraction - 64)
+
+    ar = Lockstep()
+    a, b = ar.decimal("123.456"), ar.decimal("7.89")
+    assert (a * b).e < 64 * 2.0 ** -27 * 1024 and ar.run.outside == ""
+    monkeypatch.setattr(Word, "__mul__", off)
+    a * b
+    assert ar.run.outside.startswith("*: 7094 974.06")
+
+
+def test_the_bound_maps_each_printed_field_past_hollerith_digits():
+    """A record with a Hollerith text holding digits and a point: the fields are found by the
+    FORMAT's layout, not by the look of the text."""
+    from oracle.fuzz.bound import lockstep
+
+    source = ["      X = 2.5", "      Y = X*4.0", "    1 FORMAT(1X,5H3.5 A,F8.3,2X,F6.1)",
+              "      WRITE(6,1) X, Y", "      STOP", "      END"]
+    job = _fuzz()[0].job_deck([("MAIN", source)], [])
+    found, records, fields = lockstep(job)
+    assert records == [" 3.5 A   2.500    10.0"]
+    assert [(n, col, w, d, v.f) for n, col, w, d, v in fields] == [(0, 6, 8, 3, 2.5),
+                                                                   (0, 16, 6, 1, 10.0)]
+    assert not found.outside and not found.parted
+
+
+
+@pytest.mark.parametrize("then, stops", [("Y = 2.0", False), ("Y = 1.0/(C - D)", True)])
+def test_a_branch_the_7094_takes_otherwise_withholds_the_verdict(then, stops):
+    """0.1 + 0.2 .NE. 0.3: true in binary64, false on the 7094 (independently: both sums
+    chopped to 27 bits are equal).  The runs part; the verdict is withheld, also where the
+    7094's words, carried on binary64's branch, divide by zero."""
+    from oracle.fuzz.bound import compare_bounded, lockstep
+
+    x, y, z = (_chop27(Fraction(t)) for t in ("0.1", "0.2", "0.3"))
+    assert _chop27(x + y) == z and 0.1 + 0.2 != 0.3
+    source = ["      A = 0.1", "      B = 0.2", "      C = A + B", "      D = 0.3",
+              "      Y = 1.0", f"      IF (C .NE. D) {then}", "    1 FORMAT(1X,F30.3)",
+              "      WRITE(6,1) Y", "      STOP", "      END"]
+    found, records, fields = lockstep(_fuzz()[0].job_deck([("MAIN", source)], []))
+    assert ".NE." in found.parted
+    assert (records is None) is stops
+    theirs = "".join(r + "\n" for r in records or ["?"])  # (binary64's, as gfortran's)
+    status, why = compare_bounded(" " * 26 + "1.000\n", theirs, records, found, fields)
+    assert status == "withheld" and why.endswith("then stops") is stops
+
+
+def test_a_7094_printout_beyond_the_plain_tolerance_is_judged_by_its_bound(tmp_path):
+    """Program 120 of the slow corpus (campaign seed 4600): its record 7 is 0.00272 from
+    gfortran's, beyond the plain tolerance (0.000976), and within the run's bound: the 7094's
+    chop of the data field 45207.1 carried through COS and SIN (test_ibm7094.py computes the
+    digits independently)."""
+    need_gfortran()
+    p = _program(120, SLOW_SEED)
+    v = _judged(p, tmp_path)
+    assert v.outcome == "agree"
+    status, why = v.precisions["ibm7094"]
+    assert status == "within" and "running error bound" in why, why
+    assert "record 7: 7094 22.168307, gfortran 22.171022" in why
+
+
+
+def test_the_report_counts_the_7094_within_its_bound_apart():
+    campaign = _fuzz()[1]
+    verdicts = [("within", ""), ("within", "within the running error bound (largest 0.02)"),
+                ("withheld", "the 7094's run parts ..."), ("beyond", "record 1: ..."), ()]
+    results = [campaign.Result(k, k, "agree", "", "", v, []) for k, v in enumerate(verdicts)]
+    assert campaign.report(results)[-1].endswith(
+        "beyond 1, not run 1, withheld 1, within 1, within its run's error bound 1")
 
 
 def test_ddmin_finds_a_one_minimal_sublist():

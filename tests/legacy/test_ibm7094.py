@@ -295,23 +295,23 @@ def test_zero_operands():
 
 
 def test_underflow_gives_zero_and_is_counted():
-    AR.reset_indicators()
+    INDICATORS.reset()
     # 2**-129 * 2**-129: characteristic 0 + 0 - 128 - 1 < 0: underflow -> 0
     assert (MIN_WORD * MIN_WORD).octal() == "000000000000"
-    assert AR.underflows == 1
+    assert AR.indicators.underflows == 1
     # 2**-129 / 2.0 = 2**-130: characteristic 0 - 130 + 128 = -2... (f1 < f2: no shift)
     assert (-MIN_WORD / AR.decimal("2.0")).octal() == "400000000000"  # signed zero
     # (smallest + one unit) - smallest = 2**-155: normalising shift takes it below 0
     assert (W("000400000001") - MIN_WORD).octal() == "000000000000"
-    assert AR.underflows == 3
+    assert AR.indicators.underflows == 3
     # decimal constants below the range underflow too
     assert AR.decimal("1E-40") == ZERO
     assert INDICATORS.underflows == 4
-    AR.reset_indicators()
-    assert AR.underflows == 0
+    INDICATORS.reset()
+    assert AR.indicators.underflows == 0
     # just inside: 2 * 2**-129 / 2 = 2**-129 is fine
     assert (MIN_WORD * AR.decimal("2.0") / AR.decimal("2.0")).octal() == "000400000000"
-    assert AR.underflows == 0
+    assert AR.indicators.underflows == 0
 
 
 def test_overflow_raises():
@@ -416,6 +416,50 @@ def test_sin_cos_against_exact_reference(text):
         assert IBM7094Arithmetic(sincos="round").cos(x) == Word.from_fraction(
             _ref_sin_cos(x.exact(), True), mode="round")
 
+
+
+def _chopped(q: Fraction) -> Fraction:
+    """q chopped to a 27-bit fraction in [1/2, 1) times a power of two (independently of the
+    module: the word format alone)."""
+    e = math.floor(math.log2(abs(q))) + 1
+    while abs(q) >= Fraction(2) ** e:
+        e += 1
+    while abs(q) < Fraction(2) ** (e - 1):
+        e -= 1
+    f = math.floor(abs(q) * Fraction(2) ** (27 - e))
+    return (1 if q > 0 else -1) * Fraction(f) / Fraction(2) ** (27 - e)
+
+
+def test_a_large_card_field_through_cos_and_sin_is_what_27_bit_chopping_gives():
+    """The fuzz campaign's program 120 of seed 4600, record 7: a data field read as 45207.1,
+    Q = COS(ABS(X)), then 28.0*SIN(Q) printed F9.6.  Computed independently (exact rationals,
+    each result chopped to 27 bits, sin and cos by the reference above): 22.168307, where
+    binary64 prints 22.171022.  The 7094 is right: 45207.1 chops by 2**-11 * 0.8 (0.00039)
+    and d(28 sin(cos x))/dx there is 6.9."""
+    x = _chopped(Fraction("45207.1"))
+    assert Fraction("45207.1") - x == Fraction(1, 2560)  # 0.1 - 204/2048
+    q = _chopped(_ref_sin_cos(x, True))
+    s = _chopped(_ref_sin_cos(q, False))
+    product = _chopped(28 * s)
+    w = AR.decimal("28.0") * AR.sin(AR.cos(abs(AR.decimal("45207.1"))))
+    assert w.exact() == product
+    assert f"{float(product):9.6f}" == "22.168307"
+    assert f"{28 * math.sin(math.cos(45207.1)):9.6f}" == "22.171022"
+
+
+def test_sin_of_a_value_within_1000_then_a_product_is_what_27_bit_chopping_gives():
+    """Program 352 of the fuzz campaign's seed 4600, record 4: card fields 779.705 and -850.9,
+    then UF*SIN(S68), both within the generator's bound of 1000.  Independently: -850.9 chops
+    by 6.1e-6, SIN passes that on and the product multiplies it by 780; the 7094 prints
+    -354.2400741577 against binary64's -354.2358417342, 0.0042 apart (the fuzzer's plain
+    tolerance, 2**-20 * (354 + 1000), is 0.0013)."""
+    x = _chopped(Fraction("-850.9"))
+    assert float(Fraction("-850.9") - x) == -6.103515625e-06
+    product = _chopped(_chopped(Fraction("779.705")) * _chopped(_ref_sin_cos(x, False)))
+    w = AR.decimal("779.705") * AR.sin(AR.decimal("-850.9"))
+    assert w.exact() == product
+    assert f"{float(product):.10f}" == "-354.2400741577"
+    assert f"{779.705 * math.sin(-850.9):.10f}" == "-354.2358417342"
 
 # --- the named assumptions ---------------------------------------------------------------------
 

@@ -73,27 +73,16 @@ class Arithmetic:
         return f"{self.name} ({opts})"
 
 
-#: name -> factory(**options); filled by the implementations' modules (see the package).
-_REGISTRY: dict[str, object] = {}
-
-#: The module of this package that registers each arithmetic (imported when the arithmetic
-#: is first asked for), by its name (vocabulary/choices.py).
-_MODULES = {"double": "ieee", "single": "ieee", "ibm7094": "ibm7094"}
-assert tuple(_MODULES) == ARITHMETICS, "an arithmetic without its module, or the other way"
-
-
-def register(name: str, factory) -> None:
-    """Make ``get_arithmetic(name, **options)`` call ``factory(**options)``."""
-    _REGISTRY[name] = factory
+#: Each arithmetic's module of this package and class, by its name (vocabulary/choices.py); the
+#: module is imported when the arithmetic is first asked for.
+_CLASSES = {"double": ("ieee", "DoubleArithmetic"), "single": ("ieee", "SingleArithmetic"),
+            "ibm7094": ("ibm7094", "IBM7094Arithmetic")}
+assert tuple(_CLASSES) == ARITHMETICS, "an arithmetic without its class, or the other way"
 
 
 def get_arithmetic(name: str, **options) -> Arithmetic:
     """The arithmetic called ``name`` (``double``, ``single`` or ``ibm7094``)."""
-    if name not in _REGISTRY and name in _MODULES:  # its implementation registers itself
-
-        importlib.import_module(f"{__package__}.{_MODULES[name]}")
-    try:
-        factory = _REGISTRY[name]
-    except KeyError:
-        raise ValueError(f"unknown arithmetic {name!r}: choose double, single or ibm7094") from None
-    return factory(**options)
+    if name not in _CLASSES:
+        raise ValueError(f"unknown arithmetic {name!r}: choose double, single or ibm7094")
+    module, cls = _CLASSES[name]
+    return getattr(importlib.import_module(f"{__package__}.{module}"), cls)(**options)

@@ -24,7 +24,7 @@ import numbers
 import re
 from fractions import Fraction
 
-from .base import Arithmetic, ArithmeticFault, register
+from .base import Arithmetic, ArithmeticFault
 
 __all__ = ["Word", "IBM7094Arithmetic", "INDICATORS", "ZERO", "ONE", "MAX_WORD", "MIN_WORD"]
 
@@ -51,9 +51,6 @@ class _Indicators:
 
     def reset(self):
         self.underflows = 0
-
-    def __repr__(self):
-        return f"Indicators(underflows={self.underflows})"
 
 
 INDICATORS = _Indicators()
@@ -92,27 +89,17 @@ class Word:
         self._c = characteristic
         self._f = fraction
 
-    #: 0 or 1 (1 for minus)
     sign = property(lambda self: self._s, doc="0 or 1 (1 for minus)")
-    #: 0..255, the binary exponent + 128
     characteristic = property(lambda self: self._c, doc="0..255: the binary exponent + 128")
-    #: the 27-bit fraction (2**26 <= fraction < 2**27, or 0 for a zero)
     fraction = property(lambda self: self._f, doc="the 27-bit fraction, normalised, or 0")
 
     def __reduce__(self):
         return (Word, (self._s, self._c, self._f))
 
-    def __copy__(self):
-        return self
-
-    def __deepcopy__(self, memo):
-        return self
-
     # --- octal: the word as IBM listings print it ------------------------------------------
     def octal(self) -> str:
-        """The 36-bit word as 12 octal digits: sign bit first, then the characteristic, then
-        the fraction (the first three digits are sign+characteristic, the last nine the
-        fraction)."""
+        """The 36-bit word as 12 octal digits: three of sign and characteristic, nine of
+        fraction."""
         return f"{(self._s << 8) | self._c:03o}{self._f:09o}"
 
     @classmethod
@@ -168,13 +155,6 @@ class Word:
     def __eq__(self, other):
         if type(other) is Word:
             return self._key() == other._key()
-        if isinstance(other, numbers.Number):
-            raise TypeError(f"comparing a Word with {type(other).__name__}: convert explicitly")
-        return NotImplemented
-
-    def __ne__(self, other):
-        if type(other) is Word:
-            return self._key() != other._key()
         if isinstance(other, numbers.Number):
             raise TypeError(f"comparing a Word with {type(other).__name__}: convert explicitly")
         return NotImplemented
@@ -461,16 +441,6 @@ def _taylor_fixed(r: int, w: int, first: int, n: int) -> tuple[int, int]:
     return s, k
 
 
-def _sin_fixed(r: int, w: int) -> tuple[int, int]:
-    """sin(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
-    return _taylor_fixed(r, w, r, 1)
-
-
-def _cos_fixed(r: int, w: int) -> tuple[int, int]:
-    """cos(r / 2**w) * 2**w for 0 <= r/2**w < 0.8, and the number of series terms."""
-    return _taylor_fixed(r, w, 1 << w, 0)
-
-
 def _sincos_scaled(f: int, ch: int, want_cos: bool, w: int) -> tuple[int, int]:
     """(V, E): V / 2**w approximates sin or cos of f * 2**(ch-155) (the magnitude of the
     argument) to within E / 2**w."""
@@ -488,10 +458,10 @@ def _sincos_scaled(f: int, ch: int, want_cos: bool, w: int) -> tuple[int, int]:
     q = j & 3
     use_cos = want_cos ^ (q & 1)  # odd quadrants swap sin and cos
     if use_cos:
-        v, k = _cos_fixed(r, w)
+        v, k = _taylor_fixed(r, w, 1 << w, 0)
         neg = False
     else:
-        v, k = _sin_fixed(r, w)
+        v, k = _taylor_fixed(r, w, r, 1)
         neg = neg_r
     # quadrant signs: sin: +sin r, +cos r, -sin r, -cos r; cos: +cos r, -sin r, -cos r, +sin r
     if want_cos:
@@ -561,24 +531,11 @@ def _float_word(y: float, nearest: bool) -> tuple[int, int]:
     return e + _BIAS, f
 
 
-@functools.lru_cache(maxsize=1 << 14)
-def _sin_cached(s: int, ch: int, f: int, nearest: bool) -> Word:
+@functools.lru_cache(maxsize=1 << 15)
+def _sincos_cached(s: int, ch: int, f: int, want_cos: bool, nearest: bool) -> Word:
     x = _make(s, ch, f)
-    if f:
-        w = _sincos_libm(x, False, nearest)
-        if w is not None:
-            return w
-    return _sincos_word(x, False, nearest)
-
-
-@functools.lru_cache(maxsize=1 << 14)
-def _cos_cached(ch: int, f: int, nearest: bool) -> Word:
-    x = _make(0, ch, f)
-    if f:
-        w = _sincos_libm(x, True, nearest)
-        if w is not None:
-            return w
-    return _sincos_word(x, True, nearest)
+    w = _sincos_libm(x, want_cos, nearest) if f else None
+    return w if w is not None else _sincos_word(x, want_cos, nearest)
 
 
 # --- decimal text -> word ----------------------------------------------------------------------
@@ -591,10 +548,7 @@ def _decimal_word(text: str, nearest: bool) -> Word:
     t = text.strip()
     if not _DECIMAL_RE.fullmatch(t):
         raise ValueError(f"not a decimal constant: {text!r}")
-    q = Fraction(t.upper().replace("D", "E"))
-    if q == 0:
-        return ZERO
-    return _from_ratio(abs(q.numerator), q.denominator, q < 0, nearest)
+    return Word.from_fraction(Fraction(t.upper().replace("D", "E")), "round" if nearest else "chop")
 
 
 _CHOICES = {
@@ -643,12 +597,12 @@ class IBM7094Arithmetic(Arithmetic):
     def sin(self, x: Word) -> Word:
         if type(x) is not Word:
             raise TypeError(f"sin of {type(x).__name__}, not Word")
-        return _sin_cached(x._s, x._c, x._f, self._sin_nearest)
+        return _sincos_cached(x._s, x._c, x._f, False, self._sin_nearest)
 
     def cos(self, x: Word) -> Word:
         if type(x) is not Word:
             raise TypeError(f"cos of {type(x).__name__}, not Word")
-        return _cos_cached(x._c, x._f, self._sin_nearest)  # cos is even
+        return _sincos_cached(0, x._c, x._f, True, self._sin_nearest)  # cos is even
 
     def sign(self, x: Word) -> int:
         if not x._f:
@@ -670,15 +624,3 @@ class IBM7094Arithmetic(Arithmetic):
         """How F-format output rounds, per the ``output`` assumption: ``"nearest"`` or
         ``"truncate"``."""
         return self.assumptions["output"]
-
-    # --- spill indicators ----------------------------------------------------------------------
-    @property
-    def underflows(self) -> int:
-        """Results set to zero by the underflow rule since the last :meth:`reset_indicators`."""
-        return INDICATORS.underflows
-
-    def reset_indicators(self) -> None:
-        INDICATORS.reset()
-
-
-register("ibm7094", IBM7094Arithmetic)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from .base import Arithmetic, register
+from .base import Arithmetic
 
 np = None  # numpy, bound by SingleArithmetic() (see there)
 
@@ -83,6 +83,3 @@ class SingleArithmetic(Arithmetic):
         # as gfortran's -ffpe-trap=invalid,zero,overflow: underflow goes on quietly
         return np.errstate(divide="raise", over="raise", invalid="raise", under="ignore")
 
-
-register("double", DoubleArithmetic)
-register("single", SingleArithmetic)
