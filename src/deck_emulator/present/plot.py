@@ -20,7 +20,6 @@ from __future__ import annotations
 import functools
 import math
 import textwrap
-import types
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -67,18 +66,23 @@ HIT_COLOUR = "crimson"
 CAR_COLOUR = "0.35"
 
 
+class _Classes:
+    """matplotlib's classes the pictures use, by name."""
+
+    def __init__(self, *classes):
+        self.__dict__.update((c.__name__, c) for c in classes)
+
+
 @functools.cache
 def mpl():
-    """matplotlib's classes the pictures use, by name, imported on first use (so that
-    registering the command costs nothing)."""
+    """matplotlib, imported on first use (so that registering the command costs nothing)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch, Polygon
 
-    classes = (FigureCanvasAgg, Normalize, Figure, Line2D, Patch, Polygon)
-    return types.SimpleNamespace(**{c.__name__: c for c in classes})
+    return _Classes(FigureCanvasAgg, Normalize, Figure, Line2D, Patch, Polygon)
 
 
 # ====================================================================== geometry helpers
