@@ -314,20 +314,6 @@ def _open_stream(target: Path, user) -> int:
     return fd
 
 
-def _stream_write(target: Path, user, data: bytes) -> None:
-    """Write ``data`` into an existing special file (device, FIFO) without replacing it."""
-    fd = _open_stream(target, user)
-    try:
-        view = memoryview(data)
-        while view:
-            n = os.write(fd, view)
-            view = view[n:]
-    except OSError as exc:
-        raise OutputError(user, _reason(exc), exc.errno) from None
-    finally:
-        os.close(fd)
-
-
 def _stream_copy(src: Path, target: Path, user) -> None:
     fd = _open_stream(target, user)
     try:
@@ -360,43 +346,15 @@ def _as_bytes(data: str | bytes) -> bytes:
 
 
 def write_file(path, data: str | bytes) -> None:
-    """Write ``data`` (text is UTF-8 encoded) to ``path``, whole or not at all: a regular file
-    or a new path through a temporary file beside it, flushed, fsynced and renamed over the
-    target, the folder fsynced (a reader, a crash or a kill sees the old file or the new one);
-    a device or a FIFO as a stream (a FIFO no reader opens within :data:`FIFO_WAIT_S` is an
-    error, not a wait for ever).  Errors raise :class:`OutputError` naming ``path``."""
-    user = path
+    """Write ``data`` (text is UTF-8 encoded) to ``path``, whole or not at all: a set of one
+    (:class:`OutputSet`). A regular file or a new path is written to a temporary beside it,
+    fsynced and renamed over the target, the folder fsynced (a reader, a crash or a kill sees
+    the old file or the new one); a device or a FIFO is written as a stream (a FIFO no reader
+    opens within :data:`FIFO_WAIT_S` is an error, not a wait for ever). Errors raise
+    :class:`OutputError` naming ``path``."""
     _not_empty(path)
-    target = _resolve(Path(path))
-    raw = _as_bytes(data)
-    st = _existing(target, user)
-    if st is not None and _is_stream(st):
-        _stream_write(target, user, raw)
-        return
-    folder = target.parent
-    _remove_stale(folder)
-    try:
-        fd, tmp_name = tempfile.mkstemp(dir=folder, prefix=_temp_prefix(target.name), suffix=".part")
-    except OSError as exc:
-        raise OutputError(user, _reason(exc), exc.errno) from None
-    tmp = Path(tmp_name)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(raw)
-            fh.flush()
-            os.fsync(fh.fileno())
-        _mode_as_open(tmp, st)
-        with held():
-            os.replace(tmp, target)
-        _fsync_dir(folder)
-    except OSError as exc:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise OutputError(user, _reason(exc), exc.errno) from None
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise
+    with OutputSet() as files:
+        files.write(path, data)
 
 
 # --------------------------------------------------------------------------- a set of files

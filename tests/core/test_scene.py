@@ -79,7 +79,6 @@ def test_from_mapping_names_and_units():
     assert s.base == BreakawayBase(485.07, 0.4166, LISTING_BASE_FRICTION)
     assert s.base.friction.force_lb == pytest.approx(930.0, abs=1e-12)
     assert s.initial == PostInitialState()
-    assert not s.is_planar
 
 
 def test_principal_coordinates_are_the_listings():
@@ -167,7 +166,6 @@ velocity_body_ft_s = [1.0, 0.0, 2.0]
     assert s.post.mass_slug == 15.0 and s.vehicle is None and s.base is None
     assert s.environment.gravity_ft_s2 == 32.174
     assert s.initial.velocity_body_ft_s == (1.0, 0.0, 2.0)
-    assert s.is_planar
 
 
 @pytest.mark.parametrize(

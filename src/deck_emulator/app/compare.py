@@ -157,12 +157,11 @@ def compare(o: CompareOptions) -> Answer:
     records = [_printout_records(path, said) for path in (o.a, o.b)]
     found = compare_records(*records, tolerance=o.tolerance)
     if o.html:
+        from deck_emulator.files import write_file
         from deck_emulator.present.dossier import compare_page
 
-        from .dossier import write_page
-
         hidden = 0
-        write_page(o.html, compare_page(
+        write_file(o.html, compare_page(
             a=o.a, b=o.b, counts_line=_counts_line(o, found),
             verdict_line=_verdict_line(o, found, hidden), found=found, records_a=records[0],
             records_b=records[1], lined_up=found.lined_up))

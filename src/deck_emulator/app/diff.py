@@ -83,11 +83,10 @@ def diff(o: DiffOptions) -> Answer:
     stopped = next((r["stopped"] for r in data["convergence"] if r.get("stopped")), None)
     said = list(src.notes)
     if o.html:
+        from deck_emulator.files import write_file
         from deck_emulator.present.dossier import diff_page
 
-        from .dossier import write_page
-
-        write_page(o.html, diff_page(name=src.name, text=text, data=data, settings=settings,
+        write_file(o.html, diff_page(name=src.name, text=text, data=data, settings=settings,
                                      stopped=stopped))
         said.append(f"wrote the diff's page to {o.html}")
     return Answer("diff", src.name, settings=settings, notes=list(src.notes),

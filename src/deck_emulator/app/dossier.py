@@ -87,10 +87,3 @@ def _list_names(text: str) -> tuple[str, ...]:
     if item:
         items.append(item)
     return tuple(items)
-
-
-def write_page(path: str, page: str) -> None:
-    """The page, written whole or not at all."""
-    from deck_emulator.files import write_file
-
-    write_file(path, page)

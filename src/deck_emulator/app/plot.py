@@ -62,12 +62,12 @@ def plot(o: PlotOptions) -> Answer:
     scene = None if emulator else common.engine_scene(source, scene_name=src.stem)
     options = {"emulator": {"errata": tuple(o.erratum)}, "core": o.core_keywords()}
     with busy("deck-emulator: plot", quiet=o.quiet):
-        drawn = draw(source, src.name, engine=o.engine, options=options, out=o.out,
+        stopped, said = draw(source, src.name, engine=o.engine, options=options, out=o.out,
                      view=o.view, pulse=o.pulse, animate=o.animate, every_ms=o.every,
                      scene=scene)
-    return Answer("plot", src.name, status="stopped" if drawn.stopped else "ok",
+    return Answer("plot", src.name, status="stopped" if stopped else "ok",
                   settings={"engine": o.engine, "view": o.view, "pulse": o.pulse,
                             "errata": list(o.erratum), "preset": o.preset},
-                  notes=list(src.notes), said=list(src.notes) + drawn.said,
+                  notes=list(src.notes), said=list(src.notes) + said,
                   result={"outputs": [o.out] + ([o.animate] if o.animate else [])},
                   json=o.json)

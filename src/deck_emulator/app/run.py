@@ -143,9 +143,9 @@ def run(o: RunOptions) -> Answer:
     answer.text = text
     page = _dossier(src, facts, sections, stop, programs, outcomes, writes) if o.html else None
     if page is not None and not o.pages:
-        from .dossier import write_page
+        from deck_emulator.files import write_file
 
-        write_page(o.html, page)
+        write_file(o.html, page)
         answer.said.append(f"wrote the dossier to {o.html}")
     if o.pages:  # the printout (if asked for) and its pages: one set, both written or neither
         from deck_emulator.files import OutputSet

@@ -17,7 +17,6 @@ backend switch). Image sizes are fixed by ``FIGSIZE`` and ``DPI`` (no tight boun
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 import textwrap
@@ -232,6 +231,9 @@ def _draw_post(ax, res: Outcome, idx: list[int], axes: tuple[int, int]):
     hi = hit_index(res)
     p = post_l(res, hi)
     ax.plot(p[:, a], p[:, b], "-", color=HIT_COLOUR, lw=2.6, marker="o", ms=4, zorder=5)
+    hp = _hit_point_l(res)
+    if hp is not None:
+        ax.plot(hp[a], hp[b], marker="*", ms=18, color="gold", mec="k", zorder=6)
     _name_points(ax, res, 0, axes)
     if hi != 0:  # a run that ended at its first sample: its points are named once
         _name_points(ax, res, hi, axes)
@@ -280,9 +282,6 @@ def _draw_side(ax, res: Outcome, idx: list[int]):
     o = body.outline_xv(sv)
     # ground
     ax.axhline(0.0, color="saddlebrown", lw=1.5, zorder=1)
-    hp = _hit_point_l(res)
-    if hp is not None:
-        ax.plot(hp[0], hp[2], marker="*", ms=18, color="gold", mec="k", zorder=6)
     # direction of travel
     xb, _ = _car_xy_l(res, np.array([o["XBUMP"]]), np.array([sides[0]]))
     ax.annotate(
@@ -329,9 +328,6 @@ def _draw_plan(ax, res: Outcome, idx: list[int]):
     yl, yr = body.left_fender_ft, body.right_fender_ft
     car_plan(ax, res, hi)
     _draw_post(ax, res, idx, (0, 1))
-    hp = _hit_point_l(res)
-    if hp is not None:
-        ax.plot(hp[0], hp[1], marker="*", ms=18, color="gold", mec="k", zorder=6)
     # direction of travel along -XV
     a = safety.approach_angle_rad(res.scene)
     bx, by = _car_xy_l(res, np.array([o["XBUMP"]]), np.array([0.5 * (yl + yr)]))
@@ -881,23 +877,16 @@ def check_plot_outputs(out, animate=None) -> None:
             raise UsageError("--out and --animate name the same file")
 
 
-@dataclasses.dataclass
-class Drawn:
-    """What :func:`draw` did: whether a run it drew stopped early (exit status 3), and the
-    lines it says (each run that stopped, the files written)."""
-
-    stopped: bool
-    said: list
-
-
 def draw(source, name: str, *, engine: str, options: dict, out, view: str = "side",
          pulse: bool = False, animate=None, every_ms: float | None = None,
-         scene: Scene | None = None) -> Drawn:
+         scene: Scene | None = None) -> tuple[bool, list[str]]:
     """``deck-emulator plot``: run ``source`` (a deck, or a scene for the core) on ``engine``
     (both with ``pulse``; ``options``: each engine's keywords) and write the picture ``out``
     (the trajectory's ``view``, or the pulse) and ``animate`` (the fall as a GIF), both or
     neither (the command has checked them: :func:`check_plot_outputs`); ``scene``: the core's
-    scene of ``source``, already built and checked by the command."""
+    scene of ``source``, already built and checked by the command.  Returns whether a run it
+    drew stopped early (exit status 3) and the lines it says (each run that stopped, the
+    files written)."""
     check_every(every_ms)
     said: list[str] = []
 
@@ -938,5 +927,5 @@ def draw(source, name: str, *, engine: str, options: dict, out, view: str = "sid
             _save_animation(main, files.path(Path(animate)), "plan" if view == "plan" else "side",
                             0.01, 20, 80)
     said.append(f"wrote {', '.join([str(out)] + ([str(animate)] if animate else []))}")
-    return Drawn(stopped, said)
+    return stopped, said
 

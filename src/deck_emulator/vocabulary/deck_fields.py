@@ -126,14 +126,12 @@ _ROWS: list[tuple] = [
 DECK_FIELDS: tuple[DeckField, ...] = tuple(
     DeckField(name, i // FIELDS_PER_CARD + 1, i % FIELDS_PER_CARD + 1, unit, scene, role, meaning)
     for i, (name, unit, scene, role, meaning) in enumerate(_ROWS))
-#: name -> its row
-FIELD: dict[str, DeckField] = {f.name: f for f in DECK_FIELDS}
 #: the READ list: the names card by card
 READ_LIST: tuple[tuple[str, ...], ...] = tuple(
     tuple(f.name for f in DECK_FIELDS if f.card == card)
     for card in range(1, len(DECK_FIELDS) // FIELDS_PER_CARD + 1))
 #: the 64 names, flat, in READ order
-NAMES: tuple[str, ...] = tuple(FIELD)
+NAMES: tuple[str, ...] = tuple(f.name for f in DECK_FIELDS)
 #: name -> its unit (names of pure numbers left out)
 DECK_UNITS: dict[str, str] = {f.name: f.unit for f in DECK_FIELDS if f.unit}
 #: the one deck <-> scene mapping: name -> the scene field's path

@@ -440,34 +440,6 @@ class Scene:
             return self
         return Scene(**{f.name: getattr(self, f.name) for f in fields(self)})
 
-    # ---- planar test ---------------------------------------------------------------
-
-    @property
-    def is_planar(self) -> bool:
-        """True when the motion stays in the ``XX-ZZ`` plane through the mass centre.
-
-        That holds when the principal axes are not tilted (delta = 0, so axis 2 is ``YY``),
-        the car comes straight (alpha = 0), every point of the post lies in the plane
-        ``YY = 0``, and the initial motion is in the plane (velocity without a ``YY``
-        component, rotation about axis 2 only, attitude a turn about axis 2).
-        """
-        if self.post.principal_tilt_rad != 0.0:
-            return False
-        if self.vehicle is not None and self.vehicle.approach_angle_rad != 0.0:
-            return False
-        if any(p.yy_ft != 0.0 for p in self.post.points().values()):
-            return False
-        ini = self.initial
-        w, x, y, z = ini.attitude_wxyz
-        return (
-            ini.mass_centre_ft[1] == 0.0
-            and ini.velocity_body_ft_s[1] == 0.0
-            and ini.angular_velocity_body_rad_s[0] == 0.0
-            and ini.angular_velocity_body_rad_s[2] == 0.0
-            and x == 0.0
-            and z == 0.0
-        )
-
     # ---- from a deck -----------------------------------------------------------------
 
     @classmethod
