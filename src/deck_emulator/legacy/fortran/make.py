@@ -86,9 +86,6 @@ def _const_name(text: str) -> str:
     return "k_x" + text.encode("utf-8", "surrogatepass").hex()
 
 
-_PY_OPS = {"+": "+", "-": "-", "*": "*", "/": "/"}
-
-
 class _Gen:
     """Python source of one unit (see the module docstring)."""
 
@@ -241,7 +238,7 @@ class _Gen:
             rcode = self._operand(right, typ)
             if right[0] in ("bin", "neg") and _weaker(right, op, True):
                 rcode = f"({rcode})"
-            code = f"{lcode}{_PY_OPS[op]}{rcode}"
+            code = f"{lcode}{op}{rcode}"
         return code
 
     def _operand(self, e, typ: str) -> str:
