@@ -69,7 +69,6 @@ __all__ = [
     "Block",
     "Event",
     "ExtractError",
-    "Message",
     "Outcome",
     "PointL",
     "extract",
@@ -108,19 +107,10 @@ class Block:
 
     kind: str
     values: Mapping[str, float | None]
-    record: int  # index of its ``1`` record in the printout
 
     @property
     def time(self) -> float | None:
         return self.values.get("TIME")
-
-
-@dataclass(frozen=True)
-class Message:
-    """One ``THE POST HAS ...`` line."""
-
-    text: str
-    record: int
 
 
 @dataclass(frozen=True)
@@ -129,7 +119,6 @@ class Event:
 
     message: str
     time_s: float | None
-    record: int
 
 
 @dataclass(frozen=True)
@@ -174,33 +163,33 @@ def _split(text: str) -> list[str]:
     return text.splitlines() or [""]
 
 
-def parse_printout(printout) -> list[Block | Message]:
-    """The printout as a list of blocks and messages, in printed order."""
-    items: list[Block | Message] = []
+def parse_printout(printout) -> list[Block | str]:
+    """The printout as a list of blocks and messages (``THE POST HAS ...``), in printed
+    order."""
+    items: list[Block | str] = []
     cur: dict | None = None
-    start = 0
 
     def close():
         nonlocal cur
         if cur:
             kind = "contact" if "VVA" in cur else "free" if "THFAD" in cur else "unknown"
-            items.append(Block(kind, MappingProxyType(cur), start))
+            items.append(Block(kind, MappingProxyType(cur)))
         cur = None
 
     for i, rec in enumerate(printout_lines(printout, _split)):
         if rec[:1] == "1" and rec[1:].strip() == "":  # ASA page eject: a new block
             close()
-            cur, start = {}, i
+            cur = {}
             continue
         m = _MESSAGE.search(rec)
         if m and "THE VALUE OF" not in rec:
             close()
-            items.append(Message(m.group(0), i))
+            items.append(m.group(0))
             continue
         found = _VALUE.findall(rec)
         if found:
             if cur is None:  # values without a page eject before them (a cut printout)
-                cur, start = {}, i
+                cur = {}
             for label, text in found:
                 name = LABEL_VARIABLE.get(label, label)
                 cur[name] = _number(text, label, i)
@@ -233,19 +222,19 @@ def extract(printout, deck) -> Outcome:
         if isinstance(x, Block):
             last_block = x
             continue
-        if "LOST CONTACT" in x.text:
-            events.append(Event(x.text, last_block.time if last_block else None, x.record))
+        if "LOST CONTACT" in x:
+            events.append(Event(x, last_block.time if last_block else None))
             if last_block is not None and last_block.kind == "contact":
-                before.setdefault(x.text, last_block)
-        elif "HAS HIT" in x.text:
-            hit = x.text
+                before.setdefault(x, last_block)
+        elif "HAS HIT" in x:
+            hit = x
             after = next((y for y in items[j + 1:] if isinstance(y, Block)), None)
             if after is not None:
                 hit_block, hit_time = after, after.time
             else:
                 notes.append("no block printed after the hit message (printout cut short)")
         else:
-            notes.append(f"unrecognised message: {x.text}")
+            notes.append(f"unrecognised message: {x}")
     times = [b.time for b in blocks if b.time is not None]
     final_time = times[-1] if times else None
 
