@@ -105,27 +105,20 @@ class DeckError(ValueError):
         self.path = path
         self.line = line
         self.file_card = file_card
-        super().__init__(self._message())
-
-    def _message(self) -> str:
         where = []
-        if self.card is not None:
-            where.append(f"card {self.card}")
-        elif self.file_card is not None:
-            where.append(f"card {self.file_card} of the file")
-        elif self.line is not None:
-            where.append(f"line {self.line}")
-        if self.columns is not None:
-            first, last = self.columns
+        if card is not None:
+            where.append(f"card {card}")
+        elif file_card is not None:
+            where.append(f"card {file_card} of the file")
+        elif line is not None:
+            where.append(f"line {line}")
+        if columns is not None:
+            first, last = columns
             where.append(f"column {first}" if first == last else f"columns {first}-{last}")
         location = ", ".join(where)
-        if self.field is not None:
-            location = f"{location} ({self.field})" if location else f"({self.field})"
-        parts = [p for p in (self.path, location) if p]
-        return ": ".join(parts + [self.reason])
-
-    def __str__(self) -> str:  # keep the message right if attributes are changed later
-        return self._message()
+        if field is not None:
+            location = f"{location} ({field})" if location else f"({field})"
+        super().__init__(": ".join([p for p in (path, location) if p] + [reason]))
 
 
 @dataclass(frozen=True)
