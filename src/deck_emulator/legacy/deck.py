@@ -187,15 +187,13 @@ STDIN_NAME = "stdin"
 
 
 def read_bytes(path: str | os.PathLike[str], what: str = "",
-               limit: int = _MAX_BYTES, wait_s: float | None = None) -> tuple[str, bytes]:
+               limit: int = _MAX_BYTES) -> tuple[str, bytes]:
     """A deck file's name as shown to the user, and its bytes (at most ``limit``), read once,
     as a stream: a regular file; ``-``, standard input; a FIFO, a process substitution or a
     pipe (``/dev/stdin``) as the file it carries, each wait for its next bytes bounded by
-    ``wait_s`` (:data:`~deck_emulator.vocabulary.defaults.SOURCE_WAIT_S`); a terminal, a
+    :data:`~deck_emulator.vocabulary.defaults.SOURCE_WAIT_S`; a terminal, a
     device or a socket refused.  :class:`DeckError` naming the file for anything that stops
     the read."""
-
-    wait_s = defaults.SOURCE_WAIT_S if wait_s is None else wait_s
     try:
         shown = os.fsdecode(path)
     except TypeError:
@@ -219,7 +217,7 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
             if stat.S_ISREG(mode):
                 data = read_at_most(fd, limit)
             elif stat.S_ISFIFO(mode):
-                data = _read_stream(fd, shown, limit, wait_s)
+                data = _read_stream(fd, shown, limit, defaults.SOURCE_WAIT_S)
             else:
                 kind = ("a terminal" if os.isatty(fd) else "a socket" if stat.S_ISSOCK(mode)
                         else "a device")
