@@ -47,4 +47,4 @@ def test_printer_rounds_ties_as_gfortran(tmp_path):
     printer = Printer()
     for v in values:
         printer.write(39, float(v))  # FORMAT 39: F15.5, the same binary64 values
-    assert printer.text() == expected
+    assert "".join(r + "\n" for r in printer.records) == expected

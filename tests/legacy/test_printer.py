@@ -13,7 +13,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from deck_emulator.legacy.printer import (FORMATS, Printer, format_fields, format_layout,
-                                          printable)
+                                          rounded_digits)
+
+
+def printable(exact: Fraction, decimals: int) -> float:
+    """The float that prints ``exact`` as gfortran would, for a writer that rounds correctly
+    (fortranformat rounds exact ties away from zero, and misrounds values just off a tie:
+    binary64 5.0000000000000004e-06 as F15.5 gives 0.00000 where gfortran gives 0.00001)."""
+    whole = int(rounded_digits(exact, decimals).replace(".", ""))
+    sign = -1 if exact < 0 else 1
+    if whole == 0:
+        return sign * 1e-300  # keeps gfortran's '-0.00000' for a small negative value
+    return float(sign * Fraction(whole, 10**decimals))
 
 
 def values(seed: int, n: int):

@@ -233,14 +233,6 @@ def test_pruning_removes_only_its_own_entries(kept, monkeypatch, tmp_path):
     assert outside.read_bytes() == cache.MAGIC + b"not the cache's" and link.is_symlink()
 
 
-def test_an_entry_of_the_format_before_is_removed_at_the_next_prune(kept):
-    kept.folder.mkdir(parents=True, mode=0o700)
-    old = kept.folder / "1cc4bc53.code"
-    old.write_bytes(b"deck_emulator fortran code 0123abcd\n12\n")
-    _printed(Program(_respelled()))
-    assert not old.exists() and len(kept()) == 1
-
-
 @pytest.mark.parametrize("kind", ["fifo", "symlink to a fifo", "folder"])
 def test_a_special_file_in_an_entrys_place_is_never_waited_on(kept, tmp_path, kind):
     kept.folder.mkdir(parents=True, mode=0o700)

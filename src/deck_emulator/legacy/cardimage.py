@@ -16,7 +16,7 @@ from deck_emulator.vocabulary.choices import CARD_FORMATS
 
 __all__ = [
     "FORMATS", "CardFile", "detect_format", "read_images", "card_texts", "write_images",
-    "bcd_to_holes", "holes_to_bcd", "parity_bit",
+    "bcd_to_holes", "parity_bit",
 ]
 
 FORMATS = CARD_FORMATS
@@ -55,13 +55,9 @@ def bcd_to_holes(bcd: int) -> int:
     return hol
 
 
+#: The BCD character that reads back as a column, where one does (the inverse of the reader).
 _HOLES_TO_BCD = {bcd_to_holes(b): b for b in range(64)}
 assert len(_HOLES_TO_BCD) == 64
-
-
-def holes_to_bcd(column: int) -> int | None:
-    """The BCD character that reads back as ``column``, or None if none does."""
-    return _HOLES_TO_BCD.get(column)
 
 
 @dataclass(frozen=True)
@@ -196,30 +192,6 @@ def _read_bcd(data: bytes, path) -> list[tuple[int, ...]]:
 _READERS = {"text": _read_text, "binary": _read_binary, "cbn": _read_cbn, "bcd": _read_bcd}
 
 
-def _simulator_guess(data: bytes) -> str:
-    """The simulator's autodetection on the first card (``_sim_parse_card``, MODE_AUTO)."""
-    mode = "text"
-    if len(data) >= BINARY_CARD_BYTES and not any(
-        data[i] & 0x0F for i in range(0, BINARY_CARD_BYTES, 2)
-    ):
-        mode = "binary"
-    if data and data[0] & RECORD_MARK:
-        even = odd = 0
-        for i, byte in enumerate(data):
-            if i and byte & RECORD_MARK:
-                break  # the next card
-            ch = byte & 0o177
-            if parity_bit(ch) == (ch & 0o100):
-                even += 1
-            else:
-                odd += 1
-        if even == 0 and odd == BINARY_CARD_BYTES:
-            mode = "cbn"
-        elif odd == 0 and 0 < even <= BCD_CARD_BYTES:
-            mode = "bcd"
-    return mode
-
-
 _UTF8_BOM = b"\xef\xbb\xbf"
 
 
@@ -246,14 +218,18 @@ def detect_format(data: bytes, path=None) -> str:
 
 
 def _nearest_format(data: bytes) -> str:
-    """The format a file that reads in none most resembles: the simulator's pick, except
-    that a first byte with a record mark means CBN or BCD by the parity most of the first
-    record's bytes have (a parity error then names its card and column)."""
+    """The format a file that reads in none most resembles: with a record mark on its first
+    byte, CBN or BCD by the parity most of the first record's bytes have (a parity error then
+    names its card and column); else the simulator's pick (``_sim_parse_card``, MODE_AUTO):
+    binary when the first card's first bytes have their low four bits clear, else text."""
     if data[0] & RECORD_MARK:
         end = next((i for i in range(1, len(data)) if data[i] & RECORD_MARK), len(data))
         odd = sum(1 for b in data[:end] if parity_bit(b & 0o77) != (b & 0o100))
         return "cbn" if 2 * odd > end else "bcd"
-    return _simulator_guess(data)
+    if len(data) >= BINARY_CARD_BYTES and not any(
+            data[i] & 0x0F for i in range(0, BINARY_CARD_BYTES, 2)):
+        return "binary"
+    return "text"
 
 
 def read_images(data: bytes, card_format: str = "auto", path=None) -> CardFile:
@@ -343,7 +319,7 @@ def write_images(texts: list[str], card_format: str, keypunch: str | None = None
         elif card_format == "bcd":
             card = bytearray()
             for column, col in enumerate(columns, start=1):
-                bcd = holes_to_bcd(col)
+                bcd = _HOLES_TO_BCD.get(col)
                 if bcd is None:
                     raise _err(f"rows {rows_text(col)} have no BCD character", None, number,
                                column)

@@ -116,26 +116,14 @@ class Comparison:
     lined_up: list[tuple[int | None, int | None]] = field(default_factory=list, repr=False)
 
     @property
-    def differing(self) -> int:
-        return len(self.differences)
-
-    @property
-    def read_through_damage(self) -> int:
-        return sum(d.reading != UNREADABLE_READING for d in self.damaged)
-
-    @property
-    def all_compared(self) -> bool:
-        """Every record of both printouts lined up and compared (none unreadable, none
-        missing, and there were records)."""
-        return (self.compared == self.aligned == self.records_a == self.records_b > 0
-                and not self.unreadable and not self.missing)
-
-    @property
     def verdict(self) -> str:
-        """``agree``, ``differ`` or ``unreadable`` (see the module docstring)."""
+        """``agree``, ``differ`` or ``unreadable`` (see the module docstring): ``agree`` when
+        every record of both printouts was lined up, compared (none unreadable, none missing,
+        and there were records) and equal."""
         if self.differences or self.missing:
             return DIFFER
-        if self.all_compared and self.equal == self.compared:
+        if (self.equal == self.compared == self.aligned == self.records_a == self.records_b > 0
+                and not self.unreadable):
             return AGREE
         return UNREADABLE
 
@@ -148,8 +136,9 @@ class Comparison:
                 "aligned": self.aligned, "compared": self.compared,
                 "values_compared": self.compared - self.messages_compared,
                 "messages_compared": self.messages_compared, "equal": self.equal,
-                "differing": self.differing, "unreadable": self.unreadable,
-                "missing": len(self.missing), "read_through_damage": self.read_through_damage}
+                "differing": len(self.differences), "unreadable": self.unreadable,
+                "missing": len(self.missing), "read_through_damage": sum(
+                    d.reading != UNREADABLE_READING for d in self.damaged)}
 
 
 def _key(r: Record) -> tuple:

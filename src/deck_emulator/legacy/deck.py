@@ -105,27 +105,20 @@ class DeckError(ValueError):
         self.path = path
         self.line = line
         self.file_card = file_card
-        super().__init__(self._message())
-
-    def _message(self) -> str:
         where = []
-        if self.card is not None:
-            where.append(f"card {self.card}")
-        elif self.file_card is not None:
-            where.append(f"card {self.file_card} of the file")
-        elif self.line is not None:
-            where.append(f"line {self.line}")
-        if self.columns is not None:
-            first, last = self.columns
+        if card is not None:
+            where.append(f"card {card}")
+        elif file_card is not None:
+            where.append(f"card {file_card} of the file")
+        elif line is not None:
+            where.append(f"line {line}")
+        if columns is not None:
+            first, last = columns
             where.append(f"column {first}" if first == last else f"columns {first}-{last}")
         location = ", ".join(where)
-        if self.field is not None:
-            location = f"{location} ({self.field})" if location else f"({self.field})"
-        parts = [p for p in (self.path, location) if p]
-        return ": ".join(parts + [self.reason])
-
-    def __str__(self) -> str:  # keep the message right if attributes are changed later
-        return self._message()
+        if field is not None:
+            location = f"{location} ({field})" if location else f"({field})"
+        super().__init__(": ".join([p for p in (path, location) if p] + [reason]))
 
 
 @dataclass(frozen=True)
@@ -194,15 +187,13 @@ STDIN_NAME = "stdin"
 
 
 def read_bytes(path: str | os.PathLike[str], what: str = "",
-               limit: int = _MAX_BYTES, wait_s: float | None = None) -> tuple[str, bytes]:
+               limit: int = _MAX_BYTES) -> tuple[str, bytes]:
     """A deck file's name as shown to the user, and its bytes (at most ``limit``), read once,
     as a stream: a regular file; ``-``, standard input; a FIFO, a process substitution or a
     pipe (``/dev/stdin``) as the file it carries, each wait for its next bytes bounded by
-    ``wait_s`` (:data:`~deck_emulator.vocabulary.defaults.SOURCE_WAIT_S`); a terminal, a
+    :data:`~deck_emulator.vocabulary.defaults.SOURCE_WAIT_S`; a terminal, a
     device or a socket refused.  :class:`DeckError` naming the file for anything that stops
     the read."""
-
-    wait_s = defaults.SOURCE_WAIT_S if wait_s is None else wait_s
     try:
         shown = os.fsdecode(path)
     except TypeError:
@@ -226,7 +217,7 @@ def read_bytes(path: str | os.PathLike[str], what: str = "",
             if stat.S_ISREG(mode):
                 data = read_at_most(fd, limit)
             elif stat.S_ISFIFO(mode):
-                data = _read_stream(fd, shown, limit, wait_s)
+                data = _read_stream(fd, shown, limit, defaults.SOURCE_WAIT_S)
             else:
                 kind = ("a terminal" if os.isatty(fd) else "a socket" if stat.S_ISSOCK(mode)
                         else "a device")

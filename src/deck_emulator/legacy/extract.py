@@ -5,52 +5,14 @@ Works on any printout of ``legacy/luminaire.f``: a gfortran golden (``golden/*.t
 emulator's ``Run.records`` -- text, a list of records, or an object with ``.records``. Only what
 is printed is used; nothing is recomputed from the model.
 
-How the printout is laid out (labels of ``legacy/luminaire.f``)
-----------------------------------------------------------------
-* A **block** is one page: a ``1`` record (the ``1H1`` page eject of FORMAT 15 or 60) followed by
-  ``THE VALUE OF name IS value`` lines. Contact blocks (label 88) start with VVA and end with
-  ``TIME`` = Q; free-flight blocks (label 98) start with THFA and end with ``TIME`` = T. Values
-  are stored under the *variable* each WRITE prints, not the Hollerith label
-  (:data:`LABEL_VARIABLE`). A field that overflowed its width (all ``*``) reads as ``None``.
-* Contact blocks are printed when the counter E reaches 0.0016 (label 87: every 4th step of
-  0.0004 s in binary64, every 5th under the 7094's chopped E counter), and also when the step
-  that loses contact is found (labels 56 and 353 set M or N and ``GO TO 88``). A contact block
-  is printed *before* the step is judged, so one printed by the counter can be a trial step
-  that label 108 then rejects (halving H); such blocks are kept, as printed.
-* **Loss of contact.** When DIFF (then DIFFT) first lies in (0, 0.01], label 56 (353) prints that
-  step's block through ``GO TO 88``, and only then does control reach 354 (42), which writes
-  ``THE POST HAS LOST CONTACT WITH FIRST SPRING`` (``... THE VEHICLE``). So **the block just
-  before a loss-of-contact message is the step at which contact was lost**, and the event's
-  time is that block's TIME. (If the step counter printed the same step as well, the block
-  appears twice in a row, as in steel40 at 0.1184 s.) Only if DIFF or DIFFT were exactly 0.0
-  would 354/42 be reached without that forced print; the time is then the last printed block's.
-* **The hit.** The ground and vehicle checks (labels 81-462) write ``THE POST HAS HIT ...`` and
-  then ``GO TO 98``, which prints the block of that same step, then STOP. So **the block just
-  after the hit message is the terminal state**: its TIME is the hit time, the last TIME of the
-  printout, and its coordinates are the terminal coordinates.
-
-What is read
-------------
-No quantity: a speed lost or a deceleration in g is computed from these by its one formula
-(:mod:`deck_emulator.vocabulary.units`).
-
-* ``final_time_s``: the last TIME printed.
-* ``max_fsa_lb``: the largest FSA printed in a contact block (a peak between two prints is
-  missed, as the report's authors missed it).
-* ``vehicle_speed_fps``: the vehicle's printed velocity at four instants (:data:`INSTANTS`):
-
-  - ``crush_pulse_end`` (``crush_pulse_end_s``): VVA of the first contact block whose printed
-    FSA equals FCONST after a block with FSA > FCONST, where the first spring's crush pulse is
-    cut to the FCONST cap (label 504); of the four it alone comes near the report's ΔV
-    (docs/comparison.md);
-  - ``first_spring_lost``: VVA of the block before ``LOST CONTACT WITH FIRST SPRING``;
-  - ``vehicle_contact_lost``: VVA of the block before ``LOST CONTACT WITH THE VEHICLE``;
-  - ``end_of_run``: (SVFA_last - SVFA_first) / (TIME_last - TIME_first) over the free-flight
-    blocks: VVFA is never changed in free flight (``VVFA=VVFB``) nor printed.
-* Terminal coordinates of P, Q, R and C in the report's XL, YL, ZL axes ("origin at the base
-  of the support"): the printout's XX, YY, ZZ have their origin at the post's initial mass
-  centre and the ground is ZZ = -HEIGHT, so ``XL = XX - XQO``, ``YL = YY - YYQO``,
-  ``ZL = ZZ + HEIGHT``.
+A **block** is one page (a ``1`` record, then ``THE VALUE OF name IS value`` lines): contact
+(label 88, VVA to ``TIME`` = Q) or free flight (label 98, THFA to ``TIME`` = T), its values
+under the variable each WRITE prints (:data:`LABEL_VARIABLE`), an overflowed field (all ``*``)
+as None.  The block just before a LOST CONTACT message is the step contact was lost at (labels
+56 and 353 print it through ``GO TO 88``); the block just after the hit message is the
+terminal state (``GO TO 98``); terminal points are in the report's XL, YL, ZL axes
+(``XL = XX - XQO``, ``YL = YY - YYQO``, ``ZL = ZZ + HEIGHT``).  The layout and each reading
+in full: docs/emulator.md, "The emulator's answers read from its printout".
 """
 
 from __future__ import annotations
@@ -69,7 +31,6 @@ __all__ = [
     "Block",
     "Event",
     "ExtractError",
-    "Message",
     "Outcome",
     "PointL",
     "extract",
@@ -77,7 +38,7 @@ __all__ = [
 ]
 
 #: The instants the vehicle's printed speed is read at: the candidate readings of the report's
-#: "DECREASE IN VEHICLE VELOCITY", in order (see the module docstring).
+#: "DECREASE IN VEHICLE VELOCITY", in order (docs/emulator.md).
 INSTANTS = ("crush_pulse_end", "first_spring_lost", "vehicle_contact_lost", "end_of_run")
 
 #: Printed Hollerith label -> the variable the WRITE statement prints, where they differ, read
@@ -108,19 +69,10 @@ class Block:
 
     kind: str
     values: Mapping[str, float | None]
-    record: int  # index of its ``1`` record in the printout
 
     @property
     def time(self) -> float | None:
         return self.values.get("TIME")
-
-
-@dataclass(frozen=True)
-class Message:
-    """One ``THE POST HAS ...`` line."""
-
-    text: str
-    record: int
 
 
 @dataclass(frozen=True)
@@ -129,7 +81,6 @@ class Event:
 
     message: str
     time_s: float | None
-    record: int
 
 
 @dataclass(frozen=True)
@@ -174,33 +125,33 @@ def _split(text: str) -> list[str]:
     return text.splitlines() or [""]
 
 
-def parse_printout(printout) -> list[Block | Message]:
-    """The printout as a list of blocks and messages, in printed order."""
-    items: list[Block | Message] = []
+def parse_printout(printout) -> list[Block | str]:
+    """The printout as a list of blocks and messages (``THE POST HAS ...``), in printed
+    order."""
+    items: list[Block | str] = []
     cur: dict | None = None
-    start = 0
 
     def close():
         nonlocal cur
         if cur:
             kind = "contact" if "VVA" in cur else "free" if "THFAD" in cur else "unknown"
-            items.append(Block(kind, MappingProxyType(cur), start))
+            items.append(Block(kind, MappingProxyType(cur)))
         cur = None
 
     for i, rec in enumerate(printout_lines(printout, _split)):
         if rec[:1] == "1" and rec[1:].strip() == "":  # ASA page eject: a new block
             close()
-            cur, start = {}, i
+            cur = {}
             continue
         m = _MESSAGE.search(rec)
         if m and "THE VALUE OF" not in rec:
             close()
-            items.append(Message(m.group(0), i))
+            items.append(m.group(0))
             continue
         found = _VALUE.findall(rec)
         if found:
             if cur is None:  # values without a page eject before them (a cut printout)
-                cur, start = {}, i
+                cur = {}
             for label, text in found:
                 name = LABEL_VARIABLE.get(label, label)
                 cur[name] = _number(text, label, i)
@@ -233,19 +184,19 @@ def extract(printout, deck) -> Outcome:
         if isinstance(x, Block):
             last_block = x
             continue
-        if "LOST CONTACT" in x.text:
-            events.append(Event(x.text, last_block.time if last_block else None, x.record))
+        if "LOST CONTACT" in x:
+            events.append(Event(x, last_block.time if last_block else None))
             if last_block is not None and last_block.kind == "contact":
-                before.setdefault(x.text, last_block)
-        elif "HAS HIT" in x.text:
-            hit = x.text
+                before.setdefault(x, last_block)
+        elif "HAS HIT" in x:
+            hit = x
             after = next((y for y in items[j + 1:] if isinstance(y, Block)), None)
             if after is not None:
                 hit_block, hit_time = after, after.time
             else:
                 notes.append("no block printed after the hit message (printout cut short)")
         else:
-            notes.append(f"unrecognised message: {x.text}")
+            notes.append(f"unrecognised message: {x}")
     times = [b.time for b in blocks if b.time is not None]
     final_time = times[-1] if times else None
 

@@ -68,21 +68,19 @@ def compare_source(source: list[tuple[int, str]]) -> str:
     listing's program, or the first statement where they differ."""
     deck = statements([text for _, text in source], [number for number, _ in source])
     listing = statements(listing_lines())
+    differs = f"{_DIFFERS} ({LISTING_NAME}): "
     for index, (mine, theirs) in enumerate(zip(deck, listing), start=1):
         if (mine.label, mine.text) != (theirs.label, theirs.text):
-            return (f"source: NOT the listing's program ({LISTING_NAME}): statement {index} "
-                    f"differs, deck card {mine.line} {_shown(mine)!r} against listing line "
-                    f"{theirs.line} {_shown(theirs)!r}")
+            return (f"{differs}statement {index} differs, deck card {mine.line} "
+                    f"{_shown(mine)!r} against listing line {theirs.line} {_shown(theirs)!r}")
     if len(deck) < len(listing):
         nxt = listing[len(deck)]
-        return (f"source: NOT the listing's program ({LISTING_NAME}): the deck's source ends "
-                f"after {len(deck)} statements; the listing goes on at line {nxt.line} "
-                f"{_shown(nxt)!r}")
+        return (f"{differs}the deck's source ends after {len(deck)} statements; the listing "
+                f"goes on at line {nxt.line} {_shown(nxt)!r}")
     if len(deck) > len(listing):
         extra = deck[len(listing)]
-        return (f"source: NOT the listing's program ({LISTING_NAME}): the deck has more "
-                f"statements than the listing's {len(listing)}, from card {extra.line} "
-                f"{_shown(extra)!r}")
+        return (f"{differs}the deck has more statements than the listing's {len(listing)}, "
+                f"from card {extra.line} {_shown(extra)!r}")
     return (f"source: the same program as the listing ({LISTING_NAME}), {len(listing)} "
             "statements (columns 73-80 and blanks ignored)")
 

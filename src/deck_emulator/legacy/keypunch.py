@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from deck_emulator.vocabulary.choices import KEYPUNCH_CODES
 
-__all__ = ["CODES", "ROWS", "row_bit", "rows_text", "to_holes", "to_char"]
+__all__ = ["CODES", "ROWS", "rows_text", "to_holes", "to_char"]
 
 #: Row names in card order, top to bottom, with their bit in the 12-bit column.
 ROWS: tuple[tuple[str, int], ...] = (
@@ -26,17 +26,9 @@ ROWS: tuple[tuple[str, int], ...] = (
 )
 
 
-def row_bit(row: str) -> int:
-    """The bit of the 12-bit column value that is row ``row`` ('12', '11', '0' ... '9')."""
-    return 1 << dict(ROWS)[row]
-
-
 def holes(*rows: str) -> int:
-    """The 12-bit column value with the given rows punched."""
-    value = 0
-    for row in rows:
-        value |= row_bit(row)
-    return value
+    """The 12-bit column value with the given rows ('12', '11', '0' ... '9') punched."""
+    return sum(1 << dict(ROWS)[row] for row in set(rows))
 
 
 def rows_text(column: int) -> str:

@@ -110,10 +110,10 @@ def fact_page(title: str, facts: dict[str, str], rule: str, width: int = 131,
     return records + ["0", " " + line]
 
 
-def closing_records(facts: dict[str, str], width: int = 131) -> list[str]:
+def closing_records(facts: dict[str, str]) -> list[str]:
     """The closing page of a run that stopped: what :func:`stop_facts` says, after the
     printout, which stays exactly as printed."""
-    return fact_page("DECK_EMULATOR  --  THE RUN STOPPED", facts, "=", width)
+    return fact_page("DECK_EMULATOR  --  THE RUN STOPPED", facts, "=")
 
 
 def baseline_in(line: int) -> float:

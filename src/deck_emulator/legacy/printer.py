@@ -163,19 +163,6 @@ def rounded_digits(exact: numbers.Rational, decimals: int, rounding: str = "near
     return s[:len(s) - decimals] + "." + s[len(s) - decimals:]
 
 
-def printable(exact: numbers.Rational, decimals: int, rounding: str = "nearest") -> float:
-    """The float that prints ``exact`` as gfortran would, for a writer that rounds correctly
-    (fortranformat rounds exact ties away from zero, and misrounds values just off a tie:
-    binary64 5.0000000000000004e-06 as F15.5 gives 0.00000 where gfortran gives 0.00001)."""
-    whole = int(rounded_digits(exact, decimals, rounding).replace(".", ""))
-    sign = -1 if exact < 0 else 1
-    if whole == 0:
-        return sign * 1e-300  # keeps gfortran's '-0.00000' for a small negative value
-    from fractions import Fraction
-
-    return float(sign * Fraction(whole, 10**decimals))
-
-
 class Printer:
     """Collects the records one run writes to unit 6.
 
@@ -252,9 +239,6 @@ class Printer:
             records.append((template, fields, width, pieces))
         self._plans[label] = plan = (len(self._decimals[label]), tuple(records))
         return plan
-
-    def text(self) -> str:
-        return "".join(r + "\n" for r in self.records)
 
 
 def render_asa(records: list[str]) -> str:

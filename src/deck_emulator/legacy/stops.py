@@ -33,21 +33,6 @@ def fault_reason(exc) -> str:
             "ValueError": "invalid argument to an intrinsic"}[type(exc).__name__]
 
 
-def time_error(limit_s, phase: str, label, step: int, time: float) -> EmulatorError:
-    """The guard on simulated time (``phase``: ``contact`` or ``free``)."""
-    where = ("in free flight: the post has not landed" if phase == "free"
-             else "in contact with the vehicle")
-    return EmulatorError(f"simulated time passed the limit of {limit_s:g} s {where}",
-                         label=label, step=step, time=time, guard="time_s")
-
-
-def halving_error(limit: int, H, DIFF, DIFFT, label, step: int, time: float) -> EmulatorError:
-    """The guard on label 108's halving of the step (H, DIFF, DIFFT as floats)."""
-    return EmulatorError(f"step halved {limit} times in a row at label {label} (H = {H:.3g} s, "
-                         f"DIFF = {DIFF:.3g} ft, DIFFT = {DIFFT:.3g} ft)",
-                         label=label, step=step, time=time, guard="halvings")
-
-
 #: The trace: the row the program records where a step is accepted (labels 41 and 400), where
 #: the post leaves the vehicle (42: the last contact values) and at STOP (82), by phase: the
 #: row's key -> the listing's variable (None: 0.0, no such variable in that phase).

@@ -39,9 +39,6 @@ from deck_emulator.vocabulary.defaults import (PROGRAM_CACHE_ENTRIES, PROGRAM_CA
 #: An entry's first bytes (the format's version in it): then the SHA-256 of its code, in hex
 #: (what it was made from is compared whole, not hashed again).
 MAGIC = b"deck_emulator fortran code sha256 "
-#: The first bytes of an entry of the format before (named by a CRC-32: 8 hex digits), which
-#: is never read and goes at the next prune
-_BEFORE = b"deck_emulator fortran code "
 _SUFFIX = ".code"
 _said: set = set()  # the refused folders already named on stderr (once a process)
 
@@ -233,27 +230,24 @@ def keep(identity: bytes, code) -> None:
 
 def _ours(dir_fd: int, name: str) -> os.stat_result | None:
     """The status of an entry this module wrote (named by a SHA-256, a regular file of the
-    user's, starting with MAGIC; or of the format before: 8 hex digits, _BEFORE), else
-    None."""
+    user's, starting with MAGIC), else None."""
     stem = name[:-len(_SUFFIX)] if name.endswith(_SUFFIX) else ""
-    if len(stem) not in (8, 64) or stem.strip("0123456789abcdef"):
+    if len(stem) != 64 or stem.strip("0123456789abcdef"):
         return None
-    magic = MAGIC if len(stem) == 64 else _BEFORE
     with _open_own(dir_fd, name) as opened:
         if opened is None:
             return None
         fd, st = opened
         try:
-            return st if os.read(fd, len(magic)) == magic else None
+            return st if os.read(fd, len(MAGIC)) == MAGIC else None
         except OSError:
             return None
 
 
 def _prune(dir_fd: int) -> None:
     with contextlib.suppress(OSError):
-        entries = [(st.st_mtime if len(name) > 8 + len(_SUFFIX) else -1.0, name)
-                   for name in os.listdir(dir_fd) if (st := _ours(dir_fd, name)) is not None]
-        old = sum(when < 0 for when, _ in entries)  # (the format before's: all go)
-        for _, name in sorted(entries)[:max(len(entries) - PROGRAM_CACHE_ENTRIES, old)]:
+        entries = sorted((st.st_mtime, name) for name in os.listdir(dir_fd)
+                         if (st := _ours(dir_fd, name)) is not None)
+        for _, name in entries[:max(len(entries) - PROGRAM_CACHE_ENTRIES, 0)]:
             with contextlib.suppress(OSError):
                 os.unlink(name, dir_fd=dir_fd)

@@ -86,9 +86,6 @@ def _const_name(text: str) -> str:
     return "k_x" + text.encode("utf-8", "surrogatepass").hex()
 
 
-_PY_OPS = {"+": "+", "-": "-", "*": "*", "/": "/"}
-
-
 class _Gen:
     """Python source of one unit (see the module docstring)."""
 
@@ -241,7 +238,7 @@ class _Gen:
             rcode = self._operand(right, typ)
             if right[0] in ("bin", "neg") and _weaker(right, op, True):
                 rcode = f"({rcode})"
-            code = f"{lcode}{_PY_OPS[op]}{rcode}"
+            code = f"{lcode}{op}{rcode}"
         return code
 
     def _operand(self, e, typ: str) -> str:
@@ -292,20 +289,12 @@ class _Gen:
     def pure(self, e) -> bool:
         """Whether ``e`` reads only the unit's own scalars (no COMMON, no array, no call but
         an intrinsic's): what a kept SIN or COS may stand on."""
-        todo = [e]
-        while todo:
-            e = todo.pop()
-            if e[0] == "var":
-                if e[1] in self.u.commons and e[1] not in self.dummies:
-                    return False
-            elif e[0] == "call":
-                if e[1] not in INTRINSICS or e[1] in self.u.functions:
-                    return False
-                todo.append(e[2][0])
-            elif e[0] == "elem":
+        for x in _nodes(e):
+            if x[0] == "call" and (x[1] not in INTRINSICS or x[1] in self.u.functions):
                 return False
-            else:
-                todo += [x for x in e[1:-1] if isinstance(x, tuple)]
+            if x[0] == "elem" or (x[0] == "var" and x[1] in self.u.commons
+                                  and x[1] not in self.dummies):
+                return False
         return True
 
     def actuals(self, name: str, args) -> str:

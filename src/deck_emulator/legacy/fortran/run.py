@@ -21,7 +21,7 @@ import math
 import os
 
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
-                                        fault_reason, halving_error, time_error, trace_row)
+                                        fault_reason, trace_row)
 from deck_emulator.legacy.printer import Printer, event_for
 
 from . import cache
@@ -387,16 +387,20 @@ class Runner:
     def halve(self):
         self.halvings += 1
         if self.halvings > self.limits.halvings:
-            v = self.units["MAIN"][1]()
-            f = self.ar.to_float
-            raise halving_error(self.limits.halvings, f(v["H"]), f(v.get("DIFF", 0.0)),
-                                f(v.get("DIFFT", 0.0)), self.watch["halving"],
-                                self.step, self.time())
+            v, f, label = self.units["MAIN"][1](), self.ar.to_float, self.watch["halving"]
+            raise EmulatorError(
+                f"step halved {self.limits.halvings} times in a row at label {label} (H = "
+                f"{f(v['H']):.3g} s, DIFF = {f(v.get('DIFF', 0.0)):.3g} ft, DIFFT = "
+                f"{f(v.get('DIFFT', 0.0)):.3g} ft)", label=label, step=self.step,
+                time=self.time(), guard="halvings")
 
     def clock(self, value, phase: str, label: int):
         t = self.ar.to_float(value)
         if t > self.limits.time_s:
-            raise time_error(self.limits.time_s, phase, label, self.step, t)
+            where = ("in free flight: the post has not landed" if phase == "free"
+                     else "in contact with the vehicle")
+            raise EmulatorError(f"simulated time passed the limit of {self.limits.time_s:g} s "
+                                f"{where}", label=label, step=self.step, time=t, guard="time_s")
 
     def runaway(self, unit: str, label, values: dict, shown: tuple):
         shown = ", ".join(f"{n} = {self.ar.to_float(values[n]):.6g}" for n in shown)
