@@ -116,6 +116,20 @@ def test_step_scale_divides_the_listings_step_literals_in_its_generated_source()
         listing_program(("no-such",))
 
 
+def test_the_rows_of_the_literals_the_options_replace_are_the_listings_own():
+    """The defaults' rows of THA's start-up and ED's tolerance, read against luminaire.f's
+    statements (labels 123, 15 and 16), and an option's value reaching both ED statements."""
+    from deck_emulator.legacy.jobdeck import statements as cards
+    from deck_emulator.vocabulary import defaults
+
+    punched = {s.text.replace(" ", "") for s in cards(listing_lines())}
+    assert f"THA={defaults.LISTING_THA_START}" in punched
+    assert {f"IF(ABS(DF(DH))-{defaults.LISTING_ED_TOLERANCE})20,20,{label}"
+            for label in (4, 13)} <= punched
+    source = listing_program(ed_tolerance="0.003").python()
+    assert source.count("# IF(ABS(DF(DH))-.0001)20,20,") == 2 and "0p003" in source
+
+
 def test_the_generated_source_keeps_the_statements_one_a_line_with_their_labels():
     program = listing_program()
     source = program.python()

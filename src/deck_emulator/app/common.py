@@ -85,7 +85,7 @@ def emulator(options, *, trace: bool = True, fortran=None):
         departures = [flag for flag, on in (
             ("--erratum", options.erratum), ("--step-scale", options.step_scale),
             ("--tha-start", options.tha_start is not None),
-            ("--ed-tolerance", options.ed_tolerance != ".0001")) if on]
+            ("--ed-tolerance", options.ed_tolerance != defaults.LISTING_ED_TOLERANCE)) if on]
         if departures:
             raise UsageError(f"{', '.join(departures)} change the listing's program, and this "
                              "job deck runs its own FORTRAN: punch the change into its cards, "

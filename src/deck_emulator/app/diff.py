@@ -26,7 +26,8 @@ class DiffOptions(Source, Errata, Cluster, Answering):
     rtol: float = option(defaults.CORE_RTOL, parse=tolerance,
                          help="the core's tolerance, rtol = atol, 0 < RTOL < 1 (default "
                          "%(default)g)")
-    as_printed_ed: bool = option(False, help="keep ED's tolerance .0001 at every k (the scheme "
+    as_printed_ed: bool = option(False, help="keep ED's tolerance "
+                                 f"{defaults.LISTING_ED_TOLERANCE} at every k (the scheme "
                                  "then does not converge)")
     as_printed_rows: bool = option(False, help="run the halved steps with only the errata asked "
                                    "for (default: with ed-direction as well, since as printed "

@@ -221,9 +221,10 @@ class Emulator(Source, Errata):
                              f"({defaults.LISTING_STEP_S:g} s) by 2**K")
     tha_start: str | None = option(None, parse=number_text, metavar="VALUE",
                                    help="start-up THA at label 123 instead of the printed "
-                                   "0.000022")
-    ed_tolerance: str = option(".0001", parse=positive_number_text, metavar="RAD",
-                               help="ED's |DF| tolerance at labels 15 and 16 (printed: .0001)")
+                                   f"{defaults.LISTING_THA_START}")
+    ed_tolerance: str = option(defaults.LISTING_ED_TOLERANCE, parse=positive_number_text,
+                               metavar="RAD", help="ED's |DF| tolerance at labels 15 and 16 "
+                               f"(printed: {defaults.LISTING_ED_TOLERANCE})")
     max_time: float = option(defaults.EMULATOR_T_MAX_S, parse=positive_float, metavar="S",
                              help="stop when simulated time passes S seconds (default "
                              "%(default)s)")

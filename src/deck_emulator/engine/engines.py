@@ -84,7 +84,7 @@ class EmulatorEngine:
     precision: str = "double"
     errata: tuple[str, ...] = ()
     step_scale_k: int = 0
-    ed_tolerance: str = ".0001"
+    ed_tolerance: str = defaults.LISTING_ED_TOLERANCE
     tha_start: str | None = None
     limits: object = None
     arithmetic_options: dict = field(default_factory=dict)

@@ -42,8 +42,8 @@ def default_deck() -> str:
 # --------------------------------------------------------------------------- the emulator
 
 
-def run_emulator(deck, *, precision="double", k=0, tha_start=None, ed_tolerance=".0001",
-                 limits=None, errata=ERRATA) -> dict:
+def run_emulator(deck, *, precision="double", k=0, tha_start=None,
+                 ed_tolerance=defaults.LISTING_ED_TOLERANCE, limits=None, errata=ERRATA) -> dict:
     """One emulator run through the engine layer -> {status, guard, error, run, wall_s,
     outcome}.
 

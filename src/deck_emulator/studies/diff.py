@@ -111,7 +111,7 @@ def diff_step(task: dict) -> dict:
     k, given = task["k"], tuple(task["errata"])
     errata = tuple(task.get("row_errata", given))
     h = H0 / 2**k
-    tol = ed_tolerance(k) if task["tighten_ed"] else ".0001"
+    tol = ed_tolerance(k) if task["tighten_ed"] else defaults.LISTING_ED_TOLERANCE
 
     def emulate(tolerance, errata=errata):
         return EmulatorEngine(precision=task["precision"], errata=errata, step_scale_k=k,
@@ -142,7 +142,7 @@ def diff_step(task: dict) -> dict:
            }}
     if k == 0 and (task["tighten_ed"] or errata != given):
         # the side by side is the listing's run: ED at .0001, the errata asked for
-        em0 = emulate(".0001", given)
+        em0 = emulate(defaults.LISTING_ED_TOLERANCE, given)
         if em0.error:
             return stopped(em0, "emulator")
         out["printed"] = {"emulator": outcome_summary(em0),

@@ -325,13 +325,15 @@ def _tasks(deck_path: str, p: dict) -> list[dict]:
     tasks = []
     reps = p["reps"]
     for k in p["ks"]:
-        for series, tol in ((SERIES_LISTING, ".0001"), (SERIES_TIGHT, tight_ed_tolerance(k))):
+        for series, tol in ((SERIES_LISTING, defaults.LISTING_ED_TOLERANCE),
+                            (SERIES_TIGHT, tight_ed_tolerance(k))):
             tasks.append({"kind": "emulator", "deck": deck_path, "series": series, "k": k,
                           "precision": "double", "ed_tolerance": tol, "reps": reps,
                           "cost": 0.06 * 2**k * (reps + 1)})
     if p["ibm"]:
         tasks.append({"kind": "emulator", "deck": deck_path, "series": SERIES_IBM, "k": 0,
-                      "precision": "ibm7094", "ed_tolerance": ".0001", "reps": reps,
+                      "precision": "ibm7094", "ed_tolerance": defaults.LISTING_ED_TOLERANCE,
+                      "reps": reps,
                       "cost": 0.6 * (reps + 1)})
     for bounded in (True, False):
         for method in CORE_METHODS:

@@ -81,7 +81,7 @@ COLUMNS = [
 
 
 def _scene(sid, group, description, deck=None, *, k=0, tha=None, friction="listing",
-           emulator=True, ed=".0001", **params):
+           emulator=True, ed=defaults.LISTING_ED_TOLERANCE, **params):
     return {"scene": sid, "group": group, "description": description, "deck": deck or {},
             "k": k, "tha": tha, "friction": friction, "emulator": emulator, "ed_tolerance": ed,
             **params}
@@ -116,7 +116,7 @@ def scenes(base: dict, quick: bool) -> list[dict]:
                                          "1.5")
     for tha in thas:
         out.append(_scene(f"tha-{tha}", "start-up THA",
-                          f"start-up THA = {tha} rad (printed 0.000022)",
+                          f"start-up THA = {tha} rad (printed {defaults.LISTING_THA_START})",
                           tha=tha))
     a = base["A"]
     out.append(_scene("abc-equal", "extreme", f"A = B = C = {a:g} slug ft^2",

@@ -19,6 +19,11 @@ LISTING_CAP_STEPS = 20
 #: the listing's ground tolerances of its hit tests, ft (labels 91, 95, 103, 141); U (a second
 #: luminaire, which the listing has not got) is given R's
 LISTING_GROUND_TOLERANCE_FT = {"P": 0.1, "Q": 0.01, "R": 0.1, "C": 0.1, "U": 0.1}
+#: ED's |DF| tolerance at labels 15 and 16, rad, as punched (a text: the option ``ed_tolerance``
+#: replaces this literal of the listing's statements)
+LISTING_ED_TOLERANCE = ".0001"
+#: the start-up tilt THA at label 123, rad, as punched (the option ``tha_start`` replaces it)
+LISTING_THA_START = "0.000022"
 
 #: the line printer's print positions after the carriage control column (its 132-column
 #: forms: the pages of --pages and the forms of the --html dossier)

@@ -46,6 +46,7 @@ from deck_emulator.vocabulary.deck_fields import SCENE_PATHS
 from deck_emulator.vocabulary.defaults import (
     LISTING_CAP_STEPS,
     LISTING_STEP_S,
+    LISTING_THA_START,
     MAX_SCENE_BYTES,
 )
 from deck_emulator.vocabulary.units import G_FT_S2
@@ -683,7 +684,7 @@ class StartupKick:
     """
 
     pitch_rate_rad_s: float = 0.0545
-    tilt_at_step_rad: float = 0.000022
+    tilt_at_step_rad: float = float(LISTING_THA_START)
     step_s: float = LISTING_STEP_S
     body_force_1_lb: float = -10000.0
     vehicle_force_lb: float = 10000.0

@@ -23,6 +23,7 @@ import os
 from deck_emulator.legacy.stops import (ERRATA, TRACE_ROWS, EmulatorError, Limits, Run,
                                         fault_reason, trace_row)
 from deck_emulator.legacy.printer import Printer, event_for
+from deck_emulator.vocabulary import defaults
 
 from . import cache
 
@@ -48,9 +49,9 @@ STEP_LITERALS = (
     (("IF(Q-0.0004)123,44,44",), "0.0004",
      "IF(Q-0.0004) at label 125 (first step: the start-up at label 123)"),
     (("IF(Q-.0004)83,84,84",), ".0004", "IF(Q-.0004) before label 83 (first step: FSA=1320.0)"),
-    (("THA=0.000022",), "0.000022",
-     "THA=0.000022 at label 123 (the tilt after the first step: 0.0545 rad/s * 0.0004 s, "
-     "rounded)"),
+    ((f"THA={defaults.LISTING_THA_START}",), defaults.LISTING_THA_START,
+     f"THA={defaults.LISTING_THA_START} at label 123 (the tilt after the first step: "
+     "0.0545 rad/s * 0.0004 s, rounded)"),
     (("E=E+.0004",), ".0004", "E=E+.0004 (contact print counter: one step)"),
     (("IF(LL-20)600,501,501",), "20",
      "IF(LL-20) before label 501 (the FCONST cap after 20 steps = 8 ms: 20*2**k steps)"),
@@ -60,9 +61,9 @@ STEP_LITERALS = (
 #: The start-up tilt THA (option ``tha_start``) and ED's |DF| tolerance at labels 15 and 16
 #: (option ``ed_tolerance``): (unit, statements, the literal the option replaces).
 OPTION_LITERALS = {
-    "tha_start": ("MAIN", ("THA=0.000022",), "0.000022"),
-    "ed_tolerance": ("ED", ("IF(ABS(DF(DH))-.0001)20,20,4", "IF(ABS(DF(DH))-.0001)20,20,13"),
-                     ".0001"),
+    "tha_start": ("MAIN", (f"THA={defaults.LISTING_THA_START}",), defaults.LISTING_THA_START),
+    "ed_tolerance": ("ED", tuple(f"IF(ABS(DF(DH))-{defaults.LISTING_ED_TOLERANCE})20,20,{label}"
+                                 for label in (4, 13)), defaults.LISTING_ED_TOLERANCE),
 }
 
 _FILE = "<fortran>"  # the generated code's file name in tracebacks
@@ -563,7 +564,7 @@ def run_deck(deck, precision="double", *, errata=(), limits: Limits = Limits(),
 
 
 def listing_program(errata=(), *, step_scale_k: int = 0, tha_start: str | None = None,
-                    ed_tolerance: str = ".0001") -> Program:
+                    ed_tolerance: str = defaults.LISTING_ED_TOLERANCE) -> Program:
     """The listing (the package's ``luminaire.f``) as a :class:`Program`, with ``errata``
     applied (legacy/errata/*.patch: their lines replaced, checked against the listing's) and
     the options of its literals: ``step_scale_k`` divides each of :data:`STEP_LITERALS` by
