@@ -56,9 +56,14 @@ class CompiledSolution:
         out = dop853.dense_eval(self.ts, self.t_old, self.h, self.y_old, self.F, tq)
         return out[:, 0] if np.ndim(t) == 0 else out
 
+    def peak_force(self, P, M) -> float:
+        """The largest force on the car (lb) over this contact segment under the laws'
+        parameters ``P`` and mode ``M`` (:func:`segment_max_force`)."""
+        return segment_max_force(self.ts, self.t_old, self.h, self.y_old, self.F, P, M)
+
 
 # --------------------------------------------------------------------------------------
-# the largest force on the car over a compiled segment (solve._Run._segment_max_force)
+# the largest force on the car over a compiled segment (solve.segment_peak_force)
 
 _SQRT_EPS = math.sqrt(2.2e-16)
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
@@ -166,14 +171,14 @@ def _grid(ts):
 
 @_jit
 def _refined(fine, best_k, best_f, ts, t_old, h, y_old, F, P, M, tmp):
-    """(lb, s): the grid's best, refined by the bounded search between its neighbours."""
-    fk, tk = best_f, fine[best_k]
+    """(lb): the grid's best, refined by the bounded search between its neighbours."""
+    fk = best_f
     lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
     if hi > lo:
-        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
+        fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)[1]
         if -fx > fk:
-            fk, tk = -fx, x
-    return fk, tk
+            fk = -fx
+    return fk
 
 
 def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
@@ -195,8 +200,8 @@ def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
 
 @_jit(plain=_segment_max_force_rows)
 def segment_max_force(ts, t_old, h, y_old, F, P, M):
-    """(lb, s): the largest force on the car over a compiled segment, on a grid of 9 points
-    a step refined by a bounded search (as :meth:`~.solve._Run._segment_max_force`)."""
+    """(lb): the largest force on the car over a compiled segment, on a grid of 9 points
+    a step refined by a bounded search (as :func:`~.solve.segment_peak_force`)."""
     fine = np.unique(_grid(ts))
     tmp = np.empty(y_old.shape[1])
     best_k = 0
@@ -299,14 +304,6 @@ class _CompiledRun(_Run):
         self.notes.append(f"solve_ivp, not the compiled integrator, from t = {t0:.6g} s to "
                           f"{float(sol.t[-1]):.6g} s: {why}")
         return sol
-
-    def _segment_max_force(self, seg):
-        sol = seg.solution
-        if not isinstance(sol, CompiledSolution) or seg.mode is None:
-            return super()._segment_max_force(seg)
-        M = self.model.mode_vector(seg.mode)
-        return segment_max_force(sol.ts, sol.t_old, sol.h, sol.y_old, sol.F,
-                                 self.model.law_parameters, M)
 
 
 def _past_wall(max_wall_s: float, where: str) -> str:

@@ -62,6 +62,7 @@ class Trajectory:
         self.t_start = segments[0].t0 if segments else 0.0
         self.t_end = segments[-1].t1 if segments else 0.0
         self.point_names = tuple(model.body_points)
+        self._peaks: dict[int, float] = {}  # segment -> its largest force (:meth:`peak_force`)
 
     def state(self, t) -> np.ndarray:
         """State(s) at ``t`` (scalar -> (15,), array -> (15, n)); quaternion normalised."""
@@ -134,6 +135,23 @@ class Trajectory:
             return np.zeros(0), np.zeros(0)
         return np.concatenate(ts), np.asarray(np.concatenate(fs), dtype=float)
 
+    def peak_force(self, after_startup: bool = False) -> float | None:
+        """The largest force on the car (lb) over the contact segments -- with
+        ``after_startup``, those after the start-up kick's window (the listing's 10,000 lb
+        over its first steps is a device of its scheme, not an impact force) -- located on
+        the dense solution with the model's force law
+        (:func:`~deck_emulator.core.solve.segment_peak_force`); None without a contact."""
+        from .solve import segment_peak_force
+
+        best = -math.inf
+        for i, seg in enumerate(self.segments):
+            if seg.phase != "contact" or (after_startup and seg.mode.window is not None):
+                continue
+            if i not in self._peaks:
+                self._peaks[i] = segment_peak_force(self._model, seg)
+            best = max(best, self._peaks[i])
+        return float(best) if math.isfinite(best) else None
+
     def vehicle(self, t) -> np.ndarray:
         """Car position SV (ft) and velocity VV (ft/s) along XV: shape (2,) or (2, n)."""
         return self.state(t)[13:15]
@@ -163,9 +181,6 @@ class CoreResult:
     * ``contact_end_s`` -- when the contact with the car ends (the car let go, or the post hit
       the car while in contact): the instant the registry reads the speed lost at
       (``deck_emulator.engine.quantities``).
-    * ``max_decel_g`` -- the car's largest deceleration in contact, located on the dense
-      solution with the model's force law; ``max_decel_after_startup_g`` -- the same after the
-      start-up kick (the listing's 10,000 lb over its first steps is not an impact force).
     * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire) at
       the hit in the report's axes: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``
       (``None`` for a point the scene lacks).
@@ -185,7 +200,6 @@ class CoreResult:
     hit: Hit | None
     first_spring_lost_s: float | None
     vehicle_contact_lost_s: float | None
-    max_decel_g: float | None
     terminal_points_ft: dict[str, tuple[float, float, float] | None]
     end_time_s: float
     nfev: int
@@ -193,7 +207,6 @@ class CoreResult:
     notes: tuple[str, ...] = ()
     no_hit_reason: str | None = None
     ground_passage: dict | None = None
-    max_decel_after_startup_g: float | None = None
     contact_end_s: float | None = None
     #: who integrated the run: "scipy" (``solve_ivp``), "compiled" (:mod:`.dop853`, the
     #: batch), or "compiled+scipy" (a batch run some of whose segments ``solve_ivp`` solved)
