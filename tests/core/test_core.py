@@ -395,7 +395,8 @@ def test_forces_and_torques_match_the_listing_formulas():
     R = np.array(kin.R).reshape(3, 3)
     F_body, T_body = R.T @ acc[0:3], R.T @ acc[3:6]
 
-    FSA = model.components["vehicle contact"].spring_force(kin, mode)
+    FSA = laws.contact_spring_force(np.asarray(y, dtype=float), kin.R, model.law_parameters,
+                                    model.mode_vector(mode))
     FFXA, FFYA, FNA, W, G = 930.0, 0.0, 485.07, 15.1, 32.174
     FSXA, FSYA = FSA * math.cos(alpha), FSA * math.sin(alpha)
     sd, cd = math.sin(delta), math.cos(delta)

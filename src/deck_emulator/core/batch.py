@@ -243,16 +243,9 @@ class _CompiledRun(_Run):
         if self.wall is not None and laws.working_clock() > self.wall[0]:
             raise CoreError(_past_wall(self.wall[1], f"at t = {t0:.6g} s"))
         method = method or self.method
-        law = getattr(fun, "law", None)
-        why = None
         if method != "DOP853":
-            why = f"{method} (stiff contact)"
-        elif law is None:
-            why = "a right-hand side without a compiled form"
-        elif any(e.code is None for e in events):
-            why = "events without a compiled form"
-        if why is not None:
-            return self._by_scipy(why, fun, t0, y0, t1, events, method)
+            return self._by_scipy(f"{method} (stiff contact)", fun, t0, y0, t1, events, method)
+        law = fun.law
         m = self.model
         phase = dop853.PHASE_CONTACT if law[0] == "contact" else dop853.PHASE_FREE
         M = law[1] if law[1] is not None else m.mode_vector(_DEFAULT_MODE)

@@ -12,10 +12,9 @@ import math
 
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
-import numpy as np
 
 from . import laws
-from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics, ModelView
+from .kinematics import IDX_SV, IDX_VV, EventSpec, ModelView
 
 __all__ = [
     "Gravity",
@@ -56,12 +55,7 @@ class BaseNormalForce:
     def events(self, model, mode) -> list[EventSpec]:
         if not mode.normal_on:
             return []
-        return [
-            EventSpec(
-                "normal force released", lambda t, y: model.base_travel(y) + self.release_ft, -1.0,
-                code=(laws.EV_BASE_TRAVEL, self.release_ft),
-            )
-        ]
+        return [EventSpec("normal force released", -1.0, (laws.EV_BASE_TRAVEL, self.release_ft))]
 
 
 class BaseFriction:
@@ -92,11 +86,10 @@ class BaseFriction:
         P[laws.P_FR_REACTION] = 1.0 if self.reaction else 0.0
 
     def events(self, model, mode) -> list[EventSpec]:
-        f = lambda t, y: model.base_travel(y) + self.window_ft  # noqa: E731
         code = (laws.EV_BASE_TRAVEL, self.window_ft)
         if mode.friction_on:
-            return [EventSpec("base friction ends", f, -1.0, code=code)]
-        return [EventSpec("base friction resumes", f, +1.0, code=code)]
+            return [EventSpec("base friction ends", -1.0, code)]
+        return [EventSpec("base friction resumes", +1.0, code)]
 
     def active_at(self, model, y) -> bool:
         return model.base_travel(y) + self.window_ft > 0.0
@@ -142,7 +135,6 @@ class VehicleContact:
         self.listing_diff = options.listing_diff
         # XVSO, XVTO: the points' initial XV coordinates
         self.xv0 = {k: model.initial_xv(k) for k in self.stiffness}
-        self.model = model
 
     # -- geometry of the contact (eq. 3.13-3.15)
 
@@ -172,12 +164,6 @@ class VehicleContact:
         dsv = kin.y[IDX_SV] - self.sv_contact
         return laws.diff_rate(dxv, dsv, vx * self.cos_a - vy * self.sin_a, kin.y[IDX_VV])
 
-    def spring_force(self, kin, mode) -> float:
-        """``FS`` (lb) in this mode (:func:`~.laws.contact_spring_force`)."""
-        model = self.model
-        return laws.contact_spring_force(np.asarray(kin.y, dtype=float), kin.R,
-                                         model.law_parameters, model.mode_vector(mode))
-
     def pack(self, P) -> None:
         P[laws.P_HAS_CONTACT] = 1.0
         P[laws.P_K_S] = self.stiffness["S"]
@@ -197,37 +183,18 @@ class VehicleContact:
     def events(self, model, mode) -> list[EventSpec]:
         out = []
         if not mode.first_spring_lost:
-            out.append(
-                EventSpec(
-                    EventKind.LOST_FIRST_SPRING,
-                    lambda t, y: self.separation(Kinematics(model, y), "S"),
-                    +1.0,
-                    code=(laws.EV_SEPARATION, float(laws.LETTERS.index("S"))),
-                )
-            )
+            out.append(EventSpec(EventKind.LOST_FIRST_SPRING, +1.0,
+                                 (laws.EV_SEPARATION, float(laws.LETTERS.index("S")))))
         if self.has_t and mode.contact_point == "S" and self.switch_ft > 0.0:
-            out.append(
-                EventSpec(
-                    "spring force moves to T",
-                    lambda t, y: self.diff(Kinematics(model, y), "S") - self.switch_ft,
-                    +1.0,
-                    code=(laws.EV_DIFF_S, self.switch_ft),
-                )
-            )
+            out.append(EventSpec("spring force moves to T", +1.0,
+                                 (laws.EV_DIFF_S, self.switch_ft)))
         if self.has_t and mode.first_spring_lost:
-            out.append(
-                EventSpec(
-                    EventKind.LOST_VEHICLE,
-                    lambda t, y: self.separation(Kinematics(model, y), "T"),
-                    +1.0,
-                    code=(laws.EV_SEPARATION, float(laws.LETTERS.index("T"))),
-                )
-            )
+            out.append(EventSpec(EventKind.LOST_VEHICLE, +1.0,
+                                 (laws.EV_SEPARATION, float(laws.LETTERS.index("T")))))
         if mode.cap_armed and self.cap_lb is not None:
-            f = lambda t, y: self.diff_rate(Kinematics(model, y))  # noqa: E731
             code = (laws.EV_DIFF_RATE, 0.0)
             if mode.cap_engaged:
-                out.append(EventSpec("force cap released", f, -1.0, code=code))
+                out.append(EventSpec("force cap released", -1.0, code))
             else:
-                out.append(EventSpec(EventKind.FORCE_CAP, f, +1.0, code=code))
+                out.append(EventSpec(EventKind.FORCE_CAP, +1.0, code))
         return out

@@ -75,16 +75,16 @@ class ContactMode:
 
 
 class EventSpec:
-    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``).
-
-    ``code``: the same function among the compiled laws' events, ``(EV_* code, argument)``
-    (:func:`~.laws.contact_event`), or None where it has none (the batch's compiled
-    integrator then leaves the segment to ``solve_ivp``)."""
+    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``):
+    ``code``, the function among the compiled laws' events, ``(EV_* code, argument)``
+    (:func:`~.laws.contact_event`, :func:`~.dop853._event`); ``function``, what ``solve_ivp``
+    calls (a contact event's is :func:`~.laws.contact_event` itself,
+    :func:`~.sliding.contact_events`)."""
 
     __slots__ = ("name", "function", "direction", "terminal", "code")
 
-    def __init__(self, name: str, function: Callable, direction: float, terminal: bool = True,
-                 code: tuple[int, float] | None = None):
+    def __init__(self, name: str, direction: float, code: tuple[int, float], *,
+                 terminal: bool = True, function: Callable | None = None):
         self.name = name
         self.function = function
         self.direction = direction

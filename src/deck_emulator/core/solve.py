@@ -249,7 +249,7 @@ class _Run:
             t_stop = min([s for s in schedule if s > t] + [self.t_max])
             specs = sliding.contact_events(m, mode)
             sol = self._solve(
-                sliding.contact_rhs(m, mode), t, y, t_stop, specs, self.contact_method
+                m.contact_rhs(mode), t, y, t_stop, specs, self.contact_method
             )
             t_new, y_new = float(sol.t[-1]), sol.y[:, -1]
             self.segments.append(Segment(t, t_new, "contact", sol.sol, mode))
