@@ -14,34 +14,13 @@ from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
 
 from . import laws
-from .kinematics import IDX_SV, IDX_VV, EventSpec, ModelView
+from .kinematics import IDX_SV, IDX_VV, EventSpec
 
-__all__ = [
-    "Gravity",
-    "BaseNormalForce",
-    "BaseFriction",
-    "StartupKickLoad",
-    "VehicleContact",
-]
-
-
-class Gravity:
-    name = "gravity"
-
-    def __init__(self, weight_lb: float):
-        self.weight_lb = weight_lb
-
-    def pack(self, P) -> None:
-        P[laws.P_WEIGHT] = self.weight_lb
-
-    def events(self, model, mode) -> list[EventSpec]:
-        return []
+__all__ = ["BaseNormalForce", "BaseFriction", "VehicleContact"]
 
 
 class BaseNormalForce:
     """``FN`` along ``+ZZ`` at Q; released for good at ``XQ - XQ0 <= -release``."""
-
-    name = "base normal force"
 
     def __init__(self, force_lb: float, release_ft: float):
         self.force_lb = force_lb
@@ -68,8 +47,6 @@ class BaseFriction:
     holds it (:mod:`.sliding`).
     """
 
-    name = "base friction"
-
     def __init__(self, force_lb: float, window_ft: float, reaction: bool = False):
         self.force_lb = force_lb
         self.window_ft = window_ft
@@ -95,32 +72,10 @@ class BaseFriction:
         return model.base_travel(y) + self.window_ft > 0.0
 
 
-class StartupKickLoad:
-    """The listing's first step (:class:`~deck_emulator.vocabulary.scene.StartupKick`): during the
-    'kick' window the post feels only ``body_force_1_lb`` along body axis 1, the car
-    ``vehicle_force_lb``."""
-
-    name = "start-up kick"
-
-    def __init__(self, kick):
-        self.kick = kick
-
-    def pack(self, P) -> None:
-        P[laws.P_HAS_KICK] = 1.0
-        P[laws.P_KICK_F1] = self.kick.body_force_1_lb
-        P[laws.P_KICK_FV] = self.kick.vehicle_force_lb
-        P[laws.P_KICK_FS] = self.kick.first_step_spring_force_lb
-
-    def events(self, model, mode) -> list[EventSpec]:
-        return []
-
-
 class VehicleContact:
     """The car's crush springs acting on the post at S, then T (eq. 3.15)."""
 
-    name = "vehicle contact"
-
-    def __init__(self, scene: Scene, options: ModelOptions, model: ModelView):
+    def __init__(self, scene: Scene, options: ModelOptions, model):
         v = scene.vehicle
         self.cos_a, self.sin_a = math.cos(v.approach_angle_rad), math.sin(v.approach_angle_rad)
         self.stiffness = {"S": v.first_spring.stiffness_lb_per_ft}

@@ -2,35 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Callable, Protocol
-
-import numpy as np
+from typing import Callable
 
 from . import laws as _laws
 from .rigid import N_POST, rotation_matrix
 
 __all__ = ["IDX_SV", "IDX_VV", "N_STATE", "ContactMode", "EventSpec", "Kinematics",
-           "ModelView", "state_vector"]
-
-
-class ModelView(Protocol):
-    """What the kinematics and a component read of the assembled model (core.model.Model),
-    and nothing more: the compiled laws' parameter vector, each point's body coordinates,
-    where a point is, a contact mode's vector, the base's travel, a spring point's initial XV.
-    A component is handed this narrow view, not the model it is part of."""
-
-    law_parameters: np.ndarray
-    body_points: Mapping[str, np.ndarray]
-
-    def point_position(self, kin: "Kinematics", letter: str): ...
-
-    def mode_vector(self, mode: "ContactMode") -> np.ndarray: ...
-
-    def base_travel(self, y) -> float: ...
-
-    def initial_xv(self, letter: str) -> float: ...
+           "state_vector"]
 
 IDX_SV = N_POST  # vehicle position along XV (ft)
 IDX_VV = N_POST + 1  # vehicle velocity along XV (ft/s)
@@ -103,7 +82,7 @@ class Kinematics:
 
     __slots__ = ("model", "y", "R", "_pos")
 
-    def __init__(self, model: ModelView, y):
+    def __init__(self, model, y):
         if not isinstance(y, list):
             y = y.tolist()
         self.model = model

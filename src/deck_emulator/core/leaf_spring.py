@@ -96,7 +96,6 @@ def loop_area(x_m: float, s: LeafSpring) -> float:
 class LeafSpringContact(VehicleContact):
     """The car's leaf spring at S (in place of the linear crush spring)."""
 
-    name = "vehicle contact (leaf spring)"
     EVENT_NAMES = (EventKind.LEAF_UNLOADS, "leaf spring reloads", EventKind.LOST_FIRST_SPRING)
 
     def __init__(self, scene, options, model):
