@@ -28,14 +28,14 @@ from deck_emulator.vocabulary.defaults import (
     MAX_STEP_S,
     T_MAX_S,
 )
-from deck_emulator.vocabulary.scene import ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions
 
 from . import dop853, laws
 from .kinematics import ContactMode
 from .laws import _jit
 from .solve import CoreError, _Run, _simulate_with, distinct
 
-__all__ = ["CompiledSolution", "component_key", "simulate_batch"]
+__all__ = ["CompiledSolution", "simulate_batch"]
 
 
 #: a compiled segment's answer, read as solve_ivp's (the fields the solve reads of it)
@@ -307,23 +307,6 @@ def _past_wall(max_wall_s: float, where: str) -> str:
 _DEFAULT_MODE = ContactMode()
 
 
-def component_key(scene: Scene, options: ModelOptions) -> tuple:
-    """What a scene's model is made of: its force components, its points, its car checks
-    and the options that switch laws on -- the batch's grouping key."""
-    v = scene.vehicle
-    base = scene.base
-    return (
-        tuple(sorted(scene.post.points())),
-        v is not None,
-        v is not None and getattr(v, "leaf_spring", None) is not None,
-        v is not None and v.second_spring is not None,
-        v is not None and v.body is not None,
-        base is not None and base.normal_force_lb != 0.0,
-        base is not None and (options.listing_friction or base.friction is not None),
-        options,
-    )
-
-
 def simulate_batch(
     scenes,
     options: ModelOptions,
@@ -341,7 +324,7 @@ def simulate_batch(
     """Run every scene of ``scenes`` through the compiled core; one item per scene, in
     their order: a :class:`~.result.CoreResult` or the :class:`~.solve.CoreError` (or
     ``ValueError``, ``ArithmeticError``) the scene met -- one scene's failure does not stop
-    the batch.  Scenes run grouped by :func:`component_key`.
+    the batch.  Scenes run in their order.
 
     ``options``: one preset for all, or one per scene.  The keywords are
     :func:`~.solve.simulate`'s, but ``max_wall_s`` bounds the whole batch (None: the row
@@ -358,24 +341,18 @@ def simulate_batch(
         per_scene = list(options)
         if len(per_scene) != len(scenes):
             raise ValueError(f"{len(per_scene)} options for {len(scenes)} scenes")
-    groups: dict[tuple, list[int]] = {}
-    for i, (s, o) in enumerate(zip(scenes, per_scene)):
-        groups.setdefault(component_key(s, o), []).append(i)
     out: list = [None] * len(scenes)
     max_wall_s = defaults.MAX_WALL_S if max_wall_s is None else max_wall_s
     # the bound's clock leaves out numba compiling or loading the core (laws.working_clock)
     wall = (laws.working_clock() + max_wall_s, max_wall_s)
     run = functools.partial(_CompiledRun, wall=wall)
-    for members in groups.values():
-        for i in members:
-            if laws.working_clock() > wall[0]:
-                out[i] = CoreError(_past_wall(max_wall_s, "before this scene started"))
-                continue
-            try:
-                out[i] = _simulate_with(
-                    run, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
-                    t_max_s, max_evaluations, None, check,
-                )
-            except (CoreError, ValueError, ArithmeticError) as exc:
-                out[i] = exc
+    for i in range(len(scenes)):
+        if laws.working_clock() > wall[0]:
+            out[i] = CoreError(_past_wall(max_wall_s, "before this scene started"))
+            continue
+        try:
+            out[i] = _simulate_with(run, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
+                                    t_max_s, max_evaluations, None, check)
+        except (CoreError, ValueError, ArithmeticError) as exc:
+            out[i] = exc
     return out

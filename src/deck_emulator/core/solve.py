@@ -183,12 +183,7 @@ class _Run:
                 dense_output=True,
                 events=events or None,
             )
-        seen = []
-        for w in caught:
-            text = f"{w.category.__name__}: {w.message}"
-            if text not in seen:
-                seen.append(text)
-        return sol, seen
+        return sol, list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
 
     def _solve(self, fun, t0, y0, t1, events, method=None):
         method = method or self.method
