@@ -431,9 +431,9 @@ def test_engine_batch_outcomes_match_the_reference_path(trace):
 
 def test_the_steps_subdivided_at_once_are_linspaces_points_bit_for_bit():
     """The ground-passage check and the scipy path's force grid subdivide every step at once
-    (solve._subdivided): numpy's linspace, step by step, is the reference -- steps of every
+    (result._subdivided): numpy's linspace, step by step, is the reference -- steps of every
     scale, a step of no length, and steps so short that linspace's step underflows to zero."""
-    from deck_emulator.core.solve import _subdivided
+    from deck_emulator.core.result import _subdivided
 
     rng = np.random.default_rng(7)
     cases = [np.cumsum(rng.random(30) * 10.0 ** rng.integers(-9, 1, 30)) for _ in range(50)]

@@ -33,7 +33,8 @@ from deck_emulator.vocabulary.scene import ModelOptions
 from . import dop853, laws
 from .kinematics import ContactMode
 from .laws import _jit
-from .solve import CoreError, _Run, _simulate_with, distinct
+from .result import distinct
+from .solve import CoreError, _Run, _simulate_with
 
 __all__ = ["CompiledSolution", "simulate_batch"]
 
@@ -63,7 +64,7 @@ class CompiledSolution:
 
 
 # --------------------------------------------------------------------------------------
-# the largest force on the car over a compiled segment (solve.segment_peak_force)
+# the largest force on the car over a compiled segment (result.segment_peak_force)
 
 _SQRT_EPS = math.sqrt(2.2e-16)
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
@@ -201,7 +202,7 @@ def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
 @_jit(plain=_segment_max_force_rows)
 def segment_max_force(ts, t_old, h, y_old, F, P, M):
     """(lb): the largest force on the car over a compiled segment, on a grid of 9 points
-    a step refined by a bounded search (as :func:`~.solve.segment_peak_force`)."""
+    a step refined by a bounded search (as :func:`~.result.segment_peak_force`)."""
     fine = np.unique(_grid(ts))
     tmp = np.empty(y_old.shape[1])
     best_k = 0

@@ -36,7 +36,7 @@ from .checks import check_outcome, ground_tolerance_ft
 from .kinematics import N_STATE, ContactMode
 from .laws import working_clock
 from .model import Model, assemble
-from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
+from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory, _subdivided
 
 __all__ = [
     "CoreError",
@@ -446,55 +446,6 @@ class _Run:
         msg = hit_message(surface, point)
         self.hit = Hit(msg, t, point, surface)
         self.events.append(CoreEvent(EventKind.HIT, t, msg))
-
-
-def segment_peak_force(model: Model, seg: Segment) -> float:
-    """The largest force on the car (lb) over one contact segment of ``model``'s run: on a
-    grid of 9 points a step, then refined by a bounded Brent search around the grid's best
-    (a compiled segment's own search where it has one, :mod:`.batch`)."""
-    P, M = model.law_parameters, model.mode_vector(seg.mode)
-    own = getattr(seg.solution, "peak_force", None)
-    if own is not None:
-        return own(P, M)
-    fine = _subdivided(seg.solution.ts, 9)
-    ys = seg.solution(fine)
-    f = np.array([sliding.vehicle_force(model, tk, ys[:, k], seg.mode)
-                  for k, tk in enumerate(fine)])
-    k = int(np.argmax(f))
-    fk = f[k]
-    lo, hi = fine[max(k - 1, 0)], fine[min(k + 1, len(fine) - 1)]
-    if hi > lo:
-        from scipy.optimize import minimize_scalar
-
-        r = minimize_scalar(
-            lambda s: -sliding.vehicle_force(model, s, seg.solution(s), seg.mode),
-            bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
-        fk = max(fk, -r.fun)
-    return fk
-
-
-def _subdivided(ts, n: int) -> np.ndarray:
-    """The ``n`` points of ``np.linspace(a, b, n)`` on every step ``[a, b]`` of ``ts``, sorted,
-    each once: linspace's own arithmetic (its exact values), for all the steps at once."""
-    ts = np.asarray(ts, dtype=float)
-    a, b = ts[:-1], ts[1:]
-    delta = b - a
-    step = delta / (n - 1)
-    i = np.arange(n, dtype=float)[:, None]
-    y = i * step + a
-    zero = step == 0
-    if zero.any():  # linspace's own way with a step that underflows to zero
-        y[:, zero] = i / (n - 1) * delta[zero] + a[zero]
-    y[-1] = b
-    return distinct(y)
-
-
-def distinct(values) -> np.ndarray:
-    """The distinct values of a float array without NaN, sorted: ``np.unique``'s answer
-    without its import of numpy's masked arrays (a single run's start pays for every
-    module it loads)."""
-    v = np.sort(np.asarray(values, dtype=float).ravel())
-    return v[np.concatenate(([True], v[1:] != v[:-1]))]
 
 
 def _heights(m, ys, q, name):
