@@ -44,7 +44,7 @@ def numbers(results):
         t = r.trajectory
         grid = np.linspace(float(t.t_start), float(t.t_end), 41)
         out.append([r.hit.message if r.hit else None, r.hit.time_s if r.hit else None,
-                    r.nfev, r.integrator, r.max_decel_g, r.contact_end_s,
+                    r.nfev, r.integrator, t.peak_force(), t.peak_force(True), r.contact_end_s,
                     t.state(grid).tolist()])
     return out
 

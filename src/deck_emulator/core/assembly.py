@@ -378,18 +378,11 @@ _REQUIRED = {
 }
 
 
-def _number(value: Any, key: str) -> float:
-    """A TOML number as a finite float, or an :class:`AssemblyError` naming ``key`` (the
-    scene files' check, :func:`deck_emulator.vocabulary.scene.toml_number`)."""
-
-    return toml_number(value, key, AssemblyError)
-
-
 def _checked(value: Any, rule: tuple, key: str):
     kind = rule[0]
     if kind == "num":
         _, low, inclusive, _ = rule
-        x = _number(value, key)
+        x = toml_number(value, key, AssemblyError)  # the scene files' check of a number
         if low is not None and (x < low or (x == low and not inclusive)):
             raise AssemblyError(f"{key} = {x:g} must be {'>=' if inclusive else '>'} {low:g}")
         return x
@@ -398,7 +391,7 @@ def _checked(value: Any, rule: tuple, key: str):
             raise AssemblyError(f"{key} must be a string, not {type(value).__name__}")
         return value
     if kind == "side":
-        x = _number(value, key)
+        x = toml_number(value, key, AssemblyError)
         if x not in (-1.0, 1.0):
             raise AssemblyError(f"{key} = {x:g} must be -1 or +1")
         return x
@@ -409,13 +402,8 @@ def _checked(value: Any, rule: tuple, key: str):
     if kind == "pair":
         if not isinstance(value, list) or len(value) != 2:
             raise AssemblyError(f"{key} must be a list of two numbers")
-        return tuple(_number(x, f"{key}[{i}]") for i, x in enumerate(value))
+        return tuple(toml_number(x, f"{key}[{i}]", AssemblyError) for i, x in enumerate(value))
     raise AssertionError(kind)  # pragma: no cover
-
-
-def _take(cls, data: Any, where: str):
-    """The dataclass ``cls`` of one table, every key checked against its domain."""
-    return cls(**_checked_table(data, where))
 
 
 def _checked_table(data: Any, where: str) -> dict[str, Any]:
@@ -548,11 +536,11 @@ def assembly_from_toml(text: str) -> tuple[Assembly | None, dict[str, Any]]:
             raise AssemblyError(f"arm {k}: control is not read by shape = \"straight\" (its "
                                 "control point is on the chord): drop it, or give shape = "
                                 "\"bezier\"")
-    arms = tuple(_take(Arm, x, "arm") for x in arm_list)
+    arms = tuple(Arm(**_checked_table(x, "arm")) for x in arm_list)
     top = {k: v for k, v in data.items() if k not in ("shaft", "arm", "base", "run", "source")}
     asm = Assembly(**_checked_table(top, "top level"), arms=arms,
-                   shaft=_take(Shaft, data["shaft"], "shaft"),
-                   base=_take(BaseMass, data.get("base", {}), "base"))
+                   shaft=Shaft(**_checked_table(data["shaft"], "shaft")),
+                   base=BaseMass(**_checked_table(data.get("base", {}), "base")))
     _check_geometry(asm)
     extra = {k: data[k] for k in ("source",) if k in data}
     return asm, extra

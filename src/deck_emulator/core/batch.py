@@ -28,14 +28,15 @@ from deck_emulator.vocabulary.defaults import (
     MAX_STEP_S,
     T_MAX_S,
 )
-from deck_emulator.vocabulary.scene import ModelOptions, Scene
+from deck_emulator.vocabulary.scene import ModelOptions
 
 from . import dop853, laws
 from .kinematics import ContactMode
 from .laws import _jit
-from .solve import CoreError, _Run, _simulate_with, distinct
+from .result import distinct
+from .solve import CoreError, _Run, _simulate_with
 
-__all__ = ["CompiledSolution", "component_key", "simulate_batch"]
+__all__ = ["CompiledSolution", "simulate_batch"]
 
 
 #: a compiled segment's answer, read as solve_ivp's (the fields the solve reads of it)
@@ -56,9 +57,14 @@ class CompiledSolution:
         out = dop853.dense_eval(self.ts, self.t_old, self.h, self.y_old, self.F, tq)
         return out[:, 0] if np.ndim(t) == 0 else out
 
+    def peak_force(self, P, M) -> float:
+        """The largest force on the car (lb) over this contact segment under the laws'
+        parameters ``P`` and mode ``M`` (:func:`segment_max_force`)."""
+        return segment_max_force(self.ts, self.t_old, self.h, self.y_old, self.F, P, M)
+
 
 # --------------------------------------------------------------------------------------
-# the largest force on the car over a compiled segment (solve._Run._segment_max_force)
+# the largest force on the car over a compiled segment (result.segment_peak_force)
 
 _SQRT_EPS = math.sqrt(2.2e-16)
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
@@ -166,14 +172,14 @@ def _grid(ts):
 
 @_jit
 def _refined(fine, best_k, best_f, ts, t_old, h, y_old, F, P, M, tmp):
-    """(lb, s): the grid's best, refined by the bounded search between its neighbours."""
-    fk, tk = best_f, fine[best_k]
+    """(lb): the grid's best, refined by the bounded search between its neighbours."""
+    fk = best_f
     lo, hi = fine[max(best_k - 1, 0)], fine[min(best_k + 1, fine.size - 1)]
     if hi > lo:
-        x, fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)
+        fx = _fminbound_neg_force(lo, hi, 1e-12, 500, ts, t_old, h, y_old, F, P, M, tmp)[1]
         if -fx > fk:
-            fk, tk = -fx, x
-    return fk, tk
+            fk = -fx
+    return fk
 
 
 def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
@@ -195,8 +201,8 @@ def _segment_max_force_rows(ts, t_old, h, y_old, F, P, M):
 
 @_jit(plain=_segment_max_force_rows)
 def segment_max_force(ts, t_old, h, y_old, F, P, M):
-    """(lb, s): the largest force on the car over a compiled segment, on a grid of 9 points
-    a step refined by a bounded search (as :meth:`~.solve._Run._segment_max_force`)."""
+    """(lb): the largest force on the car over a compiled segment, on a grid of 9 points
+    a step refined by a bounded search (as :func:`~.result.segment_peak_force`)."""
     fine = np.unique(_grid(ts))
     tmp = np.empty(y_old.shape[1])
     best_k = 0
@@ -238,16 +244,9 @@ class _CompiledRun(_Run):
         if self.wall is not None and laws.working_clock() > self.wall[0]:
             raise CoreError(_past_wall(self.wall[1], f"at t = {t0:.6g} s"))
         method = method or self.method
-        law = getattr(fun, "law", None)
-        why = None
         if method != "DOP853":
-            why = f"{method} (stiff contact)"
-        elif law is None:
-            why = "a right-hand side without a compiled form"
-        elif any(e.code is None for e in events):
-            why = "events without a compiled form"
-        if why is not None:
-            return self._by_scipy(why, fun, t0, y0, t1, events, method)
+            return self._by_scipy(f"{method} (stiff contact)", fun, t0, y0, t1, events, method)
+        law = fun.law
         m = self.model
         phase = dop853.PHASE_CONTACT if law[0] == "contact" else dop853.PHASE_FREE
         M = law[1] if law[1] is not None else m.mode_vector(_DEFAULT_MODE)
@@ -300,14 +299,6 @@ class _CompiledRun(_Run):
                           f"{float(sol.t[-1]):.6g} s: {why}")
         return sol
 
-    def _segment_max_force(self, seg):
-        sol = seg.solution
-        if not isinstance(sol, CompiledSolution) or seg.mode is None:
-            return super()._segment_max_force(seg)
-        M = self.model.mode_vector(seg.mode)
-        return segment_max_force(sol.ts, sol.t_old, sol.h, sol.y_old, sol.F,
-                                 self.model.law_parameters, M)
-
 
 def _past_wall(max_wall_s: float, where: str) -> str:
     return (f"run stopped: the batch took more than max_wall_s = {max_wall_s:g} s of wall "
@@ -315,23 +306,6 @@ def _past_wall(max_wall_s: float, where: str) -> str:
 
 
 _DEFAULT_MODE = ContactMode()
-
-
-def component_key(scene: Scene, options: ModelOptions) -> tuple:
-    """What a scene's model is made of: its force components, its points, its car checks
-    and the options that switch laws on -- the batch's grouping key."""
-    v = scene.vehicle
-    base = scene.base
-    return (
-        tuple(sorted(scene.post.points())),
-        v is not None,
-        v is not None and getattr(v, "leaf_spring", None) is not None,
-        v is not None and v.second_spring is not None,
-        v is not None and v.body is not None,
-        base is not None and base.normal_force_lb != 0.0,
-        base is not None and (options.listing_friction or base.friction is not None),
-        options,
-    )
 
 
 def simulate_batch(
@@ -351,7 +325,7 @@ def simulate_batch(
     """Run every scene of ``scenes`` through the compiled core; one item per scene, in
     their order: a :class:`~.result.CoreResult` or the :class:`~.solve.CoreError` (or
     ``ValueError``, ``ArithmeticError``) the scene met -- one scene's failure does not stop
-    the batch.  Scenes run grouped by :func:`component_key`.
+    the batch.  Scenes run in their order.
 
     ``options``: one preset for all, or one per scene.  The keywords are
     :func:`~.solve.simulate`'s, but ``max_wall_s`` bounds the whole batch (None: the row
@@ -368,24 +342,18 @@ def simulate_batch(
         per_scene = list(options)
         if len(per_scene) != len(scenes):
             raise ValueError(f"{len(per_scene)} options for {len(scenes)} scenes")
-    groups: dict[tuple, list[int]] = {}
-    for i, (s, o) in enumerate(zip(scenes, per_scene)):
-        groups.setdefault(component_key(s, o), []).append(i)
     out: list = [None] * len(scenes)
     max_wall_s = defaults.MAX_WALL_S if max_wall_s is None else max_wall_s
     # the bound's clock leaves out numba compiling or loading the core (laws.working_clock)
     wall = (laws.working_clock() + max_wall_s, max_wall_s)
     run = functools.partial(_CompiledRun, wall=wall)
-    for members in groups.values():
-        for i in members:
-            if laws.working_clock() > wall[0]:
-                out[i] = CoreError(_past_wall(max_wall_s, "before this scene started"))
-                continue
-            try:
-                out[i] = _simulate_with(
-                    run, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
-                    t_max_s, max_evaluations, None, check,
-                )
-            except (CoreError, ValueError, ArithmeticError) as exc:
-                out[i] = exc
+    for i in range(len(scenes)):
+        if laws.working_clock() > wall[0]:
+            out[i] = CoreError(_past_wall(max_wall_s, "before this scene started"))
+            continue
+        try:
+            out[i] = _simulate_with(run, scenes[i], per_scene[i], method, rtol, atol, max_step_s,
+                                    t_max_s, max_evaluations, None, check)
+        except (CoreError, ValueError, ArithmeticError) as exc:
+            out[i] = exc
     return out

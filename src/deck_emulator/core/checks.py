@@ -135,7 +135,6 @@ def check_outcome(result) -> list[str]:
         heights_at_hit_ft=heights,
         delta_v_contact_mph=delta_v,
         car_speed_mph=car_speed,
-        max_decel_g=result.max_decel_g,
         no_hit_reason=result.no_hit_reason,
         ground_tolerance_ft=ground_tolerance_ft(result.options),
         who="the core",

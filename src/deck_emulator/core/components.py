@@ -12,37 +12,15 @@ import math
 
 from deck_emulator.vocabulary.events import EventKind
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
-import numpy as np
 
 from . import laws
-from .kinematics import IDX_SV, IDX_VV, EventSpec, Kinematics, ModelView
+from .kinematics import IDX_SV, IDX_VV, EventSpec
 
-__all__ = [
-    "Gravity",
-    "BaseNormalForce",
-    "BaseFriction",
-    "StartupKickLoad",
-    "VehicleContact",
-]
-
-
-class Gravity:
-    name = "gravity"
-
-    def __init__(self, weight_lb: float):
-        self.weight_lb = weight_lb
-
-    def pack(self, P) -> None:
-        P[laws.P_WEIGHT] = self.weight_lb
-
-    def events(self, model, mode) -> list[EventSpec]:
-        return []
+__all__ = ["BaseNormalForce", "BaseFriction", "VehicleContact"]
 
 
 class BaseNormalForce:
     """``FN`` along ``+ZZ`` at Q; released for good at ``XQ - XQ0 <= -release``."""
-
-    name = "base normal force"
 
     def __init__(self, force_lb: float, release_ft: float):
         self.force_lb = force_lb
@@ -56,12 +34,7 @@ class BaseNormalForce:
     def events(self, model, mode) -> list[EventSpec]:
         if not mode.normal_on:
             return []
-        return [
-            EventSpec(
-                "normal force released", lambda t, y: model.base_travel(y) + self.release_ft, -1.0,
-                code=(laws.EV_BASE_TRAVEL, self.release_ft),
-            )
-        ]
+        return [EventSpec("normal force released", -1.0, (laws.EV_BASE_TRAVEL, self.release_ft))]
 
 
 class BaseFriction:
@@ -73,8 +46,6 @@ class BaseFriction:
     ``-force_lb * sign``; while it sticks (``mode.friction_stick``) it is the reaction that
     holds it (:mod:`.sliding`).
     """
-
-    name = "base friction"
 
     def __init__(self, force_lb: float, window_ft: float, reaction: bool = False):
         self.force_lb = force_lb
@@ -92,42 +63,19 @@ class BaseFriction:
         P[laws.P_FR_REACTION] = 1.0 if self.reaction else 0.0
 
     def events(self, model, mode) -> list[EventSpec]:
-        f = lambda t, y: model.base_travel(y) + self.window_ft  # noqa: E731
         code = (laws.EV_BASE_TRAVEL, self.window_ft)
         if mode.friction_on:
-            return [EventSpec("base friction ends", f, -1.0, code=code)]
-        return [EventSpec("base friction resumes", f, +1.0, code=code)]
+            return [EventSpec("base friction ends", -1.0, code)]
+        return [EventSpec("base friction resumes", +1.0, code)]
 
     def active_at(self, model, y) -> bool:
         return model.base_travel(y) + self.window_ft > 0.0
 
 
-class StartupKickLoad:
-    """The listing's first step (:class:`~deck_emulator.vocabulary.scene.StartupKick`): during the
-    'kick' window the post feels only ``body_force_1_lb`` along body axis 1, the car
-    ``vehicle_force_lb``."""
-
-    name = "start-up kick"
-
-    def __init__(self, kick):
-        self.kick = kick
-
-    def pack(self, P) -> None:
-        P[laws.P_HAS_KICK] = 1.0
-        P[laws.P_KICK_F1] = self.kick.body_force_1_lb
-        P[laws.P_KICK_FV] = self.kick.vehicle_force_lb
-        P[laws.P_KICK_FS] = self.kick.first_step_spring_force_lb
-
-    def events(self, model, mode) -> list[EventSpec]:
-        return []
-
-
 class VehicleContact:
     """The car's crush springs acting on the post at S, then T (eq. 3.15)."""
 
-    name = "vehicle contact"
-
-    def __init__(self, scene: Scene, options: ModelOptions, model: ModelView):
+    def __init__(self, scene: Scene, options: ModelOptions, model):
         v = scene.vehicle
         self.cos_a, self.sin_a = math.cos(v.approach_angle_rad), math.sin(v.approach_angle_rad)
         self.stiffness = {"S": v.first_spring.stiffness_lb_per_ft}
@@ -142,7 +90,6 @@ class VehicleContact:
         self.listing_diff = options.listing_diff
         # XVSO, XVTO: the points' initial XV coordinates
         self.xv0 = {k: model.initial_xv(k) for k in self.stiffness}
-        self.model = model
 
     # -- geometry of the contact (eq. 3.13-3.15)
 
@@ -172,12 +119,6 @@ class VehicleContact:
         dsv = kin.y[IDX_SV] - self.sv_contact
         return laws.diff_rate(dxv, dsv, vx * self.cos_a - vy * self.sin_a, kin.y[IDX_VV])
 
-    def spring_force(self, kin, mode) -> float:
-        """``FS`` (lb) in this mode (:func:`~.laws.contact_spring_force`)."""
-        model = self.model
-        return laws.contact_spring_force(np.asarray(kin.y, dtype=float), kin.R,
-                                         model.law_parameters, model.mode_vector(mode))
-
     def pack(self, P) -> None:
         P[laws.P_HAS_CONTACT] = 1.0
         P[laws.P_K_S] = self.stiffness["S"]
@@ -197,37 +138,18 @@ class VehicleContact:
     def events(self, model, mode) -> list[EventSpec]:
         out = []
         if not mode.first_spring_lost:
-            out.append(
-                EventSpec(
-                    EventKind.LOST_FIRST_SPRING,
-                    lambda t, y: self.separation(Kinematics(model, y), "S"),
-                    +1.0,
-                    code=(laws.EV_SEPARATION, float(laws.LETTERS.index("S"))),
-                )
-            )
+            out.append(EventSpec(EventKind.LOST_FIRST_SPRING, +1.0,
+                                 (laws.EV_SEPARATION, float(laws.LETTERS.index("S")))))
         if self.has_t and mode.contact_point == "S" and self.switch_ft > 0.0:
-            out.append(
-                EventSpec(
-                    "spring force moves to T",
-                    lambda t, y: self.diff(Kinematics(model, y), "S") - self.switch_ft,
-                    +1.0,
-                    code=(laws.EV_DIFF_S, self.switch_ft),
-                )
-            )
+            out.append(EventSpec("spring force moves to T", +1.0,
+                                 (laws.EV_DIFF_S, self.switch_ft)))
         if self.has_t and mode.first_spring_lost:
-            out.append(
-                EventSpec(
-                    EventKind.LOST_VEHICLE,
-                    lambda t, y: self.separation(Kinematics(model, y), "T"),
-                    +1.0,
-                    code=(laws.EV_SEPARATION, float(laws.LETTERS.index("T"))),
-                )
-            )
+            out.append(EventSpec(EventKind.LOST_VEHICLE, +1.0,
+                                 (laws.EV_SEPARATION, float(laws.LETTERS.index("T")))))
         if mode.cap_armed and self.cap_lb is not None:
-            f = lambda t, y: self.diff_rate(Kinematics(model, y))  # noqa: E731
             code = (laws.EV_DIFF_RATE, 0.0)
             if mode.cap_engaged:
-                out.append(EventSpec("force cap released", f, -1.0, code=code))
+                out.append(EventSpec("force cap released", -1.0, code))
             else:
-                out.append(EventSpec(EventKind.FORCE_CAP, f, +1.0, code=code))
+                out.append(EventSpec(EventKind.FORCE_CAP, +1.0, code))
         return out

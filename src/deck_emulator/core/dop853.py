@@ -33,7 +33,6 @@ __all__ = [
     "STATUS_NOT_FINITE",
     "brentq",
     "dense_eval",
-    "fixed_steps",
     "solve",
 ]
 
@@ -666,23 +665,3 @@ def solve(phase, t0, y0, t_bound, P, M, EV, rows_a, rows_c, letters, pairs, rtol
                     rec_y[:n_rec])
     return (status, nfev, ts[: nsteps + 1], t_olds[:nsteps], hs[:nsteps], y_olds[:nsteps],
             Fs[:nsteps], rec_k[:n_rec], rec_t[:n_rec], rec_y[:n_rec])
-
-
-@_jit
-def fixed_steps(phase, t0, y0, h, n_steps, P, M):
-    """``n_steps`` steps of the 8th-order formula with the fixed step ``h`` (no error
-    control): the order test's road."""
-    n = y0.size
-    acc = np.empty(7)
-    K = np.empty((N_EXT, n))
-    ytmp = np.empty(n)
-    y_new = np.empty(n)
-    y = y0.copy()
-    f = np.empty(n)
-    t = t0
-    for _ in range(n_steps):
-        _rhs(phase, t, y, P, M, acc, f)
-        _rk_step(phase, t, y, f, h, P, M, K, acc, ytmp, y_new)
-        y[:] = y_new
-        t += h
-    return y

@@ -2,35 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Callable, Protocol
-
-import numpy as np
+from typing import Callable
 
 from . import laws as _laws
 from .rigid import N_POST, rotation_matrix
 
 __all__ = ["IDX_SV", "IDX_VV", "N_STATE", "ContactMode", "EventSpec", "Kinematics",
-           "ModelView", "state_vector"]
-
-
-class ModelView(Protocol):
-    """What the kinematics and a component read of the assembled model (core.model.Model),
-    and nothing more: the compiled laws' parameter vector, each point's body coordinates,
-    where a point is, a contact mode's vector, the base's travel, a spring point's initial XV.
-    A component is handed this narrow view, not the model it is part of."""
-
-    law_parameters: np.ndarray
-    body_points: Mapping[str, np.ndarray]
-
-    def point_position(self, kin: "Kinematics", letter: str): ...
-
-    def mode_vector(self, mode: "ContactMode") -> np.ndarray: ...
-
-    def base_travel(self, y) -> float: ...
-
-    def initial_xv(self, letter: str) -> float: ...
+           "state_vector"]
 
 IDX_SV = N_POST  # vehicle position along XV (ft)
 IDX_VV = N_POST + 1  # vehicle velocity along XV (ft/s)
@@ -75,16 +54,16 @@ class ContactMode:
 
 
 class EventSpec:
-    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``).
-
-    ``code``: the same function among the compiled laws' events, ``(EV_* code, argument)``
-    (:func:`~.laws.contact_event`), or None where it has none (the batch's compiled
-    integrator then leaves the segment to ``solve_ivp``)."""
+    """One event function for ``solve_ivp`` (callable with ``terminal``/``direction``):
+    ``code``, the function among the compiled laws' events, ``(EV_* code, argument)``
+    (:func:`~.laws.contact_event`, :func:`~.dop853._event`); ``function``, what ``solve_ivp``
+    calls (a contact event's is :func:`~.laws.contact_event` itself,
+    :func:`~.sliding.contact_events`)."""
 
     __slots__ = ("name", "function", "direction", "terminal", "code")
 
-    def __init__(self, name: str, function: Callable, direction: float, terminal: bool = True,
-                 code: tuple[int, float] | None = None):
+    def __init__(self, name: str, direction: float, code: tuple[int, float], *,
+                 terminal: bool = True, function: Callable | None = None):
         self.name = name
         self.function = function
         self.direction = direction
@@ -103,7 +82,7 @@ class Kinematics:
 
     __slots__ = ("model", "y", "R", "_pos")
 
-    def __init__(self, model: ModelView, y):
+    def __init__(self, model, y):
         if not isinstance(y, list):
             y = y.tolist()
         self.model = model

@@ -29,7 +29,7 @@ from deck_emulator.vocabulary.events import EventKind
 from . import laws
 
 from .components import VehicleContact
-from .kinematics import IDX_VV, EventSpec, Kinematics
+from .kinematics import EventSpec, Kinematics
 from deck_emulator.vocabulary.scene import LeafSpring
 
 __all__ = ["loading_force", "unloading_force", "leaf_force", "zero_force_set", "loop_area",
@@ -96,7 +96,6 @@ def loop_area(x_m: float, s: LeafSpring) -> float:
 class LeafSpringContact(VehicleContact):
     """The car's leaf spring at S (in place of the linear crush spring)."""
 
-    name = "vehicle contact (leaf spring)"
     EVENT_NAMES = (EventKind.LEAF_UNLOADS, "leaf spring reloads", EventKind.LOST_FIRST_SPRING)
 
     def __init__(self, scene, options, model):
@@ -105,14 +104,6 @@ class LeafSpringContact(VehicleContact):
         self.has_t = False
         self.cap_lb = None
 
-    def compression_rate(self, kin) -> float:
-        vx, vy, _ = kin.point_velocity("S")
-        return laws.compression_rate(kin.y[IDX_VV], vx * self.cos_a - vy * self.sin_a)
-
-    def spring_force(self, kin, mode) -> float:
-        x = self.compression(kin, "S")
-        return self.factor * leaf_force(x, mode.spring_peak_ft, self.leaf)
-
     def pack(self, P) -> None:
         super().pack(P)
         P[laws.P_HAS_LEAF] = 1.0
@@ -120,19 +111,12 @@ class LeafSpringContact(VehicleContact):
          P[laws.P_LEAF_U1], P[laws.P_LEAF_U2], P[laws.P_LEAF_UKNEE]) = _numbers(self.leaf)
 
     def events(self, model, mode) -> list[EventSpec]:
-        comp = lambda t, y: self.compression(Kinematics(model, y), "S")  # noqa: E731
         if mode.spring_peak_ft is None:
-            return [EventSpec(EventKind.LEAF_UNLOADS,
-                              lambda t, y: self.compression_rate(Kinematics(model, y)), -1.0,
-                              code=(laws.EV_COMPRESSION_RATE, 0.0))]
+            return [EventSpec(EventKind.LEAF_UNLOADS, -1.0, (laws.EV_COMPRESSION_RATE, 0.0))]
         x_m = mode.spring_peak_ft
         x0 = zero_force_set(x_m, self.leaf)
-        return [
-            EventSpec("leaf spring reloads", lambda t, y: comp(t, y) - x_m, +1.0,
-                      code=(laws.EV_COMPRESSION, x_m)),
-            EventSpec(EventKind.LOST_FIRST_SPRING, lambda t, y: comp(t, y) - x0, -1.0,
-                      code=(laws.EV_COMPRESSION, x0)),
-        ]
+        return [EventSpec("leaf spring reloads", +1.0, (laws.EV_COMPRESSION, x_m)),
+                EventSpec(EventKind.LOST_FIRST_SPRING, -1.0, (laws.EV_COMPRESSION, x0))]
 
     def transition(self, model, mode, name, y):
         if name == EventKind.LEAF_UNLOADS:

@@ -2,10 +2,10 @@
 
 :func:`assemble` turns a :class:`~deck_emulator.vocabulary.scene.Scene` and
 :class:`~deck_emulator.vocabulary.scene.ModelOptions` into a :class:`Model`: the post's named points
-(only those the scene has), the force components of the contact phase (gravity, and --
-only if the scene has them -- the base's normal force, the base friction, the car's crush
-springs), and the free-flight checks (:mod:`.regions`).  A component the scene lacks is
-not built, so nothing of it is ever evaluated; the tests prove it.
+(only those the scene has), the force components of the contact phase (only those the
+scene has: the base's normal force, the base friction, the car's crush springs), and the
+free-flight checks (:mod:`.regions`).  A component the scene lacks is not built, so nothing
+of it is ever evaluated; the tests prove it.
 
 Contact-phase forces (eq. 3.28-3.31, computed as road-axes vectors, ``torque = r x F``):
 
@@ -36,13 +36,7 @@ from deck_emulator.vocabulary.scene import (
 )
 
 from . import laws
-from .components import (
-    BaseFriction,
-    BaseNormalForce,
-    Gravity,
-    StartupKickLoad,
-    VehicleContact,
-)
+from .components import BaseFriction, BaseNormalForce, VehicleContact
 from .kinematics import ContactMode, EventSpec, Kinematics
 from .leaf_spring import LeafSpringContact
 from .regions import FreeFlightChecks, build_checks
@@ -88,7 +82,7 @@ class Model:
         self.y0 = self.initial_state()
         self._q0 = self.point_position(Kinematics(self, self.y0), "Q")
 
-        comps: dict[str, object] = {"gravity": Gravity(self.weight)}
+        comps: dict[str, object] = {}
         base = scene.base
         if vehicle is not None and base is not None:
             if base.normal_force_lb != 0.0:
@@ -110,10 +104,7 @@ class Model:
             comps["vehicle contact"] = LeafSpringContact(scene, options, self)
         elif vehicle is not None:
             comps["vehicle contact"] = VehicleContact(scene, options, self)
-        if vehicle is not None and options.startup_kick is not None:
-            self.kick_load = StartupKickLoad(options.startup_kick)
         self.components = comps
-        self._regular = tuple(comps.values())
         self.checks: FreeFlightChecks = build_checks(scene, options, self)
         #: the shaft and arms against the car (``ModelOptions.shaft_contact``), or None
         self.segment_checks: SegmentChecks | None = build_segment_checks(scene, options, self)
@@ -134,11 +125,17 @@ class Model:
         P[laws.P_CAP] = math.nan
         P[laws.P_Q0X] = self._q0[0]
         P[laws.P_DEPTH] = self.scene.environment.ground_depth_ft
+        P[laws.P_WEIGHT] = self.weight
         for c in self.components.values():
             c.pack(P)
-        kick = getattr(self, "kick_load", None)
-        if kick is not None:
-            kick.pack(P)
+        kick = self.options.startup_kick
+        if kick is not None and self.scene.vehicle is not None:
+            # the listing's first step: in the 'kick' window the post feels only
+            # body_force_1_lb along body axis 1, the car vehicle_force_lb
+            P[laws.P_HAS_KICK] = 1.0
+            P[laws.P_KICK_F1] = kick.body_force_1_lb
+            P[laws.P_KICK_FV] = kick.vehicle_force_lb
+            P[laws.P_KICK_FS] = kick.first_step_spring_force_lb
         return P
 
     def mode_vector(self, mode: ContactMode) -> np.ndarray:
@@ -255,7 +252,7 @@ class Model:
 
     def contact_events(self, mode: ContactMode) -> list[EventSpec]:
         out = []
-        for c in self._regular:
+        for c in self.components.values():
             out.extend(c.events(self, mode))
         return out
 

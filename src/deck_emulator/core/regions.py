@@ -128,8 +128,8 @@ class FreeFlightChecks:
     def events(self):
         out = []
         for i, terminal in enumerate(self.terminal):
-            out.append(EventSpec(f"row {i}", lambda t, y, i=i: self.values(y)[i], +1.0, terminal,
-                                 code=(laws.EV_ROW, float(i))))
+            out.append(EventSpec(f"row {i}", +1.0, (laws.EV_ROW, float(i)), terminal=terminal,
+                                 function=lambda t, y, i=i: self.values(y)[i]))
         return out
 
     def inside(self, y) -> list[tuple[Region, str]]:

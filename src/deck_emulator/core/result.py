@@ -9,6 +9,8 @@ import numpy as np
 
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
 
+from . import laws
+
 __all__ = ["CoreEvent", "Hit", "Segment", "Trajectory", "CoreResult"]
 
 
@@ -62,6 +64,7 @@ class Trajectory:
         self.t_start = segments[0].t0 if segments else 0.0
         self.t_end = segments[-1].t1 if segments else 0.0
         self.point_names = tuple(model.body_points)
+        self._peaks: dict[int, float] = {}  # segment -> its largest force (:meth:`peak_force`)
 
     def state(self, t) -> np.ndarray:
         """State(s) at ``t`` (scalar -> (15,), array -> (15, n)); quaternion normalised."""
@@ -134,9 +137,73 @@ class Trajectory:
             return np.zeros(0), np.zeros(0)
         return np.concatenate(ts), np.asarray(np.concatenate(fs), dtype=float)
 
+    def peak_force(self, after_startup: bool = False) -> float | None:
+        """The largest force on the car (lb) over the contact segments -- with
+        ``after_startup``, those after the start-up kick's window (the listing's 10,000 lb
+        over its first steps is a device of its scheme, not an impact force) -- located on
+        the dense solution with the model's force law
+        (:func:`segment_peak_force`); None without a contact."""
+        best = -math.inf
+        for i, seg in enumerate(self.segments):
+            if seg.phase != "contact" or (after_startup and seg.mode.window is not None):
+                continue
+            if i not in self._peaks:
+                self._peaks[i] = segment_peak_force(self._model, seg)
+            best = max(best, self._peaks[i])
+        return float(best) if math.isfinite(best) else None
+
     def vehicle(self, t) -> np.ndarray:
         """Car position SV (ft) and velocity VV (ft/s) along XV: shape (2,) or (2, n)."""
         return self.state(t)[13:15]
+
+
+def segment_peak_force(model, seg: Segment) -> float:
+    """The largest force on the car (lb) over one contact segment of ``model``'s run: on a
+    grid of 9 points a step, then refined by a bounded Brent search around the grid's best
+    (a compiled segment's own search where it has one, :mod:`.batch`)."""
+    P, M = model.law_parameters, model.mode_vector(seg.mode)
+    own = getattr(seg.solution, "peak_force", None)
+    if own is not None:
+        return own(P, M)
+    fine = _subdivided(seg.solution.ts, 9)
+    ys = seg.solution(fine)
+    f = np.array([laws.sliding_vehicle_force(tk, np.ascontiguousarray(ys[:, k]), P, M)
+                  for k, tk in enumerate(fine)])
+    k = int(np.argmax(f))
+    fk = f[k]
+    lo, hi = fine[max(k - 1, 0)], fine[min(k + 1, len(fine) - 1)]
+    if hi > lo:
+        from scipy.optimize import minimize_scalar
+
+        r = minimize_scalar(
+            lambda s: -laws.sliding_vehicle_force(s, np.ascontiguousarray(seg.solution(s)), P, M),
+            bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
+        fk = max(fk, -r.fun)
+    return fk
+
+
+def _subdivided(ts, n: int) -> np.ndarray:
+    """The ``n`` points of ``np.linspace(a, b, n)`` on every step ``[a, b]`` of ``ts``, sorted,
+    each once: linspace's own arithmetic (its exact values), for all the steps at once."""
+    ts = np.asarray(ts, dtype=float)
+    a, b = ts[:-1], ts[1:]
+    delta = b - a
+    step = delta / (n - 1)
+    i = np.arange(n, dtype=float)[:, None]
+    y = i * step + a
+    zero = step == 0
+    if zero.any():  # linspace's own way with a step that underflows to zero
+        y[:, zero] = i / (n - 1) * delta[zero] + a[zero]
+    y[-1] = b
+    return distinct(y)
+
+
+def distinct(values) -> np.ndarray:
+    """The distinct values of a float array without NaN, sorted: ``np.unique``'s answer
+    without its import of numpy's masked arrays (a single run's start pays for every
+    module it loads)."""
+    v = np.sort(np.asarray(values, dtype=float).ravel())
+    return v[np.concatenate(([True], v[1:] != v[:-1]))]
 
 
 def _rotation_matrices(q: np.ndarray) -> np.ndarray:
@@ -163,9 +230,6 @@ class CoreResult:
     * ``contact_end_s`` -- when the contact with the car ends (the car let go, or the post hit
       the car while in contact): the instant the registry reads the speed lost at
       (``deck_emulator.engine.quantities``).
-    * ``max_decel_g`` -- the car's largest deceleration in contact, located on the dense
-      solution with the model's force law; ``max_decel_after_startup_g`` -- the same after the
-      start-up kick (the listing's 10,000 lb over its first steps is not an impact force).
     * ``terminal_points_ft`` -- P, Q, R (and U, where the scene has a second luminaire) at
       the hit in the report's axes: ``XL = XX - XXQ0, YL = YY - YYQ0, ZL = ZZ + HEIGHT``
       (``None`` for a point the scene lacks).
@@ -185,7 +249,6 @@ class CoreResult:
     hit: Hit | None
     first_spring_lost_s: float | None
     vehicle_contact_lost_s: float | None
-    max_decel_g: float | None
     terminal_points_ft: dict[str, tuple[float, float, float] | None]
     end_time_s: float
     nfev: int
@@ -193,7 +256,6 @@ class CoreResult:
     notes: tuple[str, ...] = ()
     no_hit_reason: str | None = None
     ground_passage: dict | None = None
-    max_decel_after_startup_g: float | None = None
     contact_end_s: float | None = None
     #: who integrated the run: "scipy" (``solve_ivp``), "compiled" (:mod:`.dop853`, the
     #: batch), or "compiled+scipy" (a batch run some of whose segments ``solve_ivp`` solved)

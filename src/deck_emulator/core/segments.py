@@ -110,9 +110,9 @@ class SegmentChecks:
     def events(self) -> list[EventSpec]:
         """One event per pair: ``h`` crossing zero upwards; recorded, not terminal (the
         earliest of all the free flight's candidates is the hit)."""
-        return [EventSpec(f"segment {p.segment} / {p.box.part}",
-                          lambda t, y, i=i: self.depths(y)[i][0], +1.0, False,
-                          code=(laws.EV_SEGMENT, float(i)))
+        return [EventSpec(f"segment {p.segment} / {p.box.part}", +1.0,
+                          (laws.EV_SEGMENT, float(i)), terminal=False,
+                          function=lambda t, y, i=i: self.depths(y)[i][0])
                 for i, p in enumerate(self.pairs)]
 
     def inside(self, y) -> list[Pair]:

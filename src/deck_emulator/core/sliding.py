@@ -33,7 +33,6 @@ from .kinematics import IDX_VV, ContactMode, EventSpec, Kinematics
 
 __all__ = [
     "Filippov",
-    "contact_rhs",
     "contact_events",
     "after_event",
     "initial_mode",
@@ -67,30 +66,21 @@ class Filippov:
         self.model = model
         self.mode = mode
         self.sliders = _sliders(mode)
-        self._key = None
-        self._val = None
 
     def solve(self, t, y):
-        yl = y.tolist() if not isinstance(y, list) else y
-        key = (t, tuple(yl))
-        if key == self._key:
-            return self._val
-        m, sl = self.model, self.sliders
-        n = len(sl)
+        m, n = self.model, len(self.sliders)
         d = np.empty(15)
         lam, force, lo, hi, diag = (np.empty(2) for _ in range(5))
-        laws.filippov(t, np.asarray(yl, dtype=float), m.law_parameters,
+        laws.filippov(t, np.asarray(y, dtype=float), m.law_parameters,
                       m.mode_vector(self.mode), d, lam, force, lo, hi, diag)
-        val = {
+        return {
             "d": d.tolist(),
             "lam": lam[:n].tolist(),
             "force": force[:n].tolist(),
             "bounds": list(zip(lo[:n].tolist(), hi[:n].tolist())),
             "diag": diag[:n].tolist(),
-            "sliders": sl,
+            "sliders": self.sliders,
         }
-        self._key, self._val = key, val
-        return val
 
     def admissible(self, t, y) -> bool:
         """The mode attracts and its forces lie strictly inside their bounds."""
@@ -101,16 +91,6 @@ class Filippov:
             if not (b > a and diag > 0.0 and _INSIDE < lam < 1.0 - _INSIDE):
                 return False
         return True
-
-
-def contact_rhs(model, mode: ContactMode):
-    """The right-hand side of the contact phase in ``mode`` (sliding forces included)."""
-    if not _sliders(mode):
-        return model.contact_rhs(mode)
-    fil = Filippov(model, mode)
-    fun = lambda t, y: fil.solve(t, y)["d"]  # noqa: E731
-    fun.law = ("contact", model.mode_vector(mode))  # the batch's compiled integrator
-    return fun
 
 
 def vehicle_force(model, t, y, mode) -> float:
@@ -131,70 +111,30 @@ def friction_force(model, t, y, mode) -> float:
     return comp.force(mode, model)
 
 
-def _ground_events(model):
-    depth = model.scene.environment.ground_depth_ft
-    out = []
-    for p in model.checks.points:
-        if p not in model.body_points:  # pragma: no cover - checks only hold the scene's points
-            continue
-        out.append(
-            EventSpec(
-                f"ground reached by {p}",
-                lambda t, y, p=p: -(model.point_position(Kinematics(model, y), p)[2] + depth),
-                +1.0,
-                code=(laws.EV_GROUND, float(laws.LETTERS.index(p))),
-            )
-        )
-    return out
-
-
 def contact_events(model, mode: ContactMode) -> list[EventSpec]:
-    """The model's contact events for ``mode``, with the sliding modes' and the ground's."""
+    """The model's contact events for ``mode``, with the sliding modes' and the ground's,
+    each evaluated by the compiled laws' :func:`~.laws.contact_event` (both roads)."""
     out = model.contact_events(mode)
     if mode.cap_sliding:
         out = [e for e in out if e.name not in (EventKind.FORCE_CAP, "force cap released")]
-    fil = None
-    if mode.cap_sliding or (mode.friction_on and mode.friction_stick):
-        fil = Filippov(model, mode)
-        for i, s in enumerate(fil.sliders):
-            out.append(
-                EventSpec(
-                    f"{s} sliding ends at lower bound",
-                    lambda t, y, i=i: fil.solve(t, y)["lam"][i],
-                    -1.0,
-                    code=(laws.EV_LAM, float(i)),
-                )
-            )
-            out.append(
-                EventSpec(
-                    f"{s} sliding ends at upper bound",
-                    lambda t, y, i=i: fil.solve(t, y)["lam"][i] - 1.0,
-                    +1.0,
-                    code=(laws.EV_LAM_UPPER, float(i)),
-                )
-            )
-            if s == "cap":
-                out.append(
-                    EventSpec(
-                        "cap sliding ends: cap not binding",
-                        lambda t, y, i=i: (lambda b: b[1] - b[0])(fil.solve(t, y)["bounds"][i]),
-                        -1.0,
-                        code=(laws.EV_SPAN, float(i)),
-                    )
-                )
+    for i, s in enumerate(_sliders(mode)):
+        out.append(EventSpec(f"{s} sliding ends at lower bound", -1.0, (laws.EV_LAM, float(i))))
+        out.append(EventSpec(f"{s} sliding ends at upper bound", +1.0,
+                             (laws.EV_LAM_UPPER, float(i))))
+        if s == "cap":
+            out.append(EventSpec("cap sliding ends: cap not binding", -1.0,
+                                 (laws.EV_SPAN, float(i))))
     comp = model.components.get("base friction")
     if comp is not None and comp.reaction and mode.friction_on and not mode.friction_stick:
-        sign = mode.friction_sign
-        out.append(
-            EventSpec(
-                "base stops sliding",
-                lambda t, y: sign * Kinematics(model, y).point_velocity("Q")[0],
-                -1.0,
-                code=(laws.EV_BASE_VELOCITY, sign),
-            )
-        )
-    if model.options.solid_ground:
-        out.extend(_ground_events(model))
+        out.append(EventSpec("base stops sliding", -1.0,
+                             (laws.EV_BASE_VELOCITY, mode.friction_sign)))
+    if model.options.solid_ground:  # the points the free flight checks against the ground
+        out.extend(EventSpec(f"ground reached by {p}", +1.0,
+                             (laws.EV_GROUND, float(laws.LETTERS.index(p))))
+                   for p in model.checks.points)
+    P, M = model.law_parameters, model.mode_vector(mode)
+    for e in out:
+        e.function = lambda t, y, c=e.code: laws.contact_event(c[0], c[1], t, y, P, M)
     return out
 
 

@@ -30,14 +30,13 @@ from deck_emulator.vocabulary.events import (
     hit_message,
 )
 from deck_emulator.vocabulary.scene import ModelOptions, Scene
-from deck_emulator.vocabulary.units import force_in_g
 
 from . import laws, sliding
 from .checks import check_outcome, ground_tolerance_ft
 from .kinematics import N_STATE, ContactMode
 from .laws import working_clock
 from .model import Model, assemble
-from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory
+from .result import CoreEvent, CoreResult, Hit, Segment, Trajectory, _subdivided
 
 __all__ = [
     "CoreError",
@@ -184,12 +183,7 @@ class _Run:
                 dense_output=True,
                 events=events or None,
             )
-        seen = []
-        for w in caught:
-            text = f"{w.category.__name__}: {w.message}"
-            if text not in seen:
-                seen.append(text)
-        return sol, seen
+        return sol, list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
 
     def _solve(self, fun, t0, y0, t1, events, method=None):
         method = method or self.method
@@ -250,7 +244,7 @@ class _Run:
             t_stop = min([s for s in schedule if s > t] + [self.t_max])
             specs = sliding.contact_events(m, mode)
             sol = self._solve(
-                sliding.contact_rhs(m, mode), t, y, t_stop, specs, self.contact_method
+                m.contact_rhs(mode), t, y, t_stop, specs, self.contact_method
             )
             t_new, y_new = float(sol.t[-1]), sol.y[:, -1]
             self.segments.append(Segment(t, t_new, "contact", sol.sol, mode))
@@ -453,73 +447,6 @@ class _Run:
         self.hit = Hit(msg, t, point, surface)
         self.events.append(CoreEvent(EventKind.HIT, t, msg))
 
-    # -- summary
-
-    def max_vehicle_force(self):
-        """Largest force on the car (lb) over the contact segments, and over those after the
-        start-up kick's window; each segment searched once."""
-        best = after = -math.inf
-        for seg in self.segments:
-            if seg.phase != "contact" or seg.t1 <= seg.t0:
-                continue
-            fk = self._segment_max_force(seg)[0]
-            best = max(best, fk)
-            if seg.mode is None or seg.mode.window is None:
-                after = max(after, fk)
-        return best, after
-
-    def _segment_max_force(self, seg):
-        """(lb, s): the largest force on the car over one contact segment: on a grid of 9
-        points a step, then refined by a bounded Brent search around the grid's best."""
-        m = self.model
-        mode = seg.mode
-        fine = _subdivided(seg.solution.ts, 9)
-        ys = seg.solution(fine)
-        f = np.array(
-            [sliding.vehicle_force(m, tk, ys[:, k], mode) for k, tk in enumerate(fine)]
-        )
-        k = int(np.argmax(f))
-        fk, tk = f[k], fine[k]
-        lo, hi = fine[max(k - 1, 0)], fine[min(k + 1, len(fine) - 1)]
-        if hi > lo:
-            from scipy.optimize import minimize_scalar
-
-            r = minimize_scalar(
-                lambda s, sol=seg.solution, mode=mode: -sliding.vehicle_force(
-                    m, s, sol(s), mode
-                ),
-                bounds=(lo, hi),
-                method="bounded",
-                options={"xatol": 1e-12},
-            )
-            if -r.fun > fk:
-                fk, tk = -r.fun, float(r.x)
-        return fk, tk
-
-
-def _subdivided(ts, n: int) -> np.ndarray:
-    """The ``n`` points of ``np.linspace(a, b, n)`` on every step ``[a, b]`` of ``ts``, sorted,
-    each once: linspace's own arithmetic (its exact values), for all the steps at once."""
-    ts = np.asarray(ts, dtype=float)
-    a, b = ts[:-1], ts[1:]
-    delta = b - a
-    step = delta / (n - 1)
-    i = np.arange(n, dtype=float)[:, None]
-    y = i * step + a
-    zero = step == 0
-    if zero.any():  # linspace's own way with a step that underflows to zero
-        y[:, zero] = i / (n - 1) * delta[zero] + a[zero]
-    y[-1] = b
-    return distinct(y)
-
-
-def distinct(values) -> np.ndarray:
-    """The distinct values of a float array without NaN, sorted: ``np.unique``'s answer
-    without its import of numpy's masked arrays (a single run's start pays for every
-    module it loads)."""
-    v = np.sort(np.asarray(values, dtype=float).ravel())
-    return v[np.concatenate(([True], v[1:] != v[:-1]))]
-
 
 def _heights(m, ys, q, name):
     """ZZ of point ``name`` for states ``ys`` (15, n) with their attitudes ``q`` normalised."""
@@ -534,24 +461,10 @@ def _result(run: _Run, scene: Scene, options: ModelOptions) -> CoreResult:
     m = run.model
     traj = Trajectory(run.segments, m)
     end = run.hit.time_s if run.hit else traj.t_end
-    max_g = max_g_after = None
     notes = list(run.notes)
     t_release = run.vehicle_lost
     if t_release is None and run.hit_in_contact:
         t_release = run.contact_end
-    if scene.vehicle is not None and t_release is not None:
-        f, f_after = run.max_vehicle_force()
-        if not math.isfinite(f):
-            notes.append("no largest deceleration: the contact lasted no time")
-        elif m.gravity > 0.0:
-            max_g = force_in_g(float(f), m.vehicle_mass, m.gravity)
-            if math.isfinite(f_after):
-                max_g_after = force_in_g(float(f_after), m.vehicle_mass, m.gravity)
-        else:
-            notes.append(
-                "the largest deceleration in g is not defined: gravity G = "
-                f"{m.gravity:g} ft/s^2"
-            )
     terminal: dict[str, tuple[float, float, float] | None] = {}
     q0 = m._q0
     depth = scene.environment.ground_depth_ft
@@ -598,7 +511,6 @@ def _result(run: _Run, scene: Scene, options: ModelOptions) -> CoreResult:
         hit=run.hit,
         first_spring_lost_s=run.first_lost,
         vehicle_contact_lost_s=run.vehicle_lost,
-        max_decel_g=max_g,
         terminal_points_ft=terminal,
         end_time_s=end,
         nfev=run.nfev,
@@ -606,7 +518,6 @@ def _result(run: _Run, scene: Scene, options: ModelOptions) -> CoreResult:
         notes=tuple(notes),
         no_hit_reason=reason,
         ground_passage=passage,
-        max_decel_after_startup_g=max_g_after,
         contact_end_s=t_release,
         integrator=run.integrator(),
     )

@@ -293,9 +293,6 @@ class CoreEngine:
             evaluations=r.nfev, end_s=r.end_time_s,
             engine_events=tuple((e.name, e.time_s) for e in r.events), events=events,
             contact_end_s=r.contact_end_s,
-            max_decel_g=(r.max_decel_after_startup_g if r.max_decel_after_startup_g is not None
-                         else r.max_decel_g),
-            max_decel_every_step_g=r.max_decel_g,
             terminal={k: v for k, v in r.terminal_points_ft.items() if v is not None},
             crush_end_s=next((e.time_s for e in events if e.kind is EventKind.FORCE_CAP), None))
         if self.trace:

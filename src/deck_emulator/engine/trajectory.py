@@ -58,7 +58,9 @@ class Trajectory(Protocol):
     """What every engine's run answers (road axes XX, YY, ZZ; ft, s): its points' names and
     span; ``position`` of a point (``CM``: the mass centre) at ``t``, (3,) or (3, n);
     ``point_near``, the point as the run gives it at ``t`` (None outside it, or no such
-    point); ``car_velocity``, VV along XV (None outside the run); ``motion`` and
+    point); ``car_velocity``, VV along XV (None outside the run); ``peak_car_force``, the
+    largest force on the car (lb) over the contact (after the start-up steps), None where the
+    run gives no force; ``motion`` and
     ``solver_steps``, a dense solution's only (else ValueError); ``post_state``, the post's
     motion at one of :data:`INSTANTS` (None: none); ``leaf_spring_unloading``, (time,
     compression ft) where the car's leaf spring begins to unload (None: none)."""
@@ -70,6 +72,7 @@ class Trajectory(Protocol):
     def position(self, name: str, t) -> np.ndarray: ...
     def point_near(self, name: str, t: float) -> np.ndarray | None: ...
     def car_velocity(self, t: float) -> float | None: ...
+    def peak_car_force(self, after_startup: bool) -> float | None: ...
     def motion(self, t: float) -> dict: ...
     def solver_steps(self) -> int: ...
     def post_state(self, instant: str) -> PostState | None: ...
@@ -105,6 +108,9 @@ class Sampled:
             return None
         return float(np.interp(t, self._t, self._vv))
 
+    def peak_car_force(self, after_startup: bool) -> float | None:
+        return None
+
     def motion(self, t: float) -> dict:
         raise ValueError("the motion between steps is the core's dense solution")
 
@@ -138,6 +144,13 @@ class Dense:
 
     def car_velocity(self, t: float) -> float | None:
         return float(self._traj.vehicle(t)[1])
+
+    def peak_car_force(self, after_startup: bool) -> float | None:
+        """None until the contact has ended (the car let go, or the post hit it while in
+        contact): a run stopped in contact has no largest force."""
+        if self._result.contact_end_s is None:
+            return None
+        return self._traj.peak_force(after_startup)
 
     def motion(self, t: float) -> dict:
         traj = self._traj
