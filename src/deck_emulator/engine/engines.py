@@ -22,7 +22,6 @@ from deck_emulator.legacy.printer import event_message
 from deck_emulator.vocabulary import defaults
 from deck_emulator.vocabulary.choices import ENGINES
 from deck_emulator.vocabulary.events import EventKind
-from deck_emulator.vocabulary.units import force_in_g
 
 from . import errata as errata_policy
 from .sources import given, source_name
@@ -143,6 +142,7 @@ class EmulatorEngine:
         from deck_emulator.vocabulary.scene import Scene
 
         from .outcome import Outcome
+        from .trajectory import Sampled
 
         run, name = done.run, name or source_name(deck)
         d = dict(deck.values)
@@ -161,9 +161,16 @@ class EmulatorEngine:
                           hint=errata_policy.hint(done.error.guard, run.errata))
         elif done.defect is not None:
             fields.update(error=done.defect, guard="crash")
+        states, every_step_fs = {}, None
         if self.trace and run.trace:
-            fields.update(_emulator_arrays(run.trace, d))
-        printed_notes = _printed_quantities(fields, run, deck)
+            arrays, states, every_step_fs = _emulator_arrays(run.trace, d)
+            fields.update(arrays)
+        printed_notes, printed_fsa = _printed_quantities(fields, run, deck)
+        # the largest printed FSA (as the report read it) and the largest over every step:
+        # the forces the registry turns into decelerations
+        fields["trajectory"] = Sampled(fields.get("t", ()), fields.get("points", {}),
+                                       fields.get("vv", ()), states,
+                                       peak_forces_lb=(printed_fsa, every_step_fs))
         out = Outcome(**fields)
         flags = _listing_flags(out) if run.error is None else []
         flags += [n for n in printed_notes if "overflow" in n]  # a field printed as ****
@@ -177,13 +184,11 @@ def _post_state(row):
                      row["ZZCM"])
 
 
-def _emulator_arrays(rows, d) -> dict:
-    """The outcome's fields read from the program's trace: its accepted steps as arrays (and
-    the :class:`~.trajectory.Sampled` trajectory over them), the deceleration over each contact
-    step, the end of the contact."""
+def _emulator_arrays(rows, d) -> tuple[dict, dict, float | None]:
+    """The outcome's fields read from the program's trace (its accepted steps as arrays, the
+    deceleration over each contact step, the end of the contact), the post's motion at the
+    instants the run has, and the largest spring force FS over every contact step (lb)."""
     import numpy as np  # here, not at the top: a run without a trace (deck-emulator run) needs none
-
-    from .trajectory import Sampled
 
     init = _initial_points(d)
     n = len(rows) + 1
@@ -219,8 +224,7 @@ def _emulator_arrays(rows, d) -> dict:
         states["launch"] = _post_state(in_contact[-1])
     if len(in_free) >= 2:
         states["free_start"], states["free_end"] = _post_state(in_free[0]), _post_state(in_free[-1])
-    out = dict(t=t, sv=sv, vv=vv, free=free, points=points,
-               trajectory=Sampled(t, points, vv, states))
+    out = dict(t=t, sv=sv, vv=vv, free=free, points=points)
     tc, vc = t[~free], vv[~free]
     if tc.size >= 2:  # the deceleration over each accepted contact step; |VV| falling = +
         out["pulse_t"] = tc[1:]
@@ -228,37 +232,32 @@ def _emulator_arrays(rows, d) -> dict:
             out["pulse_g"] = -np.diff(np.abs(vc)) / np.diff(tc) / d["G"]
         out["contact_end_s"] = float(tc[-1])
     fs = [r["FS"] for r in in_contact if "FS" in r]
-    if fs and d["WV"] * d["G"] != 0:
-        out["max_decel_every_step_g"] = force_in_g(max(fs), d["WV"], d["G"])
-    return out
+    return out, states, (max(fs) if fs else None)
 
 
-def _printed_quantities(fields: dict, run, deck) -> list[str]:
-    """What the report read off the printout, into ``fields``: the end of the crush pulse,
-    the largest printed deceleration, the terminal points (``extract`` reads the records, as
-    the report's authors read the paper); its notes."""
+def _printed_quantities(fields: dict, run, deck) -> tuple[list[str], float | None]:
+    """What the report read off the printout, into ``fields``: the end of the crush pulse and
+    the terminal points (``extract`` reads the records, as the report's authors read the
+    paper); its notes, and the largest FSA printed (lb)."""
     from deck_emulator.legacy.extract import ExtractError, extract
 
-    d = deck.values
     try:
         printed = extract(run.records, deck)
-        max_decel_g = (None if printed.max_fsa_lb is None
-                       else force_in_g(printed.max_fsa_lb, d["WV"], d["G"]))
-    except (ExtractError, ZeroDivisionError) as exc:  # said in the outcome's notes
+    except ExtractError as exc:  # said in the outcome's notes
         fields["notes"] = (f"the printout's own numbers could not be read "
                            f"({type(exc).__name__}: {exc}): the speed lost by the end of the "
                            "crush pulse, the largest printed deceleration and the terminal "
                            "points are not given",)
-        return []
-    fields.update(crush_end_s=printed.crush_pulse_end_s, max_decel_g=max_decel_g,
+        return [], None
+    fields.update(crush_end_s=printed.crush_pulse_end_s,
                   terminal={k: (p.XL, p.YL, p.ZL) for k, p in printed.terminal.items()})
-    return list(printed.notes)
+    return list(printed.notes), printed.max_fsa_lb
 
 
 def _listing_flags(out: Outcome) -> list[str]:
     """The core's outcome checks applied to what the listing printed (its hit, the terminal
     heights ZL, the speed lost), with the listing's own ground bands as tolerances."""
-    from .quantities import speed_lost_at  # the registry: not for a plain run's printout
+    from .quantities import speed_lost_at, value  # the registry: not for a plain run's printout
 
     from deck_emulator.core.checks import check_summary
 
@@ -270,7 +269,7 @@ def _listing_flags(out: Outcome) -> list[str]:
                            for k, p in out.terminal.items()} if hit else None,
         delta_v_contact_mph=speed_lost_at(out, out.contact_end_s),
         car_speed_mph=out.speed_mph,
-        max_decel_g=out.max_decel_g,
+        max_decel_g=value("max_decel_g", out),
         no_hit_reason=None if hit else "the listing stopped without a hit message",
         ground_tolerance_ft=dict(defaults.LISTING_GROUND_TOLERANCE_FT),
         who="the listing",

@@ -47,11 +47,10 @@ class Outcome:
       report read the paper); ``contact_end_s``: the instant the contact with the car ends
       (the car let go, or the post hit the car while in contact).  The registry reads the
       speed the car lost at each (:func:`car_velocity`): the engines compute no ΔV.
-    * ``max_decel_g``: the report's maximum deceleration (emulator: the largest *printed*
-      FSA/(WV*G), as the report read it; core: its continuous maximum after the start-up
-      kick); ``max_decel_every_step_g``: over every accepted step of the emulator, start-up
-      included, and the core's continuous maximum likewise (the quantities and their
-      definitions: :mod:`deck_emulator.engine.quantities`).
+    * The largest decelerations are the registry's (:mod:`deck_emulator.engine.quantities`),
+      from the forces on the car the trajectory gives (``peak_car_force``: the emulator's
+      largest *printed* FSA, as the report read it, and every step's FS; the core's
+      continuous maximum).
     * ``terminal``: P, Q, R, C (and U) at the hit in the report's XL, YL, ZL axes (ft).
     * ``flags``: sentences naming what is physically absurd in an answer the engine gave
       (a hit with a point under the ground, a delta-V above the car's speed ...); the
@@ -92,8 +91,6 @@ class Outcome:
     hit_message: str | None = None
     crush_end_s: float | None = None
     contact_end_s: float | None = None
-    max_decel_g: float | None = None
-    max_decel_every_step_g: float | None = None
     terminal: Mapping[str, tuple[float, float, float]] = field(default_factory=lambda: _NO_MAP)
     error: str | None = None
     flags: tuple[str, ...] = ()

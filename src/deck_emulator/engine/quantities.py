@@ -201,20 +201,17 @@ def _speed_lost_by(instant: str):
     return lambda o: speed_lost_at(o, getattr(o, instant))
 
 
-def _peak_decel(after_startup: bool, own: str):
+def _peak_decel(after_startup: bool):
     """THE reading of the largest deceleration (g): the largest force on the car over the
     contact that the run's trajectory gives (:meth:`~.trajectory.Trajectory.peak_car_force`:
-    the core's dense solution; ``after_startup`` falls back to every step where no contact
-    follows the start-up steps) over WV*G (``units.force_in_g``); a run whose trajectory
-    gives no force keeps its engine's own reading ``own`` (the emulator's printed FSA)."""
+    the core's dense solution, the emulator's printed FSA or every step's FS) over WV*G
+    (``units.force_in_g``); none for a car without mass or a scene without gravity."""
     def value(o):
         force = o.trajectory.peak_car_force(after_startup)
-        if force is None and after_startup:
-            force = o.trajectory.peak_car_force(False)
-        if force is None:
-            return getattr(o, own)
-        g = o.scene.environment.gravity_ft_s2
-        return force_in_g(force, o.scene.vehicle.mass_slug, g) if g > 0.0 else None
+        mass, g = o.scene.vehicle.mass_slug, o.scene.environment.gravity_ft_s2
+        if force is None or not (mass > 0.0 and g > 0.0):
+            return None
+        return force_in_g(force, mass, g)
 
     return value
 
@@ -253,12 +250,12 @@ _REGISTRY = (
              "after the start-up steps (emulator: the largest printed FSA, as the report read "
              "it; core: the largest over its continuous solution after the start-up kick, "
              "whose 10,000 lb is a device of the listing's scheme, not an impact force)",
-             _peak_decel(True, "max_decel_g"), needs="contact"),
+             _peak_decel(True), needs="contact"),
     Quantity("max_decel_every_step_g", "largest deceleration, every step", "g", 4,
              "the largest spring force over WV*G at every accepted step of the emulator (not "
              "only the printed ones), start-up steps included; the core's continuous maximum "
              "likewise: what the two engines compute alike, for diff",
-             _peak_decel(False, "max_decel_every_step_g"), needs="contact"),
+             _peak_decel(False), needs="contact"),
     Quantity("max_decel_10ms_g", "largest 10 ms average deceleration", "g", 2,
              "the largest average deceleration of the car over any 10 ms window of the contact",
              _of_pulse("max_decel_10ms_g"), needs="contact", reads=_CAR),

@@ -83,12 +83,16 @@ class Sampled:
     """A run known at its samples ``t`` (the emulator's accepted steps): the points
     ``points`` (name -> (n, 3)) and the car's velocity ``vv``, linear between two samples (the
     emulator's step VVA = VVB + (H/WV)*FSB is linear in time; its events fall on steps);
-    ``states``: the post's motion at the :data:`INSTANTS` the run has."""
+    ``states``: the post's motion at the :data:`INSTANTS` the run has; ``peak_forces_lb``:
+    the largest force on the car after the start-up steps and over every step (None: not
+    given)."""
 
     integrator = None
 
-    def __init__(self, t, points: Mapping, vv, states: Mapping[str, PostState] | None = None):
+    def __init__(self, t, points: Mapping, vv, states: Mapping[str, PostState] | None = None,
+                 *, peak_forces_lb: tuple[float | None, float | None] = (None, None)):
         self._t, self._vv = readonly(t, float), readonly(vv, float)
+        self._peak_forces_lb = peak_forces_lb
         self._points = MappingProxyType({k: readonly(v, float) for k, v in points.items()})
         self._states = MappingProxyType(dict(states or {}))
         self.point_names = tuple(k for k in self._points if k != "CM")
@@ -109,7 +113,7 @@ class Sampled:
         return float(np.interp(t, self._t, self._vv))
 
     def peak_car_force(self, after_startup: bool) -> float | None:
-        return None
+        return self._peak_forces_lb[0 if after_startup else 1]
 
     def motion(self, t: float) -> dict:
         raise ValueError("the motion between steps is the core's dense solution")
@@ -150,7 +154,10 @@ class Dense:
         contact): a run stopped in contact has no largest force."""
         if self._result.contact_end_s is None:
             return None
-        return self._traj.peak_force(after_startup)
+        force = self._traj.peak_force(after_startup)
+        if force is None and after_startup:  # no contact after the start-up steps
+            force = self._traj.peak_force(False)
+        return force
 
     def motion(self, t: float) -> dict:
         traj = self._traj
