@@ -24,7 +24,7 @@ import numpy as np
 
 from deck_emulator.engine import CoreEngine, quantities
 from deck_emulator.engine.assemblies import AssemblyError, load_assembly
-from deck_emulator.studies.report_tables import TABLE8
+from deck_emulator.studies.report_tables import TABLE8, TABLE8_TIMES_S, TABLE9
 from deck_emulator.vocabulary.scene import (
     BreakawayBase,
     CrushSpring,
@@ -134,7 +134,7 @@ def table10(scene: Scene | None = None, *, t_max_s: float = 0.6):
     70 ms) of a full run of the scene."""
     out = _result(_engine(t_max_s).run(scene or crash_scene()))
     t_loss = out.vehicle_contact_lost_s
-    return out, (state_row(out, t_loss) if t_loss is not None else None), state_row(out, 0.070)
+    return out, (state_row(out, t_loss) if t_loss is not None else None), state_row(out, TABLE8_TIMES_S[0])
 
 
 def table9_start(t8: dict) -> PostInitialState:
@@ -148,7 +148,8 @@ def table9_start(t8: dict) -> PostInitialState:
     )
 
 
-def table9(scene: Scene | None = None, *, vv_ft_s: float, t_end_s: float = 0.273):
+def table9(scene: Scene | None = None, *, vv_ft_s: float,
+           t_end_s: float = TABLE9["time_ms"][0] / 1000):
     """Free flight from Table 8's 70 ms state to ``t_end_s``: the result (rows at 270 and
     273 ms with :func:`state_row`)."""
 
@@ -156,7 +157,7 @@ def table9(scene: Scene | None = None, *, vv_ft_s: float, t_end_s: float = 0.273
     free_scene = dataclasses.replace(scene, vehicle=dataclasses.replace(
         scene.vehicle, body=None))
     return _result(_engine(t_end_s).run_free_flight(
-        free_scene, table9_start(TABLE8), 0.070, car_position_ft=-TABLE8["SV_ft"][0],
+        free_scene, table9_start(TABLE8), TABLE8_TIMES_S[0], car_position_ft=-TABLE8["SV_ft"][0],
         car_velocity_ft_s=-abs(vv_ft_s)))
 
 
@@ -175,15 +176,16 @@ def crash_run(task: dict) -> dict:
 
     scene = crash_scene(**task["changes"])
     out, loss, r70 = table10(scene)
+    t270 = TABLE8_TIMES_S[1]
     t_stop = out.span[1]
     t_end = min(t_stop, FIGURE_END_S)
     figure = []
-    for t in sorted(set(np.arange(0.0, t_end + 1e-9, FIGURE_STEP_S).round(6)) | {0.07, 0.27}):
+    for t in sorted(set(np.arange(0.0, t_end + 1e-9, FIGURE_STEP_S).round(6)) | set(TABLE8_TIMES_S)):
         if t <= t_stop:
             q, p = out.position("Q", t), out.position("P", t)
             figure.append([float(t), float(q[0]), float(q[2]), float(p[0]), float(p[2])])
     row = {"loss": loss, "at_70": r70,
-           "at_270": state_row(out, 0.27) if t_stop >= 0.27 else None,
+           "at_270": state_row(out, t270) if t_stop >= t270 else None,
            "hit_time_s": out.hit_time_s,
            "vehicle_contact_lost_s": out.vehicle_contact_lost_s,
            "events": [list(e) for e in out.engine_events],
@@ -195,6 +197,7 @@ def crash_run(task: dict) -> dict:
     if task.get("free_flight"):
         f9 = table9(scene, vv_ft_s=abs(r70["VV_ft_s"]))
         f40 = table9(scene, vv_ft_s=40.0)
-        row["table9"] = {"at_270": state_row(f9, 0.270), "at_273": state_row(f9, 0.273)}
-        row["table9_40"] = {"at_270": state_row(f40, 0.270)}
+        row["table9"] = {"at_270": state_row(f9, t270),
+                         "at_273": state_row(f9, TABLE9["time_ms"][0] / 1000)}
+        row["table9_40"] = {"at_270": state_row(f40, t270)}
     return row

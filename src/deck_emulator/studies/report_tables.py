@@ -249,6 +249,8 @@ TABLE8 = MappingProxyType({
     "V3_ft_s": (-12.5, None),       # line 1631
     "thetadot_rad_s": (8.75, 8.75), # line 1632
 })
+#: Table 8's two critical times, s (its columns: 70 and 270 ms)
+TABLE8_TIMES_S = (0.070, 0.270)
 
 #: Table 9, "COMPARISON OF MODEL DATA WITH CRASH TEST DATA AT 270 MILLISECONDS"
 #: (lines 1652-1661): quantity -> (model, crash test).
