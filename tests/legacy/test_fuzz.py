@@ -7,7 +7,6 @@ A few dozen programs run by default; thousands with ``pytest -m slow_corpus``.""
 
 from __future__ import annotations
 
-import math
 import operator
 import re
 import tempfile
@@ -21,6 +20,7 @@ from hypothesis import strategies as st
 from deck_emulator.legacy.jobdeck import statements
 
 from test_goldens import need_gfortran
+from test_ibm7094 import chopped_27
 
 #: the default suite's programs: seeds 0..DEFAULT-1 of campaign seed SEED
 SEED, DEFAULT = 46, 24
@@ -242,22 +242,7 @@ def test_the_7094_tolerance_is_single_precision_plus_one_printed_unit():
     assert tol.compare_within(" X=    -0.0000", " X=     0.0000") == ("within", "")
 
 
-
 # ------------------------------------------------------------ the running error bound
-
-
-def _chop27(q: Fraction) -> Fraction:
-    """q chopped to 27 bits (a fraction in [1/2, 1) times a power of two), from the word
-    format alone."""
-    if q == 0:
-        return q
-    e = abs(q).numerator.bit_length() - abs(q).denominator.bit_length()
-    while abs(q) >= Fraction(2) ** e:
-        e += 1
-    while abs(q) < Fraction(2) ** (e - 1):
-        e -= 1
-    f = math.floor(abs(q) * Fraction(2) ** (27 - e))
-    return (1 if q > 0 else -1) * Fraction(f) / Fraction(2) ** (27 - e)
 
 
 _CONSTANTS = st.builds(lambda k, d: f"{k / 10 ** d:.{d}f}", st.integers(-999_999, 999_999),
@@ -277,7 +262,7 @@ def test_the_running_bound_holds_for_any_27_bit_chopped_run(texts, ops):
     ar = Lockstep()
     pairs = [ar.decimal(t) for t in texts]
     floats = [float(t) for t in texts]
-    chopped = [_chop27(Fraction(t)) for t in texts]
+    chopped = [chopped_27(Fraction(t)) for t in texts]
     for op, i, j in ops:
         a, b = i % len(pairs), j % len(pairs)
         if op == "/" and not (abs(floats[b]) > 2 * pairs[b].e and chopped[b] and pairs[b].w):
@@ -290,7 +275,7 @@ def test_the_running_bound_holds_for_any_27_bit_chopped_run(texts, ops):
         pair = apply(pairs[a], pairs[b])
         pairs.append(pair)
         floats.append(f)
-        chopped.append(_chop27(apply(chopped[a], chopped[b])))
+        chopped.append(chopped_27(apply(chopped[a], chopped[b])))
         assert pair.f == f
         assert abs(chopped[-1] - Fraction(f)) <= Fraction(pair.e), (op, chopped[a], chopped[b])
     assert ar.run.outside == ""
@@ -320,8 +305,8 @@ def test_the_runs_part_where_the_7094_decides_otherwise(t1, t2, op, t3, exact_th
         t3 = _decimal_text(q1 + q2 if op == "+" else q1 * q2)
     ar = Lockstep()
     a, b, c = (ar.decimal(t) for t in (t1, t2, t3))
-    x, y, z = (_chop27(Fraction(t)) for t in (t1, t2, t3))
-    left = _chop27(x + y if op == "+" else x * y)
+    x, y, z = (chopped_27(Fraction(t)) for t in (t1, t2, t3))
+    left = chopped_27(x + y if op == "+" else x * y)
     binary64 = (float(t1) + float(t2) if op == "+" else float(t1) * float(t2)) < float(t3)
     assert ((a + b if op == "+" else a * b) < c) is binary64
     assert bool(ar.run.parted) == ((left < z) != binary64)
@@ -370,8 +355,8 @@ def test_a_branch_the_7094_takes_otherwise_withholds_the_verdict(then, stops):
     7094's words, carried on binary64's branch, divide by zero."""
     from oracle.fuzz.bound import compare_bounded, lockstep
 
-    x, y, z = (_chop27(Fraction(t)) for t in ("0.1", "0.2", "0.3"))
-    assert _chop27(x + y) == z and 0.1 + 0.2 != 0.3
+    x, y, z = (chopped_27(Fraction(t)) for t in ("0.1", "0.2", "0.3"))
+    assert chopped_27(x + y) == z and 0.1 + 0.2 != 0.3
     source = ["      A = 0.1", "      B = 0.2", "      C = A + B", "      D = 0.3",
               "      Y = 1.0", f"      IF (C .NE. D) {then}", "    1 FORMAT(1X,F30.3)",
               "      WRITE(6,1) Y", "      STOP", "      END"]
